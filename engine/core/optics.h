@@ -1,0 +1,34 @@
+#pragma once
+// Specular optics: mirror reflection, Snell refraction and the Fresnel reflectance of a
+// dielectric interface (unpolarised light).
+#include <cmath>
+
+#include "math.h"
+
+namespace foton {
+
+// Fresnel reflectance for light crossing from a medium of index eta_i into eta_t, with
+// cos_i the cosine between the incident direction (reversed) and the normal on the incident
+// side. Returns 1 under total internal reflection.
+inline float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
+    cos_i = std::clamp(cos_i, 0.f, 1.f);
+    const float sin_i = std::sqrt(std::max(0.f, 1.f - cos_i * cos_i));
+    const float sin_t = eta_i / eta_t * sin_i;
+    if (sin_t >= 1.f) return 1.f;
+    const float cos_t = std::sqrt(std::max(0.f, 1.f - sin_t * sin_t));
+    const float r_par = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+    const float r_perp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+    return 0.5f * (r_par * r_par + r_perp * r_perp);
+}
+
+// Refracts unit direction d at a surface with unit normal n facing the incident side
+// (dot(d, n) < 0); eta = eta_i / eta_t. Returns false under total internal reflection.
+inline bool refract(const Vec3& d, const Vec3& n, float eta, Vec3& t) {
+    const float cos_i = -dot(d, n);
+    const float k = 1.f - eta * eta * (1.f - cos_i * cos_i);
+    if (k < 0.f) return false;
+    t = normalize(d * eta + n * (eta * cos_i - std::sqrt(k)));
+    return true;
+}
+
+}  // namespace foton

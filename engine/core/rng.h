@@ -1,0 +1,45 @@
+#pragma once
+// Counter-based random numbers: a value is a pure function of (seed, stream, index, dim),
+// never the state of a shared generator. This is what makes an image independent of the
+// thread count and of the order in which tiles are scheduled.
+#include <cstdint>
+
+namespace foton::rng {
+
+// SplitMix64 finaliser: a bijective 64-bit mixer with good avalanche.
+inline constexpr uint64_t mix64(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+inline constexpr uint64_t hash(uint64_t seed, uint64_t stream, uint64_t index, uint64_t dim) {
+    uint64_t h = mix64(seed + 0x9e3779b97f4a7c15ull);
+    h = mix64(h ^ (stream + 0x632be59bd9b4e019ull));
+    h = mix64(h ^ (index + 0x85157af5ull * (dim + 1)));
+    return mix64(h ^ dim);
+}
+
+// Uniform float in [0, 1) from the top 24 bits.
+inline constexpr float to_unit_float(uint64_t bits) {
+    return float(bits >> 40) * (1.f / 16777216.f);
+}
+
+inline constexpr float uniform(uint64_t seed, uint64_t stream, uint64_t index, uint64_t dim) {
+    return to_unit_float(hash(seed, stream, index, dim));
+}
+
+// A sequence of uniforms for one (seed, stream, index), one dimension per call.
+class Stream {
+public:
+    constexpr Stream(uint64_t seed, uint64_t stream, uint64_t index)
+        : base_(hash(seed, stream, index, 0xffffffffull)) {}
+    constexpr float next() { return to_unit_float(mix64(base_ + 0x9e3779b97f4a7c15ull * ++dim_)); }
+    constexpr uint64_t dimension() const { return dim_; }
+
+private:
+    uint64_t base_;
+    uint64_t dim_ = 0;
+};
+
+}  // namespace foton::rng

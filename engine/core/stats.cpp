@@ -1,0 +1,80 @@
+#include "stats.h"
+
+#include <cstdio>
+
+namespace foton {
+
+const char* stage_name(Stage s) {
+    switch (s) {
+        case Stage::Generate: return "generate";
+        case Stage::Intersect: return "intersect";
+        case Stage::Shade: return "shade";
+        case Stage::Occlusion: return "occlusion";
+        case Stage::Accumulate: return "accumulate";
+        case Stage::kCount: break;
+    }
+    return "?";
+}
+
+void RenderStats::merge(const RenderStats& o) {
+    camera_rays += o.camera_rays;
+    secondary_rays += o.secondary_rays;
+    shadow_rays += o.shadow_rays;
+    trace.merge(o.trace);
+    for (int i = 0; i < kNumStages; ++i) {
+        stage_seconds[i] += o.stage_seconds[i];
+        stage_items[i] += o.stage_items[i];
+    }
+}
+
+std::string RenderStats::table() const {
+    char buf[256];
+    std::string s;
+    std::snprintf(buf, sizeof buf, "threads %d, build %.3f s, render %.3f s wall\n", threads,
+                  build_seconds, wall_seconds);
+    s += buf;
+    std::snprintf(buf, sizeof buf,
+                  "rays: camera %llu, secondary %llu, shadow %llu, total %llu (%.3g rays/s wall)\n",
+                  (unsigned long long)camera_rays, (unsigned long long)secondary_rays,
+                  (unsigned long long)shadow_rays, (unsigned long long)total_rays(),
+                  wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",
+                  (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
+                  (unsigned long long)trace.cells);
+    s += buf;
+    s += "stage        thread-s      items     items/thread-s\n";
+    for (int i = 0; i < kNumStages; ++i) {
+        std::snprintf(buf, sizeof buf, "%-10s %10.3f %10llu %18.4g\n", stage_name(Stage(i)),
+                      stage_seconds[i], (unsigned long long)stage_items[i],
+                      stage_seconds[i] > 0 ? double(stage_items[i]) / stage_seconds[i] : 0.0);
+        s += buf;
+    }
+    return s;
+}
+
+std::string RenderStats::json() const {
+    char buf[512];
+    std::string s = "{\n";
+    std::snprintf(buf, sizeof buf,
+                  "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
+                  "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
+                  "  \"rays_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
+                  "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
+                  threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
+                  (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
+                  wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0,
+                  (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
+                  (unsigned long long)trace.cells);
+    s += buf;
+    for (int i = 0; i < kNumStages; ++i) {
+        std::snprintf(buf, sizeof buf, "    \"%s\": {\"thread_seconds\": %.6f, \"items\": %llu}%s\n",
+                      stage_name(Stage(i)), stage_seconds[i], (unsigned long long)stage_items[i],
+                      i + 1 < kNumStages ? "," : "");
+        s += buf;
+    }
+    s += "  }\n}\n";
+    return s;
+}
+
+}  // namespace foton

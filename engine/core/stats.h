@@ -1,0 +1,56 @@
+#pragma once
+// Render statistics: ray counts, intersection work and per-stage time. Each worker thread
+// fills its own RenderStats; they are merged once at the end, so counting costs no atomics.
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace foton {
+
+enum class Stage { Generate, Intersect, Shade, Occlusion, Accumulate, kCount };
+inline constexpr int kNumStages = int(Stage::kCount);
+const char* stage_name(Stage s);
+
+// Work counted by the intersectors.
+struct TraceCounters {
+    uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
+    uint64_t sphere_tests = 0;
+    uint64_t cells = 0;           // grid cells visited (grid backend only)
+    void merge(const TraceCounters& o) {
+        triangle_tests += o.triangle_tests;
+        sphere_tests += o.sphere_tests;
+        cells += o.cells;
+    }
+};
+
+struct RenderStats {
+    uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
+    TraceCounters trace;
+    double stage_seconds[kNumStages] = {};  // summed over threads
+    uint64_t stage_items[kNumStages] = {};
+    double wall_seconds = 0.0;
+    double build_seconds = 0.0;
+    int threads = 1;
+
+    void merge(const RenderStats& o);
+    uint64_t total_rays() const { return camera_rays + secondary_rays + shadow_rays; }
+    std::string table() const;  // human-readable, for --stats
+    std::string json() const;   // for --stats-json
+};
+
+class StageClock {
+public:
+    StageClock() : start_(std::chrono::steady_clock::now()) {}
+    // Seconds since construction or the last lap.
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - start_).count();
+        start_ = now;
+        return s;
+    }
+
+private:
+    std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace foton

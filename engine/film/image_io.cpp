@@ -1,0 +1,116 @@
+#include "image_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <stb/stb_image_write.h>
+#include <unistd.h>
+
+#include "engine/core/error.h"
+
+namespace foton {
+
+namespace {
+
+// Runs `write(tmp)` and renames tmp to `path`; removes tmp on any failure.
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir)) throw InputError(path, 0, "output directory does not exist");
+    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp-" + std::to_string(getpid()));
+    try {
+        write(tmp.string());
+        fs::rename(tmp, target);
+    } catch (...) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw;
+    }
+}
+
+}  // namespace
+
+void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs) {
+    write_atomically(path, [&](const std::string& tmp) {
+        Imf::Header header(film.width, film.height);
+        for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
+        Imf::OutputFile file(tmp.c_str(), header);
+        Imf::FrameBuffer fb;
+        char* base = reinterpret_cast<char*>(const_cast<RGB*>(film.pixels.data()));
+        const std::size_t xs = sizeof(RGB), ys = sizeof(RGB) * std::size_t(film.width);
+        fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
+        fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
+        fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, b), xs, ys));
+        file.setFrameBuffer(fb);
+        file.writePixels(film.height);
+    });
+}
+
+Film read_exr(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i dw = file.header().dataWindow();
+        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        Film film(w, h);
+        Imf::FrameBuffer fb;
+        char* base = reinterpret_cast<char*>(film.pixels.data()) -
+                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * w) * std::ptrdiff_t(sizeof(RGB));
+        const std::size_t xs = sizeof(RGB), ys = sizeof(RGB) * std::size_t(w);
+        fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
+        fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
+        fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, b), xs, ys));
+        file.setFrameBuffer(fb);
+        file.readPixels(dw.min.y, dw.max.y);
+        return film;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
+    }
+}
+
+void write_png(const std::string& path, const Film& film, float exposure, float gamma) {
+    std::vector<unsigned char> px(std::size_t(film.width) * std::size_t(film.height) * 3);
+    const float inv_gamma = 1.f / gamma;
+    auto encode = [&](float v) {
+        v = std::clamp(v * exposure, 0.f, 1.f);
+        return static_cast<unsigned char>(std::lround(std::pow(v, inv_gamma) * 255.f));
+    };
+    for (std::size_t i = 0; i < film.pixels.size(); ++i) {
+        px[3 * i] = encode(film.pixels[i].r);
+        px[3 * i + 1] = encode(film.pixels[i].g);
+        px[3 * i + 2] = encode(film.pixels[i].b);
+    }
+    write_atomically(path, [&](const std::string& tmp) {
+        if (!stbi_write_png(tmp.c_str(), film.width, film.height, 3, px.data(), film.width * 3))
+            throw std::runtime_error("cannot write PNG " + tmp);
+    });
+}
+
+void write_difference_png(const std::string& path, const Film& a, const Film& b, float scale) {
+    Film d(a.width, a.height);
+    for (std::size_t i = 0; i < d.pixels.size(); ++i) {
+        const RGB e = a.pixels[i] - b.pixels[i];
+        const float m = (std::fabs(e.r) + std::fabs(e.g) + std::fabs(e.b)) / (3.f * scale);
+        // False colour: black -> blue -> red -> yellow -> white as the error grows.
+        const float x = std::clamp(m, 0.f, 1.f);
+        d.pixels[i] = RGB{std::clamp(3.f * x - 1.f, 0.f, 1.f) + 0.f,
+                          std::clamp(3.f * x - 2.f, 0.f, 1.f),
+                          x < 1.f / 3.f ? 3.f * x : std::clamp(3.f * x - 2.f, 0.f, 1.f)};
+    }
+    write_png(path, d, 1.f, 1.f);
+}
+
+}  // namespace foton

@@ -1,0 +1,24 @@
+#pragma once
+// Image output. Every writer goes through a temporary file in the target directory and a
+// rename, so a failed or interrupted render never leaves a truncated image under the
+// requested name.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "film.h"
+
+namespace foton {
+
+using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
+
+// Linear float RGB OpenEXR with string header attributes.
+void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs = {});
+// Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
+Film read_exr(const std::string& path);
+// 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
+void write_png(const std::string& path, const Film& film, float exposure, float gamma);
+// False-colour PNG of |a - b| per pixel (mean over channels), black 0 to white = `scale`.
+void write_difference_png(const std::string& path, const Film& a, const Film& b, float scale);
+
+}  // namespace foton

@@ -1,0 +1,21 @@
+#pragma once
+// Image error metrics for comparing renders with each other and with references.
+#include <cstdint>
+#include <vector>
+
+#include "film.h"
+
+namespace foton {
+
+struct ImageError {
+    double rmse = 0.0;          // sqrt(mean over pixels and channels of (a - b)^2)
+    double relative_mse = 0.0;  // mean of (a - b)^2 / (b^2 + 1e-2), per channel
+    double mae = 0.0;           // mean |a - b|
+    double max_abs = 0.0;       // largest |a - b| of any channel
+    std::size_t pixels = 0;     // pixels counted (mask)
+};
+
+// `mask` (optional, same size as the images) selects the pixels that count.
+ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_t>* mask = nullptr);
+
+}  // namespace foton

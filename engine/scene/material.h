@@ -1,0 +1,34 @@
+#pragma once
+// The Whitted-model materials of the first thesis. Radiometrically the diffuse part is a
+// true Lambertian BRDF (c_diffuse * base / pi) so that area lights given in radiance give the
+// same direct light as a physically based renderer; the ambient term and the Phong lobe are
+// the thesis' empirical additions.
+#include <string>
+
+#include "engine/core/rgb.h"
+
+namespace foton {
+
+enum class MaterialType { Matte, Phong, Reflective, Glass, Emitter };
+const char* material_type_name(MaterialType t);
+
+struct Material {
+    MaterialType type = MaterialType::Matte;
+    float c_ambient = 0.f;   // ambient coefficient (times base colour and ambient light)
+    float c_diffuse = 1.f;   // diffuse coefficient
+    RGB base_color{0.5f};
+    float c_specular = 1.f;  // scales specular_color
+    float exponent = 10.f;   // Phong exponent
+    RGB specular_color{0.f};
+    float c_reflective = 1.f;
+    RGB reflective_color{0.f};
+    float ior = 1.5f;
+    RGB refraction_color{1.f};
+    RGB emission{0.f};        // radiance leaving the front side (Emitter, area lights)
+
+    bool is_specular() const {
+        return type == MaterialType::Reflective || type == MaterialType::Glass;
+    }
+};
+
+}  // namespace foton

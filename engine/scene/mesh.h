@@ -1,0 +1,50 @@
+#pragma once
+// A triangle mesh in world space (object transforms are applied at load time, so one OBJ
+// placed several times becomes several meshes).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/math.h"
+
+namespace foton {
+
+struct TriangleMesh {
+    std::string name;
+    std::vector<float> positions;  // xyz per vertex
+    std::vector<float> normals;    // xyz per vertex, empty for flat shading
+    std::vector<uint32_t> indices; // three per triangle
+
+    std::size_t num_triangles() const { return indices.size() / 3; }
+    std::size_t num_vertices() const { return positions.size() / 3; }
+    Vec3 vertex(uint32_t i) const {
+        return {positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
+    }
+    Vec3 vertex_normal(uint32_t i) const {
+        return {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
+    }
+    void corners(uint32_t tri, Vec3& p0, Vec3& p1, Vec3& p2) const {
+        p0 = vertex(indices[3 * tri]);
+        p1 = vertex(indices[3 * tri + 1]);
+        p2 = vertex(indices[3 * tri + 2]);
+    }
+    Bounds3 bounds() const;
+    // Area-weighted vertex normals from the faces (for meshes given without normals).
+    void compute_smooth_normals();
+    void transform(const Affine& xf);
+    std::size_t memory_bytes() const {
+        return (positions.size() + normals.size()) * sizeof(float) + indices.size() * 4;
+    }
+};
+
+struct Sphere {
+    Vec3 center;
+    float radius = 1.f;
+};
+
+// Robust ray/sphere test (the quadratic solved in a cancellation-free form).
+// Returns the nearest root in (tmin, tmax).
+bool intersect_sphere(const Sphere& s, const Vec3& o, const Vec3& d, float tmin, float tmax,
+                      float& t);
+
+}  // namespace foton

@@ -1,0 +1,109 @@
+#include "scene.h"
+
+#include <cstdio>
+
+namespace foton {
+
+const char* accel_name(AccelType a) {
+    switch (a) {
+        case AccelType::Brute: return "brute";
+        case AccelType::Grid: return "grid";
+        case AccelType::Embree: return "embree";
+    }
+    return "?";
+}
+
+bool parse_accel(const std::string& s, AccelType& out) {
+    if (s == "brute") out = AccelType::Brute;
+    else if (s == "grid") out = AccelType::Grid;
+    else if (s == "embree") out = AccelType::Embree;
+    else return false;
+    return true;
+}
+
+const char* material_type_name(MaterialType t) {
+    switch (t) {
+        case MaterialType::Matte: return "matte";
+        case MaterialType::Phong: return "phong";
+        case MaterialType::Reflective: return "reflective";
+        case MaterialType::Glass: return "glass";
+        case MaterialType::Emitter: return "emitter";
+    }
+    return "?";
+}
+
+std::size_t Scene::num_triangles() const {
+    std::size_t n = 0;
+    for (const auto& m : meshes) n += m.num_triangles();
+    return n;
+}
+
+Bounds3 Scene::bounds() const {
+    Bounds3 b;
+    for (const auto& m : meshes) b.extend(m.bounds());
+    for (const auto& s : spheres) {
+        b.extend(s.center - Vec3{s.radius, s.radius, s.radius});
+        b.extend(s.center + Vec3{s.radius, s.radius, s.radius});
+    }
+    return b;
+}
+
+std::size_t Scene::memory_bytes() const {
+    std::size_t n = spheres.size() * sizeof(Sphere) + objects.size() * sizeof(Object) +
+                    materials.size() * sizeof(Material);
+    for (const auto& m : meshes) n += m.memory_bytes();
+    return n;
+}
+
+void Scene::set_resolution(int width, int height) {
+    // Keep the view plane's extent: the field of view does not change with resolution.
+    const float view_w = film.pixel_size * float(film.width);
+    film.width = width;
+    film.height = height;
+    film.pixel_size = view_w / float(width);
+    camera.width = width;
+    camera.height = height;
+    camera.pixel_size = film.pixel_size;
+}
+
+std::string Scene::summary() const {
+    char buf[512];
+    std::string s;
+    std::snprintf(buf, sizeof buf, "scene      %s\n", source.c_str());
+    s += buf;
+    std::snprintf(buf, sizeof buf, "objects    %zu (%zu meshes, %zu spheres)\n", objects.size(),
+                  meshes.size(), spheres.size());
+    s += buf;
+    std::snprintf(buf, sizeof buf, "triangles  %zu (%zu degenerate skipped)\n", num_triangles(),
+                  skipped_degenerate);
+    s += buf;
+    std::snprintf(buf, sizeof buf,
+                  "lights     %zu (point %zu, directional %zu, spot %zu, area %zu), ambient %.3g\n",
+                  lights.count(), lights.points.size(), lights.directionals.size(),
+                  lights.spots.size(), lights.areas.size(), double(ambient.intensity));
+    s += buf;
+    const Bounds3 b = bounds();
+    std::snprintf(buf, sizeof buf, "bounds     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y,
+                  b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "materials  %zu\n", materials.size());
+    s += buf;
+    std::snprintf(buf, sizeof buf, "memory     %.2f MiB (geometry)\n",
+                  double(memory_bytes()) / (1024.0 * 1024.0));
+    s += buf;
+    std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), vertical fov %.2f deg\n",
+                  camera.type == CameraType::Perspective ? "perspective" : "orthographic",
+                  camera.eye.x, camera.eye.y, camera.eye.z,
+                  camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g\n", film.width, film.height,
+                  film.gamma);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "renderer   %s, %u spp (%s), depth %u, accel %s\n",
+                  render.type.c_str(), render.spp, sampler_name(render.sampler), render.max_depth,
+                  accel_name(accel));
+    s += buf;
+    return s;
+}
+
+}  // namespace foton

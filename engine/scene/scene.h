@@ -1,0 +1,71 @@
+#pragma once
+// The scene model: everything the XML file describes, in world space, ready for the
+// accelerators and integrators.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+#include "light.h"
+#include "material.h"
+#include "mesh.h"
+
+namespace foton {
+
+enum class AccelType { Brute, Grid, Embree };
+const char* accel_name(AccelType a);
+bool parse_accel(const std::string& s, AccelType& out);
+
+enum class ObjectKind { Mesh, Sphere };
+
+// One geometry of the scene: its index is the geometry id reported in hits.
+struct Object {
+    ObjectKind kind = ObjectKind::Mesh;
+    uint32_t index = 0;     // into Scene::meshes or Scene::spheres
+    uint32_t material = 0;  // into Scene::materials
+    bool smooth = false;    // interpolate vertex normals (meshes)
+};
+
+struct RenderSettings {
+    std::string type = "raytracer";
+    uint32_t spp = 1;  // aa_samples
+    int threads = 0;   // 0 = all hardware threads
+    SamplerKind sampler = SamplerKind::Jittered;
+    uint32_t max_depth = 8;        // specular bounces after the camera ray
+    float min_contribution = 1e-3f;  // adaptive cut-off on a path's weight
+    uint64_t seed = 0;
+};
+
+struct FilmSettings {
+    int width = 512, height = 512;
+    float pixel_size = 0.001f;
+    float gamma = 2.2f;
+};
+
+struct Scene {
+    std::string source;  // the XML file
+    RGB background{0.f};
+    Ambient ambient;
+    Lights lights;
+    std::vector<Material> materials;
+    std::vector<TriangleMesh> meshes;
+    std::vector<Sphere> spheres;
+    std::vector<Object> objects;
+    AccelType accel = AccelType::Grid;
+    Camera camera;
+    FilmSettings film;
+    RenderSettings render;
+    std::size_t skipped_degenerate = 0;
+
+    std::size_t num_triangles() const;
+    Bounds3 bounds() const;
+    std::size_t memory_bytes() const;
+    std::string summary() const;  // foton info
+    // Applies film/camera consistency after width/height changes.
+    void set_resolution(int width, int height);
+};
+
+}  // namespace foton

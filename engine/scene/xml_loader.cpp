@@ -1,0 +1,542 @@
+#include "xml_loader.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "engine/core/error.h"
+#include "obj_loader.h"
+
+namespace foton {
+
+namespace {
+
+using Names = std::initializer_list<const char*>;
+
+bool in(const Names& names, const char* s) {
+    return std::any_of(names.begin(), names.end(),
+                       [&](const char* n) { return std::string_view(n) == s; });
+}
+
+class Loader {
+public:
+    Loader(const std::string& xml, std::string name, std::string base_dir)
+        : xml_(xml), name_(std::move(name)), base_(std::move(base_dir)) {
+        line_starts_.push_back(0);
+        for (std::size_t i = 0; i < xml_.size(); ++i)
+            if (xml_[i] == '\n') line_starts_.push_back(i + 1);
+    }
+
+    Scene run();
+
+private:
+    int line_of(std::ptrdiff_t offset) const {
+        if (offset < 0) return 0;
+        auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), std::size_t(offset));
+        return int(it - line_starts_.begin());
+    }
+    int line_of(const pugi::xml_node& n) const { return line_of(n.offset_debug()); }
+    [[noreturn]] void fail(const pugi::xml_node& n, const std::string& what) const {
+        throw InputError(name_, line_of(n), what);
+    }
+
+    // Rejects attributes and child elements that the element does not define.
+    void check(const pugi::xml_node& n, const Names& attrs, const Names& children) const {
+        for (const pugi::xml_attribute& a : n.attributes())
+            if (!in(attrs, a.name()))
+                fail(n, std::string("unknown attribute '") + a.name() + "' on <" + n.name() + ">");
+        for (const pugi::xml_node& c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (!in(children, c.name()))
+                fail(c, std::string("unknown element <") + c.name() + "> in <" + n.name() + ">");
+        }
+    }
+
+    float number(const pugi::xml_node& n, const char* attr) const {
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) fail(n, std::string("<") + n.name() + "> needs attribute '" + attr + "'");
+        std::string_view s = a.value();
+        while (!s.empty() && std::isspace((unsigned char)s.front())) s.remove_prefix(1);
+        while (!s.empty() && std::isspace((unsigned char)s.back())) s.remove_suffix(1);
+        if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+        float v = 0.f;
+        auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
+            fail(n, std::string("attribute '") + attr + "' is not a number: '" + a.value() + "'");
+        if (!std::isfinite(v))
+            fail(n, std::string("attribute '") + attr + "' is NaN or infinite");
+        return v;
+    }
+    float number(const pugi::xml_node& n, const char* attr, float fallback) const {
+        return n.attribute(attr) ? number(n, attr) : fallback;
+    }
+    float positive(const pugi::xml_node& n, const char* attr, float fallback) const {
+        const float v = number(n, attr, fallback);
+        if (!(v > 0.f)) fail(n, std::string("attribute '") + attr + "' must be positive");
+        return v;
+    }
+    float non_negative(const pugi::xml_node& n, const char* attr, float fallback) const {
+        const float v = number(n, attr, fallback);
+        if (v < 0.f) fail(n, std::string("attribute '") + attr + "' must not be negative");
+        return v;
+    }
+    uint32_t count(const pugi::xml_node& n, const char* attr, uint32_t fallback) const {
+        if (!n.attribute(attr)) return fallback;
+        const float v = number(n, attr);
+        if (v < 1.f || v != std::floor(v) || v > 1e8f)
+            fail(n, std::string("attribute '") + attr + "' must be a positive integer");
+        return uint32_t(v);
+    }
+    bool boolean(const pugi::xml_node& n, const char* attr, bool fallback) const {
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) return fallback;
+        const std::string v = a.value();
+        if (v == "true" || v == "1") return true;
+        if (v == "false" || v == "0") return false;
+        fail(n, std::string("attribute '") + attr + "' must be true or false");
+    }
+    pugi::xml_node child(const pugi::xml_node& n, const char* name) const {
+        const pugi::xml_node c = n.child(name);
+        if (!c) fail(n, std::string("<") + n.name() + "> needs a <" + name + "> element");
+        return c;
+    }
+    Vec3 xyz(const pugi::xml_node& n) const {
+        check(n, {"x", "y", "z"}, {});
+        return {number(n, "x"), number(n, "y"), number(n, "z")};
+    }
+    Vec3 xyz_child(const pugi::xml_node& n, const char* name) const { return xyz(child(n, name)); }
+    RGB rgb(const pugi::xml_node& n, Names extra = {}) const {
+        for (const pugi::xml_attribute& a : n.attributes()) {
+            const std::string_view an = a.name();
+            if (an != "r" && an != "g" && an != "b" && !in(extra, a.name()))
+                fail(n, std::string("unknown attribute '") + a.name() + "' on <" + n.name() + ">");
+        }
+        const RGB c{number(n, "r"), number(n, "g"), number(n, "b")};
+        if (c.r < 0.f || c.g < 0.f || c.b < 0.f) fail(n, "colour components must not be negative");
+        return c;
+    }
+    RGB rgb_child(const pugi::xml_node& n, const char* name, RGB fallback) const {
+        const pugi::xml_node c = n.child(name);
+        if (!c) return fallback;
+        check(c, {"r", "g", "b"}, {});
+        return rgb(c);
+    }
+    Vec3 direction(const pugi::xml_node& n, const char* name) const {
+        const pugi::xml_node c = child(n, name);
+        const Vec3 d = xyz(c);
+        if (length_squared(d) == 0.f) fail(c, std::string("<") + name + "> is a zero vector");
+        return normalize(d);
+    }
+
+    void parse_lights(const pugi::xml_node& n);
+    void parse_objects(const pugi::xml_node& n);
+    void parse_film(const pugi::xml_node& n);
+    void parse_renderer(const pugi::xml_node& n);
+    void parse_camera(const pugi::xml_node& n);
+    uint32_t parse_material(const pugi::xml_node& object);
+    Affine parse_transform(const pugi::xml_node& object) const;
+    void add_area_light(const pugi::xml_node& n);
+    uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
+
+    const std::string& xml_;
+    std::string name_, base_;
+    std::vector<std::size_t> line_starts_;
+    Scene scene_;
+};
+
+Scene Loader::run() {
+    pugi::xml_document doc;
+    const pugi::xml_parse_result r = doc.load_buffer(xml_.data(), xml_.size());
+    if (!r) throw InputError(name_, line_of(r.offset), std::string("malformed XML: ") + r.description());
+    const pugi::xml_node root = doc.document_element();
+    if (std::string_view(root.name()) != "scene")
+        fail(root, std::string("root element must be <scene>, not <") + root.name() + ">");
+    check(root, {}, {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer",
+                     "camera"});
+    scene_.source = name_;
+    for (const char* once : {"background", "ambient", "lights", "aggregate", "objects", "film",
+                             "renderer", "camera"}) {
+        int k = 0;
+        for (const pugi::xml_node& c : root.children(once)) {
+            if (++k > 1) fail(c, std::string("<") + once + "> given more than once");
+        }
+    }
+    if (const auto n = root.child("background")) {
+        check(n, {"r", "g", "b"}, {});
+        scene_.background = rgb(n);
+    }
+    if (const auto n = root.child("ambient")) {
+        check(n, {"r", "g", "b", "intensity"}, {});
+        scene_.ambient.color = rgb(n, {"intensity"});
+        scene_.ambient.intensity = non_negative(n, "intensity", 1.f);
+    }
+    // Film before camera: the camera's view plane is film size x pixel count.
+    parse_film(child(root, "film"));
+    if (const auto n = root.child("renderer")) parse_renderer(n);
+    if (const auto n = root.child("aggregate")) {
+        check(n, {"type"}, {});
+        if (!parse_accel(n.attribute("type").value(), scene_.accel))
+            fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
+                        "' (brute, grid, embree)");
+    }
+    parse_camera(child(root, "camera"));
+    if (const auto n = root.child("lights")) parse_lights(n);
+    parse_objects(child(root, "objects"));
+    bool has_geometry = false;
+    for (const Object& o : scene_.objects)
+        if (scene_.materials[o.material].type != MaterialType::Emitter) has_geometry = true;
+    if (!has_geometry) fail(root.child("objects"), "the scene has no objects");
+    return std::move(scene_);
+}
+
+void Loader::parse_film(const pugi::xml_node& n) {
+    check(n, {"width", "height", "size", "gamma"}, {});
+    FilmSettings& f = scene_.film;
+    f.width = int(count(n, "width", 512));
+    f.height = int(count(n, "height", 512));
+    f.pixel_size = positive(n, "size", 0.001f);
+    f.gamma = positive(n, "gamma", 2.2f);
+}
+
+void Loader::parse_renderer(const pugi::xml_node& n) {
+    check(n, {"type", "aa_samples", "num_threads", "sampler", "max_depth", "min_contribution",
+              "seed"},
+          {});
+    RenderSettings& r = scene_.render;
+    if (n.attribute("type")) {
+        r.type = n.attribute("type").value();
+        if (r.type != "raytracer")
+            fail(n, "unknown renderer type '" + r.type + "' (this build has: raytracer)");
+    }
+    r.spp = count(n, "aa_samples", 1);
+    if (n.attribute("num_threads")) {
+        const float t = number(n, "num_threads");
+        if (t < 0.f || t != std::floor(t)) fail(n, "num_threads must be 0 (all) or a positive integer");
+        r.threads = int(t);
+    }
+    if (n.attribute("sampler")) {
+        const auto k = parse_sampler(n.attribute("sampler").value());
+        if (!k)
+            fail(n, std::string("unknown sampler '") + n.attribute("sampler").value() +
+                        "' (regular, random, jittered, hammersley)");
+        r.sampler = *k;
+    }
+    if (n.attribute("max_depth")) {
+        const float d = number(n, "max_depth");
+        if (d < 0.f || d != std::floor(d) || d > 1000.f) fail(n, "max_depth must be an integer in [0, 1000]");
+        r.max_depth = uint32_t(d);
+    }
+    r.min_contribution = non_negative(n, "min_contribution", r.min_contribution);
+    if (n.attribute("seed")) {
+        const float s = number(n, "seed");
+        if (s < 0.f || s != std::floor(s)) fail(n, "seed must be a non-negative integer");
+        r.seed = uint64_t(s);
+    }
+}
+
+void Loader::parse_camera(const pugi::xml_node& n) {
+    check(n, {"type", "d", "exposure", "fov"}, {"eye", "target", "up"});
+    Camera& c = scene_.camera;
+    const std::string type = n.attribute("type") ? n.attribute("type").value() : "perspective";
+    if (type == "perspective") c.type = CameraType::Perspective;
+    else if (type == "orthographic") c.type = CameraType::Orthographic;
+    else fail(n, "unknown camera type '" + type + "' (perspective, orthographic)");
+    c.eye = xyz_child(n, "eye");
+    c.target = xyz_child(n, "target");
+    c.up = n.child("up") ? xyz_child(n, "up") : Vec3{0, 1, 0};
+    c.d = positive(n, "d", 1.f);
+    c.exposure = positive(n, "exposure", 1.f);
+    c.width = scene_.film.width;
+    c.height = scene_.film.height;
+    if (n.attribute("fov")) {
+        // Convenience: a vertical field of view in degrees sets the pixel size.
+        const float fov = number(n, "fov");
+        if (!(fov > 0.f && fov < 180.f)) fail(n, "fov must be in (0, 180) degrees");
+        if (c.type != CameraType::Perspective) fail(n, "fov applies to perspective cameras only");
+        scene_.film.pixel_size = 2.f * c.d * std::tan(0.5f * fov * kPi / 180.f) / float(c.height);
+    }
+    c.pixel_size = scene_.film.pixel_size;
+    if (length_squared(c.target - c.eye) == 0.f) fail(n, "camera eye and target coincide");
+    if (length_squared(cross(c.target - c.eye, c.up)) == 0.f)
+        fail(n, "camera up is parallel to the viewing direction");
+    c.setup();
+}
+
+void Loader::parse_lights(const pugi::xml_node& n) {
+    check(n, {}, {"point", "directional", "spot", "area"});
+    for (const pugi::xml_node& l : n.children()) {
+        if (l.type() != pugi::node_element) continue;
+        const std::string_view kind = l.name();
+        if (kind == "point") {
+            check(l, {"intensity", "attenuation"}, {"color", "position"});
+            PointLight p;
+            p.position = xyz_child(l, "position");
+            p.intensity = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            p.attenuation = non_negative(l, "attenuation", 0.f);
+            scene_.lights.points.push_back(p);
+        } else if (kind == "directional") {
+            check(l, {"intensity"}, {"color", "direction"});
+            DirectionalLight d;
+            d.direction = direction(l, "direction");
+            d.radiance = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            scene_.lights.directionals.push_back(d);
+        } else if (kind == "spot") {
+            check(l, {"intensity", "attenuation", "angle", "inner_angle", "falloff"},
+                  {"color", "position", "direction", "target"});
+            SpotLight s;
+            s.position = xyz_child(l, "position");
+            if (l.child("target")) {
+                const Vec3 d = xyz_child(l, "target") - s.position;
+                if (length_squared(d) == 0.f) fail(l, "spot target equals its position");
+                s.direction = normalize(d);
+            } else {
+                s.direction = direction(l, "direction");
+            }
+            s.intensity = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            s.attenuation = non_negative(l, "attenuation", 0.f);
+            const float outer = number(l, "angle");
+            if (!(outer > 0.f && outer <= 180.f)) fail(l, "spot angle must be in (0, 180] degrees");
+            float inner = outer;
+            if (l.attribute("inner_angle")) {
+                inner = number(l, "inner_angle");
+                if (!(inner >= 0.f && inner <= outer)) fail(l, "inner_angle must be in [0, angle]");
+            } else if (l.attribute("falloff")) {
+                const float f = number(l, "falloff");
+                if (!(f >= 0.f && f <= 1.f)) fail(l, "falloff must be in [0, 1]");
+                inner = outer * (1.f - f);
+            }
+            s.cos_outer = std::cos(outer * kPi / 180.f);
+            s.cos_inner = std::cos(inner * kPi / 180.f);
+            scene_.lights.spots.push_back(s);
+        } else {
+            add_area_light(l);
+        }
+    }
+}
+
+void Loader::add_area_light(const pugi::xml_node& l) {
+    check(l, {"intensity", "samples", "sampler", "visible"},
+          {"color", "radiance", "corner", "edge1", "edge2", "center", "size", "normal"});
+    AreaLight a;
+    if (l.child("corner")) {
+        a.corner = xyz_child(l, "corner");
+        a.edge1 = xyz_child(l, "edge1");
+        a.edge2 = xyz_child(l, "edge2");
+    } else if (l.child("center")) {
+        const Vec3 c = xyz_child(l, "center");
+        const pugi::xml_node sz = child(l, "size");
+        check(sz, {"x", "y"}, {});
+        const float w = number(sz, "x"), h = number(sz, "y");
+        if (!(w > 0.f && h > 0.f)) fail(sz, "area light size must be positive");
+        const Vec3 nrm = direction(l, "normal");
+        Vec3 s, t;
+        orthonormal_basis(nrm, s, t);
+        if (dot(cross(s, t), nrm) < 0.f) std::swap(s, t);
+        a.edge1 = s * w;
+        a.edge2 = t * h;
+        a.corner = c - a.edge1 * 0.5f - a.edge2 * 0.5f;
+    } else {
+        fail(l, "<area> needs <corner> <edge1> <edge2> or <center> <size> <normal>");
+    }
+    const Vec3 cr = cross(a.edge1, a.edge2);
+    a.area = length(cr);
+    if (!(a.area > 0.f)) fail(l, "area light has zero area (parallel or zero edges)");
+    a.normal = cr / a.area;
+    if (l.child("radiance")) {
+        check(l.child("radiance"), {"r", "g", "b"}, {});
+        a.radiance = rgb(l.child("radiance")) * non_negative(l, "intensity", 1.f);
+    } else {
+        a.radiance = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+    }
+    a.samples = count(l, "samples", 16);
+    a.sampler = scene_.render.sampler;
+    if (l.attribute("sampler")) {
+        const auto k = parse_sampler(l.attribute("sampler").value());
+        if (!k) fail(l, std::string("unknown sampler '") + l.attribute("sampler").value() + "'");
+        a.sampler = *k;
+    }
+    if (boolean(l, "visible", true)) {
+        // The emitting rectangle itself, so that camera rays and mirrors see the light.
+        Material m;
+        m.type = MaterialType::Emitter;
+        m.base_color = RGB{0.f};
+        m.emission = a.radiance;
+        scene_.materials.push_back(m);
+        TriangleMesh quad;
+        quad.name = "area light";
+        const Vec3 p[4] = {a.corner, a.corner + a.edge1, a.corner + a.edge1 + a.edge2,
+                           a.corner + a.edge2};
+        for (const Vec3& v : p) quad.positions.insert(quad.positions.end(), {v.x, v.y, v.z});
+        quad.indices = {0, 1, 2, 0, 2, 3};
+        a.geometry = add_mesh(std::move(quad), uint32_t(scene_.materials.size() - 1), false);
+    }
+    scene_.lights.areas.push_back(a);
+}
+
+uint32_t Loader::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
+    Object o;
+    o.kind = ObjectKind::Mesh;
+    o.index = uint32_t(scene_.meshes.size());
+    o.material = material;
+    o.smooth = smooth && !mesh.normals.empty();
+    scene_.meshes.push_back(std::move(mesh));
+    scene_.objects.push_back(o);
+    return uint32_t(scene_.objects.size() - 1);
+}
+
+Affine Loader::parse_transform(const pugi::xml_node& object) const {
+    Affine xf;
+    const pugi::xml_node t = object.child("transform");
+    if (!t) return xf;
+    check(t, {}, {"translate", "scale", "rotate"});
+    // Applied in document order: the first child acts first.
+    for (const pugi::xml_node& c : t.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const std::string_view k = c.name();
+        if (k == "translate") {
+            xf = Affine::translate(xyz(c)) * xf;
+        } else if (k == "scale") {
+            check(c, {"x", "y", "z", "s"}, {});
+            Vec3 s;
+            if (c.attribute("s")) {
+                const float v = number(c, "s");
+                s = {v, v, v};
+            } else {
+                s = {number(c, "x"), number(c, "y"), number(c, "z")};
+            }
+            if (s.x == 0.f || s.y == 0.f || s.z == 0.f) fail(c, "scale factor of zero");
+            xf = Affine::scale(s) * xf;
+        } else {
+            check(c, {"x", "y", "z", "angle"}, {});
+            const Vec3 axis{number(c, "x"), number(c, "y"), number(c, "z")};
+            if (length_squared(axis) == 0.f) fail(c, "rotation axis is a zero vector");
+            xf = Affine::rotate(axis, number(c, "angle")) * xf;
+        }
+    }
+    return xf;
+}
+
+uint32_t Loader::parse_material(const pugi::xml_node& object) {
+    const pugi::xml_node n = child(object, "material");
+    if (std::distance(object.children("material").begin(), object.children("material").end()) > 1)
+        fail(n, "an object takes exactly one <material>");
+    Material m;
+    const std::string type = n.attribute("type").value();
+    if (type == "matte") {
+        m.type = MaterialType::Matte;
+        check(n, {"type", "c_ambient", "c_diffuse"}, {"base_color"});
+    } else if (type == "phong") {
+        m.type = MaterialType::Phong;
+        check(n, {"type", "c_ambient", "c_diffuse", "c_specular", "exp"},
+              {"base_color", "specular_color"});
+    } else if (type == "reflective") {
+        m.type = MaterialType::Reflective;
+        check(n, {"type", "c_ambient", "c_diffuse", "c_specular", "exp", "c_reflective"},
+              {"base_color", "specular_color", "reflective_color"});
+    } else if (type == "glass") {
+        m.type = MaterialType::Glass;
+        check(n, {"type", "ior"}, {"refraction_color"});
+    } else {
+        fail(n, "unknown material type '" + type + "' (matte, phong, reflective, glass)");
+    }
+    m.c_ambient = non_negative(n, "c_ambient", 0.f);
+    m.c_diffuse = non_negative(n, "c_diffuse", m.type == MaterialType::Glass ? 0.f : 1.f);
+    m.c_specular = non_negative(n, "c_specular", 1.f);
+    m.exponent = positive(n, "exp", 10.f);
+    m.c_reflective = non_negative(n, "c_reflective", 1.f);
+    m.ior = positive(n, "ior", 1.5f);
+    m.base_color = rgb_child(n, "base_color", m.type == MaterialType::Glass ? RGB{0.f} : RGB{0.5f});
+    m.specular_color = rgb_child(n, "specular_color", RGB{0.f});
+    m.reflective_color = rgb_child(n, "reflective_color", RGB{1.f});
+    m.refraction_color = rgb_child(n, "refraction_color", RGB{1.f});
+    scene_.materials.push_back(m);
+    return uint32_t(scene_.materials.size() - 1);
+}
+
+void Loader::parse_objects(const pugi::xml_node& n) {
+    check(n, {}, {"triangle_mesh", "sphere", "quad"});
+    for (const pugi::xml_node& o : n.children()) {
+        if (o.type() != pugi::node_element) continue;
+        const std::string_view kind = o.name();
+        if (kind == "triangle_mesh") {
+            check(o, {"src", "smooth", "name"}, {"material", "transform"});
+            const std::string src = o.attribute("src").value();
+            if (src.empty()) fail(o, "<triangle_mesh> needs attribute 'src'");
+            const std::filesystem::path path = std::filesystem::path(base_) / src;
+            if (!std::filesystem::is_regular_file(path))
+                fail(o, "mesh file '" + src + "' not found (looked for " + path.string() + ")");
+            const Affine xf = parse_transform(o);
+            const uint32_t mat = parse_material(o);
+            ObjLoadResult r = load_obj(path.string());
+            if (r.degenerate_skipped > 0)
+                std::fprintf(stderr, "%s:%d: warning: %zu degenerate triangles skipped in %s\n",
+                             name_.c_str(), line_of(o), r.degenerate_skipped, src.c_str());
+            scene_.skipped_degenerate += r.degenerate_skipped;
+            r.mesh.name = o.attribute("name") ? o.attribute("name").value() : src;
+            const bool smooth = boolean(o, "smooth", true);
+            if (smooth && !r.has_normals) r.mesh.compute_smooth_normals();
+            if (!smooth) r.mesh.normals.clear();
+            if (!xf.is_identity()) r.mesh.transform(xf);
+            add_mesh(std::move(r.mesh), mat, smooth);
+        } else if (kind == "quad") {
+            check(o, {"name"}, {"corner", "edge1", "edge2", "material", "transform"});
+            const Vec3 c = xyz_child(o, "corner"), e1 = xyz_child(o, "edge1"),
+                       e2 = xyz_child(o, "edge2");
+            if (length_squared(cross(e1, e2)) == 0.f) fail(o, "quad has zero area");
+            const Affine xf = parse_transform(o);
+            TriangleMesh q;
+            q.name = o.attribute("name") ? o.attribute("name").value() : "quad";
+            const Vec3 p[4] = {c, c + e1, c + e1 + e2, c + e2};
+            for (const Vec3& v : p) q.positions.insert(q.positions.end(), {v.x, v.y, v.z});
+            q.indices = {0, 1, 2, 0, 2, 3};
+            if (!xf.is_identity()) q.transform(xf);
+            add_mesh(std::move(q), parse_material(o), false);
+        } else {
+            check(o, {"radius", "name"}, {"center", "material", "transform"});
+            Sphere s;
+            s.center = xyz_child(o, "center");
+            s.radius = number(o, "radius");
+            if (!(s.radius > 0.f)) fail(o, "sphere radius must be positive");
+            const Affine xf = parse_transform(o);
+            if (!xf.is_identity()) {
+                const Vec3 ax = xf.vector({1, 0, 0}), ay = xf.vector({0, 1, 0}),
+                           az = xf.vector({0, 0, 1});
+                const float sx = length(ax), sy = length(ay), sz = length(az);
+                if (std::fabs(sx - sy) > 1e-5f * sx || std::fabs(sx - sz) > 1e-5f * sx)
+                    fail(o, "a sphere takes only uniform scaling");
+                s.center = xf.point(s.center);
+                s.radius *= sx;
+            }
+            Object ob;
+            ob.kind = ObjectKind::Sphere;
+            ob.index = uint32_t(scene_.spheres.size());
+            ob.material = parse_material(o);
+            scene_.spheres.push_back(s);
+            scene_.objects.push_back(ob);
+        }
+    }
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& xml, const std::string& name, const std::string& base_dir) {
+    return Loader(xml, name, base_dir).run();
+}
+
+Scene load_scene(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, "cannot open scene file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    return parse_scene(ss.str(), path, base.empty() ? "." : base);
+}
+
+}  // namespace foton

@@ -1,0 +1,50 @@
+#include "surface.h"
+
+namespace foton {
+
+namespace {
+// Relative size of the offset: a few float ulps of the larger of the hit's coordinates and
+// its distance along the ray, so it scales with the scene and with the distance.
+constexpr float kRelativeEpsilon = 2e-5f;
+}  // namespace
+
+SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u,
+                        float v, const Vec3& origin, const Vec3& dir) {
+    SurfacePoint sp;
+    const Object& obj = scene.objects[geom];
+    Vec3 n_geom, n_shade;
+    if (obj.kind == ObjectKind::Mesh) {
+        const TriangleMesh& m = scene.meshes[obj.index];
+        Vec3 p0, p1, p2;
+        m.corners(prim, p0, p1, p2);
+        // Barycentric position is more precise than o + t d far from the origin.
+        sp.p = p0 * (1.f - u - v) + p1 * u + p2 * v;
+        n_geom = normalize(cross(p1 - p0, p2 - p0));
+        n_shade = n_geom;
+        if (obj.smooth) {
+            const uint32_t* ix = &m.indices[3 * prim];
+            const Vec3 ns = m.vertex_normal(ix[0]) * (1.f - u - v) + m.vertex_normal(ix[1]) * u +
+                            m.vertex_normal(ix[2]) * v;
+            const float len = length(ns);
+            if (len > 0.f) n_shade = ns / len;
+        }
+    } else {
+        const Sphere& s = scene.spheres[obj.index];
+        sp.p = origin + dir * t;
+        n_geom = (sp.p - s.center) / s.radius;
+        n_shade = n_geom;
+    }
+    sp.front_face = dot(n_geom, dir) < 0.f;
+    if (!sp.front_face) {
+        n_geom = -n_geom;
+        n_shade = -n_shade;
+    }
+    // An interpolated normal may lean past the true surface; keep it on the viewer's side.
+    if (dot(n_shade, dir) >= 0.f) n_shade = n_geom;
+    sp.ng = n_geom;
+    sp.ns = n_shade;
+    sp.epsilon = kRelativeEpsilon * (max_abs_component(sp.p) + t);
+    return sp;
+}
+
+}  // namespace foton

@@ -1,0 +1,220 @@
+#include "whitted.h"
+
+#include <cmath>
+
+#include "engine/core/optics.h"
+#include "engine/core/rng.h"
+#include "engine/core/sampler.h"
+
+namespace foton {
+
+namespace {
+
+// Phong's empirical lobe plus the Lambertian term; f times cos is the reflected fraction.
+RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
+    RGB f = m.base_color * (m.c_diffuse * kInvPi);
+    if (m.type == MaterialType::Phong || m.type == MaterialType::Reflective) {
+        const Vec3 r = reflect(-wi, ns);  // mirror direction of the light
+        const float rdotwo = dot(r, wo);
+        if (rdotwo > 0.f) f += m.specular_color * (m.c_specular * std::pow(rdotwo, m.exponent));
+    }
+    return f;
+}
+
+// The streams of counter-based randomness used by the renderer.
+enum RandomStream : uint64_t { kPixelStream = 1, kLightStream = 2 };
+
+}  // namespace
+
+WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Intersector& accel,
+                                     const RenderOptions& options)
+    : scene_(scene), accel_(accel), options_(options) {}
+
+uint64_t WhittedIntegrator::global_sample(const Tile& tile, uint32_t slot) const {
+    const uint32_t spp = options_.spp;
+    const uint32_t local = slot / spp;
+    const int tw = tile.x1 - tile.x0;
+    const uint64_t x = uint64_t(tile.x0 + int(local) % tw), y = uint64_t(tile.y0 + int(local) / tw);
+    return (y * uint64_t(scene_.film.width) + x) * spp + slot % spp;
+}
+
+void WhittedIntegrator::generate(const Tile& tile, WhittedWorkspace& ws) const {
+    const uint32_t spp = options_.spp;
+    const std::size_t n = std::size_t(tile.pixels()) * spp;
+    ws.rays.clear();
+    ws.rays.reserve(n);
+    ws.weight.assign(n, RGB{1.f});
+    ws.radiance.assign(n, RGB{0.f});
+    uint32_t slot = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
+            for (uint32_t s = 0; s < spp; ++s, ++slot) {
+                const Point2 jitter = sample_pattern(scene_.render.sampler, s, spp,
+                                                     options_.seed,
+                                                     rng::hash(kPixelStream, pixel, 0, 0));
+                Vec3 o, d;
+                scene_.camera.generate(float(x) + jitter.x, float(y) + jitter.y, o, d);
+                ws.rays.push(o, d, 0.f, kInfinity, slot);
+            }
+        }
+    }
+}
+
+void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
+                                     const RGB& weight, uint32_t slot, uint64_t sample_index,
+                                     uint32_t depth, WhittedWorkspace& ws) const {
+    const Lights& L = scene_.lights;
+    // Queues a shadow ray towards direction wi (unit) over distance `dist`, carrying the
+    // contribution it makes if nothing blocks it.
+    auto add = [&](const Vec3& wi, float dist, const RGB& incident) {
+        const float cos_s = dot(sp.ns, wi);
+        if (cos_s <= 0.f || dot(sp.ng, wi) <= 0.f) return;
+        const RGB value = weight * brdf(m, sp.ns, wo, wi) * incident * cos_s;
+        if (value.is_black()) return;
+        const Vec3 o = offset_origin(sp, wi);
+        // Stop short of the light so that its own geometry (area lights) does not block it.
+        const float tmax = std::isinf(dist) ? kInfinity : dist * (1.f - 1e-4f) - sp.epsilon;
+        ws.shadow.push(o, wi, 0.f, tmax, slot);
+        ws.shadow_value.push_back(value);
+    };
+    for (const PointLight& pl : L.points) {
+        const Vec3 to = pl.position - sp.p;
+        const float d2 = length_squared(to), d = std::sqrt(d2);
+        add(to / d, d, pl.intensity * (1.f / (1.f + pl.attenuation * d2)));
+    }
+    for (const DirectionalLight& dl : L.directionals) add(-dl.direction, kInfinity, dl.radiance);
+    for (const SpotLight& sl : L.spots) {
+        const Vec3 to = sl.position - sp.p;
+        const float d2 = length_squared(to), d = std::sqrt(d2);
+        const Vec3 wi = to / d;
+        const float f = sl.falloff(dot(-wi, sl.direction));
+        if (f > 0.f) add(wi, d, sl.intensity * (f / (1.f + sl.attenuation * d2)));
+    }
+    for (uint32_t li = 0; li < L.areas.size(); ++li) {
+        const AreaLight& al = L.areas[li];
+        const uint64_t key = rng::hash(kLightStream, sample_index, depth, li);
+        const float inv_n = 1.f / float(al.samples);
+        for (uint32_t k = 0; k < al.samples; ++k) {
+            const Point2 uv = sample_pattern(al.sampler, k, al.samples, options_.seed, key);
+            const Vec3 q = al.corner + al.edge1 * uv.x + al.edge2 * uv.y;
+            const Vec3 to = q - sp.p;
+            const float d2 = length_squared(to), d = std::sqrt(d2);
+            const Vec3 wi = to / d;
+            const float cos_l = -dot(al.normal, wi);
+            if (cos_l <= 0.f) continue;  // one-sided emitter seen from behind
+            // Radiance to irradiance: L cos_l dA / d^2, the area density being n / A.
+            add(wi, d, al.radiance * (cos_l * al.area * inv_n / d2));
+        }
+    }
+}
+
+void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace& ws) const {
+    ws.shadow.clear();
+    ws.shadow_value.clear();
+    ws.next.clear();
+    ws.next_weight.clear();
+    const RGB ambient = scene_.ambient.radiance();
+    const bool may_continue = depth < scene_.render.max_depth;
+    const float cutoff = scene_.render.min_contribution;
+    auto spawn = [&](const SurfacePoint& sp, const Vec3& w, const RGB& weight, uint32_t slot) {
+        if (!may_continue || weight.max_component() < cutoff) return;
+        ws.next.push(offset_origin(sp, w), w, 0.f, kInfinity, slot);
+        ws.next_weight.push_back(weight);
+    };
+    for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+        const uint32_t slot = ws.rays.id[i];
+        const RGB& weight = ws.weight[i];
+        const uint32_t geom = ws.hits.geom[i];
+        if (geom == kNoHit) {
+            ws.radiance[slot] += weight * scene_.background;
+            continue;
+        }
+        const Vec3 o = ws.rays.origin(i), d = ws.rays.direction(i);
+        const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
+                                           ws.hits.u[i], ws.hits.v[i], o, d);
+        const Material& m = scene_.materials[scene_.objects[geom].material];
+        const Vec3 wo = -d;
+        switch (m.type) {
+            case MaterialType::Emitter:
+                if (sp.front_face) ws.radiance[slot] += weight * m.emission;
+                break;
+            case MaterialType::Matte:
+            case MaterialType::Phong:
+            case MaterialType::Reflective: {
+                ws.radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
+                direct_light(sp, m, wo, weight, slot, global_sample(tile, slot), depth, ws);
+                if (m.type == MaterialType::Reflective) {
+                    Vec3 r = reflect(d, sp.ns);
+                    if (dot(r, sp.ng) <= 0.f) r = reflect(d, sp.ng);
+                    spawn(sp, r, weight * m.reflective_color * m.c_reflective, slot);
+                }
+                break;
+            }
+            case MaterialType::Glass: {
+                // Entering when the ray meets the geometry's outside.
+                const float eta_i = sp.front_face ? 1.f : m.ior;
+                const float eta_t = sp.front_face ? m.ior : 1.f;
+                const float cos_i = std::clamp(dot(wo, sp.ns), 0.f, 1.f);
+                const float F = fresnel_dielectric(cos_i, eta_i, eta_t);
+                Vec3 r = reflect(d, sp.ns);
+                if (dot(r, sp.ng) <= 0.f) r = reflect(d, sp.ng);
+                spawn(sp, r, weight * F, slot);
+                Vec3 t;
+                if (F < 1.f && refract(d, sp.ns, eta_i / eta_t, t) && dot(t, sp.ng) < 0.f) {
+                    // Radiance is scaled by (eta_i / eta_t)^2 across the interface.
+                    const float scale = (1.f - F) * (eta_i * eta_i) / (eta_t * eta_t);
+                    spawn(sp, t, weight * m.refraction_color * scale, slot);
+                }
+                break;
+            }
+        }
+    }
+}
+
+void WhittedIntegrator::render_tile(const Tile& tile, Film& film, WhittedWorkspace& ws,
+                                    RenderStats& stats) const {
+    StageClock clock;
+    generate(tile, ws);
+    stats.camera_rays += ws.rays.size();
+    stats.stage_items[int(Stage::Generate)] += ws.rays.size();
+    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+
+    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
+        accel_.intersect(ws.rays, ws.hits, stats.trace);
+        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+
+        shade(depth, tile, ws);
+        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+
+        if (!ws.shadow.empty()) {
+            accel_.occluded(ws.shadow, ws.occluded, stats.trace);
+            for (std::size_t i = 0; i < ws.shadow.size(); ++i)
+                if (!ws.occluded[i]) ws.radiance[ws.shadow.id[i]] += ws.shadow_value[i];
+            stats.shadow_rays += ws.shadow.size();
+            stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
+            stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
+        }
+        stats.secondary_rays += ws.next.size();
+        std::swap(ws.rays, ws.next);
+        std::swap(ws.weight, ws.next_weight);
+    }
+
+    // Box filter: each pixel is the mean of its own samples, summed in sample order.
+    const uint32_t spp = options_.spp;
+    const float inv = 1.f / float(spp);
+    uint32_t slot = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            RGB sum;
+            for (uint32_t s = 0; s < spp; ++s) sum += ws.radiance[slot++];
+            film.at(x, y) = sum * inv;
+        }
+    }
+    stats.stage_items[int(Stage::Accumulate)] += std::size_t(tile.pixels());
+    stats.stage_seconds[int(Stage::Accumulate)] += clock.lap();
+}
+
+}  // namespace foton

@@ -1,0 +1,167 @@
+#pragma once
+// Möller–Trumbore ray/triangle intersection in three shapes:
+//   * intersect_triangle_scalar: the scalar reference twin, one ray against one triangle;
+//   * intersect_block / occluded_block: one ray against a TriangleBlock of W triangles;
+//   * intersect_packet: a packet of W rays (SoA) against one triangle.
+// All three evaluate the same expressions in the same order (the build disables FMA
+// contraction), so the SIMD forms agree with the twin bit for bit, including on edges
+// (u = 0, v = 0, u + v = 1 count as hits) and for rays parallel to the plane (det = 0 misses).
+#include <cstdint>
+
+#include "ray1.h"
+#include "simd.h"
+#include "triangle_block.h"
+
+namespace foton::kern {
+
+// Returns true and writes t, u, v when the ray hits the triangle with tmin < t < tmax.
+inline bool intersect_triangle_scalar(const Ray1& r, float v0x, float v0y, float v0z, float e1x,
+                                      float e1y, float e1z, float e2x, float e2y, float e2z,
+                                      float tmax, float& t_out, float& u_out, float& v_out) {
+    const float px = r.dy * e2z - r.dz * e2y;
+    const float py = r.dz * e2x - r.dx * e2z;
+    const float pz = r.dx * e2y - r.dy * e2x;
+    const float det = e1x * px + e1y * py + e1z * pz;
+    const float inv = 1.f / det;
+    const float tx = r.ox - v0x, ty = r.oy - v0y, tz = r.oz - v0z;
+    const float u = (tx * px + ty * py + tz * pz) * inv;
+    const float qx = ty * e1z - tz * e1y;
+    const float qy = tz * e1x - tx * e1z;
+    const float qz = tx * e1y - ty * e1x;
+    const float v = (r.dx * qx + r.dy * qy + r.dz * qz) * inv;
+    const float t = (e2x * qx + e2y * qy + e2z * qz) * inv;
+    const bool hit = det != 0.f && u >= 0.f && v >= 0.f && u + v <= 1.f && t > r.tmin && t < tmax;
+    if (hit) {
+        t_out = t;
+        u_out = u;
+        v_out = v;
+    }
+    return hit;
+}
+
+// Scalar twin of intersect_block: the lanes in order, keeping the strictly closer hit.
+inline bool intersect_block_scalar(const Ray1& r, const TriangleBlock& b, TriHit& hit) {
+    bool any = false;
+    for (std::size_t i = 0; i < kBlockWidth; ++i) {
+        float t, u, v;
+        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i],
+                                      b.e1z[i], b.e2x[i], b.e2y[i], b.e2z[i], hit.t, t, u, v)) {
+            hit = TriHit{t, u, v, b.id[i]};
+            any = true;
+        }
+    }
+    return any;
+}
+
+namespace detail {
+using simd::FloatV;
+using simd::MaskV;
+
+struct BlockTest {
+    FloatV t, u, v;
+    MaskV hit;
+};
+
+struct TriV {
+    FloatV v0x, v0y, v0z, e1x, e1y, e1z, e2x, e2y, e2z;
+};
+
+inline TriV load_block(const TriangleBlock& b) {
+    return {FloatV::load_aligned(b.v0x), FloatV::load_aligned(b.v0y), FloatV::load_aligned(b.v0z),
+            FloatV::load_aligned(b.e1x), FloatV::load_aligned(b.e1y), FloatV::load_aligned(b.e1z),
+            FloatV::load_aligned(b.e2x), FloatV::load_aligned(b.e2y), FloatV::load_aligned(b.e2z)};
+}
+
+inline BlockTest test(const FloatV& ox, const FloatV& oy, const FloatV& oz, const FloatV& dx,
+                      const FloatV& dy, const FloatV& dz, const FloatV& tmin, const FloatV& tmax,
+                      const TriV& tri) {
+    const FloatV px = dy * tri.e2z - dz * tri.e2y;
+    const FloatV py = dz * tri.e2x - dx * tri.e2z;
+    const FloatV pz = dx * tri.e2y - dy * tri.e2x;
+    const FloatV det = tri.e1x * px + tri.e1y * py + tri.e1z * pz;
+    const FloatV inv = FloatV(1.f) / det;
+    const FloatV tx = ox - tri.v0x;
+    const FloatV ty = oy - tri.v0y;
+    const FloatV tz = oz - tri.v0z;
+    const FloatV u = (tx * px + ty * py + tz * pz) * inv;
+    const FloatV qx = ty * tri.e1z - tz * tri.e1y;
+    const FloatV qy = tz * tri.e1x - tx * tri.e1z;
+    const FloatV qz = tx * tri.e1y - ty * tri.e1x;
+    const FloatV v = (dx * qx + dy * qy + dz * qz) * inv;
+    const FloatV t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv;
+    const FloatV zero(0.f), one(1.f);
+    const MaskV hit = (det != zero) & (u >= zero) & (v >= zero) & (u + v <= one) & (t > tmin) &
+                      (t < tmax);
+    return {t, u, v, hit};
+}
+}  // namespace detail
+
+// One ray against W triangles. Updates `hit` (whose t is the current tmax) with the closest
+// hit in the block; ties go to the lowest lane. Returns true when it improved `hit`.
+inline bool intersect_block(const Ray1& r, const TriangleBlock& b, TriHit& hit) {
+    using simd::FloatV;
+    const detail::BlockTest bt =
+        detail::test(FloatV(r.ox), FloatV(r.oy), FloatV(r.oz), FloatV(r.dx), FloatV(r.dy),
+                     FloatV(r.dz), FloatV(r.tmin), FloatV(hit.t), detail::load_block(b));
+    uint32_t bits = simd::movemask(bt.hit);
+    if (bits == 0) return false;
+    alignas(64) float ts[kBlockWidth];
+    bt.t.store_aligned(ts);
+    uint32_t best = static_cast<uint32_t>(__builtin_ctz(bits));
+    for (bits &= bits - 1; bits != 0; bits &= bits - 1) {
+        const uint32_t lane = static_cast<uint32_t>(__builtin_ctz(bits));
+        if (ts[lane] < ts[best]) best = lane;
+    }
+    alignas(64) float us[kBlockWidth], vs[kBlockWidth];
+    bt.u.store_aligned(us);
+    bt.v.store_aligned(vs);
+    hit = TriHit{ts[best], us[best], vs[best], b.id[best]};
+    return true;
+}
+
+// Any hit with tmin < t < tmax in the block (shadow rays).
+inline bool occluded_block(const Ray1& r, const TriangleBlock& b) {
+    using simd::FloatV;
+    const detail::BlockTest bt =
+        detail::test(FloatV(r.ox), FloatV(r.oy), FloatV(r.oz), FloatV(r.dx), FloatV(r.dy),
+                     FloatV(r.dz), FloatV(r.tmin), FloatV(r.tmax), detail::load_block(b));
+    return xsimd::any(bt.hit);
+}
+
+// A packet of W rays in SoA form against one triangle; the hit columns are updated in place
+// where the triangle is closer than the current t (which acts as each ray's tmax).
+struct alignas(64) RayPacket {
+    float ox[kBlockWidth], oy[kBlockWidth], oz[kBlockWidth];
+    float dx[kBlockWidth], dy[kBlockWidth], dz[kBlockWidth];
+    float tmin[kBlockWidth];
+};
+struct alignas(64) PacketHits {
+    float t[kBlockWidth], u[kBlockWidth], v[kBlockWidth];
+    uint32_t id[kBlockWidth];
+};
+
+inline uint32_t intersect_packet(const RayPacket& p, const TriangleBlock& tri_block,
+                                 std::size_t lane, PacketHits& h) {
+    using simd::FloatV;
+    const std::size_t l = lane;
+    const detail::TriV tri{FloatV(tri_block.v0x[l]), FloatV(tri_block.v0y[l]),
+                           FloatV(tri_block.v0z[l]), FloatV(tri_block.e1x[l]),
+                           FloatV(tri_block.e1y[l]), FloatV(tri_block.e1z[l]),
+                           FloatV(tri_block.e2x[l]), FloatV(tri_block.e2y[l]),
+                           FloatV(tri_block.e2z[l])};
+    const FloatV tcur = FloatV::load_aligned(h.t);
+    const detail::BlockTest bt = detail::test(
+        FloatV::load_aligned(p.ox), FloatV::load_aligned(p.oy), FloatV::load_aligned(p.oz),
+        FloatV::load_aligned(p.dx), FloatV::load_aligned(p.dy), FloatV::load_aligned(p.dz),
+        FloatV::load_aligned(p.tmin), tcur, tri);
+    const uint32_t bits = simd::movemask(bt.hit);
+    if (bits == 0) return 0;
+    xsimd::select(bt.hit, bt.t, tcur).store_aligned(h.t);
+    xsimd::select(bt.hit, bt.u, FloatV::load_aligned(h.u)).store_aligned(h.u);
+    xsimd::select(bt.hit, bt.v, FloatV::load_aligned(h.v)).store_aligned(h.v);
+    const uint32_t id = tri_block.id[lane];
+    for (uint32_t b = bits; b != 0; b &= b - 1) h.id[__builtin_ctz(b)] = id;
+    return bits;
+}
+
+}  // namespace foton::kern

@@ -1,0 +1,53 @@
+#pragma once
+// Uniform grid over a triangle mesh: cells in CSR form, each cell's triangles re-packed into
+// SoA TriangleBlocks for the SIMD Möller–Trumbore kernel, traversed with the 3D DDA.
+#include <cstdint>
+#include <vector>
+
+#include "grid_dda.h"
+#include "moller_trumbore.h"
+#include "ray1.h"
+#include "triangle_block.h"
+
+namespace foton::kern {
+
+struct GridParams {
+    // Cells per triangle. About 1 puts a handful of triangles (one SIMD block) in an occupied
+    // cell of a surface mesh.
+    float cells_per_triangle = 1.0f;
+    int max_res = 512;
+};
+
+struct GridCounters {
+    uint64_t cells = 0;   // cells visited
+    uint64_t blocks = 0;  // triangle blocks tested (each W ray/triangle tests)
+};
+
+class UniformGrid {
+public:
+    // positions: xyz per vertex; indices: three per triangle. Triangles are identified by
+    // their index in `indices`.
+    void build(const float* positions, const uint32_t* indices, std::size_t num_triangles,
+               const GridParams& params = {});
+
+    // Closest hit with r.tmin < t < min(r.tmax, hit.t); updates `hit`.
+    bool intersect(const Ray1& r, TriHit& hit, GridCounters* counters = nullptr) const;
+    // Any hit with r.tmin < t < r.tmax.
+    bool occluded(const Ray1& r, GridCounters* counters = nullptr) const;
+
+    const GridFrame& frame() const { return frame_; }
+    std::size_t num_blocks() const { return blocks_.size(); }
+    std::size_t num_references() const { return references_; }
+    std::size_t memory_bytes() const {
+        return blocks_.size() * sizeof(TriangleBlock) + cell_begin_.size() * sizeof(uint32_t);
+    }
+    bool empty() const { return blocks_.empty(); }
+
+private:
+    GridFrame frame_;
+    std::vector<uint32_t> cell_begin_;  // num_cells + 1 offsets into blocks_
+    std::vector<TriangleBlock> blocks_;
+    std::size_t references_ = 0;
+};
+
+}  // namespace foton::kern
