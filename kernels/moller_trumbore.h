@@ -53,6 +53,17 @@ inline bool intersect_block_scalar(const Ray1& r, const TriangleBlock& b, TriHit
     return any;
 }
 
+// Scalar twin of occluded_block.
+inline bool occluded_block_scalar(const Ray1& r, const TriangleBlock& b) {
+    for (std::size_t i = 0; i < kBlockWidth; ++i) {
+        float t, u, v;
+        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i],
+                                      b.e1z[i], b.e2x[i], b.e2y[i], b.e2z[i], r.tmax, t, u, v))
+            return true;
+    }
+    return false;
+}
+
 namespace detail {
 using simd::FloatV;
 using simd::MaskV;

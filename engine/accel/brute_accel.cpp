@@ -6,7 +6,7 @@
 
 namespace foton {
 
-BruteAccel::BruteAccel(const Scene& scene) : scene_(scene) {
+BruteAccel::BruteAccel(const Scene& scene, bool simd) : scene_(scene), simd_(simd) {
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
         if (o.kind == ObjectKind::Sphere) {
@@ -34,7 +34,12 @@ bool BruteAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) con
     th.t = ray.tmax;
     for (const MeshBlocks& m : meshes_) {
         bool improved = false;
-        for (const kern::TriangleBlock& b : m.blocks) improved |= kern::intersect_block(ray, b, th);
+        if (simd_) {
+            for (const kern::TriangleBlock& b : m.blocks) improved |= kern::intersect_block(ray, b, th);
+        } else {
+            for (const kern::TriangleBlock& b : m.blocks)
+                improved |= kern::intersect_block_scalar(ray, b, th);
+        }
         c.triangle_tests += m.blocks.size() * kern::kBlockWidth;
         if (improved) {
             hit.t = th.t;
@@ -60,7 +65,8 @@ bool BruteAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
     for (const MeshBlocks& m : meshes_) {
         for (const kern::TriangleBlock& b : m.blocks) {
             c.triangle_tests += kern::kBlockWidth;
-            if (kern::occluded_block(ray, b)) return true;
+            if (simd_ ? kern::occluded_block(ray, b) : kern::occluded_block_scalar(ray, b))
+                return true;
         }
     }
     const Vec3 o{ray.ox, ray.oy, ray.oz}, d{ray.dx, ray.dy, ray.dz};

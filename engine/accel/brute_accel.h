@@ -1,6 +1,8 @@
 #pragma once
-// Brute force: every ray against every triangle (in SIMD blocks) and every sphere. The
-// baseline of the thesis' first measurement and the oracle of the accelerator tests.
+// Brute force: every ray against every triangle and every sphere, the baseline of the
+// thesis' first measurement and the oracle of the accelerator tests. The triangles are kept
+// in SIMD blocks; `simd` chooses between the SIMD kernel and its scalar twin (the thesis'
+// brute force), which give bit-identical hits.
 #include <vector>
 
 #include "intersector.h"
@@ -10,8 +12,8 @@ namespace foton {
 
 class BruteAccel final : public PerRayIntersector<BruteAccel> {
 public:
-    explicit BruteAccel(const Scene& scene);
-    const char* name() const override { return "brute"; }
+    BruteAccel(const Scene& scene, bool simd);
+    const char* name() const override { return simd_ ? "brute-simd" : "brute"; }
     std::size_t memory_bytes() const override;
 
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
@@ -23,6 +25,7 @@ private:
         std::vector<kern::TriangleBlock> blocks;
     };
     const Scene& scene_;
+    bool simd_;
     std::vector<MeshBlocks> meshes_;
     std::vector<uint32_t> sphere_objects_;
 };

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 int run_render(const RenderArgs& args) {
     Scene scene = load_scene(args.scene);
     if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
-        throw InputError("--accel", 0, "unknown accelerator '" + args.accel + "' (brute, grid, embree)");
+        throw InputError("--accel", 0, "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, embree)");
     if (args.width || args.height) {
         const int w = args.width.value_or(scene.film.width);
         const int h = args.height.value_or(scene.film.height);

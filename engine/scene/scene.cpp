@@ -7,6 +7,7 @@ namespace foton {
 const char* accel_name(AccelType a) {
     switch (a) {
         case AccelType::Brute: return "brute";
+        case AccelType::BruteSimd: return "brute-simd";
         case AccelType::Grid: return "grid";
         case AccelType::Embree: return "embree";
     }
@@ -15,6 +16,7 @@ const char* accel_name(AccelType a) {
 
 bool parse_accel(const std::string& s, AccelType& out) {
     if (s == "brute") out = AccelType::Brute;
+    else if (s == "brute-simd") out = AccelType::BruteSimd;
     else if (s == "grid") out = AccelType::Grid;
     else if (s == "embree") out = AccelType::Embree;
     else return false;

@@ -15,7 +15,9 @@
 
 namespace foton {
 
-enum class AccelType { Brute, Grid, Embree };
+// brute: the thesis' brute force, every ray against every primitive with the scalar
+// Möller–Trumbore; brute-simd: the same with the SIMD kernel (W triangles per test).
+enum class AccelType { Brute, BruteSimd, Grid, Embree };
 const char* accel_name(AccelType a);
 bool parse_accel(const std::string& s, AccelType& out);
 
@@ -55,6 +57,7 @@ struct Scene {
     std::vector<Sphere> spheres;
     std::vector<Object> objects;
     AccelType accel = AccelType::Grid;
+    float grid_density = 0.5f;  // cells per triangle of the mesh grids
     Camera camera;
     FilmSettings film;
     RenderSettings render;

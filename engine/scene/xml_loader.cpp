@@ -181,10 +181,11 @@ Scene Loader::run() {
     parse_film(child(root, "film"));
     if (const auto n = root.child("renderer")) parse_renderer(n);
     if (const auto n = root.child("aggregate")) {
-        check(n, {"type"}, {});
+        check(n, {"type", "density"}, {});
         if (!parse_accel(n.attribute("type").value(), scene_.accel))
             fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
-                        "' (brute, grid, embree)");
+                        "' (brute, brute-simd, grid, embree)");
+        scene_.grid_density = positive(n, "density", scene_.grid_density);
     }
     parse_camera(child(root, "camera"));
     if (const auto n = root.child("lights")) parse_lights(n);

@@ -1,0 +1,33 @@
+#pragma once
+// Helpers shared by the tests: paths to the project and to ../shared, temporary files.
+#include <filesystem>
+#include <random>
+#include <string>
+
+namespace foton::test {
+
+inline std::string source_path(const std::string& rel) { return std::string(FOTON_SOURCE_DIR) + "/" + rel; }
+inline std::string shared_path(const std::string& rel) {
+    return std::string(FOTON_SOURCE_DIR) + "/../shared/" + rel;
+}
+
+// A fresh empty directory under the system temp dir, removed with the object.
+class TempDir {
+public:
+    TempDir() {
+        std::random_device rd;
+        path_ = std::filesystem::temp_directory_path() / ("foton-test-" + std::to_string(rd()));
+        std::filesystem::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
+
+}  // namespace foton::test

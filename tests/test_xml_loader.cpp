@@ -1,0 +1,196 @@
+// The XML scene format: every element, and every bad-input case of DESIGN.md.
+#include <catch2/catch.hpp>
+#include <fstream>
+
+#include "engine/core/error.h"
+#include "engine/scene/xml_loader.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+const char* kFilmCamera = R"(
+  <film width="64" height="48" size="0.01" gamma="2.2"/>
+  <camera type="perspective" d="1"><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/><up x="0" y="1" z="0"/></camera>)";
+const char* kSphere = R"(
+  <objects><sphere radius="1"><center x="0" y="0" z="0"/><material type="matte"><base_color r="0.5" g="0.5" b="0.5"/></material></sphere></objects>)";
+
+std::string scene_xml(const std::string& body, bool film_camera = true, bool objects = true) {
+    return std::string("<scene>") + (film_camera ? kFilmCamera : "") + (objects ? kSphere : "") +
+           body + "</scene>";
+}
+
+Scene parse(const std::string& xml, const std::string& dir = ".") {
+    return parse_scene(xml, "s.xml", dir);
+}
+
+void expect_error(const std::string& xml, int line, const std::string& what,
+                  const std::string& dir = ".") {
+    try {
+        parse(xml, dir);
+        FAIL("no error for: " << xml);
+    } catch (const InputError& e) {
+        INFO(e.what());
+        CHECK(e.line() == line);
+        CHECK_THAT(e.what(), Catch::Contains(what));
+    }
+}
+}  // namespace
+
+TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
+    const Scene s = parse(R"(<scene>
+  <background r="0.1" g="0.2" b="0.3"/>
+  <ambient r="1" g="0.5" b="1" intensity="0.1"/>
+  <lights>
+    <point intensity="4.0" attenuation="0.5"><color r="1" g="1" b="1"/><position x="-10" y="7.5" z="10"/></point>
+    <directional intensity="2"><color r="1" g="0.5" b="0"/><direction x="0" y="-2" z="0"/></directional>
+    <spot intensity="3" angle="30" falloff="0.5"><position x="0" y="5" z="0"/><direction x="0" y="-1" z="0"/></spot>
+    <area samples="9" sampler="hammersley"><radiance r="15" g="15" b="15"/>
+      <corner x="0" y="4" z="0"/><edge1 x="1" y="0" z="0"/><edge2 x="0" y="0" z="2"/></area>
+    <area intensity="2"><center x="0" y="4" z="0"/><size x="2" y="1"/><normal x="0" y="-1" z="0"/></area>
+  </lights>
+  <aggregate type="embree"/>
+  <objects>
+    <sphere radius="2"><center x="1" y="2" z="3"/>
+      <material type="phong" c_ambient="0.1" c_diffuse="0.9" exp="10"><base_color r="0.8" g="0" b="0.8"/><specular_color r="0.5" g="0.5" b="0.5"/></material>
+      <transform><scale s="2"/><translate x="1" y="0" z="0"/></transform></sphere>
+    <quad><corner x="0" y="0" z="0"/><edge1 x="1" y="0" z="0"/><edge2 x="0" y="0" z="1"/>
+      <material type="reflective" c_ambient="0.1" c_diffuse="0.9" exp="10"><base_color r="1" g="0" b="1"/><specular_color r="0.5" g="0.5" b="0.5"/><reflective_color r="0.8" g="0" b="0.8"/></material></quad>
+    <triangle_mesh src="scenes/meshes/torus-knot.obj" smooth="false">
+      <material type="glass" ior="1.333"><refraction_color r="0" g="0.99" b="0"/></material>
+      <transform><rotate x="0" y="1" z="0" angle="90"/></transform></triangle_mesh>
+  </objects>
+  <film width="800" height="600" size="0.008" gamma="1.0"/>
+  <renderer type="raytracer" aa_samples="4" num_threads="2" sampler="hammersley" max_depth="5" min_contribution="0.01" seed="7"/>
+  <camera type="orthographic" d="50.0" exposure="1.5"><eye x="-26" y="3.5" z="35"/><target x="0" y="0" z="0"/><up x="0" y="1" z="0"/></camera>
+</scene>)", test::source_path(""));
+    CHECK(s.background == RGB(0.1f, 0.2f, 0.3f));
+    CHECK(s.ambient.radiance().g == Approx(0.05f));
+    REQUIRE(s.lights.points.size() == 1);
+    CHECK(s.lights.points[0].attenuation == 0.5f);
+    CHECK(s.lights.points[0].intensity == RGB(4.f));
+    REQUIRE(s.lights.directionals.size() == 1);
+    CHECK(s.lights.directionals[0].direction.y == Approx(-1.f));
+    REQUIRE(s.lights.spots.size() == 1);
+    CHECK(s.lights.spots[0].cos_outer == Approx(std::cos(30.f * kPi / 180.f)));
+    CHECK(s.lights.spots[0].cos_inner == Approx(std::cos(15.f * kPi / 180.f)));
+    REQUIRE(s.lights.areas.size() == 2);
+    CHECK(s.lights.areas[0].samples == 9);
+    CHECK(s.lights.areas[0].sampler == SamplerKind::Hammersley);
+    CHECK(s.lights.areas[0].area == Approx(2.f));
+    CHECK(s.lights.areas[0].normal.y == Approx(-1.f));  // edge1 x edge2 = (0, -2, 0)
+    CHECK(s.lights.areas[1].area == Approx(2.f));
+    CHECK(s.lights.areas[1].normal.y == Approx(-1.f));
+    CHECK(s.lights.areas[1].radiance == RGB(2.f));
+    CHECK(s.accel == AccelType::Embree);
+    // 2 area-light emitters + sphere + quad + mesh.
+    REQUIRE(s.objects.size() == 5);
+    REQUIRE(s.spheres.size() == 1);
+    CHECK(s.spheres[0].radius == Approx(4.f));
+    CHECK(s.spheres[0].center.x == Approx(3.f));  // scaled then translated
+    CHECK(s.materials[s.objects[2].material].type == MaterialType::Phong);
+    CHECK(s.materials[s.objects[3].material].type == MaterialType::Reflective);
+    CHECK(s.materials[s.objects[3].material].reflective_color == RGB(0.8f, 0.f, 0.8f));
+    const Material& glass = s.materials[s.objects[4].material];
+    CHECK(glass.type == MaterialType::Glass);
+    CHECK(glass.ior == Approx(1.333f));
+    CHECK_FALSE(s.objects[4].smooth);
+    CHECK(s.meshes.back().num_triangles() == 4096);
+    // Rotation by 90 degrees about y maps the knot's x extent onto z.
+    CHECK(s.meshes.back().bounds().diagonal().z == Approx(2.88f).epsilon(0.02));
+    CHECK(s.film.width == 800);
+    CHECK(s.film.pixel_size == Approx(0.008f));
+    CHECK(s.film.gamma == 1.f);
+    CHECK(s.render.spp == 4);
+    CHECK(s.render.threads == 2);
+    CHECK(s.render.sampler == SamplerKind::Hammersley);
+    CHECK(s.render.max_depth == 5);
+    CHECK(s.render.seed == 7);
+    CHECK(s.camera.type == CameraType::Orthographic);
+    CHECK(s.camera.d == 50.f);
+    CHECK(s.camera.exposure == 1.5f);
+}
+
+TEST_CASE("XML: fov sets the pixel size; the shipped scenes load", "[xml]") {
+    const Scene s = parse_scene(
+        R"(<scene><film width="512" height="512"/><camera d="1" fov="39.3077"><eye x="278" y="277.5" z="-800"/><target x="278" y="277.5" z="0"/></camera>)" +
+            std::string(kSphere) + "</scene>",
+        "s.xml", ".");
+    CHECK(s.camera.vertical_fov_degrees() == Approx(39.3077f));
+    for (const char* f : {"cornell-box.xml", "cornell-mirror.xml", "bunny.xml", "torus-knot.xml"}) {
+        const Scene sc = load_scene(test::source_path(std::string("scenes/") + f));
+        CHECK_FALSE(sc.objects.empty());
+    }
+}
+
+TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
+    SECTION("malformed XML") { expect_error("<scene>\n<film width=\"1\"\n</scene>", 3, "malformed XML"); }
+    SECTION("wrong root") { expect_error("<world/>", 1, "root element must be <scene>"); }
+    SECTION("unknown element") {
+        expect_error(scene_xml("\n<teapot/>"), 5, "unknown element <teapot>");
+    }
+    SECTION("unknown attribute") {
+        expect_error(scene_xml("\n<background r=\"0\" g=\"0\" b=\"0\" alpha=\"1\"/>"), 5,
+                     "unknown attribute 'alpha'");
+    }
+    SECTION("unknown attribute values") {
+        expect_error(scene_xml("\n<aggregate type=\"kdtree\"/>"), 5, "unknown aggregate type 'kdtree'");
+        expect_error(scene_xml("\n<renderer sampler=\"sobol\"/>"), 5, "unknown sampler 'sobol'");
+        expect_error(scene_xml("\n<renderer type=\"magic\"/>"), 5, "unknown renderer type");
+        expect_error(std::string("<scene>") + kFilmCamera +
+                         "\n<objects><sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>"
+                         "<material type=\"velvet\"/></sphere></objects></scene>",
+                     4, "unknown material type 'velvet'");
+    }
+    SECTION("missing mesh file") {
+        expect_error(std::string("<scene>") + kFilmCamera +
+                         "\n<objects>\n<triangle_mesh src=\"nothere.obj\"><material type=\"matte\"/>"
+                         "</triangle_mesh></objects></scene>",
+                     5, "mesh file 'nothere.obj' not found");
+    }
+    SECTION("face index out of range, reported in the OBJ file") {
+        test::TempDir dir;
+        std::ofstream(dir.file("bad.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n";
+        try {
+            parse(std::string("<scene>") + kFilmCamera +
+                      "<objects><triangle_mesh src=\"bad.obj\"><material type=\"matte\"/>"
+                      "</triangle_mesh></objects></scene>",
+                  dir.path().string());
+            FAIL("no error");
+        } catch (const InputError& e) {
+            CHECK_THAT(e.what(), Catch::Contains("bad.obj:4: vertex index 4 out of range"));
+        }
+    }
+    SECTION("NaN and Inf numbers") {
+        expect_error(scene_xml("\n<background r=\"nan\" g=\"0\" b=\"0\"/>"), 5, "NaN or infinite");
+        expect_error(scene_xml("\n<lights><point><position x=\"inf\" y=\"0\" z=\"0\"/></point></lights>"),
+                     5, "NaN or infinite");
+        expect_error(scene_xml("\n<background r=\"zero\" g=\"0\" b=\"0\"/>"), 5, "not a number");
+    }
+    SECTION("negative or zero sizes") {
+        expect_error(std::string("<scene>") + kFilmCamera +
+                         "\n<objects><sphere radius=\"-1\"><center x=\"0\" y=\"0\" z=\"0\"/>"
+                         "<material type=\"matte\"/></sphere></objects></scene>",
+                     4, "radius must be positive");
+        expect_error("<scene>\n<film width=\"-5\"/></scene>", 2, "positive integer");
+        expect_error("<scene>\n<film size=\"0\"/></scene>", 2, "'size' must be positive");
+        expect_error(scene_xml("\n<lights><area><corner x=\"0\" y=\"0\" z=\"0\"/><edge1 x=\"1\" y=\"0\" z=\"0\"/>"
+                               "<edge2 x=\"2\" y=\"0\" z=\"0\"/></area></lights>"),
+                     5, "zero area");
+        expect_error(scene_xml("\n<lights><point intensity=\"-1\"><position x=\"0\" y=\"0\" z=\"0\"/></point></lights>"),
+                     5, "must not be negative");
+        expect_error(scene_xml("\n<renderer aa_samples=\"0\"/>"), 5, "positive integer");
+    }
+    SECTION("empty scene") {
+        expect_error(std::string("<scene>") + kFilmCamera + "\n<objects>\n</objects></scene>", 4,
+                     "no objects");
+        expect_error(std::string("<scene>") + kFilmCamera + "</scene>", 1, "needs a <objects>");
+        expect_error(std::string("<scene>") + kSphere + "</scene>", 1, "needs a <film>");
+    }
+    SECTION("duplicated and inconsistent elements") {
+        expect_error(scene_xml("\n<aggregate type=\"grid\"/>\n<aggregate type=\"grid\"/>"), 6,
+                     "more than once");
+        expect_error("<scene><film/>\n<camera><eye x=\"0\" y=\"0\" z=\"0\"/><target x=\"0\" y=\"0\" z=\"0\"/></camera></scene>",
+                     2, "eye and target coincide");
+    }
+}
