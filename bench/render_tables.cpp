@@ -1,0 +1,114 @@
+// Reproduces the first thesis' measurements (chapter 11) as ratios measured in one run:
+//   1. brute force vs grid on the ~4K-triangle scene, 1 thread, 1 sample per pixel
+//      (the thesis: 3,936-triangle monkey, 5:15 vs 0:04);
+//   2. grid vs Embree on the bunny and the dragon, 1 thread, 1 spp;
+//   3. render time for 1..N threads and the speed-up (the thesis: 4 spp, 1024 x 800).
+// Every time is the median of --repeats renders; the tables are markdown on stdout.
+//
+//   build/release/bench/foton_bench_render [--repeats 5] [--quick]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "engine/accel/intersector.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/render.h"
+
+using namespace foton;
+
+namespace {
+
+struct Timing {
+    double build = 0.0;   // median accelerator build, s
+    double render = 0.0;  // median render, s
+    double rays_per_s = 0.0;
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, int repeats) {
+    std::vector<double> builds, renders, rates;
+    for (int r = 0; r < repeats; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto acc = make_intersector(scene, accel);
+        builds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        RenderOptions opt;
+        opt.threads = threads;
+        opt.spp = spp;
+        const RenderResult res = render(scene, *acc, opt);
+        renders.push_back(res.stats.wall_seconds);
+        rates.push_back(double(res.stats.total_rays()) / res.stats.wall_seconds);
+    }
+    return {median(builds), median(renders), median(rates)};
+}
+
+std::string scene_path(const char* name) { return std::string(FOTON_SOURCE_DIR) + "/scenes/" + name; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int repeats = 5;
+    bool quick = false;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
+        else if (!std::strcmp(argv[i], "--quick")) quick = true;
+        else {
+            std::fprintf(stderr, "usage: %s [--repeats N] [--quick]\n", argv[0]);
+            return 2;
+        }
+    }
+    const int nproc = int(std::thread::hardware_concurrency());
+    std::printf("foton render benchmarks: median of %d runs, %d hardware threads\n\n", repeats, nproc);
+
+    {
+        const Scene s = load_scene(scene_path("torus-knot.xml"));
+        std::printf("### Brute force vs grid (torus-knot.xml, %zu triangles, %dx%d, 1 spp, 1 thread)\n\n",
+                    s.num_triangles(), s.film.width, s.film.height);
+        std::printf("| accelerator | build [s] | render [s] | rays/s | brute / this |\n|---|---:|---:|---:|---:|\n");
+        // The scalar brute force takes seconds per run: fewer repeats, it is not noisy.
+        const Timing brute = measure(s, AccelType::Brute, 1, 1, quick ? 1 : std::min(repeats, 3));
+        for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Embree}) {
+            const Timing t = a == AccelType::Brute ? brute : measure(s, a, 1, 1, repeats);
+            std::printf("| %s | %.4f | %.4f | %.3g | %.1fx |\n", accel_name(a), t.build, t.render,
+                        t.rays_per_s, brute.render / t.render);
+        }
+        std::printf("\n");
+    }
+    {
+        std::printf("### Grid vs Embree (1 spp, 1 thread)\n\n");
+        std::printf("| scene | triangles | grid build [s] | embree build [s] | grid render [s] | embree render [s] | grid rays/s | embree rays/s | grid / embree speed |\n");
+        std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for (const char* name : {"bunny.xml", "dragon.xml"}) {
+            if (quick && std::string(name) == "dragon.xml") continue;
+            const Scene s = load_scene(scene_path(name));
+            const Timing g = measure(s, AccelType::Grid, 1, 1, repeats);
+            const Timing e = measure(s, AccelType::Embree, 1, 1, repeats);
+            std::printf("| %s | %zu | %.3f | %.3f | %.4f | %.4f | %.3g | %.3g | %.2fx |\n", name,
+                        s.num_triangles(), g.build, e.build, g.render, e.render, g.rays_per_s,
+                        e.rays_per_s, e.render / g.render);
+        }
+        std::printf("\n");
+    }
+    {
+        const Scene s = load_scene(scene_path("bunny.xml"));
+        std::printf("### Thread scaling (bunny.xml, %dx%d, 4 spp, grid)\n\n", s.film.width, s.film.height);
+        std::printf("| threads | render [s] | speed-up | efficiency |\n|---:|---:|---:|---:|\n");
+        double t1 = 0.0;
+        for (int t = 1; t <= std::max(nproc, 1); ++t) {
+            const Timing r = measure(s, AccelType::Grid, t, 4, repeats);
+            if (t == 1) t1 = r.render;
+            std::printf("| %d | %.4f | %.2fx | %.0f%% |\n", t, r.render, t1 / r.render,
+                        100.0 * t1 / r.render / t);
+        }
+        std::printf("\n");
+    }
+    return 0;
+}
