@@ -51,7 +51,8 @@ void BM_TriangleBlock(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(hits);
     const double tests = double(d.rays.size() * d.blocks.size() * kBlockWidth);
-    state.counters["tests/s"] = benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["tests/s"] =
+        benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["width"] = double(kBlockWidth);
 }
 }  // namespace

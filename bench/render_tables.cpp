@@ -39,7 +39,8 @@ Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, i
     for (int r = 0; r < repeats; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
         const auto acc = make_intersector(scene, accel);
-        builds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        builds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         RenderOptions opt;
         opt.threads = threads;
         opt.spp = spp;
@@ -50,7 +51,9 @@ Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, i
     return {median(builds), median(renders), median(rates)};
 }
 
-std::string scene_path(const char* name) { return std::string(FOTON_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene_path(const char* name) {
+    return std::string(FOTON_SOURCE_DIR) + "/scenes/" + name;
+}
 
 }  // namespace
 
@@ -58,24 +61,31 @@ int main(int argc, char** argv) {
     int repeats = 5;
     bool quick = false;
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
-        else if (!std::strcmp(argv[i], "--quick")) quick = true;
+        if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc)
+            repeats = std::max(1, std::atoi(argv[++i]));
+        else if (!std::strcmp(argv[i], "--quick"))
+            quick = true;
         else {
             std::fprintf(stderr, "usage: %s [--repeats N] [--quick]\n", argv[0]);
             return 2;
         }
     }
     const int nproc = int(std::thread::hardware_concurrency());
-    std::printf("foton render benchmarks: median of %d runs, %d hardware threads\n\n", repeats, nproc);
+    std::printf("foton render benchmarks: median of %d runs, %d hardware threads\n\n", repeats,
+                nproc);
 
     {
         const Scene s = load_scene(scene_path("torus-knot.xml"));
-        std::printf("### Brute force vs grid (torus-knot.xml, %zu triangles, %dx%d, 1 spp, 1 thread)\n\n",
-                    s.num_triangles(), s.film.width, s.film.height);
-        std::printf("| accelerator | build [s] | render [s] | rays/s | brute / this |\n|---|---:|---:|---:|---:|\n");
+        std::printf(
+            "### Brute force vs grid (torus-knot.xml, %zu triangles, %dx%d, 1 spp, 1 thread)\n\n",
+            s.num_triangles(), s.film.width, s.film.height);
+        std::printf(
+            "| accelerator | build [s] | render [s] | rays/s | brute / this "
+            "|\n|---|---:|---:|---:|---:|\n");
         // The scalar brute force takes seconds per run: fewer repeats, it is not noisy.
         const Timing brute = measure(s, AccelType::Brute, 1, 1, quick ? 1 : std::min(repeats, 3));
-        for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Embree}) {
+        for (AccelType a :
+             {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Embree}) {
             const Timing t = a == AccelType::Brute ? brute : measure(s, a, 1, 1, repeats);
             std::printf("| %s | %.4f | %.4f | %.3g | %.1fx |\n", accel_name(a), t.build, t.render,
                         t.rays_per_s, brute.render / t.render);
@@ -84,7 +94,9 @@ int main(int argc, char** argv) {
     }
     {
         std::printf("### Grid vs Embree (1 spp, 1 thread)\n\n");
-        std::printf("| scene | triangles | grid build [s] | embree build [s] | grid render [s] | embree render [s] | grid rays/s | embree rays/s | grid / embree speed |\n");
+        std::printf(
+            "| scene | triangles | grid build [s] | embree build [s] | grid render [s] | embree "
+            "render [s] | grid rays/s | embree rays/s | grid / embree speed |\n");
         std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const char* name : {"bunny.xml", "dragon.xml"}) {
             if (quick && std::string(name) == "dragon.xml") continue;
@@ -99,7 +111,8 @@ int main(int argc, char** argv) {
     }
     {
         const Scene s = load_scene(scene_path("bunny.xml"));
-        std::printf("### Thread scaling (bunny.xml, %dx%d, 4 spp, grid)\n\n", s.film.width, s.film.height);
+        std::printf("### Thread scaling (bunny.xml, %dx%d, 4 spp, grid)\n\n", s.film.width,
+                    s.film.height);
         std::printf("| threads | render [s] | speed-up | efficiency |\n|---:|---:|---:|---:|\n");
         double t1 = 0.0;
         for (int t = 1; t <= std::max(nproc, 1); ++t) {

@@ -44,8 +44,8 @@ inline bool intersect_block_scalar(const Ray1& r, const TriangleBlock& b, TriHit
     bool any = false;
     for (std::size_t i = 0; i < kBlockWidth; ++i) {
         float t, u, v;
-        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i],
-                                      b.e1z[i], b.e2x[i], b.e2y[i], b.e2z[i], hit.t, t, u, v)) {
+        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i], b.e1z[i],
+                                      b.e2x[i], b.e2y[i], b.e2z[i], hit.t, t, u, v)) {
             hit = TriHit{t, u, v, b.id[i]};
             any = true;
         }
@@ -57,8 +57,8 @@ inline bool intersect_block_scalar(const Ray1& r, const TriangleBlock& b, TriHit
 inline bool occluded_block_scalar(const Ray1& r, const TriangleBlock& b) {
     for (std::size_t i = 0; i < kBlockWidth; ++i) {
         float t, u, v;
-        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i],
-                                      b.e1z[i], b.e2x[i], b.e2y[i], b.e2z[i], r.tmax, t, u, v))
+        if (intersect_triangle_scalar(r, b.v0x[i], b.v0y[i], b.v0z[i], b.e1x[i], b.e1y[i], b.e1z[i],
+                                      b.e2x[i], b.e2y[i], b.e2z[i], r.tmax, t, u, v))
             return true;
     }
     return false;
@@ -101,8 +101,8 @@ inline BlockTest test(const FloatV& ox, const FloatV& oy, const FloatV& oz, cons
     const FloatV v = (dx * qx + dy * qy + dz * qz) * inv;
     const FloatV t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv;
     const FloatV zero(0.f), one(1.f);
-    const MaskV hit = (det != zero) & (u >= zero) & (v >= zero) & (u + v <= one) & (t > tmin) &
-                      (t < tmax);
+    const MaskV hit =
+        (det != zero) & (u >= zero) & (v >= zero) & (u + v <= one) & (t > tmin) & (t < tmax);
     return {t, u, v, hit};
 }
 }  // namespace detail
@@ -155,11 +155,10 @@ inline uint32_t intersect_packet(const RayPacket& p, const TriangleBlock& tri_bl
                                  std::size_t lane, PacketHits& h) {
     using simd::FloatV;
     const std::size_t l = lane;
-    const detail::TriV tri{FloatV(tri_block.v0x[l]), FloatV(tri_block.v0y[l]),
-                           FloatV(tri_block.v0z[l]), FloatV(tri_block.e1x[l]),
-                           FloatV(tri_block.e1y[l]), FloatV(tri_block.e1z[l]),
-                           FloatV(tri_block.e2x[l]), FloatV(tri_block.e2y[l]),
-                           FloatV(tri_block.e2z[l])};
+    const detail::TriV tri{
+        FloatV(tri_block.v0x[l]), FloatV(tri_block.v0y[l]), FloatV(tri_block.v0z[l]),
+        FloatV(tri_block.e1x[l]), FloatV(tri_block.e1y[l]), FloatV(tri_block.e1z[l]),
+        FloatV(tri_block.e2x[l]), FloatV(tri_block.e2y[l]), FloatV(tri_block.e2z[l])};
     const FloatV tcur = FloatV::load_aligned(h.t);
     const detail::BlockTest bt = detail::test(
         FloatV::load_aligned(p.ox), FloatV::load_aligned(p.oy), FloatV::load_aligned(p.oz),

@@ -17,13 +17,19 @@ inline constexpr std::size_t kWidth = FloatV::size;
 
 namespace detail {
 #if defined(__AVX512F__)
-inline uint32_t mask_bits(__mmask16 r) { return r; }
+inline uint32_t mask_bits(__mmask16 r) {
+    return r;
+}
 #endif
 #if defined(__AVX__)
-inline uint32_t mask_bits(__m256 r) { return static_cast<uint32_t>(_mm256_movemask_ps(r)); }
+inline uint32_t mask_bits(__m256 r) {
+    return static_cast<uint32_t>(_mm256_movemask_ps(r));
+}
 #endif
 #if defined(__SSE__)
-inline uint32_t mask_bits(__m128 r) { return static_cast<uint32_t>(_mm_movemask_ps(r)); }
+inline uint32_t mask_bits(__m128 r) {
+    return static_cast<uint32_t>(_mm_movemask_ps(r));
+}
 #endif
 }  // namespace detail
 
@@ -32,6 +38,8 @@ inline uint32_t movemask(const MaskV& m) {
     return detail::mask_bits(static_cast<typename MaskV::register_type>(m));
 }
 
-inline FloatV broadcast(float x) { return FloatV(x); }
+inline FloatV broadcast(float x) {
+    return FloatV(x);
+}
 
 }  // namespace foton::simd

@@ -25,7 +25,7 @@ struct GridCounters {
 };
 
 class UniformGrid {
-public:
+  public:
     // positions: xyz per vertex; indices: three per triangle. Triangles are identified by
     // their index in `indices`.
     void build(const float* positions, const uint32_t* indices, std::size_t num_triangles,
@@ -44,7 +44,7 @@ public:
     }
     bool empty() const { return blocks_.empty(); }
 
-private:
+  private:
     GridFrame frame_;
     std::vector<uint32_t> cell_begin_;  // num_cells + 1 offsets into blocks_
     std::vector<TriangleBlock> blocks_;

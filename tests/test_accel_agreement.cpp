@@ -25,7 +25,8 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         const Vec3 o = bb.lo + Vec3{U(rng) * ext.x, U(rng) * ext.y, U(rng) * ext.z};
         const Vec3 target = bb.lo + Vec3{U(rng) * ext.x, U(rng) * ext.y, U(rng) * ext.z};
         const Vec3 d = normalize(target - o);
-        const kern::Ray1 r{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, i % 5 == 0 ? 0.3f * length(ext) : kInfinity};
+        const kern::Ray1 r{o.x, o.y, o.z, d.x,
+                           d.y, d.z, 0.f, i % 5 == 0 ? 0.3f * length(ext) : kInfinity};
         Hit1 hb, hs, hg, he;
         const bool b = brute->intersect1(r, hb, c);
         if (i % 20 == 0) {

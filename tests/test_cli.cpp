@@ -1,10 +1,10 @@
 // The foton command line as a user meets it: exit codes, messages, and no half-written
 // images after bad input.
+#include <sys/wait.h>
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 #include "test_util.h"
 
@@ -65,7 +65,8 @@ TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-inpu
 
     CHECK(run("render " + dir.file("missing.xml")).code == 2);
     CHECK(run("render " + scene + " --accel octree").code == 2);
-    CHECK(run("render " + foton::test::source_path("scenes/cornell-box.xml") + " -o x.png").code == 2);
+    CHECK(run("render " + foton::test::source_path("scenes/cornell-box.xml") + " -o x.png").code ==
+          2);
     CHECK(run("render --no-such-flag").code == 2);
     CHECK(run("").code == 2);
 }

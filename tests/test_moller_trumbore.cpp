@@ -57,8 +57,8 @@ TEST_CASE("Möller–Trumbore: hits, misses, edges and parallel rays", "[kernel]
         CHECK_FALSE(hit_unit(ray(0.2f, 0.2f, -1.f, 0, 0, -1), t, u, v));  // behind the origin
     }
     SECTION("degenerate triangle never hits") {
-        CHECK_FALSE(intersect_triangle_scalar(ray(0.2f, 0.f, 1.f, 0, 0, -1), 0, 0, 0, 1, 0, 0, 2,
-                                              0, 0, kInf, t, u, v));
+        CHECK_FALSE(intersect_triangle_scalar(ray(0.2f, 0.f, 1.f, 0, 0, -1), 0, 0, 0, 1, 0, 0, 2, 0,
+                                              0, kInf, t, u, v));
     }
 }
 
@@ -75,10 +75,13 @@ void random_block(std::mt19937& rng, TriangleBlock& b, uint32_t base_id) {
             p1[a] = p0[a] + U(rng);
             p2[a] = p0[a] + U(rng);
         }
-        if (k == 0) for (int a = 0; a < 3; ++a) p2[a] = p1[a];                       // zero edge
-        if (k == 1) for (int a = 0; a < 3; ++a) p2[a] = p0[a] + 2.f * (p1[a] - p0[a]);  // collinear
-        if (k == 2) for (int a = 0; a < 3; ++a) p2[a] = p1[a] + 1e-4f * U(rng);      // sliver
-        if (k == 3) p1[2] = p2[2] = p0[2];                                            // axis-aligned
+        if (k == 0)
+            for (int a = 0; a < 3; ++a) p2[a] = p1[a];  // zero edge
+        if (k == 1)
+            for (int a = 0; a < 3; ++a) p2[a] = p0[a] + 2.f * (p1[a] - p0[a]);  // collinear
+        if (k == 2)
+            for (int a = 0; a < 3; ++a) p2[a] = p1[a] + 1e-4f * U(rng);  // sliver
+        if (k == 3) p1[2] = p2[2] = p0[2];                               // axis-aligned
         b.set(l, p0, p1, p2, base_id + uint32_t(l));
     }
 }
@@ -92,7 +95,8 @@ Ray1 random_ray(std::mt19937& rng, const TriangleBlock& b) {
     if (k == 0) {
         // Aim at a point of a triangle's edge: the edge cases.
         const float s = std::uniform_real_distribution<float>(0.f, 1.f)(rng);
-        const float tx = b.v0x[l] + s * b.e1x[l], ty = b.v0y[l] + s * b.e1y[l], tz = b.v0z[l] + s * b.e1z[l];
+        const float tx = b.v0x[l] + s * b.e1x[l], ty = b.v0y[l] + s * b.e1y[l],
+                    tz = b.v0z[l] + s * b.e1z[l];
         r.dx = tx - r.ox;
         r.dy = ty - r.oy;
         r.dz = tz - r.oz;
@@ -156,18 +160,23 @@ TEST_CASE("ray packet against one triangle agrees with the scalar twin", "[kerne
         Ray1 rs[kBlockWidth];
         for (std::size_t l = 0; l < kBlockWidth; ++l) {
             rs[l] = random_ray(rng, b);
-            p.ox[l] = rs[l].ox; p.oy[l] = rs[l].oy; p.oz[l] = rs[l].oz;
-            p.dx[l] = rs[l].dx; p.dy[l] = rs[l].dy; p.dz[l] = rs[l].dz;
+            p.ox[l] = rs[l].ox;
+            p.oy[l] = rs[l].oy;
+            p.oz[l] = rs[l].oz;
+            p.dx[l] = rs[l].dx;
+            p.dy[l] = rs[l].dy;
+            p.dz[l] = rs[l].dz;
             p.tmin[l] = rs[l].tmin;
-            h.t[l] = rs[l].tmax; h.u[l] = h.v[l] = 0.f; h.id[l] = kInvalidId;
+            h.t[l] = rs[l].tmax;
+            h.u[l] = h.v[l] = 0.f;
+            h.id[l] = kInvalidId;
         }
         const uint32_t mask = intersect_packet(p, b, lane, h);
         for (std::size_t l = 0; l < kBlockWidth; ++l) {
             float t, u, v;
-            const bool s = intersect_triangle_scalar(rs[l], b.v0x[lane], b.v0y[lane], b.v0z[lane],
-                                                     b.e1x[lane], b.e1y[lane], b.e1z[lane],
-                                                     b.e2x[lane], b.e2y[lane], b.e2z[lane],
-                                                     rs[l].tmax, t, u, v);
+            const bool s = intersect_triangle_scalar(
+                rs[l], b.v0x[lane], b.v0y[lane], b.v0z[lane], b.e1x[lane], b.e1y[lane], b.e1z[lane],
+                b.e2x[lane], b.e2y[lane], b.e2z[lane], rs[l].tmax, t, u, v);
             REQUIRE(bool(mask >> l & 1u) == s);
             if (s) {
                 ++hits;

@@ -51,8 +51,8 @@ TEST_CASE("OBJ: bad input is reported with its line", "[obj][bad-input]") {
 }
 
 TEST_CASE("OBJ: degenerate triangles are skipped and counted", "[obj][bad-input]") {
-    const ObjLoadResult r = parse_obj(
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 3\n", "d.obj");
+    const ObjLoadResult r =
+        parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 3\n", "d.obj");
     CHECK(r.mesh.num_triangles() == 1);
     CHECK(r.degenerate_skipped == 2);
 }

@@ -26,7 +26,9 @@ RenderResult render_scene(const Scene& scene, AccelType accel, int threads, uint
 Scene plane_scene(const std::string& lights, float kd) {
     return parse_scene(R"(<scene><lights>)" + lights + R"(</lights><objects>
       <quad><corner x="-50" y="-50" z="0"/><edge1 x="100" y="0" z="0"/><edge2 x="0" y="100" z="0"/>
-        <material type="matte" c_diffuse=")" + std::to_string(kd) + R"("><base_color r="1" g="0.5" b="0.25"/></material></quad></objects>
+        <material type="matte" c_diffuse=")" +
+                           std::to_string(kd) +
+                           R"("><base_color r="1" g="0.5" b="0.25"/></material></quad></objects>
       <film width="9" height="9" size="0.01"/>
       <camera type="orthographic"><eye x="0" y="0" z="10"/><target x="0" y="0" z="0"/></camera></scene>)",
                        "plane.xml", ".");
@@ -56,7 +58,8 @@ TEST_CASE("direct light from a point light matches the analytic value", "[render
 TEST_CASE("direct light from an area light converges to the form-factor value", "[render]") {
     // A 2 x 1 light of radiance 3 at height 1.5 over the plane, centred above the pixel.
     const Scene s = plane_scene(R"(<area samples="64" visible="false"><radiance r="3" g="3" b="3"/>
-        <center x="0" y="0" z="1.5"/><size x="2" y="1"/><normal x="0" y="0" z="-1"/></area>)", 1.f);
+        <center x="0" y="0" z="1.5"/><size x="2" y="1"/><normal x="0" y="0" z="-1"/></area>)",
+                                1.f);
     const RenderResult r = render_scene(s, AccelType::Grid, 1, 16);
     const double E = 3.0 * 4.0 * corner_irradiance(1.0, 0.5, 1.5);
     CHECK(r.film.at(4, 4).r == Approx(E / kPi).epsilon(0.01));

@@ -45,7 +45,8 @@ TEST_CASE("uniform grid equals brute force on the bunny", "[kernel][grid]") {
         const int n = 20000;
         for (int i = 0; i < n; ++i) {
             // Origins around the mesh; directions either random or aimed at a surface point.
-            const Vec3 o = bb.lo - ext * 0.5f + Vec3{U(rng) * ext.x, U(rng) * ext.y, U(rng) * ext.z} * 2.f;
+            const Vec3 o =
+                bb.lo - ext * 0.5f + Vec3{U(rng) * ext.x, U(rng) * ext.y, U(rng) * ext.z} * 2.f;
             Vec3 d{U(rng) - 0.5f, U(rng) - 0.5f, U(rng) - 0.5f};
             if (i % 2 == 0) {
                 Vec3 p0, p1, p2;

@@ -6,14 +6,16 @@
 
 namespace foton::test {
 
-inline std::string source_path(const std::string& rel) { return std::string(FOTON_SOURCE_DIR) + "/" + rel; }
+inline std::string source_path(const std::string& rel) {
+    return std::string(FOTON_SOURCE_DIR) + "/" + rel;
+}
 inline std::string shared_path(const std::string& rel) {
     return std::string(FOTON_SOURCE_DIR) + "/../shared/" + rel;
 }
 
 // A fresh empty directory under the system temp dir, removed with the object.
 class TempDir {
-public:
+  public:
     TempDir() {
         std::random_device rd;
         path_ = std::filesystem::temp_directory_path() / ("foton-test-" + std::to_string(rd()));
@@ -26,7 +28,7 @@ public:
     std::string file(const std::string& name) const { return (path_ / name).string(); }
     const std::filesystem::path& path() const { return path_; }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 

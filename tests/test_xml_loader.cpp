@@ -63,7 +63,8 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
   <film width="800" height="600" size="0.008" gamma="1.0"/>
   <renderer type="raytracer" aa_samples="4" num_threads="2" sampler="hammersley" max_depth="5" min_contribution="0.01" seed="7"/>
   <camera type="orthographic" d="50.0" exposure="1.5"><eye x="-26" y="3.5" z="35"/><target x="0" y="0" z="0"/><up x="0" y="1" z="0"/></camera>
-</scene>)", test::source_path(""));
+</scene>)",
+                          test::source_path(""));
     CHECK(s.background == RGB(0.1f, 0.2f, 0.3f));
     CHECK(s.ambient.radiance().g == Approx(0.05f));
     REQUIRE(s.lights.points.size() == 1);
@@ -124,8 +125,12 @@ TEST_CASE("XML: fov sets the pixel size; the shipped scenes load", "[xml]") {
 }
 
 TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
-    SECTION("malformed XML") { expect_error("<scene>\n<film width=\"1\"\n</scene>", 3, "malformed XML"); }
-    SECTION("wrong root") { expect_error("<world/>", 1, "root element must be <scene>"); }
+    SECTION("malformed XML") {
+        expect_error("<scene>\n<film width=\"1\"\n</scene>", 3, "malformed XML");
+    }
+    SECTION("wrong root") {
+        expect_error("<world/>", 1, "root element must be <scene>");
+    }
     SECTION("unknown element") {
         expect_error(scene_xml("\n<teapot/>"), 5, "unknown element <teapot>");
     }
@@ -134,7 +139,8 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
                      "unknown attribute 'alpha'");
     }
     SECTION("unknown attribute values") {
-        expect_error(scene_xml("\n<aggregate type=\"kdtree\"/>"), 5, "unknown aggregate type 'kdtree'");
+        expect_error(scene_xml("\n<aggregate type=\"kdtree\"/>"), 5,
+                     "unknown aggregate type 'kdtree'");
         expect_error(scene_xml("\n<renderer sampler=\"sobol\"/>"), 5, "unknown sampler 'sobol'");
         expect_error(scene_xml("\n<renderer type=\"magic\"/>"), 5, "unknown renderer type");
         expect_error(std::string("<scene>") + kFilmCamera +
@@ -143,10 +149,11 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
                      4, "unknown material type 'velvet'");
     }
     SECTION("missing mesh file") {
-        expect_error(std::string("<scene>") + kFilmCamera +
-                         "\n<objects>\n<triangle_mesh src=\"nothere.obj\"><material type=\"matte\"/>"
-                         "</triangle_mesh></objects></scene>",
-                     5, "mesh file 'nothere.obj' not found");
+        expect_error(
+            std::string("<scene>") + kFilmCamera +
+                "\n<objects>\n<triangle_mesh src=\"nothere.obj\"><material type=\"matte\"/>"
+                "</triangle_mesh></objects></scene>",
+            5, "mesh file 'nothere.obj' not found");
     }
     SECTION("face index out of range, reported in the OBJ file") {
         test::TempDir dir;
@@ -163,8 +170,9 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
     }
     SECTION("NaN and Inf numbers") {
         expect_error(scene_xml("\n<background r=\"nan\" g=\"0\" b=\"0\"/>"), 5, "NaN or infinite");
-        expect_error(scene_xml("\n<lights><point><position x=\"inf\" y=\"0\" z=\"0\"/></point></lights>"),
-                     5, "NaN or infinite");
+        expect_error(
+            scene_xml("\n<lights><point><position x=\"inf\" y=\"0\" z=\"0\"/></point></lights>"), 5,
+            "NaN or infinite");
         expect_error(scene_xml("\n<background r=\"zero\" g=\"0\" b=\"0\"/>"), 5, "not a number");
     }
     SECTION("negative or zero sizes") {
@@ -174,10 +182,13 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
                      4, "radius must be positive");
         expect_error("<scene>\n<film width=\"-5\"/></scene>", 2, "positive integer");
         expect_error("<scene>\n<film size=\"0\"/></scene>", 2, "'size' must be positive");
-        expect_error(scene_xml("\n<lights><area><corner x=\"0\" y=\"0\" z=\"0\"/><edge1 x=\"1\" y=\"0\" z=\"0\"/>"
-                               "<edge2 x=\"2\" y=\"0\" z=\"0\"/></area></lights>"),
-                     5, "zero area");
-        expect_error(scene_xml("\n<lights><point intensity=\"-1\"><position x=\"0\" y=\"0\" z=\"0\"/></point></lights>"),
+        expect_error(
+            scene_xml(
+                "\n<lights><area><corner x=\"0\" y=\"0\" z=\"0\"/><edge1 x=\"1\" y=\"0\" z=\"0\"/>"
+                "<edge2 x=\"2\" y=\"0\" z=\"0\"/></area></lights>"),
+            5, "zero area");
+        expect_error(scene_xml("\n<lights><point intensity=\"-1\"><position x=\"0\" y=\"0\" "
+                               "z=\"0\"/></point></lights>"),
                      5, "must not be negative");
         expect_error(scene_xml("\n<renderer aa_samples=\"0\"/>"), 5, "positive integer");
     }
@@ -190,7 +201,9 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
     SECTION("duplicated and inconsistent elements") {
         expect_error(scene_xml("\n<aggregate type=\"grid\"/>\n<aggregate type=\"grid\"/>"), 6,
                      "more than once");
-        expect_error("<scene><film/>\n<camera><eye x=\"0\" y=\"0\" z=\"0\"/><target x=\"0\" y=\"0\" z=\"0\"/></camera></scene>",
-                     2, "eye and target coincide");
+        expect_error(
+            "<scene><film/>\n<camera><eye x=\"0\" y=\"0\" z=\"0\"/><target x=\"0\" y=\"0\" "
+            "z=\"0\"/></camera></scene>",
+            2, "eye and target coincide");
     }
 }

@@ -35,7 +35,8 @@ bool BruteAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) con
     for (const MeshBlocks& m : meshes_) {
         bool improved = false;
         if (simd_) {
-            for (const kern::TriangleBlock& b : m.blocks) improved |= kern::intersect_block(ray, b, th);
+            for (const kern::TriangleBlock& b : m.blocks)
+                improved |= kern::intersect_block(ray, b, th);
         } else {
             for (const kern::TriangleBlock& b : m.blocks)
                 improved |= kern::intersect_block_scalar(ray, b, th);

@@ -11,7 +11,7 @@
 namespace foton {
 
 class BruteAccel final : public PerRayIntersector<BruteAccel> {
-public:
+  public:
     BruteAccel(const Scene& scene, bool simd);
     const char* name() const override { return simd_ ? "brute-simd" : "brute"; }
     std::size_t memory_bytes() const override;
@@ -19,7 +19,7 @@ public:
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
-private:
+  private:
     struct MeshBlocks {
         uint32_t geom;
         std::vector<kern::TriangleBlock> blocks;

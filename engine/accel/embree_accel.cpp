@@ -39,7 +39,8 @@ void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
         const Vec3 d{RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
                      RTCRayN_dir_z(ray, args->N, i)};
         float t;
-        if (!intersect_sphere(s, o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t))
+        if (!intersect_sphere(s, o, d, RTCRayN_tnear(ray, args->N, i),
+                              RTCRayN_tfar(ray, args->N, i), t))
             continue;
         const Vec3 n = o + d * t - s.center;
         RTCRayN_tfar(ray, args->N, i) = t;
@@ -84,13 +85,13 @@ EmbreeAccel::EmbreeAccel(const Scene& scene) : scene_(scene) {
             const TriangleMesh& m = scene.meshes[o.index];
             geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             // Embree-owned copies: its buffers need padding for vector loads past the end.
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                m.num_vertices()));
+            auto* v = static_cast<float*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), m.num_vertices()));
             std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(float));
-            auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
-                m.num_triangles()));
+            auto* ix = static_cast<uint32_t*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                        3 * sizeof(uint32_t), m.num_triangles()));
             std::memcpy(ix, m.indices.data(), m.indices.size() * sizeof(uint32_t));
             memory_ += m.memory_bytes();
         } else {

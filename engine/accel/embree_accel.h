@@ -11,7 +11,7 @@
 namespace foton {
 
 class EmbreeAccel final : public PerRayIntersector<EmbreeAccel> {
-public:
+  public:
     explicit EmbreeAccel(const Scene& scene);
     ~EmbreeAccel() override;
     EmbreeAccel(const EmbreeAccel&) = delete;
@@ -22,7 +22,7 @@ public:
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
-private:
+  private:
     const Scene& scene_;
     RTCDevice device_ = nullptr;
     RTCScene rtc_scene_ = nullptr;

@@ -12,7 +12,7 @@
 namespace foton {
 
 class GridAccel final : public PerRayIntersector<GridAccel> {
-public:
+  public:
     explicit GridAccel(const Scene& scene, const kern::GridParams& mesh_params = {});
     const char* name() const override { return "grid"; }
     std::size_t memory_bytes() const override;
@@ -23,15 +23,15 @@ public:
     const kern::GridFrame& top_frame() const { return top_; }
     const kern::UniformGrid* mesh_grid(uint32_t geom) const;
 
-private:
+  private:
     // Closest hit in one object over the whole ray; updates `hit` if closer.
     bool hit_object(uint32_t geom, const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool occludes_object(uint32_t geom, const kern::Ray1& ray, TraceCounters& c) const;
 
     const Scene& scene_;
-    std::vector<kern::UniformGrid> grids_;   // one per mesh object (indexed by mesh)
+    std::vector<kern::UniformGrid> grids_;  // one per mesh object (indexed by mesh)
     kern::GridFrame top_;
-    std::vector<uint32_t> cell_begin_;       // CSR over top-level cells
+    std::vector<uint32_t> cell_begin_;  // CSR over top-level cells
     std::vector<uint32_t> cell_objects_;
 };
 

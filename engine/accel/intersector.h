@@ -21,7 +21,7 @@ struct Hit1 {
 };
 
 class Intersector {
-public:
+  public:
     virtual ~Intersector() = default;
     virtual const char* name() const = 0;
     // Closest hit per ray with tmin < t < tmax; hits.geom[i] == kNoHit for a miss.
@@ -45,7 +45,7 @@ inline kern::Ray1 ray_at(const RayBatch& b, std::size_t i) {
 // Implements the batch entry points by looping a backend's single-ray methods.
 template <class Derived>
 class PerRayIntersector : public Intersector {
-public:
+  public:
     void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override {
         hits.resize(rays.size());
         const Derived& self = static_cast<const Derived&>(*this);

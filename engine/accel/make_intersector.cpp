@@ -6,14 +6,17 @@ namespace foton {
 
 std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type) {
     switch (type) {
-        case AccelType::Brute: return std::make_unique<BruteAccel>(scene, false);
-        case AccelType::BruteSimd: return std::make_unique<BruteAccel>(scene, true);
+        case AccelType::Brute:
+            return std::make_unique<BruteAccel>(scene, false);
+        case AccelType::BruteSimd:
+            return std::make_unique<BruteAccel>(scene, true);
         case AccelType::Grid: {
             kern::GridParams params;
             params.cells_per_triangle = scene.grid_density;
             return std::make_unique<GridAccel>(scene, params);
         }
-        case AccelType::Embree: return std::make_unique<EmbreeAccel>(scene);
+        case AccelType::Embree:
+            return std::make_unique<EmbreeAccel>(scene);
     }
     return nullptr;
 }

@@ -19,7 +19,9 @@ namespace fs = std::filesystem;
 int run_render(const RenderArgs& args) {
     Scene scene = load_scene(args.scene);
     if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
-        throw InputError("--accel", 0, "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, embree)");
+        throw InputError(
+            "--accel", 0,
+            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, embree)");
     if (args.width || args.height) {
         const int w = args.width.value_or(scene.film.width);
         const int h = args.height.value_or(scene.film.height);
@@ -37,14 +39,16 @@ int run_render(const RenderArgs& args) {
     std::string out = args.output;
     if (out.empty()) out = (fs::path("out") / fs::path(args.scene).stem()).string() + ".exr";
     if (fs::path(out).extension() != ".exr")
-        throw InputError(out, 0, "output must be an .exr file (a .png preview is written beside it)");
+        throw InputError(out, 0,
+                         "output must be an .exr file (a .png preview is written beside it)");
     const fs::path out_dir = fs::path(out).parent_path();
     if (!out_dir.empty()) fs::create_directories(out_dir);
     const std::string png = fs::path(out).replace_extension(".png").string();
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel);
-    const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double build =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     RenderResult res = render(scene, *accel, opt);
     res.stats.build_seconds = build;
 
@@ -70,9 +74,8 @@ int run_render(const RenderArgs& args) {
     if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
     if (!args.quiet)
         std::printf("rendered %s (%dx%d, %u spp, %s, %d threads) in %.3f s\nwrote %s\nwrote %s\n",
-                    args.scene.c_str(), scene.film.width, scene.film.height, opt.spp,
-                    accel->name(), res.stats.threads, res.stats.wall_seconds, out.c_str(),
-                    png.c_str());
+                    args.scene.c_str(), scene.film.width, scene.film.height, opt.spp, accel->name(),
+                    res.stats.threads, res.stats.wall_seconds, out.c_str(), png.c_str());
     return 0;
 }
 

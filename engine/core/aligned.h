@@ -16,7 +16,9 @@ struct AlignedAllocator {
     T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
     void deallocate(T* p, std::size_t) { ::operator delete(p, kAlign); }
     template <class U>
-    bool operator==(const AlignedAllocator<U>&) const { return true; }
+    bool operator==(const AlignedAllocator<U>&) const {
+        return true;
+    }
 };
 
 template <class T>

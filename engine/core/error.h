@@ -10,13 +10,13 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitInternal = 1;
 
 class InputError : public std::runtime_error {
-public:
+  public:
     InputError(std::string file, int line, const std::string& what)
         : std::runtime_error(format(file, line, what)), file_(std::move(file)), line_(line) {}
     const std::string& file() const { return file_; }
     int line() const { return line_; }
 
-private:
+  private:
     static std::string format(const std::string& file, int line, const std::string& what) {
         std::string s = file;
         if (line > 0) {

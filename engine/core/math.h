@@ -17,24 +17,59 @@ struct Vec3 {
     float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
     float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
     Vec3 operator-() const { return {-x, -y, -z}; }
-    Vec3& operator+=(const Vec3& b) { x += b.x; y += b.y; z += b.z; return *this; }
-    Vec3& operator-=(const Vec3& b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
-    Vec3& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+    Vec3& operator+=(const Vec3& b) {
+        x += b.x;
+        y += b.y;
+        z += b.z;
+        return *this;
+    }
+    Vec3& operator-=(const Vec3& b) {
+        x -= b.x;
+        y -= b.y;
+        z -= b.z;
+        return *this;
+    }
+    Vec3& operator*=(float s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
 };
 
-inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(const Vec3& a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator*(float s, const Vec3& a) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator/(const Vec3& a, float s) { return a * (1.f / s); }
-inline bool operator==(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-inline float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 operator+(const Vec3& a, const Vec3& b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(const Vec3& a, const Vec3& b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator*(const Vec3& a, float s) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator*(float s, const Vec3& a) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator/(const Vec3& a, float s) {
+    return a * (1.f / s);
+}
+inline bool operator==(const Vec3& a, const Vec3& b) {
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+inline float dot(const Vec3& a, const Vec3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline float length_squared(const Vec3& a) { return dot(a, a); }
-inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(const Vec3& a) { return a / length(a); }
+inline float length_squared(const Vec3& a) {
+    return dot(a, a);
+}
+inline float length(const Vec3& a) {
+    return std::sqrt(dot(a, a));
+}
+inline Vec3 normalize(const Vec3& a) {
+    return a / length(a);
+}
 inline Vec3 vmin(const Vec3& a, const Vec3& b) {
     return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
 }
@@ -47,7 +82,9 @@ inline float max_abs_component(const Vec3& a) {
 inline bool is_finite(const Vec3& a) {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
-inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2.f * dot(d, n)); }
+inline Vec3 reflect(const Vec3& d, const Vec3& n) {
+    return d - n * (2.f * dot(d, n));
+}
 
 // Any two unit vectors completing an orthonormal basis with n (Duff et al. 2017).
 inline void orthonormal_basis(const Vec3& n, Vec3& s, Vec3& t) {
@@ -61,8 +98,14 @@ inline void orthonormal_basis(const Vec3& n, Vec3& s, Vec3& t) {
 struct Bounds3 {
     Vec3 lo{kInfinity, kInfinity, kInfinity};
     Vec3 hi{-kInfinity, -kInfinity, -kInfinity};
-    void extend(const Vec3& p) { lo = vmin(lo, p); hi = vmax(hi, p); }
-    void extend(const Bounds3& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+    void extend(const Vec3& p) {
+        lo = vmin(lo, p);
+        hi = vmax(hi, p);
+    }
+    void extend(const Bounds3& b) {
+        lo = vmin(lo, b.lo);
+        hi = vmax(hi, b.hi);
+    }
     bool empty() const { return lo.x > hi.x; }
     Vec3 diagonal() const { return hi - lo; }
     Vec3 center() const { return (lo + hi) * 0.5f; }

@@ -33,23 +33,47 @@ struct HitBatch {
 };
 
 inline void RayBatch::clear() {
-    ox.clear(); oy.clear(); oz.clear(); dx.clear(); dy.clear(); dz.clear();
-    tmin.clear(); tmax.clear(); id.clear();
+    ox.clear();
+    oy.clear();
+    oz.clear();
+    dx.clear();
+    dy.clear();
+    dz.clear();
+    tmin.clear();
+    tmax.clear();
+    id.clear();
 }
 
 inline void RayBatch::reserve(std::size_t n) {
-    ox.reserve(n); oy.reserve(n); oz.reserve(n); dx.reserve(n); dy.reserve(n); dz.reserve(n);
-    tmin.reserve(n); tmax.reserve(n); id.reserve(n);
+    ox.reserve(n);
+    oy.reserve(n);
+    oz.reserve(n);
+    dx.reserve(n);
+    dy.reserve(n);
+    dz.reserve(n);
+    tmin.reserve(n);
+    tmax.reserve(n);
+    id.reserve(n);
 }
 
 inline void RayBatch::push(const Vec3& o, const Vec3& d, float t0, float t1, uint32_t slot) {
-    ox.push_back(o.x); oy.push_back(o.y); oz.push_back(o.z);
-    dx.push_back(d.x); dy.push_back(d.y); dz.push_back(d.z);
-    tmin.push_back(t0); tmax.push_back(t1); id.push_back(slot);
+    ox.push_back(o.x);
+    oy.push_back(o.y);
+    oz.push_back(o.z);
+    dx.push_back(d.x);
+    dy.push_back(d.y);
+    dz.push_back(d.z);
+    tmin.push_back(t0);
+    tmax.push_back(t1);
+    id.push_back(slot);
 }
 
 inline void HitBatch::resize(std::size_t n) {
-    t.resize(n); u.resize(n); v.resize(n); prim.resize(n); geom.resize(n);
+    t.resize(n);
+    u.resize(n);
+    v.resize(n);
+    prim.resize(n);
+    geom.resize(n);
 }
 
 }  // namespace foton

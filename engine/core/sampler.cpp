@@ -16,10 +16,14 @@ std::optional<SamplerKind> parse_sampler(std::string_view name) {
 
 const char* sampler_name(SamplerKind kind) {
     switch (kind) {
-        case SamplerKind::Regular: return "regular";
-        case SamplerKind::Random: return "random";
-        case SamplerKind::Jittered: return "jittered";
-        case SamplerKind::Hammersley: return "hammersley";
+        case SamplerKind::Regular:
+            return "regular";
+        case SamplerKind::Random:
+            return "random";
+        case SamplerKind::Jittered:
+            return "jittered";
+        case SamplerKind::Hammersley:
+            return "hammersley";
     }
     return "?";
 }

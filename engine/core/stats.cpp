@@ -6,12 +6,18 @@ namespace foton {
 
 const char* stage_name(Stage s) {
     switch (s) {
-        case Stage::Generate: return "generate";
-        case Stage::Intersect: return "intersect";
-        case Stage::Shade: return "shade";
-        case Stage::Occlusion: return "occlusion";
-        case Stage::Accumulate: return "accumulate";
-        case Stage::kCount: break;
+        case Stage::Generate:
+            return "generate";
+        case Stage::Intersect:
+            return "intersect";
+        case Stage::Shade:
+            return "shade";
+        case Stage::Occlusion:
+            return "occlusion";
+        case Stage::Accumulate:
+            return "accumulate";
+        case Stage::kCount:
+            break;
     }
     return "?";
 }
@@ -56,19 +62,21 @@ std::string RenderStats::table() const {
 std::string RenderStats::json() const {
     char buf[512];
     std::string s = "{\n";
-    std::snprintf(buf, sizeof buf,
-                  "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
-                  "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
-                  "  \"rays_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
-                  "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
-                  threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
-                  (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
-                  wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0,
-                  (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-                  (unsigned long long)trace.cells);
+    std::snprintf(
+        buf, sizeof buf,
+        "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
+        "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
+        "  \"rays_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
+        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
+        threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
+        (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
+        wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0,
+        (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
+        (unsigned long long)trace.cells);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
-        std::snprintf(buf, sizeof buf, "    \"%s\": {\"thread_seconds\": %.6f, \"items\": %llu}%s\n",
+        std::snprintf(buf, sizeof buf,
+                      "    \"%s\": {\"thread_seconds\": %.6f, \"items\": %llu}%s\n",
                       stage_name(Stage(i)), stage_seconds[i], (unsigned long long)stage_items[i],
                       i + 1 < kNumStages ? "," : "");
         s += buf;

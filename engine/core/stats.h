@@ -15,7 +15,7 @@ const char* stage_name(Stage s);
 struct TraceCounters {
     uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
     uint64_t sphere_tests = 0;
-    uint64_t cells = 0;           // grid cells visited (grid backend only)
+    uint64_t cells = 0;  // grid cells visited (grid backend only)
     void merge(const TraceCounters& o) {
         triangle_tests += o.triangle_tests;
         sphere_tests += o.sphere_tests;
@@ -39,7 +39,7 @@ struct RenderStats {
 };
 
 class StageClock {
-public:
+  public:
     StageClock() : start_(std::chrono::steady_clock::now()) {}
     // Seconds since construction or the last lap.
     double lap() {
@@ -49,7 +49,7 @@ public:
         return s;
     }
 
-private:
+  private:
     std::chrono::steady_clock::time_point start_;
 };
 

@@ -22,12 +22,16 @@ namespace foton {
 namespace {
 
 // Runs `write(tmp)` and renames tmp to `path`; removes tmp on any failure.
-void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string&)>& write) {
     namespace fs = std::filesystem;
     const fs::path target(path);
     const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
     if (!fs::is_directory(dir)) throw InputError(path, 0, "output directory does not exist");
-    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp-" + std::to_string(getpid()));
+    // Hidden name in the same directory, so the final rename cannot cross file systems.
+    std::string name = ".";
+    name.append(target.filename().string()).append(".tmp-").append(std::to_string(getpid()));
+    const fs::path tmp = dir / name;
     try {
         write(tmp.string());
         fs::rename(tmp, target);
@@ -65,8 +69,9 @@ Film read_exr(const std::string& path) {
         const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
         Film film(w, h);
         Imf::FrameBuffer fb;
-        char* base = reinterpret_cast<char*>(film.pixels.data()) -
-                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * w) * std::ptrdiff_t(sizeof(RGB));
+        char* base =
+            reinterpret_cast<char*>(film.pixels.data()) -
+            (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * w) * std::ptrdiff_t(sizeof(RGB));
         const std::size_t xs = sizeof(RGB), ys = sizeof(RGB) * std::size_t(w);
         fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
@@ -106,9 +111,9 @@ void write_difference_png(const std::string& path, const Film& a, const Film& b,
         const float m = (std::fabs(e.r) + std::fabs(e.g) + std::fabs(e.b)) / (3.f * scale);
         // False colour: black -> blue -> red -> yellow -> white as the error grows.
         const float x = std::clamp(m, 0.f, 1.f);
-        d.pixels[i] = RGB{std::clamp(3.f * x - 1.f, 0.f, 1.f) + 0.f,
-                          std::clamp(3.f * x - 2.f, 0.f, 1.f),
-                          x < 1.f / 3.f ? 3.f * x : std::clamp(3.f * x - 2.f, 0.f, 1.f)};
+        d.pixels[i] =
+            RGB{std::clamp(3.f * x - 1.f, 0.f, 1.f) + 0.f, std::clamp(3.f * x - 2.f, 0.f, 1.f),
+                x < 1.f / 3.f ? 3.f * x : std::clamp(3.f * x - 2.f, 0.f, 1.f)};
     }
     write_png(path, d, 1.f, 1.f);
 }

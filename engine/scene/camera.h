@@ -11,8 +11,8 @@ enum class CameraType { Perspective, Orthographic };
 struct Camera {
     CameraType type = CameraType::Perspective;
     Vec3 eye{0, 0, 0}, target{0, 0, -1}, up{0, 1, 0};
-    float d = 1.f;           // eye to view-plane distance (perspective)
-    float exposure = 1.f;    // scales the PNG preview
+    float d = 1.f;         // eye to view-plane distance (perspective)
+    float exposure = 1.f;  // scales the PNG preview
     float pixel_size = 0.001f;
     int width = 1, height = 1;
 

@@ -35,7 +35,7 @@ struct SpotLight {
 // A one-sided rectangle: corner + two edges, emitting on the side of cross(edge1, edge2).
 struct AreaLight {
     Vec3 corner, edge1, edge2;
-    Vec3 normal;     // unit
+    Vec3 normal;  // unit
     float area = 0.f;
     RGB radiance;
     uint32_t samples = 1;

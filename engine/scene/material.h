@@ -14,8 +14,8 @@ const char* material_type_name(MaterialType t);
 
 struct Material {
     MaterialType type = MaterialType::Matte;
-    float c_ambient = 0.f;   // ambient coefficient (times base colour and ambient light)
-    float c_diffuse = 1.f;   // diffuse coefficient
+    float c_ambient = 0.f;  // ambient coefficient (times base colour and ambient light)
+    float c_diffuse = 1.f;  // diffuse coefficient
     RGB base_color{0.5f};
     float c_specular = 1.f;  // scales specular_color
     float exponent = 10.f;   // Phong exponent
@@ -24,7 +24,7 @@ struct Material {
     RGB reflective_color{0.f};
     float ior = 1.5f;
     RGB refraction_color{1.f};
-    RGB emission{0.f};        // radiance leaving the front side (Emitter, area lights)
+    RGB emission{0.f};  // radiance leaving the front side (Emitter, area lights)
 
     bool is_specular() const {
         return type == MaterialType::Reflective || type == MaterialType::Glass;

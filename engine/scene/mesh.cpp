@@ -45,7 +45,8 @@ void TriangleMesh::transform(const Affine& xf) {
     }
     // A mirroring transform flips the winding; swap two corners to keep normals outward.
     if (xf.determinant() < 0.f)
-        for (std::size_t t = 0; t < num_triangles(); ++t) std::swap(indices[3 * t + 1], indices[3 * t + 2]);
+        for (std::size_t t = 0; t < num_triangles(); ++t)
+            std::swap(indices[3 * t + 1], indices[3 * t + 2]);
 }
 
 bool intersect_sphere(const Sphere& s, const Vec3& o, const Vec3& d, float tmin, float tmax,

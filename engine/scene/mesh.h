@@ -11,9 +11,9 @@ namespace foton {
 
 struct TriangleMesh {
     std::string name;
-    std::vector<float> positions;  // xyz per vertex
-    std::vector<float> normals;    // xyz per vertex, empty for flat shading
-    std::vector<uint32_t> indices; // three per triangle
+    std::vector<float> positions;   // xyz per vertex
+    std::vector<float> normals;     // xyz per vertex, empty for flat shading
+    std::vector<uint32_t> indices;  // three per triangle
 
     std::size_t num_triangles() const { return indices.size() / 3; }
     std::size_t num_vertices() const { return positions.size() / 3; }

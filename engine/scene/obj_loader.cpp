@@ -1,8 +1,8 @@
 #include "obj_loader.h"
 
 #include <charconv>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <unordered_map>
@@ -100,8 +100,8 @@ ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
                 if (s1 != std::string_view::npos) {
                     const std::size_t s2 = tok.find('/', s1 + 1);
                     if (s2 != std::string_view::npos && s2 + 1 < tok.size())
-                        cr.n = resolve_index(tok.substr(s2 + 1), nrm.size() / 3, "normal", name,
-                                             line);
+                        cr.n =
+                            resolve_index(tok.substr(s2 + 1), nrm.size() / 3, "normal", name, line);
                 }
                 if (cr.n == UINT32_MAX) all_have_normals = false;
                 poly.push_back(cr);

@@ -6,30 +6,44 @@ namespace foton {
 
 const char* accel_name(AccelType a) {
     switch (a) {
-        case AccelType::Brute: return "brute";
-        case AccelType::BruteSimd: return "brute-simd";
-        case AccelType::Grid: return "grid";
-        case AccelType::Embree: return "embree";
+        case AccelType::Brute:
+            return "brute";
+        case AccelType::BruteSimd:
+            return "brute-simd";
+        case AccelType::Grid:
+            return "grid";
+        case AccelType::Embree:
+            return "embree";
     }
     return "?";
 }
 
 bool parse_accel(const std::string& s, AccelType& out) {
-    if (s == "brute") out = AccelType::Brute;
-    else if (s == "brute-simd") out = AccelType::BruteSimd;
-    else if (s == "grid") out = AccelType::Grid;
-    else if (s == "embree") out = AccelType::Embree;
-    else return false;
+    if (s == "brute")
+        out = AccelType::Brute;
+    else if (s == "brute-simd")
+        out = AccelType::BruteSimd;
+    else if (s == "grid")
+        out = AccelType::Grid;
+    else if (s == "embree")
+        out = AccelType::Embree;
+    else
+        return false;
     return true;
 }
 
 const char* material_type_name(MaterialType t) {
     switch (t) {
-        case MaterialType::Matte: return "matte";
-        case MaterialType::Phong: return "phong";
-        case MaterialType::Reflective: return "reflective";
-        case MaterialType::Glass: return "glass";
-        case MaterialType::Emitter: return "emitter";
+        case MaterialType::Matte:
+            return "matte";
+        case MaterialType::Phong:
+            return "phong";
+        case MaterialType::Reflective:
+            return "reflective";
+        case MaterialType::Glass:
+            return "glass";
+        case MaterialType::Emitter:
+            return "emitter";
     }
     return "?";
 }

@@ -36,7 +36,7 @@ struct RenderSettings {
     uint32_t spp = 1;  // aa_samples
     int threads = 0;   // 0 = all hardware threads
     SamplerKind sampler = SamplerKind::Jittered;
-    uint32_t max_depth = 8;        // specular bounces after the camera ray
+    uint32_t max_depth = 8;          // specular bounces after the camera ray
     float min_contribution = 1e-3f;  // adaptive cut-off on a path's weight
     uint64_t seed = 0;
 };

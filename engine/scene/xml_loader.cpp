@@ -26,7 +26,7 @@ bool in(const Names& names, const char* s) {
 }
 
 class Loader {
-public:
+  public:
     Loader(const std::string& xml, std::string name, std::string base_dir)
         : xml_(xml), name_(std::move(name)), base_(std::move(base_dir)) {
         line_starts_.push_back(0);
@@ -36,7 +36,7 @@ public:
 
     Scene run();
 
-private:
+  private:
     int line_of(std::ptrdiff_t offset) const {
         if (offset < 0) return 0;
         auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), std::size_t(offset));
@@ -70,8 +70,7 @@ private:
         auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
         if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
             fail(n, std::string("attribute '") + attr + "' is not a number: '" + a.value() + "'");
-        if (!std::isfinite(v))
-            fail(n, std::string("attribute '") + attr + "' is NaN or infinite");
+        if (!std::isfinite(v)) fail(n, std::string("attribute '") + attr + "' is NaN or infinite");
         return v;
     }
     float number(const pugi::xml_node& n, const char* attr, float fallback) const {
@@ -154,12 +153,15 @@ private:
 Scene Loader::run() {
     pugi::xml_document doc;
     const pugi::xml_parse_result r = doc.load_buffer(xml_.data(), xml_.size());
-    if (!r) throw InputError(name_, line_of(r.offset), std::string("malformed XML: ") + r.description());
+    if (!r)
+        throw InputError(name_, line_of(r.offset),
+                         std::string("malformed XML: ") + r.description());
     const pugi::xml_node root = doc.document_element();
     if (std::string_view(root.name()) != "scene")
         fail(root, std::string("root element must be <scene>, not <") + root.name() + ">");
-    check(root, {}, {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer",
-                     "camera"});
+    check(
+        root, {},
+        {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer", "camera"});
     scene_.source = name_;
     for (const char* once : {"background", "ambient", "lights", "aggregate", "objects", "film",
                              "renderer", "camera"}) {
@@ -207,8 +209,8 @@ void Loader::parse_film(const pugi::xml_node& n) {
 }
 
 void Loader::parse_renderer(const pugi::xml_node& n) {
-    check(n, {"type", "aa_samples", "num_threads", "sampler", "max_depth", "min_contribution",
-              "seed"},
+    check(n,
+          {"type", "aa_samples", "num_threads", "sampler", "max_depth", "min_contribution", "seed"},
           {});
     RenderSettings& r = scene_.render;
     if (n.attribute("type")) {
@@ -219,7 +221,8 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
     r.spp = count(n, "aa_samples", 1);
     if (n.attribute("num_threads")) {
         const float t = number(n, "num_threads");
-        if (t < 0.f || t != std::floor(t)) fail(n, "num_threads must be 0 (all) or a positive integer");
+        if (t < 0.f || t != std::floor(t))
+            fail(n, "num_threads must be 0 (all) or a positive integer");
         r.threads = int(t);
     }
     if (n.attribute("sampler")) {
@@ -231,7 +234,8 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
     }
     if (n.attribute("max_depth")) {
         const float d = number(n, "max_depth");
-        if (d < 0.f || d != std::floor(d) || d > 1000.f) fail(n, "max_depth must be an integer in [0, 1000]");
+        if (d < 0.f || d != std::floor(d) || d > 1000.f)
+            fail(n, "max_depth must be an integer in [0, 1000]");
         r.max_depth = uint32_t(d);
     }
     r.min_contribution = non_negative(n, "min_contribution", r.min_contribution);
@@ -246,9 +250,12 @@ void Loader::parse_camera(const pugi::xml_node& n) {
     check(n, {"type", "d", "exposure", "fov"}, {"eye", "target", "up"});
     Camera& c = scene_.camera;
     const std::string type = n.attribute("type") ? n.attribute("type").value() : "perspective";
-    if (type == "perspective") c.type = CameraType::Perspective;
-    else if (type == "orthographic") c.type = CameraType::Orthographic;
-    else fail(n, "unknown camera type '" + type + "' (perspective, orthographic)");
+    if (type == "perspective")
+        c.type = CameraType::Perspective;
+    else if (type == "orthographic")
+        c.type = CameraType::Orthographic;
+    else
+        fail(n, "unknown camera type '" + type + "' (perspective, orthographic)");
     c.eye = xyz_child(n, "eye");
     c.target = xyz_child(n, "target");
     c.up = n.child("up") ? xyz_child(n, "up") : Vec3{0, 1, 0};

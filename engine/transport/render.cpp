@@ -27,7 +27,7 @@ std::vector<Tile> make_tiles(int width, int height, int size) {
 
 // Draws a progress bar with ETA on stderr until `done` reaches `total` or `stop` is set.
 class ProgressBar {
-public:
+  public:
     ProgressBar(const std::atomic<std::size_t>& done, std::size_t total)
         : done_(done), total_(total), thread_([this] { run(); }) {}
     ~ProgressBar() {
@@ -36,14 +36,15 @@ public:
         std::fprintf(stderr, "\r%*s\r", 60, "");
     }
 
-private:
+  private:
     void run() {
         const auto start = std::chrono::steady_clock::now();
         while (!stop_) {
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
             const std::size_t d = done_.load(std::memory_order_relaxed);
             const double frac = total_ ? double(d) / double(total_) : 1.0;
-            const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const double el =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
             char bar[31];
             const int fill = int(frac * 30);
@@ -78,7 +79,8 @@ RenderResult render(const Scene& scene, const Intersector& accel, const RenderOp
     const auto start = std::chrono::steady_clock::now();
     {
         std::unique_ptr<ProgressBar> bar;
-        if (opt.progress && isatty(fileno(stderr))) bar = std::make_unique<ProgressBar>(done, tiles.size());
+        if (opt.progress && isatty(fileno(stderr)))
+            bar = std::make_unique<ProgressBar>(done, tiles.size());
         tbb::task_arena arena(threads);
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),

@@ -15,7 +15,7 @@
 namespace foton {
 
 struct RenderOptions {
-    int threads = 0;       // 0 = all hardware threads
+    int threads = 0;  // 0 = all hardware threads
     uint64_t seed = 0;
     uint32_t spp = 1;
     int tile_size = 16;

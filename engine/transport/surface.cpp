@@ -8,8 +8,8 @@ namespace {
 constexpr float kRelativeEpsilon = 2e-5f;
 }  // namespace
 
-SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u,
-                        float v, const Vec3& origin, const Vec3& dir) {
+SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
+                        const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
     const Object& obj = scene.objects[geom];
     Vec3 n_geom, n_shade;

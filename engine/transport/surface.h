@@ -14,8 +14,8 @@ struct SurfacePoint {
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
 };
 
-SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u,
-                        float v, const Vec3& origin, const Vec3& dir);
+SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
+                        const Vec3& origin, const Vec3& dir);
 
 // Origin for a ray leaving `sp` in direction `w`: pushed off the surface along the
 // geometric normal, to the side `w` goes.

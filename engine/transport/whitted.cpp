@@ -50,8 +50,7 @@ void WhittedIntegrator::generate(const Tile& tile, WhittedWorkspace& ws) const {
         for (int x = tile.x0; x < tile.x1; ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
             for (uint32_t s = 0; s < spp; ++s, ++slot) {
-                const Point2 jitter = sample_pattern(scene_.render.sampler, s, spp,
-                                                     options_.seed,
+                const Point2 jitter = sample_pattern(scene_.render.sampler, s, spp, options_.seed,
                                                      rng::hash(kPixelStream, pixel, 0, 0));
                 Vec3 o, d;
                 scene_.camera.generate(float(x) + jitter.x, float(y) + jitter.y, o, d);

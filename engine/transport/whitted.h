@@ -22,16 +22,16 @@ struct WhittedWorkspace {
 };
 
 class WhittedIntegrator {
-public:
+  public:
     WhittedIntegrator(const Scene& scene, const Intersector& accel, const RenderOptions& options);
     // Renders one tile into `film` (only the tile's pixels are written).
     void render_tile(const Tile& tile, Film& film, WhittedWorkspace& ws, RenderStats& stats) const;
 
-private:
+  private:
     void generate(const Tile& tile, WhittedWorkspace& ws) const;
     void shade(uint32_t depth, const Tile& tile, WhittedWorkspace& ws) const;
-    void direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
-                      const RGB& weight, uint32_t slot, uint64_t sample_index, uint32_t depth,
+    void direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo, const RGB& weight,
+                      uint32_t slot, uint64_t sample_index, uint32_t depth,
                       WhittedWorkspace& ws) const;
     uint64_t global_sample(const Tile& tile, uint32_t slot) const;
 
