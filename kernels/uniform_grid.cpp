@@ -83,6 +83,12 @@ bool UniformGrid::intersect(const Ray1& r, TriHit& hit, GridCounters* counters) 
     if (blocks_.empty()) return false;
     if (r.tmax < hit.t) hit.t = r.tmax;
     bool found = false;
+    if (frame_.num_cells() == 1) {
+        // A one-cell grid (a quad, a small mesh) is just its block list: skip the DDA set-up.
+        for (const TriangleBlock& b : blocks_) found |= intersect_block(r, b, hit);
+        if (counters) counters->blocks += blocks_.size();
+        return found;
+    }
     uint64_t cells = 0, tests = 0;
     dda_walk(frame_, r, hit.t, [&](uint32_t cell, float t_exit) {
         ++cells;
@@ -102,6 +108,13 @@ bool UniformGrid::intersect(const Ray1& r, TriHit& hit, GridCounters* counters) 
 bool UniformGrid::occluded(const Ray1& r, GridCounters* counters) const {
     if (blocks_.empty()) return false;
     bool hit = false;
+    if (frame_.num_cells() == 1) {
+        std::size_t tests = 0;
+        for (std::size_t b = 0; b < blocks_.size() && !hit; ++b, ++tests)
+            hit = occluded_block(r, blocks_[b]);
+        if (counters) counters->blocks += tests;
+        return hit;
+    }
     uint64_t cells = 0, tests = 0;
     dda_walk(frame_, r, r.tmax, [&](uint32_t cell, float) {
         ++cells;
