@@ -59,4 +59,3 @@ void BM_TriangleBlock(benchmark::State& state) {
 
 BENCHMARK_TEMPLATE(BM_TriangleBlock, false)->Name("triangle_block/scalar_twin");
 BENCHMARK_TEMPLATE(BM_TriangleBlock, true)->Name("triangle_block/simd");
-BENCHMARK_MAIN();
