@@ -38,8 +38,4 @@ inline uint32_t movemask(const MaskV& m) {
     return detail::mask_bits(static_cast<typename MaskV::register_type>(m));
 }
 
-inline FloatV broadcast(float x) {
-    return FloatV(x);
-}
-
 }  // namespace foton::simd

@@ -29,17 +29,4 @@ inline constexpr float uniform(uint64_t seed, uint64_t stream, uint64_t index, u
     return to_unit_float(hash(seed, stream, index, dim));
 }
 
-// A sequence of uniforms for one (seed, stream, index), one dimension per call.
-class Stream {
-  public:
-    constexpr Stream(uint64_t seed, uint64_t stream, uint64_t index)
-        : base_(hash(seed, stream, index, 0xffffffffull)) {}
-    constexpr float next() { return to_unit_float(mix64(base_ + 0x9e3779b97f4a7c15ull * ++dim_)); }
-    constexpr uint64_t dimension() const { return dim_; }
-
-  private:
-    uint64_t base_;
-    uint64_t dim_ = 0;
-};
-
 }  // namespace foton::rng

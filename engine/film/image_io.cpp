@@ -109,11 +109,10 @@ void write_difference_png(const std::string& path, const Film& a, const Film& b,
     for (std::size_t i = 0; i < d.pixels.size(); ++i) {
         const RGB e = a.pixels[i] - b.pixels[i];
         const float m = (std::fabs(e.r) + std::fabs(e.g) + std::fabs(e.b)) / (3.f * scale);
-        // False colour: black -> blue -> red -> yellow -> white as the error grows.
+        // Heat ramp: black -> red -> yellow -> white as the error grows to `scale`.
         const float x = std::clamp(m, 0.f, 1.f);
-        d.pixels[i] =
-            RGB{std::clamp(3.f * x - 1.f, 0.f, 1.f) + 0.f, std::clamp(3.f * x - 2.f, 0.f, 1.f),
-                x < 1.f / 3.f ? 3.f * x : std::clamp(3.f * x - 2.f, 0.f, 1.f)};
+        d.pixels[i] = RGB{std::clamp(3.f * x, 0.f, 1.f), std::clamp(3.f * x - 1.f, 0.f, 1.f),
+                          std::clamp(3.f * x - 2.f, 0.f, 1.f)};
     }
     write_png(path, d, 1.f, 1.f);
 }

@@ -18,7 +18,8 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
 Film read_exr(const std::string& path);
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
-// False-colour PNG of |a - b| per pixel (mean over channels), black 0 to white = `scale`.
+// False-colour PNG of |a - b| per pixel (mean over channels): black at 0 through red and
+// yellow to white at `scale`.
 void write_difference_png(const std::string& path, const Film& a, const Film& b, float scale);
 
 }  // namespace foton
