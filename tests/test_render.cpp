@@ -29,7 +29,7 @@ Scene plane_scene(const std::string& lights, float kd) {
         <material type="matte" c_diffuse=")" +
                            std::to_string(kd) +
                            R"("><base_color r="1" g="0.5" b="0.25"/></material></quad></objects>
-      <film width="9" height="9" size="0.01"/>
+      <film width="9" height="9" size="0.01"/><renderer sampler="regular"/>
       <camera type="orthographic"><eye x="0" y="0" z="10"/><target x="0" y="0" z="0"/></camera></scene>)",
                        "plane.xml", ".");
 }
@@ -53,6 +53,40 @@ TEST_CASE("direct light from a point light matches the analytic value", "[render
     CHECK(c.r == Approx(expect).epsilon(1e-4));
     CHECK(c.g == Approx(expect * 0.5f).epsilon(1e-4));
     CHECK(c.b == Approx(expect * 0.25f).epsilon(1e-4));
+}
+
+TEST_CASE("directional and spot lights match their analytic values", "[render]") {
+    // Directional light at 60 degrees from the normal: radiance = L cos(60) kd C / pi.
+    const Scene d = plane_scene(
+        R"(<directional intensity="3"><direction x="0" y="-0.8660254" z="-0.5"/></directional>)",
+        1.f);
+    CHECK(render_scene(d, AccelType::Grid, 1, 1).film.at(4, 4).r ==
+          Approx(3.f * 0.5f / kPi).epsilon(1e-4));
+    // Spot light 1 unit above the plane, pointing down, cone 30 degrees, inner 10 degrees. The
+    // pixel grid spans 0.09 units, so the centre pixel is fully inside; aiming the cone away by
+    // 45 degrees puts every pixel outside.
+    const Scene s = plane_scene(R"(<spot intensity="2" angle="30" inner_angle="10">
+        <position x="0" y="0" z="1"/><direction x="0" y="0" z="-1"/></spot>)",
+                                1.f);
+    CHECK(render_scene(s, AccelType::Grid, 1, 1).film.at(4, 4).r ==
+          Approx(2.f / kPi).epsilon(1e-4));
+    const Scene off = plane_scene(R"(<spot intensity="2" angle="30">
+        <position x="0" y="0" z="1"/><direction x="1" y="0" z="-1"/></spot>)",
+                                  1.f);
+    CHECK(render_scene(off, AccelType::Grid, 1, 1).film.at(4, 4).r == 0.f);
+    // Half-way through the smooth fall-off: smoothstep(0.5) = 0.5 of the intensity. The light
+    // sits above the pixel and the axis is tilted so the pixel is at 20 degrees off-axis.
+    const float tilt = 20.f * kPi / 180.f;
+    const Scene mid = plane_scene(R"(<spot intensity="2" angle="30" inner_angle="10">
+        <position x="0" y="0" z="1"/><direction x=")" +
+                                      std::to_string(std::sin(tilt)) + R"(" y="0" z=")" +
+                                      std::to_string(-std::cos(tilt)) + R"("/></spot>)",
+                                  1.f);
+    const float c20 = std::cos(tilt), c10 = std::cos(10.f * kPi / 180.f),
+                c30 = std::cos(30.f * kPi / 180.f);
+    const float x = (c20 - c30) / (c10 - c30);
+    CHECK(render_scene(mid, AccelType::Grid, 1, 1).film.at(4, 4).r ==
+          Approx(2.f * x * x * (3.f - 2.f * x) / kPi).epsilon(1e-3));
 }
 
 TEST_CASE("direct light from an area light converges to the form-factor value", "[render]") {
