@@ -72,11 +72,6 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params) : 
     }
 }
 
-const kern::UniformGrid* GridAccel::mesh_grid(uint32_t geom) const {
-    const Object& o = scene_.objects[geom];
-    return o.kind == ObjectKind::Mesh ? &grids_[o.index] : nullptr;
-}
-
 std::size_t GridAccel::memory_bytes() const {
     std::size_t n = (cell_begin_.size() + cell_objects_.size()) * sizeof(uint32_t);
     for (const auto& g : grids_) n += g.memory_bytes();

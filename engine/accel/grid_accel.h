@@ -20,9 +20,6 @@ class GridAccel final : public PerRayIntersector<GridAccel> {
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
-    const kern::GridFrame& top_frame() const { return top_; }
-    const kern::UniformGrid* mesh_grid(uint32_t geom) const;
-
   private:
     // Closest hit in one object over the whole ray; updates `hit` if closer.
     bool hit_object(uint32_t geom, const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
