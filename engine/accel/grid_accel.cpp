@@ -5,15 +5,6 @@
 namespace foton {
 
 namespace {
-Bounds3 object_bounds(const Scene& s, const Object& o) {
-    if (o.kind == ObjectKind::Mesh) return s.meshes[o.index].bounds();
-    const Sphere& sp = s.spheres[o.index];
-    Bounds3 b;
-    b.extend(sp.center - Vec3{sp.radius, sp.radius, sp.radius});
-    b.extend(sp.center + Vec3{sp.radius, sp.radius, sp.radius});
-    return b;
-}
-
 // Mailbox: which objects this thread has already tested for the current ray. An object's
 // test covers the whole ray, so a second visit (from another cell) adds nothing.
 struct Mailbox {
@@ -47,7 +38,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params) : 
     std::vector<Bounds3> ob(n);
     Bounds3 all;
     for (std::size_t g = 0; g < n; ++g) {
-        ob[g] = object_bounds(scene, scene.objects[g]);
+        ob[g] = scene.object_bounds(uint32_t(g));
         all.extend(ob[g]);
     }
     if (n == 0) all.extend(Vec3{0, 0, 0});

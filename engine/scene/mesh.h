@@ -40,6 +40,12 @@ struct TriangleMesh {
 struct Sphere {
     Vec3 center;
     float radius = 1.f;
+    Bounds3 bounds() const {
+        Bounds3 b;
+        b.extend(center - Vec3{radius, radius, radius});
+        b.extend(center + Vec3{radius, radius, radius});
+        return b;
+    }
 };
 
 // Robust ray/sphere test (the quadratic solved in a cancellation-free form).

@@ -54,13 +54,14 @@ std::size_t Scene::num_triangles() const {
     return n;
 }
 
+Bounds3 Scene::object_bounds(uint32_t geom) const {
+    const Object& o = objects[geom];
+    return o.kind == ObjectKind::Mesh ? meshes[o.index].bounds() : spheres[o.index].bounds();
+}
+
 Bounds3 Scene::bounds() const {
     Bounds3 b;
-    for (const auto& m : meshes) b.extend(m.bounds());
-    for (const auto& s : spheres) {
-        b.extend(s.center - Vec3{s.radius, s.radius, s.radius});
-        b.extend(s.center + Vec3{s.radius, s.radius, s.radius});
-    }
+    for (uint32_t g = 0; g < objects.size(); ++g) b.extend(object_bounds(g));
     return b;
 }
 

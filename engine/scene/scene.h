@@ -65,6 +65,7 @@ struct Scene {
 
     std::size_t num_triangles() const;
     Bounds3 bounds() const;
+    Bounds3 object_bounds(uint32_t geom) const;
     std::size_t memory_bytes() const;
     std::string summary() const;  // foton info
     // Applies film/camera consistency after width/height changes.

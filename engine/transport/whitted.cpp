@@ -142,7 +142,9 @@ void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace
             case MaterialType::Phong:
             case MaterialType::Reflective: {
                 ws.radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
-                direct_light(sp, m, wo, weight, slot, global_sample(tile, slot), depth, ws);
+                // The sample index only keys area-light sampling; skip it when there is none.
+                const uint64_t sample = scene_.lights.areas.empty() ? 0 : global_sample(tile, slot);
+                direct_light(sp, m, wo, weight, slot, sample, depth, ws);
                 if (m.type == MaterialType::Reflective) {
                     Vec3 r = reflect(d, sp.ns);
                     if (dot(r, sp.ng) <= 0.f) r = reflect(d, sp.ng);
