@@ -6,8 +6,8 @@
 // nanoflann gets its natural AoS layout and the leaf size that was fastest for it at
 // k = 200 (see kNanoflannLeaf). Counters: queries/s (single thread); build time in ms.
 #include <benchmark/benchmark.h>
-#include <nanoflann.hpp>
 #include <tbb/parallel_invoke.h>
+#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <map>
@@ -59,7 +59,8 @@ SoaPoints surface_samples(const TriangleMesh& m, std::size_t n, uint32_t seed) {
     p.x.resize(n), p.y.resize(n), p.z.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         const auto it = std::lower_bound(cdf.begin(), cdf.end(), U(rng) * total);
-        const uint32_t t = uint32_t(std::min<std::ptrdiff_t>(it - cdf.begin(), long(cdf.size()) - 1));
+        const uint32_t t =
+            uint32_t(std::min<std::ptrdiff_t>(it - cdf.begin(), long(cdf.size()) - 1));
         Vec3 a, b, c;
         m.corners(t, a, b, c);
         float s = float(U(rng)), r = float(U(rng));
@@ -155,10 +156,10 @@ void BM_KnnNanoflann(benchmark::State& state, std::size_t n, uint32_t k) {
 
 void BM_BuildOurs(benchmark::State& state, std::size_t n, bool parallel) {
     KnnData& d = data(n);
-    const kern::PointKdTree::ParallelInvoke par =
-        [](const std::function<void()>& a, const std::function<void()>& b) {
-            tbb::parallel_invoke(a, b);
-        };
+    const kern::PointKdTree::ParallelInvoke par = [](const std::function<void()>& a,
+                                                     const std::function<void()>& b) {
+        tbb::parallel_invoke(a, b);
+    };
     for (auto _ : state) {
         kern::PointKdTree t;
         t.build(d.points.x.data(), d.points.y.data(), d.points.z.data(), n,
@@ -190,8 +191,7 @@ const bool registered = [] {
         benchmark::RegisterBenchmark(("kdtree_build/ours_parallel/" + t).c_str(), BM_BuildOurs, n,
                                      true)
             ->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("kdtree_build/nanoflann/" + t).c_str(), BM_BuildNanoflann,
-                                     n)
+        benchmark::RegisterBenchmark(("kdtree_build/nanoflann/" + t).c_str(), BM_BuildNanoflann, n)
             ->Unit(benchmark::kMillisecond);
         for (uint32_t k : {50u, 200u, 500u}) {
             const std::string tk = t + "/k" + std::to_string(k);

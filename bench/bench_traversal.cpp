@@ -1,19 +1,24 @@
-// Google Benchmark: ray traversal of one mesh, our uniform grid (kernels/) against raw Embree
-// rtcIntersect1 / rtcOccluded1 on identical rays. Ray sets, generated deterministically:
-//   primary: 1024 x 1024 pinhole camera framing the mesh (coherent);
-//   diffuse: cosine directions from random surface points (incoherent);
-//   shadow:  from random surface points to a point light (occlusion).
-// Counters: rays/s (single thread). The ratio is grid / embree on the same ray set.
+// Google Benchmark: ray traversal of the kernel scenes (bench/ray_sets.h), our uniform grid
+// (kernels/) against raw Embree on identical rays, single thread and all threads:
+//   intersect: grid single ray, grid coherent packets (primary rays; 4x4, 8x8 and 16x16
+//              pixel bundles), rtcIntersect1, rtcIntersect8 / 16 (packets of consecutive
+//              rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and rtcIntersectNp
+//              streams of 4,096 rays (flagged coherent for primary rays only);
+//   occlusion: grid any-hit, rtcOccluded1 / 8 / 16 (shadow rays);
+//   build:     grid (one thread) against Embree's default build on all threads and on one.
+// Every form resets each ray's tmax and hit before it is traced, inside the timed loop.
+// Names: traversal/<scene>/<set>/<method>/threads:<n>; bench/report makes the ratio tables.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
-#include <cmath>
 #include <map>
-#include <random>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "engine/scene/obj_loader.h"
+#include "bench/ray_sets.h"
 #include "kernels/uniform_grid.h"
 
 using namespace foton;
@@ -21,102 +26,69 @@ using foton::kern::Ray1;
 
 namespace {
 
-struct MeshData {
-    TriangleMesh mesh;
+constexpr std::size_t kChunk = 4096;  // rays per task and per stream call
+constexpr std::size_t W = kern::kBlockWidth;
+
+struct SceneData {
+    bench::KernelScene scene;
+    bench::RaySets sets;
     kern::UniformGrid grid;
     RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    std::map<std::string, std::vector<Ray1>> rays;
+    RTCScene rtc = nullptr;
+    ~SceneData() {
+        if (rtc) rtcReleaseScene(rtc);
+        if (device) rtcReleaseDevice(device);
+    }
 };
 
-std::vector<Ray1> primary_rays(const Bounds3& b) {
-    const Vec3 c = b.center(), ext = b.diagonal();
-    const float r = 0.5f * length(ext);
-    const Vec3 eye = c + normalize(Vec3{0.3f, 0.25f, 1.f}) * (2.8f * r);
-    const Vec3 w = normalize(c - eye), u = normalize(cross(w, {0, 1, 0})), v = cross(u, w);
-    const int n = 1024;
-    const float half = std::tan(0.5f * 45.f * kPi / 180.f);
-    std::vector<Ray1> rays;
-    rays.reserve(std::size_t(n) * n);
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            const float px = (2.f * (float(x) + 0.5f) / float(n) - 1.f) * half;
-            const float py = (1.f - 2.f * (float(y) + 0.5f) / float(n)) * half;
-            const Vec3 d = normalize(w + u * px + v * py);
-            rays.push_back({eye.x, eye.y, eye.z, d.x, d.y, d.z, 0.f, kern::kInf});
-        }
-    return rays;
-}
-
-// Random points on the surface (area-weighted by picking triangles uniformly is close enough
-// for a benchmark ray set) with their geometric normals.
-void surface_points(const TriangleMesh& m, std::mt19937& rng, std::size_t n, std::vector<Vec3>& p,
-                    std::vector<Vec3>& nrm) {
-    std::uniform_real_distribution<float> U(0.f, 1.f);
-    for (std::size_t i = 0; i < n; ++i) {
-        Vec3 a, b, c;
-        m.corners(uint32_t(rng() % m.num_triangles()), a, b, c);
-        float s = U(rng), t = U(rng);
-        if (s + t > 1.f) s = 1.f - s, t = 1.f - t;
-        p.push_back(a + (b - a) * s + (c - a) * t);
-        nrm.push_back(normalize(cross(b - a, c - a)));
-    }
-}
-
-MeshData& data(const std::string& name) {
-    static std::map<std::string, MeshData> all;
-    auto it = all.find(name);
-    if (it != all.end()) return it->second;
-    MeshData& d = all[name];
-    d.mesh = load_obj(std::string(FOTON_SOURCE_DIR) + "/../shared/meshes/" + name + ".obj").mesh;
-    d.grid.build(d.mesh.positions.data(), d.mesh.indices.data(), d.mesh.num_triangles());
-    d.device = rtcNewDevice(nullptr);
-    d.scene = rtcNewScene(d.device);
-    RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+RTCScene embree_scene(RTCDevice device, const TriangleMesh& mesh) {
+    RTCScene scene = rtcNewScene(device);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, d.mesh.num_vertices()));
-    std::copy(d.mesh.positions.begin(), d.mesh.positions.end(), v);
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.num_vertices()));
+    std::copy(mesh.positions.begin(), mesh.positions.end(), v);
     auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, d.mesh.num_triangles()));
-    std::copy(d.mesh.indices.begin(), d.mesh.indices.end(), ix);
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.num_triangles()));
+    std::copy(mesh.indices.begin(), mesh.indices.end(), ix);
     rtcCommitGeometry(g);
-    rtcAttachGeometry(d.scene, g);
+    rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
-    rtcCommitScene(d.scene);
-
-    const Bounds3 b = d.mesh.bounds();
-    d.rays["primary"] = primary_rays(b);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> U(0.f, 1.f);
-    std::vector<Vec3> p, n;
-    surface_points(d.mesh, rng, 1u << 18, p, n);
-    const float eps = 1e-4f * length(b.diagonal());
-    const Vec3 light = b.center() + Vec3{0.f, 2.f, 1.f} * length(b.diagonal());
-    auto& diffuse = d.rays["diffuse"];
-    auto& shadow = d.rays["shadow"];
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        Vec3 s, t;
-        orthonormal_basis(n[i], s, t);
-        const float r = std::sqrt(U(rng)), phi = 2.f * kPi * U(rng);
-        const float side = (i & 1) ? 1.f : -1.f;  // both sides of the (open) scanned surface
-        const Vec3 w = s * (r * std::cos(phi)) + t * (r * std::sin(phi)) +
-                       n[i] * (side * std::sqrt(std::max(0.f, 1.f - r * r)));
-        const Vec3 o = p[i] + n[i] * (side * eps);
-        diffuse.push_back({o.x, o.y, o.z, w.x, w.y, w.z, 0.f, kern::kInf});
-        const Vec3 to = light - o;
-        const float dist = length(to);
-        const Vec3 l = to / dist;
-        shadow.push_back({o.x, o.y, o.z, l.x, l.y, l.z, 0.f, dist});
-    }
-    return d;
+    rtcCommitScene(scene);
+    return scene;
 }
 
-RTCRayHit to_embree(const Ray1& r) {
-    RTCRayHit rh;
-    rh.ray = {r.ox, r.oy, r.oz, r.tmin, r.dx, r.dy, r.dz, 0.f, r.tmax, 0xffffffffu, 0, 0};
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    return rh;
+SceneData& scene_data(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<SceneData>> all;
+    auto& slot = all[name];
+    if (slot) return *slot;
+    // One scene at a time: the dragon's sets and both structures are large.
+    all.clear();
+    auto d = std::make_unique<SceneData>();
+    d->scene = bench::load_kernel_scene(name);
+    d->sets = bench::make_ray_sets(d->scene, 1024, 1u << 18);
+    const TriangleMesh& m = d->scene.mesh;
+    d->grid.build(m.positions.data(), m.indices.data(), m.num_triangles());
+    d->device = rtcNewDevice(nullptr);
+    d->rtc = embree_scene(d->device, m);
+    return *(all[name] = std::move(d));
+}
+
+const std::vector<Ray1>& ray_set(SceneData& d, const std::string& set) {
+    return set == "primary" ? d.sets.primary : set == "diffuse" ? d.sets.diffuse : d.sets.shadow;
+}
+
+// Runs f(begin, end) over [0, n) in chunks, on this thread or on all of them.
+template <class F>
+void for_chunks(std::size_t n, std::size_t chunk, bool parallel, F&& f) {
+    if (!parallel) {
+        for (std::size_t b = 0; b < n; b += chunk) f(b, std::min(n, b + chunk));
+        return;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t c = r.begin(); c < r.end(); ++c)
+                              f(c * chunk, std::min(n, (c + 1) * chunk));
+                      });
 }
 
 void report(benchmark::State& state, std::size_t rays, std::size_t hits) {
@@ -125,54 +97,322 @@ void report(benchmark::State& state, std::size_t rays, std::size_t hits) {
     state.counters["hit%"] = 100.0 * double(hits) / double(rays) / double(state.iterations());
 }
 
-void BM_Grid(benchmark::State& state, const std::string& mesh, const std::string& set) {
-    MeshData& d = data(mesh);
-    const auto& rays = d.rays[set];
+// Counts hits across threads.
+struct HitCount {
+    std::atomic<std::size_t> n{0};
+    void add(std::size_t k) { n.fetch_add(k, std::memory_order_relaxed); }
+};
+
+// ---- our grid -------------------------------------------------------------------------
+
+void BM_Grid(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
     const bool occl = set == "shadow";
-    std::size_t hits = 0;
+    HitCount hits;
     for (auto _ : state)
-        for (const Ray1& r : rays) {
-            if (occl) {
-                hits += d.grid.occluded(r);
-            } else {
-                kern::TriHit h;
-                hits += d.grid.intersect(r, h);
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; ++i) {
+                if (occl) {
+                    h += d.grid.occluded(rays[i]);
+                } else {
+                    kern::TriHit hit;
+                    h += d.grid.intersect(rays[i], hit);
+                }
             }
-        }
-    report(state, rays.size(), hits);
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
 }
 
-void BM_Embree(benchmark::State& state, const std::string& mesh, const std::string& set) {
-    MeshData& d = data(mesh);
-    const auto& rays = d.rays[set];
-    const bool occl = set == "shadow";
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    std::size_t hits = 0;
-    for (auto _ : state)
-        for (const Ray1& r : rays) {
-            RTCRayHit rh = to_embree(r);
-            if (occl) {
-                rtcOccluded1(d.scene, &ctx, &rh.ray);
-                hits += rh.ray.tfar == -kern::kInf;
-            } else {
-                rtcIntersect1(d.scene, &ctx, &rh);
-                hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-            }
+// Primary rays in bundles of `side` x `side` pixels (side^2 / W packets of W rays).
+void BM_GridPacket(benchmark::State& state, std::string scene, std::size_t side, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = d.sets.primary;
+    const std::size_t bundle = side * side, np = bundle / W;
+    std::vector<kern::RayPacket> packets(rays.size() / W);
+    for (std::size_t p = 0; p < packets.size(); ++p)
+        for (std::size_t l = 0; l < W; ++l) {
+            const Ray1& r = rays[p * W + l];
+            kern::RayPacket& k = packets[p];
+            k.ox[l] = r.ox, k.oy[l] = r.oy, k.oz[l] = r.oz;
+            k.dx[l] = r.dx, k.dy[l] = r.dy, k.dz[l] = r.dz, k.tmin[l] = r.tmin;
         }
-    report(state, rays.size(), hits);
+    HitCount hits;
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; i += bundle) {
+                kern::PacketHits ph[kern::kMaxGridPackets];
+                for (std::size_t p = 0; p < np; ++p)
+                    for (std::size_t l = 0; l < W; ++l) {
+                        ph[p].t[l] = rays[i + p * W + l].tmax;
+                        ph[p].id[l] = kern::kInvalidId;
+                    }
+                d.grid.intersect_packets(&packets[i / W], np, ph);
+                for (std::size_t p = 0; p < np; ++p)
+                    for (std::size_t l = 0; l < W; ++l) h += ph[p].id[l] != kern::kInvalidId;
+            }
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
+}
+
+// ---- Embree ---------------------------------------------------------------------------
+
+void BM_Embree1(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool occl = set == "shadow";
+    HitCount hits;
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; ++i) {
+                const Ray1& r = rays[i];
+                RTCRayHit rh;
+                rh.ray = {r.ox, r.oy, r.oz,   r.tmin,      r.dx, r.dy,
+                          r.dz, 0.f,  r.tmax, 0xffffffffu, 0,    0};
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                if (occl) {
+                    rtcOccluded1(d.rtc, &ctx, &rh.ray);
+                    h += rh.ray.tfar == -kern::kInf;
+                } else {
+                    rtcIntersect1(d.rtc, &ctx, &rh);
+                    h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                }
+            }
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
+}
+
+template <int K>
+struct EmbreePacket;
+template <>
+struct EmbreePacket<8> {
+    using RayHit = RTCRayHit8;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit8* rh) {
+        rtcIntersect8(valid, s, c, rh);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay8* r) {
+        rtcOccluded8(valid, s, c, r);
+    }
+};
+template <>
+struct EmbreePacket<16> {
+    using RayHit = RTCRayHit16;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit16* rh) {
+        rtcIntersect16(valid, s, c, rh);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay16* r) {
+        rtcOccluded16(valid, s, c, r);
+    }
+};
+
+// Packets of K consecutive rays (coherent for the Morton-ordered primary set).
+template <int K>
+void BM_EmbreePacket(benchmark::State& state, std::string scene, std::string set, bool par) {
+    using P = EmbreePacket<K>;
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool occl = set == "shadow";
+    std::vector<typename P::RayHit> packets((rays.size() + K - 1) / K);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        auto& p = packets[i / K];
+        const int l = int(i % K);
+        const Ray1& r = rays[i];
+        p.ray.org_x[l] = r.ox, p.ray.org_y[l] = r.oy, p.ray.org_z[l] = r.oz;
+        p.ray.dir_x[l] = r.dx, p.ray.dir_y[l] = r.dy, p.ray.dir_z[l] = r.dz;
+        p.ray.tnear[l] = r.tmin, p.ray.time[l] = 0.f, p.ray.mask[l] = 0xffffffffu;
+        p.ray.id[l] = 0, p.ray.flags[l] = 0;
+    }
+    HitCount hits;
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            alignas(64) int valid[K];
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; i += K) {
+                auto& p = packets[i / K];
+                for (int l = 0; l < K; ++l) {
+                    valid[l] = i + l < e ? -1 : 0;
+                    p.ray.tfar[l] = i + l < e ? rays[i + l].tmax : 0.f;
+                    p.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+                    p.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+                }
+                if (occl) {
+                    P::occluded(valid, d.rtc, &ctx, &p.ray);
+                    for (int l = 0; l < K; ++l) h += valid[l] && p.ray.tfar[l] == -kern::kInf;
+                } else {
+                    P::intersect(valid, d.rtc, &ctx, &p);
+                    for (int l = 0; l < K; ++l)
+                        h += valid[l] && p.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
+                }
+            }
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
+}
+
+// rtcIntersect1M: an AoS stream of RTCRayHit per chunk.
+void BM_Embree1M(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool coherent = set == "primary";
+    std::vector<RTCRayHit> stream(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray1& r = rays[i];
+        stream[i].ray = {r.ox, r.oy, r.oz,   r.tmin,      r.dx, r.dy,
+                         r.dz, 0.f,  r.tmax, 0xffffffffu, 0,    0};
+    }
+    HitCount hits;
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                 : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+            for (std::size_t i = b; i < e; ++i) {
+                stream[i].ray.tfar = rays[i].tmax;
+                stream[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                stream[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect1M(d.rtc, &ctx, &stream[b], unsigned(e - b), sizeof(RTCRayHit));
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; ++i)
+                h += stream[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
+}
+
+// rtcIntersectNp: SoA columns, the layout of our RayBatch, passed without a copy.
+struct SoaRays {
+    std::vector<float> ox, oy, oz, dx, dy, dz, tnear, tfar, time;
+    std::vector<unsigned> mask, id, flags;
+    std::vector<float> ngx, ngy, ngz, u, v;
+    std::vector<unsigned> prim, geom, inst;
+    explicit SoaRays(const std::vector<Ray1>& r) {
+        const std::size_t n = r.size();
+        for (auto* c :
+             {&ox, &oy, &oz, &dx, &dy, &dz, &tnear, &tfar, &time, &ngx, &ngy, &ngz, &u, &v})
+            c->resize(n);
+        for (auto* c : {&mask, &id, &flags, &prim, &geom, &inst}) c->resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
+            dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
+            tnear[i] = r[i].tmin, time[i] = 0.f, mask[i] = 0xffffffffu, id[i] = 0, flags[i] = 0;
+        }
+    }
+    RTCRayHitNp view(std::size_t b) {
+        RTCRayHitNp p;
+        p.ray = {&ox[b], &oy[b],   &oz[b],   &tnear[b], &dx[b], &dy[b],
+                 &dz[b], &time[b], &tfar[b], &mask[b],  &id[b], &flags[b]};
+        p.hit = {&ngx[b], &ngy[b], &ngz[b], &u[b], &v[b], &prim[b], &geom[b], {&inst[b]}};
+        return p;
+    }
+};
+
+void BM_EmbreeNp(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool coherent = set == "primary";
+    SoaRays soa(rays);
+    HitCount hits;
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                 : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+            for (std::size_t i = b; i < e; ++i) {
+                soa.tfar[i] = rays[i].tmax;
+                soa.geom[i] = RTC_INVALID_GEOMETRY_ID;
+                soa.inst[i] = RTC_INVALID_GEOMETRY_ID;
+            }
+            RTCRayHitNp view = soa.view(b);
+            rtcIntersectNp(d.rtc, &ctx, &view, unsigned(e - b));
+            std::size_t h = 0;
+            for (std::size_t i = b; i < e; ++i) h += soa.geom[i] != RTC_INVALID_GEOMETRY_ID;
+            hits.add(h);
+        });
+    report(state, rays.size(), hits.n);
+}
+
+// ---- build ----------------------------------------------------------------------------
+
+void BM_BuildGrid(benchmark::State& state, std::string scene) {
+    const TriangleMesh& m = scene_data(scene).scene.mesh;
+    for (auto _ : state) {
+        kern::UniformGrid g;
+        g.build(m.positions.data(), m.indices.data(), m.num_triangles());
+        benchmark::DoNotOptimize(g.num_blocks());
+    }
+    state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_BuildEmbree(benchmark::State& state, std::string scene, bool one_thread) {
+    const TriangleMesh& m = scene_data(scene).scene.mesh;
+    RTCDevice dev = rtcNewDevice(one_thread ? "threads=1" : nullptr);
+    for (auto _ : state) {
+        RTCScene s = embree_scene(dev, m);
+        rtcReleaseScene(s);
+    }
+    rtcReleaseDevice(dev);
+    state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 
 const bool registered = [] {
-    for (const char* mesh : {"bunny", "teapot"})
-        for (const char* set : {"primary", "diffuse", "shadow"}) {
-            const std::string tag = std::string(mesh) + "/" + set;
-            benchmark::RegisterBenchmark(("traversal/grid/" + tag).c_str(), BM_Grid, mesh, set)
-                ->Unit(benchmark::kMillisecond);
-            benchmark::RegisterBenchmark(("traversal/embree_rtcIntersect1/" + tag).c_str(),
-                                         BM_Embree, mesh, set)
-                ->Unit(benchmark::kMillisecond);
+    using Fn = void (*)(benchmark::State&, std::string, std::string, bool);
+    const std::pair<const char*, Fn> intersect[] = {
+        {"grid", BM_Grid},
+        {"embree_rtcIntersect1", BM_Embree1},
+        {"embree_rtcIntersect8", BM_EmbreePacket<8>},
+        {"embree_rtcIntersect16", BM_EmbreePacket<16>},
+        {"embree_rtcIntersect1M", BM_Embree1M},
+        {"embree_rtcIntersectNp", BM_EmbreeNp},
+    };
+    const std::pair<const char*, Fn> occlusion[] = {
+        {"grid", BM_Grid},
+        {"embree_rtcOccluded1", BM_Embree1},
+        {"embree_rtcOccluded8", BM_EmbreePacket<8>},
+        {"embree_rtcOccluded16", BM_EmbreePacket<16>},
+    };
+    auto add = [](const std::string& name, auto&&... args) {
+        benchmark::RegisterBenchmark(name.c_str(), args...)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+    };
+    const int all = tbb::this_task_arena::max_concurrency();
+    for (const char* scene : {"bunny", "teapot", "dragon", "cornell", "stadium"}) {
+        const std::string s = scene;
+        add("build/" + s + "/grid", BM_BuildGrid, s);
+        add("build/" + s + "/embree", BM_BuildEmbree, s, false);
+        add("build/" + s + "/embree_1thread", BM_BuildEmbree, s, true);
+        for (bool par : {false, true}) {
+            const std::string th = "/threads:" + std::to_string(par ? all : 1);
+            for (const char* set : {"primary", "diffuse"}) {
+                for (const auto& [method, fn] : intersect)
+                    add("traversal/" + s + "/" + set + "/" + method + th, fn, s, set, par);
+                if (std::string(set) == "primary")
+                    for (std::size_t side : {4, 8, 16})
+                        if (side * side >= W && side * side / W <= kern::kMaxGridPackets)
+                            add("traversal/" + s + "/primary/grid_packet" + std::to_string(side) +
+                                    "x" + std::to_string(side) + th,
+                                BM_GridPacket, s, side, par);
+            }
+            for (const auto& [method, fn] : occlusion)
+                add("traversal/" + s + "/shadow/" + method + th, fn, s, "shadow", par);
         }
+    }
     return true;
 }();
 

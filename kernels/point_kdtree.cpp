@@ -43,10 +43,9 @@ struct Builder {
             if (bmax[a] - bmin[a] > bmax[axis] - bmin[axis]) axis = a;
         // The right subtree starts at the first point of its leftmost leaf.
         const std::size_t mid = std::size_t(position(leftmost_leaf(2 * node + 1))) * kKdBucket;
-        std::nth_element(pts + lo, pts + mid, pts + hi,
-                         [axis](const BuildPoint& a, const BuildPoint& b) {
-                             return a.p[axis] < b.p[axis];
-                         });
+        std::nth_element(
+            pts + lo, pts + mid, pts + hi,
+            [axis](const BuildPoint& a, const BuildPoint& b) { return a.p[axis] < b.p[axis]; });
         nodes[node] = KdNode{pts[mid].p[axis], axis};
         auto left = [&] { build(2 * node, lo, mid); };
         auto right = [&] { build(2 * node + 1, mid, hi); };
@@ -196,9 +195,8 @@ uint32_t PointKdTree::knn_scalar(const float q[3], float max_d2, uint32_t k, uin
     return knn_impl<false>(q, max_d2, k, out_index, out_d2);
 }
 
-void PointKdTree::knn_batch(const float* qx, const float* qy, const float* qz,
-                            const float* max_d2, std::size_t n, uint32_t k,
-                            KnnBatchResult& out) const {
+void PointKdTree::knn_batch(const float* qx, const float* qy, const float* qz, const float* max_d2,
+                            std::size_t n, uint32_t k, KnnBatchResult& out) const {
     out.resize(n, k);
     for (std::size_t i = 0; i < n; ++i) {
         const float q[3] = {qx[i], qy[i], qz[i]};

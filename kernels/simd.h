@@ -38,4 +38,30 @@ inline uint32_t movemask(const MaskV& m) {
     return detail::mask_bits(static_cast<typename MaskV::register_type>(m));
 }
 
+// Lane-wise minimum / maximum as selects: GCC 12 warns (-Wmaybe-uninitialized) inside its own
+// AVX-512 min/max intrinsics, which xsimd::min/max use. Not NaN-symmetric: a NaN in `a`
+// yields `b`.
+inline FloatV vmin(const FloatV& a, const FloatV& b) {
+    return xsimd::select(a < b, a, b);
+}
+inline FloatV vmax(const FloatV& a, const FloatV& b) {
+    return xsimd::select(a > b, a, b);
+}
+
+// Horizontal minimum / maximum (xsimd 8.1 has neither).
+inline float hmin(const FloatV& v) {
+    alignas(64) float a[kWidth];
+    v.store_aligned(a);
+    float m = a[0];
+    for (std::size_t i = 1; i < kWidth; ++i) m = a[i] < m ? a[i] : m;
+    return m;
+}
+inline float hmax(const FloatV& v) {
+    alignas(64) float a[kWidth];
+    v.store_aligned(a);
+    float m = a[0];
+    for (std::size_t i = 1; i < kWidth; ++i) m = a[i] > m ? a[i] : m;
+    return m;
+}
+
 }  // namespace foton::simd

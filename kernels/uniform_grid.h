@@ -20,9 +20,15 @@ struct GridParams {
 };
 
 struct GridCounters {
-    uint64_t cells = 0;   // cells visited
-    uint64_t blocks = 0;  // triangle blocks tested (each W ray/triangle tests)
+    uint64_t cells = 0;          // cells visited
+    uint64_t blocks = 0;         // triangle blocks tested (each W ray/triangle tests)
+    uint64_t packet_tests = 0;   // packet traversal: one triangle against one W-ray packet
+    uint64_t mailbox_skips = 0;  // triangles not retested because the mailbox had them
 };
+
+// Packet traversal takes at most this many W-wide packets at once (e.g. 8x8 camera rays as
+// four 4x4 packets on AVX-512).
+inline constexpr std::size_t kMaxGridPackets = 16;
 
 class UniformGrid {
   public:
@@ -35,6 +41,11 @@ class UniformGrid {
     bool intersect(const Ray1& r, TriHit& hit, GridCounters* counters = nullptr) const;
     // Any hit with r.tmin < t < r.tmax.
     bool occluded(const Ray1& r, GridCounters* counters = nullptr) const;
+    // Closest hits of `count` (<= kMaxGridPackets) W-ray packets traversed together as one
+    // coherent bundle (grid_packet.cpp). hits[p].t holds each ray's tmax on entry (-inf for
+    // an unused lane) and the hit t on return, like `intersect` does per ray.
+    void intersect_packets(const RayPacket* packets, std::size_t count, PacketHits* hits,
+                           GridCounters* counters = nullptr) const;
 
     const GridFrame& frame() const { return frame_; }
     std::size_t num_blocks() const { return blocks_.size(); }
