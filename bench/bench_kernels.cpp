@@ -1,6 +1,6 @@
 // Google Benchmark: the SIMD Möller–Trumbore block kernel against its scalar twin, on the
-// same rays and triangles (tests per second). The full kernel suite against Embree and
-// nanoflann grows here.
+// same rays and triangles (tests per second), in both shapes: one ray against a block of W
+// triangles, and a packet of W rays against one triangle.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -55,7 +55,54 @@ void BM_TriangleBlock(benchmark::State& state) {
         benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["width"] = double(kBlockWidth);
 }
+
+// The packet shape: W rays (SoA) against one triangle at a time, every triangle of the data.
+template <bool kSimd>
+void BM_TrianglePacket(benchmark::State& state) {
+    const Data& d = data();
+    std::vector<RayPacket> packets(d.rays.size() / kBlockWidth);
+    for (std::size_t i = 0; i < packets.size() * kBlockWidth; ++i) {
+        RayPacket& p = packets[i / kBlockWidth];
+        const std::size_t l = i % kBlockWidth;
+        const Ray1& r = d.rays[i];
+        p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
+        p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
+    }
+    std::size_t hits = 0;
+    for (auto _ : state) {
+        for (const RayPacket& p : packets) {
+            PacketHits h;
+            for (std::size_t l = 0; l < kBlockWidth; ++l) h.t[l] = kInf, h.id[l] = kInvalidId;
+            for (const TriangleBlock& b : d.blocks)
+                for (std::size_t tri = 0; tri < kBlockWidth; ++tri) {
+                    if (kSimd) {
+                        hits += intersect_packet(p, b, tri, h) != 0;
+                        continue;
+                    }
+                    for (std::size_t l = 0; l < kBlockWidth; ++l) {
+                        const Ray1 r{p.ox[l], p.oy[l], p.oz[l], p.dx[l], p.dy[l], p.dz[l],
+                                     p.tmin[l], h.t[l]};
+                        float t, u, v;
+                        if (intersect_triangle_scalar(r, b.v0x[tri], b.v0y[tri], b.v0z[tri],
+                                                      b.e1x[tri], b.e1y[tri], b.e1z[tri],
+                                                      b.e2x[tri], b.e2y[tri], b.e2z[tri], h.t[l],
+                                                      t, u, v)) {
+                            h.t[l] = t, h.u[l] = u, h.v[l] = v, h.id[l] = b.id[tri];
+                            ++hits;
+                        }
+                    }
+                }
+        }
+    }
+    benchmark::DoNotOptimize(hits);
+    const double tests = double(packets.size() * kBlockWidth * d.blocks.size() * kBlockWidth);
+    state.counters["tests/s"] =
+        benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["width"] = double(kBlockWidth);
+}
 }  // namespace
 
+BENCHMARK_TEMPLATE(BM_TrianglePacket, false)->Name("triangle_packet/scalar_twin");
+BENCHMARK_TEMPLATE(BM_TrianglePacket, true)->Name("triangle_packet/simd");
 BENCHMARK_TEMPLATE(BM_TriangleBlock, false)->Name("triangle_block/scalar_twin");
 BENCHMARK_TEMPLATE(BM_TriangleBlock, true)->Name("triangle_block/simd");

@@ -1,6 +1,6 @@
 // Google Benchmark: ray traversal of the kernel scenes (bench/ray_sets.h), our uniform grid
 // (kernels/) against raw Embree on identical rays, single thread and all threads:
-//   intersect: grid single ray, grid coherent packets (primary rays; 4x4, 8x8 and 16x16
+//   intersect: grid single ray (with and without mailbox), grid coherent packets (primary rays; 4x4, 8x8 and 16x16
 //              pixel bundles), rtcIntersect1, rtcIntersect8 / 16 (packets of consecutive
 //              rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and rtcIntersectNp
 //              streams of 4,096 rays (flagged coherent for primary rays only);
@@ -32,7 +32,7 @@ constexpr std::size_t W = kern::kBlockWidth;
 struct SceneData {
     bench::KernelScene scene;
     bench::RaySets sets;
-    kern::UniformGrid grid;
+    kern::UniformGrid grid, grid_mailbox;
     RTCDevice device = nullptr;
     RTCScene rtc = nullptr;
     ~SceneData() {
@@ -68,6 +68,9 @@ SceneData& scene_data(const std::string& name) {
     d->sets = bench::make_ray_sets(d->scene, 1024, 1u << 18);
     const TriangleMesh& m = d->scene.mesh;
     d->grid.build(m.positions.data(), m.indices.data(), m.num_triangles());
+    kern::GridParams mailbox;
+    mailbox.mailbox = true;
+    d->grid_mailbox.build(m.positions.data(), m.indices.data(), m.num_triangles(), mailbox);
     d->device = rtcNewDevice(nullptr);
     d->rtc = embree_scene(d->device, m);
     return *(all[name] = std::move(d));
@@ -105,8 +108,10 @@ struct HitCount {
 
 // ---- our grid -------------------------------------------------------------------------
 
-void BM_Grid(benchmark::State& state, std::string scene, std::string set, bool par) {
+void BM_GridImpl(benchmark::State& state, const std::string& scene, const std::string& set,
+                 bool par, bool mailbox) {
     SceneData& d = scene_data(scene);
+    const kern::UniformGrid& grid = mailbox ? d.grid_mailbox : d.grid;
     const auto& rays = ray_set(d, set);
     const bool occl = set == "shadow";
     HitCount hits;
@@ -115,15 +120,22 @@ void BM_Grid(benchmark::State& state, std::string scene, std::string set, bool p
             std::size_t h = 0;
             for (std::size_t i = b; i < e; ++i) {
                 if (occl) {
-                    h += d.grid.occluded(rays[i]);
+                    h += grid.occluded(rays[i]);
                 } else {
                     kern::TriHit hit;
-                    h += d.grid.intersect(rays[i], hit);
+                    h += grid.intersect(rays[i], hit);
                 }
             }
             hits.add(h);
         });
     report(state, rays.size(), hits.n);
+}
+
+void BM_Grid(benchmark::State& state, std::string scene, std::string set, bool par) {
+    BM_GridImpl(state, scene, set, par, false);
+}
+void BM_GridMailbox(benchmark::State& state, std::string scene, std::string set, bool par) {
+    BM_GridImpl(state, scene, set, par, true);
 }
 
 // Primary rays in bundles of `side` x `side` pixels (side^2 / W packets of W rays).
@@ -374,6 +386,7 @@ const bool registered = [] {
     using Fn = void (*)(benchmark::State&, std::string, std::string, bool);
     const std::pair<const char*, Fn> intersect[] = {
         {"grid", BM_Grid},
+        {"grid_mailbox", BM_GridMailbox},
         {"embree_rtcIntersect1", BM_Embree1},
         {"embree_rtcIntersect8", BM_EmbreePacket<8>},
         {"embree_rtcIntersect16", BM_EmbreePacket<16>},
@@ -418,4 +431,4 @@ const bool registered = [] {
 
 }  // namespace
 
-BENCHMARK_MAIN();
+

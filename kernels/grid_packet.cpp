@@ -8,8 +8,8 @@
 // fall back to single-ray traversal.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
+#include "mailbox.h"
 #include "uniform_grid.h"
 
 namespace foton::kern {
@@ -18,23 +18,6 @@ namespace {
 
 using simd::FloatV;
 using simd::MaskV;
-
-// Direct-mapped set of triangle ids already tested by this bundle. A collision only evicts
-// (the triangle is retested later), so it never skips a triangle it has not seen.
-class Mailbox {
-  public:
-    Mailbox() { std::memset(slot_, 0xff, sizeof(slot_)); }
-    bool seen(uint32_t id) {
-        uint32_t& s = slot_[(id * 2654435761u) >> (32 - kBits)];
-        if (s == id) return true;
-        s = id;
-        return false;
-    }
-
-  private:
-    static constexpr int kBits = 9;
-    uint32_t slot_[1u << kBits];
-};
 
 }  // namespace
 
@@ -128,7 +111,7 @@ void UniformGrid::intersect_packets(const RayPacket* pk, std::size_t np, PacketH
     // its hits. (Skipping it is safe with the mailbox for the same reason.)
     bool alive[kMaxGridPackets];
     for (std::size_t p = 0; p < np; ++p) alive[p] = simd::movemask(active[p]) != 0;
-    Mailbox mailbox;
+    Mailbox<9> mailbox;
     uint64_t cells = 0, tests = 0, skips = 0;
     const float epsU = 1e-5f * frame_.cell[U], epsV = 1e-5f * frame_.cell[V];
     int c[3];

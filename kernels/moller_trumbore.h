@@ -107,14 +107,14 @@ inline BlockTest test(const FloatV& ox, const FloatV& oy, const FloatV& oz, cons
 }
 }  // namespace detail
 
-// One ray against W triangles. Updates `hit` (whose t is the current tmax) with the closest
-// hit in the block; ties go to the lowest lane. Returns true when it improved `hit`.
-inline bool intersect_block(const Ray1& r, const TriangleBlock& b, TriHit& hit) {
+// One ray against the lanes of a block set in `lanes`. Updates `hit` (whose t is the current
+// tmax) with the closest hit; ties go to the lowest lane. Returns true when it improved `hit`.
+inline bool intersect_block(const Ray1& r, const TriangleBlock& b, TriHit& hit, uint32_t lanes) {
     using simd::FloatV;
     const detail::BlockTest bt =
         detail::test(FloatV(r.ox), FloatV(r.oy), FloatV(r.oz), FloatV(r.dx), FloatV(r.dy),
                      FloatV(r.dz), FloatV(r.tmin), FloatV(hit.t), detail::load_block(b));
-    uint32_t bits = simd::movemask(bt.hit);
+    uint32_t bits = simd::movemask(bt.hit) & lanes;
     if (bits == 0) return false;
     alignas(64) float ts[kBlockWidth];
     bt.t.store_aligned(ts);
@@ -128,6 +128,11 @@ inline bool intersect_block(const Ray1& r, const TriangleBlock& b, TriHit& hit) 
     bt.v.store_aligned(vs);
     hit = TriHit{ts[best], us[best], vs[best], b.id[best]};
     return true;
+}
+
+// One ray against all W triangles of a block.
+inline bool intersect_block(const Ray1& r, const TriangleBlock& b, TriHit& hit) {
+    return intersect_block(r, b, hit, ~0u);
 }
 
 // Any hit with tmin < t < tmax in the block (shadow rays).

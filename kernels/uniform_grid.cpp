@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mailbox.h"
+
 namespace foton::kern {
 
 namespace {
@@ -15,6 +17,7 @@ void UniformGrid::build(const float* positions, const uint32_t* indices, std::si
                         const GridParams& params) {
     blocks_.clear();
     cell_begin_.clear();
+    mailbox_ = params.mailbox;
     references_ = 0;
     float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
     for (std::size_t t = 0; t < n; ++t)
@@ -89,6 +92,7 @@ bool UniformGrid::intersect(const Ray1& r, TriHit& hit, GridCounters* counters) 
         if (counters) counters->blocks += blocks_.size();
         return found;
     }
+    if (mailbox_) return intersect_mailboxed(r, hit, counters);
     uint64_t cells = 0, tests = 0;
     dda_walk(frame_, r, hit.t, [&](uint32_t cell, float t_exit) {
         ++cells;
@@ -101,6 +105,36 @@ bool UniformGrid::intersect(const Ray1& r, TriHit& hit, GridCounters* counters) 
     if (counters) {
         counters->cells += cells;
         counters->blocks += tests;
+    }
+    return found;
+}
+
+bool UniformGrid::intersect_mailboxed(const Ray1& r, TriHit& hit, GridCounters* counters) const {
+    // Skipping a triangle seen before is safe for the closest hit: if it was a hit, `hit`
+    // already holds it or something closer, and hit.t only decreases.
+    Mailbox<7> mailbox;
+    bool found = false;
+    uint64_t cells = 0, tests = 0, skips = 0;
+    dda_walk(frame_, r, hit.t, [&](uint32_t cell, float t_exit) {
+        ++cells;
+        for (uint32_t b = cell_begin_[cell]; b < cell_begin_[cell + 1]; ++b) {
+            const TriangleBlock& blk = blocks_[b];
+            uint32_t lanes = 0;
+            for (uint32_t l = 0; l < kBlockWidth && blk.id[l] != kInvalidId; ++l)
+                if (!mailbox.seen(blk.id[l])) lanes |= 1u << l;
+            if (lanes == 0) {
+                ++skips;
+                continue;
+            }
+            ++tests;
+            found |= intersect_block(r, blk, hit, lanes);
+        }
+        return found && hit.t <= t_exit;
+    });
+    if (counters) {
+        counters->cells += cells;
+        counters->blocks += tests;
+        counters->mailbox_skips += skips;
     }
     return found;
 }

@@ -17,6 +17,11 @@ struct GridParams {
     // best of {0.25 .. 16} on the bunny and the torus knot (AVX-512, see bench/).
     float cells_per_triangle = 0.5f;
     int max_res = 512;
+    // Single-ray closest hit skips triangles already tested in an earlier cell. Off by
+    // default: with W triangles per SIMD test the id lookups cost more than the retests they
+    // save (measured in bench/bench_traversal.cpp, method grid_mailbox). Packet traversal
+    // always uses a mailbox: there a retest costs a whole packet test.
+    bool mailbox = false;
 };
 
 struct GridCounters {
@@ -56,7 +61,10 @@ class UniformGrid {
     bool empty() const { return blocks_.empty(); }
 
   private:
+    bool intersect_mailboxed(const Ray1& r, TriHit& hit, GridCounters* counters) const;
+
     GridFrame frame_;
+    bool mailbox_ = false;
     std::vector<uint32_t> cell_begin_;  // num_cells + 1 offsets into blocks_
     std::vector<TriangleBlock> blocks_;
     std::size_t references_ = 0;

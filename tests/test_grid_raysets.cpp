@@ -1,5 +1,5 @@
 // The uniform grid on the benchmark's own scenes and ray sets (bench/ray_sets.h): single-ray
-// closest hit and any-hit equal brute force on every ray of the primary, diffuse and shadow
+// closest hit (with and without the mailbox) and any-hit equal brute force on every ray of the primary, diffuse and shadow
 // sets, and coherent packet traversal equals single-ray traversal ray for ray.
 #include <catch2/catch.hpp>
 #include <numeric>
@@ -28,9 +28,11 @@ struct Brute {
     }
 };
 
-UniformGrid grid_of(const TriangleMesh& m) {
+UniformGrid grid_of(const TriangleMesh& m, bool mailbox = false) {
     UniformGrid g;
-    g.build(m.positions.data(), m.indices.data(), m.num_triangles());
+    GridParams gp;
+    gp.mailbox = mailbox;
+    g.build(m.positions.data(), m.indices.data(), m.num_triangles(), gp);
     return g;
 }
 
@@ -76,15 +78,18 @@ TEST_CASE("grid equals brute force on every ray of the benchmark ray sets", "[ke
         const bench::KernelScene scene = bench::load_kernel_scene(name);
         const bench::RaySets sets = bench::make_ray_sets(scene, big ? 32 : 64, big ? 512 : 2048);
         const UniformGrid g = grid_of(scene.mesh);
+        const UniformGrid gm = grid_of(scene.mesh, true);
         const Brute brute(scene.mesh);
         std::size_t hits = 0;
         for (const auto* set : {&sets.primary, &sets.diffuse}) {
             for (const Ray1& r : *set) {
-                TriHit hb, hg;
+                TriHit hb, hg, hm;
                 const bool b = brute.closest(r, hb);
                 REQUIRE(g.intersect(r, hg) == b);
+                REQUIRE(gm.intersect(r, hm) == b);
                 if (b) {
                     REQUIRE(hg.t == hb.t);
+                    REQUIRE(hm.t == hb.t);
                     ++hits;
                 }
             }
