@@ -80,13 +80,12 @@ void BM_TrianglePacket(benchmark::State& state) {
                         continue;
                     }
                     for (std::size_t l = 0; l < kBlockWidth; ++l) {
-                        const Ray1 r{p.ox[l], p.oy[l], p.oz[l], p.dx[l], p.dy[l], p.dz[l],
-                                     p.tmin[l], h.t[l]};
+                        const Ray1 r{p.ox[l], p.oy[l], p.oz[l],   p.dx[l],
+                                     p.dy[l], p.dz[l], p.tmin[l], h.t[l]};
                         float t, u, v;
-                        if (intersect_triangle_scalar(r, b.v0x[tri], b.v0y[tri], b.v0z[tri],
-                                                      b.e1x[tri], b.e1y[tri], b.e1z[tri],
-                                                      b.e2x[tri], b.e2y[tri], b.e2z[tri], h.t[l],
-                                                      t, u, v)) {
+                        if (intersect_triangle_scalar(
+                                r, b.v0x[tri], b.v0y[tri], b.v0z[tri], b.e1x[tri], b.e1y[tri],
+                                b.e1z[tri], b.e2x[tri], b.e2y[tri], b.e2z[tri], h.t[l], t, u, v)) {
                             h.t[l] = t, h.u[l] = u, h.v[l] = v, h.id[l] = b.id[tri];
                             ++hits;
                         }

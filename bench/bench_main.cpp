@@ -2,8 +2,8 @@
 // the JSON needs to interpret the numbers (ISA, SIMD width, threads, library versions).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore_config.h>
-#include <nanoflann.hpp>
 #include <tbb/task_arena.h>
+#include <nanoflann.hpp>
 
 #include <sstream>
 #include <string>

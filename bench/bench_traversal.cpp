@@ -1,6 +1,7 @@
 // Google Benchmark: ray traversal of the kernel scenes (bench/ray_sets.h), our uniform grid
 // (kernels/) against raw Embree on identical rays, single thread and all threads:
-//   intersect: grid single ray (with and without mailbox), grid coherent packets (primary rays; 4x4, 8x8 and 16x16
+//   intersect: grid single ray (with and without mailbox), grid coherent packets (primary rays;
+//   4x4, 8x8 and 16x16
 //              pixel bundles), rtcIntersect1, rtcIntersect8 / 16 (packets of consecutive
 //              rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and rtcIntersectNp
 //              streams of 4,096 rays (flagged coherent for primary rays only);
@@ -368,6 +369,7 @@ void BM_BuildGrid(benchmark::State& state, std::string scene) {
     }
     state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
                                                   benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["nested_grids"] = double(scene_data(scene).grid.num_child_grids());
 }
 
 void BM_BuildEmbree(benchmark::State& state, std::string scene, bool one_thread) {
@@ -430,5 +432,3 @@ const bool registered = [] {
 }();
 
 }  // namespace
-
-

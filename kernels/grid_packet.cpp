@@ -23,7 +23,7 @@ using simd::MaskV;
 
 void UniformGrid::intersect_packets(const RayPacket* pk, std::size_t np, PacketHits* hits,
                                     GridCounters* counters) const {
-    if (blocks_.empty() || np == 0) return;
+    if (empty() || np == 0) return;
     constexpr std::size_t W = kBlockWidth;
     np = std::min(np, kMaxGridPackets);
 
@@ -149,6 +149,9 @@ void UniformGrid::intersect_packets(const RayPacket* pk, std::size_t np, PacketH
                     c[V] = v;
                     ++cells;
                     const uint32_t cell = frame_.index(c[0], c[1], c[2]);
+                    // A nested grid traverses the bundle itself, clipped to its own box.
+                    if (const int32_t child = child_of(cell); child >= 0)
+                        children_[child].intersect_packets(pk, np, hits, counters);
                     for (uint32_t b = cell_begin_[cell]; b < cell_begin_[cell + 1]; ++b) {
                         const TriangleBlock& blk = blocks_[b];
                         for (std::size_t lane = 0; lane < W && blk.id[lane] != kInvalidId; ++lane) {

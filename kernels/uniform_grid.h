@@ -22,6 +22,12 @@ struct GridParams {
     // save (measured in bench/bench_traversal.cpp, method grid_mailbox). Packet traversal
     // always uses a mailbox: there a retest costs a whole packet test.
     bool mailbox = false;
+    // Nested grids (the thesis' answer to the "teapot in a stadium"): a cell holding more
+    // than max(nest_min_refs, nest_factor x the mean of the non-empty cells) triangles gets a
+    // grid of its own over them, down to nest_depth levels. 0 levels turns nesting off.
+    int nest_depth = 2;
+    uint32_t nest_min_refs = 64;
+    float nest_factor = 16.f;
 };
 
 struct GridCounters {
@@ -41,6 +47,12 @@ class UniformGrid {
     // their index in `indices`.
     void build(const float* positions, const uint32_t* indices, std::size_t num_triangles,
                const GridParams& params = {});
+    // Builds over the triangles listed in `tris` only (ids into `indices`, kept as hit ids),
+    // with the grid's box clipped to [clip_lo, clip_hi] when given (a nested grid covers its
+    // parent cell only: large triangles reaching out of the cell must not stretch it).
+    void build_subset(const float* positions, const uint32_t* indices, const uint32_t* tris,
+                      std::size_t count, const GridParams& params, int depth,
+                      const float* clip_lo = nullptr, const float* clip_hi = nullptr);
 
     // Closest hit with r.tmin < t < min(r.tmax, hit.t); updates `hit`.
     bool intersect(const Ray1& r, TriHit& hit, GridCounters* counters = nullptr) const;
@@ -53,21 +65,25 @@ class UniformGrid {
                            GridCounters* counters = nullptr) const;
 
     const GridFrame& frame() const { return frame_; }
-    std::size_t num_blocks() const { return blocks_.size(); }
+    std::size_t num_blocks() const;  // including nested grids
     std::size_t num_references() const { return references_; }
-    std::size_t memory_bytes() const {
-        return blocks_.size() * sizeof(TriangleBlock) + cell_begin_.size() * sizeof(uint32_t);
-    }
-    bool empty() const { return blocks_.empty(); }
+    std::size_t memory_bytes() const;
+    std::size_t num_child_grids() const;
+    bool empty() const { return blocks_.empty() && children_.empty(); }
 
   private:
     bool intersect_mailboxed(const Ray1& r, TriHit& hit, GridCounters* counters) const;
+    int32_t child_of(uint32_t cell) const { return cell_child_.empty() ? -1 : cell_child_[cell]; }
 
     GridFrame frame_;
     bool mailbox_ = false;
     std::vector<uint32_t> cell_begin_;  // num_cells + 1 offsets into blocks_
     std::vector<TriangleBlock> blocks_;
     std::size_t references_ = 0;
+    // Nested grids: cell_child_[cell] indexes children_ (-1: the cell's own blocks). Empty
+    // when no cell is nested.
+    std::vector<int32_t> cell_child_;
+    std::vector<UniformGrid> children_;
 };
 
 }  // namespace foton::kern

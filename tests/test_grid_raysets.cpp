@@ -1,6 +1,7 @@
 // The uniform grid on the benchmark's own scenes and ray sets (bench/ray_sets.h): single-ray
-// closest hit (with and without the mailbox) and any-hit equal brute force on every ray of the primary, diffuse and shadow
-// sets, and coherent packet traversal equals single-ray traversal ray for ray.
+// closest hit (with and without the mailbox) and any-hit equal brute force on every ray of the
+// primary, diffuse and shadow sets, and coherent packet traversal equals single-ray traversal ray
+// for ray.
 #include <catch2/catch.hpp>
 #include <numeric>
 
