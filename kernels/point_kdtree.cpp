@@ -152,26 +152,8 @@ uint32_t PointKdTree::knn_impl(const float q[3], float max_d2, uint32_t k, uint3
     if (k == 0 || n_ == 0) return 0;
     KnnHeap heap{out_d2, out_index, k, 0, max_d2};
     if constexpr (Simd) {
-        using simd::FloatV;
-        const FloatV qx(q[0]), qy(q[1]), qz(q[2]);
         traverse(q, heap.bound, [&](uint32_t slot) {
-            for (std::size_t b = 0; b < kKdBucket; b += simd::kWidth) {
-                const std::size_t s = slot + b;
-                const FloatV dx = FloatV::load_aligned(&x_[s]) - qx;
-                const FloatV dy = FloatV::load_aligned(&y_[s]) - qy;
-                const FloatV dz = FloatV::load_aligned(&z_[s]) - qz;
-                const FloatV d2 = dx * dx + dy * dy + dz * dz;
-                uint32_t bits = simd::movemask(d2 < FloatV(heap.bound));
-                if (!bits) continue;
-                alignas(64) float lane_d2[simd::kWidth];
-                d2.store_aligned(lane_d2);
-                while (bits) {
-                    const int i = __builtin_ctz(bits);
-                    bits &= bits - 1;
-                    // The bound may have dropped since the mask was taken.
-                    if (lane_d2[i] < heap.bound) heap.push(lane_d2[i], index_[s + i]);
-                }
-            }
+            scan_leaf(slot, q, heap.bound, [&](uint32_t id, float d2) { heap.push(d2, id); });
         });
     } else {
         traverse(q, heap.bound, [&](uint32_t slot) {

@@ -92,6 +92,8 @@ class PointKdTree {
                       float* out_d2) const;
     template <class Leaf>
     void traverse(const float q[3], const float& bound, Leaf&& leaf) const;
+    template <class F>
+    void scan_leaf(uint32_t slot, const float q[3], const float& bound, F&& f) const;
 
     // In-order position of leaf h (L <= h < 2L): the deepest level holds the leftmost leaves.
     uint32_t leaf_position(uint32_t h) const {
@@ -143,28 +145,34 @@ inline void PointKdTree::traverse(const float q[3], const float& bound, Leaf&& l
     }
 }
 
+// The SIMD distance test of one leaf bucket: f(index, d2) for each point with d2 < bound.
+// `bound` is re-read per accepted lane, since f may lower it (a filling kNN heap).
+template <class F>
+inline void PointKdTree::scan_leaf(uint32_t slot, const float q[3], const float& bound,
+                                   F&& f) const {
+    using simd::FloatV;
+    const FloatV qx(q[0]), qy(q[1]), qz(q[2]);
+    for (std::size_t b = 0; b < kKdBucket; b += simd::kWidth) {
+        const std::size_t s = slot + b;
+        const FloatV dx = FloatV::load_aligned(&x_[s]) - qx;
+        const FloatV dy = FloatV::load_aligned(&y_[s]) - qy;
+        const FloatV dz = FloatV::load_aligned(&z_[s]) - qz;
+        const FloatV d2 = dx * dx + dy * dy + dz * dz;
+        uint32_t bits = simd::movemask(d2 < FloatV(bound));
+        if (!bits) continue;
+        alignas(64) float lane_d2[simd::kWidth];
+        d2.store_aligned(lane_d2);
+        while (bits) {
+            const int i = __builtin_ctz(bits);
+            bits &= bits - 1;
+            if (lane_d2[i] < bound) f(index_[s + i], lane_d2[i]);
+        }
+    }
+}
+
 template <class F>
 inline void PointKdTree::for_each_in_radius(const float q[3], float r2, F&& f) const {
-    using simd::FloatV;
-    const FloatV qx(q[0]), qy(q[1]), qz(q[2]), rv(r2);
-    traverse(q, r2, [&](uint32_t slot) {
-        for (std::size_t b = 0; b < kKdBucket; b += simd::kWidth) {
-            const std::size_t s = slot + b;
-            const FloatV dx = FloatV::load_aligned(&x_[s]) - qx;
-            const FloatV dy = FloatV::load_aligned(&y_[s]) - qy;
-            const FloatV dz = FloatV::load_aligned(&z_[s]) - qz;
-            const FloatV d2 = dx * dx + dy * dy + dz * dz;
-            uint32_t bits = simd::movemask(d2 < rv);
-            if (!bits) continue;
-            alignas(64) float lane_d2[simd::kWidth];
-            d2.store_aligned(lane_d2);
-            while (bits) {
-                const int i = __builtin_ctz(bits);
-                bits &= bits - 1;
-                f(index_[s + i], lane_d2[i]);
-            }
-        }
-    });
+    traverse(q, r2, [&](uint32_t slot) { scan_leaf(slot, q, r2, f); });
 }
 
 }  // namespace foton::kern

@@ -6,28 +6,13 @@
 #include <numeric>
 
 #include "bench/ray_sets.h"
+#include "brute_oracle.h"
 #include "kernels/uniform_grid.h"
 
 using namespace foton;
 using namespace foton::kern;
 
 namespace {
-
-struct Brute {
-    std::vector<TriangleBlock> blocks;
-    explicit Brute(const TriangleMesh& m) {
-        std::vector<uint32_t> ids(m.num_triangles());
-        std::iota(ids.begin(), ids.end(), 0u);
-        pack_triangle_blocks(m.positions.data(), m.indices.data(), ids.data(), ids.size(), blocks);
-    }
-    // The SIMD block kernel equals its scalar twin bit for bit (test_moller_trumbore).
-    bool closest(const Ray1& r, TriHit& h) const {
-        h.t = r.tmax;
-        bool any = false;
-        for (const auto& b : blocks) any |= intersect_block(r, b, h);
-        return any;
-    }
-};
 
 UniformGrid grid_of(const TriangleMesh& m, bool mailbox = false) {
     UniformGrid g;
@@ -80,7 +65,7 @@ TEST_CASE("grid equals brute force on every ray of the benchmark ray sets", "[ke
         const bench::RaySets sets = bench::make_ray_sets(scene, big ? 32 : 64, big ? 512 : 2048);
         const UniformGrid g = grid_of(scene.mesh);
         const UniformGrid gm = grid_of(scene.mesh, true);
-        const Brute brute(scene.mesh);
+        const test::BruteOracle brute(scene.mesh);
         std::size_t hits = 0;
         for (const auto* set : {&sets.primary, &sets.diffuse}) {
             for (const Ray1& r : *set) {

@@ -3,6 +3,7 @@
 #include <numeric>
 #include <random>
 
+#include "brute_oracle.h"
 #include "engine/scene/obj_loader.h"
 #include "kernels/uniform_grid.h"
 #include "test_util.h"
@@ -10,28 +11,9 @@
 using namespace foton;
 using namespace foton::kern;
 
-namespace {
-struct Brute {
-    std::vector<TriangleBlock> blocks;
-    Brute(const TriangleMesh& m) {
-        std::vector<uint32_t> ids(m.num_triangles());
-        std::iota(ids.begin(), ids.end(), 0u);
-        pack_triangle_blocks(m.positions.data(), m.indices.data(), ids.data(), ids.size(), blocks);
-    }
-    bool closest(const Ray1& r, TriHit& h) const {
-        h.t = r.tmax;
-        bool any = false;
-        // The SIMD block kernel is bit-identical to the scalar twin (test_moller_trumbore),
-        // and 16x cheaper as an oracle.
-        for (const auto& b : blocks) any |= intersect_block(r, b, h);
-        return any;
-    }
-};
-}  // namespace
-
 TEST_CASE("uniform grid equals brute force on the bunny", "[kernel][grid]") {
     const TriangleMesh mesh = load_obj(test::shared_path("meshes/bunny.obj")).mesh;
-    const Brute brute(mesh);
+    const test::BruteOracle brute(mesh);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> U(0.f, 1.f);
     const Bounds3 bb = mesh.bounds();
