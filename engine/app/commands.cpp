@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -28,8 +29,44 @@ int run_render(const RenderArgs& args) {
         if (w <= 0 || h <= 0) throw InputError("--width/--height", 0, "must be positive");
         scene.set_resolution(w, h);
     }
+    RenderSettings& rs = scene.render;
+    if (!args.integrator.empty() && !parse_integrator(args.integrator, rs.integrator))
+        throw InputError("--integrator", 0,
+                         "unknown integrator '" + args.integrator +
+                             "' (raytracer, path, light, distributed)");
+    if (!args.mis.empty() && !parse_mis(args.mis, rs.mis))
+        throw InputError("--mis", 0,
+                         "unknown heuristic '" + args.mis + "' (balance, power, max, none)");
+    if (args.nee) rs.nee = *args.nee;
+    if (args.max_depth) rs.max_depth = *args.max_depth;
+    if (args.rr_depth) rs.rr_depth = *args.rr_depth;
+    if (args.light_samples) {
+        if (*args.light_samples == 0) throw InputError("--light-samples", 0, "must be at least 1");
+        rs.light_samples = *args.light_samples;
+    }
+    if (args.adaptive) {
+        if (!(*args.adaptive > 0.f)) throw InputError("--adaptive", 0, "threshold must be positive");
+        rs.adaptive.enabled = true;
+        rs.adaptive.threshold = *args.adaptive;
+    }
+    if (args.adaptive_max) rs.adaptive.max_spp = *args.adaptive_max;
+    if (args.adaptive_unbiased) rs.adaptive.unbiased = true;
+    if (rs.adaptive.enabled) {
+        if (args.spp) rs.adaptive.pilot = *args.spp;
+        if (rs.adaptive.max_spp < rs.adaptive.pilot)
+            throw InputError("--adaptive-max", 0, "must be at least the pilot sample count");
+        if (rs.integrator == IntegratorType::Light)
+            throw InputError("--adaptive", 0, "adaptive sampling applies to camera integrators");
+    }
     RenderOptions opt;
     opt.spp = args.spp.value_or(scene.render.spp);
+    opt.time_limit = args.time.value_or(scene.render.time_limit);
+    if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
+    if (opt.time_limit > 0.f && rs.adaptive.enabled)
+        throw InputError("--time", 0, "progressive passes and adaptive sampling do not mix");
+    // With --time alone, each pass is one sample per pixel (unless --spp sets the pass size).
+    if (opt.time_limit > 0.f && !args.spp) opt.spp = 1;
+    opt.snapshot_times = args.snapshots;
     if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
     opt.threads = args.threads.value_or(scene.render.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
@@ -44,6 +81,33 @@ int run_render(const RenderArgs& args) {
     const fs::path out_dir = fs::path(out).parent_path();
     if (!out_dir.empty()) fs::create_directories(out_dir);
     const std::string png = fs::path(out).replace_extension(".png").string();
+    const char* integrator = integrator_name(rs.integrator);
+    auto attributes = [&](double seconds, uint32_t passes, const char* accel_name) {
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%.3f", seconds);
+        std::string method = integrator;
+        if (rs.integrator == IntegratorType::Path)
+            method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) : " bsdf-only";
+        return ImageAttributes{
+            {"foton:scene", args.scene},
+            {"foton:integrator", method},
+            {"foton:samples", std::to_string(opt.spp * passes)},
+            {"foton:passes", std::to_string(passes)},
+            {"foton:seed", std::to_string(opt.seed)},
+            {"foton:renderSeconds", secs},
+            {"foton:accel", accel_name},
+            {"foton:version", FOTON_VERSION},
+        };
+    };
+    if (!opt.snapshot_times.empty()) {
+        // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
+        opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes) {
+            char suffix[48];
+            std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
+            write_exr(fs::path(out).replace_extension("").string() + suffix, f,
+                      attributes(seconds, passes, accel_name(scene.accel)));
+        };
+    }
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel);
@@ -52,18 +116,8 @@ int run_render(const RenderArgs& args) {
     RenderResult res = render(scene, *accel, opt);
     res.stats.build_seconds = build;
 
-    char seconds[32];
-    std::snprintf(seconds, sizeof seconds, "%.3f", res.stats.wall_seconds);
-    const ImageAttributes attrs = {
-        {"foton:scene", args.scene},
-        {"foton:integrator", "whitted"},
-        {"foton:samples", std::to_string(opt.spp)},
-        {"foton:seed", std::to_string(opt.seed)},
-        {"foton:renderSeconds", seconds},
-        {"foton:threads", std::to_string(res.stats.threads)},
-        {"foton:accel", accel->name()},
-        {"foton:version", FOTON_VERSION},
-    };
+    ImageAttributes attrs = attributes(res.stats.wall_seconds, res.stats.passes, accel->name());
+    attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
     write_exr(out, res.film, attrs);
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
     if (!args.stats_json.empty()) {
@@ -73,9 +127,13 @@ int run_render(const RenderArgs& args) {
     }
     if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
     if (!args.quiet)
-        std::printf("rendered %s (%dx%d, %u spp, %s, %d threads) in %.3f s\nwrote %s\nwrote %s\n",
-                    args.scene.c_str(), scene.film.width, scene.film.height, opt.spp, accel->name(),
-                    res.stats.threads, res.stats.wall_seconds, out.c_str(), png.c_str());
+        std::printf(
+            "rendered %s with %s (%dx%d, %.4g spp in %u passes, %s, %d threads) in %.3f s\n"
+            "wrote %s\nwrote %s\n",
+            args.scene.c_str(), integrator, scene.film.width, scene.film.height,
+            double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
+            res.stats.passes, accel->name(), res.stats.threads, res.stats.wall_seconds,
+            out.c_str(), png.c_str());
     return 0;
 }
 
@@ -87,15 +145,30 @@ int run_info(const std::string& path) {
 
 int run_compare(const CompareArgs& args) {
     const Film a = read_exr(args.a);
-    const Film b = read_exr(args.b);
+    Film b = read_exr(args.b);
+    if ((a.width != b.width || a.height != b.height) && a.width > 0 && b.width % a.width == 0 &&
+        b.width / a.width == b.height / std::max(a.height, 1) && b.height % a.height == 0) {
+        // A reference at an integer multiple of the resolution: box-filter it down.
+        const int factor = b.width / a.width;
+        b = downsample(b, factor);
+        std::printf("reference downsampled %dx to %dx%d\n", factor, b.width, b.height);
+    }
     if (a.width != b.width || a.height != b.height)
         throw InputError(args.b, 0,
                          "image is " + std::to_string(b.width) + "x" + std::to_string(b.height) +
                              ", the first is " + std::to_string(a.width) + "x" +
                              std::to_string(a.height));
-    const ImageError e = compare_images(a, b);
+    std::vector<uint8_t> mask(a.pixels.size(), 1);
+    if (args.exclude_above) mask = luminance_mask(b, *args.exclude_above);
+    if (!args.mask_png.empty()) {
+        const std::vector<uint8_t> m = read_png_mask(args.mask_png, a.width, a.height);
+        for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = mask[i] && m[i];
+    }
+    const ImageError e = compare_images(a, b, &mask);
     std::printf("rmse %.6g\nrelative_mse %.6g\nmae %.6g\nmax_abs %.6g\npixels %zu\n", e.rmse,
                 e.relative_mse, e.mae, e.max_abs, e.pixels);
+    std::printf("mean_a %.6g %.6g %.6g\nmean_b %.6g %.6g %.6g\n", e.mean_a.r, e.mean_a.g,
+                e.mean_a.b, e.mean_b.r, e.mean_b.g, e.mean_b.b);
     if (!args.diff_png.empty()) write_difference_png(args.diff_png, a, b, args.diff_scale);
     return 0;
 }

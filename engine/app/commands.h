@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace foton::app {
 
@@ -15,6 +16,16 @@ struct RenderArgs {
     std::optional<uint64_t> seed;
     std::string accel;  // empty = the scene's <aggregate>
     std::optional<int> width, height;
+    std::string integrator;  // empty = the scene's <renderer type>
+    std::string mis;
+    std::optional<bool> nee;
+    std::optional<uint32_t> max_depth, rr_depth;
+    std::optional<float> time;        // seconds of progressive passes
+    std::vector<double> snapshots;    // seconds at which to also write the image so far
+    std::optional<float> adaptive;    // adaptive sampling with this relative-error threshold
+    std::optional<uint32_t> adaptive_max;
+    bool adaptive_unbiased = false;
+    std::optional<uint32_t> light_samples;
     bool stats = false;
     std::string stats_json;
     bool quiet = false;
@@ -27,6 +38,8 @@ struct CompareArgs {
     std::string a, b;
     std::string diff_png;  // optional false-colour difference image
     float diff_scale = 0.1f;
+    std::optional<float> exclude_above;  // leave out pixels brighter than this in b
+    std::string mask_png;                // count only pixels that are non-black in this PNG
 };
 int run_compare(const CompareArgs& args);
 

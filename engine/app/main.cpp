@@ -23,6 +23,21 @@ int main(int argc, char** argv) {
     render->add_option("--accel", ra.accel, "brute | brute-simd | grid | embree");
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
+    render->add_option("--integrator", ra.integrator, "raytracer | path | light | distributed");
+    render->add_option("--mis", ra.mis, "path: balance | power | max | none (NEE without MIS)");
+    render->add_option("--nee", ra.nee, "path: next event estimation (false = BSDF sampling only)");
+    render->add_option("--max-depth", ra.max_depth, "scattering vertices (specular bounces for raytracer)");
+    render->add_option("--rr-depth", ra.rr_depth, "Russian roulette from this depth on");
+    render->add_option("--light-samples", ra.light_samples, "distributed: shadow rays per light");
+    render->add_option("--time", ra.time, "render progressive passes for this many seconds");
+    render->add_option("--snapshots", ra.snapshots,
+                       "with --time: also write out-<t>s.exr after these many seconds")
+        ->delimiter(',');
+    render->add_option("--adaptive", ra.adaptive,
+                       "adaptive sampling to this relative standard error (--spp = pilot)");
+    render->add_option("--adaptive-max", ra.adaptive_max, "adaptive: most samples per pixel");
+    render->add_flag("--adaptive-unbiased", ra.adaptive_unbiased,
+                     "adaptive: Kirk-Arvo pilot (discarded) decides the count");
     render->add_flag("--stats", ra.stats, "print ray counts and the stage table");
     render->add_option("--stats-json", ra.stats_json, "write statistics as JSON");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
@@ -37,6 +52,9 @@ int main(int argc, char** argv) {
     compare->add_option("b", ca.b, "reference image")->required();
     compare->add_option("--diff", ca.diff_png, "write a false-colour difference PNG");
     compare->add_option("--diff-scale", ca.diff_scale, "error that maps to white (default 0.1)");
+    compare->add_option("--exclude-above", ca.exclude_above,
+                        "leave out pixels whose luminance in b is above this (e.g. 2: the light)");
+    compare->add_option("--mask", ca.mask_png, "PNG: count only its non-black pixels");
 
     try {
         app.parse(argc, argv);

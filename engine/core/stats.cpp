@@ -26,6 +26,7 @@ void RenderStats::merge(const RenderStats& o) {
     camera_rays += o.camera_rays;
     secondary_rays += o.secondary_rays;
     shadow_rays += o.shadow_rays;
+    samples += o.samples;
     trace.merge(o.trace);
     for (int i = 0; i < kNumStages; ++i) {
         stage_seconds[i] += o.stage_seconds[i];
@@ -44,6 +45,10 @@ std::string RenderStats::table() const {
                   (unsigned long long)camera_rays, (unsigned long long)secondary_rays,
                   (unsigned long long)shadow_rays, (unsigned long long)total_rays(),
                   wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "samples %llu in %u passes (%.4g samples/s wall)\n",
+                  (unsigned long long)samples, passes,
+                  wall_seconds > 0 ? double(samples) / wall_seconds : 0.0);
     s += buf;
     std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
@@ -66,11 +71,14 @@ std::string RenderStats::json() const {
         buf, sizeof buf,
         "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
         "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
-        "  \"rays_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
+        "  \"rays_per_second\": %.6g,\n  \"samples\": %llu,\n  \"passes\": %u,\n"
+        "  \"samples_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
         "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
         wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0,
+        (unsigned long long)samples, passes,
+        wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
         (unsigned long long)trace.cells);
     s += buf;

@@ -25,6 +25,8 @@ struct TraceCounters {
 
 struct RenderStats {
     uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
+    uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
+    uint32_t passes = 0;   // progressive passes completed
     TraceCounters trace;
     double stage_seconds[kNumStages] = {};  // summed over threads
     uint64_t stage_items[kNumStages] = {};

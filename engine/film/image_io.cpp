@@ -12,6 +12,7 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 #include <unistd.h>
 
@@ -115,6 +116,21 @@ void write_difference_png(const std::string& path, const Film& a, const Film& b,
                           std::clamp(3.f * x - 2.f, 0.f, 1.f)};
     }
     write_png(path, d, 1.f, 1.f);
+}
+
+std::vector<uint8_t> read_png_mask(const std::string& path, int width, int height) {
+    int w = 0, h = 0, c = 0;
+    unsigned char* data = stbi_load(path.c_str(), &w, &h, &c, 1);
+    if (!data) throw InputError(path, 0, std::string("cannot read PNG: ") + stbi_failure_reason());
+    std::vector<uint8_t> m(std::size_t(w) * std::size_t(h));
+    for (std::size_t i = 0; i < m.size(); ++i) m[i] = data[i] != 0;
+    stbi_image_free(data);
+    if (w != width || h != height)
+        throw InputError(path, 0,
+                         "mask is " + std::to_string(w) + "x" + std::to_string(h) +
+                             ", the images are " + std::to_string(width) + "x" +
+                             std::to_string(height));
+    return m;
 }
 
 }  // namespace foton

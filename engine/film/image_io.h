@@ -2,6 +2,7 @@
 // Image output. Every writer goes through a temporary file in the target directory and a
 // rename, so a failed or interrupted render never leaves a truncated image under the
 // requested name.
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +19,8 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
 Film read_exr(const std::string& path);
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
+// A mask from a PNG of the given size: pixels that are not black count. Throws InputError.
+std::vector<uint8_t> read_png_mask(const std::string& path, int width, int height);
 // False-colour PNG of |a - b| per pixel (mean over channels): black at 0 through red and
 // yellow to white at `scale`.
 void write_difference_png(const std::string& path, const Film& a, const Film& b, float scale);

@@ -11,12 +11,15 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
         throw std::invalid_argument("images differ in size");
     ImageError e;
     double se = 0.0, rel = 0.0, ae = 0.0;
+    double ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
     for (std::size_t i = 0; i < a.pixels.size(); ++i) {
         if (mask && !(*mask)[i]) continue;
         ++e.pixels;
         const float av[3] = {a.pixels[i].r, a.pixels[i].g, a.pixels[i].b};
         const float bv[3] = {b.pixels[i].r, b.pixels[i].g, b.pixels[i].b};
         for (int c = 0; c < 3; ++c) {
+            ma[c] += av[c];
+            mb[c] += bv[c];
             const double d = double(av[c]) - double(bv[c]);
             se += d * d;
             rel += d * d / (double(bv[c]) * double(bv[c]) + 1e-2);
@@ -29,8 +32,32 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
         e.rmse = std::sqrt(se / n);
         e.relative_mse = rel / n;
         e.mae = ae / n;
+        const double p = double(e.pixels);
+        e.mean_a = RGB(float(ma[0] / p), float(ma[1] / p), float(ma[2] / p));
+        e.mean_b = RGB(float(mb[0] / p), float(mb[1] / p), float(mb[2] / p));
     }
     return e;
+}
+
+Film downsample(const Film& f, int factor) {
+    if (factor < 1 || f.width % factor || f.height % factor)
+        throw std::invalid_argument("image size is not a multiple of the factor");
+    Film out(f.width / factor, f.height / factor);
+    const float inv = 1.f / float(factor * factor);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            RGB s;
+            for (int j = 0; j < factor; ++j)
+                for (int i = 0; i < factor; ++i) s += f.at(x * factor + i, y * factor + j);
+            out.at(x, y) = s * inv;
+        }
+    return out;
+}
+
+std::vector<uint8_t> luminance_mask(const Film& ref, float max_luminance) {
+    std::vector<uint8_t> m(ref.pixels.size());
+    for (std::size_t i = 0; i < m.size(); ++i) m[i] = ref.pixels[i].luminance() <= max_luminance;
+    return m;
 }
 
 }  // namespace foton

@@ -13,9 +13,19 @@ struct ImageError {
     double mae = 0.0;           // mean |a - b|
     double max_abs = 0.0;       // largest |a - b| of any channel
     std::size_t pixels = 0;     // pixels counted (mask)
+    RGB mean_a, mean_b;         // channel means over the counted pixels
 };
 
 // `mask` (optional, same size as the images) selects the pixels that count.
 ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_t>* mask = nullptr);
+
+// Box-filters `f` down by an integer factor (each output pixel the mean of factor^2
+// pixels): a reference rendered with a 1-pixel box filter at N times the resolution becomes
+// the box-filtered reference at the lower resolution, exactly.
+Film downsample(const Film& f, int factor);
+
+// Mask of the pixels whose luminance in `ref` is at most `max_luminance` (e.g. to leave the
+// directly seen light out of an error figure).
+std::vector<uint8_t> luminance_mask(const Film& ref, float max_luminance);
 
 }  // namespace foton

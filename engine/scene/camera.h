@@ -3,6 +3,7 @@
 // width x height pixels of edge `pixel_size`, at distance d in front of the eye (perspective),
 // with the orthonormal basis u (right), v (up), w (forward) built from eye, target and up.
 #include "engine/core/math.h"
+#include "engine/core/sampler.h"
 
 namespace foton {
 
@@ -15,6 +16,10 @@ struct Camera {
     float exposure = 1.f;  // scales the PNG preview
     float pixel_size = 0.001f;
     int width = 1, height = 1;
+    // Thin lens (distributed ray tracing): aperture radius and the distance of the plane in
+    // focus along the view direction. lens_radius = 0 is the pinhole.
+    float lens_radius = 0.f;
+    float focal_distance = 1.f;
 
     // Derived basis (call setup() after changing the fields above).
     Vec3 u, v, w;
@@ -22,6 +27,16 @@ struct Camera {
 
     // Ray through film position (fx, fy) in pixels, (0, 0) the top-left corner of the image.
     void generate(float fx, float fy, Vec3& origin, Vec3& dir) const;
+    // The same through the thin lens, `lens` uniform in the unit square.
+    void generate(float fx, float fy, Point2 lens, Vec3& origin, Vec3& dir) const;
+    // Film position (pixels) of a world point seen by the pinhole; false when it is behind
+    // the eye or off the film.
+    bool project(const Vec3& p, float& fx, float& fy) const;
+    // Importance of the pinhole for a box-filtered pixel towards a point at distance `dist`
+    // with cos_theta between the view axis and the ray: the pixel's measurement is the mean
+    // radiance over its area on the view plane, which in terms of the surface seen is
+    // d^2 / (pixel_size^2 cos^3 dist^2) per unit of (cos at the surface dA).
+    float importance(float cos_theta, float dist) const;
     // Vertical field of view in degrees implied by d, pixel size and height.
     float vertical_fov_degrees() const;
 };

@@ -5,11 +5,15 @@
 // the thesis' empirical additions.
 #include <string>
 
+#include "bsdf.h"
 #include "engine/core/rgb.h"
 
 namespace foton {
 
-enum class MaterialType { Matte, Phong, Reflective, Glass, Emitter };
+// The thesis' four Whitted materials, the pure emitter of <area> lights, and Generic for the
+// physically based models of the photon-mapping thesis (lambert, oren_nayar, conductor,
+// dielectric, microfacet, mix), which exist only as a BSDF.
+enum class MaterialType { Matte, Phong, Reflective, Glass, Emitter, Generic };
 const char* material_type_name(MaterialType t);
 
 struct Material {
@@ -24,7 +28,14 @@ struct Material {
     RGB reflective_color{0.f};
     float ior = 1.5f;
     RGB refraction_color{1.f};
-    RGB emission{0.f};  // radiance leaving the front side (Emitter, area lights)
+    RGB emission{0.f};  // radiance leaving the front side (any material may emit)
+    bool emitter_solid_angle = true;  // sphere emitters: sample by solid angle (else by area)
+    std::string name;                 // the XML type, for `foton info`
+
+    // The physically based model the Monte Carlo integrators use (also for the thesis'
+    // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,
+    // glass = dielectric). Built by the loader.
+    Bsdf bsdf;
 
     bool is_specular() const {
         return type == MaterialType::Reflective || type == MaterialType::Glass;

@@ -32,6 +32,62 @@ bool parse_accel(const std::string& s, AccelType& out) {
     return true;
 }
 
+const char* integrator_name(IntegratorType t) {
+    switch (t) {
+        case IntegratorType::Whitted:
+            return "raytracer";
+        case IntegratorType::Path:
+            return "path";
+        case IntegratorType::Light:
+            return "light";
+        case IntegratorType::Distributed:
+            return "distributed";
+    }
+    return "?";
+}
+
+bool parse_integrator(const std::string& s, IntegratorType& out) {
+    if (s == "raytracer" || s == "whitted")
+        out = IntegratorType::Whitted;
+    else if (s == "path")
+        out = IntegratorType::Path;
+    else if (s == "light")
+        out = IntegratorType::Light;
+    else if (s == "distributed")
+        out = IntegratorType::Distributed;
+    else
+        return false;
+    return true;
+}
+
+const char* mis_name(MisHeuristic h) {
+    switch (h) {
+        case MisHeuristic::Balance:
+            return "balance";
+        case MisHeuristic::Power:
+            return "power";
+        case MisHeuristic::Maximum:
+            return "max";
+        case MisHeuristic::None:
+            return "none";
+    }
+    return "?";
+}
+
+bool parse_mis(const std::string& s, MisHeuristic& out) {
+    if (s == "balance")
+        out = MisHeuristic::Balance;
+    else if (s == "power")
+        out = MisHeuristic::Power;
+    else if (s == "max" || s == "maximum")
+        out = MisHeuristic::Maximum;
+    else if (s == "none")
+        out = MisHeuristic::None;
+    else
+        return false;
+    return true;
+}
+
 const char* material_type_name(MaterialType t) {
     switch (t) {
         case MaterialType::Matte:
@@ -44,6 +100,8 @@ const char* material_type_name(MaterialType t) {
             return "glass";
         case MaterialType::Emitter:
             return "emitter";
+        case MaterialType::Generic:
+            return "generic";
     }
     return "?";
 }
@@ -117,7 +175,7 @@ std::string Scene::summary() const {
                   film.gamma);
     s += buf;
     std::snprintf(buf, sizeof buf, "renderer   %s, %u spp (%s), depth %u, accel %s\n",
-                  render.type.c_str(), render.spp, sampler_name(render.sampler), render.max_depth,
+                  integrator_name(render.integrator), render.spp, sampler_name(render.sampler), render.max_depth,
                   accel_name(accel));
     s += buf;
     return s;

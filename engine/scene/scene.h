@@ -31,14 +31,43 @@ struct Object {
     bool smooth = false;    // interpolate vertex normals (meshes)
 };
 
+// raytracer: the first thesis' Whitted model; path, light, distributed: the Monte Carlo
+// estimators of the photon-mapping thesis.
+enum class IntegratorType { Whitted, Path, Light, Distributed };
+const char* integrator_name(IntegratorType t);
+bool parse_integrator(const std::string& s, IntegratorType& out);
+
+// How next event estimation and BSDF sampling are combined in `path`.
+enum class MisHeuristic { Balance, Power, Maximum, None };
+const char* mis_name(MisHeuristic h);
+bool parse_mis(const std::string& s, MisHeuristic& out);
+
+struct AdaptiveSettings {
+    bool enabled = false;
+    uint32_t pilot = 8;        // samples every pixel gets first
+    uint32_t max_spp = 256;    // never more than this per pixel
+    float threshold = 0.02f;   // target relative standard error of a pixel's mean luminance
+    // Kirk & Arvo: the pilot samples only decide the count and are not averaged in, which
+    // keeps the estimate unbiased (the default, iterative rule stops on the very samples it
+    // averages, a small bias).
+    bool unbiased = false;
+};
+
 struct RenderSettings {
-    std::string type = "raytracer";
+    IntegratorType integrator = IntegratorType::Whitted;
     uint32_t spp = 1;  // aa_samples
     int threads = 0;   // 0 = all hardware threads
     SamplerKind sampler = SamplerKind::Jittered;
-    uint32_t max_depth = 8;          // specular bounces after the camera ray
-    float min_contribution = 1e-3f;  // adaptive cut-off on a path's weight
+    // raytracer: specular bounces after the camera ray; path/light: scattering vertices.
+    uint32_t max_depth = 8;
+    float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
     uint64_t seed = 0;
+    MisHeuristic mis = MisHeuristic::Power;
+    bool nee = true;         // path: next event estimation (false = BSDF sampling only)
+    uint32_t rr_depth = 3;   // Russian roulette from this many scattering vertices on
+    float time_limit = 0.f;  // seconds; > 0 renders passes until the time is up
+    uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
+    AdaptiveSettings adaptive;
 };
 
 struct FilmSettings {

@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -11,11 +12,21 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include "engine/core/error.h"
+#include "engine/scene/light_set.h"
+#include "light_tracer.h"
+#include "path.h"
 #include "whitted.h"
 
 namespace foton {
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 std::vector<Tile> make_tiles(int width, int height, int size) {
     std::vector<Tile> tiles;
@@ -38,13 +49,12 @@ class ProgressBar {
 
   private:
     void run() {
-        const auto start = std::chrono::steady_clock::now();
+        const auto start = Clock::now();
         while (!stop_) {
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
             const std::size_t d = done_.load(std::memory_order_relaxed);
-            const double frac = total_ ? double(d) / double(total_) : 1.0;
-            const double el =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const double frac = total_ ? std::min(1.0, double(d) / double(total_)) : 1.0;
+            const double el = seconds_since(start);
             const double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
             char bar[31];
             const int fill = int(frac * 30);
@@ -60,6 +70,288 @@ class ProgressBar {
     std::thread thread_;
 };
 
+// Running sums of the samples of every pixel: the image is sum / count.
+struct Accumulator {
+    int width = 0, height = 0;
+    std::vector<RGB> sum;
+    std::vector<uint32_t> count;
+    Accumulator(int w, int h)
+        : width(w), height(h), sum(std::size_t(w) * h), count(std::size_t(w) * h, 0) {}
+    Film film() const {
+        Film f(width, height);
+        for (std::size_t i = 0; i < sum.size(); ++i)
+            f.pixels[i] = count[i] ? sum[i] * (1.f / float(count[i])) : RGB{0.f};
+        return f;
+    }
+};
+
+// Decides when the progressive loop stops and fires the snapshots.
+class PassControl {
+  public:
+    PassControl(const RenderOptions& opt) : opt_(opt), start_(Clock::now()) {}
+    double elapsed() const { return seconds_since(start_); }
+    // After pass `passes` (1-based) has finished: whether to run another.
+    bool another(uint32_t passes, const std::function<Film()>& image) {
+        const double t = elapsed();
+        while (next_snapshot_ < opt_.snapshot_times.size() &&
+               t >= opt_.snapshot_times[next_snapshot_]) {
+            if (opt_.on_snapshot)
+                opt_.on_snapshot(image(), opt_.snapshot_times[next_snapshot_], t, passes);
+            ++next_snapshot_;
+        }
+        if (opt_.max_passes > 0 && passes >= opt_.max_passes) return false;
+        return opt_.time_limit > 0.f && t < double(opt_.time_limit);
+    }
+
+  private:
+    const RenderOptions& opt_;
+    Clock::time_point start_;
+    std::size_t next_snapshot_ = 0;
+};
+
+// Luminance statistics of one pixel's samples, for adaptive sampling.
+struct PixelMoments {
+    double sum = 0.0, sum2 = 0.0;
+    uint32_t n = 0;
+    void add(float y) {
+        sum += y;
+        sum2 += double(y) * y;
+        ++n;
+    }
+    double mean() const { return n ? sum / n : 0.0; }
+    // Unbiased sample variance of one sample (the thesis' s^2 times N).
+    double variance() const {
+        if (n < 2) return 0.0;
+        return std::max(0.0, (sum2 - sum * sum / n) / (n - 1));
+    }
+    // Standard error of the mean relative to the mean (absolute below a small floor).
+    double relative_error() const {
+        return std::sqrt(variance() / std::max<uint32_t>(n, 1)) / std::max(mean(), 1e-3);
+    }
+};
+
+class CameraDriver {
+  public:
+    CameraDriver(const Scene& scene, const CameraIntegrator& integrator, const RenderOptions& opt)
+        : scene_(scene), integrator_(integrator), opt_(opt) {}
+
+    // Fixed samples: pass p gives every pixel of the tile opt.spp samples.
+    void fixed_pass(const Tile& t, uint32_t pass, Accumulator& acc, IntegratorWorkspace& ws,
+                    RenderStats& st, std::vector<SampleJob>& jobs, std::vector<RGB>& out) const {
+        const uint32_t spp = opt_.spp;
+        const uint64_t npix = uint64_t(scene_.film.width) * uint64_t(scene_.film.height);
+        jobs.clear();
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
+                for (uint32_t s = 0; s < spp; ++s)
+                    jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
+                                    (uint64_t(pass) * npix + pixel) * spp + s});
+            }
+        integrator_.trace(jobs, ws, out, st);
+        StageClock clock;
+        for (std::size_t i = 0; i < jobs.size(); ++i) {
+            const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
+            acc.sum[p] += out[i];
+            acc.count[p] += 1;
+        }
+        st.samples += jobs.size();
+        st.stage_items[int(Stage::Accumulate)] += jobs.size();
+        st.stage_seconds[int(Stage::Accumulate)] += clock.lap();
+    }
+
+    // Adaptive sampling of one tile (the thesis' section 6.2): a pilot of `pilot` samples
+    // per pixel, then either rounds that double the samples of every pixel whose relative
+    // standard error is above the threshold (biased: the stopping rule sees the samples it
+    // averages), or, unbiased (Kirk & Arvo), one fresh batch sized from the pilot's variance
+    // with the pilot discarded.
+    void adaptive_tile(const Tile& t, Accumulator& acc, IntegratorWorkspace& ws, RenderStats& st,
+                       std::vector<SampleJob>& jobs, std::vector<RGB>& out) const {
+        const AdaptiveSettings& ad = scene_.render.adaptive;
+        const int tw = t.x1 - t.x0;
+        std::vector<PixelMoments> mom(std::size_t(t.pixels()));
+        std::vector<RGB> sum(std::size_t(t.pixels()));
+        std::vector<uint32_t> want(std::size_t(t.pixels()), ad.pilot);
+        std::vector<uint32_t> taken(std::size_t(t.pixels()), 0);
+        auto local = [&](const SampleJob& j) { return std::size_t(j.y - t.y0) * tw + (j.x - t.x0); };
+        auto run_round = [&](uint32_t round) {
+            jobs.clear();
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) {
+                    const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
+                    const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
+                    for (uint32_t s = 0; s < want[l]; ++s)
+                        jobs.push_back({uint32_t(x), uint32_t(y), s, want[l], round,
+                                        (pixel << 24) + taken[l] + s});
+                    taken[l] += want[l];
+                }
+            if (jobs.empty()) return false;
+            integrator_.trace(jobs, ws, out, st);
+            st.samples += jobs.size();
+            for (std::size_t i = 0; i < jobs.size(); ++i) {
+                const std::size_t l = local(jobs[i]);
+                mom[l].add(out[i].luminance());
+                sum[l] += out[i];
+            }
+            return true;
+        };
+        run_round(0);
+        if (ad.unbiased) {
+            // Samples needed for the target error, from the pilot's variance; then a fresh
+            // estimate from only those.
+            for (std::size_t l = 0; l < mom.size(); ++l) {
+                const double target = ad.threshold * std::max(mom[l].mean(), 1e-3);
+                const double n = std::ceil(mom[l].variance() / (target * target));
+                want[l] = uint32_t(std::clamp(n, 1.0, double(ad.max_spp - ad.pilot)));
+                if (ad.max_spp == ad.pilot) want[l] = 0;
+                if (want[l] > 0) {
+                    mom[l] = {};
+                    sum[l] = RGB{0.f};
+                }
+            }
+            run_round(1);
+        } else {
+            for (uint32_t round = 1;; ++round) {
+                for (std::size_t l = 0; l < mom.size(); ++l) {
+                    const bool noisy = mom[l].relative_error() > ad.threshold;
+                    want[l] = noisy ? std::min(mom[l].n, ad.max_spp - mom[l].n) : 0;
+                }
+                if (!run_round(round)) break;
+            }
+        }
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
+                const std::size_t p = std::size_t(y) * scene_.film.width + x;
+                acc.sum[p] += sum[l];
+                acc.count[p] += mom[l].n;
+            }
+    }
+
+  private:
+    const Scene& scene_;
+    const CameraIntegrator& integrator_;
+    const RenderOptions& opt_;
+};
+
+RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
+                           const RenderOptions& opt) {
+    RenderResult result;
+    Accumulator acc(scene.film.width, scene.film.height);
+    const std::vector<Tile> tiles = make_tiles(scene.film.width, scene.film.height, opt.tile_size);
+    const CameraDriver driver(scene, integrator, opt);
+    struct Scratch {
+        std::unique_ptr<IntegratorWorkspace> ws;
+        std::vector<SampleJob> jobs;
+        std::vector<RGB> out;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    tbb::enumerable_thread_specific<RenderStats> stats;
+    std::atomic<std::size_t> done{0};
+    const int threads = resolve_threads(opt.threads);
+    const bool adaptive = scene.render.adaptive.enabled;
+    const bool progressive = opt.time_limit > 0.f || opt.max_passes > 1;
+
+    PassControl control(opt);
+    uint32_t passes = 0;
+    {
+        std::unique_ptr<ProgressBar> bar;
+        if (opt.progress && !progressive && isatty(fileno(stderr)))
+            bar = std::make_unique<ProgressBar>(done, tiles.size());
+        tbb::task_arena arena(threads);
+        do {
+            const uint32_t pass = passes;
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                        Scratch& s = scratch.local();
+                        if (!s.ws) s.ws = integrator.make_workspace();
+                        RenderStats& st = stats.local();
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                            if (adaptive)
+                                driver.adaptive_tile(tiles[i], acc, *s.ws, st, s.jobs, s.out);
+                            else
+                                driver.fixed_pass(tiles[i], pass, acc, *s.ws, st, s.jobs, s.out);
+                            done.fetch_add(1, std::memory_order_relaxed);
+                        }
+                    });
+            });
+            ++passes;
+        } while (!adaptive && control.another(passes, [&] { return acc.film(); }));
+    }
+    result.stats.wall_seconds = control.elapsed();
+    for (const RenderStats& s : stats) result.stats.merge(s);
+    result.stats.threads = threads;
+    result.stats.passes = passes;
+    result.film = acc.film();
+    result.samples_per_pixel = acc.count;
+    return result;
+}
+
+RenderResult render_light(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
+    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
+        throw InputError(scene.source, 0,
+                         "the light tracer needs a pinhole perspective camera (no lens_radius)");
+    const LightSet lights(scene);
+    if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
+    const LightTracer tracer(scene, accel, lights, opt.seed);
+    const int threads = resolve_threads(opt.threads);
+    const uint64_t per_pass =
+        uint64_t(scene.film.width) * uint64_t(scene.film.height) * uint64_t(opt.spp);
+    constexpr uint32_t kChunk = 4096;
+    const std::size_t chunks = std::size_t((per_pass + kChunk - 1) / kChunk);
+    std::vector<RGB> sum(std::size_t(scene.film.width) * scene.film.height);
+    std::vector<std::vector<Splat>> splats(chunks);
+    tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
+    tbb::enumerable_thread_specific<RenderStats> stats;
+    PassControl control(opt);
+    uint32_t passes = 0;
+    auto image = [&] {
+        Film f(scene.film.width, scene.film.height);
+        // A pixel's estimate is its splat sum over the number of paths traced.
+        const float inv = float(1.0 / (double(per_pass) * passes));
+        for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
+        return f;
+    };
+    tbb::task_arena arena(threads);
+    do {
+        const uint64_t base = uint64_t(passes) * per_pass;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  LightTracerWorkspace& ws = workspaces.local();
+                                  RenderStats& st = stats.local();
+                                  for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                      const uint64_t first = uint64_t(c) * kChunk;
+                                      const uint32_t n =
+                                          uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
+                                      splats[c].clear();
+                                      tracer.trace(base + first, n, ws, splats[c], st);
+                                  }
+                              });
+        });
+        StageClock clock;
+        std::size_t count = 0;
+        for (const std::vector<Splat>& list : splats) {
+            for (const Splat& s : list) sum[s.pixel] += s.value;
+            count += list.size();
+        }
+        RenderStats& st = stats.local();
+        st.stage_items[int(Stage::Accumulate)] += count;
+        st.stage_seconds[int(Stage::Accumulate)] += clock.lap();
+        ++passes;
+    } while (control.another(passes, image));
+    RenderResult result;
+    result.stats.wall_seconds = control.elapsed();
+    for (const RenderStats& s : stats) result.stats.merge(s);
+    result.stats.threads = threads;
+    result.stats.passes = passes;
+    result.film = image();
+    result.samples_per_pixel.assign(sum.size(), opt.spp * passes);
+    return result;
+}
+
 }  // namespace
 
 int resolve_threads(int requested) {
@@ -67,38 +359,21 @@ int resolve_threads(int requested) {
 }
 
 RenderResult render(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
-    RenderResult result;
-    result.film = Film(scene.film.width, scene.film.height);
-    const std::vector<Tile> tiles = make_tiles(scene.film.width, scene.film.height, opt.tile_size);
-    const WhittedIntegrator integrator(scene, accel, opt);
-    tbb::enumerable_thread_specific<WhittedWorkspace> workspaces;
-    tbb::enumerable_thread_specific<RenderStats> stats;
-    std::atomic<std::size_t> done{0};
-    const int threads = resolve_threads(opt.threads);
-
-    const auto start = std::chrono::steady_clock::now();
-    {
-        std::unique_ptr<ProgressBar> bar;
-        if (opt.progress && isatty(fileno(stderr)))
-            bar = std::make_unique<ProgressBar>(done, tiles.size());
-        tbb::task_arena arena(threads);
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  WhittedWorkspace& ws = workspaces.local();
-                                  RenderStats& st = stats.local();
-                                  for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                      integrator.render_tile(tiles[i], result.film, ws, st);
-                                      done.fetch_add(1, std::memory_order_relaxed);
-                                  }
-                              });
-        });
+    switch (scene.render.integrator) {
+        case IntegratorType::Light:
+            return render_light(scene, accel, opt);
+        case IntegratorType::Path:
+        case IntegratorType::Distributed: {
+            const LightSet lights(scene);
+            const PathIntegrator integrator(scene, accel, lights, opt.seed,
+                                            scene.render.integrator == IntegratorType::Distributed);
+            return render_camera(scene, integrator, opt);
+        }
+        case IntegratorType::Whitted:
+            break;
     }
-    result.stats.wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (const RenderStats& s : stats) result.stats.merge(s);
-    result.stats.threads = threads;
-    return result;
+    const WhittedIntegrator integrator(scene, accel, opt.seed);
+    return render_camera(scene, integrator, opt);
 }
 
 }  // namespace foton

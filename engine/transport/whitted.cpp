@@ -5,6 +5,7 @@
 #include "engine/core/optics.h"
 #include "engine/core/rng.h"
 #include "engine/core/sampler.h"
+#include "engine/core/warp.h"
 
 namespace foton {
 
@@ -21,42 +22,24 @@ RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
     return f;
 }
 
-// The streams of counter-based randomness used by the renderer.
-enum RandomStream : uint64_t { kPixelStream = 1, kLightStream = 2 };
-
 }  // namespace
 
-WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Intersector& accel,
-                                     const RenderOptions& options)
-    : scene_(scene), accel_(accel), options_(options) {}
+WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Intersector& accel, uint64_t seed)
+    : scene_(scene), accel_(accel), seed_(seed) {}
 
-uint64_t WhittedIntegrator::global_sample(const Tile& tile, uint32_t slot) const {
-    const uint32_t spp = options_.spp;
-    const uint32_t local = slot / spp;
-    const int tw = tile.x1 - tile.x0;
-    const uint64_t x = uint64_t(tile.x0 + int(local) % tw), y = uint64_t(tile.y0 + int(local) / tw);
-    return (y * uint64_t(scene_.film.width) + x) * spp + slot % spp;
-}
-
-void WhittedIntegrator::generate(const Tile& tile, WhittedWorkspace& ws) const {
-    const uint32_t spp = options_.spp;
-    const std::size_t n = std::size_t(tile.pixels()) * spp;
+void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const {
+    const std::size_t n = jobs.size();
     ws.rays.clear();
     ws.rays.reserve(n);
     ws.weight.assign(n, RGB{1.f});
-    ws.radiance.assign(n, RGB{0.f});
-    uint32_t slot = 0;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
-            for (uint32_t s = 0; s < spp; ++s, ++slot) {
-                const Point2 jitter = sample_pattern(scene_.render.sampler, s, spp, options_.seed,
-                                                     rng::hash(kPixelStream, pixel, 0, 0));
-                Vec3 o, d;
-                scene_.camera.generate(float(x) + jitter.x, float(y) + jitter.y, o, d);
-                ws.rays.push(o, d, 0.f, kInfinity, slot);
-            }
-        }
+    for (uint32_t slot = 0; slot < n; ++slot) {
+        const SampleJob& j = jobs[slot];
+        const Point2 jitter = pixel_sample(scene_, j, seed_);
+        const Point2 lens = {rng::uniform(seed_, kLensStream, j.id, 0),
+                             rng::uniform(seed_, kLensStream, j.id, 1)};
+        Vec3 o, d;
+        scene_.camera.generate(float(j.x) + jitter.x, float(j.y) + jitter.y, lens, o, d);
+        ws.rays.push(o, d, 0.f, kInfinity, slot);
     }
 }
 
@@ -95,7 +78,7 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Material& m, 
         const uint64_t key = rng::hash(kLightStream, sample_index, depth, li);
         const float inv_n = 1.f / float(al.samples);
         for (uint32_t k = 0; k < al.samples; ++k) {
-            const Point2 uv = sample_pattern(al.sampler, k, al.samples, options_.seed, key);
+            const Point2 uv = sample_pattern(al.sampler, k, al.samples, seed_, key);
             const Vec3 q = al.corner + al.edge1 * uv.x + al.edge2 * uv.y;
             const Vec3 to = q - sp.p;
             const float d2 = length_squared(to), d = std::sqrt(d2);
@@ -108,7 +91,44 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Material& m, 
     }
 }
 
-void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace& ws) const {
+void WhittedIntegrator::shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d,
+                                      const RGB& weight, uint32_t slot, uint64_t sample_index,
+                                      uint32_t depth, WhittedWorkspace& ws,
+                                      std::vector<RGB>& radiance) const {
+    const warp::Frame frame(sp.ns);
+    const Vec3 wo = frame.to_local(-d);
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    // Ambient light reflected by the diffuse lobes, as the thesis' c_ambient term.
+    radiance[slot] += weight * m.base_color * scene_.ambient.radiance() * m.c_diffuse;
+    if (m.bsdf.has_non_delta()) {
+        // direct_light() evaluates the material's Phong model; hand it a proxy whose BRDF is
+        // the BSDF by queuing the shadow rays here instead.
+        const std::size_t first = ws.shadow.size();
+        Material probe;
+        probe.c_diffuse = 1.f;
+        probe.base_color = RGB{kPi};  // brdf() = 1: the value becomes weight * incident * cos
+        direct_light(sp, probe, -d, weight, slot, sample_index, depth, ws);
+        for (std::size_t k = first; k < ws.shadow.size(); ++k) {
+            const Vec3 wi = ws.shadow.direction(k);
+            const RGB f = m.bsdf.f(wo, frame.to_local(wi), ctx);
+            ws.shadow_value[k] = ws.shadow_value[k] * f;
+        }
+    }
+    if (depth >= scene_.render.max_depth) return;
+    Vec3 dirs[Bsdf::kMaxLobes * 2];
+    RGB w[Bsdf::kMaxLobes * 2];
+    const int n = m.bsdf.specular_directions(wo, ctx, dirs, w, Bsdf::kMaxLobes * 2);
+    for (int k = 0; k < n; ++k) {
+        const RGB wk = weight * w[k];
+        if (wk.max_component() < scene_.render.min_contribution) continue;
+        const Vec3 wi = frame.to_world(dirs[k]);
+        ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+        ws.next_weight.push_back(wk);
+    }
+}
+
+void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs,
+                              WhittedWorkspace& ws, std::vector<RGB>& radiance) const {
     ws.shadow.clear();
     ws.shadow_value.clear();
     ws.next.clear();
@@ -126,7 +146,7 @@ void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace
         const RGB& weight = ws.weight[i];
         const uint32_t geom = ws.hits.geom[i];
         if (geom == kNoHit) {
-            ws.radiance[slot] += weight * scene_.background;
+            radiance[slot] += weight * scene_.background;
             continue;
         }
         const Vec3 o = ws.rays.origin(i), d = ws.rays.direction(i);
@@ -134,16 +154,21 @@ void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace
                                            ws.hits.u[i], ws.hits.v[i], o, d);
         const Material& m = scene_.materials[scene_.objects[geom].material];
         const Vec3 wo = -d;
+        if (sp.front_face && !m.emission.is_black()) radiance[slot] += weight * m.emission;
         switch (m.type) {
             case MaterialType::Emitter:
-                if (sp.front_face) ws.radiance[slot] += weight * m.emission;
+                break;
+            case MaterialType::Generic:
+                shade_generic(sp, m, d, weight, slot,
+                              scene_.lights.areas.empty() ? 0 : jobs[slot].id, depth, ws,
+                              radiance);
                 break;
             case MaterialType::Matte:
             case MaterialType::Phong:
             case MaterialType::Reflective: {
-                ws.radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
+                radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
                 // The sample index only keys area-light sampling; skip it when there is none.
-                const uint64_t sample = scene_.lights.areas.empty() ? 0 : global_sample(tile, slot);
+                const uint64_t sample = scene_.lights.areas.empty() ? 0 : jobs[slot].id;
                 direct_light(sp, m, wo, weight, slot, sample, depth, ws);
                 if (m.type == MaterialType::Reflective) {
                     Vec3 r = reflect(d, sp.ns);
@@ -173,10 +198,12 @@ void WhittedIntegrator::shade(uint32_t depth, const Tile& tile, WhittedWorkspace
     }
 }
 
-void WhittedIntegrator::render_tile(const Tile& tile, Film& film, WhittedWorkspace& ws,
-                                    RenderStats& stats) const {
+void WhittedIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
+                              std::vector<RGB>& radiance, RenderStats& stats) const {
+    WhittedWorkspace& ws = static_cast<WhittedWorkspace&>(base);
     StageClock clock;
-    generate(tile, ws);
+    generate(jobs, ws);
+    radiance.assign(jobs.size(), RGB{0.f});
     stats.camera_rays += ws.rays.size();
     stats.stage_items[int(Stage::Generate)] += ws.rays.size();
     stats.stage_seconds[int(Stage::Generate)] += clock.lap();
@@ -186,14 +213,14 @@ void WhittedIntegrator::render_tile(const Tile& tile, Film& film, WhittedWorkspa
         stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
         stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
 
-        shade(depth, tile, ws);
+        shade(depth, jobs, ws, radiance);
         stats.stage_items[int(Stage::Shade)] += ws.rays.size();
         stats.stage_seconds[int(Stage::Shade)] += clock.lap();
 
         if (!ws.shadow.empty()) {
             accel_.occluded(ws.shadow, ws.occluded, stats.trace);
             for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-                if (!ws.occluded[i]) ws.radiance[ws.shadow.id[i]] += ws.shadow_value[i];
+                if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
             stats.shadow_rays += ws.shadow.size();
             stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
             stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
@@ -202,20 +229,6 @@ void WhittedIntegrator::render_tile(const Tile& tile, Film& film, WhittedWorkspa
         std::swap(ws.rays, ws.next);
         std::swap(ws.weight, ws.next_weight);
     }
-
-    // Box filter: each pixel is the mean of its own samples, summed in sample order.
-    const uint32_t spp = options_.spp;
-    const float inv = 1.f / float(spp);
-    uint32_t slot = 0;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            RGB sum;
-            for (uint32_t s = 0; s < spp; ++s) sum += ws.radiance[slot++];
-            film.at(x, y) = sum * inv;
-        }
-    }
-    stats.stage_items[int(Stage::Accumulate)] += std::size_t(tile.pixels());
-    stats.stage_seconds[int(Stage::Accumulate)] += clock.lap();
 }
 
 }  // namespace foton

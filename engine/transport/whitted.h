@@ -4,40 +4,48 @@
 // each carries if unoccluded) and a batch of reflected/refracted rays (with their path
 // weights), the shadow rays are tested, and the loop repeats on the secondary batch until
 // it is empty, the depth limit is reached, or every weight falls below the cut-off.
+#include "camera_integrator.h"
+#include "engine/accel/intersector.h"
 #include "engine/core/aligned.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
-#include "render.h"
 #include "surface.h"
 
 namespace foton {
 
 // Per-thread scratch reused from tile to tile.
-struct WhittedWorkspace {
+struct WhittedWorkspace : IntegratorWorkspace {
     RayBatch rays, next, shadow;
     HitBatch hits;
     std::vector<RGB> weight, next_weight, shadow_value;
     std::vector<uint8_t> occluded;
-    std::vector<RGB> radiance;  // per pixel sample of the tile
 };
 
-class WhittedIntegrator {
+class WhittedIntegrator : public CameraIntegrator {
   public:
-    WhittedIntegrator(const Scene& scene, const Intersector& accel, const RenderOptions& options);
-    // Renders one tile into `film` (only the tile's pixels are written).
-    void render_tile(const Tile& tile, Film& film, WhittedWorkspace& ws, RenderStats& stats) const;
+    WhittedIntegrator(const Scene& scene, const Intersector& accel, uint64_t seed);
+    std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
+        return std::make_unique<WhittedWorkspace>();
+    }
+    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+               std::vector<RGB>& radiance, RenderStats& stats) const override;
 
   private:
-    void generate(const Tile& tile, WhittedWorkspace& ws) const;
-    void shade(uint32_t depth, const Tile& tile, WhittedWorkspace& ws) const;
+    void generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const;
+    void shade(uint32_t depth, const std::vector<SampleJob>& jobs, WhittedWorkspace& ws,
+               std::vector<RGB>& radiance) const;
     void direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo, const RGB& weight,
                       uint32_t slot, uint64_t sample_index, uint32_t depth,
                       WhittedWorkspace& ws) const;
-    uint64_t global_sample(const Tile& tile, uint32_t slot) const;
+    // The physically based materials under the Whitted model: their BSDF lit by the point,
+    // directional, spot and area lights, and their delta lobes followed recursively.
+    void shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d,
+                       const RGB& weight, uint32_t slot, uint64_t sample_index, uint32_t depth,
+                       WhittedWorkspace& ws, std::vector<RGB>& radiance) const;
 
     const Scene& scene_;
     const Intersector& accel_;
-    RenderOptions options_;
+    uint64_t seed_;
 };
 
 }  // namespace foton

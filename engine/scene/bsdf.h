@@ -1,0 +1,132 @@
+#pragma once
+// Reflectance models of the photon-mapping thesis (appendix A) as lobes, and a BSDF as a
+// weighted set of lobes (plastic = Lambert + microfacet, the thesis' Phong = Lambert +
+// Phong lobe, ...). Materials have no textures, so a material's BSDF is built once at load
+// time and used at every hit in the local shading frame: z = shading normal on the side the
+// ray came from, so wo.z > 0 for the incoming direction (up to shading-normal leaning).
+//
+// Conventions (pbrt's): f(wo, wi) with wo towards the viewer (the camera, or the previous
+// vertex of a camera path) and wi towards the light. Sampling returns wi, the value f and
+// the solid-angle pdf; for a delta lobe f carries the 1/|cos| so that f |cos| / pdf is the
+// path weight as for every other lobe, and eval() ignores delta lobes.
+#include <array>
+#include <cstdint>
+
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+#include "microfacet.h"
+
+namespace foton {
+
+// Radiance flows against the sampling direction in camera paths, importance in light
+// paths; refraction scales the two differently (Veach's adjoint BSDF).
+enum class Transport : uint8_t { Radiance, Importance };
+
+struct BsdfContext {
+    bool front = true;  // the ray arrived on the side the geometry's normal points to
+    Transport mode = Transport::Radiance;
+};
+
+enum LobeFlags : uint8_t {
+    kDiffuse = 1,
+    kGlossy = 2,
+    kSpecular = 4,  // a delta lobe
+    kReflection = 8,
+    kTransmission = 16,
+};
+
+enum class FresnelKind : uint8_t { None, Dielectric, Conductor };
+
+struct Fresnel {
+    FresnelKind kind = FresnelKind::None;
+    float ior = 1.5f;          // dielectric
+    RGB eta{1.f}, k{0.f};      // conductor, per channel
+    RGB eval(float cos_i) const;
+};
+
+enum class LobeType : uint8_t {
+    Lambert,
+    OrenNayar,
+    Phong,        // modified, energy-conserving Phong (Lafortune & Willems)
+    Mirror,       // specular reflection with an optional (conductor) Fresnel
+    Dielectric,   // specular reflection + transmission with dielectric Fresnel, TIR
+    Microfacet,   // Torrance–Sparrow: F D G / (4 cos_o cos_i)
+};
+
+struct Lobe {
+    LobeType type = LobeType::Lambert;
+    RGB color{0.f};      // reflectance / tint (includes the material's mix weight)
+    RGB transmit{0.f};   // dielectric transmission tint
+    float on_a = 1.f, on_b = 0.f;  // Oren–Nayar A, B from sigma
+    float exponent = 1.f;          // Phong
+    Fresnel fresnel;
+    MicrofacetDistribution dist;
+
+    uint8_t flags() const;
+    bool is_delta() const { return type == LobeType::Mirror || type == LobeType::Dielectric; }
+
+    static Lobe lambert(const RGB& r);
+    static Lobe oren_nayar(const RGB& r, float sigma_radians);
+    static Lobe phong(const RGB& ks, float exponent);
+    static Lobe mirror(const RGB& r, const Fresnel& f);
+    static Lobe dielectric(float ior, const RGB& reflect, const RGB& transmit);
+    static Lobe microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f);
+};
+
+struct BsdfSample {
+    Vec3 wi;
+    RGB f;
+    float pdf = 0.f;
+    uint8_t flags = 0;
+    bool is_delta() const { return (flags & kSpecular) != 0; }
+};
+
+class Bsdf {
+  public:
+    static constexpr int kMaxLobes = 8;
+
+    // Adds a lobe; returns false when the BSDF is full.
+    bool add(const Lobe& lobe);
+    int size() const { return n_; }
+    const Lobe& lobe(int i) const { return lobes_[std::size_t(i)]; }
+    bool empty() const { return n_ == 0; }
+    bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
+    bool has_delta() const { return (flags_ & kSpecular) != 0; }
+    uint8_t flags() const { return flags_; }
+    // Scales every lobe's colour (for mixtures).
+    void scale(float w);
+
+    // Sum of the non-delta lobes.
+    RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;
+    float pdf(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;
+    // Picks a lobe with uc by its sampling weight, samples it with u. `only` restricts the
+    // choice to lobes with any of these flags (the distributed ray tracer samples only
+    // glossy and specular lobes); the pdf is then that of the restricted mixture.
+    bool sample(const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx, BsdfSample& s,
+                uint8_t only = 0xff) const;
+    // Same restriction for f and pdf (with the restricted selection probabilities).
+    RGB f_restricted(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx, uint8_t only) const;
+    float pdf_restricted(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx,
+                         uint8_t only) const;
+
+    // The deterministic directions of the delta lobes and their weights f |cos| / 1, for
+    // Whitted-style branching: up to two per dielectric lobe, one per mirror.
+    int specular_directions(const Vec3& wo, const BsdfContext& ctx, Vec3* dirs, RGB* weights,
+                            int max_out) const;
+
+  private:
+    float weight_sum(uint8_t only) const;
+    std::array<Lobe, kMaxLobes> lobes_{};
+    std::array<float, kMaxLobes> weight_{};  // sampling weight of each lobe
+    int n_ = 0;
+    uint8_t flags_ = 0;
+};
+
+// Single-lobe operations (exposed for the tests' chi-square and albedo checks).
+RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx,
+                 BsdfSample& s);
+
+}  // namespace foton

@@ -1,0 +1,312 @@
+#include "light_set.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/core/warp.h"
+
+namespace foton {
+
+const char* emitter_name(EmitterType t) {
+    switch (t) {
+        case EmitterType::Point:
+            return "point";
+        case EmitterType::Spot:
+            return "spot";
+        case EmitterType::Directional:
+            return "directional";
+        case EmitterType::Rect:
+            return "rectangle";
+        case EmitterType::Sphere:
+            return "sphere";
+        case EmitterType::Mesh:
+            return "mesh";
+    }
+    return "?";
+}
+
+float Emitter::spot_falloff(float c) const {
+    if (c <= cos_outer) return 0.f;
+    if (c >= cos_inner) return 1.f;
+    const float x = (c - cos_outer) / (cos_inner - cos_outer);
+    return x * x * (3.f - 2.f * x);
+}
+
+LightSet::LightSet(const Scene& scene) : scene_(&scene) {
+    bounds_ = scene.bounds();
+    center_ = bounds_.center();
+    radius_ = 0.5f * length(bounds_.diagonal());
+    if (!(radius_ > 0.f)) radius_ = 1.f;
+    geom_to_emitter_.assign(scene.objects.size(), -1);
+    const Lights& L = scene.lights;
+    for (const PointLight& pl : L.points) {
+        Emitter e;
+        e.type = EmitterType::Point;
+        e.p = pl.position;
+        e.value = pl.intensity;
+        e.power = pl.intensity * (4.f * kPi);
+        emitters_.push_back(e);
+    }
+    for (const SpotLight& sl : L.spots) {
+        Emitter e;
+        e.type = EmitterType::Spot;
+        e.p = sl.position;
+        e.n = sl.direction;
+        e.value = sl.intensity;
+        e.cos_inner = sl.cos_inner;
+        e.cos_outer = sl.cos_outer;
+        // Full intensity to the inner cone, smoothstep to the outer: halfway is close enough
+        // for choosing lights by power.
+        e.power = sl.intensity *
+                  (2.f * kPi * (1.f - 0.5f * (sl.cos_inner + sl.cos_outer)));
+        emitters_.push_back(e);
+    }
+    for (const DirectionalLight& dl : L.directionals) {
+        Emitter e;
+        e.type = EmitterType::Directional;
+        e.n = dl.direction;
+        e.value = dl.radiance;
+        e.power = dl.radiance * (kPi * radius_ * radius_);
+        emitters_.push_back(e);
+    }
+    for (const AreaLight& al : L.areas) {
+        Emitter e;
+        e.type = EmitterType::Rect;
+        e.p = al.corner;
+        e.e1 = al.edge1;
+        e.e2 = al.edge2;
+        e.n = al.normal;
+        e.area = al.area;
+        e.value = al.radiance;
+        e.geom = al.geometry;
+        e.power = al.radiance * (kPi * al.area);
+        if (e.geom < geom_to_emitter_.size()) geom_to_emitter_[e.geom] = int(emitters_.size());
+        emitters_.push_back(e);
+    }
+    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+        const Object& o = scene.objects[g];
+        const Material& m = scene.materials[o.material];
+        if (m.emission.is_black() || m.type == MaterialType::Emitter) continue;
+        Emitter e;
+        e.value = m.emission;
+        e.geom = g;
+        if (o.kind == ObjectKind::Sphere) {
+            const Sphere& s = scene.spheres[o.index];
+            e.type = EmitterType::Sphere;
+            e.p = s.center;
+            e.radius = s.radius;
+            e.area = 4.f * kPi * s.radius * s.radius;
+            e.solid_angle = m.emitter_solid_angle;
+        } else {
+            const TriangleMesh& mesh = scene.meshes[o.index];
+            e.type = EmitterType::Mesh;
+            e.mesh = o.index;
+            float acc = 0.f;
+            e.tri_cdf.reserve(mesh.num_triangles());
+            for (uint32_t t = 0; t < mesh.num_triangles(); ++t) {
+                Vec3 p0, p1, p2;
+                mesh.corners(t, p0, p1, p2);
+                acc += 0.5f * length(cross(p1 - p0, p2 - p0));
+                e.tri_cdf.push_back(acc);
+            }
+            e.area = acc;
+            if (!(acc > 0.f)) continue;
+        }
+        e.power = e.value * (kPi * e.area);
+        geom_to_emitter_[g] = int(emitters_.size());
+        emitters_.push_back(std::move(e));
+    }
+    // Selection by power (luminance); lights of zero power are never chosen.
+    float total = 0.f;
+    for (const Emitter& e : emitters_) total += std::max(0.f, e.power.luminance());
+    for (const Emitter& e : emitters_) {
+        const float p = total > 0.f ? std::max(0.f, e.power.luminance()) / total
+                                    : 1.f / float(emitters_.size());
+        pmf_.push_back(p);
+        cdf_.push_back((cdf_.empty() ? 0.f : cdf_.back()) + p);
+    }
+    if (!cdf_.empty()) cdf_.back() = 1.f;
+}
+
+uint32_t LightSet::select(float u, float& pmf) const {
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+    uint32_t i = uint32_t(std::min<std::ptrdiff_t>(it - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));
+    while (pmf_[i] == 0.f && i > 0) --i;  // u on a zero-width step
+    pmf = pmf_[i];
+    return i;
+}
+
+void LightSet::sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const {
+    const TriangleMesh& mesh = scene_->meshes[e.mesh];
+    const float target = uc * e.area;
+    const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
+    const uint32_t t =
+        uint32_t(std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
+    Vec3 p0, p1, p2;
+    mesh.corners(t, p0, p1, p2);
+    const Point2 b = warp::uniform_triangle(u);
+    q = p0 * (1.f - b.x - b.y) + p1 * b.x + p2 * b.y;
+    n = normalize(cross(p1 - p0, p2 - p0));
+}
+
+RGB LightSet::Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const {
+    const Emitter& e = emitters_[i];
+    if (e.is_delta()) return RGB{0.f};
+    return dot(n_geom, w) > 0.f ? e.value : RGB{0.f};
+}
+
+bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const {
+    const Emitter& e = emitters_[i];
+    switch (e.type) {
+        case EmitterType::Point:
+        case EmitterType::Spot: {
+            const Vec3 to = e.p - p;
+            const float d2 = length_squared(to);
+            if (d2 == 0.f) return false;
+            s.dist = std::sqrt(d2);
+            s.wi = to / s.dist;
+            s.p_light = e.p;
+            s.pdf = 1.f;
+            float f = 1.f;
+            if (e.type == EmitterType::Spot) f = e.spot_falloff(dot(-s.wi, e.n));
+            if (f == 0.f) return false;
+            s.Li = e.value * (f / d2);
+            return true;
+        }
+        case EmitterType::Directional:
+            s.wi = -e.n;
+            s.dist = kInfinity;
+            s.p_light = p - e.n * (2.f * radius_);
+            s.pdf = 1.f;
+            s.Li = e.value;
+            return true;
+        case EmitterType::Rect:
+        case EmitterType::Mesh:
+        case EmitterType::Sphere: {
+            Vec3 q, nq;
+            if (e.type == EmitterType::Rect) {
+                q = e.p + e.e1 * u.x + e.e2 * u.y;
+                nq = e.n;
+            } else if (e.type == EmitterType::Mesh) {
+                sample_mesh_point(e, u, uc, q, nq);
+            } else {
+                const float dc2 = length_squared(e.p - p);
+                if (e.solid_angle && dc2 > e.radius * e.radius * 1.0001f) {
+                    // Uniform in the cone the sphere subtends, then the near intersection.
+                    const float dc = std::sqrt(dc2);
+                    const Vec3 wc = (e.p - p) / dc;
+                    const float sin2_max = e.radius * e.radius / dc2;
+                    const float cos_max = std::sqrt(std::max(0.f, 1.f - sin2_max));
+                    const warp::Frame fr(wc);
+                    const Vec3 w = fr.to_world(warp::uniform_cone(u, cos_max));
+                    const float ct = std::min(1.f, dot(w, wc));
+                    const float st2 = std::max(0.f, 1.f - ct * ct);
+                    const float ds =
+                        dc * ct - std::sqrt(std::max(0.f, e.radius * e.radius - dc2 * st2));
+                    s.wi = w;
+                    s.dist = ds;
+                    s.p_light = p + w * ds;
+                    s.pdf = warp::uniform_cone_pdf(cos_max);
+                    s.Li = e.value;
+                    return s.pdf > 0.f && ds > 0.f;
+                }
+                const Vec3 d = warp::uniform_sphere(u);
+                q = e.p + d * e.radius;
+                nq = d;
+            }
+            const Vec3 to = q - p;
+            const float d2 = length_squared(to);
+            if (d2 == 0.f) return false;
+            s.dist = std::sqrt(d2);
+            s.wi = to / s.dist;
+            const float cos_l = -dot(nq, s.wi);
+            if (cos_l <= 0.f) return false;  // one-sided: its back faces p
+            s.p_light = q;
+            s.pdf = d2 / (cos_l * e.area);
+            s.Li = e.value;
+            return true;
+        }
+    }
+    return false;
+}
+
+float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const {
+    const Emitter& e = emitters_[i];
+    if (e.is_delta()) return 0.f;
+    if (e.type == EmitterType::Sphere && e.solid_angle) {
+        const float dc2 = length_squared(e.p - p);
+        if (dc2 > e.radius * e.radius * 1.0001f) {
+            const float cos_max = std::sqrt(std::max(0.f, 1.f - e.radius * e.radius / dc2));
+            return warp::uniform_cone_pdf(cos_max);
+        }
+    }
+    const Vec3 to = q - p;
+    const float d2 = length_squared(to);
+    const float cos_l = std::fabs(dot(nq, to)) / std::sqrt(d2);
+    if (cos_l == 0.f) return 0.f;
+    return d2 / (cos_l * e.area);
+}
+
+bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
+                         EmissionSample& s) const {
+    const Emitter& e = emitters_[i];
+    switch (e.type) {
+        case EmitterType::Point:
+            s.p = e.p;
+            s.n = {};
+            s.dir = warp::uniform_sphere(u_dir);
+            s.pdf_pos = 1.f;
+            s.pdf_dir = warp::kUniformSpherePdf;
+            s.Le = e.value;
+            return true;
+        case EmitterType::Spot: {
+            const warp::Frame fr(e.n);
+            const Vec3 local = warp::uniform_cone(u_dir, e.cos_outer);
+            s.p = e.p;
+            s.n = {};
+            s.dir = fr.to_world(local);
+            s.pdf_pos = 1.f;
+            s.pdf_dir = warp::uniform_cone_pdf(e.cos_outer);
+            s.Le = e.value * e.spot_falloff(local.z);
+            return !s.Le.is_black();
+        }
+        case EmitterType::Directional: {
+            // A disc covering the scene's bounding sphere, upstream of it.
+            const warp::Frame fr(e.n);
+            const Point2 d = warp::concentric_disc(u_pos);
+            s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+            s.n = e.n;
+            s.dir = e.n;
+            s.pdf_pos = 1.f / (kPi * radius_ * radius_);
+            s.pdf_dir = 1.f;
+            s.Le = e.value;
+            return true;
+        }
+        case EmitterType::Rect:
+        case EmitterType::Sphere:
+        case EmitterType::Mesh: {
+            Vec3 q, nq;
+            if (e.type == EmitterType::Rect) {
+                q = e.p + e.e1 * u_pos.x + e.e2 * u_pos.y;
+                nq = e.n;
+            } else if (e.type == EmitterType::Sphere) {
+                nq = warp::uniform_sphere(u_pos);
+                q = e.p + nq * e.radius;
+            } else {
+                sample_mesh_point(e, u_pos, uc, q, nq);
+            }
+            const warp::Frame fr(nq);
+            const Vec3 local = warp::cosine_hemisphere(u_dir);
+            s.p = q;
+            s.n = nq;
+            s.dir = fr.to_world(local);
+            s.pdf_pos = 1.f / e.area;
+            s.pdf_dir = warp::cosine_hemisphere_pdf(local.z);
+            s.Le = e.value;
+            return s.pdf_dir > 0.f;
+        }
+    }
+    return false;
+}
+
+}  // namespace foton

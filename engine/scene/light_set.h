@@ -1,0 +1,109 @@
+#pragma once
+// The light sources as the Monte Carlo integrators and the photon mapper see them: every
+// emitter can (1) sample an incident direction at a shading point with its solid-angle pdf,
+// for next event estimation, (2) give that pdf for a direction that a BSDF sample happened
+// to hit it by, for multiple importance sampling, and (3) sample an emitted ray (position
+// and direction, each with its pdf), for light tracing and photon emission. Emitters are
+// chosen in proportion to their power.
+//
+// Point and spot lights fall off with the inverse square law here; the thesis' 1/(1 + a d^2)
+// attenuation is a Whitted-model device and applies only to the `raytracer` integrator.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+#include "scene.h"
+
+namespace foton {
+
+enum class EmitterType : uint8_t { Point, Spot, Directional, Rect, Sphere, Mesh };
+const char* emitter_name(EmitterType t);
+
+struct Emitter {
+    EmitterType type = EmitterType::Point;
+    Vec3 p;         // position, rectangle corner or sphere centre
+    Vec3 n;         // rectangle normal, spot axis, or the direction directional light travels
+    Vec3 e1, e2;    // rectangle edges
+    float radius = 0.f;   // sphere
+    float area = 0.f;     // rectangle, sphere, mesh
+    float cos_inner = 1.f, cos_outer = 0.f;  // spot
+    RGB value;            // radiance (area kinds), intensity (point, spot), irradiance (dir.)
+    uint32_t geom = 0xffffffffu;  // the scene object that shows it (area kinds)
+    uint32_t mesh = 0;            // Mesh: index into Scene::meshes
+    std::vector<float> tri_cdf;   // Mesh: area CDF over its triangles
+    bool solid_angle = true;      // Sphere: sample the cone it subtends (else its area)
+    RGB power;                    // emitted flux
+
+    bool is_delta_position() const {
+        return type == EmitterType::Point || type == EmitterType::Spot;
+    }
+    bool is_delta_direction() const { return type == EmitterType::Directional; }
+    bool is_delta() const { return is_delta_position() || is_delta_direction(); }
+    float spot_falloff(float cos_theta) const;
+};
+
+// A direction towards the light from a shading point.
+struct LightSample {
+    Vec3 wi;            // unit, from the shading point towards the light
+    float dist = 0.f;   // to the sampled point (infinity for directional)
+    RGB Li;             // incident radiance (intensity / d^2 for delta lights)
+    float pdf = 0.f;    // solid angle density (1 for delta lights); selection not included
+    Vec3 p_light;       // the sampled point on the light
+};
+
+// An emitted ray.
+struct EmissionSample {
+    Vec3 p, dir;
+    Vec3 n;            // surface normal at p (zero for point and spot lights)
+    RGB Le;            // radiance (area), intensity (point, spot) or irradiance (directional)
+    float pdf_pos = 1.f;  // area density (1 for delta positions)
+    float pdf_dir = 1.f;  // solid angle density (1 for directional)
+};
+
+class LightSet {
+  public:
+    LightSet() = default;
+    explicit LightSet(const Scene& scene);
+
+    std::size_t size() const { return emitters_.size(); }
+    bool empty() const { return emitters_.empty(); }
+    const Emitter& emitter(std::size_t i) const { return emitters_[i]; }
+    // Emitter index of a scene object, or -1 when it does not emit.
+    int emitter_of(uint32_t geom) const {
+        return geom < geom_to_emitter_.size() ? geom_to_emitter_[geom] : -1;
+    }
+
+    // Chooses an emitter in proportion to its power.
+    uint32_t select(float u, float& pmf) const;
+    float pmf(uint32_t i) const { return pmf_[i]; }
+
+    // Samples a direction from `p` towards emitter i; u and uc are uniform. False when the
+    // light cannot reach p (behind a one-sided emitter, outside a spot cone, ...).
+    bool sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const;
+    // Solid-angle density with which sample_li would have produced the point `q` (normal nq
+    // on the emitting side) seen from `p`.
+    float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const;
+    // Radiance leaving an area emitter at a point with geometric normal n (the geometry's own
+    // orientation) towards w: one-sided, zero behind.
+    RGB Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const;
+    // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),
+    // direction with u_dir.
+    bool sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc, EmissionSample& s) const;
+
+    const Bounds3& scene_bounds() const { return bounds_; }
+
+  private:
+    void sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const;
+
+    const Scene* scene_ = nullptr;
+    std::vector<Emitter> emitters_;
+    std::vector<float> pmf_, cdf_;
+    std::vector<int> geom_to_emitter_;
+    Bounds3 bounds_;
+    Vec3 center_;
+    float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
+};
+
+}  // namespace foton

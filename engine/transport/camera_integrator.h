@@ -1,0 +1,56 @@
+#pragma once
+// What the tile driver (render.cpp) asks of an integrator that starts its paths at the
+// camera (raytracer, path, distributed): the radiance of a list of pixel samples. The driver
+// decides which samples (fixed count, progressive passes, adaptive rounds) and accumulates
+// them; the integrator traces them as a wavefront of ray batches.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/core/rgb.h"
+#include "engine/core/rng.h"
+#include "engine/core/sampler.h"
+#include "engine/core/stats.h"
+#include "engine/scene/scene.h"
+
+namespace foton {
+
+// One pixel sample: the film position comes from point `pat_i` of a `pat_n`-point pattern
+// (the scene's sampler) keyed by (pixel, pat_round); `id` keys every other random number of
+// the sample and is unique in the image.
+struct SampleJob {
+    uint32_t x = 0, y = 0;
+    uint32_t pat_i = 0, pat_n = 1, pat_round = 0;
+    uint64_t id = 0;
+};
+
+// The streams of counter-based randomness used by the renderers.
+enum RandomStream : uint64_t {
+    kPixelStream = 1,
+    kLightStream = 2,
+    kPathStream = 3,
+    kLightPathStream = 4,
+    kLensStream = 5,
+};
+
+inline Point2 pixel_sample(const Scene& scene, const SampleJob& j, uint64_t seed) {
+    const uint64_t pixel = uint64_t(j.y) * uint64_t(scene.film.width) + j.x;
+    return sample_pattern(scene.render.sampler, j.pat_i, j.pat_n, seed,
+                          rng::hash(kPixelStream, pixel, j.pat_round, 0));
+}
+
+// Per-thread scratch of an integrator, reused from tile to tile.
+struct IntegratorWorkspace {
+    virtual ~IntegratorWorkspace() = default;
+};
+
+class CameraIntegrator {
+  public:
+    virtual ~CameraIntegrator() = default;
+    virtual std::unique_ptr<IntegratorWorkspace> make_workspace() const = 0;
+    // radiance[i] = the estimate of jobs[i].
+    virtual void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+                       std::vector<RGB>& radiance, RenderStats& stats) const = 0;
+};
+
+}  // namespace foton

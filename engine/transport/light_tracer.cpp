@@ -1,0 +1,156 @@
+#include "light_tracer.h"
+
+#include <cmath>
+
+#include "camera_integrator.h"
+#include "engine/core/warp.h"
+#include "surface.h"
+
+namespace foton {
+
+namespace {
+// Random dimensions: light choice, position (2), direction (2), triangle; then per bounce
+// the BSDF lobe and direction (3) and Russian roulette.
+constexpr uint32_t kDimLightSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5,
+                   kDimFirstBounce = 8, kDimsPerBounce = 4;
+}  // namespace
+
+LightTracer::LightTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                         uint64_t seed)
+    : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {}
+
+float LightTracer::rand(uint64_t path, uint32_t dim) const {
+    return rng::uniform(seed_, kLightPathStream, path, dim);
+}
+
+void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws,
+                        std::vector<Splat>& splats, RenderStats& stats) const {
+    const Camera& cam = scene_.camera;
+    const RenderSettings& rs = scene_.render;
+    StageClock clock;
+    ws.rays.clear();
+    ws.shadow.clear();
+    ws.shadow_value.clear();
+    ws.shadow_pixel.clear();
+    ws.beta.assign(count, RGB{0.f});
+
+    // Joins point p (offset origin o) to the eye; `value` already holds everything but the
+    // camera's importance.
+    auto connect = [&](const Vec3& p, const Vec3& o, const RGB& value, uint32_t slot) {
+        float fx, fy;
+        if (!cam.project(p, fx, fy)) return;
+        const Vec3 to = cam.eye - p;
+        const float dist = length(to);
+        const Vec3 wc = to / dist;
+        const float cos_cam = -dot(wc, cam.w);
+        const RGB v = value * cam.importance(cos_cam, dist);
+        if (v.is_black()) return;
+        const uint32_t pixel =
+            uint32_t(std::min(int(fy), cam.height - 1)) * uint32_t(cam.width) +
+            uint32_t(std::min(int(fx), cam.width - 1));
+        ws.shadow.push(o, wc, 0.f, length(cam.eye - o) * (1.f - 1e-4f), slot);
+        ws.shadow_value.push_back(v);
+        ws.shadow_pixel.push_back(pixel);
+    };
+
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint64_t path = first + k;
+        float pick;
+        const uint32_t li = lights_.select(rand(path, kDimLightSelect), pick);
+        EmissionSample es;
+        if (!lights_.sample_le(li, {rand(path, kDimPos), rand(path, kDimPos + 1)},
+                               {rand(path, kDimDir), rand(path, kDimDir + 1)},
+                               rand(path, kDimTriangle), es))
+            continue;
+        const Emitter& em = lights_.emitter(li);
+        const bool area = !em.is_delta();
+        const float eps = 2e-5f * max_abs_component(es.p);
+        if (area) {
+            // The emitting point itself, seen by the camera.
+            const Vec3 wc = normalize(cam.eye - es.p);
+            const float cos_l = dot(es.n, wc);
+            if (cos_l > 0.f)
+                connect(es.p, es.p + es.n * eps, es.Le * (cos_l / (pick * es.pdf_pos)), k);
+        }
+        const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
+        ws.beta[k] = es.Le * (cos_e / (pick * es.pdf_pos * es.pdf_dir));
+        const Vec3 o = area ? es.p + es.n * eps : es.p;
+        ws.rays.push(o, es.dir, 0.f, kInfinity, k);
+    }
+    stats.samples += count;
+    stats.stage_items[int(Stage::Generate)] += count;
+    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+
+    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
+        accel_.intersect(ws.rays, ws.hits, stats.trace);
+        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+
+        ws.next.clear();
+        const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
+        for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+            const uint32_t geom = ws.hits.geom[i];
+            if (geom == kNoHit) continue;
+            const uint32_t slot = ws.rays.id[i];
+            const uint64_t path = first + slot;
+            const Vec3 d = ws.rays.direction(i);
+            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
+                                               ws.hits.u[i], ws.hits.v[i], ws.rays.origin(i), d);
+            const Material& m = scene_.materials[scene_.objects[geom].material];
+            if (m.bsdf.empty() || vertex > rs.max_depth) continue;
+            RGB& beta = ws.beta[slot];
+            const warp::Frame frame(sp.ns);
+            const Vec3 wl = -d;  // towards the light
+            const Vec3 wo = frame.to_local(wl);
+            const BsdfContext ctx{sp.front_face, Transport::Importance};
+            const float wl_ng = std::fabs(dot(wl, sp.ng));
+            if (wl_ng == 0.f) continue;
+            // Veach's adjoint correction for shading normals: |wl.ns| |w.ng| / (|wl.ng| |w.ns|).
+            const float adj = std::fabs(wo.z) / wl_ng;
+
+            if (m.bsdf.has_non_delta()) {
+                const Vec3 wc = normalize(cam.eye - sp.p);
+                const float c_ng = dot(wc, sp.ng);
+                if (c_ng > 0.f) {
+                    const RGB f = m.bsdf.f(wo, frame.to_local(wc), ctx);
+                    if (!f.is_black())
+                        connect(sp.p, offset_origin(sp, wc), beta * f * (adj * c_ng), slot);
+                }
+            }
+            if (vertex >= rs.max_depth) continue;
+            const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
+            BsdfSample bs;
+            if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)},
+                               ctx, bs))
+                continue;
+            const Vec3 wi = frame.to_world(bs.wi);
+            const float side = dot(wi, sp.ng);
+            if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+            beta *= bs.f * (adj * std::fabs(side) / bs.pdf);
+            if (beta.is_black()) continue;
+            if (vertex >= rs.rr_depth) {
+                const float q = std::min(1.f, beta.max_component());
+                if (rand(path, dim + 3) >= q) continue;
+                beta *= 1.f / q;
+            }
+            ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+        }
+        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.secondary_rays += ws.next.size();
+        std::swap(ws.rays, ws.next);
+    }
+
+    // The connections, tested at once. Splats keep the order the connections were made in,
+    // which depends only on the chunk's paths.
+    if (!ws.shadow.empty()) {
+        accel_.occluded(ws.shadow, ws.occluded, stats.trace);
+        stats.shadow_rays += ws.shadow.size();
+        stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
+        stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
+        for (std::size_t i = 0; i < ws.shadow.size(); ++i)
+            if (!ws.occluded[i]) splats.push_back({ws.shadow_pixel[i], ws.shadow_value[i]});
+    }
+}
+
+}  // namespace foton

@@ -1,0 +1,33 @@
+#pragma once
+// Multiple importance sampling weights for two techniques with one sample each (Veach
+// 1997): the weight of the technique that produced a sample with density pa, when the other
+// would have produced it with density pb.
+#include "engine/scene/scene.h"
+
+namespace foton {
+
+inline float mis_weight(MisHeuristic h, float pa, float pb) {
+    switch (h) {
+        case MisHeuristic::Balance:
+            return pa / (pa + pb);
+        case MisHeuristic::Power: {
+            const float a = pa * pa, b = pb * pb;  // beta = 2
+            return a / (a + b);
+        }
+        case MisHeuristic::Maximum:
+            // Ties go to the first technique; callers pass light sampling first, so the two
+            // weights of a tie still sum to one.
+            return pa >= pb ? 1.f : 0.f;
+        case MisHeuristic::None:
+            return 1.f;
+    }
+    return 1.f;
+}
+
+// The BSDF technique's weight: strict > so that a tie goes to light sampling.
+inline float mis_weight_bsdf(MisHeuristic h, float p_bsdf, float p_light) {
+    if (h == MisHeuristic::Maximum) return p_bsdf > p_light ? 1.f : 0.f;
+    return mis_weight(h, p_bsdf, p_light);
+}
+
+}  // namespace foton
