@@ -90,6 +90,7 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
         Emitter e;
         e.value = m.emission;
         e.geom = g;
+        e.two_sided = m.emission_two_sided;
         if (o.kind == ObjectKind::Sphere) {
             const Sphere& s = scene.spheres[o.index];
             e.type = EmitterType::Sphere;
@@ -152,7 +153,7 @@ void LightSet::sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, 
 RGB LightSet::Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const {
     const Emitter& e = emitters_[i];
     if (e.is_delta()) return RGB{0.f};
-    return dot(n_geom, w) > 0.f ? e.value : RGB{0.f};
+    return dot(n_geom, w) > 0.f || e.two_sided ? e.value : RGB{0.f};
 }
 
 bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const {
@@ -191,6 +192,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                 sample_mesh_point(e, u, uc, q, nq);
             } else {
                 const float dc2 = length_squared(e.p - p);
+                // From inside (two-sided emission) only area sampling applies.
                 if (e.solid_angle && dc2 > e.radius * e.radius * 1.0001f) {
                     // Uniform in the cone the sphere subtends, then the near intersection.
                     const float dc = std::sqrt(dc2);
@@ -219,7 +221,8 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             if (d2 == 0.f) return false;
             s.dist = std::sqrt(d2);
             s.wi = to / s.dist;
-            const float cos_l = -dot(nq, s.wi);
+            float cos_l = -dot(nq, s.wi);
+            if (e.two_sided) cos_l = std::fabs(cos_l);
             if (cos_l <= 0.f) return false;  // one-sided: its back faces p
             s.p_light = q;
             s.pdf = d2 / (cos_l * e.area);
@@ -295,13 +298,24 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             } else {
                 sample_mesh_point(e, u_pos, uc, q, nq);
             }
+            float side_pdf = 1.f;
+            if (e.two_sided) {
+                // Either side with probability 1/2: u_dir.x picks it and is stretched back.
+                side_pdf = 0.5f;
+                if (u_dir.x < 0.5f) {
+                    u_dir.x *= 2.f;
+                } else {
+                    u_dir.x = std::min(2.f * u_dir.x - 1.f, 0x1.fffffep-1f);
+                    nq = -nq;
+                }
+            }
             const warp::Frame fr(nq);
             const Vec3 local = warp::cosine_hemisphere(u_dir);
             s.p = q;
             s.n = nq;
             s.dir = fr.to_world(local);
             s.pdf_pos = 1.f / e.area;
-            s.pdf_dir = warp::cosine_hemisphere_pdf(local.z);
+            s.pdf_dir = side_pdf * warp::cosine_hemisphere_pdf(local.z);
             s.Le = e.value;
             return s.pdf_dir > 0.f;
         }

@@ -34,6 +34,7 @@ struct Emitter {
     uint32_t mesh = 0;            // Mesh: index into Scene::meshes
     std::vector<float> tri_cdf;   // Mesh: area CDF over its triangles
     bool solid_angle = true;      // Sphere: sample the cone it subtends (else its area)
+    bool two_sided = false;       // area kinds: emit from both sides
     RGB power;                    // emitted flux
 
     bool is_delta_position() const {
@@ -86,7 +87,7 @@ class LightSet {
     // on the emitting side) seen from `p`.
     float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const;
     // Radiance leaving an area emitter at a point with geometric normal n (the geometry's own
-    // orientation) towards w: one-sided, zero behind.
+    // orientation) towards w: zero behind a one-sided emitter.
     RGB Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const;
     // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),
     // direction with u_dir.

@@ -708,8 +708,10 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         }
     }
     if (const pugi::xml_node e = n.child("emission")) {
-        check(e, {"r", "g", "b", "intensity", "sampling"}, {});
-        m.emission = rgb(e, {"intensity", "sampling"}) * non_negative(e, "intensity", 1.f);
+        check(e, {"r", "g", "b", "intensity", "sampling", "two_sided"}, {});
+        m.emission =
+            rgb(e, {"intensity", "sampling", "two_sided"}) * non_negative(e, "intensity", 1.f);
+        m.emission_two_sided = boolean(e, "two_sided", false);
         if (e.attribute("sampling")) {
             const std::string sm = e.attribute("sampling").value();
             if (sm == "area")

@@ -68,9 +68,11 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         if (area) {
             // The emitting point itself, seen by the camera.
             const Vec3 wc = normalize(cam.eye - es.p);
-            const float cos_l = dot(es.n, wc);
+            const float c = dot(es.n, wc);
+            const float cos_l = em.two_sided ? std::fabs(c) : c;
             if (cos_l > 0.f)
-                connect(es.p, es.p + es.n * eps, es.Le * (cos_l / (pick * es.pdf_pos)), k);
+                connect(es.p, es.p + es.n * (c > 0.f ? eps : -eps),
+                        es.Le * (cos_l / (pick * es.pdf_pos)), k);
         }
         const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
         ws.beta[k] = es.Le * (cos_e / (pick * es.pdf_pos * es.pdf_dir));

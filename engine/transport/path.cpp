@@ -57,7 +57,7 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
         const Material& m = scene_.materials[scene_.objects[geom].material];
 
         // Emission found by this ray, weighted against having sampled it as a light.
-        if (sp.front_face && !m.emission.is_black()) {
+        if (m.emits_towards(sp.front_face)) {
             float w = 1.f;
             if (depth > 0 && !ws.specular_prev[slot] && nee && !distributed_) {
                 if (mis == MisHeuristic::None) {

@@ -154,7 +154,7 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
                                            ws.hits.u[i], ws.hits.v[i], o, d);
         const Material& m = scene_.materials[scene_.objects[geom].material];
         const Vec3 wo = -d;
-        if (sp.front_face && !m.emission.is_black()) radiance[slot] += weight * m.emission;
+        if (m.emits_towards(sp.front_face)) radiance[slot] += weight * m.emission;
         switch (m.type) {
             case MaterialType::Emitter:
                 break;

@@ -1,0 +1,295 @@
+// The reflectance models: chi-square tests of every lobe's sampling routine against its pdf
+// (several parameters, normal to grazing incidence), directional albedo (at most 1, equal to
+// the parameter for Lambert), Helmholtz reciprocity, and the delta lobes' discrete choices.
+#include <catch2/catch.hpp>
+
+#include "chi_square.h"
+#include "engine/core/optics.h"
+#include "engine/core/rng.h"
+#include "engine/core/warp.h"
+#include "engine/scene/bsdf.h"
+
+using namespace foton;
+
+namespace {
+
+struct NamedBsdf {
+    std::string name;
+    Bsdf bsdf;
+};
+
+Bsdf single(const Lobe& l) {
+    Bsdf b;
+    b.add(l);
+    return b;
+}
+
+Fresnel dielectric_f(float ior) {
+    Fresnel f;
+    f.kind = FresnelKind::Dielectric;
+    f.ior = ior;
+    return f;
+}
+
+// Every non-delta model with parameters from smooth to sharp.
+std::vector<NamedBsdf> continuous_models() {
+    std::vector<NamedBsdf> v;
+    v.push_back({"lambert", single(Lobe::lambert(RGB{0.5f}))});
+    v.push_back({"oren_nayar 0.3", single(Lobe::oren_nayar(RGB{0.8f}, 0.3f))});
+    v.push_back({"oren_nayar 1.0", single(Lobe::oren_nayar(RGB{0.8f}, 1.0f))});
+    v.push_back({"phong 5", single(Lobe::phong(RGB{1.f}, 5.f))});
+    v.push_back({"phong 80", single(Lobe::phong(RGB{1.f}, 80.f))});
+    v.push_back({"phong 1000", single(Lobe::phong(RGB{1.f}, 1000.f))});
+    const Fresnel none;
+    v.push_back({"blinn 10", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(10), none))});
+    v.push_back({"blinn 300", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(300), none))});
+    v.push_back({"beckmann 0.05", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.05f), none))});
+    v.push_back({"beckmann 0.3", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.3f), none))});
+    v.push_back({"beckmann 0.9", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.9f), none))});
+    v.push_back({"ashikhmin_shirley 10/400",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(10, 400), none))});
+    v.push_back({"ashikhmin_shirley 300/3",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(300, 3), none))});
+    Bsdf plastic;
+    plastic.add(Lobe::lambert(RGB{0.5f, 0.3f, 0.2f}));
+    plastic.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.15f), dielectric_f(1.5f)));
+    v.push_back({"plastic (lambert + beckmann)", plastic});
+    Bsdf thesis_phong;
+    thesis_phong.add(Lobe::lambert(RGB{0.6f}));
+    thesis_phong.add(Lobe::phong(RGB{0.3f}, 30.f));
+    v.push_back({"thesis phong (lambert + phong)", thesis_phong});
+    Fresnel gold;
+    gold.kind = FresnelKind::Conductor;
+    gold.eta = {0.143f, 0.374f, 1.442f};
+    gold.k = {3.983f, 2.385f, 1.603f};
+    v.push_back({"rough gold (beckmann 0.2, conductor)",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.2f), gold))});
+    return v;
+}
+
+Vec3 direction(float theta_deg, float phi) {
+    const float t = theta_deg * kPi / 180.f;
+    return {std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
+}
+
+constexpr float kIncidence[] = {0.f, 30.f, 60.f, 85.f};
+
+}  // namespace
+
+TEST_CASE("chi-square: every BSDF samples directions with the density its pdf reports", "[bsdf]") {
+    const auto models = continuous_models();
+    const int tests = int(models.size() * std::size(kIncidence));
+    // Overall significance 1 %, split over the tests (Sidak).
+    const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / tests);
+    int index = 0;
+    for (const NamedBsdf& m : models) {
+        for (float theta : kIncidence) {
+            ++index;
+            const Vec3 wo = direction(theta, 0.7f);
+            const BsdfContext ctx;
+            test::ChiSquareSetup setup;
+            setup.samples = 100000;
+            setup.axis = {-wo.x, -wo.y, wo.z};  // the mirror direction: glossy peaks sit there
+            const auto r = test::chi_square(
+                setup,
+                [&](int i, Vec3& wi) {
+                    BsdfSample s;
+                    const uint64_t key = uint64_t(index);
+                    if (!m.bsdf.sample(wo, rng::uniform(11, key, uint64_t(i), 0),
+                                       {rng::uniform(11, key, uint64_t(i), 1),
+                                        rng::uniform(11, key, uint64_t(i), 2)},
+                                       ctx, s))
+                        return false;
+                    wi = s.wi;
+                    return true;
+                },
+                [&](const Vec3& wi) { return double(m.bsdf.pdf(wo, wi, ctx)); });
+            INFO(m.name << " at " << theta << " deg: " << r.summary());
+            CHECK(r.p_value > alpha);
+            // The pdf integrates to the fraction of samples that succeed.
+            CHECK(r.expected_total == Approx(r.observed_total).margin(0.01));
+        }
+    }
+}
+
+TEST_CASE("directional albedo is at most one and Lambert's equals its reflectance", "[bsdf]") {
+    for (const NamedBsdf& m : continuous_models()) {
+        for (float theta : kIncidence) {
+            const Vec3 wo = direction(theta, 0.3f);
+            const BsdfContext ctx;
+            // Importance-sampled estimate of the integral of f cos over the sphere.
+            const int n = 200000;
+            double sum[3] = {0, 0, 0};
+            for (int i = 0; i < n; ++i) {
+                BsdfSample s;
+                if (!m.bsdf.sample(wo, rng::uniform(5, 1, uint64_t(i), 0),
+                                   {rng::uniform(5, 1, uint64_t(i), 1),
+                                    rng::uniform(5, 1, uint64_t(i), 2)},
+                                   ctx, s))
+                    continue;
+                const RGB w = s.f * (std::fabs(s.wi.z) / s.pdf);
+                sum[0] += w.r;
+                sum[1] += w.g;
+                sum[2] += w.b;
+            }
+            INFO(m.name << " at " << theta << " deg: albedo " << sum[0] / n << " " << sum[1] / n
+                        << " " << sum[2] / n);
+            for (double c : sum) CHECK(c / n <= 1.0 + 5e-3);
+        }
+    }
+    // Lambert by a deterministic quadrature (independent of its sampler): exactly R.
+    const Lobe l = Lobe::lambert(RGB{0.25f, 0.5f, 0.75f});
+    for (float theta : kIncidence) {
+        const Vec3 wo = direction(theta, 0.f);
+        double a = 0.0;
+        const int nz = 400, np = 64;
+        for (int i = 0; i < nz; ++i)
+            for (int j = 0; j < np; ++j) {
+                const float z = (i + 0.5f) / nz, phi = 2.f * kPi * (j + 0.5f) / np;
+                const float r = std::sqrt(1.f - z * z);
+                const Vec3 wi{r * std::cos(phi), r * std::sin(phi), z};
+                a += lobe_f(l, wo, wi, {}).g * z * (1.0 / nz) * (2.0 * kPi / np);
+            }
+        CHECK(a == Approx(0.5).epsilon(1e-4));
+    }
+    // The energy-conserving Phong lobe reflects everything at normal incidence (ks = 1).
+    const Lobe ph = Lobe::phong(RGB{1.f}, 40.f);
+    double a = 0.0;
+    const int nz = 2000, np = 16;
+    for (int i = 0; i < nz; ++i)
+        for (int j = 0; j < np; ++j) {
+            const float z = (i + 0.5f) / nz, phi = 2.f * kPi * (j + 0.5f) / np;
+            const float r = std::sqrt(1.f - z * z);
+            a += lobe_f(ph, {0, 0, 1}, {r * std::cos(phi), r * std::sin(phi), z}, {}).r * z *
+                 (1.0 / nz) * (2.0 * kPi / np);
+        }
+    CHECK(a == Approx(1.0).epsilon(2e-3));
+}
+
+TEST_CASE("Helmholtz reciprocity of the reflection models", "[bsdf]") {
+    for (const NamedBsdf& m : continuous_models()) {
+        for (int i = 0; i < 2000; ++i) {
+            const Vec3 a = warp::cosine_hemisphere({rng::uniform(3, 0, uint64_t(i), 0),
+                                                    rng::uniform(3, 0, uint64_t(i), 1)});
+            const Vec3 b = warp::cosine_hemisphere({rng::uniform(3, 0, uint64_t(i), 2),
+                                                    rng::uniform(3, 0, uint64_t(i), 3)});
+            const RGB fab = m.bsdf.f(a, b, {}), fba = m.bsdf.f(b, a, {});
+            INFO(m.name);
+            CHECK(fab.r == Approx(fba.r).epsilon(1e-4).margin(1e-6));
+            CHECK(fab.b == Approx(fba.b).epsilon(1e-4).margin(1e-6));
+        }
+    }
+}
+
+TEST_CASE("microfacet distributions are normalised: D(h) cos(theta_h) integrates to one", "[bsdf]") {
+    const MicrofacetDistribution ds[] = {
+        MicrofacetDistribution::blinn(1), MicrofacetDistribution::blinn(50),
+        MicrofacetDistribution::beckmann(0.1f), MicrofacetDistribution::beckmann(0.7f),
+        MicrofacetDistribution::ashikhmin_shirley(5, 80),
+        MicrofacetDistribution::ashikhmin_shirley(100, 10)};
+    for (const MicrofacetDistribution& d : ds) {
+        double sum = 0.0;
+        const int nz = 4000, np = 256;
+        for (int i = 0; i < nz; ++i)
+            for (int j = 0; j < np; ++j) {
+                const double z = (i + 0.5) / nz, phi = 2.0 * kPi * (j + 0.5) / np;
+                const double r = std::sqrt(1.0 - z * z);
+                const Vec3 h{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)};
+                sum += d.D(h) * z * (1.0 / nz) * (2.0 * kPi / np);
+            }
+        INFO(microfacet_name(d.kind) << " " << d.alpha << " " << d.nu << " " << d.nv);
+        CHECK(sum == Approx(1.0).epsilon(3e-3));
+    }
+}
+
+TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs importance", "[bsdf]") {
+    const Lobe glass = Lobe::dielectric(1.5f, RGB{1.f}, RGB{1.f});
+    for (float theta : {0.f, 45.f, 80.f}) {
+        const Vec3 wo = direction(theta, 0.f);
+        const float F = fresnel_dielectric(wo.z, 1.f, 1.5f);
+        const int n = 100000;
+        int reflected = 0;
+        for (int i = 0; i < n; ++i) {
+            BsdfSample s;
+            REQUIRE(lobe_sample(glass, wo, rng::uniform(9, 0, uint64_t(i), 0), {}, {true}, s));
+            if (s.flags & kReflection) {
+                ++reflected;
+                CHECK(s.f.r * std::fabs(s.wi.z) / s.pdf == Approx(1.f));
+            } else {
+                // Radiance crossing into glass is compressed by (1 / 1.5)^2 ...
+                CHECK(s.f.r * std::fabs(s.wi.z) / s.pdf == Approx(1.f / 2.25f));
+                CHECK(s.wi.z < 0.f);
+            }
+        }
+        const double sigma = std::sqrt(F * (1 - F) / n);
+        CHECK(double(reflected) / n == Approx(F).margin(5 * sigma + 1e-6));
+        // ... importance is not.
+        BsdfSample t;
+        REQUIRE(lobe_sample(glass, wo, 0.999f, {}, {true, Transport::Importance}, t));
+        CHECK(t.f.r * std::fabs(t.wi.z) / t.pdf == Approx(1.f));
+    }
+    // Inside the glass beyond the critical angle (41.8 degrees): always reflected.
+    BsdfSample s;
+    REQUIRE(lobe_sample(glass, direction(50.f, 0.f), 0.999f, {}, {false}, s));
+    CHECK((s.flags & kReflection));
+    CHECK(s.pdf == 1.f);
+    // Both branches for the Whitted tracer: weights F and (1 - F) / eta^2.
+    Bsdf b;
+    b.add(glass);
+    Vec3 dirs[4];
+    RGB w[4];
+    const Vec3 wo = direction(30.f, 0.f);
+    REQUIRE(b.specular_directions(wo, {true}, dirs, w, 4) == 2);
+    const float F = fresnel_dielectric(wo.z, 1.f, 1.5f);
+    CHECK(w[0].r == Approx(F));
+    CHECK(w[1].r == Approx((1 - F) / 2.25f));
+}
+
+TEST_CASE("conductor Fresnel: k = 0 is a dielectric, reflectance form, metals", "[bsdf]") {
+    for (float c : {0.05f, 0.3f, 0.7f, 1.f}) {
+        CHECK(fresnel_conductor(c, 1.5f, 0.f) == Approx(fresnel_dielectric(c, 1.f, 1.5f)).epsilon(1e-4));
+        CHECK(fresnel_conductor(c, 0.2f, 3.9f) <= 1.f);
+    }
+    // Normal incidence: ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2).
+    CHECK(fresnel_conductor(1.f, 0.2f, 3.9f) ==
+          Approx((0.64f + 15.21f) / (1.44f + 15.21f)).epsilon(1e-5));
+    // The `reflectance` reading: eta = 1, k = 2 sqrt(r / (1 - r)) reflects exactly r head-on.
+    const float r = 0.9f, k = 2.f * std::sqrt(r / (1.f - r));
+    CHECK(fresnel_conductor(1.f, 1.f, k) == Approx(r).epsilon(1e-5));
+    CHECK(fresnel_conductor(1e-4f, 1.f, k) == Approx(1.f).epsilon(1e-3));
+    // A mirror lobe's single direction carries F.
+    Fresnel f;
+    f.kind = FresnelKind::Conductor;
+    f.eta = RGB{0.2f};
+    f.k = RGB{3.9f};
+    BsdfSample s;
+    const Vec3 wo = direction(40.f, 1.f);
+    REQUIRE(lobe_sample(Lobe::mirror(RGB{1.f}, f), wo, 0.5f, {}, {}, s));
+    CHECK(s.wi.z == Approx(wo.z));
+    CHECK(s.wi.x == Approx(-wo.x));
+    CHECK(s.f.g * s.wi.z / s.pdf == Approx(fresnel_conductor(wo.z, 0.2f, 3.9f)));
+}
+
+TEST_CASE("chi-square has the power to reject a slightly wrong pdf", "[bsdf]") {
+    // Blinn exponent 20 sampled, exponent 23 claimed: the test must notice.
+    const Lobe sampled = Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(20), Fresnel{});
+    const Lobe claimed = Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(23), Fresnel{});
+    const Vec3 wo = direction(30.f, 0.f);
+    test::ChiSquareSetup setup;
+    setup.samples = 100000;
+    setup.axis = {-wo.x, -wo.y, wo.z};
+    const auto r = test::chi_square(
+        setup,
+        [&](int i, Vec3& wi) {
+            BsdfSample s;
+            if (!lobe_sample(sampled, wo, 0.f,
+                             {rng::uniform(2, 0, uint64_t(i), 0), rng::uniform(2, 0, uint64_t(i), 1)},
+                             {}, s))
+                return false;
+            wi = s.wi;
+            return true;
+        },
+        [&](const Vec3& wi) { return double(lobe_pdf(claimed, wo, wi, {})); });
+    INFO(r.summary());
+    CHECK(r.p_value < 1e-6);
+}
