@@ -113,7 +113,7 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
             e.area = acc;
             if (!(acc > 0.f)) continue;
         }
-        e.power = e.value * (kPi * e.area);
+        e.power = e.value * (kPi * e.area * (e.two_sided ? 2.f : 1.f));
         geom_to_emitter_[g] = int(emitters_.size());
         emitters_.push_back(std::move(e));
     }
