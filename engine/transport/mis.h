@@ -6,6 +6,8 @@
 
 namespace foton {
 
+inline constexpr float kMaxTieTolerance = 1.f + 1e-3f;
+
 inline float mis_weight(MisHeuristic h, float pa, float pb) {
     switch (h) {
         case MisHeuristic::Balance:
@@ -15,9 +17,12 @@ inline float mis_weight(MisHeuristic h, float pa, float pb) {
             return a / (a + b);
         }
         case MisHeuristic::Maximum:
-            // Ties go to the first technique; callers pass light sampling first, so the two
-            // weights of a tie still sum to one.
-            return pa >= pb ? 1.f : 0.f;
+            // Ties go to the first technique (callers pass light sampling first). A tie is
+            // common, not rare: area-sampling a sphere from its own surface has exactly the
+            // cosine density. The two sides compute the pdfs from different points (sampled
+            // vs hit), so a tie must be declared with a tolerance above float noise, or both
+            // weights can be zero.
+            return pa * kMaxTieTolerance >= pb ? 1.f : 0.f;
         case MisHeuristic::None:
             return 1.f;
     }
@@ -26,7 +31,7 @@ inline float mis_weight(MisHeuristic h, float pa, float pb) {
 
 // The BSDF technique's weight: strict > so that a tie goes to light sampling.
 inline float mis_weight_bsdf(MisHeuristic h, float p_bsdf, float p_light) {
-    if (h == MisHeuristic::Maximum) return p_bsdf > p_light ? 1.f : 0.f;
+    if (h == MisHeuristic::Maximum) return p_bsdf > p_light * kMaxTieTolerance ? 1.f : 0.f;
     return mis_weight(h, p_bsdf, p_light);
 }
 
