@@ -70,3 +70,62 @@ TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-inpu
     CHECK(run("render --no-such-flag").code == 2);
     CHECK(run("").code == 2);
 }
+
+TEST_CASE("foton render: integrators, progressive snapshots, bad integrator input", "[cli]") {
+    foton::test::TempDir dir;
+    const std::string cornell = foton::test::source_path("scenes/cornell-diffuse.xml");
+    const Run r = run("render " + cornell + " --width 32 --height 32 --integrator light --spp 2 -q -o " +
+                      dir.file("l.exr"));
+    CHECK(r.code == 0);
+    CHECK(std::filesystem::exists(dir.file("l.exr")));
+    const Run t = run("render " + cornell + " --width 32 --height 32 --time 0.3 --snapshots 0.1 -q -o " +
+                      dir.file("p.exr"));
+    CHECK(t.code == 0);
+    CHECK(std::filesystem::exists(dir.file("p.exr")));
+    CHECK(std::filesystem::exists(dir.file("p-0.1s.exr")));
+    CHECK(run("render " + cornell + " --integrator bidir").code == 2);
+    CHECK(run("render " + cornell + " --mis cubic").code == 2);
+    CHECK(run("render " + cornell + " --adaptive 0.05 --time 3").code == 2);
+    // The light tracer cannot connect to an orthographic camera.
+    std::ofstream(dir.file("ortho.xml"))
+        << "<scene><lights><point><position x=\"0\" y=\"2\" z=\"0\"/></point></lights><objects>"
+           "<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/><material type=\"lambert\"/>"
+           "</sphere></objects><film width=\"8\" height=\"8\"/><renderer type=\"light\"/>"
+           "<camera type=\"orthographic\"><eye x=\"0\" y=\"0\" z=\"5\"/><target x=\"0\" y=\"0\" "
+           "z=\"0\"/></camera></scene>";
+    const Run o = run("render " + dir.file("ortho.xml") + " -o " + dir.file("o.exr"));
+    CHECK(o.code == 2);
+    CHECK_THAT(o.output, Catch::Contains("pinhole perspective camera"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("o.exr")));
+}
+
+TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare]") {
+    foton::test::TempDir dir;
+    const std::string cornell = foton::test::source_path("scenes/cornell-diffuse.xml");
+    REQUIRE(run("render " + cornell + " --width 128 --height 128 --spp 4 -q -o " +
+                dir.file("a.exr")).code == 0);
+    const std::string ref = foton::test::shared_path("refs/cornell_diffuse_path_512spp.exr");
+    const Run c = run("compare " + dir.file("a.exr") + " " + ref + " --exclude-above 2 --diff " +
+                      dir.file("d.png"));
+    CHECK(c.code == 0);
+    CHECK_THAT(c.output, Catch::Contains("reference downsampled 4x to 128x128"));
+    CHECK_THAT(c.output, Catch::Contains("rmse"));
+    CHECK_THAT(c.output, Catch::Contains("relative_mse"));
+    CHECK_THAT(c.output, Catch::Contains("mae"));
+    CHECK(std::filesystem::file_size(dir.file("d.png")) > 0);
+    // The light (luminance 15) is about 1 % of the pixels; excluding it drops them.
+    const auto pixels = [](const std::string& out) {
+        const auto at = out.find("pixels ");
+        return std::stoul(out.substr(at + 7));
+    };
+    const Run all = run("compare " + dir.file("a.exr") + " " + ref);
+    CHECK(pixels(c.output) < pixels(all.output));
+    CHECK(pixels(all.output) == 128u * 128u);
+    // A mask PNG of the wrong size is bad input; an image against itself has zero error.
+    CHECK(run("compare " + dir.file("a.exr") + " " + ref + " --mask " + dir.file("d.png")).code ==
+          0);
+    const Run self = run("compare " + dir.file("a.exr") + " " + dir.file("a.exr"));
+    CHECK_THAT(self.output, Catch::Contains("rmse 0\n"));
+    CHECK(run("compare " + dir.file("a.exr") + " " + ref + " --mask " +
+              foton::test::source_path("scenes/previews/bunny.png")).code == 2);
+}

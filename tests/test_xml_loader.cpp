@@ -207,3 +207,83 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
             2, "eye and target coincide");
     }
 }
+
+TEST_CASE("XML: physically based materials, emission, integrator settings", "[xml]") {
+    auto obj = [](const std::string& mat) {
+        return "<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>" + mat + "</sphere>";
+    };
+    const Scene s = parse(std::string("<scene>") + kFilmCamera + "<objects>" +
+                          obj(R"(<material type="lambert"><reflectance r="0.2" g="0.4" b="0.6"/></material>)") +
+                          obj(R"(<material type="oren_nayar" sigma="0.4"/>)") +
+                          obj(R"(<material type="conductor" preset="gold" roughness="0.1"/>)") +
+                          obj(R"(<material type="conductor"><eta r="0.2" g="0.9" b="1.1"/><k r="3.9" g="2.4" b="2.1"/></material>)") +
+                          obj(R"(<material type="dielectric" ior="1.33"/>)") +
+                          obj(R"(<material type="microfacet" distribution="ashikhmin_shirley" nu="10" nv="200" fresnel="conductor" preset="copper"/>)") +
+                          obj(R"(<material type="microfacet" model="cook_torrance" kd="0.7" ks="0.3"><diffuse r="0.5" g="0.5" b="0.5"/></material>)") +
+                          obj(R"(<material type="mix"><material type="lambert" weight="0.5"/><material type="conductor" weight="0.4"/>
+                                 <emission r="1" g="2" b="3" two_sided="true"/></material>)") +
+                          R"(</objects><renderer type="path" spp="7" mis="max" nee="false" rr_depth="5" time="12">
+                              <adaptive pilot="4" max_spp="64" threshold="0.05" unbiased="true"/></renderer></scene>)");
+    REQUIRE(s.materials.size() == 8);
+    CHECK(s.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
+    CHECK(s.materials[0].bsdf.lobe(0).color.b == 0.6f);
+    CHECK(s.materials[1].bsdf.lobe(0).type == LobeType::OrenNayar);
+    CHECK(s.materials[2].bsdf.lobe(0).type == LobeType::Microfacet);
+    CHECK(s.materials[2].bsdf.lobe(0).fresnel.kind == FresnelKind::Conductor);
+    CHECK(s.materials[3].bsdf.lobe(0).type == LobeType::Mirror);
+    CHECK(s.materials[3].bsdf.lobe(0).fresnel.k.r == 3.9f);
+    CHECK(s.materials[4].bsdf.lobe(0).type == LobeType::Dielectric);
+    CHECK(s.materials[5].bsdf.lobe(0).dist.kind == MicrofacetKind::AshikhminShirley);
+    CHECK(s.materials[5].bsdf.lobe(0).dist.nv == 200.f);
+    REQUIRE(s.materials[6].bsdf.size() == 2);  // Cook-Torrance: diffuse + specular
+    CHECK(s.materials[6].bsdf.lobe(0).color.r == Approx(0.35f));
+    REQUIRE(s.materials[7].bsdf.size() == 2);
+    CHECK(s.materials[7].bsdf.lobe(0).color.r == Approx(0.25f));  // 0.5 x the default 0.5
+    CHECK(s.materials[7].emission.b == 3.f);
+    CHECK(s.materials[7].emission_two_sided);
+    CHECK(s.render.integrator == IntegratorType::Path);
+    CHECK(s.render.spp == 7);
+    CHECK(s.render.mis == MisHeuristic::Maximum);
+    CHECK_FALSE(s.render.nee);
+    CHECK(s.render.rr_depth == 5);
+    CHECK(s.render.time_limit == 12.f);
+    CHECK(s.render.adaptive.enabled);
+    CHECK(s.render.adaptive.unbiased);
+    CHECK(s.render.adaptive.max_spp == 64);
+    // The thesis' materials keep working and gain their physically based reading.
+    const Scene t = parse(scene_xml(""));
+    CHECK(t.materials[0].type == MaterialType::Matte);
+    CHECK(t.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
+}
+
+TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][bad-input]") {
+    auto mat = [](const std::string& m) {
+        return std::string("<scene>") + kFilmCamera +
+               "<objects>\n<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>\n" + m +
+               "</sphere></objects></scene>";
+    };
+    expect_error(mat(R"(<material type="velvet"/>)"), 5, "unknown material type 'velvet'");
+    expect_error(mat(R"(<material type="microfacet" distribution="ggx"/>)"), 5,
+                 "unknown distribution 'ggx'");
+    expect_error(mat(R"(<material type="microfacet" model="phong"/>)"), 5,
+                 "unknown microfacet model");
+    expect_error(mat(R"(<material type="microfacet" model="cook_torrance" kd="0.8" ks="0.5"/>)"),
+                 5, "kd + ks must be at most 1");
+    expect_error(mat(R"(<material type="dielectric" roughness="0.2"/>)"), 5,
+                 "rough dielectrics are not supported");
+    expect_error(mat(R"(<material type="conductor" preset="unobtainium"/>)"), 5,
+                 "unknown conductor preset");
+    expect_error(mat(R"(<material type="mix"><material type="lambert" weight="0.7"/>
+<material type="lambert" weight="0.6"/></material>)"),
+                 5, "mix weights sum to more than 1");
+    expect_error(mat(R"(<material type="oren_nayar" sigma="30"/>)"), 5, "radians");
+    expect_error(mat(R"(<material type="lambert"><emission r="1" g="1" b="1" sampling="cone"/></material>)"),
+                 5, "unknown emitter sampling");
+    expect_error(mat(R"(<material type="lambert" ior="1.5"/>)"), 5, "unknown attribute 'ior'");
+    expect_error(scene_xml("\n<renderer type=\"bidirectional\"/>"), 5,
+                 "unknown renderer type 'bidirectional'");
+    expect_error(scene_xml("\n<renderer type=\"path\" mis=\"cubic\"/>"), 5,
+                 "unknown mis heuristic 'cubic'");
+    expect_error(scene_xml("\n<renderer><adaptive pilot=\"16\" max_spp=\"8\"/></renderer>"), 5,
+                 "max_spp must be at least pilot");
+}

@@ -161,8 +161,13 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "bounds     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y,
                   b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     s += buf;
-    std::snprintf(buf, sizeof buf, "materials  %zu\n", materials.size());
+    std::snprintf(buf, sizeof buf, "materials  %zu:", materials.size());
     s += buf;
+    for (const Material& m : materials) {
+        s += " " + (m.name.empty() ? std::string(material_type_name(m.type)) : m.name);
+        if (!m.emission.is_black()) s += "(emits)";
+    }
+    s += "\n";
     std::snprintf(buf, sizeof buf, "memory     %.2f MiB (geometry)\n",
                   double(memory_bytes()) / (1024.0 * 1024.0));
     s += buf;
