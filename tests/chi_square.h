@@ -6,8 +6,8 @@
 // the sin(theta) Jacobian), bins with small expectations are pooled, and the statistic's
 // p-value decides. A sampler that fails (returns false) simply adds no sample:
 // its pdf must integrate to the success probability.
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>

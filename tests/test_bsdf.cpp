@@ -41,18 +41,26 @@ std::vector<NamedBsdf> continuous_models() {
     v.push_back({"phong 80", single(Lobe::phong(RGB{1.f}, 80.f))});
     v.push_back({"phong 1000", single(Lobe::phong(RGB{1.f}, 1000.f))});
     const Fresnel none;
-    v.push_back({"blinn 10", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(10), none))});
-    v.push_back({"blinn 300", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(300), none))});
-    v.push_back({"beckmann 0.05", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.05f), none))});
-    v.push_back({"beckmann 0.3", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.3f), none))});
-    v.push_back({"beckmann 0.9", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.9f), none))});
+    v.push_back(
+        {"blinn 10", single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(10), none))});
+    v.push_back({"blinn 300",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(300), none))});
+    v.push_back({"beckmann 0.05", single(Lobe::microfacet(
+                                      RGB{1.f}, MicrofacetDistribution::beckmann(0.05f), none))});
+    v.push_back({"beckmann 0.3",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.3f), none))});
+    v.push_back({"beckmann 0.9",
+                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.9f), none))});
     v.push_back({"ashikhmin_shirley 10/400",
-                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(10, 400), none))});
+                 single(Lobe::microfacet(
+                     RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(10, 400), none))});
     v.push_back({"ashikhmin_shirley 300/3",
-                 single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(300, 3), none))});
+                 single(Lobe::microfacet(
+                     RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(300, 3), none))});
     Bsdf plastic;
     plastic.add(Lobe::lambert(RGB{0.5f, 0.3f, 0.2f}));
-    plastic.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.15f), dielectric_f(1.5f)));
+    plastic.add(
+        Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.15f), dielectric_f(1.5f)));
     v.push_back({"plastic (lambert + beckmann)", plastic});
     Bsdf thesis_phong;
     thesis_phong.add(Lobe::lambert(RGB{0.6f}));
@@ -122,10 +130,10 @@ TEST_CASE("directional albedo is at most one and Lambert's equals its reflectanc
             double sum[3] = {0, 0, 0};
             for (int i = 0; i < n; ++i) {
                 BsdfSample s;
-                if (!m.bsdf.sample(wo, rng::uniform(5, 1, uint64_t(i), 0),
-                                   {rng::uniform(5, 1, uint64_t(i), 1),
-                                    rng::uniform(5, 1, uint64_t(i), 2)},
-                                   ctx, s))
+                if (!m.bsdf.sample(
+                        wo, rng::uniform(5, 1, uint64_t(i), 0),
+                        {rng::uniform(5, 1, uint64_t(i), 1), rng::uniform(5, 1, uint64_t(i), 2)},
+                        ctx, s))
                     continue;
                 const RGB w = s.f * (std::fabs(s.wi.z) / s.pdf);
                 sum[0] += w.r;
@@ -169,10 +177,10 @@ TEST_CASE("directional albedo is at most one and Lambert's equals its reflectanc
 TEST_CASE("Helmholtz reciprocity of the reflection models", "[bsdf]") {
     for (const NamedBsdf& m : continuous_models()) {
         for (int i = 0; i < 2000; ++i) {
-            const Vec3 a = warp::cosine_hemisphere({rng::uniform(3, 0, uint64_t(i), 0),
-                                                    rng::uniform(3, 0, uint64_t(i), 1)});
-            const Vec3 b = warp::cosine_hemisphere({rng::uniform(3, 0, uint64_t(i), 2),
-                                                    rng::uniform(3, 0, uint64_t(i), 3)});
+            const Vec3 a = warp::cosine_hemisphere(
+                {rng::uniform(3, 0, uint64_t(i), 0), rng::uniform(3, 0, uint64_t(i), 1)});
+            const Vec3 b = warp::cosine_hemisphere(
+                {rng::uniform(3, 0, uint64_t(i), 2), rng::uniform(3, 0, uint64_t(i), 3)});
             const RGB fab = m.bsdf.f(a, b, {}), fba = m.bsdf.f(b, a, {});
             INFO(m.name);
             CHECK(fab.r == Approx(fba.r).epsilon(1e-4).margin(1e-6));
@@ -181,12 +189,14 @@ TEST_CASE("Helmholtz reciprocity of the reflection models", "[bsdf]") {
     }
 }
 
-TEST_CASE("microfacet distributions are normalised: D(h) cos(theta_h) integrates to one", "[bsdf]") {
-    const MicrofacetDistribution ds[] = {
-        MicrofacetDistribution::blinn(1), MicrofacetDistribution::blinn(50),
-        MicrofacetDistribution::beckmann(0.1f), MicrofacetDistribution::beckmann(0.7f),
-        MicrofacetDistribution::ashikhmin_shirley(5, 80),
-        MicrofacetDistribution::ashikhmin_shirley(100, 10)};
+TEST_CASE("microfacet distributions are normalised: D(h) cos(theta_h) integrates to one",
+          "[bsdf]") {
+    const MicrofacetDistribution ds[] = {MicrofacetDistribution::blinn(1),
+                                         MicrofacetDistribution::blinn(50),
+                                         MicrofacetDistribution::beckmann(0.1f),
+                                         MicrofacetDistribution::beckmann(0.7f),
+                                         MicrofacetDistribution::ashikhmin_shirley(5, 80),
+                                         MicrofacetDistribution::ashikhmin_shirley(100, 10)};
     for (const MicrofacetDistribution& d : ds) {
         double sum = 0.0;
         const int nz = 4000, np = 256;
@@ -202,7 +212,8 @@ TEST_CASE("microfacet distributions are normalised: D(h) cos(theta_h) integrates
     }
 }
 
-TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs importance", "[bsdf]") {
+TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs importance",
+          "[bsdf]") {
     const Lobe glass = Lobe::dielectric(1.5f, RGB{1.f}, RGB{1.f});
     for (float theta : {0.f, 45.f, 80.f}) {
         const Vec3 wo = direction(theta, 0.f);
@@ -247,7 +258,8 @@ TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs im
 
 TEST_CASE("conductor Fresnel: k = 0 is a dielectric, reflectance form, metals", "[bsdf]") {
     for (float c : {0.05f, 0.3f, 0.7f, 1.f}) {
-        CHECK(fresnel_conductor(c, 1.5f, 0.f) == Approx(fresnel_dielectric(c, 1.f, 1.5f)).epsilon(1e-4));
+        CHECK(fresnel_conductor(c, 1.5f, 0.f) ==
+              Approx(fresnel_dielectric(c, 1.f, 1.5f)).epsilon(1e-4));
         CHECK(fresnel_conductor(c, 0.2f, 3.9f) <= 1.f);
     }
     // Normal incidence: ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2).
@@ -282,9 +294,10 @@ TEST_CASE("chi-square has the power to reject a slightly wrong pdf", "[bsdf]") {
         setup,
         [&](int i, Vec3& wi) {
             BsdfSample s;
-            if (!lobe_sample(sampled, wo, 0.f,
-                             {rng::uniform(2, 0, uint64_t(i), 0), rng::uniform(2, 0, uint64_t(i), 1)},
-                             {}, s))
+            if (!lobe_sample(
+                    sampled, wo, 0.f,
+                    {rng::uniform(2, 0, uint64_t(i), 0), rng::uniform(2, 0, uint64_t(i), 1)}, {},
+                    s))
                 return false;
             wi = s.wi;
             return true;

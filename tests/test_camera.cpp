@@ -55,3 +55,33 @@ TEST_CASE("orthographic camera rays are parallel and offset on the view plane", 
     CHECK(o.x == Approx(278.f + 256 * 0.004f));  // image left is +x
     CHECK(o.y == Approx(277.5f + 128 * 0.004f));
 }
+
+TEST_CASE("thin lens: every ray of a pixel meets the pinhole ray on the plane in focus",
+          "[camera]") {
+    Camera c = make(CameraType::Perspective);
+    c.lens_radius = 5.f;
+    c.focal_distance = 600.f;
+    for (const auto& [fx, fy] : {std::pair{256.f, 128.f}, std::pair{10.5f, 200.25f}}) {
+        Vec3 o0, d0;
+        c.generate(fx, fy, o0, d0);
+        const Vec3 focus = o0 + d0 * (c.focal_distance / dot(d0, c.w));
+        for (float a : {0.1f, 0.5f, 0.9f}) {
+            Vec3 o, d;
+            c.generate(fx, fy, {a, 1.f - a * 0.7f}, o, d);
+            // The origin lies on the lens disc, the ray passes through the focus point.
+            CHECK(dot(o - c.eye, c.w) == Approx(0.f).margin(1e-3));
+            CHECK(length(o - c.eye) <= c.lens_radius * 1.0001f);
+            const Vec3 p = o + d * (dot(focus - o, c.w) / dot(d, c.w));
+            CHECK(length(p - focus) < 1e-2f);
+        }
+    }
+    // project() inverts the pinhole's generate().
+    c.lens_radius = 0.f;
+    Vec3 o, d;
+    c.generate(100.25f, 50.75f, o, d);
+    float fx, fy;
+    REQUIRE(c.project(o + d * 300.f, fx, fy));
+    CHECK(fx == Approx(100.25f).epsilon(1e-4));
+    CHECK(fy == Approx(50.75f).epsilon(1e-4));
+    CHECK_FALSE(c.project(c.eye - c.w, fx, fy));  // behind the eye
+}

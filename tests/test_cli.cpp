@@ -74,12 +74,14 @@ TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-inpu
 TEST_CASE("foton render: integrators, progressive snapshots, bad integrator input", "[cli]") {
     foton::test::TempDir dir;
     const std::string cornell = foton::test::source_path("scenes/cornell-diffuse.xml");
-    const Run r = run("render " + cornell + " --width 32 --height 32 --integrator light --spp 2 -q -o " +
-                      dir.file("l.exr"));
+    const Run r =
+        run("render " + cornell + " --width 32 --height 32 --integrator light --spp 2 -q -o " +
+            dir.file("l.exr"));
     CHECK(r.code == 0);
     CHECK(std::filesystem::exists(dir.file("l.exr")));
-    const Run t = run("render " + cornell + " --width 32 --height 32 --time 0.3 --snapshots 0.1 -q -o " +
-                      dir.file("p.exr"));
+    const Run t =
+        run("render " + cornell + " --width 32 --height 32 --time 0.3 --snapshots 0.1 -q -o " +
+            dir.file("p.exr"));
     CHECK(t.code == 0);
     CHECK(std::filesystem::exists(dir.file("p.exr")));
     CHECK(std::filesystem::exists(dir.file("p-0.1s.exr")));
@@ -102,8 +104,9 @@ TEST_CASE("foton render: integrators, progressive snapshots, bad integrator inpu
 TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare]") {
     foton::test::TempDir dir;
     const std::string cornell = foton::test::source_path("scenes/cornell-diffuse.xml");
-    REQUIRE(run("render " + cornell + " --width 128 --height 128 --spp 4 -q -o " +
-                dir.file("a.exr")).code == 0);
+    REQUIRE(
+        run("render " + cornell + " --width 128 --height 128 --spp 4 -q -o " + dir.file("a.exr"))
+            .code == 0);
     const std::string ref = foton::test::shared_path("refs/cornell_diffuse_path_512spp.exr");
     const Run c = run("compare " + dir.file("a.exr") + " " + ref + " --exclude-above 2 --diff " +
                       dir.file("d.png"));
@@ -127,5 +130,6 @@ TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare
     const Run self = run("compare " + dir.file("a.exr") + " " + dir.file("a.exr"));
     CHECK_THAT(self.output, Catch::Contains("rmse 0\n"));
     CHECK(run("compare " + dir.file("a.exr") + " " + ref + " --mask " +
-              foton::test::source_path("scenes/previews/bunny.png")).code == 2);
+              foton::test::source_path("scenes/previews/bunny.png"))
+              .code == 2);
 }

@@ -40,11 +40,14 @@ RGB mean(const Film& f, const std::vector<uint8_t>* mask = nullptr) {
 // A sphere of Lambert albedo `a` emitting Le from both sides, seen from its centre.
 Scene furnace(float a, float le, const std::string& renderer) {
     return parse_scene(R"(<scene><objects><sphere radius="1"><center x="0" y="0" z="0"/>
-        <material type="lambert"><reflectance r=")" + std::to_string(a) + R"(" g=")" +
-                           std::to_string(a) + R"(" b=")" + std::to_string(a) + R"("/>
-        <emission r=")" + std::to_string(le) + R"(" g=")" + std::to_string(le) + R"(" b=")" +
-                           std::to_string(le) + R"(" two_sided="true"/></material></sphere></objects>
-        <film width="16" height="16"/>)" + renderer + R"(
+        <material type="lambert"><reflectance r=")" +
+                           std::to_string(a) + R"(" g=")" + std::to_string(a) + R"(" b=")" +
+                           std::to_string(a) + R"("/>
+        <emission r=")" + std::to_string(le) +
+                           R"(" g=")" + std::to_string(le) + R"(" b=")" + std::to_string(le) +
+                           R"(" two_sided="true"/></material></sphere></objects>
+        <film width="16" height="16"/>)" +
+                           renderer + R"(
         <camera fov="60"><eye x="0" y="0" z="0"/><target x="0" y="0" z="1"/></camera></scene>)",
                        "furnace.xml", ".");
 }
@@ -61,13 +64,12 @@ Scene cornell(int size, const std::string& type) {
 TEST_CASE("white furnace: an emitting closed sphere converges to Le / (1 - a)", "[integrator]") {
     const float a = 0.6f, le = 0.5f;
     const float expect = le / (1.f - a);
-    for (const char* r :
-         {R"(<renderer type="path" mis="balance" max_depth="100"/>)",
-          R"(<renderer type="path" mis="power" max_depth="100"/>)",
-          R"(<renderer type="path" mis="max" max_depth="100"/>)",
-          R"(<renderer type="path" mis="none" max_depth="100"/>)",
-          R"(<renderer type="path" nee="false" max_depth="100"/>)",
-          R"(<renderer type="light" max_depth="100"/>)"}) {
+    for (const char* r : {R"(<renderer type="path" mis="balance" max_depth="100"/>)",
+                          R"(<renderer type="path" mis="power" max_depth="100"/>)",
+                          R"(<renderer type="path" mis="max" max_depth="100"/>)",
+                          R"(<renderer type="path" mis="none" max_depth="100"/>)",
+                          R"(<renderer type="path" nee="false" max_depth="100"/>)",
+                          R"(<renderer type="light" max_depth="100"/>)"}) {
         const Scene s = furnace(a, le, r);
         const RenderResult res = run(s, 256);
         const RGB m = mean(res.film);
@@ -120,8 +122,8 @@ TEST_CASE("path and light tracing agree on the diffuse Cornell box and with pbrt
           "[integrator][reference]") {
     // The reference: 512 x 512, 512 spp, box filter; averaged 4 x 4 it is the exact
     // 128 x 128 box-filtered reference (its own noise drops to ~0.0007).
-    const Film ref = downsample(
-        read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr")), 4);
+    const Film ref =
+        downsample(read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr")), 4);
     const std::vector<uint8_t> mask = luminance_mask(ref, 2.f);  // the light's edge pixels
     const RenderResult path = run(cornell(128, "path"), 64);
     const RenderResult light = run(cornell(128, "light"), 64);
@@ -185,7 +187,8 @@ TEST_CASE("distributed ray tracing equals path tracing where both are exact", "[
     CHECK(e.rmse < 0.02);
 }
 
-TEST_CASE("path and light tracing are bit-identical for any thread count", "[integrator][determinism]") {
+TEST_CASE("path and light tracing are bit-identical for any thread count",
+          "[integrator][determinism]") {
     for (const char* type : {"path", "light", "distributed"}) {
         const Scene s = cornell(32, type);
         const RenderResult one = run(s, 4, 1, 9);
@@ -218,7 +221,8 @@ TEST_CASE("adaptive sampling spends samples where the error is", "[integrator][a
     CHECK(hi == 128);
     CHECK(r.stats.samples == uint64_t(total));
     // Unbiased (Kirk & Arvo): the mean over the image still matches the reference.
-    const Film ref = downsample(read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr")), 16);
+    const Film ref =
+        downsample(read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr")), 16);
     const std::vector<uint8_t> mask = luminance_mask(ref, 2.f);
     for (bool unbiased : {false, true}) {
         s.render.adaptive.unbiased = unbiased;

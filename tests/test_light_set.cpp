@@ -150,7 +150,8 @@ TEST_CASE("chi-square: next event estimation samples every area light as pdf_li 
     }
 }
 
-TEST_CASE("chi-square: emitted directions of point, spot, rectangle and two-sided lights", "[light]") {
+TEST_CASE("chi-square: emitted directions of point, spot, rectangle and two-sided lights",
+          "[light]") {
     const Scene scene = light_scene();
     const LightSet ls(scene);
     struct Case {
@@ -219,10 +220,11 @@ TEST_CASE("emitted flux equals each light's power; lights are chosen by power", 
         const int n = 200000;
         for (int i = 0; i < n; ++i) {
             EmissionSample s;
-            if (!ls.sample_le(uint32_t(li),
-                              {rng::uniform(8, li, uint64_t(i), 0), rng::uniform(8, li, uint64_t(i), 1)},
-                              {rng::uniform(8, li, uint64_t(i), 2), rng::uniform(8, li, uint64_t(i), 3)},
-                              rng::uniform(8, li, uint64_t(i), 4), s))
+            if (!ls.sample_le(
+                    uint32_t(li),
+                    {rng::uniform(8, li, uint64_t(i), 0), rng::uniform(8, li, uint64_t(i), 1)},
+                    {rng::uniform(8, li, uint64_t(i), 2), rng::uniform(8, li, uint64_t(i), 3)},
+                    rng::uniform(8, li, uint64_t(i), 4), s))
                 continue;
             const float cos = e.is_delta() ? 1.f : std::fabs(dot(s.n, s.dir));
             flux += s.Le.g * cos / (s.pdf_pos * s.pdf_dir);

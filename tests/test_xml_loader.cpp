@@ -212,17 +212,18 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     auto obj = [](const std::string& mat) {
         return "<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>" + mat + "</sphere>";
     };
-    const Scene s = parse(std::string("<scene>") + kFilmCamera + "<objects>" +
-                          obj(R"(<material type="lambert"><reflectance r="0.2" g="0.4" b="0.6"/></material>)") +
-                          obj(R"(<material type="oren_nayar" sigma="0.4"/>)") +
-                          obj(R"(<material type="conductor" preset="gold" roughness="0.1"/>)") +
-                          obj(R"(<material type="conductor"><eta r="0.2" g="0.9" b="1.1"/><k r="3.9" g="2.4" b="2.1"/></material>)") +
-                          obj(R"(<material type="dielectric" ior="1.33"/>)") +
-                          obj(R"(<material type="microfacet" distribution="ashikhmin_shirley" nu="10" nv="200" fresnel="conductor" preset="copper"/>)") +
-                          obj(R"(<material type="microfacet" model="cook_torrance" kd="0.7" ks="0.3"><diffuse r="0.5" g="0.5" b="0.5"/></material>)") +
-                          obj(R"(<material type="mix"><material type="lambert" weight="0.5"/><material type="conductor" weight="0.4"/>
+    const Scene s = parse(
+        std::string("<scene>") + kFilmCamera + "<objects>" +
+        obj(R"(<material type="lambert"><reflectance r="0.2" g="0.4" b="0.6"/></material>)") +
+        obj(R"(<material type="oren_nayar" sigma="0.4"/>)") +
+        obj(R"(<material type="conductor" preset="gold" roughness="0.1"/>)") +
+        obj(R"(<material type="conductor"><eta r="0.2" g="0.9" b="1.1"/><k r="3.9" g="2.4" b="2.1"/></material>)") +
+        obj(R"(<material type="dielectric" ior="1.33"/>)") +
+        obj(R"(<material type="microfacet" distribution="ashikhmin_shirley" nu="10" nv="200" fresnel="conductor" preset="copper"/>)") +
+        obj(R"(<material type="microfacet" model="cook_torrance" kd="0.7" ks="0.3"><diffuse r="0.5" g="0.5" b="0.5"/></material>)") +
+        obj(R"(<material type="mix"><material type="lambert" weight="0.5"/><material type="conductor" weight="0.4"/>
                                  <emission r="1" g="2" b="3" two_sided="true"/></material>)") +
-                          R"(</objects><renderer type="path" spp="7" mis="max" nee="false" rr_depth="5" time="12">
+        R"(</objects><renderer type="path" spp="7" mis="max" nee="false" rr_depth="5" time="12">
                               <adaptive pilot="4" max_spp="64" threshold="0.05" unbiased="true"/></renderer></scene>)");
     REQUIRE(s.materials.size() == 8);
     CHECK(s.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
@@ -267,8 +268,8 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
                  "unknown distribution 'ggx'");
     expect_error(mat(R"(<material type="microfacet" model="phong"/>)"), 5,
                  "unknown microfacet model");
-    expect_error(mat(R"(<material type="microfacet" model="cook_torrance" kd="0.8" ks="0.5"/>)"),
-                 5, "kd + ks must be at most 1");
+    expect_error(mat(R"(<material type="microfacet" model="cook_torrance" kd="0.8" ks="0.5"/>)"), 5,
+                 "kd + ks must be at most 1");
     expect_error(mat(R"(<material type="dielectric" roughness="0.2"/>)"), 5,
                  "rough dielectrics are not supported");
     expect_error(mat(R"(<material type="conductor" preset="unobtainium"/>)"), 5,
@@ -277,8 +278,9 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
 <material type="lambert" weight="0.6"/></material>)"),
                  5, "mix weights sum to more than 1");
     expect_error(mat(R"(<material type="oren_nayar" sigma="30"/>)"), 5, "radians");
-    expect_error(mat(R"(<material type="lambert"><emission r="1" g="1" b="1" sampling="cone"/></material>)"),
-                 5, "unknown emitter sampling");
+    expect_error(
+        mat(R"(<material type="lambert"><emission r="1" g="1" b="1" sampling="cone"/></material>)"),
+        5, "unknown emitter sampling");
     expect_error(mat(R"(<material type="lambert" ior="1.5"/>)"), 5, "unknown attribute 'ior'");
     expect_error(scene_xml("\n<renderer type=\"bidirectional\"/>"), 5,
                  "unknown renderer type 'bidirectional'");

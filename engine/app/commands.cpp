@@ -31,9 +31,9 @@ int run_render(const RenderArgs& args) {
     }
     RenderSettings& rs = scene.render;
     if (!args.integrator.empty() && !parse_integrator(args.integrator, rs.integrator))
-        throw InputError("--integrator", 0,
-                         "unknown integrator '" + args.integrator +
-                             "' (raytracer, path, light, distributed)");
+        throw InputError(
+            "--integrator", 0,
+            "unknown integrator '" + args.integrator + "' (raytracer, path, light, distributed)");
     if (!args.mis.empty() && !parse_mis(args.mis, rs.mis))
         throw InputError("--mis", 0,
                          "unknown heuristic '" + args.mis + "' (balance, power, max, none)");
@@ -45,7 +45,8 @@ int run_render(const RenderArgs& args) {
         rs.light_samples = *args.light_samples;
     }
     if (args.adaptive) {
-        if (!(*args.adaptive > 0.f)) throw InputError("--adaptive", 0, "threshold must be positive");
+        if (!(*args.adaptive > 0.f))
+            throw InputError("--adaptive", 0, "threshold must be positive");
         rs.adaptive.enabled = true;
         rs.adaptive.threshold = *args.adaptive;
     }
@@ -132,8 +133,8 @@ int run_render(const RenderArgs& args) {
             "wrote %s\nwrote %s\n",
             args.scene.c_str(), integrator, scene.film.width, scene.film.height,
             double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
-            res.stats.passes, accel->name(), res.stats.threads, res.stats.wall_seconds,
-            out.c_str(), png.c_str());
+            res.stats.passes, accel->name(), res.stats.threads, res.stats.wall_seconds, out.c_str(),
+            png.c_str());
     return 0;
 }
 

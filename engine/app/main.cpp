@@ -26,12 +26,14 @@ int main(int argc, char** argv) {
     render->add_option("--integrator", ra.integrator, "raytracer | path | light | distributed");
     render->add_option("--mis", ra.mis, "path: balance | power | max | none (NEE without MIS)");
     render->add_option("--nee", ra.nee, "path: next event estimation (false = BSDF sampling only)");
-    render->add_option("--max-depth", ra.max_depth, "scattering vertices (specular bounces for raytracer)");
+    render->add_option("--max-depth", ra.max_depth,
+                       "scattering vertices (specular bounces for raytracer)");
     render->add_option("--rr-depth", ra.rr_depth, "Russian roulette from this depth on");
     render->add_option("--light-samples", ra.light_samples, "distributed: shadow rays per light");
     render->add_option("--time", ra.time, "render progressive passes for this many seconds");
-    render->add_option("--snapshots", ra.snapshots,
-                       "with --time: also write out-<t>s.exr after these many seconds")
+    render
+        ->add_option("--snapshots", ra.snapshots,
+                     "with --time: also write out-<t>s.exr after these many seconds")
         ->delimiter(',');
     render->add_option("--adaptive", ra.adaptive,
                        "adaptive sampling to this relative standard error (--spp = pilot)");

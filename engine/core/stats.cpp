@@ -76,9 +76,8 @@ std::string RenderStats::json() const {
         "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
-        wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0,
-        (unsigned long long)samples, passes,
-        wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
+        wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0, (unsigned long long)samples,
+        passes, wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
         (unsigned long long)trace.cells);
     s += buf;

@@ -137,8 +137,7 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
             if (wo.z <= 0.f || wi.z <= 0.f) return RGB{0.f};
             const Vec3 h = normalize(wo + wi);
             const float g = vcavity_g(wo, wi, h);
-            return l.color * l.fresnel.eval(dot(wi, h)) *
-                   (l.dist.D(h) * g / (4.f * wo.z * wi.z));
+            return l.color * l.fresnel.eval(dot(wi, h)) * (l.dist.D(h) * g / (4.f * wo.z * wi.z));
         }
         case LobeType::Mirror:
         case LobeType::Dielectric:
@@ -230,8 +229,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
                 return F > 0.f;
             }
             s.wi = t;
-            const float scale = ctx.mode == Transport::Radiance ? (eta_i * eta_i) / (eta_t * eta_t)
-                                                                : 1.f;
+            const float scale =
+                ctx.mode == Transport::Radiance ? (eta_i * eta_i) / (eta_t * eta_t) : 1.f;
             s.f = l.transmit * ((1.f - F) * scale / std::fabs(t.z));
             s.pdf = 1.f - F;
             s.flags = kSpecular | kTransmission;
@@ -265,8 +264,7 @@ float Bsdf::weight_sum(uint8_t only) const {
     return sum;
 }
 
-RGB Bsdf::f_restricted(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx,
-                       uint8_t only) const {
+RGB Bsdf::f_restricted(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx, uint8_t only) const {
     RGB sum;
     for (int i = 0; i < n_; ++i) {
         const Lobe& l = lobes_[std::size_t(i)];

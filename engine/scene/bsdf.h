@@ -40,24 +40,24 @@ enum class FresnelKind : uint8_t { None, Dielectric, Conductor };
 
 struct Fresnel {
     FresnelKind kind = FresnelKind::None;
-    float ior = 1.5f;          // dielectric
-    RGB eta{1.f}, k{0.f};      // conductor, per channel
+    float ior = 1.5f;      // dielectric
+    RGB eta{1.f}, k{0.f};  // conductor, per channel
     RGB eval(float cos_i) const;
 };
 
 enum class LobeType : uint8_t {
     Lambert,
     OrenNayar,
-    Phong,        // modified, energy-conserving Phong (Lafortune & Willems)
-    Mirror,       // specular reflection with an optional (conductor) Fresnel
-    Dielectric,   // specular reflection + transmission with dielectric Fresnel, TIR
-    Microfacet,   // Torrance–Sparrow: F D G / (4 cos_o cos_i)
+    Phong,       // modified, energy-conserving Phong (Lafortune & Willems)
+    Mirror,      // specular reflection with an optional (conductor) Fresnel
+    Dielectric,  // specular reflection + transmission with dielectric Fresnel, TIR
+    Microfacet,  // Torrance–Sparrow: F D G / (4 cos_o cos_i)
 };
 
 struct Lobe {
     LobeType type = LobeType::Lambert;
-    RGB color{0.f};      // reflectance / tint (includes the material's mix weight)
-    RGB transmit{0.f};   // dielectric transmission tint
+    RGB color{0.f};                // reflectance / tint (includes the material's mix weight)
+    RGB transmit{0.f};             // dielectric transmission tint
     float on_a = 1.f, on_b = 0.f;  // Oren–Nayar A, B from sigma
     float exponent = 1.f;          // Phong
     Fresnel fresnel;

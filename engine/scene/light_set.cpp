@@ -57,8 +57,7 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
         e.cos_outer = sl.cos_outer;
         // Full intensity to the inner cone, smoothstep to the outer: halfway is close enough
         // for choosing lights by power.
-        e.power = sl.intensity *
-                  (2.f * kPi * (1.f - 0.5f * (sl.cos_inner + sl.cos_outer)));
+        e.power = sl.intensity * (2.f * kPi * (1.f - 0.5f * (sl.cos_inner + sl.cos_outer)));
         emitters_.push_back(e);
     }
     for (const DirectionalLight& dl : L.directionals) {
@@ -131,7 +130,8 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
 
 uint32_t LightSet::select(float u, float& pmf) const {
     const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-    uint32_t i = uint32_t(std::min<std::ptrdiff_t>(it - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));
+    uint32_t i =
+        uint32_t(std::min<std::ptrdiff_t>(it - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));
     while (pmf_[i] == 0.f && i > 0) --i;  // u on a zero-width step
     pmf = pmf_[i];
     return i;
@@ -141,8 +141,8 @@ void LightSet::sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, 
     const TriangleMesh& mesh = scene_->meshes[e.mesh];
     const float target = uc * e.area;
     const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
-    const uint32_t t =
-        uint32_t(std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
+    const uint32_t t = uint32_t(
+        std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
     Vec3 p0, p1, p2;
     mesh.corners(t, p0, p1, p2);
     const Point2 b = warp::uniform_triangle(u);

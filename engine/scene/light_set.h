@@ -23,13 +23,13 @@ const char* emitter_name(EmitterType t);
 
 struct Emitter {
     EmitterType type = EmitterType::Point;
-    Vec3 p;         // position, rectangle corner or sphere centre
-    Vec3 n;         // rectangle normal, spot axis, or the direction directional light travels
-    Vec3 e1, e2;    // rectangle edges
-    float radius = 0.f;   // sphere
-    float area = 0.f;     // rectangle, sphere, mesh
+    Vec3 p;              // position, rectangle corner or sphere centre
+    Vec3 n;              // rectangle normal, spot axis, or the direction directional light travels
+    Vec3 e1, e2;         // rectangle edges
+    float radius = 0.f;  // sphere
+    float area = 0.f;    // rectangle, sphere, mesh
     float cos_inner = 1.f, cos_outer = 0.f;  // spot
-    RGB value;            // radiance (area kinds), intensity (point, spot), irradiance (dir.)
+    RGB value;  // radiance (area kinds), intensity (point, spot), irradiance (dir.)
     uint32_t geom = 0xffffffffu;  // the scene object that shows it (area kinds)
     uint32_t mesh = 0;            // Mesh: index into Scene::meshes
     std::vector<float> tri_cdf;   // Mesh: area CDF over its triangles
@@ -47,18 +47,18 @@ struct Emitter {
 
 // A direction towards the light from a shading point.
 struct LightSample {
-    Vec3 wi;            // unit, from the shading point towards the light
-    float dist = 0.f;   // to the sampled point (infinity for directional)
-    RGB Li;             // incident radiance (intensity / d^2 for delta lights)
-    float pdf = 0.f;    // solid angle density (1 for delta lights); selection not included
-    Vec3 p_light;       // the sampled point on the light
+    Vec3 wi;           // unit, from the shading point towards the light
+    float dist = 0.f;  // to the sampled point (infinity for directional)
+    RGB Li;            // incident radiance (intensity / d^2 for delta lights)
+    float pdf = 0.f;   // solid angle density (1 for delta lights); selection not included
+    Vec3 p_light;      // the sampled point on the light
 };
 
 // An emitted ray.
 struct EmissionSample {
     Vec3 p, dir;
-    Vec3 n;            // surface normal at p (zero for point and spot lights)
-    RGB Le;            // radiance (area), intensity (point, spot) or irradiance (directional)
+    Vec3 n;               // surface normal at p (zero for point and spot lights)
+    RGB Le;               // radiance (area), intensity (point, spot) or irradiance (directional)
     float pdf_pos = 1.f;  // area density (1 for delta positions)
     float pdf_dir = 1.f;  // solid angle density (1 for directional)
 };

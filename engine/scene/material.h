@@ -28,13 +28,13 @@ struct Material {
     RGB reflective_color{0.f};
     float ior = 1.5f;
     RGB refraction_color{1.f};
-    RGB emission{0.f};  // radiance leaving the front side (any material may emit)
+    RGB emission{0.f};                // radiance leaving the front side (any material may emit)
     bool emitter_solid_angle = true;  // sphere emitters: sample by solid angle (else by area)
     bool emission_two_sided = false;  // emit from both sides (e.g. a furnace seen from inside)
     bool emits_towards(bool front_face) const {
         return !emission.is_black() && (front_face || emission_two_sided);
     }
-    std::string name;                 // the XML type, for `foton info`
+    std::string name;  // the XML type, for `foton info`
 
     // The physically based model the Monte Carlo integrators use (also for the thesis'
     // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,

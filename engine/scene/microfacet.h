@@ -17,9 +17,9 @@ const char* microfacet_name(MicrofacetKind k);
 
 struct MicrofacetDistribution {
     MicrofacetKind kind = MicrofacetKind::Beckmann;
-    float alpha = 0.2f;   // Beckmann RMS slope
-    float nu = 100.f;     // Blinn exponent (nu = nv) or Ashikhmin–Shirley's exponent along x
-    float nv = 100.f;     // Ashikhmin–Shirley's exponent along y
+    float alpha = 0.2f;  // Beckmann RMS slope
+    float nu = 100.f;    // Blinn exponent (nu = nv) or Ashikhmin–Shirley's exponent along x
+    float nv = 100.f;    // Ashikhmin–Shirley's exponent along y
 
     static MicrofacetDistribution blinn(float exponent);
     static MicrofacetDistribution beckmann(float alpha);

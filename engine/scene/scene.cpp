@@ -180,8 +180,8 @@ std::string Scene::summary() const {
                   film.gamma);
     s += buf;
     std::snprintf(buf, sizeof buf, "renderer   %s, %u spp (%s), depth %u, accel %s\n",
-                  integrator_name(render.integrator), render.spp, sampler_name(render.sampler), render.max_depth,
-                  accel_name(accel));
+                  integrator_name(render.integrator), render.spp, sampler_name(render.sampler),
+                  render.max_depth, accel_name(accel));
     s += buf;
     return s;
 }

@@ -44,9 +44,9 @@ bool parse_mis(const std::string& s, MisHeuristic& out);
 
 struct AdaptiveSettings {
     bool enabled = false;
-    uint32_t pilot = 8;        // samples every pixel gets first
-    uint32_t max_spp = 256;    // never more than this per pixel
-    float threshold = 0.02f;   // target relative standard error of a pixel's mean luminance
+    uint32_t pilot = 8;       // samples every pixel gets first
+    uint32_t max_spp = 256;   // never more than this per pixel
+    float threshold = 0.02f;  // target relative standard error of a pixel's mean luminance
     // Kirk & Arvo: the pilot samples only decide the count and are not averaged in, which
     // keeps the estimate unbiased (the default, iterative rule stops on the very samples it
     // averages, a small bias).
@@ -63,9 +63,9 @@ struct RenderSettings {
     float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
     uint64_t seed = 0;
     MisHeuristic mis = MisHeuristic::Power;
-    bool nee = true;         // path: next event estimation (false = BSDF sampling only)
-    uint32_t rr_depth = 3;   // Russian roulette from this many scattering vertices on
-    float time_limit = 0.f;  // seconds; > 0 renders passes until the time is up
+    bool nee = true;             // path: next event estimation (false = BSDF sampling only)
+    uint32_t rr_depth = 3;       // Russian roulette from this many scattering vertices on
+    float time_limit = 0.f;      // seconds; > 0 renders passes until the time is up
     uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
     AdaptiveSettings adaptive;
 };

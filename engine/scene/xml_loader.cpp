@@ -217,8 +217,7 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "seed", "mis", "nee", "rr_depth", "time", "light_samples"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
-    if (n.attribute("type") &&
-        !parse_integrator(n.attribute("type").value(), r.integrator))
+    if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
         fail(n, std::string("unknown renderer type '") + n.attribute("type").value() +
                     "' (raytracer, path, light, distributed)");
     if (n.attribute("mis") && !parse_mis(n.attribute("mis").value(), r.mis))
@@ -648,15 +647,16 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
             m.bsdf.add(Lobe::dielectric(m.ior, rgb_child(n, "reflectance", RGB{1.f}),
                                         rgb_child(n, "transmittance", RGB{1.f})));
         } else if (type == "microfacet") {
-            check_v(attrs({"model", "distribution", "roughness", "exponent", "nu", "nv",
-                           "fresnel", "ior", "preset", "kd", "ks"}),
+            check_v(attrs({"model", "distribution", "roughness", "exponent", "nu", "nv", "fresnel",
+                           "ior", "preset", "kd", "ks"}),
                     with({"specular", "diffuse", "eta", "k", "reflectance"}, common_children));
             const std::string model =
                 n.attribute("model") ? n.attribute("model").value() : "torrance_sparrow";
             if (model != "torrance_sparrow" && model != "cook_torrance")
-                fail(n, "unknown microfacet model '" + model + "' (torrance_sparrow, cook_torrance)");
-            const std::string fk = n.attribute("fresnel") ? n.attribute("fresnel").value()
-                                                          : "dielectric";
+                fail(n,
+                     "unknown microfacet model '" + model + "' (torrance_sparrow, cook_torrance)");
+            const std::string fk =
+                n.attribute("fresnel") ? n.attribute("fresnel").value() : "dielectric";
             Fresnel f;
             if (fk == "dielectric") {
                 f.kind = FresnelKind::Dielectric;

@@ -45,9 +45,8 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         const float cos_cam = -dot(wc, cam.w);
         const RGB v = value * cam.importance(cos_cam, dist);
         if (v.is_black()) return;
-        const uint32_t pixel =
-            uint32_t(std::min(int(fy), cam.height - 1)) * uint32_t(cam.width) +
-            uint32_t(std::min(int(fx), cam.width - 1));
+        const uint32_t pixel = uint32_t(std::min(int(fy), cam.height - 1)) * uint32_t(cam.width) +
+                               uint32_t(std::min(int(fx), cam.width - 1));
         ws.shadow.push(o, wc, 0.f, length(cam.eye - o) * (1.f - 1e-4f), slot);
         ws.shadow_value.push_back(v);
         ws.shadow_pixel.push_back(pixel);
@@ -122,8 +121,8 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             if (vertex >= rs.max_depth) continue;
             const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
             BsdfSample bs;
-            if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)},
-                               ctx, bs))
+            if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)}, ctx,
+                               bs))
                 continue;
             const Vec3 wi = frame.to_world(bs.wi);
             const float side = dot(wi, sp.ng);

@@ -38,8 +38,8 @@ class LightTracer {
     // Traces paths [first, first + count) and appends their (unoccluded) splats. A splat's
     // value is one path's contribution: the pixel estimate is the splat sum over the number
     // of paths traced.
-    void trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws,
-               std::vector<Splat>& splats, RenderStats& stats) const;
+    void trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws, std::vector<Splat>& splats,
+               RenderStats& stats) const;
 
   private:
     float rand(uint64_t path, uint32_t dim) const;

@@ -15,8 +15,8 @@ constexpr uint32_t kDimsPerBounce = 8;
 constexpr uint32_t kDimLightSelect = 0, kDimLight = 1, kDimBsdf = 4, kDimRoulette = 7;
 }  // namespace
 
-PathIntegrator::PathIntegrator(const Scene& scene, const Intersector& accel,
-                               const LightSet& lights, uint64_t seed, bool distributed)
+PathIntegrator::PathIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               uint64_t seed, bool distributed)
     : scene_(scene), accel_(accel), lights_(lights), seed_(seed), distributed_(distributed) {}
 
 float PathIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
@@ -36,8 +36,7 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
     auto queue_shadow = [&](const SurfacePoint& sp, const LightSample& ls, const RGB& value,
                             uint32_t slot) {
         const Vec3 o = offset_origin(sp, ls.wi);
-        const float tmax =
-            std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+        const float tmax = std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
         ws.shadow.push(o, ls.wi, 0.f, tmax, slot);
         ws.shadow_value.push_back(value);
     };
@@ -117,8 +116,7 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
             } else {
                 float pick;
                 const uint32_t li = lights_.select(rand(job, depth, kDimLightSelect), pick);
-                estimate(li, pick,
-                         {rand(job, depth, kDimLight), rand(job, depth, kDimLight + 1)},
+                estimate(li, pick, {rand(job, depth, kDimLight), rand(job, depth, kDimLight + 1)},
                          rand(job, depth, kDimLight + 2), 1.f);
             }
         }

@@ -28,9 +28,9 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<RGB> shadow_value;
     // Per-path state, indexed by the job slot.
     std::vector<RGB> beta;
-    std::vector<float> pdf_prev;      // solid-angle pdf of the BSDF sample that made the ray
+    std::vector<float> pdf_prev;         // solid-angle pdf of the BSDF sample that made the ray
     std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
-    std::vector<Vec3> p_prev;         // where that ray started
+    std::vector<Vec3> p_prev;            // where that ray started
 };
 
 class PathIntegrator : public CameraIntegrator {

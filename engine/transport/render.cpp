@@ -173,7 +173,9 @@ class CameraDriver {
         std::vector<RGB> sum(std::size_t(t.pixels()));
         std::vector<uint32_t> want(std::size_t(t.pixels()), ad.pilot);
         std::vector<uint32_t> taken(std::size_t(t.pixels()), 0);
-        auto local = [&](const SampleJob& j) { return std::size_t(j.y - t.y0) * tw + (j.x - t.x0); };
+        auto local = [&](const SampleJob& j) {
+            return std::size_t(j.y - t.y0) * tw + (j.x - t.x0);
+        };
         auto run_round = [&](uint32_t round) {
             jobs.clear();
             for (int y = t.y0; y < t.y1; ++y)

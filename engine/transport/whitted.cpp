@@ -160,8 +160,7 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
                 break;
             case MaterialType::Generic:
                 shade_generic(sp, m, d, weight, slot,
-                              scene_.lights.areas.empty() ? 0 : jobs[slot].id, depth, ws,
-                              radiance);
+                              scene_.lights.areas.empty() ? 0 : jobs[slot].id, depth, ws, radiance);
                 break;
             case MaterialType::Matte:
             case MaterialType::Phong:

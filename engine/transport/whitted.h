@@ -39,9 +39,9 @@ class WhittedIntegrator : public CameraIntegrator {
                       WhittedWorkspace& ws) const;
     // The physically based materials under the Whitted model: their BSDF lit by the point,
     // directional, spot and area lights, and their delta lobes followed recursively.
-    void shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d,
-                       const RGB& weight, uint32_t slot, uint64_t sample_index, uint32_t depth,
-                       WhittedWorkspace& ws, std::vector<RGB>& radiance) const;
+    void shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d, const RGB& weight,
+                       uint32_t slot, uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws,
+                       std::vector<RGB>& radiance) const;
 
     const Scene& scene_;
     const Intersector& accel_;
