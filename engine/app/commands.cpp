@@ -18,7 +18,14 @@ namespace foton::app {
 namespace fs = std::filesystem;
 
 int run_render(const RenderArgs& args) {
-    Scene scene = load_scene(args.scene);
+    RendererOverrides overrides;
+    for (const std::string& kv : args.set) {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InputError("--set", 0, "expected key=value, got '" + kv + "'");
+        overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    }
+    Scene scene = load_scene(args.scene, overrides);
     if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
         throw InputError(
             "--accel", 0,
@@ -31,9 +38,9 @@ int run_render(const RenderArgs& args) {
     }
     RenderSettings& rs = scene.render;
     if (!args.integrator.empty() && !parse_integrator(args.integrator, rs.integrator))
-        throw InputError(
-            "--integrator", 0,
-            "unknown integrator '" + args.integrator + "' (raytracer, path, light, distributed)");
+        throw InputError("--integrator", 0,
+                         "unknown integrator '" + args.integrator +
+                             "' (raytracer, path, light, distributed, photon)");
     if (!args.mis.empty() && !parse_mis(args.mis, rs.mis))
         throw InputError("--mis", 0,
                          "unknown heuristic '" + args.mis + "' (balance, power, max, none)");

@@ -26,6 +26,7 @@ struct RenderArgs {
     std::optional<uint32_t> adaptive_max;
     bool adaptive_unbiased = false;
     std::optional<uint32_t> light_samples;
+    std::vector<std::string> set;  // key=value overrides of <renderer> attributes
     bool stats = false;
     std::string stats_json;
     bool quiet = false;

@@ -23,7 +23,11 @@ int main(int argc, char** argv) {
     render->add_option("--accel", ra.accel, "brute | brute-simd | grid | embree");
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
-    render->add_option("--integrator", ra.integrator, "raytracer | path | light | distributed");
+    render->add_option("--integrator", ra.integrator,
+                       "raytracer | path | light | distributed | photon");
+    render->add_option("--set", ra.set,
+                       "key=value: set a <renderer> attribute (e.g. --set k=200 --set "
+                       "filter=gauss); repeatable");
     render->add_option("--mis", ra.mis, "path: balance | power | max | none (NEE without MIS)");
     render->add_option("--nee", ra.nee, "path: next event estimation (false = BSDF sampling only)");
     render->add_option("--max-depth", ra.max_depth,

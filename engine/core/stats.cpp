@@ -16,6 +16,16 @@ const char* stage_name(Stage s) {
             return "occlusion";
         case Stage::Accumulate:
             return "accumulate";
+        case Stage::PhotonEmit:
+            return "emit";
+        case Stage::PhotonTrace:
+            return "trace+store";
+        case Stage::PhotonStore:
+            return "merge";
+        case Stage::Balance:
+            return "balance";
+        case Stage::FinalGather:
+            return "final-gather";
         case Stage::kCount:
             break;
     }
@@ -50,13 +60,22 @@ std::string RenderStats::table() const {
                   (unsigned long long)samples, passes,
                   wall_seconds > 0 ? double(samples) / wall_seconds : 0.0);
     s += buf;
+    if (photons_global + photons_caustic > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "photons: global %llu, caustic %llu stored; photon passes + balance %.3f s "
+                      "wall\n",
+                      (unsigned long long)photons_global, (unsigned long long)photons_caustic,
+                      photon_seconds);
+        s += buf;
+    }
     std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
                   (unsigned long long)trace.cells);
     s += buf;
     s += "stage        thread-s      items     items/thread-s\n";
     for (int i = 0; i < kNumStages; ++i) {
-        std::snprintf(buf, sizeof buf, "%-10s %10.3f %10llu %18.4g\n", stage_name(Stage(i)),
+        if (stage_items[i] == 0 && stage_seconds[i] == 0.0) continue;
+        std::snprintf(buf, sizeof buf, "%-12s %8.3f %10llu %18.4g\n", stage_name(Stage(i)),
                       stage_seconds[i], (unsigned long long)stage_items[i],
                       stage_seconds[i] > 0 ? double(stage_items[i]) / stage_seconds[i] : 0.0);
         s += buf;

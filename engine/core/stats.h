@@ -7,7 +7,20 @@
 
 namespace foton {
 
-enum class Stage { Generate, Intersect, Shade, Occlusion, Accumulate, kCount };
+// Camera wavefront stages, then the photon mapper's (a stage that did nothing is not printed).
+enum class Stage {
+    Generate,
+    Intersect,
+    Shade,
+    Occlusion,
+    Accumulate,
+    PhotonEmit,
+    PhotonTrace,
+    PhotonStore,
+    Balance,
+    FinalGather,
+    kCount
+};
 inline constexpr int kNumStages = int(Stage::kCount);
 const char* stage_name(Stage s);
 
@@ -27,6 +40,8 @@ struct RenderStats {
     uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
     uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
     uint32_t passes = 0;   // progressive passes completed
+    uint64_t photons_global = 0, photons_caustic = 0;  // stored (photon mapping)
+    double photon_seconds = 0.0;  // wall time of the photon passes and the balancing
     TraceCounters trace;
     double stage_seconds[kNumStages] = {};  // summed over threads
     uint64_t stage_items[kNumStages] = {};

@@ -94,6 +94,11 @@ class Bsdf {
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
     bool has_delta() const { return (flags_ & kSpecular) != 0; }
     uint8_t flags() const { return flags_; }
+    // Probability that sample() picks a lobe with any of `only`'s flags.
+    float selection_probability(uint8_t only) const {
+        const float all = weight_sum(0xff);
+        return all > 0.f ? weight_sum(only) / all : 0.f;
+    }
     // Scales every lobe's colour (for mixtures).
     void scale(float w);
 

@@ -42,6 +42,8 @@ const char* integrator_name(IntegratorType t) {
             return "light";
         case IntegratorType::Distributed:
             return "distributed";
+        case IntegratorType::Photon:
+            return "photon";
     }
     return "?";
 }
@@ -55,6 +57,8 @@ bool parse_integrator(const std::string& s, IntegratorType& out) {
         out = IntegratorType::Light;
     else if (s == "distributed")
         out = IntegratorType::Distributed;
+    else if (s == "photon")
+        out = IntegratorType::Photon;
     else
         return false;
     return true;

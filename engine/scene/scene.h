@@ -33,7 +33,7 @@ struct Object {
 
 // raytracer: the first thesis' Whitted model; path, light, distributed: the Monte Carlo
 // estimators of the photon-mapping thesis.
-enum class IntegratorType { Whitted, Path, Light, Distributed };
+enum class IntegratorType { Whitted, Path, Light, Distributed, Photon };
 const char* integrator_name(IntegratorType t);
 bool parse_integrator(const std::string& s, IntegratorType& out);
 
@@ -53,6 +53,23 @@ struct AdaptiveSettings {
     bool unbiased = false;
 };
 
+// Two-pass photon mapping (the photon-mapping thesis, chapters 5-6).
+enum class PhotonMode { FinalGather, DirectVisualisation };
+struct PhotonSettings {
+    uint64_t global_photons = 200000;   // emitted for the global map
+    uint64_t caustic_photons = 200000;  // emitted for the caustic map (0: none)
+    uint32_t k = 100, caustic_k = 50;   // photons per estimate
+    float max_radius = 0.f;             // 0: 5 % of the scene's bounding radius
+    float caustic_radius = 0.f;         // 0: 2 % of it
+    uint8_t envelope = 1;               // PhotonEnvelope: 0 sphere, 1 disc
+    uint8_t filter = 0;  // PhotonFilter of the global map: none, cone, gauss, simpson
+    uint8_t caustic_filter = 0;
+    float cone_k = 1.1f;
+    PhotonMode mode = PhotonMode::FinalGather;
+    uint32_t gather_rays = 64;  // final-gather rays per visible point and pixel sample
+    bool unscaled_roulette = false;
+};
+
 struct RenderSettings {
     IntegratorType integrator = IntegratorType::Whitted;
     uint32_t spp = 1;  // aa_samples
@@ -68,6 +85,7 @@ struct RenderSettings {
     float time_limit = 0.f;      // seconds; > 0 renders passes until the time is up
     uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
     AdaptiveSettings adaptive;
+    PhotonSettings photon;
 };
 
 struct FilmSettings {

@@ -27,8 +27,9 @@ bool in(const Names& names, const char* s) {
 
 class Loader {
   public:
-    Loader(const std::string& xml, std::string name, std::string base_dir)
-        : xml_(xml), name_(std::move(name)), base_(std::move(base_dir)) {
+    Loader(const std::string& xml, std::string name, std::string base_dir,
+           const RendererOverrides& overrides)
+        : xml_(xml), name_(std::move(name)), base_(std::move(base_dir)), overrides_(overrides) {
         line_starts_.push_back(0);
         for (std::size_t i = 0; i < xml_.size(); ++i)
             if (xml_[i] == '\n') line_starts_.push_back(i + 1);
@@ -138,6 +139,7 @@ class Loader {
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);
     void parse_renderer(const pugi::xml_node& n);
+    void parse_photon_settings(const pugi::xml_node& n);
     void parse_camera(const pugi::xml_node& n);
     uint32_t parse_material(const pugi::xml_node& object);
     Material material(const pugi::xml_node& n, bool top);
@@ -150,6 +152,7 @@ class Loader {
     const std::string& xml_;
     std::string name_, base_;
     std::vector<std::size_t> line_starts_;
+    const RendererOverrides& overrides_;
     Scene scene_;
 };
 
@@ -184,6 +187,15 @@ Scene Loader::run() {
     }
     // Film before camera: the camera's view plane is film size x pixel count.
     parse_film(child(root, "film"));
+    if (!overrides_.empty()) {
+        pugi::xml_node n = root.child("renderer");
+        if (!n) n = doc.document_element().append_child("renderer");
+        for (const auto& [key, value] : overrides_) {
+            pugi::xml_attribute a = n.attribute(key.c_str());
+            if (!a) a = n.append_attribute(key.c_str());
+            a.set_value(value.c_str());
+        }
+    }
     if (const auto n = root.child("renderer")) parse_renderer(n);
     if (const auto n = root.child("aggregate")) {
         check(n, {"type", "density"}, {});
@@ -213,13 +225,38 @@ void Loader::parse_film(const pugi::xml_node& n) {
 
 void Loader::parse_renderer(const pugi::xml_node& n) {
     check(n,
-          {"type", "aa_samples", "spp", "num_threads", "sampler", "max_depth", "min_contribution",
-           "seed", "mis", "nee", "rr_depth", "time", "light_samples"},
+          {"type",
+           "aa_samples",
+           "spp",
+           "num_threads",
+           "sampler",
+           "max_depth",
+           "min_contribution",
+           "seed",
+           "mis",
+           "nee",
+           "rr_depth",
+           "time",
+           "light_samples",
+           "global_photons",
+           "caustic_photons",
+           "k",
+           "caustic_k",
+           "max_radius",
+           "caustic_radius",
+           "envelope",
+           "filter",
+           "caustic_filter",
+           "cone_k",
+           "mode",
+           "gather_rays",
+           "photon_rr"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
         fail(n, std::string("unknown renderer type '") + n.attribute("type").value() +
-                    "' (raytracer, path, light, distributed)");
+                    "' (raytracer, path, light, distributed, photon)");
+    parse_photon_settings(n);
     if (n.attribute("mis") && !parse_mis(n.attribute("mis").value(), r.mis))
         fail(n, std::string("unknown mis heuristic '") + n.attribute("mis").value() +
                     "' (balance, power, max, none)");
@@ -267,6 +304,75 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
         const float s = number(n, "seed");
         if (s < 0.f || s != std::floor(s)) fail(n, "seed must be a non-negative integer");
         r.seed = uint64_t(s);
+    }
+}
+
+void Loader::parse_photon_settings(const pugi::xml_node& n) {
+    PhotonSettings& p = scene_.render.photon;
+    auto photons = [&](const char* a, uint64_t& out) {
+        if (!n.attribute(a)) return;
+        const float v = number(n, a);
+        if (v < 0.f || v != std::floor(v) || v > 4e9f)
+            fail(n, std::string(a) + " must be a non-negative integer");
+        out = uint64_t(v);
+    };
+    photons("global_photons", p.global_photons);
+    photons("caustic_photons", p.caustic_photons);
+    p.k = count(n, "k", p.k);
+    p.caustic_k = count(n, "caustic_k", p.caustic_k);
+    if (p.k > 4096 || p.caustic_k > 4096) fail(n, "k and caustic_k must be at most 4096");
+    p.max_radius = non_negative(n, "max_radius", p.max_radius);
+    p.caustic_radius = non_negative(n, "caustic_radius", p.caustic_radius);
+    p.cone_k = number(n, "cone_k", p.cone_k);
+    if (!(p.cone_k >= 1.f)) fail(n, "cone_k must be at least 1");
+    if (n.attribute("gather_rays")) {
+        const float g = number(n, "gather_rays");
+        if (g < 0.f || g != std::floor(g) || g > 1e6f)
+            fail(n, "gather_rays must be a non-negative integer");
+        p.gather_rays = uint32_t(g);
+    }
+    if (n.attribute("envelope")) {
+        const std::string e = n.attribute("envelope").value();
+        if (e == "sphere")
+            p.envelope = 0;
+        else if (e == "disc")
+            p.envelope = 1;
+        else
+            fail(n, "unknown envelope '" + e + "' (sphere, disc)");
+    }
+    auto filter = [&](const char* a, uint8_t& out) {
+        if (!n.attribute(a)) return;
+        const std::string f = n.attribute(a).value();
+        if (f == "none")
+            out = 0;
+        else if (f == "cone")
+            out = 1;
+        else if (f == "gauss")
+            out = 2;
+        else if (f == "simpson")
+            out = 3;
+        else
+            fail(n, "unknown filter '" + f + "' (none, cone, gauss, simpson)");
+    };
+    filter("filter", p.filter);
+    filter("caustic_filter", p.caustic_filter);
+    if (n.attribute("mode")) {
+        const std::string m = n.attribute("mode").value();
+        if (m == "final_gather")
+            p.mode = PhotonMode::FinalGather;
+        else if (m == "direct_visualisation" || m == "direct_visualization")
+            p.mode = PhotonMode::DirectVisualisation;
+        else
+            fail(n, "unknown photon mode '" + m + "' (final_gather, direct_visualisation)");
+    }
+    if (n.attribute("photon_rr")) {
+        const std::string r = n.attribute("photon_rr").value();
+        if (r == "unbiased")
+            p.unscaled_roulette = false;
+        else if (r == "unscaled")
+            p.unscaled_roulette = true;
+        else
+            fail(n, "unknown photon_rr '" + r + "' (unbiased, unscaled)");
     }
 }
 
@@ -789,17 +895,18 @@ void Loader::parse_objects(const pugi::xml_node& n) {
 
 }  // namespace
 
-Scene parse_scene(const std::string& xml, const std::string& name, const std::string& base_dir) {
-    return Loader(xml, name, base_dir).run();
+Scene parse_scene(const std::string& xml, const std::string& name, const std::string& base_dir,
+                  const RendererOverrides& overrides) {
+    return Loader(xml, name, base_dir, overrides).run();
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path, 0, "cannot open scene file");
     std::ostringstream ss;
     ss << in.rdbuf();
     const std::string base = std::filesystem::path(path).parent_path().string();
-    return parse_scene(ss.str(), path, base.empty() ? "." : base);
+    return parse_scene(ss.str(), path, base.empty() ? "." : base, overrides);
 }
 
 }  // namespace foton

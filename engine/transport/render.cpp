@@ -12,10 +12,15 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <tbb/flow_graph.h>
+#include <tbb/parallel_invoke.h>
+
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
 #include "light_tracer.h"
 #include "path.h"
+#include "photon_integrator.h"
+#include "photon_tracer.h"
 #include "whitted.h"
 
 namespace foton {
@@ -354,6 +359,97 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
     return result;
 }
 
+// Photon mapping as a job graph: the global and caustic passes (emit, trace and store,
+// parallel inside) run side by side, each feeds the balancing of its kd-tree, and both
+// trees feed the camera pass.
+RenderResult render_photon(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
+    const PhotonSettings& ps = scene.render.photon;
+    const LightSet lights(scene);
+    if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
+    const PhotonTracer tracer(scene, accel, lights, opt.seed);
+    const float radius = 0.5f * length(scene.bounds().diagonal());
+    PhotonMaps maps;
+    EstimateParams& gp = maps.global_params;
+    gp.k = ps.k;
+    gp.max_radius = ps.max_radius > 0.f ? ps.max_radius : 0.05f * radius;
+    gp.envelope = PhotonEnvelope(ps.envelope);
+    gp.filter = PhotonFilter(ps.filter);
+    gp.cone_k = ps.cone_k;
+    EstimateParams& cp = maps.caustic_params;
+    cp = gp;
+    cp.k = ps.caustic_k;
+    cp.max_radius = ps.caustic_radius > 0.f ? ps.caustic_radius : 0.02f * radius;
+    cp.filter = PhotonFilter(ps.caustic_filter);
+
+    RenderStats photon_stats, global_stats, caustic_stats;
+    const int threads = resolve_threads(opt.threads);
+    const kern::PointKdTree::ParallelInvoke par = [](const std::function<void()>& a,
+                                                     const std::function<void()>& b) {
+        tbb::parallel_invoke(a, b);
+    };
+    const auto start = Clock::now();
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        using Node = tbb::flow::continue_node<tbb::flow::continue_msg>;
+        using Msg = const tbb::flow::continue_msg&;
+        tbb::flow::graph g;
+        tbb::flow::broadcast_node<tbb::flow::continue_msg> start_node(g);
+        Node trace_global(g, [&](Msg) {
+            PhotonPassSettings s;
+            s.kind = PhotonMapKind::Global;
+            s.emitted = ps.global_photons;
+            s.max_depth = scene.render.max_depth;
+            s.unscaled_roulette = ps.unscaled_roulette;
+            s.pass = 0;
+            if (s.emitted > 0) maps.global = tracer.run(s, global_stats);
+        });
+        Node trace_caustic(g, [&](Msg) {
+            PhotonPassSettings s;
+            s.kind = PhotonMapKind::Caustic;
+            s.emitted = ps.caustic_photons;
+            s.max_depth = scene.render.max_depth;
+            s.unscaled_roulette = ps.unscaled_roulette;
+            s.pass = 1;
+            // The direct-visualisation mode reads the global map only.
+            if (s.emitted > 0 && ps.mode == PhotonMode::FinalGather)
+                maps.caustic = tracer.run(s, caustic_stats);
+        });
+        Node balance_global(g, [&](Msg) {
+            StageClock c;
+            maps.global.build(par);
+            global_stats.stage_items[int(Stage::Balance)] += maps.global.size();
+            global_stats.stage_seconds[int(Stage::Balance)] += c.lap();
+        });
+        Node balance_caustic(g, [&](Msg) {
+            StageClock c;
+            maps.caustic.build(par);
+            caustic_stats.stage_items[int(Stage::Balance)] += maps.caustic.size();
+            caustic_stats.stage_seconds[int(Stage::Balance)] += c.lap();
+        });
+        Node done(g, [](Msg) {});
+        tbb::flow::make_edge(start_node, trace_global);
+        tbb::flow::make_edge(start_node, trace_caustic);
+        tbb::flow::make_edge(trace_global, balance_global);
+        tbb::flow::make_edge(trace_caustic, balance_caustic);
+        tbb::flow::make_edge(balance_global, done);
+        tbb::flow::make_edge(balance_caustic, done);
+        start_node.try_put(tbb::flow::continue_msg());
+        g.wait_for_all();
+    });
+    const double photon_seconds = seconds_since(start);
+    photon_stats.merge(global_stats);
+    photon_stats.merge(caustic_stats);
+
+    const PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
+    RenderResult result = render_camera(scene, integrator, opt);
+    result.stats.merge(photon_stats);
+    result.stats.wall_seconds += photon_seconds;
+    result.stats.photons_global = maps.global.size();
+    result.stats.photons_caustic = maps.caustic.size();
+    result.stats.photon_seconds = photon_seconds;
+    return result;
+}
+
 }  // namespace
 
 int resolve_threads(int requested) {
@@ -364,6 +460,8 @@ RenderResult render(const Scene& scene, const Intersector& accel, const RenderOp
     switch (scene.render.integrator) {
         case IntegratorType::Light:
             return render_light(scene, accel, opt);
+        case IntegratorType::Photon:
+            return render_photon(scene, accel, opt);
         case IntegratorType::Path:
         case IntegratorType::Distributed: {
             const LightSet lights(scene);

@@ -1,0 +1,222 @@
+#include "photon_integrator.h"
+
+#include <cmath>
+
+#include "engine/core/warp.h"
+#include "surface.h"
+
+namespace foton {
+
+namespace {
+constexpr uint32_t kDimsPerBounce = 8;
+// Random dimensions per bounce: delta-or-not choice, lobe (3), light choice, position (2),
+// triangle.
+constexpr uint32_t kDimChoice = 0, kDimLobe = 1, kDimLight = 4;
+// Specular bounces a final-gather ray may take before it must find a diffuse surface.
+constexpr uint32_t kGatherSpecularDepth = 4;
+}  // namespace
+
+PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Intersector& accel,
+                                   const LightSet& lights, const PhotonMaps& maps, uint64_t seed)
+    : scene_(scene), accel_(accel), lights_(lights), maps_(maps), seed_(seed) {}
+
+float PhotonIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
+    return rng::uniform(seed_, kPathStream, j.id, uint64_t(depth) * kDimsPerBounce + k);
+}
+
+void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, const Vec3& d,
+                                     const RGB& weight, uint32_t slot, const SampleJob& job,
+                                     uint32_t depth, PhotonCameraWorkspace& ws,
+                                     std::vector<RGB>& radiance) const {
+    const PhotonSettings& ps = scene_.render.photon;
+    const warp::Frame frame(sp.ns);
+    const Vec3 wo = frame.to_local(-d);
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    if (ps.mode == PhotonMode::DirectVisualisation) {
+        radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
+                                                         wo, ctx, maps_.global_params);
+        return;
+    }
+    // Caustics: L S+ D paths, from their own map.
+    if (!maps_.caustic.empty())
+        radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
+                                                          wo, ctx, maps_.caustic_params);
+    // Direct light: one light sample.
+    if (!lights_.empty()) {
+        float pick;
+        const uint32_t li = lights_.select(rand(job, depth, kDimLight), pick);
+        LightSample ls;
+        if (lights_.sample_li(li, sp.p,
+                              {rand(job, depth, kDimLight + 1), rand(job, depth, kDimLight + 2)},
+                              rand(job, depth, kDimLight + 3), ls) &&
+            dot(ls.wi, sp.ng) > 0.f) {
+            const Vec3 wi = frame.to_local(ls.wi);
+            const RGB f = m.bsdf.f_restricted(wo, wi, ctx, kDiffuse | kGlossy);
+            const RGB value = weight * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
+            if (!value.is_black()) {
+                const float tmax =
+                    std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+                ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f, tmax, slot);
+                ws.shadow_value.push_back(value);
+            }
+        }
+    }
+    // Indirect light: stratified final-gather rays from the non-delta lobes.
+    const uint32_t n = ps.gather_rays;
+    if (n == 0 || maps_.global.empty()) return;
+    const uint64_t key = rng::hash(job.id, depth, 0x6a7, 0);
+    for (uint32_t g = 0; g < n; ++g) {
+        const Point2 u = sample_pattern(SamplerKind::Jittered, g, n, seed_, key);
+        BsdfSample bs;
+        if (!m.bsdf.sample(wo, rng::uniform(seed_, key, g, 2), u, ctx, bs, kDiffuse | kGlossy))
+            continue;
+        const Vec3 wi = frame.to_world(bs.wi);
+        if (dot(wi, sp.ng) <= 0.f) continue;
+        // The restricted sample is over the non-delta lobes only; its weight is theirs.
+        const RGB w = weight * bs.f * (std::fabs(bs.wi.z) / (bs.pdf * float(n)));
+        if (w.is_black()) continue;
+        ws.gather.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+        ws.gather_weight.push_back(w);
+    }
+}
+
+void PhotonIntegrator::final_gather(const std::vector<SampleJob>&, PhotonCameraWorkspace& ws,
+                                    std::vector<RGB>& radiance, RenderStats& stats) const {
+    StageClock clock;
+    std::size_t rays = 0;
+    for (uint32_t depth = 0; !ws.gather.empty(); ++depth) {
+        accel_.intersect(ws.gather, ws.hits, stats.trace);
+        rays += ws.gather.size();
+        ws.gather_next.clear();
+        ws.gather_weight_next.clear();
+        for (std::size_t i = 0; i < ws.gather.size(); ++i) {
+            const uint32_t slot = ws.gather.id[i];
+            const RGB& w = ws.gather_weight[i];
+            const uint32_t geom = ws.hits.geom[i];
+            if (geom == kNoHit) {
+                radiance[slot] += w * scene_.background;
+                continue;
+            }
+            const Vec3 d = ws.gather.direction(i);
+            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
+                                               ws.hits.u[i], ws.hits.v[i], ws.gather.origin(i), d);
+            const Material& m = scene_.materials[scene_.objects[geom].material];
+            // Emission is not counted: direct light came from NEE, and light through
+            // specular surfaces from the caustic map.
+            if (m.bsdf.empty()) continue;
+            const warp::Frame frame(sp.ns);
+            const Vec3 wo = frame.to_local(-d);
+            const BsdfContext ctx{sp.front_face, Transport::Radiance};
+            // The non-delta lobes from the photons, the delta ones followed below: both
+            // parts are taken whole, so neither is reweighted.
+            if (m.bsdf.has_non_delta())
+                radiance[slot] += w * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
+                                                            wo, ctx, maps_.global_params);
+            if (m.bsdf.has_delta() && depth < kGatherSpecularDepth) {
+                // Follow the delta lobes deterministically (both branches of a dielectric).
+                Vec3 dirs[Bsdf::kMaxLobes * 2];
+                RGB dw[Bsdf::kMaxLobes * 2];
+                const int k = m.bsdf.specular_directions(wo, ctx, dirs, dw, Bsdf::kMaxLobes * 2);
+                for (int j = 0; j < k; ++j) {
+                    const RGB wj = w * dw[j];
+                    if (wj.max_component() < 1e-4f) continue;
+                    const Vec3 wi = frame.to_world(dirs[j]);
+                    ws.gather_next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+                    ws.gather_weight_next.push_back(wj);
+                }
+            }
+        }
+        std::swap(ws.gather, ws.gather_next);
+        std::swap(ws.gather_weight, ws.gather_weight_next);
+    }
+    stats.secondary_rays += rays;
+    stats.stage_items[int(Stage::FinalGather)] += rays;
+    stats.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+}
+
+void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
+                             std::vector<RGB>& radiance, RenderStats& stats) const {
+    PhotonCameraWorkspace& ws = static_cast<PhotonCameraWorkspace&>(base);
+    StageClock clock;
+    const std::size_t n = jobs.size();
+    radiance.assign(n, RGB{0.f});
+    ws.beta.assign(n, RGB{1.f});
+    ws.rays.clear();
+    ws.shadow.clear();
+    ws.shadow_value.clear();
+    ws.gather.clear();
+    ws.gather_weight.clear();
+    for (uint32_t slot = 0; slot < n; ++slot) {
+        const SampleJob& j = jobs[slot];
+        const Point2 px = pixel_sample(scene_, j, seed_);
+        const Point2 lens = {rng::uniform(seed_, kLensStream, j.id, 0),
+                             rng::uniform(seed_, kLensStream, j.id, 1)};
+        Vec3 o, d;
+        scene_.camera.generate(float(j.x) + px.x, float(j.y) + px.y, lens, o, d);
+        ws.rays.push(o, d, 0.f, kInfinity, slot);
+    }
+    stats.camera_rays += n;
+    stats.stage_items[int(Stage::Generate)] += n;
+    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+
+    // Camera rays through specular chains to the visible points.
+    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
+        accel_.intersect(ws.rays, ws.hits, stats.trace);
+        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        ws.next.clear();
+        for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+            const uint32_t slot = ws.rays.id[i];
+            const SampleJob& job = jobs[slot];
+            RGB& beta = ws.beta[slot];
+            const uint32_t geom = ws.hits.geom[i];
+            if (geom == kNoHit) {
+                radiance[slot] += beta * scene_.background;
+                continue;
+            }
+            const Vec3 d = ws.rays.direction(i);
+            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
+                                               ws.hits.u[i], ws.hits.v[i], ws.rays.origin(i), d);
+            const Material& m = scene_.materials[scene_.objects[geom].material];
+            // Emitters seen from the camera or through specular chains (L S* E paths have no
+            // diffuse vertex, so no photon estimate holds them).
+            if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;
+            if (m.bsdf.empty()) continue;
+            const float p_delta = m.bsdf.selection_probability(kSpecular);
+            if (m.bsdf.has_delta() && rand(job, depth, kDimChoice) < p_delta) {
+                if (depth >= scene_.render.max_depth) continue;
+                const warp::Frame frame(sp.ns);
+                const Vec3 wo = frame.to_local(-d);
+                const BsdfContext ctx{sp.front_face, Transport::Radiance};
+                BsdfSample bs;
+                if (!m.bsdf.sample(wo, rand(job, depth, kDimLobe),
+                                   {rand(job, depth, kDimLobe + 1), rand(job, depth, kDimLobe + 2)},
+                                   ctx, bs, kSpecular))
+                    continue;
+                const Vec3 wi = frame.to_world(bs.wi);
+                const float side = dot(wi, sp.ng);
+                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+                beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+                ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+                continue;
+            }
+            const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
+            shade_visible(sp, m, d, w, slot, job, depth, ws, radiance);
+        }
+        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.secondary_rays += ws.next.size();
+        std::swap(ws.rays, ws.next);
+    }
+    if (!ws.shadow.empty()) {
+        accel_.occluded(ws.shadow, ws.occluded, stats.trace);
+        for (std::size_t i = 0; i < ws.shadow.size(); ++i)
+            if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
+        stats.shadow_rays += ws.shadow.size();
+        stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
+        stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
+    }
+    final_gather(jobs, ws, radiance, stats);
+}
+
+}  // namespace foton

@@ -1,0 +1,56 @@
+#pragma once
+// The second pass of photon mapping: camera rays are followed through specular chains to
+// their first non-specular hit (the visible point), which is shaded by
+//   final gather (default): direct light by next event estimation, caustics from the caustic
+//     map, and indirect light by N final-gather rays (sampled from the BSDF's non-delta
+//     lobes, stratified) whose hits are shaded by the global map's radiance estimate;
+//   direct visualisation: the global map's radiance estimate alone (the thesis' fast,
+//     biased mode: direct, indirect and caustics all from the photons).
+// A material with both delta and non-delta lobes continues the chain or becomes the visible
+// point with the probabilities of its lobe choice, each weighted by its inverse.
+#include "camera_integrator.h"
+#include "engine/accel/intersector.h"
+#include "engine/core/ray_batch.h"
+#include "engine/scene/light_set.h"
+#include "photon_map.h"
+
+namespace foton {
+
+struct PhotonMaps {
+    PhotonMap global, caustic;
+    EstimateParams global_params, caustic_params;
+};
+
+struct PhotonCameraWorkspace : IntegratorWorkspace {
+    RayBatch rays, next, shadow, gather, gather_next;
+    HitBatch hits;
+    std::vector<uint8_t> occluded;
+    std::vector<RGB> beta, shadow_value, gather_weight, gather_weight_next;
+};
+
+class PhotonIntegrator : public CameraIntegrator {
+  public:
+    PhotonIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                     const PhotonMaps& maps, uint64_t seed);
+    std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
+        return std::make_unique<PhotonCameraWorkspace>();
+    }
+    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+               std::vector<RGB>& radiance, RenderStats& stats) const override;
+
+  private:
+    void shade_visible(const struct SurfacePoint& sp, const Material& m, const Vec3& d,
+                       const RGB& weight, uint32_t slot, const SampleJob& job, uint32_t depth,
+                       PhotonCameraWorkspace& ws, std::vector<RGB>& radiance) const;
+    void final_gather(const std::vector<SampleJob>& jobs, PhotonCameraWorkspace& ws,
+                      std::vector<RGB>& radiance, RenderStats& stats) const;
+    float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
+
+    const Scene& scene_;
+    const Intersector& accel_;
+    const LightSet& lights_;
+    const PhotonMaps& maps_;
+    uint64_t seed_;
+};
+
+}  // namespace foton

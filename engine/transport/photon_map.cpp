@@ -1,0 +1,197 @@
+#include "photon_map.h"
+
+#include <cmath>
+
+namespace foton {
+
+namespace {
+constexpr float kGaussAlpha = 0.918f, kGaussBeta = 1.953f;
+
+// Integral over the unit disc of the Gauss filter's weight divided by pi: the filter's own
+// normalisation (0.531 for alpha = 0.918, beta = 1.953).
+double gauss_integral() {
+    const double b = kGaussBeta;
+    const double j = 1.0 - (2.0 / b) * (1.0 - std::exp(-b / 2.0));  // of (1 - e^{-b s^2/2}) 2s
+    return kGaussAlpha * (1.0 - j / (1.0 - std::exp(-b)));
+}
+
+// The largest k an estimate may ask for (stack buffers).
+constexpr uint32_t kMaxEstimate = 4096;
+}  // namespace
+
+const char* envelope_name(PhotonEnvelope e) {
+    return e == PhotonEnvelope::Sphere ? "sphere" : "disc";
+}
+
+const char* filter_name(PhotonFilter f) {
+    switch (f) {
+        case PhotonFilter::None:
+            return "none";
+        case PhotonFilter::Cone:
+            return "cone";
+        case PhotonFilter::Gauss:
+            return "gauss";
+        case PhotonFilter::Simpson:
+            return "simpson";
+    }
+    return "?";
+}
+
+float filter_weight(const EstimateParams& p, float d, float r) {
+    const float s = d / r;
+    switch (p.filter) {
+        case PhotonFilter::None:
+            return 1.f;
+        case PhotonFilter::Cone:
+            // w = 1 - d / (k r), whose integral over the disc is (1 - 2 / (3k)) pi r^2.
+            return (1.f - s / p.cone_k) / (1.f - 2.f / (3.f * p.cone_k));
+        case PhotonFilter::Gauss: {
+            static const float norm = float(gauss_integral());
+            const float w = kGaussAlpha * (1.f - (1.f - std::exp(-kGaussBeta * s * s * 0.5f)) /
+                                                     (1.f - std::exp(-kGaussBeta)));
+            return w / norm;
+        }
+        case PhotonFilter::Simpson: {
+            // Silverman's biweight ("Simpson's") kernel 3/pi (1 - s^2)^2, times pi.
+            const float u = 1.f - s * s;
+            return 3.f * u * u;
+        }
+    }
+    return 1.f;
+}
+
+void PhotonMap::reserve(std::size_t n) {
+    x_.reserve(n);
+    y_.reserve(n);
+    z_.reserve(n);
+    power_.reserve(n);
+    dir_.reserve(n);
+    flags_.reserve(n);
+}
+
+void PhotonMap::clear() {
+    x_.clear();
+    y_.clear();
+    z_.clear();
+    power_.clear();
+    dir_.clear();
+    flags_.clear();
+    tree_ = {};
+}
+
+void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, uint8_t flags) {
+    x_.push_back(p.x);
+    y_.push_back(p.y);
+    z_.push_back(p.z);
+    power_.push_back(power);
+    // Jensen's two-byte direction: theta and phi quantised to 256 steps each.
+    const float theta = std::acos(std::clamp(w.z, -1.f, 1.f));
+    float phi = std::atan2(w.y, w.x);
+    if (phi < 0.f) phi += 2.f * kPi;
+    const uint16_t t = uint16_t(std::min(255.f, theta * (256.f / kPi)));
+    const uint16_t f = uint16_t(std::min(255.f, phi * (256.f / (2.f * kPi))));
+    dir_.push_back(uint16_t(t << 8 | f));
+    flags_.push_back(flags);
+}
+
+void PhotonMap::append(const PhotonMap& o) {
+    x_.insert(x_.end(), o.x_.begin(), o.x_.end());
+    y_.insert(y_.end(), o.y_.begin(), o.y_.end());
+    z_.insert(z_.end(), o.z_.begin(), o.z_.end());
+    power_.insert(power_.end(), o.power_.begin(), o.power_.end());
+    dir_.insert(dir_.end(), o.dir_.begin(), o.dir_.end());
+    flags_.insert(flags_.end(), o.flags_.begin(), o.flags_.end());
+}
+
+Vec3 PhotonMap::incident(std::size_t i) const {
+    // Bin centres; a table of 256 sines and cosines would do the same (Jensen), the
+    // trigonometry is not on a hot path here.
+    const float theta = (float(dir_[i] >> 8) + 0.5f) * (kPi / 256.f);
+    const float phi = (float(dir_[i] & 255) + 0.5f) * (2.f * kPi / 256.f);
+    const float st = std::sin(theta);
+    return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+}
+
+void PhotonMap::build(const kern::PointKdTree::ParallelInvoke& parallel) {
+    tree_.build(x_.data(), y_.data(), z_.data(), x_.size(), parallel);
+}
+
+std::size_t PhotonMap::memory_bytes() const {
+    return size() * (3 * sizeof(float) + sizeof(RGB) + 3) + tree_.memory_bytes();
+}
+
+RGB PhotonMap::total_power() const {
+    double s[3] = {0, 0, 0};
+    for (const RGB& p : power_) {
+        s[0] += p.r;
+        s[1] += p.g;
+        s[2] += p.b;
+    }
+    return RGB(float(s[0]), float(s[1]), float(s[2]));
+}
+
+uint32_t PhotonMap::gather(const Vec3& p, const Vec3& n, const EstimateParams& params,
+                           uint32_t* idx, float* d2, float& radius) const {
+    const float q[3] = {p.x, p.y, p.z};
+    const uint32_t k = std::min(params.k, kMaxEstimate);
+    const uint32_t found = tree_.knn(q, params.max_radius * params.max_radius, k, idx, d2);
+    if (found == 0) return 0;
+    if (params.envelope == PhotonEnvelope::Sphere) {
+        radius = std::sqrt(d2[0]);  // max-heap: the farthest first
+        return found;
+    }
+    // Disc: keep the photons near the tangent plane (the flattened ellipsoid of the thesis);
+    // the radius is then the farthest photon kept.
+    const float limit = params.disc_thickness * std::sqrt(d2[0]);
+    uint32_t kept = 0;
+    float r2 = 0.f;
+    for (uint32_t i = 0; i < found; ++i) {
+        const Vec3 v = position(idx[i]) - p;
+        if (std::fabs(dot(v, n)) > limit) continue;
+        idx[kept] = idx[i];
+        d2[kept] = d2[i];
+        r2 = std::max(r2, d2[i]);
+        ++kept;
+    }
+    radius = std::sqrt(r2);
+    return kept;
+}
+
+RGB PhotonMap::radiance(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n,
+                        const Bsdf& bsdf, const Vec3& wo, const BsdfContext& ctx,
+                        const EstimateParams& params, uint32_t* found) const {
+    uint32_t idx[kMaxEstimate];
+    float d2[kMaxEstimate];
+    float r = 0.f;
+    const uint32_t m = gather(p, n, params, idx, d2, r);
+    if (found) *found = m;
+    if (m == 0 || !(r > 0.f)) return RGB{0.f};
+    RGB sum;
+    for (uint32_t i = 0; i < m; ++i) {
+        const Vec3 w = incident(idx[i]);
+        const float cn = dot(w, n);
+        if (cn <= 0.f) continue;  // arrived from behind this surface
+        const Vec3 wl{dot(w, s), dot(w, t), cn};
+        const RGB f = bsdf.f(wo, wl, ctx);
+        sum += f * power_[idx[i]] * filter_weight(params, std::sqrt(d2[i]), r);
+    }
+    return sum * (1.f / (kPi * r * r));
+}
+
+RGB PhotonMap::irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
+                          uint32_t* found) const {
+    uint32_t idx[kMaxEstimate];
+    float d2[kMaxEstimate];
+    float r = 0.f;
+    const uint32_t m = gather(p, n, params, idx, d2, r);
+    if (found) *found = m;
+    if (m == 0 || !(r > 0.f)) return RGB{0.f};
+    RGB sum;
+    for (uint32_t i = 0; i < m; ++i) {
+        if (dot(incident(idx[i]), n) <= 0.f) continue;
+        sum += power_[idx[i]] * filter_weight(params, std::sqrt(d2[i]), r);
+    }
+    return sum * (1.f / (kPi * r * r));
+}
+
+}  // namespace foton

@@ -1,0 +1,83 @@
+#pragma once
+// A photon map (Jensen): photons stored in SoA (position, power, incident direction
+// compressed to two bytes, flags), balanced into the kernels' left-balanced kd-tree with SIMD
+// leaf buckets, and the radiance estimate of the photon-mapping thesis (chapters 5.4, 6.1):
+// the k nearest photons within a maximum radius, a sphere or disc (flattened ellipsoid)
+// envelope, back-face rejection by the surface normal, and the none / cone / Gauss / Simpson
+// filters, each normalised so that its kernel integrates to one over the disc.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/aligned.h"
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/scene/bsdf.h"
+#include "kernels/point_kdtree.h"
+
+namespace foton {
+
+enum class PhotonEnvelope : uint8_t { Sphere, Disc };
+enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
+const char* envelope_name(PhotonEnvelope e);
+const char* filter_name(PhotonFilter f);
+
+struct EstimateParams {
+    uint32_t k = 100;        // photons in an estimate
+    float max_radius = 1.f;  // search radius limit (scene units)
+    PhotonEnvelope envelope = PhotonEnvelope::Disc;
+    float disc_thickness = 0.1f;  // disc: photons farther than this x radius from the plane
+                                  // are rejected (the flattened ellipsoid)
+    PhotonFilter filter = PhotonFilter::None;
+    float cone_k = 1.1f;  // cone filter constant, >= 1
+};
+
+// The filter kernel's weight for a photon at distance d in a disc of radius r, already
+// divided by the kernel's integral over the disc, so sum(w * power * f) / (pi r^2) is the
+// estimate for every filter (the thesis' Gauss filter with alpha = 0.918 integrates to 0.53
+// over the disc with its 1 / (pi r^2), which is why it darkened the thesis' images).
+float filter_weight(const EstimateParams& p, float d, float r);
+
+enum PhotonFlags : uint8_t { kPhotonCaustic = 1, kPhotonDirect = 2 };
+
+class PhotonMap {
+  public:
+    void reserve(std::size_t n);
+    void clear();
+    void push(const Vec3& p, const RGB& power, const Vec3& incident, uint8_t flags);
+    // Appends another map's photons (before build).
+    void append(const PhotonMap& other);
+    // Balances the kd-tree; `parallel` runs two jobs (tbb::parallel_invoke in the engine).
+    void build(const kern::PointKdTree::ParallelInvoke& parallel = {});
+
+    std::size_t size() const { return x_.size(); }
+    bool empty() const { return x_.empty(); }
+    std::size_t memory_bytes() const;
+    Vec3 position(std::size_t i) const { return {x_[i], y_[i], z_[i]}; }
+    const RGB& power(std::size_t i) const { return power_[i]; }
+    Vec3 incident(std::size_t i) const;  // unit, pointing away from the surface (to the light)
+    uint8_t flags(std::size_t i) const { return flags_[i]; }
+    RGB total_power() const;
+
+    // Reflected radiance at p towards wo (local to the shading frame s, t, n, whose normal
+    // faces the viewer's side) from the photons: sum of f(wo, wi_p) * power_p * filter /
+    // (pi r^2), with photons arriving from behind the surface (wi_p . n <= 0) rejected.
+    RGB radiance(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n, const Bsdf& bsdf,
+                 const Vec3& wo_local, const BsdfContext& ctx, const EstimateParams& params,
+                 uint32_t* found = nullptr) const;
+    // Irradiance E at p with normal n (the estimate with f = 1/pi removed: sum power / pi r^2).
+    RGB irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
+                   uint32_t* found = nullptr) const;
+
+  private:
+    // Gathers the accepted photons of an estimate: indices, squared distances and the radius.
+    uint32_t gather(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t* idx,
+                    float* d2, float& radius) const;
+
+    AlignedVector<float> x_, y_, z_;
+    std::vector<RGB> power_;
+    std::vector<uint16_t> dir_;  // theta, phi bytes (Jensen)
+    std::vector<uint8_t> flags_;
+    kern::PointKdTree tree_;
+};
+
+}  // namespace foton

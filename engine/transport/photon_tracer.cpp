@@ -1,0 +1,144 @@
+#include "photon_tracer.h"
+
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "camera_integrator.h"
+#include "engine/core/warp.h"
+#include "surface.h"
+
+namespace foton {
+
+namespace {
+constexpr uint64_t kPhotonStream = 16;
+constexpr uint32_t kChunk = 4096;
+// Random dimensions: light choice, position (2), triangle, direction shift (2); then per
+// bounce the BSDF lobe and direction (3) and Russian roulette.
+constexpr uint32_t kDimLight = 0, kDimPos = 1, kDimTriangle = 3, kDimFirstBounce = 8,
+                   kDimsPerBounce = 4;
+}  // namespace
+
+PhotonTracer::PhotonTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                           uint64_t seed)
+    : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {}
+
+float PhotonTracer::rand(uint64_t pass, uint64_t photon, uint32_t dim) const {
+    return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kPhotonStream, photon, dim);
+}
+
+void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t count,
+                         PhotonWorkspace& ws, PhotonMap& out, RenderStats& stats) const {
+    StageClock clock;
+    ws.rays.clear();
+    ws.power.assign(count, RGB{0.f});
+    ws.specular_only.assign(count, 1);
+    // The direction sample of photon i is point i of a Hammersley set over the pass, shifted
+    // by one random offset per pass (Cranley–Patterson), so directions are stratified.
+    const float shift_x = rand(s.pass, ~0ull, 0), shift_y = rand(s.pass, ~0ull, 1);
+    const float inv_n = 1.f / float(s.emitted);
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint64_t i = first + k;
+        float ux = (float(i) + 0.5f) * inv_n + shift_x;
+        float uy = radical_inverse2(uint32_t(i)) + shift_y;
+        ux -= std::floor(ux);
+        uy -= std::floor(uy);
+        float pick;
+        const uint32_t li = lights_.select(rand(s.pass, i, kDimLight), pick);
+        EmissionSample es;
+        if (!lights_.sample_le(li, {rand(s.pass, i, kDimPos), rand(s.pass, i, kDimPos + 1)},
+                               {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
+                               rand(s.pass, i, kDimTriangle), es))
+            continue;
+        const Emitter& em = lights_.emitter(li);
+        const bool area = !em.is_delta();
+        const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
+        ws.power[k] = es.Le * (cos_e * inv_n / (pick * es.pdf_pos * es.pdf_dir));
+        const float eps = 2e-5f * max_abs_component(es.p);
+        ws.rays.push(area ? es.p + es.n * eps : es.p, es.dir, 0.f, kInfinity, k);
+    }
+    stats.stage_items[int(Stage::PhotonEmit)] += count;
+    stats.stage_seconds[int(Stage::PhotonEmit)] += clock.lap();
+
+    for (uint32_t depth = 0; !ws.rays.empty() && depth < s.max_depth; ++depth) {
+        accel_.intersect(ws.rays, ws.hits, stats.trace);
+        ws.next.clear();
+        for (std::size_t r = 0; r < ws.rays.size(); ++r) {
+            const uint32_t geom = ws.hits.geom[r];
+            if (geom == kNoHit) continue;
+            const uint32_t slot = ws.rays.id[r];
+            const uint64_t i = first + slot;
+            const Vec3 d = ws.rays.direction(r);
+            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[r], ws.hits.t[r],
+                                               ws.hits.u[r], ws.hits.v[r], ws.rays.origin(r), d);
+            const Material& m = scene_.materials[scene_.objects[geom].material];
+            if (m.bsdf.empty()) continue;
+            RGB& power = ws.power[slot];
+            if (m.bsdf.has_non_delta()) {
+                const bool caustic = ws.specular_only[slot] && depth > 0;
+                const uint8_t flags =
+                    uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
+                if (s.kind == PhotonMapKind::Global || caustic) out.push(sp.p, power, -d, flags);
+            }
+            const warp::Frame frame(sp.ns);
+            const Vec3 wl = -d;
+            const Vec3 wo = frame.to_local(wl);
+            const BsdfContext ctx{sp.front_face, Transport::Importance};
+            const float wl_ng = std::fabs(dot(wl, sp.ng));
+            if (wl_ng == 0.f) continue;
+            const float adj = std::fabs(wo.z) / wl_ng;
+            const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
+            BsdfSample bs;
+            // A caustic pass follows only L S+ paths: its photons continue through the delta
+            // lobes alone (the sample then carries only their share of the throughput).
+            const uint8_t only = s.kind == PhotonMapKind::Caustic ? uint8_t(kSpecular) : 0xff;
+            if (!m.bsdf.sample(wo, rand(s.pass, i, dim),
+                               {rand(s.pass, i, dim + 1), rand(s.pass, i, dim + 2)}, ctx, bs, only))
+                continue;
+            const Vec3 wi = frame.to_world(bs.wi);
+            const float side = dot(wi, sp.ng);
+            if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+            RGB w = bs.f * (adj * std::fabs(side) / bs.pdf);
+            const float q = std::min(1.f, w.max_component());
+            if (!(q > 0.f) || rand(s.pass, i, dim + 3) >= q) continue;
+            if (!s.unscaled_roulette) power *= w * (1.f / q);
+            if (!bs.is_delta()) ws.specular_only[slot] = 0;
+            ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+        }
+        std::swap(ws.rays, ws.next);
+    }
+    stats.stage_items[int(Stage::PhotonTrace)] += count;
+    stats.stage_seconds[int(Stage::PhotonTrace)] += clock.lap();
+}
+
+PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats) const {
+    const std::size_t chunks = std::size_t((s.emitted + kChunk - 1) / kChunk);
+    std::vector<PhotonMap> parts(chunks);
+    tbb::enumerable_thread_specific<PhotonWorkspace> workspaces;
+    tbb::enumerable_thread_specific<RenderStats> st;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          PhotonWorkspace& ws = workspaces.local();
+                          RenderStats& local = st.local();
+                          for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                              const uint64_t first = uint64_t(c) * kChunk;
+                              const uint32_t n =
+                                  uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
+                              trace(s, first, n, ws, parts[c], local);
+                          }
+                      });
+    StageClock clock;
+    std::size_t total = 0;
+    for (const PhotonMap& p : parts) total += p.size();
+    PhotonMap map;
+    map.reserve(total);
+    for (const PhotonMap& p : parts) map.append(p);
+    for (const RenderStats& l : st) stats.merge(l);
+    stats.stage_items[int(Stage::PhotonStore)] += total;
+    stats.stage_seconds[int(Stage::PhotonStore)] += clock.lap();
+    return map;
+}
+
+}  // namespace foton

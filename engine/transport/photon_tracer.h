@@ -1,0 +1,67 @@
+#pragma once
+// The first pass of photon mapping: emit photons from the lights in proportion to their
+// power, trace them through the scene as SoA ray batches, and store them at non-specular
+// hits (the thesis' chapter 5.3).
+//
+// Photon i of a pass is a pure function of (seed, pass, i): its light, its emitted ray
+// (stratified: the direction comes from a randomly shifted Hammersley point set over the
+// pass's photons) and every bounce. A chunk of consecutive photons is traced as one
+// wavefront into its own buffers; the chunks are concatenated in order, so the maps are the
+// same for any thread count.
+//
+// At a hit the photon is stored if the BSDF has a non-delta part; then it survives with
+// probability q = min(1, max channel of f cos / pdf) of the sampled direction (Russian
+// roulette on reflect/absorb from the surface's albedo) and its power is scaled by
+// (f cos / pdf) / q, which keeps the estimate unbiased; `unscaled` keeps the power as it is
+// (the thesis' simpler, biased variant for coloured surfaces).
+#include <cstdint>
+#include <vector>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/ray_batch.h"
+#include "engine/core/stats.h"
+#include "engine/scene/light_set.h"
+#include "photon_map.h"
+
+namespace foton {
+
+enum class PhotonMapKind : uint8_t {
+    Global,   // every non-specular hit (direct, indirect and caustic photons)
+    Caustic,  // only photons whose path is L S+ D: at least one delta bounce, nothing else
+};
+
+struct PhotonPassSettings {
+    PhotonMapKind kind = PhotonMapKind::Global;
+    uint64_t emitted = 100000;  // photons emitted (each carries 1/emitted of the flux)
+    uint32_t max_depth = 8;     // bounces a photon may make
+    bool unscaled_roulette = false;
+    uint64_t pass = 0;  // distinguishes the random numbers of passes (PPM)
+};
+
+struct PhotonWorkspace {
+    RayBatch rays, next;
+    HitBatch hits;
+    std::vector<RGB> power;
+    std::vector<uint8_t> specular_only;  // path so far: light followed by delta bounces only
+};
+
+class PhotonTracer {
+  public:
+    PhotonTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                 uint64_t seed);
+    // Traces photons [first, first + count) of the pass and stores them into `out`.
+    void trace(const PhotonPassSettings& s, uint64_t first, uint32_t count, PhotonWorkspace& ws,
+               PhotonMap& out, RenderStats& stats) const;
+    // The whole pass on the calling arena's threads, chunks concatenated in order.
+    PhotonMap run(const PhotonPassSettings& s, RenderStats& stats) const;
+
+  private:
+    float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;
+
+    const Scene& scene_;
+    const Intersector& accel_;
+    const LightSet& lights_;
+    uint64_t seed_;
+};
+
+}  // namespace foton

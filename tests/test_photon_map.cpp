@@ -1,0 +1,236 @@
+// Photon mapping: filter normalisation, density estimation against analytic irradiance, the
+// power balance of photon tracing, the disc envelope at corners, and the renders
+// (final gathering and direct visualisation) against pbrt-v4's reference.
+#include <catch2/catch.hpp>
+
+#include "engine/accel/intersector.h"
+#include "engine/film/image_io.h"
+#include "engine/film/metrics.h"
+#include "engine/scene/light_set.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/photon_tracer.h"
+#include "engine/transport/render.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+
+PhotonMap trace(const Scene& scene, PhotonMapKind kind, uint64_t n, uint64_t seed = 3) {
+    const auto acc = make_intersector(scene, AccelType::Grid);
+    const LightSet lights(scene);
+    const PhotonTracer tracer(scene, *acc, lights, seed);
+    PhotonPassSettings s;
+    s.kind = kind;
+    s.emitted = n;
+    s.max_depth = 100;
+    RenderStats st;
+    PhotonMap map = tracer.run(s, st);
+    map.build();
+    return map;
+}
+
+RGB mean(const Film& f, const std::vector<uint8_t>& mask) {
+    double s[3] = {0, 0, 0};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < f.pixels.size(); ++i)
+        if (mask[i]) {
+            s[0] += f.pixels[i].r;
+            s[1] += f.pixels[i].g;
+            s[2] += f.pixels[i].b;
+            ++n;
+        }
+    return RGB(float(s[0] / n), float(s[1] / n), float(s[2] / n));
+}
+
+}  // namespace
+
+TEST_CASE("photon filters integrate to one over the disc", "[photon]") {
+    for (PhotonFilter f :
+         {PhotonFilter::None, PhotonFilter::Cone, PhotonFilter::Gauss, PhotonFilter::Simpson}) {
+        for (float cone_k : {1.f, 1.1f, 2.f}) {
+            EstimateParams p;
+            p.filter = f;
+            p.cone_k = cone_k;
+            // (1 / (pi r^2)) * integral over the disc of the weight, by a midpoint rule.
+            const int n = 20000;
+            double sum = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const float s = (i + 0.5f) / n;
+                sum += filter_weight(p, s * 2.f, 2.f) * 2.0 * s / n;
+            }
+            INFO(filter_name(f) << " cone_k " << cone_k);
+            CHECK(sum == Approx(1.0).epsilon(1e-4));
+        }
+    }
+}
+
+TEST_CASE("density estimation converges to a point light's analytic irradiance", "[photon]") {
+    // A point light of intensity I at height 1 over an infinite-ish Lambert plane:
+    // E = I cos(theta) / r^2 = I h / r^3. 1M photons, k = 2000, away from edges.
+    const Scene s = parse_scene(R"(<scene><lights><point intensity="5">
+        <position x="0" y="1" z="0"/></point></lights><objects>
+        <quad><corner x="-50" y="0" z="-50"/><edge1 x="0" y="0" z="100"/><edge2 x="100" y="0" z="0"/>
+          <material type="lambert"><reflectance r="0" g="0" b="0"/></material></quad></objects>
+        <film width="4" height="4"/><camera><eye x="0" y="3" z="-3"/><target x="0" y="0" z="0"/></camera></scene>)",
+                                "plane.xml", ".");
+    const PhotonMap map = trace(s, PhotonMapKind::Global, 1000000);
+    // The square's solid angle from the light, 4 asin(a^2 / (a^2 + h^2)) = 6.170 sr of 4 pi,
+    // gets the photons; the black floor absorbs them all at the first hit.
+    const double fraction = 4.0 * std::asin(2500.0 / 2501.0) / (4.0 * kPi);
+    CHECK(double(map.size()) == Approx(1e6 * fraction).epsilon(0.005));
+    CHECK(map.total_power().g == Approx(5.0 * 4.0 * kPi * fraction).epsilon(0.005));
+    EstimateParams p;
+    p.k = 2000;
+    p.max_radius = 1.f;
+    double sum_rel = 0.0;
+    int n = 0;
+    for (float x : {0.f, 0.3f, 0.6f, 1.f})
+        for (float z : {0.f, -0.4f, 0.8f}) {
+            const Vec3 q{x, 0.f, z};
+            const float r2 = x * x + z * z + 1.f;
+            const float expect = 5.f / (r2 * std::sqrt(r2));
+            const RGB e = map.irradiance(q, {0, 1, 0}, p);
+            INFO("at " << x << ", " << z << ": " << e.g << " expected " << expect);
+            CHECK(e.g == Approx(expect).epsilon(0.06));
+            sum_rel += e.g / expect - 1.0;
+            ++n;
+        }
+    // On average within 2 %.
+    CHECK(std::fabs(sum_rel / n) < 0.02);
+}
+
+TEST_CASE("photon tracing conserves power: direct = emitted, all = emitted / (1 - a)", "[photon]") {
+    // A closed box of Lambert albedo 0.5 with a point light inside: every photon lands, and
+    // with Russian roulette every bounce stores power a times the previous.
+    const Scene s = parse_scene(R"(<scene><lights><point intensity="2">
+        <position x="0.2" y="0.5" z="-0.1"/></point></lights><objects>
+        <quad><corner x="-1" y="-1" z="-1"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="2" z="0"/><material type="lambert"/></quad>
+        <quad><corner x="-1" y="-1" z="1"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="2" z="0"/><material type="lambert"/></quad>
+        <quad><corner x="-1" y="-1" z="-1"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="0" z="2"/><material type="lambert"/></quad>
+        <quad><corner x="-1" y="1" z="-1"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="0" z="2"/><material type="lambert"/></quad>
+        <quad><corner x="-1" y="-1" z="-1"/><edge1 x="0" y="2" z="0"/><edge2 x="0" y="0" z="2"/><material type="lambert"/></quad>
+        <quad><corner x="1" y="-1" z="-1"/><edge1 x="0" y="2" z="0"/><edge2 x="0" y="0" z="2"/><material type="lambert"/></quad>
+        </objects><film width="4" height="4"/><camera><eye x="0" y="0" z="0"/><target x="0" y="0" z="1"/></camera></scene>)",
+                                "box.xml", ".");
+    const PhotonMap map = trace(s, PhotonMapKind::Global, 200000);
+    const double phi = 2.0 * 4.0 * kPi;
+    double direct = 0.0, all = 0.0;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        all += map.power(i).g;
+        if (map.flags(i) & kPhotonDirect) direct += map.power(i).g;
+    }
+    CHECK(direct == Approx(phi).epsilon(1e-3));
+    CHECK(all == Approx(phi / (1.0 - 0.5)).epsilon(0.02));
+    // No specular surface: nothing is a caustic photon, and a caustic pass stores nothing.
+    for (std::size_t i = 0; i < map.size(); ++i) CHECK_FALSE(map.flags(i) & kPhotonCaustic);
+    CHECK(trace(s, PhotonMapKind::Caustic, 20000).empty());
+}
+
+TEST_CASE("caustic photons: light through glass onto a floor", "[photon]") {
+    const Scene s = parse_scene(R"(<scene><lights><point intensity="4">
+        <position x="0" y="3" z="0"/></point></lights><objects>
+        <quad><corner x="-5" y="0" z="-5"/><edge1 x="0" y="0" z="10"/><edge2 x="10" y="0" z="0"/><material type="lambert"/></quad>
+        <sphere radius="0.5"><center x="0" y="1" z="0"/><material type="dielectric" ior="1.5"/></sphere>
+        </objects><film width="4" height="4"/><camera><eye x="0" y="3" z="-3"/><target x="0" y="0" z="0"/></camera></scene>)",
+                                "caustic.xml", ".");
+    const PhotonMap c = trace(s, PhotonMapKind::Caustic, 200000);
+    REQUIRE(c.size() > 1000);
+    // Every caustic photon is flagged, lies on the floor, and arrived from above.
+    for (std::size_t i = 0; i < c.size(); i += 97) {
+        CHECK((c.flags(i) & kPhotonCaustic));
+        CHECK(c.position(i).y == Approx(0.f).margin(1e-4));
+        CHECK(c.incident(i).y > 0.f);
+    }
+    // The glass focuses: irradiance under the sphere exceeds the direct irradiance there.
+    EstimateParams p;
+    p.k = 200;
+    p.max_radius = 0.3f;
+    const float direct = 4.f / 9.f;  // I / h^2 straight below, had the sphere not been there
+    CHECK(c.irradiance({0, 0, 0}, {0, 1, 0}, p).g > 2.f * direct);
+}
+
+TEST_CASE("the disc envelope removes the corner brightening of the sphere", "[photon]") {
+    // A floor and a wall meeting at x = 0, lit by a directional light at 45 degrees that
+    // reaches both: the floor's irradiance is uniform, E cos 45. Near the edge the sphere
+    // also collects wall photons (they arrive from above the floor, so the back-face test
+    // keeps them); the disc rejects them.
+    const Scene s = parse_scene(R"(<scene><lights><directional intensity="2">
+        <direction x="-1" y="-1" z="0"/></directional></lights><objects>
+        <quad><corner x="0" y="0" z="-5"/><edge1 x="0" y="0" z="10"/><edge2 x="5" y="0" z="0"/><material type="lambert"/></quad>
+        <quad><corner x="0" y="0" z="-5"/><edge1 x="0" y="5" z="0"/><edge2 x="0" y="0" z="10"/><material type="lambert"/></quad>
+        </objects><film width="4" height="4"/><camera><eye x="3" y="3" z="-3"/><target x="0" y="0" z="0"/></camera></scene>)",
+                                "corner.xml", ".");
+    const auto acc = make_intersector(s, AccelType::Grid);
+    const LightSet lights(s);
+    const PhotonTracer tracer(s, *acc, lights, 5);
+    PhotonPassSettings ps;
+    ps.emitted = 1000000;
+    ps.max_depth = 1;  // direct photons only: the expected value is exact
+    RenderStats st;
+    PhotonMap map = tracer.run(ps, st);
+    map.build();
+    EstimateParams p;
+    p.k = 400;
+    p.max_radius = 0.5f;
+    const float expect = 2.f * std::sqrt(0.5f);
+    const Vec3 n{0, 1, 0};
+    // Far from the edge both agree with the analytic value.
+    p.envelope = PhotonEnvelope::Sphere;
+    const float far_sphere = map.irradiance({2.5f, 0, 0}, n, p).g;
+    p.envelope = PhotonEnvelope::Disc;
+    const float far_disc = map.irradiance({2.5f, 0, 0}, n, p).g;
+    CHECK(far_sphere == Approx(expect).epsilon(0.08));
+    CHECK(far_disc == Approx(expect).epsilon(0.08));
+    // Half a search radius (about 0.14 here) from the edge: the sphere over-estimates, the
+    // disc does not.
+    const Vec3 edge{0.07f, 0, 0};
+    p.envelope = PhotonEnvelope::Sphere;
+    const float sphere = map.irradiance(edge, n, p).g;
+    p.envelope = PhotonEnvelope::Disc;
+    const float disc = map.irradiance(edge, n, p).g;
+    INFO("sphere " << sphere << " disc " << disc << " expected " << expect);
+    CHECK(sphere > 1.15f * expect);
+    // The disc at an edge sees a half disc of photons in a full disc's area: its bias is the
+    // usual boundary darkening, not brightening.
+    CHECK(disc < 1.08f * expect);
+}
+
+TEST_CASE("photon mapping renders the diffuse Cornell box like pbrt-v4", "[photon][reference]") {
+    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    s.set_resolution(32, 32);
+    s.render.integrator = IntegratorType::Photon;
+    s.render.photon.global_photons = 200000;
+    s.render.photon.gather_rays = 32;
+    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
+    const Film ref = downsample(full, 16);
+    // Leave out every pixel whose 16 x 16 block touches the light: 4 samples cannot resolve
+    // how much of it the light covers.
+    std::vector<uint8_t> mask(ref.pixels.size(), 1);
+    for (int y = 0; y < full.height; ++y)
+        for (int x = 0; x < full.width; ++x)
+            if (full.at(x, y).luminance() > 2.f) mask[std::size_t(y / 16) * 32 + x / 16] = 0;
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt;
+    opt.spp = 4;
+    const RenderResult fg = render(s, *acc, opt);
+    CHECK(fg.stats.photons_global > 100000);
+    const RGB m = mean(fg.film, mask), r = mean(ref, mask);
+    INFO("final gather " << m.r << " " << m.g << " " << m.b << " ref " << r.r << " " << r.g << " "
+                         << r.b);
+    CHECK(m.r == Approx(r.r).epsilon(0.03));
+    CHECK(m.g == Approx(r.g).epsilon(0.03));
+    CHECK(m.b == Approx(r.b).epsilon(0.03));
+    // Direct visualisation: the fast, biased mode; within 10 % on the means.
+    s.render.photon.mode = PhotonMode::DirectVisualisation;
+    const RGB dv = mean(render(s, *acc, opt).film, mask);
+    INFO("direct visualisation " << dv.r << " " << dv.g << " " << dv.b);
+    CHECK(dv.g == Approx(r.g).epsilon(0.10));
+    // Identical with one and two threads.
+    s.render.photon.mode = PhotonMode::FinalGather;
+    s.render.photon.gather_rays = 8;
+    opt.threads = 1;
+    const Film one = render(s, *acc, opt).film;
+    opt.threads = 2;
+    CHECK(compare_images(one, render(s, *acc, opt).film).max_abs == 0.0);
+}
