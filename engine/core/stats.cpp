@@ -24,6 +24,8 @@ const char* stage_name(Stage s) {
             return "merge";
         case Stage::Balance:
             return "balance";
+        case Stage::Precompute:
+            return "irradiance";
         case Stage::FinalGather:
             return "final-gather";
         case Stage::kCount:

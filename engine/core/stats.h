@@ -18,6 +18,7 @@ enum class Stage {
     PhotonTrace,
     PhotonStore,
     Balance,
+    Precompute,
     FinalGather,
     kCount
 };

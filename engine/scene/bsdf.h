@@ -94,6 +94,18 @@ class Bsdf {
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
     bool has_delta() const { return (flags_ & kSpecular) != 0; }
     uint8_t flags() const { return flags_; }
+    // When every non-delta lobe is Lambertian: true, and their summed reflectance (the
+    // radiance they reflect is rho / pi times the irradiance).
+    bool lambert_albedo(RGB& rho) const {
+        rho = RGB{0.f};
+        for (int i = 0; i < n_; ++i) {
+            const Lobe& l = lobes_[std::size_t(i)];
+            if (l.is_delta()) continue;
+            if (l.type != LobeType::Lambert) return false;
+            rho += l.color;
+        }
+        return true;
+    }
     // Probability that sample() picks a lobe with any of `only`'s flags.
     float selection_probability(uint8_t only) const {
         const float all = weight_sum(0xff);

@@ -66,7 +66,8 @@ struct PhotonSettings {
     uint8_t caustic_filter = 0;
     float cone_k = 1.1f;
     PhotonMode mode = PhotonMode::FinalGather;
-    uint32_t gather_rays = 64;  // final-gather rays per visible point and pixel sample
+    uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
+    uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
     bool unscaled_roulette = false;
 };
 

@@ -331,6 +331,12 @@ void Loader::parse_photon_settings(const pugi::xml_node& n) {
             fail(n, "gather_rays must be a non-negative integer");
         p.gather_rays = uint32_t(g);
     }
+    if (n.attribute("irradiance_stride")) {
+        const float g = number(n, "irradiance_stride");
+        if (g < 0.f || g != std::floor(g) || g > 1e6f)
+            fail(n, "irradiance_stride must be a non-negative integer (0: off)");
+        p.irradiance_stride = uint32_t(g);
+    }
     if (n.attribute("envelope")) {
         const std::string e = n.attribute("envelope").value();
         if (e == "sphere")

@@ -109,9 +109,18 @@ void PhotonIntegrator::final_gather(const std::vector<SampleJob>&, PhotonCameraW
             const BsdfContext ctx{sp.front_face, Transport::Radiance};
             // The non-delta lobes from the photons, the delta ones followed below: both
             // parts are taken whole, so neither is reweighted.
-            if (m.bsdf.has_non_delta())
-                radiance[slot] += w * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
-                                                            wo, ctx, maps_.global_params);
+            if (m.bsdf.has_non_delta()) {
+                // Lambertian surfaces read Christensen's precomputed irradiance when there is
+                // one nearby with a similar normal; anything else takes a full estimate.
+                RGB rho, e;
+                if (maps_.global.has_precomputed() && m.bsdf.lambert_albedo(rho) &&
+                    maps_.global.lookup_irradiance(sp.p, sp.ng, maps_.global_params.max_radius, e))
+                    radiance[slot] += w * rho * e * kInvPi;
+                else
+                    radiance[slot] +=
+                        w * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf, wo, ctx,
+                                                  maps_.global_params);
+            }
             if (m.bsdf.has_delta() && depth < kGatherSpecularDepth) {
                 // Follow the delta lobes deterministically (both branches of a dielectric).
                 Vec3 dirs[Bsdf::kMaxLobes * 2];

@@ -66,6 +66,7 @@ void PhotonMap::reserve(std::size_t n) {
     z_.reserve(n);
     power_.reserve(n);
     dir_.reserve(n);
+    normal_.reserve(n);
     flags_.reserve(n);
 }
 
@@ -75,22 +76,40 @@ void PhotonMap::clear() {
     z_.clear();
     power_.clear();
     dir_.clear();
+    normal_.clear();
     flags_.clear();
     tree_ = {};
+    irr_e_.clear();
 }
 
-void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, uint8_t flags) {
-    x_.push_back(p.x);
-    y_.push_back(p.y);
-    z_.push_back(p.z);
-    power_.push_back(power);
-    // Jensen's two-byte direction: theta and phi quantised to 256 steps each.
+namespace {
+// Jensen's two-byte direction: theta and phi quantised to 256 steps each.
+uint16_t encode_direction(const Vec3& w) {
     const float theta = std::acos(std::clamp(w.z, -1.f, 1.f));
     float phi = std::atan2(w.y, w.x);
     if (phi < 0.f) phi += 2.f * kPi;
     const uint16_t t = uint16_t(std::min(255.f, theta * (256.f / kPi)));
     const uint16_t f = uint16_t(std::min(255.f, phi * (256.f / (2.f * kPi))));
-    dir_.push_back(uint16_t(t << 8 | f));
+    return uint16_t(t << 8 | f);
+}
+
+// Bin centres; a table of 256 sines and cosines would do the same (Jensen), the
+// trigonometry is not on a hot path here.
+Vec3 decode_direction(uint16_t d) {
+    const float theta = (float(d >> 8) + 0.5f) * (kPi / 256.f);
+    const float phi = (float(d & 255) + 0.5f) * (2.f * kPi / 256.f);
+    const float st = std::sin(theta);
+    return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+}
+}  // namespace
+
+void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3& n, uint8_t flags) {
+    x_.push_back(p.x);
+    y_.push_back(p.y);
+    z_.push_back(p.z);
+    power_.push_back(power);
+    dir_.push_back(encode_direction(w));
+    normal_.push_back(encode_direction(n));
     flags_.push_back(flags);
 }
 
@@ -100,16 +119,62 @@ void PhotonMap::append(const PhotonMap& o) {
     z_.insert(z_.end(), o.z_.begin(), o.z_.end());
     power_.insert(power_.end(), o.power_.begin(), o.power_.end());
     dir_.insert(dir_.end(), o.dir_.begin(), o.dir_.end());
+    normal_.insert(normal_.end(), o.normal_.begin(), o.normal_.end());
     flags_.insert(flags_.end(), o.flags_.begin(), o.flags_.end());
 }
 
 Vec3 PhotonMap::incident(std::size_t i) const {
-    // Bin centres; a table of 256 sines and cosines would do the same (Jensen), the
-    // trigonometry is not on a hot path here.
-    const float theta = (float(dir_[i] >> 8) + 0.5f) * (kPi / 256.f);
-    const float phi = (float(dir_[i] & 255) + 0.5f) * (2.f * kPi / 256.f);
-    const float st = std::sin(theta);
-    return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+    return decode_direction(dir_[i]);
+}
+
+Vec3 PhotonMap::normal(std::size_t i) const {
+    return decode_direction(normal_[i]);
+}
+
+void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& params,
+                                      const ParallelFor& parallel_for) {
+    const std::size_t m = stride == 0 ? 0 : (size() + stride - 1) / stride;
+    irr_x_.resize(m);
+    irr_y_.resize(m);
+    irr_z_.resize(m);
+    irr_n_.resize(m);
+    irr_e_.resize(m);
+    auto body = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t j = begin; j < end; ++j) {
+            const std::size_t i = j * stride;
+            irr_x_[j] = x_[i];
+            irr_y_[j] = y_[i];
+            irr_z_[j] = z_[i];
+            irr_n_[j] = normal_[i];
+            irr_e_[j] = irradiance(position(i), normal(i), params);
+        }
+    };
+    if (parallel_for)
+        parallel_for(m, body);
+    else
+        body(0, m);
+    irr_tree_.build(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
+}
+
+bool PhotonMap::lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const {
+    constexpr uint32_t kCandidates = 8;
+    uint32_t idx[kCandidates];
+    float d2[kCandidates];
+    const float q[3] = {p.x, p.y, p.z};
+    const uint32_t found = irr_tree_.knn(q, max_radius * max_radius, kCandidates, idx, d2);
+    int best = -1;
+    float best_d2 = kInfinity;
+    for (uint32_t i = 0; i < found; ++i) {
+        // Normals agree within ~25 degrees (two-byte normals are good to about a degree).
+        if (dot(decode_direction(irr_n_[idx[i]]), n) < 0.9f) continue;
+        if (d2[i] < best_d2) {
+            best_d2 = d2[i];
+            best = int(idx[i]);
+        }
+    }
+    if (best < 0) return false;
+    e = irr_e_[std::size_t(best)];
+    return true;
 }
 
 void PhotonMap::build(const kern::PointKdTree::ParallelInvoke& parallel) {

@@ -6,6 +6,7 @@
 // envelope, back-face rejection by the surface normal, and the none / cone / Gauss / Simpson
 // filters, each normalised so that its kernel integrates to one over the disc.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/core/aligned.h"
@@ -43,7 +44,9 @@ class PhotonMap {
   public:
     void reserve(std::size_t n);
     void clear();
-    void push(const Vec3& p, const RGB& power, const Vec3& incident, uint8_t flags);
+    // `normal`: the surface's geometric normal on the side the photon arrived from.
+    void push(const Vec3& p, const RGB& power, const Vec3& incident, const Vec3& normal,
+              uint8_t flags);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
     // Balances the kd-tree; `parallel` runs two jobs (tbb::parallel_invoke in the engine).
@@ -55,6 +58,7 @@ class PhotonMap {
     Vec3 position(std::size_t i) const { return {x_[i], y_[i], z_[i]}; }
     const RGB& power(std::size_t i) const { return power_[i]; }
     Vec3 incident(std::size_t i) const;  // unit, pointing away from the surface (to the light)
+    Vec3 normal(std::size_t i) const;
     uint8_t flags(std::size_t i) const { return flags_[i]; }
     RGB total_power() const;
 
@@ -68,6 +72,18 @@ class PhotonMap {
     RGB irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
                    uint32_t* found = nullptr) const;
 
+    // Christensen's precomputed irradiance: E at every `stride`-th photon (with its normal),
+    // computed in parallel by `parallel_for(n, body(begin, end))`, kept in its own kd-tree.
+    using ParallelFor =
+        std::function<void(std::size_t, const std::function<void(std::size_t, std::size_t)>&)>;
+    void precompute_irradiance(uint32_t stride, const EstimateParams& params,
+                               const ParallelFor& parallel_for);
+    bool has_precomputed() const { return !irr_e_.empty(); }
+    std::size_t precomputed_size() const { return irr_e_.size(); }
+    // The precomputed irradiance nearest to p among those within max_radius whose normal is
+    // within ~25 degrees of n; false when there is none.
+    bool lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const;
+
   private:
     // Gathers the accepted photons of an estimate: indices, squared distances and the radius.
     uint32_t gather(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t* idx,
@@ -75,9 +91,15 @@ class PhotonMap {
 
     AlignedVector<float> x_, y_, z_;
     std::vector<RGB> power_;
-    std::vector<uint16_t> dir_;  // theta, phi bytes (Jensen)
+    std::vector<uint16_t> dir_;     // theta, phi bytes (Jensen)
+    std::vector<uint16_t> normal_;  // same encoding as dir_
     std::vector<uint8_t> flags_;
     kern::PointKdTree tree_;
+    // Precomputed irradiance points.
+    AlignedVector<float> irr_x_, irr_y_, irr_z_;
+    std::vector<uint16_t> irr_n_;
+    std::vector<RGB> irr_e_;
+    kern::PointKdTree irr_tree_;
 };
 
 }  // namespace foton

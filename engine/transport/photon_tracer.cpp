@@ -80,7 +80,8 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const bool caustic = ws.specular_only[slot] && depth > 0;
                 const uint8_t flags =
                     uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
-                if (s.kind == PhotonMapKind::Global || caustic) out.push(sp.p, power, -d, flags);
+                if (s.kind == PhotonMapKind::Global || caustic)
+                    out.push(sp.p, power, -d, sp.ng, flags);
             }
             const warp::Frame frame(sp.ns);
             const Vec3 wl = -d;

@@ -360,8 +360,8 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
 }
 
 // Photon mapping as a job graph: the global and caustic passes (emit, trace and store,
-// parallel inside) run side by side, each feeds the balancing of its kd-tree, and both
-// trees feed the camera pass.
+// parallel inside) run side by side, each feeds the balancing of its kd-tree, the global
+// tree feeds the precomputed irradiance, and all of it feeds the camera pass.
 RenderResult render_photon(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
     const PhotonSettings& ps = scene.render.photon;
     const LightSet lights(scene);
@@ -420,6 +420,20 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
             global_stats.stage_items[int(Stage::Balance)] += maps.global.size();
             global_stats.stage_seconds[int(Stage::Balance)] += c.lap();
         });
+        Node precompute(g, [&](Msg) {
+            if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return;
+            StageClock c;
+            maps.global.precompute_irradiance(
+                ps.irradiance_stride, gp,
+                [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
+                    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+                                      [&](const tbb::blocked_range<std::size_t>& r) {
+                                          body(r.begin(), r.end());
+                                      });
+                });
+            global_stats.stage_items[int(Stage::Precompute)] += maps.global.precomputed_size();
+            global_stats.stage_seconds[int(Stage::Precompute)] += c.lap();
+        });
         Node balance_caustic(g, [&](Msg) {
             StageClock c;
             maps.caustic.build(par);
@@ -431,7 +445,8 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
         tbb::flow::make_edge(start_node, trace_caustic);
         tbb::flow::make_edge(trace_global, balance_global);
         tbb::flow::make_edge(trace_caustic, balance_caustic);
-        tbb::flow::make_edge(balance_global, done);
+        tbb::flow::make_edge(balance_global, precompute);
+        tbb::flow::make_edge(precompute, done);
         tbb::flow::make_edge(balance_caustic, done);
         start_node.try_put(tbb::flow::continue_msg());
         g.wait_for_all();
