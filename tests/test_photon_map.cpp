@@ -224,9 +224,9 @@ TEST_CASE("photon mapping renders the diffuse Cornell box like pbrt-v4", "[photo
     // Christensen's precomputed irradiance (the default, every 4th photon) against a full
     // estimate at every final-gather hit: the same image up to the lookup's blur.
     s.render.photon.irradiance_stride = 0;
-    const RGB full = mean(render(s, *acc, opt).film, mask);
-    INFO("full estimates " << full.g << " precomputed " << m.g);
-    CHECK(full.g == Approx(m.g).epsilon(0.01));
+    const RGB exact = mean(render(s, *acc, opt).film, mask);
+    INFO("full estimates " << exact.g << " precomputed " << m.g);
+    CHECK(exact.g == Approx(m.g).epsilon(0.01));
     s.render.photon.irradiance_stride = 4;
     // Direct visualisation: the fast, biased mode; within 10 % on the means.
     s.render.photon.mode = PhotonMode::DirectVisualisation;
