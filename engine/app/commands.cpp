@@ -40,7 +40,7 @@ int run_render(const RenderArgs& args) {
     if (!args.integrator.empty() && !parse_integrator(args.integrator, rs.integrator))
         throw InputError("--integrator", 0,
                          "unknown integrator '" + args.integrator +
-                             "' (raytracer, path, light, distributed, photon)");
+                             "' (raytracer, path, light, distributed, photon, sppm, ppm)");
     if (!args.mis.empty() && !parse_mis(args.mis, rs.mis))
         throw InputError("--mis", 0,
                          "unknown heuristic '" + args.mis + "' (balance, power, max, none)");

@@ -44,6 +44,10 @@ const char* integrator_name(IntegratorType t) {
             return "distributed";
         case IntegratorType::Photon:
             return "photon";
+        case IntegratorType::Sppm:
+            return "sppm";
+        case IntegratorType::Ppm:
+            return "ppm";
     }
     return "?";
 }
@@ -59,6 +63,10 @@ bool parse_integrator(const std::string& s, IntegratorType& out) {
         out = IntegratorType::Distributed;
     else if (s == "photon")
         out = IntegratorType::Photon;
+    else if (s == "sppm")
+        out = IntegratorType::Sppm;
+    else if (s == "ppm")
+        out = IntegratorType::Ppm;
     else
         return false;
     return true;

@@ -33,7 +33,7 @@ struct Object {
 
 // raytracer: the first thesis' Whitted model; path, light, distributed: the Monte Carlo
 // estimators of the photon-mapping thesis.
-enum class IntegratorType { Whitted, Path, Light, Distributed, Photon };
+enum class IntegratorType { Whitted, Path, Light, Distributed, Photon, Sppm, Ppm };
 const char* integrator_name(IntegratorType t);
 bool parse_integrator(const std::string& s, IntegratorType& out);
 
@@ -69,6 +69,10 @@ struct PhotonSettings {
     uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
     uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
     bool unscaled_roulette = false;
+    // Progressive photon mapping (ppm, sppm).
+    float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
+    float alpha = 2.f / 3.f;        // fraction of new photons kept per pass
+    uint64_t photons_per_pass = 0;  // 0: one per pixel
 };
 
 struct RenderSettings {

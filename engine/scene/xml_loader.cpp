@@ -250,12 +250,16 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "cone_k",
            "mode",
            "gather_rays",
-           "photon_rr"},
+           "photon_rr",
+           "irradiance_stride",
+           "initial_radius",
+           "alpha",
+           "photons_per_pass"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
         fail(n, std::string("unknown renderer type '") + n.attribute("type").value() +
-                    "' (raytracer, path, light, distributed, photon)");
+                    "' (raytracer, path, light, distributed, photon, sppm, ppm)");
     parse_photon_settings(n);
     if (n.attribute("mis") && !parse_mis(n.attribute("mis").value(), r.mis))
         fail(n, std::string("unknown mis heuristic '") + n.attribute("mis").value() +
@@ -331,6 +335,10 @@ void Loader::parse_photon_settings(const pugi::xml_node& n) {
             fail(n, "gather_rays must be a non-negative integer");
         p.gather_rays = uint32_t(g);
     }
+    p.initial_radius = non_negative(n, "initial_radius", p.initial_radius);
+    p.alpha = number(n, "alpha", p.alpha);
+    if (!(p.alpha > 0.f && p.alpha <= 1.f)) fail(n, "alpha must be in (0, 1]");
+    photons("photons_per_pass", p.photons_per_pass);
     if (n.attribute("irradiance_stride")) {
         const float g = number(n, "irradiance_stride");
         if (g < 0.f || g != std::floor(g) || g > 1e6f)

@@ -72,6 +72,13 @@ class PhotonMap {
     RGB irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
                    uint32_t* found = nullptr) const;
 
+    // Calls f(photon index, squared distance) for every photon within radius r of p.
+    template <class F>
+    void for_each_in_radius(const Vec3& p, float r, F&& f) const {
+        const float q[3] = {p.x, p.y, p.z};
+        tree_.for_each_in_radius(q, r * r, f);
+    }
+
     // Christensen's precomputed irradiance: E at every `stride`-th photon (with its normal),
     // computed in parallel by `parallel_for(n, body(begin, end))`, kept in its own kd-tree.
     using ParallelFor =

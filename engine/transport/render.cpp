@@ -21,6 +21,7 @@
 #include "path.h"
 #include "photon_integrator.h"
 #include "photon_tracer.h"
+#include "sppm.h"
 #include "whitted.h"
 
 namespace foton {
@@ -477,6 +478,9 @@ RenderResult render(const Scene& scene, const Intersector& accel, const RenderOp
             return render_light(scene, accel, opt);
         case IntegratorType::Photon:
             return render_photon(scene, accel, opt);
+        case IntegratorType::Sppm:
+        case IntegratorType::Ppm:
+            return render_progressive_photons(scene, accel, opt);
         case IntegratorType::Path:
         case IntegratorType::Distributed: {
             const LightSet lights(scene);

@@ -1,0 +1,266 @@
+#include "sppm.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
+#include "camera_integrator.h"
+#include "engine/core/error.h"
+#include "engine/core/warp.h"
+#include "engine/scene/light_set.h"
+#include "photon_tracer.h"
+#include "surface.h"
+
+namespace foton {
+
+namespace {
+
+struct PixelState {
+    // The visible point of the current pass.
+    bool valid = false;
+    Vec3 p, ng;
+    warp::Frame frame;
+    Vec3 wo;  // local
+    bool front = true;
+    uint32_t material = 0;
+    RGB beta;
+    // Progressive statistics.
+    RGB direct;  // summed over passes
+    float radius = 0.f;
+    double n = 0.0;
+    RGB tau;
+};
+
+constexpr uint64_t kSppmStream = 32;
+
+class ProgressivePhotons {
+  public:
+    ProgressivePhotons(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                       uint64_t seed)
+        : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {}
+
+    float rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
+        return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
+    }
+
+    // One camera sample per pixel through specular chains to its visible point; emission
+    // found on the way and one NEE sample at the visible point go to `direct`.
+    void camera_pass(uint64_t pass, uint32_t x, uint32_t y, PixelState& px, RenderStats& st) const {
+        const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + x;
+        const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
+        Vec3 o, d;
+        scene_.camera.generate(float(x) + j.x, float(y) + j.y,
+                               {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
+        ++st.camera_rays;
+        RGB beta{1.f};
+        px.valid = false;
+        for (uint32_t depth = 0; depth <= scene_.render.max_depth; ++depth) {
+            kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity};
+            Hit1 h;
+            if (!accel_.intersect1(ray, h, st.trace)) {
+                px.direct += beta * scene_.background;
+                return;
+            }
+            const SurfacePoint sp = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
+            const uint32_t mi = scene_.objects[h.geom].material;
+            const Material& m = scene_.materials[mi];
+            if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
+            if (m.bsdf.empty()) return;
+            const warp::Frame frame(sp.ns);
+            const Vec3 wo = frame.to_local(-d);
+            const BsdfContext ctx{sp.front_face, Transport::Radiance};
+            const uint32_t dim = 8 + depth * 8;
+            const float p_delta = m.bsdf.selection_probability(kSpecular);
+            if (m.bsdf.has_delta() && rand(pass, pixel, dim) < p_delta) {
+                BsdfSample bs;
+                if (!m.bsdf.sample(wo, rand(pass, pixel, dim + 1),
+                                   {rand(pass, pixel, dim + 2), rand(pass, pixel, dim + 3)}, ctx,
+                                   bs, kSpecular))
+                    return;
+                const Vec3 wi = frame.to_world(bs.wi);
+                const float side = dot(wi, sp.ng);
+                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
+                beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+                o = offset_origin(sp, wi);
+                d = wi;
+                ++st.secondary_rays;
+                continue;
+            }
+            if (m.bsdf.has_delta()) beta *= 1.f / (1.f - p_delta);
+            // The visible point.
+            px.valid = true;
+            px.p = sp.p;
+            px.ng = sp.ng;
+            px.frame = frame;
+            px.wo = wo;
+            px.front = sp.front_face;
+            px.material = mi;
+            px.beta = beta;
+            if (!lights_.empty()) {
+                float pick;
+                const uint32_t li = lights_.select(rand(pass, pixel, 4), pick);
+                LightSample ls;
+                if (lights_.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
+                                      rand(pass, pixel, 7), ls) &&
+                    dot(ls.wi, sp.ng) > 0.f) {
+                    const Vec3 wi = frame.to_local(ls.wi);
+                    const RGB f = m.bsdf.f(wo, wi, ctx);
+                    if (!f.is_black()) {
+                        const Vec3 so = offset_origin(sp, ls.wi);
+                        const float tmax =
+                            std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+                        ++st.shadow_rays;
+                        if (!accel_.occluded1(
+                                {so.x, so.y, so.z, ls.wi.x, ls.wi.y, ls.wi.z, 0.f, tmax}, st.trace))
+                            px.direct += beta * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
+                    }
+                }
+            }
+            return;
+        }
+    }
+
+    // Gathers this pass's photons within the visible point's radius and updates it.
+    void gather(const PhotonMap& photons, float alpha, PixelState& px) const {
+        if (!px.valid) return;
+        const Material& m = scene_.materials[px.material];
+        const BsdfContext ctx{px.front, Transport::Radiance};
+        RGB phi;
+        uint32_t count = 0;
+        photons.for_each_in_radius(px.p, px.radius, [&](uint32_t i, float) {
+            if (photons.flags(i) & kPhotonDirect) return;  // direct light came from NEE
+            const Vec3 w = photons.incident(i);
+            if (dot(w, px.ng) <= 0.f) return;
+            const RGB f = m.bsdf.f(px.wo, px.frame.to_local(w), ctx);
+            phi += px.beta * f * photons.power(i);
+            ++count;
+        });
+        if (count == 0) return;
+        const double n_new = px.n + alpha * count;
+        const float ratio = float(n_new / (px.n + count));
+        px.tau = (px.tau + phi) * ratio;
+        px.radius *= std::sqrt(ratio);
+        px.n = n_new;
+    }
+
+  private:
+    const Scene& scene_;
+    const Intersector& accel_;
+    const LightSet& lights_;
+    uint64_t seed_;
+};
+
+}  // namespace
+
+RenderResult render_progressive_photons(const Scene& scene, const Intersector& accel,
+                                        const RenderOptions& opt) {
+    const PhotonSettings& ps = scene.render.photon;
+    const bool stochastic = scene.render.integrator == IntegratorType::Sppm;
+    const LightSet lights(scene);
+    if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
+    const int w = scene.film.width, h = scene.film.height;
+    const std::size_t npix = std::size_t(w) * std::size_t(h);
+    const float radius0 = ps.initial_radius > 0.f
+                              ? ps.initial_radius
+                              : 0.01f * 0.5f * length(scene.bounds().diagonal());
+    const uint64_t per_pass = ps.photons_per_pass > 0 ? ps.photons_per_pass : npix;
+    std::vector<PixelState> pixels(npix);
+    for (PixelState& p : pixels) p.radius = radius0;
+    const ProgressivePhotons pm(scene, accel, lights, opt.seed);
+    const PhotonTracer tracer(scene, accel, lights, opt.seed);
+    const int threads = resolve_threads(opt.threads);
+    tbb::task_arena arena(threads);
+    RenderStats stats;
+    tbb::enumerable_thread_specific<RenderStats> local;
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    auto image = [&](uint32_t passes) {
+        Film f(w, h);
+        // A pass's photons carry its light's flux divided by the photons of the pass, so tau
+        // is averaged over passes.
+        for (std::size_t i = 0; i < npix; ++i) {
+            const PixelState& p = pixels[i];
+            RGB l = p.direct * (1.f / float(passes));
+            if (p.radius > 0.f)
+                l += p.tau * float(1.0 / (double(passes) * kPi * double(p.radius) * p.radius));
+            f.pixels[i] = l;
+        }
+        return f;
+    };
+    // Passes: opt.spp of them, or as many as fit in the time limit.
+    const uint32_t fixed = opt.time_limit > 0.f ? 0 : std::max<uint32_t>(1, opt.spp);
+    std::size_t next_snapshot = 0;
+    uint32_t pass = 0;
+    for (;;) {
+        arena.execute([&] {
+            StageClock clock;
+            RenderStats& st0 = local.local();
+            if (stochastic || pass == 0) {
+                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::size_t(h)),
+                                  [&](const tbb::blocked_range<std::size_t>& r) {
+                                      RenderStats& st = local.local();
+                                      for (std::size_t y = r.begin(); y != r.end(); ++y)
+                                          for (int x = 0; x < w; ++x)
+                                              pm.camera_pass(pass, uint32_t(x), uint32_t(y),
+                                                             pixels[y * std::size_t(w) + x], st);
+                                  });
+                st0.stage_items[int(Stage::Shade)] += npix;
+                st0.stage_seconds[int(Stage::Shade)] += clock.lap();
+            } else {
+                // PPM keeps its visible points and their first-pass direct estimate: adding
+                // the running mean keeps direct / passes at that value.
+                for (PixelState& p : pixels) p.direct += p.direct * (1.f / float(pass));
+                clock.lap();
+            }
+            PhotonPassSettings s;
+            s.kind = PhotonMapKind::Global;
+            s.emitted = per_pass;
+            s.max_depth = scene.render.max_depth;
+            s.unscaled_roulette = ps.unscaled_roulette;
+            s.pass = 1000 + pass;
+            PhotonMap photons = tracer.run(s, st0);
+            clock.lap();
+            photons.build([](const std::function<void()>& a, const std::function<void()>& b) {
+                tbb::parallel_invoke(a, b);
+            });
+            st0.stage_items[int(Stage::Balance)] += photons.size();
+            st0.stage_seconds[int(Stage::Balance)] += clock.lap();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                      pm.gather(photons, ps.alpha, pixels[i]);
+                              });
+            st0.stage_items[int(Stage::FinalGather)] += npix;
+            st0.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+            st0.samples += npix;
+        });
+        ++pass;
+        const double t = elapsed();
+        while (next_snapshot < opt.snapshot_times.size() &&
+               t >= opt.snapshot_times[next_snapshot]) {
+            if (opt.on_snapshot)
+                opt.on_snapshot(image(pass), opt.snapshot_times[next_snapshot], t, pass);
+            ++next_snapshot;
+        }
+        if (fixed > 0 ? pass >= fixed : t >= double(opt.time_limit)) break;
+        if (opt.max_passes > 0 && pass >= opt.max_passes) break;
+    }
+    RenderResult result;
+    for (const RenderStats& s : local) stats.merge(s);
+    stats.wall_seconds = elapsed();
+    stats.threads = threads;
+    stats.passes = pass;
+    result.stats = stats;
+    result.film = image(pass);
+    result.samples_per_pixel.assign(npix, pass);
+    return result;
+}
+
+}  // namespace foton
