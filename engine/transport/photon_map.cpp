@@ -201,8 +201,12 @@ uint32_t PhotonMap::gather(const Vec3& p, const Vec3& n, const EstimateParams& p
     const uint32_t k = std::min(params.k, kMaxEstimate);
     const uint32_t found = tree_.knn(q, params.max_radius * params.max_radius, k, idx, d2);
     if (found == 0) return 0;
+    // With k photons the disc reaches the k-th; with fewer, the whole search radius was
+    // searched and is the area they were found in. Taking the farthest photon's distance
+    // then would turn one stray photon next to the query into a firefly.
+    const bool full = found == k;
     if (params.envelope == PhotonEnvelope::Sphere) {
-        radius = std::sqrt(d2[0]);  // max-heap: the farthest first
+        radius = full ? std::sqrt(d2[0]) : params.max_radius;  // max-heap: farthest first
         return found;
     }
     // Disc: keep the photons near the tangent plane (the flattened ellipsoid of the thesis);
@@ -218,7 +222,7 @@ uint32_t PhotonMap::gather(const Vec3& p, const Vec3& n, const EstimateParams& p
         r2 = std::max(r2, d2[i]);
         ++kept;
     }
-    radius = std::sqrt(r2);
+    radius = full ? std::sqrt(r2) : params.max_radius;
     return kept;
 }
 
