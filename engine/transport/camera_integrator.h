@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
 #include "engine/core/rng.h"
 #include "engine/core/sampler.h"
@@ -37,6 +38,22 @@ inline Point2 pixel_sample(const Scene& scene, const SampleJob& j, uint64_t seed
     const uint64_t pixel = uint64_t(j.y) * uint64_t(scene.film.width) + j.x;
     return sample_pattern(scene.render.sampler, j.pat_i, j.pat_n, seed,
                           rng::hash(kPixelStream, pixel, j.pat_round, 0));
+}
+
+// Appends the camera rays of `jobs` to `rays` (slot = job index): the pixel position from
+// the scene's sampler, the thin-lens position from the job's own stream.
+inline void generate_camera_rays(const Scene& scene, const std::vector<SampleJob>& jobs,
+                                 uint64_t seed, RayBatch& rays) {
+    rays.reserve(rays.size() + jobs.size());
+    for (uint32_t slot = 0; slot < jobs.size(); ++slot) {
+        const SampleJob& j = jobs[slot];
+        const Point2 px = pixel_sample(scene, j, seed);
+        const Point2 lens = {rng::uniform(seed, kLensStream, j.id, 0),
+                             rng::uniform(seed, kLensStream, j.id, 1)};
+        Vec3 o, d;
+        scene.camera.generate(float(j.x) + px.x, float(j.y) + px.y, lens, o, d);
+        rays.push(o, d, 0.f, kInfinity, slot);
+    }
 }
 
 // Per-thread scratch of an integrator, reused from tile to tile.

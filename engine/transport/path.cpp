@@ -158,16 +158,7 @@ void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspa
     ws.specular_prev.assign(n, 1);
     ws.p_prev.assign(n, Vec3{});
     ws.rays.clear();
-    ws.rays.reserve(n);
-    for (uint32_t slot = 0; slot < n; ++slot) {
-        const SampleJob& j = jobs[slot];
-        const Point2 px = pixel_sample(scene_, j, seed_);
-        const Point2 lens = {rng::uniform(seed_, kLensStream, j.id, 0),
-                             rng::uniform(seed_, kLensStream, j.id, 1)};
-        Vec3 o, d;
-        scene_.camera.generate(float(j.x) + px.x, float(j.y) + px.y, lens, o, d);
-        ws.rays.push(o, d, 0.f, kInfinity, slot);
-    }
+    generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.stage_items[int(Stage::Generate)] += n;
     stats.stage_seconds[int(Stage::Generate)] += clock.lap();

@@ -155,15 +155,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     ws.shadow_value.clear();
     ws.gather.clear();
     ws.gather_weight.clear();
-    for (uint32_t slot = 0; slot < n; ++slot) {
-        const SampleJob& j = jobs[slot];
-        const Point2 px = pixel_sample(scene_, j, seed_);
-        const Point2 lens = {rng::uniform(seed_, kLensStream, j.id, 0),
-                             rng::uniform(seed_, kLensStream, j.id, 1)};
-        Vec3 o, d;
-        scene_.camera.generate(float(j.x) + px.x, float(j.y) + px.y, lens, o, d);
-        ws.rays.push(o, d, 0.f, kInfinity, slot);
-    }
+    generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.stage_items[int(Stage::Generate)] += n;
     stats.stage_seconds[int(Stage::Generate)] += clock.lap();

@@ -30,17 +30,8 @@ WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Intersector& acce
 void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const {
     const std::size_t n = jobs.size();
     ws.rays.clear();
-    ws.rays.reserve(n);
     ws.weight.assign(n, RGB{1.f});
-    for (uint32_t slot = 0; slot < n; ++slot) {
-        const SampleJob& j = jobs[slot];
-        const Point2 jitter = pixel_sample(scene_, j, seed_);
-        const Point2 lens = {rng::uniform(seed_, kLensStream, j.id, 0),
-                             rng::uniform(seed_, kLensStream, j.id, 1)};
-        Vec3 o, d;
-        scene_.camera.generate(float(j.x) + jitter.x, float(j.y) + jitter.y, lens, o, d);
-        ws.rays.push(o, d, 0.f, kInfinity, slot);
-    }
+    generate_camera_rays(scene_, jobs, seed_, ws.rays);
 }
 
 void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
