@@ -286,3 +286,25 @@ TEST_CASE("SPPM and PPM converge to pbrt-v4's SPPM reference as passes grow",
     opt.threads = 2;
     CHECK(compare_images(one, render(s, *acc, opt).film).max_abs == 0.0);
 }
+
+TEST_CASE("shadow photons decide most shadow rays without changing the image", "[photon]") {
+    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    s.set_resolution(48, 48);
+    s.render.integrator = IntegratorType::Photon;
+    s.render.photon.gather_rays = 4;
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt;
+    opt.spp = 4;
+    const RenderResult plain = render(s, *acc, opt);
+    s.render.photon.shadow_photons = true;
+    const RenderResult shadow = render(s, *acc, opt);
+    const uint64_t decisions = shadow.stats.shadow_rays + shadow.stats.shadow_rays_saved;
+    INFO("saved " << shadow.stats.shadow_rays_saved << " of " << decisions);
+    CHECK(plain.stats.shadow_rays_saved == 0);
+    CHECK(decisions == plain.stats.shadow_rays);
+    CHECK(shadow.stats.shadow_rays_saved > decisions / 2);
+    const ImageError e = compare_images(shadow.film, plain.film);
+    INFO("rmse " << e.rmse << " means " << e.mean_a.g << " " << e.mean_b.g);
+    CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.01));
+    CHECK(e.rmse < 0.01);
+}

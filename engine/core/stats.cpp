@@ -39,6 +39,7 @@ void RenderStats::merge(const RenderStats& o) {
     secondary_rays += o.secondary_rays;
     shadow_rays += o.shadow_rays;
     samples += o.samples;
+    shadow_rays_saved += o.shadow_rays_saved;
     trace.merge(o.trace);
     for (int i = 0; i < kNumStages; ++i) {
         stage_seconds[i] += o.stage_seconds[i];
@@ -68,6 +69,11 @@ std::string RenderStats::table() const {
                       "wall\n",
                       (unsigned long long)photons_global, (unsigned long long)photons_caustic,
                       photon_seconds);
+        s += buf;
+    }
+    if (shadow_rays_saved > 0) {
+        std::snprintf(buf, sizeof buf, "shadow photons decided %llu shadow rays\n",
+                      (unsigned long long)shadow_rays_saved);
         s += buf;
     }
     std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",

@@ -69,6 +69,9 @@ struct PhotonSettings {
     uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
     uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
     bool unscaled_roulette = false;
+    // Shadow photons (Jensen 1995): a shadow map decides next event estimation's visibility
+    // where the nearest photons agree (only direct ones: lit; only shadow ones: dark).
+    bool shadow_photons = false;
     // Progressive photon mapping (ppm, sppm).
     float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
     float alpha = 2.f / 3.f;        // fraction of new photons kept per pass

@@ -254,7 +254,8 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "irradiance_stride",
            "initial_radius",
            "alpha",
-           "photons_per_pass"},
+           "photons_per_pass",
+           "shadow_photons"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
@@ -335,6 +336,7 @@ void Loader::parse_photon_settings(const pugi::xml_node& n) {
             fail(n, "gather_rays must be a non-negative integer");
         p.gather_rays = uint32_t(g);
     }
+    p.shadow_photons = boolean(n, "shadow_photons", p.shadow_photons);
     p.initial_radius = non_negative(n, "initial_radius", p.initial_radius);
     p.alpha = number(n, "alpha", p.alpha);
     if (!(p.alpha > 0.f && p.alpha <= 1.f)) fail(n, "alpha must be in (0, 1]");

@@ -54,10 +54,33 @@ void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, 
             const RGB f = m.bsdf.f_restricted(wo, wi, ctx, kDiffuse | kGlossy);
             const RGB value = weight * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
             if (!value.is_black()) {
-                const float tmax =
-                    std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
-                ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f, tmax, slot);
-                ws.shadow_value.push_back(value);
+                // Shadow photons: among the nearest photons of this light, only direct ones
+                // mean lit, only shadow ones mean dark; a mix (a penumbra) needs the ray.
+                int verdict = -1;
+                if (!maps_.shadow.empty()) {
+                    const float r = 0.5f * maps_.global_params.max_radius;
+                    uint32_t lit = 0, dark = 0;
+                    maps_.global.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
+                        lit += (maps_.global.flags(i) & kPhotonDirect) &&
+                               maps_.global.light(i) == li &&
+                               dot(maps_.global.normal(i), sp.ng) > 0.5f;
+                    });
+                    maps_.shadow.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
+                        dark += maps_.shadow.light(i) == li &&
+                                dot(maps_.shadow.normal(i), sp.ng) > 0.5f;
+                    });
+                    if (lit > 0 && dark == 0) verdict = 1;
+                    if (dark > 0 && lit == 0) verdict = 0;
+                }
+                if (verdict >= 0) {
+                    ++ws.saved;
+                    if (verdict == 1) radiance[slot] += value;
+                } else {
+                    const float tmax =
+                        std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+                    ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f, tmax, slot);
+                    ws.shadow_value.push_back(value);
+                }
             }
         }
     }
@@ -209,6 +232,8 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
         stats.secondary_rays += ws.next.size();
         std::swap(ws.rays, ws.next);
     }
+    stats.shadow_rays_saved += ws.saved;
+    ws.saved = 0;
     if (!ws.shadow.empty()) {
         accel_.occluded(ws.shadow, ws.occluded, stats.trace);
         for (std::size_t i = 0; i < ws.shadow.size(); ++i)

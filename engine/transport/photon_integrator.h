@@ -17,7 +17,7 @@
 namespace foton {
 
 struct PhotonMaps {
-    PhotonMap global, caustic;
+    PhotonMap global, caustic, shadow;
     EstimateParams global_params, caustic_params;
 };
 
@@ -26,6 +26,7 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
     HitBatch hits;
     std::vector<uint8_t> occluded;
     std::vector<RGB> beta, shadow_value, gather_weight, gather_weight_next;
+    uint64_t saved = 0;  // shadow rays decided by shadow photons
 };
 
 class PhotonIntegrator : public CameraIntegrator {

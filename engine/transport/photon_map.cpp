@@ -67,6 +67,7 @@ void PhotonMap::reserve(std::size_t n) {
     power_.reserve(n);
     dir_.reserve(n);
     normal_.reserve(n);
+    light_.reserve(n);
     flags_.reserve(n);
 }
 
@@ -78,6 +79,7 @@ void PhotonMap::clear() {
     dir_.clear();
     normal_.clear();
     flags_.clear();
+    light_.clear();
     tree_ = {};
     irr_e_.clear();
 }
@@ -103,7 +105,8 @@ Vec3 decode_direction(uint16_t d) {
 }
 }  // namespace
 
-void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3& n, uint8_t flags) {
+void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3& n, uint8_t flags,
+                     uint16_t light) {
     x_.push_back(p.x);
     y_.push_back(p.y);
     z_.push_back(p.z);
@@ -111,6 +114,7 @@ void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3&
     dir_.push_back(encode_direction(w));
     normal_.push_back(encode_direction(n));
     flags_.push_back(flags);
+    light_.push_back(light);
 }
 
 void PhotonMap::append(const PhotonMap& o) {
@@ -120,6 +124,7 @@ void PhotonMap::append(const PhotonMap& o) {
     power_.insert(power_.end(), o.power_.begin(), o.power_.end());
     dir_.insert(dir_.end(), o.dir_.begin(), o.dir_.end());
     normal_.insert(normal_.end(), o.normal_.begin(), o.normal_.end());
+    light_.insert(light_.end(), o.light_.begin(), o.light_.end());
     flags_.insert(flags_.end(), o.flags_.begin(), o.flags_.end());
 }
 

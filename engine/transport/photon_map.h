@@ -5,6 +5,7 @@
 // the k nearest photons within a maximum radius, a sphere or disc (flattened ellipsoid)
 // envelope, back-face rejection by the surface normal, and the none / cone / Gauss / Simpson
 // filters, each normalised so that its kernel integrates to one over the disc.
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -38,7 +39,7 @@ struct EstimateParams {
 // over the disc with its 1 / (pi r^2), which is why it darkened the thesis' images).
 float filter_weight(const EstimateParams& p, float d, float r);
 
-enum PhotonFlags : uint8_t { kPhotonCaustic = 1, kPhotonDirect = 2 };
+enum PhotonFlags : uint8_t { kPhotonCaustic = 1, kPhotonDirect = 2, kPhotonShadow = 4 };
 
 class PhotonMap {
   public:
@@ -46,7 +47,7 @@ class PhotonMap {
     void clear();
     // `normal`: the surface's geometric normal on the side the photon arrived from.
     void push(const Vec3& p, const RGB& power, const Vec3& incident, const Vec3& normal,
-              uint8_t flags);
+              uint8_t flags, uint16_t light = 0);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
     // Balances the kd-tree; `parallel` runs two jobs (tbb::parallel_invoke in the engine).
@@ -60,6 +61,7 @@ class PhotonMap {
     Vec3 incident(std::size_t i) const;  // unit, pointing away from the surface (to the light)
     Vec3 normal(std::size_t i) const;
     uint8_t flags(std::size_t i) const { return flags_[i]; }
+    uint16_t light(std::size_t i) const { return light_[i]; }  // the emitter it came from
     RGB total_power() const;
 
     // Reflected radiance at p towards wo (local to the shading frame s, t, n, whose normal
@@ -71,6 +73,17 @@ class PhotonMap {
     // Irradiance E at p with normal n (the estimate with f = 1/pi removed: sum power / pi r^2).
     RGB irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
                    uint32_t* found = nullptr) const;
+
+    // Calls f(photon index) for each of the (up to) k photons nearest to p within radius r.
+    template <class F>
+    void for_each_nearest(const Vec3& p, uint32_t k, float r, F&& f) const {
+        constexpr uint32_t kMax = 64;
+        uint32_t idx[kMax];
+        float d2[kMax];
+        const float q[3] = {p.x, p.y, p.z};
+        const uint32_t n = tree_.knn(q, r * r, std::min(k, kMax), idx, d2);
+        for (uint32_t i = 0; i < n; ++i) f(idx[i]);
+    }
 
     // Calls f(photon index, squared distance) for every photon within radius r of p.
     template <class F>
@@ -101,6 +114,7 @@ class PhotonMap {
     std::vector<uint16_t> dir_;     // theta, phi bytes (Jensen)
     std::vector<uint16_t> normal_;  // same encoding as dir_
     std::vector<uint8_t> flags_;
+    std::vector<uint16_t> light_;
     kern::PointKdTree tree_;
     // Precomputed irradiance points.
     AlignedVector<float> irr_x_, irr_y_, irr_z_;

@@ -30,11 +30,13 @@ float PhotonTracer::rand(uint64_t pass, uint64_t photon, uint32_t dim) const {
 }
 
 void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t count,
-                         PhotonWorkspace& ws, PhotonMap& out, RenderStats& stats) const {
+                         PhotonWorkspace& ws, PhotonMap& out, PhotonMap* shadow,
+                         RenderStats& stats) const {
     StageClock clock;
     ws.rays.clear();
     ws.power.assign(count, RGB{0.f});
     ws.specular_only.assign(count, 1);
+    ws.light.assign(count, 0);
     // The direction sample of photon i is point i of a Hammersley set over the pass, shifted
     // by one random offset per pass (Cranley–Patterson), so directions are stratified.
     const float shift_x = rand(s.pass, ~0ull, 0), shift_y = rand(s.pass, ~0ull, 1);
@@ -53,6 +55,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                                rand(s.pass, i, kDimTriangle), es))
             continue;
         const Emitter& em = lights_.emitter(li);
+        ws.light[k] = uint16_t(li);
         const bool area = !em.is_delta();
         const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
         ws.power[k] = es.Le * (cos_e * inv_n / (pick * es.pdf_pos * es.pdf_dir));
@@ -81,7 +84,23 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const uint8_t flags =
                     uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
                 if (s.kind == PhotonMapKind::Global || caustic)
-                    out.push(sp.p, power, -d, sp.ng, flags);
+                    out.push(sp.p, power, -d, sp.ng, flags, ws.light[slot]);
+            }
+            if (depth == 0 && shadow && s.shadow_photons) {
+                // The photon's line beyond its first hit: every further surface is in shadow
+                // of this light there.
+                Vec3 o = offset_origin(sp, d);
+                for (int crossing = 0; crossing < 8; ++crossing) {
+                    Hit1 h;
+                    if (!accel_.intersect1({o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity}, h,
+                                           stats.trace))
+                        break;
+                    const SurfacePoint q = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
+                    const Material& mq = scene_.materials[scene_.objects[h.geom].material];
+                    if (mq.bsdf.has_non_delta())
+                        shadow->push(q.p, power * -1.f, -d, q.ng, kPhotonShadow, ws.light[slot]);
+                    o = offset_origin(q, d);
+                }
             }
             const warp::Frame frame(sp.ns);
             const Vec3 wl = -d;
@@ -114,28 +133,31 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
     stats.stage_seconds[int(Stage::PhotonTrace)] += clock.lap();
 }
 
-PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats) const {
+PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,
+                            PhotonMap* shadow) const {
     const std::size_t chunks = std::size_t((s.emitted + kChunk - 1) / kChunk);
-    std::vector<PhotonMap> parts(chunks);
+    std::vector<PhotonMap> parts(chunks), shadow_parts(shadow ? chunks : 0);
     tbb::enumerable_thread_specific<PhotonWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> st;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          PhotonWorkspace& ws = workspaces.local();
-                          RenderStats& local = st.local();
-                          for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                              const uint64_t first = uint64_t(c) * kChunk;
-                              const uint32_t n =
-                                  uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
-                              trace(s, first, n, ws, parts[c], local);
-                          }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, chunks, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+            PhotonWorkspace& ws = workspaces.local();
+            RenderStats& local = st.local();
+            for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                const uint64_t first = uint64_t(c) * kChunk;
+                const uint32_t n = uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
+                trace(s, first, n, ws, parts[c], shadow ? &shadow_parts[c] : nullptr, local);
+            }
+        });
     StageClock clock;
     std::size_t total = 0;
     for (const PhotonMap& p : parts) total += p.size();
     PhotonMap map;
     map.reserve(total);
     for (const PhotonMap& p : parts) map.append(p);
+    if (shadow)
+        for (const PhotonMap& p : shadow_parts) shadow->append(p);
     for (const RenderStats& l : st) stats.merge(l);
     stats.stage_items[int(Stage::PhotonStore)] += total;
     stats.stage_seconds[int(Stage::PhotonStore)] += clock.lap();

@@ -36,6 +36,9 @@ struct PhotonPassSettings {
     uint32_t max_depth = 8;     // bounces a photon may make
     bool unscaled_roulette = false;
     uint64_t pass = 0;  // distinguishes the random numbers of passes (PPM)
+    // Global pass: continue every photon's line through its first hit and store a shadow
+    // photon (light id, negated power) at each further surface it crosses (Jensen 1995).
+    bool shadow_photons = false;
 };
 
 struct PhotonWorkspace {
@@ -43,6 +46,7 @@ struct PhotonWorkspace {
     HitBatch hits;
     std::vector<RGB> power;
     std::vector<uint8_t> specular_only;  // path so far: light followed by delta bounces only
+    std::vector<uint16_t> light;         // emitter of each photon
 };
 
 class PhotonTracer {
@@ -51,9 +55,11 @@ class PhotonTracer {
                  uint64_t seed);
     // Traces photons [first, first + count) of the pass and stores them into `out`.
     void trace(const PhotonPassSettings& s, uint64_t first, uint32_t count, PhotonWorkspace& ws,
-               PhotonMap& out, RenderStats& stats) const;
-    // The whole pass on the calling arena's threads, chunks concatenated in order.
-    PhotonMap run(const PhotonPassSettings& s, RenderStats& stats) const;
+               PhotonMap& out, PhotonMap* shadow, RenderStats& stats) const;
+    // The whole pass on the calling arena's threads, chunks concatenated in order; shadow
+    // photons (s.shadow_photons) go to `shadow`.
+    PhotonMap run(const PhotonPassSettings& s, RenderStats& stats,
+                  PhotonMap* shadow = nullptr) const;
 
   private:
     float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;

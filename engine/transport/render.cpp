@@ -402,7 +402,8 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
             s.max_depth = scene.render.max_depth;
             s.unscaled_roulette = ps.unscaled_roulette;
             s.pass = 0;
-            if (s.emitted > 0) maps.global = tracer.run(s, global_stats);
+            s.shadow_photons = ps.shadow_photons;
+            if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow);
         });
         Node trace_caustic(g, [&](Msg) {
             PhotonPassSettings s;
@@ -418,7 +419,9 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
         Node balance_global(g, [&](Msg) {
             StageClock c;
             maps.global.build(par);
-            global_stats.stage_items[int(Stage::Balance)] += maps.global.size();
+            maps.shadow.build(par);
+            global_stats.stage_items[int(Stage::Balance)] +=
+                maps.global.size() + maps.shadow.size();
             global_stats.stage_seconds[int(Stage::Balance)] += c.lap();
         });
         Node precompute(g, [&](Msg) {
