@@ -133,3 +133,20 @@ TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare
               foton::test::source_path("scenes/previews/bunny.png"))
               .code == 2);
 }
+
+TEST_CASE("foton render --set overrides renderer attributes and checks them", "[cli]") {
+    foton::test::TempDir dir;
+    const std::string cornell = foton::test::source_path("scenes/cornell-caustics.xml");
+    const Run ok = run("render " + cornell +
+                       " --width 16 --height 16 --spp 1 --integrator photon --set gather_rays=2"
+                       " --set global_photons=20000 --set caustic_filter=cone --stats -q -o " +
+                       dir.file("p.exr"));
+    CHECK(ok.code == 0);
+    CHECK_THAT(ok.output, Catch::Contains("final-gather"));  // the photon stages ran
+    const Run bad = run("render " + cornell + " --set k=abc -o " + dir.file("b.exr"));
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.output, Catch::Contains("attribute 'k' is not a number"));
+    CHECK(run("render " + cornell + " --set nonsense -o " + dir.file("b.exr")).code == 2);
+    CHECK(run("render " + cornell + " --set colour=red -o " + dir.file("b.exr")).code == 2);
+    CHECK_FALSE(std::filesystem::exists(dir.file("b.exr")));
+}

@@ -30,6 +30,19 @@ PhotonMap trace(const Scene& scene, PhotonMapKind kind, uint64_t n, uint64_t see
     return map;
 }
 
+// The mask of a reference downsampled by `factor`: pixels whose block touches the directly
+// seen light (luminance > 2) are left out, since a few samples per pixel cannot resolve how
+// much of the block the light covers.
+std::vector<uint8_t> blocks_without_light(const Film& full, int factor) {
+    const int w = full.width / factor;
+    std::vector<uint8_t> mask(std::size_t(w) * std::size_t(full.height / factor), 1);
+    for (int y = 0; y < full.height; ++y)
+        for (int x = 0; x < full.width; ++x)
+            if (full.at(x, y).luminance() > 2.f)
+                mask[std::size_t(y / factor) * std::size_t(w) + std::size_t(x / factor)] = 0;
+    return mask;
+}
+
 RGB mean(const Film& f, const std::vector<uint8_t>& mask) {
     double s[3] = {0, 0, 0};
     std::size_t n = 0;
@@ -204,12 +217,7 @@ TEST_CASE("photon mapping renders the diffuse Cornell box like pbrt-v4", "[photo
     s.render.photon.gather_rays = 32;
     const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
     const Film ref = downsample(full, 16);
-    // Leave out every pixel whose 16 x 16 block touches the light: 4 samples cannot resolve
-    // how much of it the light covers.
-    std::vector<uint8_t> mask(ref.pixels.size(), 1);
-    for (int y = 0; y < full.height; ++y)
-        for (int x = 0; x < full.width; ++x)
-            if (full.at(x, y).luminance() > 2.f) mask[std::size_t(y / 16) * 32 + x / 16] = 0;
+    const std::vector<uint8_t> mask = blocks_without_light(full, 16);
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 4;
@@ -250,10 +258,7 @@ TEST_CASE("SPPM and PPM converge to pbrt-v4's SPPM reference as passes grow",
     s.render.photon.photons_per_pass = 65536;
     const Film full = read_exr(test::shared_path("refs/cornell_caustics_sppm_256it.exr"));
     const Film ref = downsample(full, 8);
-    std::vector<uint8_t> mask(ref.pixels.size(), 1);
-    for (int y = 0; y < full.height; ++y)
-        for (int x = 0; x < full.width; ++x)
-            if (full.at(x, y).luminance() > 2.f) mask[std::size_t(y / 8) * 64 + x / 8] = 0;
+    const std::vector<uint8_t> mask = blocks_without_light(full, 8);
     const auto acc = make_intersector(s, s.accel);
     for (IntegratorType type : {IntegratorType::Sppm, IntegratorType::Ppm}) {
         s.render.integrator = type;

@@ -33,9 +33,9 @@ float Emitter::spot_falloff(float c) const {
 }
 
 LightSet::LightSet(const Scene& scene) : scene_(&scene) {
-    bounds_ = scene.bounds();
-    center_ = bounds_.center();
-    radius_ = 0.5f * length(bounds_.diagonal());
+    const Bounds3 bounds = scene.bounds();
+    center_ = bounds.center();
+    radius_ = 0.5f * length(bounds.diagonal());
     if (!(radius_ > 0.f)) radius_ = 1.f;
     geom_to_emitter_.assign(scene.objects.size(), -1);
     const Lights& L = scene.lights;
@@ -137,7 +137,17 @@ uint32_t LightSet::select(float u, float& pmf) const {
     return i;
 }
 
-void LightSet::sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const {
+void LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const {
+    if (e.type == EmitterType::Rect) {
+        q = e.p + e.e1 * u.x + e.e2 * u.y;
+        n = e.n;
+        return;
+    }
+    if (e.type == EmitterType::Sphere) {
+        n = warp::uniform_sphere(u);
+        q = e.p + n * e.radius;
+        return;
+    }
     const TriangleMesh& mesh = scene_->meshes[e.mesh];
     const float target = uc * e.area;
     const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
@@ -150,10 +160,16 @@ void LightSet::sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, 
     n = normalize(cross(p1 - p0, p2 - p0));
 }
 
-RGB LightSet::Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const {
-    const Emitter& e = emitters_[i];
-    if (e.is_delta()) return RGB{0.f};
-    return dot(n_geom, w) > 0.f || e.two_sided ? e.value : RGB{0.f};
+bool LightSet::sample_ray(float u_select, Point2 u_pos, Point2 u_dir, float uc,
+                          EmittedRay& r) const {
+    r.light = select(u_select, r.pmf);
+    EmissionSample& es = r.emission;
+    if (!sample_le(r.light, u_pos, u_dir, uc, es)) return false;
+    const bool area = !emitters_[r.light].is_delta();
+    const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
+    r.beta = es.Le * (cos_e / (r.pmf * es.pdf_pos * es.pdf_dir));
+    r.origin = area ? es.p + es.n * (2e-5f * max_abs_component(es.p)) : es.p;
+    return true;
 }
 
 bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const {
@@ -184,16 +200,10 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
         case EmitterType::Rect:
         case EmitterType::Mesh:
         case EmitterType::Sphere: {
-            Vec3 q, nq;
-            if (e.type == EmitterType::Rect) {
-                q = e.p + e.e1 * u.x + e.e2 * u.y;
-                nq = e.n;
-            } else if (e.type == EmitterType::Mesh) {
-                sample_mesh_point(e, u, uc, q, nq);
-            } else {
+            if (e.type == EmitterType::Sphere && e.solid_angle) {
                 const float dc2 = length_squared(e.p - p);
                 // From inside (two-sided emission) only area sampling applies.
-                if (e.solid_angle && dc2 > e.radius * e.radius * 1.0001f) {
+                if (dc2 > e.radius * e.radius * 1.0001f) {
                     // Uniform in the cone the sphere subtends, then the near intersection.
                     const float dc = std::sqrt(dc2);
                     const Vec3 wc = (e.p - p) / dc;
@@ -212,10 +222,9 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                     s.Li = e.value;
                     return s.pdf > 0.f && ds > 0.f;
                 }
-                const Vec3 d = warp::uniform_sphere(u);
-                q = e.p + d * e.radius;
-                nq = d;
             }
+            Vec3 q, nq;
+            sample_area_point(e, u, uc, q, nq);
             const Vec3 to = q - p;
             const float d2 = length_squared(to);
             if (d2 == 0.f) return false;
@@ -289,15 +298,7 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
         case EmitterType::Sphere:
         case EmitterType::Mesh: {
             Vec3 q, nq;
-            if (e.type == EmitterType::Rect) {
-                q = e.p + e.e1 * u_pos.x + e.e2 * u_pos.y;
-                nq = e.n;
-            } else if (e.type == EmitterType::Sphere) {
-                nq = warp::uniform_sphere(u_pos);
-                q = e.p + nq * e.radius;
-            } else {
-                sample_mesh_point(e, u_pos, uc, q, nq);
-            }
+            sample_area_point(e, u_pos, uc, q, nq);
             float side_pdf = 1.f;
             if (e.two_sided) {
                 // Either side with probability 1/2: u_dir.x picks it and is stretched back.

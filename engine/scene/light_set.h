@@ -63,6 +63,14 @@ struct EmissionSample {
     float pdf_dir = 1.f;  // solid angle density (1 for directional)
 };
 
+struct EmittedRay {
+    uint32_t light = 0;
+    float pmf = 1.f;  // probability of having chosen this light
+    EmissionSample emission;
+    Vec3 origin;  // emission.p, offset off an emitting surface along the chosen side
+    RGB beta;     // Le |cos| / (pmf pdf_pos pdf_dir)
+};
+
 class LightSet {
   public:
     LightSet() = default;
@@ -86,23 +94,23 @@ class LightSet {
     // Solid-angle density with which sample_li would have produced the point `q` (normal nq
     // on the emitting side) seen from `p`.
     float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const;
-    // Radiance leaving an area emitter at a point with geometric normal n (the geometry's own
-    // orientation) towards w: zero behind a one-sided emitter.
-    RGB Le(uint32_t i, const Vec3& n_geom, const Vec3& w) const;
     // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),
     // direction with u_dir.
     bool sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc, EmissionSample& s) const;
-
-    const Bounds3& scene_bounds() const { return bounds_; }
+    // The start of a light path or photon: an emitter chosen by power with u_select, its
+    // emitted ray, the ray's origin pushed off an emitting surface, and the path throughput
+    // Le |cos| / (pmf pdf_pos pdf_dir). False when the sample carries no light.
+    bool sample_ray(float u_select, Point2 u_pos, Point2 u_dir, float uc, EmittedRay& r) const;
 
   private:
-    void sample_mesh_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const;
+    // A point uniform over the area of a rectangle, sphere or mesh emitter, with the
+    // geometry's own normal there (u, and uc for a mesh's triangle).
+    void sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const;
 
     const Scene* scene_ = nullptr;
     std::vector<Emitter> emitters_;
     std::vector<float> pmf_, cdf_;
     std::vector<int> geom_to_emitter_;
-    Bounds3 bounds_;
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
 };

@@ -54,29 +54,25 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
 
     for (uint32_t k = 0; k < count; ++k) {
         const uint64_t path = first + k;
-        float pick;
-        const uint32_t li = lights_.select(rand(path, kDimLightSelect), pick);
-        EmissionSample es;
-        if (!lights_.sample_le(li, {rand(path, kDimPos), rand(path, kDimPos + 1)},
-                               {rand(path, kDimDir), rand(path, kDimDir + 1)},
-                               rand(path, kDimTriangle), es))
+        EmittedRay er;
+        if (!lights_.sample_ray(
+                rand(path, kDimLightSelect), {rand(path, kDimPos), rand(path, kDimPos + 1)},
+                {rand(path, kDimDir), rand(path, kDimDir + 1)}, rand(path, kDimTriangle), er))
             continue;
-        const Emitter& em = lights_.emitter(li);
-        const bool area = !em.is_delta();
-        const float eps = 2e-5f * max_abs_component(es.p);
-        if (area) {
+        const Emitter& em = lights_.emitter(er.light);
+        const EmissionSample& es = er.emission;
+        if (!em.is_delta()) {
             // The emitting point itself, seen by the camera.
             const Vec3 wc = normalize(cam.eye - es.p);
             const float c = dot(es.n, wc);
             const float cos_l = em.two_sided ? std::fabs(c) : c;
+            const float eps = 2e-5f * max_abs_component(es.p);
             if (cos_l > 0.f)
                 connect(es.p, es.p + es.n * (c > 0.f ? eps : -eps),
-                        es.Le * (cos_l / (pick * es.pdf_pos)), k);
+                        es.Le * (cos_l / (er.pmf * es.pdf_pos)), k);
         }
-        const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
-        ws.beta[k] = es.Le * (cos_e / (pick * es.pdf_pos * es.pdf_dir));
-        const Vec3 o = area ? es.p + es.n * eps : es.p;
-        ws.rays.push(o, es.dir, 0.f, kInfinity, k);
+        ws.beta[k] = er.beta;
+        ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
     }
     stats.samples += count;
     stats.stage_items[int(Stage::Generate)] += count;
@@ -95,8 +91,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const uint32_t slot = ws.rays.id[i];
             const uint64_t path = first + slot;
             const Vec3 d = ws.rays.direction(i);
-            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
-                                               ws.hits.u[i], ws.hits.v[i], ws.rays.origin(i), d);
+            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
             const Material& m = scene_.materials[scene_.objects[geom].material];
             if (m.bsdf.empty() || vertex > rs.max_depth) continue;
             RGB& beta = ws.beta[slot];

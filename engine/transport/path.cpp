@@ -4,6 +4,7 @@
 
 #include "engine/core/warp.h"
 #include "mis.h"
+#include "shadow_batch.h"
 #include "surface.h"
 
 namespace foton {
@@ -51,8 +52,7 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
             continue;
         }
         const Vec3 d = ws.rays.direction(i);
-        const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
-                                           ws.hits.u[i], ws.hits.v[i], ws.rays.origin(i), d);
+        const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
         const Material& m = scene_.materials[scene_.objects[geom].material];
 
         // Emission found by this ray, weighted against having sampled it as a light.
@@ -172,14 +172,8 @@ void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspa
         stats.stage_items[int(Stage::Shade)] += ws.rays.size();
         stats.stage_seconds[int(Stage::Shade)] += clock.lap();
 
-        if (!ws.shadow.empty()) {
-            accel_.occluded(ws.shadow, ws.occluded, stats.trace);
-            for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-                if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
-            stats.shadow_rays += ws.shadow.size();
-            stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
-            stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
-        }
+        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                            clock);
         stats.secondary_rays += ws.next.size();
         std::swap(ws.rays, ws.next);
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/core/warp.h"
+#include "shadow_batch.h"
 #include "surface.h"
 
 namespace foton {
@@ -103,8 +104,8 @@ void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, 
     }
 }
 
-void PhotonIntegrator::final_gather(const std::vector<SampleJob>&, PhotonCameraWorkspace& ws,
-                                    std::vector<RGB>& radiance, RenderStats& stats) const {
+void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
+                                    RenderStats& stats) const {
     StageClock clock;
     std::size_t rays = 0;
     for (uint32_t depth = 0; !ws.gather.empty(); ++depth) {
@@ -121,8 +122,7 @@ void PhotonIntegrator::final_gather(const std::vector<SampleJob>&, PhotonCameraW
                 continue;
             }
             const Vec3 d = ws.gather.direction(i);
-            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
-                                               ws.hits.u[i], ws.hits.v[i], ws.gather.origin(i), d);
+            const SurfacePoint sp = surface_at(scene_, ws.gather, ws.hits, i);
             const Material& m = scene_.materials[scene_.objects[geom].material];
             // Emission is not counted: direct light came from NEE, and light through
             // specular surfaces from the caustic map.
@@ -199,8 +199,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
                 continue;
             }
             const Vec3 d = ws.rays.direction(i);
-            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
-                                               ws.hits.u[i], ws.hits.v[i], ws.rays.origin(i), d);
+            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
             const Material& m = scene_.materials[scene_.objects[geom].material];
             // Emitters seen from the camera or through specular chains (L S* E paths have no
             // diffuse vertex, so no photon estimate holds them).
@@ -234,15 +233,8 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     }
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
-    if (!ws.shadow.empty()) {
-        accel_.occluded(ws.shadow, ws.occluded, stats.trace);
-        for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-            if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
-        stats.shadow_rays += ws.shadow.size();
-        stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
-        stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
-    }
-    final_gather(jobs, ws, radiance, stats);
+    resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);
+    final_gather(ws, radiance, stats);
 }
 
 }  // namespace foton

@@ -43,8 +43,8 @@ class PhotonIntegrator : public CameraIntegrator {
     void shade_visible(const struct SurfacePoint& sp, const Material& m, const Vec3& d,
                        const RGB& weight, uint32_t slot, const SampleJob& job, uint32_t depth,
                        PhotonCameraWorkspace& ws, std::vector<RGB>& radiance) const;
-    void final_gather(const std::vector<SampleJob>& jobs, PhotonCameraWorkspace& ws,
-                      std::vector<RGB>& radiance, RenderStats& stats) const;
+    void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
+                      RenderStats& stats) const;
     float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;

@@ -19,10 +19,6 @@ double gauss_integral() {
 constexpr uint32_t kMaxEstimate = 4096;
 }  // namespace
 
-const char* envelope_name(PhotonEnvelope e) {
-    return e == PhotonEnvelope::Sphere ? "sphere" : "disc";
-}
-
 const char* filter_name(PhotonFilter f) {
     switch (f) {
         case PhotonFilter::None:
@@ -95,13 +91,27 @@ uint16_t encode_direction(const Vec3& w) {
     return uint16_t(t << 8 | f);
 }
 
-// Bin centres; a table of 256 sines and cosines would do the same (Jensen), the
-// trigonometry is not on a hot path here.
+// Decoding runs for every photon of every estimate (radiance, SPPM gathering, shadow-photon
+// tests), so it reads Jensen's tables of the 256 bin centres' sines and cosines.
+struct DirectionTables {
+    float sin_theta[256], cos_theta[256], sin_phi[256], cos_phi[256];
+    DirectionTables() {
+        for (int i = 0; i < 256; ++i) {
+            const float theta = (float(i) + 0.5f) * (kPi / 256.f);
+            const float phi = (float(i) + 0.5f) * (2.f * kPi / 256.f);
+            sin_theta[i] = std::sin(theta);
+            cos_theta[i] = std::cos(theta);
+            sin_phi[i] = std::sin(phi);
+            cos_phi[i] = std::cos(phi);
+        }
+    }
+};
+const DirectionTables kDirections;
+
 Vec3 decode_direction(uint16_t d) {
-    const float theta = (float(d >> 8) + 0.5f) * (kPi / 256.f);
-    const float phi = (float(d & 255) + 0.5f) * (2.f * kPi / 256.f);
-    const float st = std::sin(theta);
-    return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+    const int t = d >> 8, f = d & 255;
+    const float st = kDirections.sin_theta[t];
+    return {st * kDirections.cos_phi[f], st * kDirections.sin_phi[f], kDirections.cos_theta[t]};
 }
 }  // namespace
 

@@ -20,7 +20,6 @@ namespace foton {
 
 enum class PhotonEnvelope : uint8_t { Sphere, Disc };
 enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
-const char* envelope_name(PhotonEnvelope e);
 const char* filter_name(PhotonFilter f);
 
 struct EstimateParams {

@@ -47,20 +47,15 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         float uy = radical_inverse2(uint32_t(i)) + shift_y;
         ux -= std::floor(ux);
         uy -= std::floor(uy);
-        float pick;
-        const uint32_t li = lights_.select(rand(s.pass, i, kDimLight), pick);
-        EmissionSample es;
-        if (!lights_.sample_le(li, {rand(s.pass, i, kDimPos), rand(s.pass, i, kDimPos + 1)},
-                               {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
-                               rand(s.pass, i, kDimTriangle), es))
+        EmittedRay er;
+        if (!lights_.sample_ray(rand(s.pass, i, kDimLight),
+                                {rand(s.pass, i, kDimPos), rand(s.pass, i, kDimPos + 1)},
+                                {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
+                                rand(s.pass, i, kDimTriangle), er))
             continue;
-        const Emitter& em = lights_.emitter(li);
-        ws.light[k] = uint16_t(li);
-        const bool area = !em.is_delta();
-        const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
-        ws.power[k] = es.Le * (cos_e * inv_n / (pick * es.pdf_pos * es.pdf_dir));
-        const float eps = 2e-5f * max_abs_component(es.p);
-        ws.rays.push(area ? es.p + es.n * eps : es.p, es.dir, 0.f, kInfinity, k);
+        ws.light[k] = uint16_t(er.light);
+        ws.power[k] = er.beta * inv_n;
+        ws.rays.push(er.origin, er.emission.dir, 0.f, kInfinity, k);
     }
     stats.stage_items[int(Stage::PhotonEmit)] += count;
     stats.stage_seconds[int(Stage::PhotonEmit)] += clock.lap();
@@ -74,8 +69,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
             const uint32_t slot = ws.rays.id[r];
             const uint64_t i = first + slot;
             const Vec3 d = ws.rays.direction(r);
-            const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[r], ws.hits.t[r],
-                                               ws.hits.u[r], ws.hits.v[r], ws.rays.origin(r), d);
+            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
             const Material& m = scene_.materials[scene_.objects[geom].material];
             if (m.bsdf.empty()) continue;
             RGB& power = ws.power[slot];

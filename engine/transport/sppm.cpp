@@ -30,7 +30,7 @@ struct PixelState {
     uint32_t material = 0;
     RGB beta;
     // Progressive statistics.
-    RGB direct;  // summed over passes
+    RGB direct;  // summed over passes (PPM: of its one camera pass)
     float radius = 0.f;
     double n = 0.0;
     RGB tau;
@@ -187,7 +187,8 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
         // is averaged over passes.
         for (std::size_t i = 0; i < npix; ++i) {
             const PixelState& p = pixels[i];
-            RGB l = p.direct * (1.f / float(passes));
+            // PPM's visible points, and so their direct light, come from the first pass only.
+            RGB l = p.direct * (1.f / float(stochastic ? passes : 1));
             if (p.radius > 0.f)
                 l += p.tau * float(1.0 / (double(passes) * kPi * double(p.radius) * p.radius));
             f.pixels[i] = l;
@@ -213,11 +214,6 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
                                   });
                 st0.stage_items[int(Stage::Shade)] += npix;
                 st0.stage_seconds[int(Stage::Shade)] += clock.lap();
-            } else {
-                // PPM keeps its visible points and their first-pass direct estimate: adding
-                // the running mean keeps direct / passes at that value.
-                for (PixelState& p : pixels) p.direct += p.direct * (1.f / float(pass));
-                clock.lap();
             }
             PhotonPassSettings s;
             s.kind = PhotonMapKind::Global;

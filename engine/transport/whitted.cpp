@@ -6,6 +6,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/sampler.h"
 #include "engine/core/warp.h"
+#include "shadow_batch.h"
 
 namespace foton {
 
@@ -34,16 +35,17 @@ void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWork
     generate_camera_rays(scene_, jobs, seed_, ws.rays);
 }
 
-void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
-                                     const RGB& weight, uint32_t slot, uint64_t sample_index,
-                                     uint32_t depth, WhittedWorkspace& ws) const {
+template <class Brdf>
+void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, const RGB& weight,
+                                     uint32_t slot, uint64_t sample_index, uint32_t depth,
+                                     WhittedWorkspace& ws) const {
     const Lights& L = scene_.lights;
     // Queues a shadow ray towards direction wi (unit) over distance `dist`, carrying the
     // contribution it makes if nothing blocks it.
     auto add = [&](const Vec3& wi, float dist, const RGB& incident) {
         const float cos_s = dot(sp.ns, wi);
         if (cos_s <= 0.f || dot(sp.ng, wi) <= 0.f) return;
-        const RGB value = weight * brdf(m, sp.ns, wo, wi) * incident * cos_s;
+        const RGB value = weight * brdf(wi) * incident * cos_s;
         if (value.is_black()) return;
         const Vec3 o = offset_origin(sp, wi);
         // Stop short of the light so that its own geometry (area lights) does not block it.
@@ -92,18 +94,9 @@ void WhittedIntegrator::shade_generic(const SurfacePoint& sp, const Material& m,
     // Ambient light reflected by the diffuse lobes, as the thesis' c_ambient term.
     radiance[slot] += weight * m.base_color * scene_.ambient.radiance() * m.c_diffuse;
     if (m.bsdf.has_non_delta()) {
-        // direct_light() evaluates the material's Phong model; hand it a proxy whose BRDF is
-        // the BSDF by queuing the shadow rays here instead.
-        const std::size_t first = ws.shadow.size();
-        Material probe;
-        probe.c_diffuse = 1.f;
-        probe.base_color = RGB{kPi};  // brdf() = 1: the value becomes weight * incident * cos
-        direct_light(sp, probe, -d, weight, slot, sample_index, depth, ws);
-        for (std::size_t k = first; k < ws.shadow.size(); ++k) {
-            const Vec3 wi = ws.shadow.direction(k);
-            const RGB f = m.bsdf.f(wo, frame.to_local(wi), ctx);
-            ws.shadow_value[k] = ws.shadow_value[k] * f;
-        }
+        direct_light(
+            sp, [&](const Vec3& wi) { return m.bsdf.f(wo, frame.to_local(wi), ctx); }, weight, slot,
+            sample_index, depth, ws);
     }
     if (depth >= scene_.render.max_depth) return;
     Vec3 dirs[Bsdf::kMaxLobes * 2];
@@ -140,9 +133,8 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
             radiance[slot] += weight * scene_.background;
             continue;
         }
-        const Vec3 o = ws.rays.origin(i), d = ws.rays.direction(i);
-        const SurfacePoint sp = surface_at(scene_, geom, ws.hits.prim[i], ws.hits.t[i],
-                                           ws.hits.u[i], ws.hits.v[i], o, d);
+        const Vec3 d = ws.rays.direction(i);
+        const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
         const Material& m = scene_.materials[scene_.objects[geom].material];
         const Vec3 wo = -d;
         if (m.emits_towards(sp.front_face)) radiance[slot] += weight * m.emission;
@@ -159,7 +151,9 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
                 radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
                 // The sample index only keys area-light sampling; skip it when there is none.
                 const uint64_t sample = scene_.lights.areas.empty() ? 0 : jobs[slot].id;
-                direct_light(sp, m, wo, weight, slot, sample, depth, ws);
+                direct_light(
+                    sp, [&](const Vec3& wi) { return brdf(m, sp.ns, wo, wi); }, weight, slot,
+                    sample, depth, ws);
                 if (m.type == MaterialType::Reflective) {
                     Vec3 r = reflect(d, sp.ns);
                     if (dot(r, sp.ng) <= 0.f) r = reflect(d, sp.ng);
@@ -207,14 +201,8 @@ void WhittedIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWork
         stats.stage_items[int(Stage::Shade)] += ws.rays.size();
         stats.stage_seconds[int(Stage::Shade)] += clock.lap();
 
-        if (!ws.shadow.empty()) {
-            accel_.occluded(ws.shadow, ws.occluded, stats.trace);
-            for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-                if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
-            stats.shadow_rays += ws.shadow.size();
-            stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
-            stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
-        }
+        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                            clock);
         stats.secondary_rays += ws.next.size();
         std::swap(ws.rays, ws.next);
         std::swap(ws.weight, ws.next_weight);

@@ -34,9 +34,10 @@ class WhittedIntegrator : public CameraIntegrator {
     void generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const;
     void shade(uint32_t depth, const std::vector<SampleJob>& jobs, WhittedWorkspace& ws,
                std::vector<RGB>& radiance) const;
-    void direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo, const RGB& weight,
-                      uint32_t slot, uint64_t sample_index, uint32_t depth,
-                      WhittedWorkspace& ws) const;
+    // Queues a shadow ray per light sample, carrying weight * brdf(wi) * incident * cos.
+    template <class Brdf>
+    void direct_light(const SurfacePoint& sp, const Brdf& brdf, const RGB& weight, uint32_t slot,
+                      uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws) const;
     // The physically based materials under the Whitted model: their BSDF lit by the point,
     // directional, spot and area lights, and their delta lobes followed recursively.
     void shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d, const RGB& weight,
