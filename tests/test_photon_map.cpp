@@ -3,11 +3,14 @@
 // (final gathering and direct visualisation) against pbrt-v4's reference.
 #include <catch2/catch.hpp>
 
+#include "chi_square.h"
 #include "engine/accel/intersector.h"
+#include "engine/core/rng.h"
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/gather_guide.h"
 #include "engine/transport/photon_tracer.h"
 #include "engine/transport/render.h"
 #include "test_util.h"
@@ -312,4 +315,135 @@ TEST_CASE("shadow photons decide most shadow rays without changing the image", "
     INFO("rmse " << e.rmse << " means " << e.mean_a.g << " " << e.mean_b.g);
     CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.01));
     CHECK(e.rmse < 0.01);
+}
+
+TEST_CASE("the photon-guided gather density matches its sampler (chi-square)", "[photon][guide]") {
+    // A histogram with most power from one bright direction and some from a second, as the
+    // photons near a visible point lit by a bright patch would give.
+    GatherGuide guide;
+    guide.clear();
+    const Vec3 bright = normalize(Vec3{0.6f, -0.3f, 0.5f}),
+               dim = normalize(Vec3{-0.2f, 0.7f, 0.9f});
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 jitter{0.2f * (rng::uniform(5, 1, uint64_t(i), 0) - 0.5f),
+                          0.2f * (rng::uniform(5, 1, uint64_t(i), 1) - 0.5f),
+                          0.2f * (rng::uniform(5, 1, uint64_t(i), 2) - 0.5f)};
+        guide.add(normalize((i % 4 ? bright : dim) + jitter), 1.f + float(i % 3));
+    }
+    guide.add({0.f, 0.f, -1.f}, 5.f);  // from below: ignored
+    CHECK(guide.photons() == 200);
+    REQUIRE(guide.finish(0.1f));
+    test::ChiSquareSetup setup;
+    setup.samples = 200000;
+    const auto r = test::chi_square(
+        setup,
+        [&](int i, Vec3& wi) {
+            float pdf;
+            wi = guide.sample(
+                {rng::uniform(6, 2, uint64_t(i), 0), rng::uniform(6, 2, uint64_t(i), 1)}, pdf);
+            // The pdf the sampler reports is the density's value there.
+            if (std::fabs(pdf - guide.pdf(wi)) > 1e-3f * pdf) return false;
+            return true;
+        },
+        [&](const Vec3& wi) { return double(guide.pdf(wi)); });
+    INFO(r.summary());
+    CHECK(r.p_value > 1e-3);
+    CHECK(r.expected_total == Approx(1.0).margin(0.01));
+    CHECK(r.observed_total == Approx(1.0).margin(0.001));
+    // The floor keeps every direction possible; an empty histogram declines.
+    CHECK(guide.pdf(normalize(Vec3{-0.9f, -0.1f, 0.1f})) > 0.f);
+    GatherGuide empty;
+    empty.clear();
+    CHECK_FALSE(empty.finish());
+}
+
+TEST_CASE("final gathering converges to the reference as the photons grow", "[photon][reference]") {
+    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    s.set_resolution(32, 32);
+    s.render.integrator = IntegratorType::Photon;
+    s.render.photon.gather_rays = 64;
+    s.render.photon.caustic_photons = 0;
+    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
+    const Film ref = downsample(full, 16);
+    const std::vector<uint8_t> mask = blocks_without_light(full, 16);
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt;
+    opt.spp = 4;
+    // The camera pass draws the same random numbers every time: what changes is the map.
+    // Both the error and the bias of the mean (the blur of large photon discs darkens the
+    // corners) fall.
+    double previous = 1e9, previous_bias = 1e9;
+    for (uint64_t photons : {1000u, 10000u, 100000u}) {
+        s.render.photon.global_photons = photons;
+        const ImageError e = compare_images(render(s, *acc, opt).film, ref, &mask);
+        const double bias = std::fabs(e.mean_a.luminance() / e.mean_b.luminance() - 1.0);
+        INFO(photons << " photons: rmse " << e.rmse << " relative bias of the mean " << bias);
+        CHECK(e.rmse < previous);
+        CHECK(bias < previous_bias);
+        previous = e.rmse;
+        previous_bias = bias;
+    }
+    CHECK(previous_bias < 0.01);
+}
+
+TEST_CASE("photon-guided gathering: same mean, less noise where indirect light is concentrated",
+          "[photon][guide]") {
+    // The room is lit by a spot's bright patch on the ceiling; the error is measured against
+    // a final gather with many rays from the same photon map (same seed), so it is the
+    // gather's own noise.
+    Scene s = load_scene(test::source_path("scenes/cornell-spot-ceiling.xml"));
+    s.set_resolution(32, 32);
+    s.render.integrator = IntegratorType::Photon;
+    s.render.photon.global_photons = 100000;
+    s.render.photon.caustic_photons = 0;
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt;
+    opt.spp = 2;
+    s.render.photon.gather_rays = 1024;
+    const Film ref = render(s, *acc, opt).film;
+    s.render.photon.gather_rays = 16;
+    const ImageError cosine = compare_images(render(s, *acc, opt).film, ref);
+    s.render.photon.guided_gather = true;
+    const ImageError guided = compare_images(render(s, *acc, opt).film, ref);
+    INFO("cosine rmse " << cosine.rmse << " guided " << guided.rmse << "; means " << cosine.mean_a.g
+                        << " " << guided.mean_a.g << " ref " << cosine.mean_b.g);
+    CHECK(guided.rmse < 0.6 * cosine.rmse);
+    // Both unbiased; the cosine gather's mean is as noisy as its pixels (measured +3 %).
+    CHECK(guided.mean_a.g == Approx(guided.mean_b.g).epsilon(0.02));
+    CHECK(cosine.mean_a.g == Approx(cosine.mean_b.g).epsilon(0.06));
+}
+
+TEST_CASE("split direct map: ray-traced direct light beats direct visualisation of it",
+          "[photon][reference]") {
+    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    s.set_resolution(64, 64);
+    s.render.integrator = IntegratorType::Photon;
+    s.render.photon.global_photons = 100000;
+    s.render.photon.mode = PhotonMode::DirectVisualisation;
+    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
+    const Film ref = downsample(full, 8);
+    const std::vector<uint8_t> mask = blocks_without_light(full, 8);
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt;
+    opt.spp = 16;
+    const RenderResult all = render(s, *acc, opt);
+    s.render.photon.split_direct = true;
+    const RenderResult split = render(s, *acc, opt);
+    // The same photons, now in two maps.
+    CHECK(split.stats.photons_global == all.stats.photons_global);
+    const ImageError e_all = compare_images(all.film, ref, &mask);
+    const ImageError e_split = compare_images(split.film, ref, &mask);
+    INFO("direct visualisation rmse " << e_all.rmse << " mean " << e_all.mean_a.g
+                                      << "; direct ray traced rmse " << e_split.rmse << " mean "
+                                      << e_split.mean_a.g << "; ref " << e_all.mean_b.g);
+    CHECK(e_split.rmse < 0.8 * e_all.rmse);
+    CHECK(e_split.mean_a.g == Approx(e_split.mean_b.g).epsilon(0.05));
+    // Final gathering reads both maps at its hits: the same image up to the estimates' blur.
+    s.render.photon.mode = PhotonMode::FinalGather;
+    s.render.photon.gather_rays = 16;
+    const RGB split_fg = compare_images(render(s, *acc, opt).film, ref, &mask).mean_a;
+    s.render.photon.split_direct = false;
+    const RGB fg = compare_images(render(s, *acc, opt).film, ref, &mask).mean_a;
+    INFO("final gather " << fg.g << " split " << split_fg.g);
+    CHECK(split_fg.g == Approx(fg.g).epsilon(0.01));
 }

@@ -42,9 +42,8 @@ struct RenderStats {
     uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
     uint32_t passes = 0;   // progressive passes completed
     uint64_t photons_global = 0, photons_caustic = 0;  // stored (photon mapping)
-    double photon_seconds = 0.0;
-    uint64_t shadow_rays_saved = 0;  // visibility decided by shadow photons instead  // wall time
-                                     // of the photon passes and the balancing
+    double photon_seconds = 0.0;     // wall time of the photon passes and the balancing
+    uint64_t shadow_rays_saved = 0;  // visibility decided by shadow photons instead
     TraceCounters trace;
     double stage_seconds[kNumStages] = {};  // summed over threads
     uint64_t stage_items[kNumStages] = {};

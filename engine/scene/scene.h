@@ -72,6 +72,14 @@ struct PhotonSettings {
     // Shadow photons (Jensen 1995): a shadow map decides next event estimation's visibility
     // where the nearest photons agree (only direct ones: lit; only shadow ones: dark).
     bool shadow_photons = false;
+    // Split the global map into a direct map (first-hit photons) and an indirect map: direct
+    // visualisation then takes direct light from next event estimation (ray traced) and only
+    // the indirect light from the photons.
+    bool split_direct = false;
+    // Photon-guided final gathering (Jensen 1995): gather directions at diffuse visible points
+    // drawn from a histogram of the nearby indirect photons' incident power.
+    bool guided_gather = false;
+    uint32_t guide_photons = 400;  // nearest photons in the guide's histogram
     // Progressive photon mapping (ppm, sppm).
     float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
     float alpha = 2.f / 3.f;        // fraction of new photons kept per pass

@@ -255,7 +255,10 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "initial_radius",
            "alpha",
            "photons_per_pass",
-           "shadow_photons"},
+           "shadow_photons",
+           "split_direct",
+           "guided_gather",
+           "guide_photons"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
@@ -337,6 +340,10 @@ void Loader::parse_photon_settings(const pugi::xml_node& n) {
         p.gather_rays = uint32_t(g);
     }
     p.shadow_photons = boolean(n, "shadow_photons", p.shadow_photons);
+    p.split_direct = boolean(n, "split_direct", p.split_direct);
+    p.guided_gather = boolean(n, "guided_gather", p.guided_gather);
+    p.guide_photons = count(n, "guide_photons", p.guide_photons);
+    if (p.guide_photons > 4096) fail(n, "guide_photons must be at most 4096");
     p.initial_radius = non_negative(n, "initial_radius", p.initial_radius);
     p.alpha = number(n, "alpha", p.alpha);
     if (!(p.alpha > 0.f && p.alpha <= 1.f)) fail(n, "alpha must be in (0, 1]");

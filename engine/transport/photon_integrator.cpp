@@ -34,74 +34,138 @@ void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, 
     const Vec3 wo = frame.to_local(-d);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     if (ps.mode == PhotonMode::DirectVisualisation) {
+        // The global map seen directly; when split it holds the indirect light only and the
+        // direct light is ray traced (the thesis' comparison of the two).
         radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                          wo, ctx, maps_.global_params);
+        if (ps.split_direct) direct_light(sp, m, wo, frame, weight, slot, job, depth, ws, radiance);
         return;
     }
     // Caustics: L S+ D paths, from their own map.
     if (!maps_.caustic.empty())
         radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                           wo, ctx, maps_.caustic_params);
-    // Direct light: one light sample.
-    if (!lights_.empty()) {
-        float pick;
-        const uint32_t li = lights_.select(rand(job, depth, kDimLight), pick);
-        LightSample ls;
-        if (lights_.sample_li(li, sp.p,
-                              {rand(job, depth, kDimLight + 1), rand(job, depth, kDimLight + 2)},
-                              rand(job, depth, kDimLight + 3), ls) &&
-            dot(ls.wi, sp.ng) > 0.f) {
-            const Vec3 wi = frame.to_local(ls.wi);
-            const RGB f = m.bsdf.f_restricted(wo, wi, ctx, kDiffuse | kGlossy);
-            const RGB value = weight * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
-            if (!value.is_black()) {
-                // Shadow photons: among the nearest photons of this light, only direct ones
-                // mean lit, only shadow ones mean dark; a mix (a penumbra) needs the ray.
-                int verdict = -1;
-                if (!maps_.shadow.empty()) {
-                    const float r = 0.5f * maps_.global_params.max_radius;
-                    uint32_t lit = 0, dark = 0;
-                    maps_.global.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
-                        lit += (maps_.global.flags(i) & kPhotonDirect) &&
-                               maps_.global.light(i) == li &&
-                               dot(maps_.global.normal(i), sp.ng) > 0.5f;
-                    });
-                    maps_.shadow.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
-                        dark += maps_.shadow.light(i) == li &&
-                                dot(maps_.shadow.normal(i), sp.ng) > 0.5f;
-                    });
-                    if (lit > 0 && dark == 0) verdict = 1;
-                    if (dark > 0 && lit == 0) verdict = 0;
-                }
-                if (verdict >= 0) {
-                    ++ws.saved;
-                    if (verdict == 1) radiance[slot] += value;
-                } else {
-                    const float tmax =
-                        std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
-                    ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f, tmax, slot);
-                    ws.shadow_value.push_back(value);
-                }
-            }
-        }
+    direct_light(sp, m, wo, frame, weight, slot, job, depth, ws, radiance);
+    gather_rays(sp, m, wo, frame, weight, slot, job, depth, ws);
+}
+
+void PhotonIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
+                                    const warp::Frame& frame, const RGB& weight, uint32_t slot,
+                                    const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws,
+                                    std::vector<RGB>& radiance) const {
+    if (lights_.empty()) return;
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    float pick;
+    const uint32_t li = lights_.select(rand(job, depth, kDimLight), pick);
+    LightSample ls;
+    if (!lights_.sample_li(li, sp.p,
+                           {rand(job, depth, kDimLight + 1), rand(job, depth, kDimLight + 2)},
+                           rand(job, depth, kDimLight + 3), ls) ||
+        dot(ls.wi, sp.ng) <= 0.f)
+        return;
+    const Vec3 wi = frame.to_local(ls.wi);
+    const RGB f = m.bsdf.f_restricted(wo, wi, ctx, kDiffuse | kGlossy);
+    const RGB value = weight * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
+    if (value.is_black()) return;
+    // Shadow photons: among the nearest photons of this light, only direct ones mean lit,
+    // only shadow ones mean dark; a mix (a penumbra) needs the ray.
+    int verdict = -1;
+    if (!maps_.shadow.empty()) {
+        const PhotonMap& lit_map = maps_.direct.empty() ? maps_.global : maps_.direct;
+        const float r = 0.5f * maps_.global_params.max_radius;
+        uint32_t lit = 0, dark = 0;
+        lit_map.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
+            lit += (lit_map.flags(i) & kPhotonDirect) && lit_map.light(i) == li &&
+                   dot(lit_map.normal(i), sp.ng) > 0.5f;
+        });
+        maps_.shadow.for_each_nearest(sp.p, 16, r, [&](uint32_t i) {
+            dark += maps_.shadow.light(i) == li && dot(maps_.shadow.normal(i), sp.ng) > 0.5f;
+        });
+        if (lit > 0 && dark == 0) verdict = 1;
+        if (dark > 0 && lit == 0) verdict = 0;
     }
-    // Indirect light: stratified final-gather rays from the non-delta lobes.
+    if (verdict >= 0) {
+        ++ws.saved;
+        if (verdict == 1) radiance[slot] += value;
+        return;
+    }
+    const float tmax = std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+    ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f, tmax, slot);
+    ws.shadow_value.push_back(value);
+}
+
+void PhotonIntegrator::gather_rays(const SurfacePoint& sp, const Material& m, const Vec3& wo,
+                                   const warp::Frame& frame, const RGB& weight, uint32_t slot,
+                                   const SampleJob& job, uint32_t depth,
+                                   PhotonCameraWorkspace& ws) const {
+    const PhotonSettings& ps = scene_.render.photon;
     const uint32_t n = ps.gather_rays;
     if (n == 0 || maps_.global.empty()) return;
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
     const uint64_t key = rng::hash(job.id, depth, 0x6a7, 0);
+    // Guided gathering on diffuse surfaces: the histogram of the indirect photons here (the
+    // direct ones point at the lights, whose emission the gather hits do not count).
+    bool guided = false;
+    if (ps.guided_gather && !(m.bsdf.flags() & kGlossy)) {
+        ws.guide.clear();
+        EstimateParams gp = maps_.global_params;
+        gp.k = ps.guide_photons;
+        maps_.global.for_each_estimate_photon(sp.p, sp.ng, gp, [&](uint32_t i) {
+            if (maps_.global.flags(i) & kPhotonDirect) return;
+            ws.guide.add(frame.to_local(maps_.global.incident(i)),
+                         maps_.global.power(i).luminance());
+        });
+        // A third of the density is spread evenly (defensive sampling): a histogram of a few
+        // hundred photons is noisy, and where indirect light is broad (the Cornell box) a
+        // sharper guide loses to plain cosine sampling.
+        guided = ws.guide.finish(0.5f);
+    }
     for (uint32_t g = 0; g < n; ++g) {
         const Point2 u = sample_pattern(SamplerKind::Jittered, g, n, seed_, key);
-        BsdfSample bs;
-        if (!m.bsdf.sample(wo, rng::uniform(seed_, key, g, 2), u, ctx, bs, kDiffuse | kGlossy))
-            continue;
-        const Vec3 wi = frame.to_world(bs.wi);
+        Vec3 wl;
+        RGB f;
+        float pdf;
+        if (guided) {
+            wl = ws.guide.sample(u, pdf);
+            f = m.bsdf.f_restricted(wo, wl, ctx, kDiffuse | kGlossy);
+        } else {
+            BsdfSample bs;
+            if (!m.bsdf.sample(wo, rng::uniform(seed_, key, g, 2), u, ctx, bs, kDiffuse | kGlossy))
+                continue;
+            // The restricted sample is over the non-delta lobes only; its weight is theirs.
+            wl = bs.wi;
+            f = bs.f;
+            pdf = bs.pdf;
+        }
+        if (!(pdf > 0.f)) continue;
+        const Vec3 wi = frame.to_world(wl);
         if (dot(wi, sp.ng) <= 0.f) continue;
-        // The restricted sample is over the non-delta lobes only; its weight is theirs.
-        const RGB w = weight * bs.f * (std::fabs(bs.wi.z) / (bs.pdf * float(n)));
+        const RGB w = weight * f * (std::fabs(wl.z) / (pdf * float(n)));
         if (w.is_black()) continue;
         ws.gather.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
         ws.gather_weight.push_back(w);
     }
+}
+
+RGB PhotonIntegrator::photon_radiance(const SurfacePoint& sp, const Material& m,
+                                      const Vec3& d) const {
+    const warp::Frame frame(sp.ns);
+    const Vec3 wo = frame.to_local(-d);
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    RGB sum;
+    for (const PhotonMap* map : {&maps_.global, &maps_.direct}) {
+        if (map->empty()) continue;
+        // Lambertian surfaces read Christensen's precomputed irradiance when there is one
+        // nearby with a similar normal; anything else takes a full estimate.
+        RGB rho, e;
+        if (map->has_precomputed() && m.bsdf.lambert_albedo(rho) &&
+            map->lookup_irradiance(sp.p, sp.ng, maps_.global_params.max_radius, e))
+            sum += rho * e * kInvPi;
+        else
+            sum += map->radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf, wo, ctx,
+                                 maps_.global_params);
+    }
+    return sum;
 }
 
 void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
@@ -127,24 +191,13 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
             // Emission is not counted: direct light came from NEE, and light through
             // specular surfaces from the caustic map.
             if (m.bsdf.empty()) continue;
-            const warp::Frame frame(sp.ns);
-            const Vec3 wo = frame.to_local(-d);
-            const BsdfContext ctx{sp.front_face, Transport::Radiance};
             // The non-delta lobes from the photons, the delta ones followed below: both
             // parts are taken whole, so neither is reweighted.
-            if (m.bsdf.has_non_delta()) {
-                // Lambertian surfaces read Christensen's precomputed irradiance when there is
-                // one nearby with a similar normal; anything else takes a full estimate.
-                RGB rho, e;
-                if (maps_.global.has_precomputed() && m.bsdf.lambert_albedo(rho) &&
-                    maps_.global.lookup_irradiance(sp.p, sp.ng, maps_.global_params.max_radius, e))
-                    radiance[slot] += w * rho * e * kInvPi;
-                else
-                    radiance[slot] +=
-                        w * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf, wo, ctx,
-                                                  maps_.global_params);
-            }
+            if (m.bsdf.has_non_delta()) radiance[slot] += w * photon_radiance(sp, m, d);
             if (m.bsdf.has_delta() && depth < kGatherSpecularDepth) {
+                const warp::Frame frame(sp.ns);
+                const Vec3 wo = frame.to_local(-d);
+                const BsdfContext ctx{sp.front_face, Transport::Radiance};
                 // Follow the delta lobes deterministically (both branches of a dielectric).
                 Vec3 dirs[Bsdf::kMaxLobes * 2];
                 RGB dw[Bsdf::kMaxLobes * 2];

@@ -11,13 +11,16 @@
 #include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
+#include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
+#include "gather_guide.h"
 #include "photon_map.h"
 
 namespace foton {
 
 struct PhotonMaps {
-    PhotonMap global, caustic, shadow;
+    // `direct` is empty unless split_direct moved the first-hit photons out of `global`.
+    PhotonMap global, caustic, shadow, direct;
     EstimateParams global_params, caustic_params;
 };
 
@@ -27,6 +30,7 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
     std::vector<uint8_t> occluded;
     std::vector<RGB> beta, shadow_value, gather_weight, gather_weight_next;
     uint64_t saved = 0;  // shadow rays decided by shadow photons
+    GatherGuide guide;
 };
 
 class PhotonIntegrator : public CameraIntegrator {
@@ -43,6 +47,16 @@ class PhotonIntegrator : public CameraIntegrator {
     void shade_visible(const struct SurfacePoint& sp, const Material& m, const Vec3& d,
                        const RGB& weight, uint32_t slot, const SampleJob& job, uint32_t depth,
                        PhotonCameraWorkspace& ws, std::vector<RGB>& radiance) const;
+    void direct_light(const struct SurfacePoint& sp, const Material& m, const Vec3& wo,
+                      const warp::Frame& frame, const RGB& weight, uint32_t slot,
+                      const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws,
+                      std::vector<RGB>& radiance) const;
+    void gather_rays(const struct SurfacePoint& sp, const Material& m, const Vec3& wo,
+                     const warp::Frame& frame, const RGB& weight, uint32_t slot,
+                     const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws) const;
+    // Radiance leaving a final-gather hit towards -d, from the photons (global and, when
+    // split, direct maps; precomputed irradiance on Lambertian surfaces).
+    RGB photon_radiance(const struct SurfacePoint& sp, const Material& m, const Vec3& d) const;
     void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
                       RenderStats& stats) const;
     float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;

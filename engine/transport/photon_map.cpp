@@ -15,8 +15,6 @@ double gauss_integral() {
     return kGaussAlpha * (1.0 - j / (1.0 - std::exp(-b)));
 }
 
-// The largest k an estimate may ask for (stack buffers).
-constexpr uint32_t kMaxEstimate = 4096;
 }  // namespace
 
 const char* filter_name(PhotonFilter f) {
@@ -136,6 +134,42 @@ void PhotonMap::append(const PhotonMap& o) {
     normal_.insert(normal_.end(), o.normal_.begin(), o.normal_.end());
     light_.insert(light_.end(), o.light_.begin(), o.light_.end());
     flags_.insert(flags_.end(), o.flags_.begin(), o.flags_.end());
+}
+
+PhotonMap PhotonMap::extract(uint8_t flag) {
+    PhotonMap out;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < size(); ++i) {
+        if (flags_[i] & flag) {
+            out.x_.push_back(x_[i]);
+            out.y_.push_back(y_[i]);
+            out.z_.push_back(z_[i]);
+            out.power_.push_back(power_[i]);
+            out.dir_.push_back(dir_[i]);
+            out.normal_.push_back(normal_[i]);
+            out.light_.push_back(light_[i]);
+            out.flags_.push_back(flags_[i]);
+            continue;
+        }
+        x_[kept] = x_[i];
+        y_[kept] = y_[i];
+        z_[kept] = z_[i];
+        power_[kept] = power_[i];
+        dir_[kept] = dir_[i];
+        normal_[kept] = normal_[i];
+        light_[kept] = light_[i];
+        flags_[kept] = flags_[i];
+        ++kept;
+    }
+    x_.resize(kept);
+    y_.resize(kept);
+    z_.resize(kept);
+    power_.resize(kept);
+    dir_.resize(kept);
+    normal_.resize(kept);
+    light_.resize(kept);
+    flags_.resize(kept);
+    return out;
 }
 
 Vec3 PhotonMap::incident(std::size_t i) const {

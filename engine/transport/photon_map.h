@@ -42,6 +42,8 @@ enum PhotonFlags : uint8_t { kPhotonCaustic = 1, kPhotonDirect = 2, kPhotonShado
 
 class PhotonMap {
   public:
+    static constexpr uint32_t kMaxEstimate = 4096;  // photons in one estimate, at most
+
     void reserve(std::size_t n);
     void clear();
     // `normal`: the surface's geometric normal on the side the photon arrived from.
@@ -49,6 +51,9 @@ class PhotonMap {
               uint8_t flags, uint16_t light = 0);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
+    // Moves the photons with any of `flag`'s bits into the returned map, in order (before
+    // build).
+    PhotonMap extract(uint8_t flag);
     // Balances the kd-tree; `parallel` runs two jobs (tbb::parallel_invoke in the engine).
     void build(const kern::PointKdTree::ParallelInvoke& parallel = {});
 
@@ -82,6 +87,18 @@ class PhotonMap {
         const float q[3] = {p.x, p.y, p.z};
         const uint32_t n = tree_.knn(q, r * r, std::min(k, kMax), idx, d2);
         for (uint32_t i = 0; i < n; ++i) f(idx[i]);
+    }
+
+    // Calls f(photon index) for each photon an estimate at p with normal n would use (the
+    // k nearest within the envelope; back-facing ones included).
+    template <class F>
+    void for_each_estimate_photon(const Vec3& p, const Vec3& n, const EstimateParams& params,
+                                  F&& f) const {
+        uint32_t idx[kMaxEstimate];
+        float d2[kMaxEstimate];
+        float r = 0.f;
+        const uint32_t m = gather(p, n, params, idx, d2, r);
+        for (uint32_t i = 0; i < m; ++i) f(idx[i]);
     }
 
     // Calls f(photon index, squared distance) for every photon within radius r of p.

@@ -404,6 +404,7 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
             s.pass = 0;
             s.shadow_photons = ps.shadow_photons;
             if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow);
+            if (ps.split_direct) maps.direct = maps.global.extract(kPhotonDirect);
         });
         Node trace_caustic(g, [&](Msg) {
             PhotonPassSettings s;
@@ -419,23 +420,27 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
         Node balance_global(g, [&](Msg) {
             StageClock c;
             maps.global.build(par);
+            maps.direct.build(par);
             maps.shadow.build(par);
             global_stats.stage_items[int(Stage::Balance)] +=
-                maps.global.size() + maps.shadow.size();
+                maps.global.size() + maps.direct.size() + maps.shadow.size();
             global_stats.stage_seconds[int(Stage::Balance)] += c.lap();
         });
         Node precompute(g, [&](Msg) {
             if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return;
             StageClock c;
-            maps.global.precompute_irradiance(
-                ps.irradiance_stride, gp,
+            const auto parallel_for =
                 [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
                     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
                                       [&](const tbb::blocked_range<std::size_t>& r) {
                                           body(r.begin(), r.end());
                                       });
-                });
-            global_stats.stage_items[int(Stage::Precompute)] += maps.global.precomputed_size();
+                };
+            maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+            if (!maps.direct.empty())
+                maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+            global_stats.stage_items[int(Stage::Precompute)] +=
+                maps.global.precomputed_size() + maps.direct.precomputed_size();
             global_stats.stage_seconds[int(Stage::Precompute)] += c.lap();
         });
         Node balance_caustic(g, [&](Msg) {
@@ -463,7 +468,7 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
     RenderResult result = render_camera(scene, integrator, opt);
     result.stats.merge(photon_stats);
     result.stats.wall_seconds += photon_seconds;
-    result.stats.photons_global = maps.global.size();
+    result.stats.photons_global = maps.global.size() + maps.direct.size();
     result.stats.photons_caustic = maps.caustic.size();
     result.stats.photon_seconds = photon_seconds;
     return result;
