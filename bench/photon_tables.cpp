@@ -128,8 +128,10 @@ int main(int argc, char** argv) {
     for (uint64_t target : {1000000ull, 10000000ull}) {
         if (quick && target > 1000000ull) continue;
         double sec;
-        // About 2.6 photons are stored per emitted one in this box (albedo ~0.6).
-        PhotonMap map = trace(diffuse, *acc, PhotonMapKind::Global, target * 10 / 26, nproc, sec);
+        // A pilot pass tells how many photons are stored per emitted one (about 1.8 here).
+        PhotonMap pilot = trace(diffuse, *acc, PhotonMapKind::Global, 20000, nproc, sec);
+        const uint64_t emitted = uint64_t(double(target) * 20000.0 / double(pilot.size()));
+        PhotonMap map = trace(diffuse, *acc, PhotonMapKind::Global, emitted, nproc, sec);
         for (int t : thread_counts) {
             std::vector<double> times;
             for (int r = 0; r < repeats; ++r) {

@@ -28,6 +28,8 @@ const char* stage_name(Stage s) {
             return "irradiance";
         case Stage::FinalGather:
             return "final-gather";
+        case Stage::CacheRecords:
+            return "cache-record";
         case Stage::kCount:
             break;
     }
@@ -40,6 +42,9 @@ void RenderStats::merge(const RenderStats& o) {
     shadow_rays += o.shadow_rays;
     samples += o.samples;
     shadow_rays_saved += o.shadow_rays_saved;
+    cache_records += o.cache_records;
+    cache_stored += o.cache_stored;
+    cache.merge(o.cache);
     trace.merge(o.trace);
     for (int i = 0; i < kNumStages; ++i) {
         stage_seconds[i] += o.stage_seconds[i];
@@ -76,6 +81,19 @@ std::string RenderStats::table() const {
                       (unsigned long long)shadow_rays_saved);
         s += buf;
     }
+    if (cache_records > 0 || cache.lookups > 0) {
+        std::snprintf(
+            buf, sizeof buf,
+            "irradiance cache: %llu records stored, %llu computed; %llu lookups, %.1f%% "
+            "interpolated, %.2f records each; visibility rejected %llu of %llu\n",
+            (unsigned long long)cache_stored, (unsigned long long)cache_records,
+            (unsigned long long)cache.lookups,
+            cache.lookups ? 100.0 * double(cache.interpolated) / double(cache.lookups) : 0.0,
+            cache.interpolated ? double(cache.used) / double(cache.interpolated) : 0.0,
+            (unsigned long long)cache.visibility_rejections,
+            (unsigned long long)cache.visibility_tests);
+        s += buf;
+    }
     std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
                   (unsigned long long)trace.cells);
@@ -92,7 +110,7 @@ std::string RenderStats::table() const {
 }
 
 std::string RenderStats::json() const {
-    char buf[512];
+    char buf[1024];
     std::string s = "{\n";
     std::snprintf(
         buf, sizeof buf,
@@ -100,13 +118,18 @@ std::string RenderStats::json() const {
         "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
         "  \"rays_per_second\": %.6g,\n  \"samples\": %llu,\n  \"passes\": %u,\n"
         "  \"samples_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
-        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"stages\": {\n",
+        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n"
+        "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
+        "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
+        "  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
         wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0, (unsigned long long)samples,
         passes, wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-        (unsigned long long)trace.cells);
+        (unsigned long long)trace.cells, (unsigned long long)cache_records,
+        (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
+        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

@@ -20,6 +20,7 @@ enum class Stage {
     Balance,
     Precompute,
     FinalGather,
+    CacheRecords,
     kCount
 };
 inline constexpr int kNumStages = int(Stage::kCount);
@@ -37,6 +38,22 @@ struct TraceCounters {
     }
 };
 
+// Irradiance-cache lookups.
+struct CacheCounters {
+    uint64_t lookups = 0, interpolated = 0;
+    uint64_t candidates = 0;  // records tested by weight
+    uint64_t used = 0;        // records that entered an interpolation
+    uint64_t visibility_tests = 0, visibility_rejections = 0;
+    void merge(const CacheCounters& o) {
+        lookups += o.lookups;
+        interpolated += o.interpolated;
+        candidates += o.candidates;
+        used += o.used;
+        visibility_tests += o.visibility_tests;
+        visibility_rejections += o.visibility_rejections;
+    }
+};
+
 struct RenderStats {
     uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
     uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
@@ -44,6 +61,10 @@ struct RenderStats {
     uint64_t photons_global = 0, photons_caustic = 0;  // stored (photon mapping)
     double photon_seconds = 0.0;     // wall time of the photon passes and the balancing
     uint64_t shadow_rays_saved = 0;  // visibility decided by shadow photons instead
+    // Irradiance cache: records computed (by fill passes and, unstored, by the final pass),
+    // records kept, and the lookups of the final pass.
+    uint64_t cache_records = 0, cache_stored = 0;
+    CacheCounters cache;
     TraceCounters trace;
     double stage_seconds[kNumStages] = {};  // summed over threads
     uint64_t stage_items[kNumStages] = {};

@@ -37,6 +37,10 @@ struct Camera {
     // radiance over its area on the view plane, which in terms of the surface seen is
     // d^2 / (pixel_size^2 cos^3 dist^2) per unit of (cos at the surface dA).
     float importance(float cos_theta, float dist) const;
+    // Edge of a pixel's footprint at `distance` along a camera ray (scene units).
+    float footprint(float distance) const {
+        return type == CameraType::Perspective ? distance * pixel_size / d : pixel_size;
+    }
     // Vertical field of view in degrees implied by d, pixel size and height.
     float vertical_fov_degrees() const;
 };

@@ -55,6 +55,28 @@ struct AdaptiveSettings {
 
 // Two-pass photon mapping (the photon-mapping thesis, chapters 5-6).
 enum class PhotonMode { FinalGather, DirectVisualisation };
+// Indirect diffuse light at the visible points: final-gather rays at every point, or the
+// irradiance cache (records computed by the same rays at a few points, interpolated
+// elsewhere).
+enum class IndirectMode { FinalGather, IrradianceCache };
+
+// What a record's hemisphere rays see at their hits (of the lecture notes' four choices:
+// direct light only, or the global photon map's estimate).
+enum class CacheSecondary { Direct, Photon };
+
+// Ward's irradiance cache (the lecture notes, NPGR010 2011).
+struct CacheSettings {
+    uint32_t samples = 512;       // hemisphere rays per record, laid out as M x N with N ~ pi M
+    bool ward_weight = false;     // Ward's 1 / (d / R + sqrt(1 - n.n_i)) > 1 / a; else the notes'
+    float a = 0.3f;               // Ward's accuracy
+    float kappa = 1.f;            // the notes' accuracy
+    float r_min_pixels = 1.5f;    // R_min: this many pixel footprints at the record
+    float r_max_factor = 20.f;    // R_max = r_max_factor R_min
+    bool minimum_radius = false;  // R_i from the shortest non-grazing ray, not the harmonic mean
+    bool gradients = true;
+    bool visibility = true;  // shadow ray between p and p_i before a record is used
+    CacheSecondary secondary = CacheSecondary::Photon;
+};
 struct PhotonSettings {
     uint64_t global_photons = 200000;   // emitted for the global map
     uint64_t caustic_photons = 200000;  // emitted for the caustic map (0: none)
@@ -66,6 +88,7 @@ struct PhotonSettings {
     uint8_t caustic_filter = 0;
     float cone_k = 1.1f;
     PhotonMode mode = PhotonMode::FinalGather;
+    IndirectMode indirect = IndirectMode::FinalGather;
     uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
     uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
     bool unscaled_roulette = false;
@@ -102,6 +125,7 @@ struct RenderSettings {
     uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
     AdaptiveSettings adaptive;
     PhotonSettings photon;
+    CacheSettings cache;
 };
 
 struct FilmSettings {

@@ -140,6 +140,7 @@ class Loader {
     void parse_film(const pugi::xml_node& n);
     void parse_renderer(const pugi::xml_node& n);
     void parse_photon_settings(const pugi::xml_node& n);
+    void parse_cache_settings(const pugi::xml_node& n);
     void parse_camera(const pugi::xml_node& n);
     uint32_t parse_material(const pugi::xml_node& object);
     Material material(const pugi::xml_node& n, bool top);
@@ -258,13 +259,25 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "shadow_photons",
            "split_direct",
            "guided_gather",
-           "guide_photons"},
+           "guide_photons",
+           "indirect",
+           "cache_samples",
+           "cache_weight",
+           "cache_a",
+           "cache_kappa",
+           "cache_r_min",
+           "cache_r_max_factor",
+           "cache_radius",
+           "cache_gradients",
+           "cache_visibility",
+           "cache_secondary"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
         fail(n, std::string("unknown renderer type '") + n.attribute("type").value() +
                     "' (raytracer, path, light, distributed, photon, sppm, ppm)");
     parse_photon_settings(n);
+    parse_cache_settings(n);
     if (n.attribute("mis") && !parse_mis(n.attribute("mis").value(), r.mis))
         fail(n, std::string("unknown mis heuristic '") + n.attribute("mis").value() +
                     "' (balance, power, max, none)");
@@ -396,6 +409,59 @@ void Loader::parse_photon_settings(const pugi::xml_node& n) {
             p.unscaled_roulette = true;
         else
             fail(n, "unknown photon_rr '" + r + "' (unbiased, unscaled)");
+    }
+}
+
+void Loader::parse_cache_settings(const pugi::xml_node& n) {
+    CacheSettings& c = scene_.render.cache;
+    if (n.attribute("indirect")) {
+        const std::string v = n.attribute("indirect").value();
+        if (v == "final_gather")
+            scene_.render.photon.indirect = IndirectMode::FinalGather;
+        else if (v == "irradiance_cache")
+            scene_.render.photon.indirect = IndirectMode::IrradianceCache;
+        else
+            fail(n, "unknown indirect '" + v + "' (final_gather, irradiance_cache)");
+    }
+    if (n.attribute("cache_samples")) {
+        const float v = number(n, "cache_samples");
+        if (v != std::floor(v) || v < 4.f || v > 100000.f)
+            fail(n, "cache_samples must be an integer in [4, 100000]");
+        c.samples = uint32_t(v);
+    }
+    if (n.attribute("cache_weight")) {
+        const std::string v = n.attribute("cache_weight").value();
+        if (v == "ward")
+            c.ward_weight = true;
+        else if (v == "notes")
+            c.ward_weight = false;
+        else
+            fail(n, "unknown cache_weight '" + v + "' (notes, ward)");
+    }
+    c.a = positive(n, "cache_a", c.a);
+    c.kappa = positive(n, "cache_kappa", c.kappa);
+    c.r_min_pixels = positive(n, "cache_r_min", c.r_min_pixels);
+    c.r_max_factor = number(n, "cache_r_max_factor", c.r_max_factor);
+    if (!(c.r_max_factor >= 1.f)) fail(n, "cache_r_max_factor must be at least 1");
+    if (n.attribute("cache_radius")) {
+        const std::string v = n.attribute("cache_radius").value();
+        if (v == "harmonic")
+            c.minimum_radius = false;
+        else if (v == "minimum")
+            c.minimum_radius = true;
+        else
+            fail(n, "unknown cache_radius '" + v + "' (harmonic, minimum)");
+    }
+    c.gradients = boolean(n, "cache_gradients", c.gradients);
+    c.visibility = boolean(n, "cache_visibility", c.visibility);
+    if (n.attribute("cache_secondary")) {
+        const std::string v = n.attribute("cache_secondary").value();
+        if (v == "photon")
+            c.secondary = CacheSecondary::Photon;
+        else if (v == "direct")
+            c.secondary = CacheSecondary::Direct;
+        else
+            fail(n, "unknown cache_secondary '" + v + "' (photon, direct)");
     }
 }
 

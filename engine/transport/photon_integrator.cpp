@@ -19,7 +19,12 @@ constexpr uint32_t kGatherSpecularDepth = 4;
 
 PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Intersector& accel,
                                    const LightSet& lights, const PhotonMaps& maps, uint64_t seed)
-    : scene_(scene), accel_(accel), lights_(lights), maps_(maps), seed_(seed) {}
+    : scene_(scene),
+      accel_(accel),
+      lights_(lights),
+      maps_(maps),
+      seed_(seed),
+      strata_(HemisphereStrata::from_count(scene.render.cache.samples)) {}
 
 float PhotonIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
     return rng::uniform(seed_, kPathStream, j.id, uint64_t(depth) * kDimsPerBounce + k);
@@ -46,7 +51,121 @@ void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, 
         radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                           wo, ctx, maps_.caustic_params);
     direct_light(sp, m, wo, frame, weight, slot, job, depth, ws, radiance);
+    // The cache holds irradiance: it serves surfaces whose non-delta part is Lambertian.
+    RGB rho;
+    if (cache_ && m.bsdf.lambert_albedo(rho)) {
+        if (!rho.is_black())
+            cache_indirect(sp, frame, weight * rho * kInvPi, slot, job, depth, ws, radiance);
+        return;
+    }
     gather_rays(sp, m, wo, frame, weight, slot, job, depth, ws);
+}
+
+void PhotonIntegrator::cache_indirect(const SurfacePoint& sp, const warp::Frame& frame,
+                                      const RGB& weight, uint32_t slot, const SampleJob& job,
+                                      uint32_t depth, PhotonCameraWorkspace& ws,
+                                      std::vector<RGB>& radiance) const {
+    const CacheSettings& cs = scene_.render.cache;
+    // The notes' edge case: a record beyond an edge that p cannot see must not be used.
+    // Both ends are lifted off their surfaces by a tenth of their distance, so that the
+    // segment clears a curved surface between them (a chord of a sphere of radius R dips
+    // d^2 / 8R below it) while a wall between them still blocks it.
+    auto visible = [&](const IrradianceRecord& r) {
+        if (!cs.visibility) return true;
+        const float gap = length(r.p - sp.p);
+        if (!(gap > sp.epsilon)) return true;
+        const float lift = std::max(sp.epsilon, 0.1f * gap);
+        const Vec3 a = sp.p + sp.ng * lift;
+        const Vec3 b = r.p + r.n * lift;
+        const Vec3 d = b - a;
+        const float len = length(d);
+        const Vec3 u = d * (1.f / len);
+        ++ws.lookup.visibility_tests;
+        if (accel_.occluded1({a.x, a.y, a.z, u.x, u.y, u.z, 0.f, len}, ws.cache_trace)) {
+            ++ws.lookup.visibility_rejections;
+            return false;
+        }
+        return true;
+    };
+    RGB e;
+    if (cache_->interpolate(sp.p, frame.n, e, visible, ws.lookup)) {
+        radiance[slot] += weight * e;
+        return;
+    }
+    // A new record here: M x N stratified rays; those below the geometric surface see
+    // nothing (their radiance stays 0, their distance infinite).
+    CacheRequest q;
+    q.p = sp.p;
+    q.s = frame.s;
+    q.t = frame.t;
+    q.n = frame.n;
+    q.r_min = cs.r_min_pixels * scene_.camera.footprint(ws.path_length[slot]);
+    q.slot = slot;
+    q.weight = weight;
+    q.first = uint32_t(ws.cache_L.size());
+    q.key = rng::hash(job.id, depth, 0x1cac, 0);
+    const uint32_t count = strata_.count();
+    ws.cache_L.resize(ws.cache_L.size() + count, RGB{0.f});
+    ws.cache_dist.resize(ws.cache_dist.size() + count, kInfinity);
+    const uint64_t key = q.key;
+    for (uint32_t j = 0; j < strata_.m; ++j)
+        for (uint32_t k = 0; k < strata_.n; ++k) {
+            const uint32_t i = j * strata_.n + k;
+            const Vec3 wi = frame.to_world(strata_.direction(
+                j, k, {rng::uniform(seed_, key, i, 0), rng::uniform(seed_, key, i, 1)}));
+            if (dot(wi, sp.ng) <= 0.f) continue;
+            ws.cache_rays.push(offset_origin(sp, wi), wi, 0.f, kInfinity, q.first + i);
+        }
+    ws.requests.push_back(q);
+}
+
+void PhotonIntegrator::compute_records(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
+                                       RenderStats& stats) const {
+    if (ws.requests.empty()) return;
+    StageClock clock;
+    const CacheSettings& cs = scene_.render.cache;
+    std::swap(ws.gather, ws.cache_rays);
+    ws.cache_rays.clear();
+    ws.gather_weight.assign(ws.gather.size(), RGB{1.f});
+    const std::size_t rays = ws.gather.size();
+    if (cs.secondary == CacheSecondary::Photon) {
+        final_gather(ws, ws.cache_L, ws.cache_dist.data(), stats);
+    } else {
+        // Direct light only: one light sample at each first hit.
+        accel_.intersect(ws.gather, ws.hits, stats.trace);
+        ws.shadow.clear();
+        ws.shadow_value.clear();
+        for (std::size_t i = 0; i < ws.gather.size(); ++i) {
+            const uint32_t id = ws.gather.id[i];
+            const uint32_t geom = ws.hits.geom[i];
+            if (geom == kNoHit) continue;
+            ws.cache_dist[id] = ws.hits.t[i];
+            const SurfacePoint sp = surface_at(scene_, ws.gather, ws.hits, i);
+            const Material& m = scene_.materials[scene_.objects[geom].material];
+            if (!m.bsdf.has_non_delta()) continue;
+            const warp::Frame frame(sp.ns);
+            const Vec3 wo = frame.to_local(-ws.gather.direction(i));
+            SampleJob pseudo;
+            pseudo.id =
+                rng::hash(ws.requests[id / strata_.count()].key, id % strata_.count(), 0x5ec0, 0);
+            direct_light(sp, m, wo, frame, RGB{1.f}, id, pseudo, 0, ws, ws.cache_L);
+        }
+        StageClock shadow_clock;
+        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, ws.cache_L, stats,
+                            shadow_clock);
+        stats.secondary_rays += ws.gather.size();
+    }
+    const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
+    for (const CacheRequest& q : ws.requests) {
+        const IrradianceRecord rec =
+            build_record(q.p, q.s, q.t, q.n, strata_, &ws.cache_L[q.first], &ws.cache_dist[q.first],
+                         rule, q.r_min, q.r_min * cs.r_max_factor);
+        radiance[q.slot] += q.weight * rec.e;
+        ws.new_records.push_back(rec);
+    }
+    stats.cache_records += ws.requests.size();
+    stats.stage_items[int(Stage::CacheRecords)] += rays;
+    stats.stage_seconds[int(Stage::CacheRecords)] += clock.lap();
 }
 
 void PhotonIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
@@ -169,7 +288,7 @@ RGB PhotonIntegrator::photon_radiance(const SurfacePoint& sp, const Material& m,
 }
 
 void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
-                                    RenderStats& stats) const {
+                                    float* first_dist, RenderStats& stats) const {
     StageClock clock;
     std::size_t rays = 0;
     for (uint32_t depth = 0; !ws.gather.empty(); ++depth) {
@@ -181,6 +300,8 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
             const uint32_t slot = ws.gather.id[i];
             const RGB& w = ws.gather_weight[i];
             const uint32_t geom = ws.hits.geom[i];
+            if (depth == 0 && first_dist)
+                first_dist[slot] = geom == kNoHit ? kInfinity : ws.hits.t[i];
             if (geom == kNoHit) {
                 radiance[slot] += w * scene_.background;
                 continue;
@@ -231,6 +352,14 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     ws.shadow_value.clear();
     ws.gather.clear();
     ws.gather_weight.clear();
+    ws.path_length.assign(n, 0.f);
+    ws.requests.clear();
+    ws.cache_rays.clear();
+    ws.cache_L.clear();
+    ws.cache_dist.clear();
+    ws.new_records.clear();
+    ws.lookup = {};
+    ws.cache_trace = {};
     generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.stage_items[int(Stage::Generate)] += n;
@@ -252,6 +381,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
                 continue;
             }
             const Vec3 d = ws.rays.direction(i);
+            ws.path_length[slot] += ws.hits.t[i];
             const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
             const Material& m = scene_.materials[scene_.objects[geom].material];
             // Emitters seen from the camera or through specular chains (L S* E paths have no
@@ -287,7 +417,11 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);
-    final_gather(ws, radiance, stats);
+    final_gather(ws, radiance, nullptr, stats);
+    compute_records(ws, radiance, stats);
+    stats.trace.merge(ws.cache_trace);
+    stats.shadow_rays += ws.lookup.visibility_tests;
+    stats.cache.merge(ws.lookup);
 }
 
 }  // namespace foton

@@ -14,6 +14,7 @@
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "gather_guide.h"
+#include "irradiance_cache.h"
 #include "photon_map.h"
 
 namespace foton {
@@ -24,6 +25,16 @@ struct PhotonMaps {
     EstimateParams global_params, caustic_params;
 };
 
+// A visible point that found no usable cache record: a new record is computed there.
+struct CacheRequest {
+    Vec3 p, s, t, n;
+    float r_min = 0.f;
+    uint32_t slot = 0;
+    RGB weight;          // beta * rho / pi: radiance per unit of irradiance
+    uint32_t first = 0;  // its strata in cache_L / cache_dist
+    uint64_t key = 0;    // of its random numbers
+};
+
 struct PhotonCameraWorkspace : IntegratorWorkspace {
     RayBatch rays, next, shadow, gather, gather_next;
     HitBatch hits;
@@ -31,6 +42,16 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
     std::vector<RGB> beta, shadow_value, gather_weight, gather_weight_next;
     uint64_t saved = 0;  // shadow rays decided by shadow photons
     GatherGuide guide;
+    // Irradiance cache: path length of each camera sample so far (for the pixel footprint),
+    // this batch's new records and the rays computing them.
+    std::vector<float> path_length;
+    std::vector<CacheRequest> requests;
+    RayBatch cache_rays;
+    TraceCounters cache_trace;
+    std::vector<RGB> cache_L;
+    std::vector<float> cache_dist;
+    std::vector<IrradianceRecord> new_records;
+    CacheLookupStats lookup;
 };
 
 class PhotonIntegrator : public CameraIntegrator {
@@ -42,6 +63,10 @@ class PhotonIntegrator : public CameraIntegrator {
     }
     void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
                std::vector<RGB>& radiance, RenderStats& stats) const override;
+    // Indirect diffuse light from this cache (read-only while tracing) instead of final
+    // gathering at every point; visible points it cannot serve compute new records, which
+    // the last trace() left in the workspace's new_records.
+    void set_cache(const IrradianceCache* cache) { cache_ = cache; }
 
   private:
     void shade_visible(const struct SurfacePoint& sp, const Material& m, const Vec3& d,
@@ -57,8 +82,17 @@ class PhotonIntegrator : public CameraIntegrator {
     // Radiance leaving a final-gather hit towards -d, from the photons (global and, when
     // split, direct maps; precomputed irradiance on Lambertian surfaces).
     RGB photon_radiance(const struct SurfacePoint& sp, const Material& m, const Vec3& d) const;
-    void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
+    // Traces ws.gather (weights ws.gather_weight) and adds what each ray brings back to
+    // out[ray id]; with `first_dist`, the first segment's length goes to first_dist[id].
+    void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& out, float* first_dist,
                       RenderStats& stats) const;
+    // Interpolates the cache at a Lambertian visible point, or queues a new record.
+    void cache_indirect(const struct SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
+                        uint32_t slot, const SampleJob& job, uint32_t depth,
+                        PhotonCameraWorkspace& ws, std::vector<RGB>& radiance) const;
+    // Computes the queued records and adds their irradiance to their samples.
+    void compute_records(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
+                         RenderStats& stats) const;
     float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
@@ -66,6 +100,8 @@ class PhotonIntegrator : public CameraIntegrator {
     const LightSet& lights_;
     const PhotonMaps& maps_;
     uint64_t seed_;
+    const IrradianceCache* cache_ = nullptr;
+    HemisphereStrata strata_;
 };
 
 }  // namespace foton

@@ -15,6 +15,7 @@
 #include <tbb/flow_graph.h>
 #include <tbb/parallel_invoke.h>
 
+#include "cache_fill.h"
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
 #include "light_tracer.h"
@@ -464,10 +465,22 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
     photon_stats.merge(global_stats);
     photon_stats.merge(caustic_stats);
 
-    const PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
+    PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
+    // The irradiance cache: filled in hierarchical passes, then read (frozen) by the image.
+    IrradianceCache cache(scene.bounds(), cache_params(scene.render.cache));
+    RenderStats cache_stats;
+    double cache_seconds = 0.0;
+    if (ps.indirect == IndirectMode::IrradianceCache && ps.mode == PhotonMode::FinalGather) {
+        const auto t0 = Clock::now();
+        integrator.set_cache(&cache);
+        fill_irradiance_cache(scene, integrator, cache, opt.spp, threads, cache_stats);
+        cache_seconds = seconds_since(t0);
+    }
     RenderResult result = render_camera(scene, integrator, opt);
     result.stats.merge(photon_stats);
-    result.stats.wall_seconds += photon_seconds;
+    result.stats.merge(cache_stats);
+    result.stats.cache_stored = cache.size();
+    result.stats.wall_seconds += photon_seconds + cache_seconds;
     result.stats.photons_global = maps.global.size() + maps.direct.size();
     result.stats.photons_caustic = maps.caustic.size();
     result.stats.photon_seconds = photon_seconds;

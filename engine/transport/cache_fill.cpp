@@ -1,0 +1,91 @@
+#include "cache_fill.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace foton {
+
+namespace {
+constexpr std::size_t kChunk = 64;  // pixels per job of a pass
+}
+
+CacheParams cache_params(const CacheSettings& s) {
+    CacheParams p;
+    p.weight = s.ward_weight ? CacheWeight::Ward : CacheWeight::Notes;
+    p.a = s.a;
+    p.kappa = s.kappa;
+    p.gradients = s.gradients;
+    return p;
+}
+
+CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
+                                     IrradianceCache& cache, uint32_t spp, int threads,
+                                     RenderStats& stats) {
+    const int w = scene.film.width, h = scene.film.height;
+    const uint64_t npix = uint64_t(w) * uint64_t(h);
+    std::vector<uint8_t> visited(npix, 0);
+    CacheFillStats fill;
+    struct Scratch {
+        std::unique_ptr<IntegratorWorkspace> ws;
+        std::vector<RGB> out;
+        RenderStats stats;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    tbb::task_arena arena(threads);
+    const int extent = std::max(w, h) - 1;
+    for (int level = 0;; ++level) {
+        // Grid points round(i (size - 1) / 2^level): both image edges at every level.
+        const int steps = 1 << level;
+        std::vector<SampleJob> jobs;
+        for (int iy = 0; iy <= steps; ++iy) {
+            const int y = int(std::lround(double(iy) * (h - 1) / steps));
+            for (int ix = 0; ix <= steps; ++ix) {
+                const int x = int(std::lround(double(ix) * (w - 1) / steps));
+                const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
+                if (visited[pixel]) continue;
+                visited[pixel] = 1;
+                jobs.push_back({uint32_t(x), uint32_t(y), 0, spp, 0, pixel * spp});
+            }
+        }
+        if (!jobs.empty()) {
+            const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
+            std::vector<std::vector<IrradianceRecord>> found(chunks);
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range<std::size_t>(0, chunks, 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                        Scratch& s = scratch.local();
+                        if (!s.ws) s.ws = integrator.make_workspace();
+                        for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                            const std::vector<SampleJob> part(
+                                jobs.begin() + std::ptrdiff_t(c * kChunk),
+                                jobs.begin() +
+                                    std::ptrdiff_t(std::min(jobs.size(), (c + 1) * kChunk)));
+                            integrator.trace(part, *s.ws, s.out, s.stats);
+                            found[c] =
+                                std::move(static_cast<PhotonCameraWorkspace&>(*s.ws).new_records);
+                        }
+                    });
+            });
+            for (const auto& records : found)
+                for (const IrradianceRecord& rec : records) cache.insert(rec);
+            fill.pixels += jobs.size();
+            ++fill.passes;
+        }
+        if (steps >= extent) break;
+    }
+    for (Scratch& s : scratch) {
+        // The fill's lookups are not the image's: keep its work, not its lookup counts.
+        s.stats.cache = {};
+        stats.merge(s.stats);
+    }
+    stats.cache_stored = cache.size();
+    return fill;
+}
+
+}  // namespace foton

@@ -1,0 +1,36 @@
+#pragma once
+// Filling the irradiance cache before the image pass, in hierarchical pixel order (the
+// lecture notes): the first pass visits the image's corners, each further pass the points of
+// a grid twice as fine (skipping those visited), down to every pixel. Records therefore
+// spread evenly instead of piling up along the first scanlines.
+//
+// Parallel and deterministic (DESIGN.md): a pass traces its pixels in fixed chunks on all
+// threads, every chunk reading the cache as the previous pass left it (frozen); the chunks'
+// new records are then inserted in chunk order. Chunks of one pass may compute overlapping
+// records (they cannot see each other's): the price of the parallelism, counted in the
+// statistics as records per pixel.
+#include <functional>
+
+#include "engine/core/stats.h"
+#include "engine/scene/scene.h"
+#include "irradiance_cache.h"
+#include "photon_integrator.h"
+
+namespace foton {
+
+// The cache's parameters from the scene's settings.
+CacheParams cache_params(const CacheSettings& s);
+
+struct CacheFillStats {
+    uint32_t passes = 0;
+    uint64_t pixels = 0;  // visited (each with its first pixel sample)
+};
+
+// Fills `cache` through `integrator` (whose cache pointer must be `cache`). `spp` is the
+// image pass's samples per pixel: the fill traces sample 0 of pass 0 of every pixel, the
+// very sample the image pass will trace first.
+CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
+                                     IrradianceCache& cache, uint32_t spp, int threads,
+                                     RenderStats& stats);
+
+}  // namespace foton

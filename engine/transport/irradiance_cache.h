@@ -1,0 +1,144 @@
+#pragma once
+// Ward's irradiance cache, as the lecture notes give it (NPGR010, 2011): records of
+// irradiance computed by stratified hemisphere sampling at a few points, each valid within a
+// radius derived from the distances its sample rays travelled, and interpolated elsewhere
+// with Ward & Heckbert's translation and rotation gradients. Records live in an octree
+// (record_octree.h); a brute-force scan over all records is kept as the tests' oracle.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+#include "engine/core/stats.h"
+#include "record_octree.h"
+
+namespace foton {
+
+enum class CacheWeight : uint8_t {
+    Ward,   // w = 1 / (|p - p_i| / R_i + sqrt(1 - n . n_i)), used where w > 1 / a
+    Notes,  // w = 1 - kappa max(|p - p_i| / clamp(2 R_i, R_min, R_max),
+            //                   sqrt(1 - n . n_i) / sqrt(1 - cos 10 deg)), used where w > 0
+};
+
+struct CacheParams {
+    CacheWeight weight = CacheWeight::Notes;
+    float a = 0.3f;              // Ward's accuracy: records are used out to a R_i
+    float kappa = 1.f;           // the notes' accuracy: larger kappa, smaller neighbourhoods
+    float max_angle_deg = 10.f;  // the notes' normal limit
+    bool gradients = true;
+};
+
+struct IrradianceRecord {
+    Vec3 p, n;               // position and the normal of the side it was computed on
+    RGB e;                   // irradiance
+    float r = 0.f;           // validity radius R_i, clamped to [r_min, r_max]
+    float r_harmonic = 0.f;  // the harmonic-mean (or minimum) distance before clamping
+    float r_min = 0.f, r_max = 0.f;
+    Vec3 grad_t[3];  // translation gradient per channel (world space, dE / dx)
+    Vec3 grad_r[3];  // rotation gradient per channel (world space, dE / d angle about axis)
+};
+
+// The record's weight at (p, n), or 0 when the record must not be used there.
+float record_weight(const CacheParams& params, const IrradianceRecord& r, const Vec3& p,
+                    const Vec3& n);
+// The radius beyond which record_weight is always 0 (the octree's sphere).
+float record_influence(const CacheParams& params, const IrradianceRecord& r);
+// The record's irradiance extrapolated to (p, n) by its gradients (when enabled).
+RGB record_extrapolate(const CacheParams& params, const IrradianceRecord& r, const Vec3& p,
+                       const Vec3& n);
+
+// How a record's sample directions are laid out: M rows in theta (cosine-weighted strata,
+// theta_j = asin(sqrt((j + u) / M))) times N columns in phi.
+struct HemisphereStrata {
+    uint32_t m = 16, n = 50;
+    // Rows and columns for about `samples` rays with N ~ pi M (square strata on the disc).
+    static HemisphereStrata from_count(uint32_t samples);
+    uint32_t count() const { return m * n; }
+    // Local direction (z = normal) of stratum (j, k) jittered by u in [0, 1)^2.
+    Vec3 direction(uint32_t j, uint32_t k, Point2 u) const;
+};
+
+// The validity radius from the sample rays' hit distances (infinite for a miss).
+enum class RadiusRule : uint8_t {
+    Harmonic,  // M N / sum(1 / r_jk): the notes' (and Ward's) rule
+    Minimum,   // the shortest ray within 60 degrees of the normal (grazing rays ignored)
+};
+
+// Builds a record at p from the radiance L[j * N + k] and distance dist[j * N + k] seen by
+// the stratum (j, k) rays (local frame s, t, n): E = pi / (M N) sum L, the radius by `rule`
+// clamped to [r_min, r_max], and Ward & Heckbert's gradients.
+IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n,
+                              const HemisphereStrata& strata, const RGB* L, const float* dist,
+                              RadiusRule rule, float r_min, float r_max);
+
+using CacheLookupStats = CacheCounters;
+
+class IrradianceCache {
+  public:
+    IrradianceCache(const Bounds3& bounds, const CacheParams& params);
+    const CacheParams& params() const { return params_; }
+    void insert(const IrradianceRecord& r);
+    std::size_t size() const { return records_.size(); }
+    const IrradianceRecord& record(std::size_t i) const { return records_[i]; }
+    const RecordOctree& octree() const { return octree_; }
+
+    // The weighted mean of the extrapolated irradiance of every record with positive weight
+    // at (p, n) whose `visible(record)` holds; false (and e = 0) when there is none. The
+    // records are summed in index order, so the octree and the scan agree exactly.
+    template <class Visible>
+    bool interpolate(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible,
+                     CacheLookupStats& st) const {
+        uint32_t idx[kMaxCandidates];
+        uint32_t count = 0;
+        octree_.for_each_candidate(p, [&](uint32_t i) {
+            if (count < kMaxCandidates) idx[count++] = i;
+        });
+        return blend(p, n, idx, count, e, visible, st);
+    }
+    // The same over all records (the oracle).
+    template <class Visible>
+    bool interpolate_brute(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible,
+                           CacheLookupStats& st) const {
+        std::vector<uint32_t> idx(records_.size());
+        for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+        return blend(p, n, idx.data(), uint32_t(idx.size()), e, visible, st);
+    }
+
+  private:
+    static constexpr uint32_t kMaxCandidates = 4096;
+    template <class Visible>
+    bool blend(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, RGB& e,
+               Visible&& visible, CacheLookupStats& st) const {
+        sort_indices(idx, count);
+        ++st.lookups;
+        st.candidates += count;
+        double sum[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+        for (uint32_t c = 0; c < count; ++c) {
+            const IrradianceRecord& r = records_[idx[c]];
+            const float w = record_weight(params_, r, p, n);
+            if (!(w > 0.f)) continue;
+            if (!visible(r)) continue;
+            const RGB v = record_extrapolate(params_, r, p, n);
+            sum[0] += double(w) * v.r;
+            sum[1] += double(w) * v.g;
+            sum[2] += double(w) * v.b;
+            wsum += w;
+            ++st.used;
+        }
+        if (!(wsum > 0.0)) {
+            e = RGB{0.f};
+            return false;
+        }
+        ++st.interpolated;
+        e = RGB(float(sum[0] / wsum), float(sum[1] / wsum), float(sum[2] / wsum));
+        return true;
+    }
+    static void sort_indices(uint32_t* idx, uint32_t count);
+
+    CacheParams params_;
+    std::vector<IrradianceRecord> records_;
+    RecordOctree octree_;
+};
+
+}  // namespace foton
