@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
     render->add_option("--integrator", ra.integrator,
-                       "raytracer | path | light | distributed | photon");
+                       "raytracer | path | light | distributed | photon | sppm | ppm");
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "
                        "filter=gauss); repeatable");
