@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
 #include "engine/accel/intersector.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
@@ -27,24 +28,9 @@
 #include "engine/transport/render.h"
 
 using namespace foton;
+using namespace foton::bench;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string scene_path(const char* name) {
-    return std::string(FOTON_SOURCE_DIR) + "/scenes/" + name;
-}
 
 const kern::PointKdTree::ParallelInvoke kTbbInvoke = [](const std::function<void()>& a,
                                                         const std::function<void()>& b) {
@@ -229,8 +215,8 @@ int main(int argc, char** argv) {
     // 4. Final gathering inside a render.
     std::printf("### Final gathering (cornell-diffuse.xml, 128x128, 1 spp, 64 gather rays)\n\n");
     std::printf(
-        "| gather hits read | threads | gather rays/s | gather rays/s per thread | render "
-        "[s] |\n|---|---:|---:|---:|---:|\n");
+        "| gather hits read | threads | gather rays per camera-pass second | gather rays per "
+        "thread-second | render [s] |\n|---|---:|---:|---:|---:|\n");
     Scene fg = diffuse;
     fg.set_resolution(128, 128);
     fg.render.integrator = IntegratorType::Photon;

@@ -14,11 +14,14 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
 #include "engine/accel/intersector.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/render.h"
 
 using namespace foton;
+using bench::median;
+using bench::scene_path;
 
 namespace {
 
@@ -27,12 +30,6 @@ struct Timing {
     double render = 0.0;  // median render, s
     double rays_per_s = 0.0;
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, int repeats) {
     std::vector<double> builds, renders, rates;
@@ -49,10 +46,6 @@ Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, i
         rates.push_back(double(res.stats.total_rays()) / res.stats.wall_seconds);
     }
     return {median(builds), median(renders), median(rates)};
-}
-
-std::string scene_path(const char* name) {
-    return std::string(FOTON_SOURCE_DIR) + "/scenes/" + name;
 }
 
 }  // namespace

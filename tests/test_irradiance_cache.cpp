@@ -137,7 +137,7 @@ TEST_CASE("octree lookups equal the brute-force scan for both weights", "[cache]
             }
             cache.insert(r);
         }
-        CacheLookupStats tree_st, scan_st;
+        CacheCounters tree_st, scan_st;
         int found = 0;
         const auto always = [](const IrradianceRecord&) { return true; };
         for (uint64_t q = 0; q < 2000; ++q) {

@@ -46,6 +46,24 @@ std::vector<uint8_t> blocks_without_light(const Film& full, int factor) {
     return mask;
 }
 
+// A pbrt-v4 reference box-filtered down by `factor`, with the mask of blocks free of the light.
+struct Reference {
+    Film image;
+    std::vector<uint8_t> mask;
+};
+Reference reference(const char* file, int factor) {
+    const Film full = read_exr(test::shared_path(std::string("refs/") + file));
+    return {downsample(full, factor), blocks_without_light(full, factor)};
+}
+
+// A Cornell box of scenes/ at the given resolution, set up for photon mapping.
+Scene photon_box(const char* scene, int size) {
+    Scene s = load_scene(test::source_path(std::string("scenes/") + scene));
+    s.set_resolution(size, size);
+    s.render.integrator = IntegratorType::Photon;
+    return s;
+}
+
 RGB mean(const Film& f, const std::vector<uint8_t>& mask) {
     double s[3] = {0, 0, 0};
     std::size_t n = 0;
@@ -213,14 +231,12 @@ TEST_CASE("the disc envelope removes the corner brightening of the sphere", "[ph
 }
 
 TEST_CASE("photon mapping renders the diffuse Cornell box like pbrt-v4", "[photon][reference]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
-    s.set_resolution(32, 32);
-    s.render.integrator = IntegratorType::Photon;
+    Scene s = photon_box("cornell-diffuse.xml", 32);
     s.render.photon.global_photons = 200000;
     s.render.photon.gather_rays = 32;
-    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
-    const Film ref = downsample(full, 16);
-    const std::vector<uint8_t> mask = blocks_without_light(full, 16);
+    const Reference truth = reference("cornell_diffuse_path_512spp.exr", 16);
+    const Film& ref = truth.image;
+    const std::vector<uint8_t>& mask = truth.mask;
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 4;
@@ -259,9 +275,9 @@ TEST_CASE("SPPM and PPM converge to pbrt-v4's SPPM reference as passes grow",
     s.set_resolution(64, 64);
     s.render.photon.initial_radius = 4.f;
     s.render.photon.photons_per_pass = 65536;
-    const Film full = read_exr(test::shared_path("refs/cornell_caustics_sppm_256it.exr"));
-    const Film ref = downsample(full, 8);
-    const std::vector<uint8_t> mask = blocks_without_light(full, 8);
+    const Reference truth = reference("cornell_caustics_sppm_256it.exr", 8);
+    const Film& ref = truth.image;
+    const std::vector<uint8_t>& mask = truth.mask;
     const auto acc = make_intersector(s, s.accel);
     for (IntegratorType type : {IntegratorType::Sppm, IntegratorType::Ppm}) {
         s.render.integrator = type;
@@ -296,9 +312,7 @@ TEST_CASE("SPPM and PPM converge to pbrt-v4's SPPM reference as passes grow",
 }
 
 TEST_CASE("shadow photons decide most shadow rays without changing the image", "[photon]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
-    s.set_resolution(48, 48);
-    s.render.integrator = IntegratorType::Photon;
+    Scene s = photon_box("cornell-diffuse.xml", 48);
     s.render.photon.gather_rays = 4;
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
@@ -358,14 +372,12 @@ TEST_CASE("the photon-guided gather density matches its sampler (chi-square)", "
 }
 
 TEST_CASE("final gathering converges to the reference as the photons grow", "[photon][reference]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
-    s.set_resolution(32, 32);
-    s.render.integrator = IntegratorType::Photon;
+    Scene s = photon_box("cornell-diffuse.xml", 32);
     s.render.photon.gather_rays = 64;
     s.render.photon.caustic_photons = 0;
-    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
-    const Film ref = downsample(full, 16);
-    const std::vector<uint8_t> mask = blocks_without_light(full, 16);
+    const Reference truth = reference("cornell_diffuse_path_512spp.exr", 16);
+    const Film& ref = truth.image;
+    const std::vector<uint8_t>& mask = truth.mask;
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 4;
@@ -415,14 +427,12 @@ TEST_CASE("photon-guided gathering: same mean, less noise where indirect light i
 
 TEST_CASE("split direct map: ray-traced direct light beats direct visualisation of it",
           "[photon][reference]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
-    s.set_resolution(64, 64);
-    s.render.integrator = IntegratorType::Photon;
+    Scene s = photon_box("cornell-diffuse.xml", 64);
     s.render.photon.global_photons = 100000;
     s.render.photon.mode = PhotonMode::DirectVisualisation;
-    const Film full = read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr"));
-    const Film ref = downsample(full, 8);
-    const std::vector<uint8_t> mask = blocks_without_light(full, 8);
+    const Reference truth = reference("cornell_diffuse_path_512spp.exr", 8);
+    const Film& ref = truth.image;
+    const std::vector<uint8_t>& mask = truth.mask;
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 16;

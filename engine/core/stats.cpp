@@ -43,7 +43,6 @@ void RenderStats::merge(const RenderStats& o) {
     samples += o.samples;
     shadow_rays_saved += o.shadow_rays_saved;
     cache_records += o.cache_records;
-    cache_stored += o.cache_stored;
     cache.merge(o.cache);
     trace.merge(o.trace);
     for (int i = 0; i < kNumStages; ++i) {

@@ -62,7 +62,7 @@ struct RenderStats {
     double photon_seconds = 0.0;     // wall time of the photon passes and the balancing
     uint64_t shadow_rays_saved = 0;  // visibility decided by shadow photons instead
     // Irradiance cache: records computed (by fill passes and, unstored, by the final pass),
-    // records kept, and the lookups of the final pass.
+    // records kept (set once, not merged), and the lookups of the final pass.
     uint64_t cache_records = 0, cache_stored = 0;
     CacheCounters cache;
     TraceCounters trace;

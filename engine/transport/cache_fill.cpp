@@ -23,13 +23,11 @@ CacheParams cache_params(const CacheSettings& s) {
     return p;
 }
 
-CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
-                                     IrradianceCache& cache, uint32_t spp, int threads,
-                                     RenderStats& stats) {
+void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
+                           IrradianceCache& cache, uint32_t spp, int threads, RenderStats& stats) {
     const int w = scene.film.width, h = scene.film.height;
     const uint64_t npix = uint64_t(w) * uint64_t(h);
     std::vector<uint8_t> visited(npix, 0);
-    CacheFillStats fill;
     struct Scratch {
         std::unique_ptr<IntegratorWorkspace> ws;
         std::vector<RGB> out;
@@ -74,8 +72,6 @@ CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator&
             });
             for (const auto& records : found)
                 for (const IrradianceRecord& rec : records) cache.insert(rec);
-            fill.pixels += jobs.size();
-            ++fill.passes;
         }
         if (steps >= extent) break;
     }
@@ -84,8 +80,6 @@ CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator&
         s.stats.cache = {};
         stats.merge(s.stats);
     }
-    stats.cache_stored = cache.size();
-    return fill;
 }
 
 }  // namespace foton

@@ -21,16 +21,10 @@ namespace foton {
 // The cache's parameters from the scene's settings.
 CacheParams cache_params(const CacheSettings& s);
 
-struct CacheFillStats {
-    uint32_t passes = 0;
-    uint64_t pixels = 0;  // visited (each with its first pixel sample)
-};
-
 // Fills `cache` through `integrator` (whose cache pointer must be `cache`). `spp` is the
 // image pass's samples per pixel: the fill traces sample 0 of pass 0 of every pixel, the
 // very sample the image pass will trace first.
-CacheFillStats fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
-                                     IrradianceCache& cache, uint32_t spp, int threads,
-                                     RenderStats& stats);
+void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
+                           IrradianceCache& cache, uint32_t spp, int threads, RenderStats& stats);
 
 }  // namespace foton

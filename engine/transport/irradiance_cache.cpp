@@ -19,8 +19,17 @@ float record_influence(const CacheParams& params, const IrradianceRecord& r) {
     return std::clamp(2.f * r.r_harmonic, r.r_min, r.r_max) / params.kappa;
 }
 
+float CacheParams::normal_limit() const {
+    return std::sqrt(1.f - std::cos(max_angle_deg * kPi / 180.f));
+}
+
 float record_weight(const CacheParams& params, const IrradianceRecord& r, const Vec3& p,
                     const Vec3& n) {
+    return record_weight(params, params.normal_limit(), r, p, n);
+}
+
+float record_weight(const CacheParams& params, float normal_limit, const IrradianceRecord& r,
+                    const Vec3& p, const Vec3& n) {
     const Vec3 d = p - r.p;
     const float dist = length(d);
     const float cos_n = dot(n, r.n);
@@ -33,9 +42,8 @@ float record_weight(const CacheParams& params, const IrradianceRecord& r, const 
         if (!(err < params.a)) return 0.f;
         return 1.f / std::max(err, 1e-6f);
     }
-    const float limit = std::sqrt(1.f - std::cos(params.max_angle_deg * kPi / 180.f));
     const float radius = std::clamp(2.f * r.r_harmonic, r.r_min, r.r_max);
-    const float w = 1.f - params.kappa * std::max(dist / radius, bend / limit);
+    const float w = 1.f - params.kappa * std::max(dist / radius, bend / normal_limit);
     return w > 0.f ? w : 0.f;
 }
 
@@ -104,10 +112,6 @@ IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const
     // along the column's direction u_k; across the boundary between columns k-1 and k
     // (phi_k-) it is (sin theta_j+ - sin theta_j-) / r along the tangent v_k- = e_phi there.
     // r is the nearer of the two strata's distances (the closer surface occludes).
-    for (int c = 0; c < 3; ++c) {
-        rec.grad_t[c] = Vec3{0.f, 0.f, 0.f};
-        rec.grad_r[c] = Vec3{0.f, 0.f, 0.f};
-    }
     auto ch = [](const RGB& v, int c) { return c == 0 ? v.r : c == 1 ? v.g : v.b; };
     double gr[3][2] = {}, gt[3][2] = {};
     for (uint32_t k = 0; k < N; ++k) {
@@ -157,7 +161,7 @@ IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const
 }
 
 IrradianceCache::IrradianceCache(const Bounds3& bounds, const CacheParams& params)
-    : params_(params) {
+    : params_(params), normal_limit_(params.normal_limit()) {
     octree_.reset(bounds);
 }
 

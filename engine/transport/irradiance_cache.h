@@ -27,6 +27,8 @@ struct CacheParams {
     float kappa = 1.f;           // the notes' accuracy: larger kappa, smaller neighbourhoods
     float max_angle_deg = 10.f;  // the notes' normal limit
     bool gradients = true;
+    // sqrt(1 - cos max_angle): the notes' normal term at the limit.
+    float normal_limit() const;
 };
 
 struct IrradianceRecord {
@@ -42,6 +44,9 @@ struct IrradianceRecord {
 // The record's weight at (p, n), or 0 when the record must not be used there.
 float record_weight(const CacheParams& params, const IrradianceRecord& r, const Vec3& p,
                     const Vec3& n);
+// The same with params.normal_limit() computed by the caller (once per lookup).
+float record_weight(const CacheParams& params, float normal_limit, const IrradianceRecord& r,
+                    const Vec3& p, const Vec3& n);
 // The radius beyond which record_weight is always 0 (the octree's sphere).
 float record_influence(const CacheParams& params, const IrradianceRecord& r);
 // The record's irradiance extrapolated to (p, n) by its gradients (when enabled).
@@ -72,8 +77,6 @@ IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const
                               const HemisphereStrata& strata, const RGB* L, const float* dist,
                               RadiusRule rule, float r_min, float r_max);
 
-using CacheLookupStats = CacheCounters;
-
 class IrradianceCache {
   public:
     IrradianceCache(const Bounds3& bounds, const CacheParams& params);
@@ -88,7 +91,7 @@ class IrradianceCache {
     // records are summed in index order, so the octree and the scan agree exactly.
     template <class Visible>
     bool interpolate(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible,
-                     CacheLookupStats& st) const {
+                     CacheCounters& st) const {
         uint32_t idx[kMaxCandidates];
         uint32_t count = 0;
         octree_.for_each_candidate(p, [&](uint32_t i) {
@@ -99,7 +102,7 @@ class IrradianceCache {
     // The same over all records (the oracle).
     template <class Visible>
     bool interpolate_brute(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible,
-                           CacheLookupStats& st) const {
+                           CacheCounters& st) const {
         std::vector<uint32_t> idx(records_.size());
         for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
         return blend(p, n, idx.data(), uint32_t(idx.size()), e, visible, st);
@@ -109,14 +112,14 @@ class IrradianceCache {
     static constexpr uint32_t kMaxCandidates = 4096;
     template <class Visible>
     bool blend(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, RGB& e,
-               Visible&& visible, CacheLookupStats& st) const {
+               Visible&& visible, CacheCounters& st) const {
         sort_indices(idx, count);
         ++st.lookups;
         st.candidates += count;
         double sum[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
         for (uint32_t c = 0; c < count; ++c) {
             const IrradianceRecord& r = records_[idx[c]];
-            const float w = record_weight(params_, r, p, n);
+            const float w = record_weight(params_, normal_limit_, r, p, n);
             if (!(w > 0.f)) continue;
             if (!visible(r)) continue;
             const RGB v = record_extrapolate(params_, r, p, n);
@@ -137,6 +140,7 @@ class IrradianceCache {
     static void sort_indices(uint32_t* idx, uint32_t count);
 
     CacheParams params_;
+    float normal_limit_;
     std::vector<IrradianceRecord> records_;
     RecordOctree octree_;
 };

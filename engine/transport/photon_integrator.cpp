@@ -122,17 +122,20 @@ void PhotonIntegrator::cache_indirect(const SurfacePoint& sp, const warp::Frame&
 void PhotonIntegrator::compute_records(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
                                        RenderStats& stats) const {
     if (ws.requests.empty()) return;
-    StageClock clock;
     const CacheSettings& cs = scene_.render.cache;
     std::swap(ws.gather, ws.cache_rays);
     ws.cache_rays.clear();
     ws.gather_weight.assign(ws.gather.size(), RGB{1.f});
-    const std::size_t rays = ws.gather.size();
+    // The rays' time and counts go to the final-gather (or intersect and occlusion) stages;
+    // the cache-record stage is the records' own arithmetic.
     if (cs.secondary == CacheSecondary::Photon) {
         final_gather(ws, ws.cache_L, ws.cache_dist.data(), stats);
     } else {
         // Direct light only: one light sample at each first hit.
+        StageClock clock;
         accel_.intersect(ws.gather, ws.hits, stats.trace);
+        stats.stage_items[int(Stage::Intersect)] += ws.gather.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
         ws.shadow.clear();
         ws.shadow_value.clear();
         for (std::size_t i = 0; i < ws.gather.size(); ++i) {
@@ -150,11 +153,13 @@ void PhotonIntegrator::compute_records(PhotonCameraWorkspace& ws, std::vector<RG
                 rng::hash(ws.requests[id / strata_.count()].key, id % strata_.count(), 0x5ec0, 0);
             direct_light(sp, m, wo, frame, RGB{1.f}, id, pseudo, 0, ws, ws.cache_L);
         }
-        StageClock shadow_clock;
+        stats.stage_items[int(Stage::Shade)] += ws.gather.size();
+        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
         resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, ws.cache_L, stats,
-                            shadow_clock);
+                            clock);
         stats.secondary_rays += ws.gather.size();
     }
+    StageClock clock;
     const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
     for (const CacheRequest& q : ws.requests) {
         const IrradianceRecord rec =
@@ -164,7 +169,7 @@ void PhotonIntegrator::compute_records(PhotonCameraWorkspace& ws, std::vector<RG
         ws.new_records.push_back(rec);
     }
     stats.cache_records += ws.requests.size();
-    stats.stage_items[int(Stage::CacheRecords)] += rays;
+    stats.stage_items[int(Stage::CacheRecords)] += ws.requests.size();
     stats.stage_seconds[int(Stage::CacheRecords)] += clock.lap();
 }
 

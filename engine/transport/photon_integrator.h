@@ -51,7 +51,7 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
     std::vector<RGB> cache_L;
     std::vector<float> cache_dist;
     std::vector<IrradianceRecord> new_records;
-    CacheLookupStats lookup;
+    CacheCounters lookup;
 };
 
 class PhotonIntegrator : public CameraIntegrator {

@@ -8,7 +8,6 @@ namespace foton {
 void RecordOctree::reset(const Bounds3& bounds) {
     nodes_.clear();
     nodes_.emplace_back();
-    stored_ = 0;
     const Vec3 d = bounds.empty() ? Vec3{1.f, 1.f, 1.f} : bounds.diagonal();
     size_ = std::max({d.x, d.y, d.z, 1e-6f}) * 1.02f;
     const Vec3 c = bounds.empty() ? Vec3{0.f, 0.f, 0.f} : bounds.center();
@@ -59,14 +58,7 @@ void RecordOctree::insert(uint32_t index, const Vec3& c, float r) {
                     node = next;
                 }
                 nodes_[std::size_t(node)].items.push_back(index);
-                ++stored_;
             }
-}
-
-std::size_t RecordOctree::memory_bytes() const {
-    std::size_t b = nodes_.capacity() * sizeof(Node);
-    for (const Node& n : nodes_) b += n.items.capacity() * sizeof(uint32_t);
-    return b;
 }
 
 }  // namespace foton

@@ -42,9 +42,6 @@ class RecordOctree {
             if (node < 0) return;
         }
     }
-    std::size_t nodes() const { return nodes_.size(); }
-    std::size_t stored() const { return stored_; }  // item references (with repeats)
-    std::size_t memory_bytes() const;
 
   private:
     struct Node {
@@ -58,7 +55,6 @@ class RecordOctree {
     std::vector<Node> nodes_;
     Vec3 lo_{0.f, 0.f, 0.f};
     float size_ = 1.f;
-    std::size_t stored_ = 0;
 };
 
 }  // namespace foton
