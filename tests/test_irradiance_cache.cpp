@@ -202,7 +202,7 @@ TEST_CASE("the irradiance cache renders the closed diffuse box like plain final 
     opt.spp = 2;
     s.render.photon.gather_rays = 512;
     const RenderResult fg = render(s, *acc, opt);
-    s.render.photon.indirect = IndirectMode::IrradianceCache;
+    s.render.indirect = IndirectMode::IrradianceCache;
     s.render.cache.samples = 1024;
     const RenderResult ic = render(s, *acc, opt);
     const ImageError e = compare_images(ic.film, fg.film);

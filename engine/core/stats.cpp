@@ -83,9 +83,9 @@ std::string RenderStats::table() const {
     if (cache_records > 0 || cache.lookups > 0) {
         std::snprintf(
             buf, sizeof buf,
-            "irradiance cache: %llu records stored, %llu computed; %llu lookups, %.1f%% "
-            "interpolated, %.2f records each; visibility rejected %llu of %llu\n",
-            (unsigned long long)cache_stored, (unsigned long long)cache_records,
+            "irradiance cache: %llu records stored, %llu computed, fill %.3f s wall; %llu "
+            "lookups, %.1f%% interpolated, %.2f records each; visibility rejected %llu of %llu\n",
+            (unsigned long long)cache_stored, (unsigned long long)cache_records, cache_fill_seconds,
             (unsigned long long)cache.lookups,
             cache.lookups ? 100.0 * double(cache.interpolated) / double(cache.lookups) : 0.0,
             cache.interpolated ? double(cache.used) / double(cache.interpolated) : 0.0,
@@ -120,6 +120,7 @@ std::string RenderStats::json() const {
         "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n"
         "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
         "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
+        "  \"cache_fill_seconds\": %.6f,\n"
         "  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
@@ -128,7 +129,8 @@ std::string RenderStats::json() const {
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
         (unsigned long long)trace.cells, (unsigned long long)cache_records,
         (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
-        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections);
+        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections,
+        cache_fill_seconds);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

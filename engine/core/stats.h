@@ -64,6 +64,7 @@ struct RenderStats {
     // Irradiance cache: records computed (by fill passes and, unstored, by the final pass),
     // records kept (set once, not merged), and the lookups of the final pass.
     uint64_t cache_records = 0, cache_stored = 0;
+    double cache_fill_seconds = 0.0;  // wall time of the fill passes (set once)
     CacheCounters cache;
     TraceCounters trace;
     double stage_seconds[kNumStages] = {};  // summed over threads

@@ -60,9 +60,13 @@ enum class PhotonMode { FinalGather, DirectVisualisation };
 // elsewhere).
 enum class IndirectMode { FinalGather, IrradianceCache };
 
-// What a record's hemisphere rays see at their hits (of the lecture notes' four choices:
-// direct light only, or the global photon map's estimate).
-enum class CacheSecondary { Direct, Photon };
+// What a record's hemisphere rays see at their hits, the lecture notes' four choices: direct
+// light only; the global photon map's estimate; path tracing onwards; the cache of the next
+// bounce level (one cache per level, the last level's rays seeing direct light only). And
+// ambient occlusion: a ray brings the ambient radiance (white without an <ambient> light)
+// unless it hits something within cache_ao_distance. Auto: photon under type="photon",
+// path under type="path".
+enum class CacheSecondary { Auto, Direct, Photon, Path, Cache, Occlusion };
 
 // Ward's irradiance cache (the lecture notes, NPGR010 2011).
 struct CacheSettings {
@@ -75,7 +79,9 @@ struct CacheSettings {
     bool minimum_radius = false;  // R_i from the shortest non-grazing ray, not the harmonic mean
     bool gradients = true;
     bool visibility = true;  // shadow ray between p and p_i before a record is used
-    CacheSecondary secondary = CacheSecondary::Photon;
+    CacheSecondary secondary = CacheSecondary::Auto;
+    uint32_t levels = 3;      // secondary = cache: cache levels (bounces of indirect light)
+    float ao_distance = 0.f;  // secondary = occlusion: 0 = unlimited
 };
 struct PhotonSettings {
     uint64_t global_photons = 200000;   // emitted for the global map
@@ -88,7 +94,6 @@ struct PhotonSettings {
     uint8_t caustic_filter = 0;
     float cone_k = 1.1f;
     PhotonMode mode = PhotonMode::FinalGather;
-    IndirectMode indirect = IndirectMode::FinalGather;
     uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
     uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
     bool unscaled_roulette = false;
@@ -125,6 +130,9 @@ struct RenderSettings {
     uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
     AdaptiveSettings adaptive;
     PhotonSettings photon;
+    // photon (final-gather mode): at every diffuse visible point; path: at the first diffuse
+    // vertex of each camera path (after specular ones only).
+    IndirectMode indirect = IndirectMode::FinalGather;
     CacheSettings cache;
 };
 

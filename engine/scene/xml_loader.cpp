@@ -270,7 +270,9 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
            "cache_radius",
            "cache_gradients",
            "cache_visibility",
-           "cache_secondary"},
+           "cache_secondary",
+           "cache_levels",
+           "cache_ao_distance"},
           {"adaptive"});
     RenderSettings& r = scene_.render;
     if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
@@ -417,9 +419,9 @@ void Loader::parse_cache_settings(const pugi::xml_node& n) {
     if (n.attribute("indirect")) {
         const std::string v = n.attribute("indirect").value();
         if (v == "final_gather")
-            scene_.render.photon.indirect = IndirectMode::FinalGather;
+            scene_.render.indirect = IndirectMode::FinalGather;
         else if (v == "irradiance_cache")
-            scene_.render.photon.indirect = IndirectMode::IrradianceCache;
+            scene_.render.indirect = IndirectMode::IrradianceCache;
         else
             fail(n, "unknown indirect '" + v + "' (final_gather, irradiance_cache)");
     }
@@ -460,9 +462,22 @@ void Loader::parse_cache_settings(const pugi::xml_node& n) {
             c.secondary = CacheSecondary::Photon;
         else if (v == "direct")
             c.secondary = CacheSecondary::Direct;
+        else if (v == "path")
+            c.secondary = CacheSecondary::Path;
+        else if (v == "cache")
+            c.secondary = CacheSecondary::Cache;
+        else if (v == "occlusion")
+            c.secondary = CacheSecondary::Occlusion;
         else
-            fail(n, "unknown cache_secondary '" + v + "' (photon, direct)");
+            fail(n, "unknown cache_secondary '" + v + "' (photon, direct, path, cache, occlusion)");
     }
+    if (n.attribute("cache_levels")) {
+        const float v = number(n, "cache_levels");
+        if (v != std::floor(v) || v < 1.f || v > 8.f)
+            fail(n, "cache_levels must be an integer in [1, 8]");
+        c.levels = uint32_t(v);
+    }
+    c.ao_distance = non_negative(n, "cache_ao_distance", c.ao_distance);
 }
 
 void Loader::parse_camera(const pugi::xml_node& n) {

@@ -8,6 +8,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "cache_evaluator.h"
+
 namespace foton {
 
 namespace {
@@ -23,8 +25,9 @@ CacheParams cache_params(const CacheSettings& s) {
     return p;
 }
 
-void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
-                           IrradianceCache& cache, uint32_t spp, int threads, RenderStats& stats) {
+void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
+                           std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
+                           RenderStats& stats) {
     const int w = scene.film.width, h = scene.film.height;
     const uint64_t npix = uint64_t(w) * uint64_t(h);
     std::vector<uint8_t> visited(npix, 0);
@@ -52,7 +55,8 @@ void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrato
         }
         if (!jobs.empty()) {
             const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
-            std::vector<std::vector<IrradianceRecord>> found(chunks);
+            // found[chunk][level]
+            std::vector<std::vector<std::vector<IrradianceRecord>>> found(chunks);
             arena.execute([&] {
                 tbb::parallel_for(
                     tbb::blocked_range<std::size_t>(0, chunks, 1),
@@ -65,13 +69,17 @@ void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrato
                                 jobs.begin() +
                                     std::ptrdiff_t(std::min(jobs.size(), (c + 1) * kChunk)));
                             integrator.trace(part, *s.ws, s.out, s.stats);
-                            found[c] =
-                                std::move(static_cast<PhotonCameraWorkspace&>(*s.ws).new_records);
+                            for (CacheLevelWork& l : s.ws->cache_workspace()->levels) {
+                                found[c].emplace_back();
+                                for (std::size_t i = 0; i < l.found->size(); ++i)
+                                    found[c].back().push_back(l.found->record(i));
+                            }
                         }
                     });
             });
-            for (const auto& records : found)
-                for (const IrradianceRecord& rec : records) cache.insert(rec);
+            for (const auto& chunk : found)
+                for (std::size_t l = 0; l < chunk.size(); ++l)
+                    for (const IrradianceRecord& rec : chunk[l]) caches[l].insert(rec);
         }
         if (steps >= extent) break;
     }

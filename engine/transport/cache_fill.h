@@ -11,20 +11,21 @@
 // statistics as records per pixel.
 #include <functional>
 
+#include "camera_integrator.h"
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
 #include "irradiance_cache.h"
-#include "photon_integrator.h"
 
 namespace foton {
 
 // The cache's parameters from the scene's settings.
 CacheParams cache_params(const CacheSettings& s);
 
-// Fills `cache` through `integrator` (whose cache pointer must be `cache`). `spp` is the
-// image pass's samples per pixel: the fill traces sample 0 of pass 0 of every pixel, the
-// very sample the image pass will trace first.
-void fill_irradiance_cache(const Scene& scene, const PhotonIntegrator& integrator,
-                           IrradianceCache& cache, uint32_t spp, int threads, RenderStats& stats);
+// Fills `caches` (one per level) through `integrator`, whose cache evaluator reads them.
+// `spp` is the image pass's samples per pixel: the fill traces sample 0 of pass 0 of every
+// pixel, the very sample the image pass will trace first.
+void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
+                           std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
+                           RenderStats& stats);
 
 }  // namespace foton

@@ -56,9 +56,13 @@ inline void generate_camera_rays(const Scene& scene, const std::vector<SampleJob
     }
 }
 
+struct CacheWorkspace;
+
 // Per-thread scratch of an integrator, reused from tile to tile.
 struct IntegratorWorkspace {
     virtual ~IntegratorWorkspace() = default;
+    // The irradiance cache's part (its new records), if the integrator uses one.
+    virtual CacheWorkspace* cache_workspace() { return nullptr; }
 };
 
 class CameraIntegrator {

@@ -161,8 +161,13 @@ IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const
 }
 
 IrradianceCache::IrradianceCache(const Bounds3& bounds, const CacheParams& params)
-    : params_(params), normal_limit_(params.normal_limit()) {
+    : bounds_(bounds), params_(params), normal_limit_(params.normal_limit()) {
     octree_.reset(bounds);
+}
+
+void IrradianceCache::clear() {
+    records_.clear();
+    octree_.reset(bounds_);
 }
 
 void IrradianceCache::insert(const IrradianceRecord& r) {

@@ -80,6 +80,8 @@ IrradianceRecord build_record(const Vec3& p, const Vec3& s, const Vec3& t, const
 class IrradianceCache {
   public:
     IrradianceCache(const Bounds3& bounds, const CacheParams& params);
+    // Empties the cache (keeping its bounds and parameters).
+    void clear();
     const CacheParams& params() const { return params_; }
     void insert(const IrradianceRecord& r);
     std::size_t size() const { return records_.size(); }
@@ -87,17 +89,17 @@ class IrradianceCache {
     const RecordOctree& octree() const { return octree_; }
 
     // The weighted mean of the extrapolated irradiance of every record with positive weight
-    // at (p, n) whose `visible(record)` holds; false (and e = 0) when there is none. The
-    // records are summed in index order, so the octree and the scan agree exactly.
+    // at (p, n) whose `visible(record)` holds, here and in `also` (a second cache, e.g. the
+    // records of the current batch); false (and e = 0) when there is none. The records are
+    // summed in index order, so the octree and the scan agree exactly.
     template <class Visible>
-    bool interpolate(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible,
-                     CacheCounters& st) const {
-        uint32_t idx[kMaxCandidates];
-        uint32_t count = 0;
-        octree_.for_each_candidate(p, [&](uint32_t i) {
-            if (count < kMaxCandidates) idx[count++] = i;
-        });
-        return blend(p, n, idx, count, e, visible, st);
+    bool interpolate(const Vec3& p, const Vec3& n, RGB& e, Visible&& visible, CacheCounters& st,
+                     const IrradianceCache* also = nullptr) const {
+        Blend b;
+        ++st.lookups;
+        add_candidates(p, n, visible, st, b);
+        if (also) also->add_candidates(p, n, visible, st, b);
+        return b.finish(e, st);
     }
     // The same over all records (the oracle).
     template <class Visible>
@@ -105,40 +107,57 @@ class IrradianceCache {
                            CacheCounters& st) const {
         std::vector<uint32_t> idx(records_.size());
         for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
-        return blend(p, n, idx.data(), uint32_t(idx.size()), e, visible, st);
+        Blend b;
+        ++st.lookups;
+        add(p, n, idx.data(), uint32_t(idx.size()), visible, st, b);
+        return b.finish(e, st);
     }
 
   private:
     static constexpr uint32_t kMaxCandidates = 4096;
-    template <class Visible>
-    bool blend(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, RGB& e,
-               Visible&& visible, CacheCounters& st) const {
-        sort_indices(idx, count);
-        ++st.lookups;
-        st.candidates += count;
+    struct Blend {
         double sum[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+        bool finish(RGB& e, CacheCounters& st) const {
+            if (!(wsum > 0.0)) {
+                e = RGB{0.f};
+                return false;
+            }
+            ++st.interpolated;
+            e = RGB(float(sum[0] / wsum), float(sum[1] / wsum), float(sum[2] / wsum));
+            return true;
+        }
+    };
+    template <class Visible>
+    void add_candidates(const Vec3& p, const Vec3& n, Visible&& visible, CacheCounters& st,
+                        Blend& b) const {
+        uint32_t idx[kMaxCandidates];
+        uint32_t count = 0;
+        octree_.for_each_candidate(p, [&](uint32_t i) {
+            if (count < kMaxCandidates) idx[count++] = i;
+        });
+        add(p, n, idx, count, visible, st, b);
+    }
+    template <class Visible>
+    void add(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, Visible&& visible,
+             CacheCounters& st, Blend& b) const {
+        sort_indices(idx, count);
+        st.candidates += count;
         for (uint32_t c = 0; c < count; ++c) {
             const IrradianceRecord& r = records_[idx[c]];
             const float w = record_weight(params_, normal_limit_, r, p, n);
             if (!(w > 0.f)) continue;
             if (!visible(r)) continue;
             const RGB v = record_extrapolate(params_, r, p, n);
-            sum[0] += double(w) * v.r;
-            sum[1] += double(w) * v.g;
-            sum[2] += double(w) * v.b;
-            wsum += w;
+            b.sum[0] += double(w) * v.r;
+            b.sum[1] += double(w) * v.g;
+            b.sum[2] += double(w) * v.b;
+            b.wsum += w;
             ++st.used;
         }
-        if (!(wsum > 0.0)) {
-            e = RGB{0.f};
-            return false;
-        }
-        ++st.interpolated;
-        e = RGB(float(sum[0] / wsum), float(sum[1] / wsum), float(sum[2] / wsum));
-        return true;
     }
     static void sort_indices(uint32_t* idx, uint32_t count);
 
+    Bounds3 bounds_;
     CacheParams params_;
     float normal_limit_;
     std::vector<IrradianceRecord> records_;

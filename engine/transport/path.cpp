@@ -4,6 +4,7 @@
 
 #include "engine/core/warp.h"
 #include "mis.h"
+#include "next_event.h"
 #include "shadow_batch.h"
 #include "surface.h"
 
@@ -14,18 +15,63 @@ namespace {
 // Russian roulette. The distributed tracer's shadow samples use their own keyed streams.
 constexpr uint32_t kDimsPerBounce = 8;
 constexpr uint32_t kDimLightSelect = 0, kDimLight = 1, kDimBsdf = 4, kDimRoulette = 7;
+// The cache's vertex chooses between a delta and the diffuse part on a stream of its own.
+constexpr uint64_t kChoiceStream = 0xc401;
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
                                uint64_t seed, bool distributed)
     : scene_(scene), accel_(accel), lights_(lights), seed_(seed), distributed_(distributed) {}
 
-float PathIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
-    return rng::uniform(seed_, kPathStream, j.id, uint64_t(depth) * kDimsPerBounce + k);
+float PathIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
+    return rng::uniform(seed_, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
 }
 
-void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, PathWorkspace& ws,
-                           std::vector<RGB>& radiance) const {
+bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
+                                  const Vec3& d, uint32_t slot, PathWorkspace& ws,
+                                  std::vector<RGB>& radiance) const {
+    RGB rho;
+    if (!m.bsdf.has_non_delta() || !m.bsdf.lambert_albedo(rho)) return false;
+    const uint64_t key = ws.keys[slot];
+    const warp::Frame frame(sp.ns);
+    const Vec3 wo = frame.to_local(-d);
+    RGB& beta = ws.beta[slot];
+    // A material with delta lobes too: the delta part continues the path, the diffuse part
+    // stops here, each chosen with its lobes' probability and weighted by its inverse.
+    if (m.bsdf.has_delta()) {
+        const float p_delta = m.bsdf.selection_probability(kSpecular);
+        if (rng::uniform(seed_, kChoiceStream, key, depth) < p_delta) {
+            const BsdfContext ctx{sp.front_face, Transport::Radiance};
+            BsdfSample bs;
+            if (!m.bsdf.sample(wo, rand(key, depth, kDimBsdf),
+                               {rand(key, depth, kDimBsdf + 1), rand(key, depth, kDimBsdf + 2)},
+                               ctx, bs, kSpecular))
+                return true;
+            const Vec3 wi = frame.to_world(bs.wi);
+            const float side = dot(wi, sp.ng);
+            if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return true;
+            beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+            ws.specular_prev[slot] = 1;
+            ws.p_prev[slot] = sp.p;
+            ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+            return true;
+        }
+        beta *= 1.f / (1.f - p_delta);
+    }
+    // No BSDF sample leaves this vertex, so the light sample is the only estimator of its
+    // direct light and takes full weight.
+    DirectSample ds;
+    if (sample_direct(lights_, sp, m.bsdf, wo, frame, beta, rand(key, depth, kDimLightSelect),
+                      {rand(key, depth, kDimLight), rand(key, depth, kDimLight + 1)},
+                      rand(key, depth, kDimLight + 2), ds))
+        queue_direct(ds, slot, ws.shadow, ws.shadow_value);
+    if (!rho.is_black())
+        cache_->lookup(0, sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
+                       ws.path_length[slot], ws.cache, radiance);
+    return true;
+}
+
+void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
     const RenderSettings& rs = scene_.render;
     ws.next.clear();
     ws.shadow.clear();
@@ -44,7 +90,7 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
 
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
         const uint32_t slot = ws.rays.id[i];
-        const SampleJob& job = jobs[slot];
+        const uint64_t key = ws.keys[slot];
         RGB& beta = ws.beta[slot];
         const uint32_t geom = ws.hits.geom[i];
         if (geom == kNoHit) {
@@ -54,9 +100,10 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
         const Vec3 d = ws.rays.direction(i);
         const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
         const Material& m = scene_.materials[scene_.objects[geom].material];
+        ws.path_length[slot] += ws.hits.t[i];
 
         // Emission found by this ray, weighted against having sampled it as a light.
-        if (m.emits_towards(sp.front_face)) {
+        if (m.emits_towards(sp.front_face) && !(ws.first_depth > 0 && depth == ws.first_depth)) {
             float w = 1.f;
             if (depth > 0 && !ws.specular_prev[slot] && nee && !distributed_) {
                 if (mis == MisHeuristic::None) {
@@ -73,6 +120,8 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
             radiance[slot] += beta * m.emission * w;
         }
         if (depth >= rs.max_depth || m.bsdf.empty()) continue;
+        if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws, radiance))
+            continue;
 
         const warp::Frame frame(sp.ns);
         const Vec3 wo = frame.to_local(-d);
@@ -107,25 +156,25 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
                 for (uint32_t li = 0; li < lights_.size(); ++li) {
                     const uint32_t k = lights_.emitter(li).is_delta() ? 1 : n;
                     for (uint32_t s = 0; s < k; ++s) {
-                        const uint64_t key = rng::hash(job.id, depth, li, 0);
-                        const Point2 u = sample_pattern(SamplerKind::Jittered, s, k, seed_, key);
-                        const float uc = rng::uniform(seed_, key, s, 2);
+                        const uint64_t lkey = rng::hash(key, depth, li, 0);
+                        const Point2 u = sample_pattern(SamplerKind::Jittered, s, k, seed_, lkey);
+                        const float uc = rng::uniform(seed_, lkey, s, 2);
                         estimate(li, 1.f, u, uc, 1.f / float(k));
                     }
                 }
             } else {
                 float pick;
-                const uint32_t li = lights_.select(rand(job, depth, kDimLightSelect), pick);
-                estimate(li, pick, {rand(job, depth, kDimLight), rand(job, depth, kDimLight + 1)},
-                         rand(job, depth, kDimLight + 2), 1.f);
+                const uint32_t li = lights_.select(rand(key, depth, kDimLightSelect), pick);
+                estimate(li, pick, {rand(key, depth, kDimLight), rand(key, depth, kDimLight + 1)},
+                         rand(key, depth, kDimLight + 2), 1.f);
             }
         }
 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
         const uint8_t only = distributed_ ? uint8_t(kGlossy | kSpecular) : uint8_t(0xff);
-        if (!m.bsdf.sample(wo, rand(job, depth, kDimBsdf),
-                           {rand(job, depth, kDimBsdf + 1), rand(job, depth, kDimBsdf + 2)}, ctx,
+        if (!m.bsdf.sample(wo, rand(key, depth, kDimBsdf),
+                           {rand(key, depth, kDimBsdf + 1), rand(key, depth, kDimBsdf + 2)}, ctx,
                            bs, only))
             continue;
         const Vec3 wi = frame.to_world(bs.wi);
@@ -137,13 +186,35 @@ void PathIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs, P
         // Russian roulette: survive with the path's weight, capped at 1, and reweight.
         if (depth + 1 >= rs.rr_depth) {
             const float q = std::min(1.f, beta.max_component());
-            if (rand(job, depth, kDimRoulette) >= q) continue;
+            if (rand(key, depth, kDimRoulette) >= q) continue;
             beta *= 1.f / q;
         }
         ws.pdf_prev[slot] = bs.pdf;
         ws.specular_prev[slot] = bs.is_delta();
+        ws.chain_specular[slot] &= uint8_t(bs.is_delta());
         ws.p_prev[slot] = sp.p;
         ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+    }
+}
+
+void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist,
+                         RenderStats& stats, StageClock& clock) const {
+    for (uint32_t depth = ws.first_depth; !ws.rays.empty(); ++depth) {
+        accel_.intersect(ws.rays, ws.hits, stats.trace);
+        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        if (first_dist && depth == ws.first_depth)
+            for (std::size_t i = 0; i < ws.rays.size(); ++i)
+                first_dist[ws.rays.id[i]] = ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i];
+
+        shade(depth, ws, radiance);
+        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
+        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+
+        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                            clock);
+        stats.secondary_rays += ws.next.size();
+        std::swap(ws.rays, ws.next);
     }
 }
 
@@ -156,27 +227,35 @@ void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspa
     ws.beta.assign(n, RGB{1.f});
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 1);
+    ws.chain_specular.assign(n, 1);
     ws.p_prev.assign(n, Vec3{});
+    ws.path_length.assign(n, 0.f);
+    ws.keys.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
+    ws.first_depth = 0;
+    if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();
     generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.stage_items[int(Stage::Generate)] += n;
     stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+    run(ws, radiance, nullptr, stats, clock);
+    if (cache_) cache_->resolve(ws.cache, radiance, stats);
+}
 
-    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
-
-        shade(depth, jobs, ws, radiance);
-        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
-
-        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
-                            clock);
-        stats.secondary_rays += ws.next.size();
-        std::swap(ws.rays, ws.next);
-    }
+void PathIntegrator::trace_from(const RayBatch& rays, PathWorkspace& ws, std::vector<RGB>& radiance,
+                                float* first_dist, RenderStats& stats) const {
+    StageClock clock;
+    const std::size_t n = radiance.size();
+    ws.beta.assign(n, RGB{1.f});
+    ws.pdf_prev.assign(n, 0.f);
+    ws.specular_prev.assign(n, 0);
+    ws.chain_specular.assign(n, 0);  // the cache is not consulted again on the way
+    ws.p_prev.assign(n, Vec3{});
+    ws.path_length.assign(n, 0.f);
+    ws.first_depth = 1;
+    ws.rays = rays;
+    run(ws, radiance, first_dist, stats, clock);
 }
 
 }  // namespace foton

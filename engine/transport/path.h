@@ -14,6 +14,12 @@
 // every light with light_samples shadow rays each (soft shadows); glossy and specular lobes
 // are followed by sampling them (glossy reflection); a thin-lens camera gives depth of
 // field. No diffuse interreflection: the ambient term stands in for it.
+//
+// With an irradiance cache (indirect="irradiance_cache"), `path` stops at the first diffuse
+// vertex of each camera path (one reached through specular vertices only) whose non-delta
+// lobes are Lambertian: its direct light from one light sample, its indirect light from the
+// cache.
+#include "cache_evaluator.h"
 #include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
@@ -28,9 +34,15 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<RGB> shadow_value;
     // Per-path state, indexed by the job slot.
     std::vector<RGB> beta;
-    std::vector<float> pdf_prev;         // solid-angle pdf of the BSDF sample that made the ray
-    std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
-    std::vector<Vec3> p_prev;            // where that ray started
+    std::vector<float> pdf_prev;          // solid-angle pdf of the BSDF sample that made the ray
+    std::vector<uint8_t> specular_prev;   // ... and whether it came from a delta lobe
+    std::vector<Vec3> p_prev;             // where that ray started
+    std::vector<uint64_t> keys;           // what keys the path's random numbers
+    std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)
+    std::vector<float> path_length;       // from the camera (the cache's pixel footprint)
+    uint32_t first_depth = 0;             // > 0: paths started at a scattering vertex (trace_from)
+    CacheWorkspace cache;
+    CacheWorkspace* cache_workspace() override { return &cache; }
 };
 
 class PathIntegrator : public CameraIntegrator {
@@ -42,17 +54,32 @@ class PathIntegrator : public CameraIntegrator {
     }
     void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
                std::vector<RGB>& radiance, RenderStats& stats) const override;
+    // Indirect light at the first diffuse vertex from this cache (path only).
+    void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
+    // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
+    // rays): ray i adds what it brings back to radiance[rays.id[i]], its random numbers keyed
+    // by ws.keys[rays.id[i]]; the first segment's length goes to first_dist[id]. The vertex's
+    // own light sample stands for its direct light, so emission the first segment finds is
+    // not counted.
+    void trace_from(const RayBatch& rays, PathWorkspace& ws, std::vector<RGB>& radiance,
+                    float* first_dist, RenderStats& stats) const;
 
   private:
-    void shade(uint32_t depth, const std::vector<SampleJob>& jobs, PathWorkspace& ws,
-               std::vector<RGB>& radiance) const;
-    float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
+    void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;
+    // The cache's vertex: true when it took the path over.
+    bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,
+                      const Vec3& d, uint32_t slot, PathWorkspace& ws,
+                      std::vector<RGB>& radiance) const;
+    void run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist, RenderStats& stats,
+             StageClock& clock) const;
+    float rand(uint64_t key, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;
     bool distributed_;
+    const CacheEvaluator* cache_ = nullptr;
 };
 
 }  // namespace foton

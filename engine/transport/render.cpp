@@ -15,6 +15,7 @@
 #include <tbb/flow_graph.h>
 #include <tbb/parallel_invoke.h>
 
+#include "cache_evaluator.h"
 #include "cache_fill.h"
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
@@ -364,6 +365,50 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
 // Photon mapping as a job graph: the global and caustic passes (emit, trace and store,
 // parallel inside) run side by side, each feeds the balancing of its kd-tree, the global
 // tree feeds the precomputed irradiance, and all of it feeds the camera pass.
+// The secondary evaluation the scene asks for, checked against the renderer.
+CacheSecondary cache_secondary(const Scene& scene) {
+    const CacheSecondary m = scene.render.cache.secondary;
+    const bool photon = scene.render.integrator == IntegratorType::Photon;
+    if (m == CacheSecondary::Auto) return photon ? CacheSecondary::Photon : CacheSecondary::Path;
+    if (m == CacheSecondary::Photon && !photon)
+        throw InputError(
+            "renderer", 0,
+            "cache_secondary=\"photon\" needs type=\"photon\" (there is no photon map)");
+    return m;
+}
+
+// Renders through `integrator` with an irradiance cache: one cache per level, filled in
+// hierarchical passes, then read (frozen) by the image pass. `attach` hands the evaluator
+// to the integrator.
+RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               const CameraIntegrator& integrator,
+                               const std::function<void(const CacheEvaluator*)>& attach,
+                               CacheEvaluator::PhotonRadiance photons, const RenderOptions& opt) {
+    const PathIntegrator onwards(scene, accel, lights, opt.seed, false);
+    CacheEvaluator evaluator(scene, accel, lights, opt.seed, cache_secondary(scene),
+                             std::move(photons), &onwards);
+    std::vector<IrradianceCache> caches(
+        evaluator.levels(), IrradianceCache(scene.bounds(), cache_params(scene.render.cache)));
+    std::vector<const IrradianceCache*> frozen;
+    for (const IrradianceCache& c : caches) frozen.push_back(&c);
+    evaluator.set_caches(frozen);
+    attach(&evaluator);
+    RenderStats fill_stats;
+    const auto t0 = Clock::now();
+    fill_irradiance_cache(scene, integrator, caches, opt.spp, resolve_threads(opt.threads),
+                          fill_stats);
+    const double fill_seconds = seconds_since(t0);
+    RenderResult result = render_camera(scene, integrator, opt);
+    attach(nullptr);
+    result.stats.merge(fill_stats);
+    result.stats.wall_seconds += fill_seconds;
+    result.stats.cache_fill_seconds = fill_seconds;
+    for (const IrradianceCache& c : caches) result.stats.cache_stored += c.size();
+    for (std::size_t i = 0; i < caches[0].size(); ++i)
+        result.cache_points.push_back(caches[0].record(i).p);
+    return result;
+}
+
 RenderResult render_photon(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
     const PhotonSettings& ps = scene.render.photon;
     const LightSet lights(scene);
@@ -466,21 +511,17 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
     photon_stats.merge(caustic_stats);
 
     PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
-    // The irradiance cache: filled in hierarchical passes, then read (frozen) by the image.
-    IrradianceCache cache(scene.bounds(), cache_params(scene.render.cache));
-    RenderStats cache_stats;
-    double cache_seconds = 0.0;
-    if (ps.indirect == IndirectMode::IrradianceCache && ps.mode == PhotonMode::FinalGather) {
-        const auto t0 = Clock::now();
-        integrator.set_cache(&cache);
-        fill_irradiance_cache(scene, integrator, cache, opt.spp, threads, cache_stats);
-        cache_seconds = seconds_since(t0);
-    }
-    RenderResult result = render_camera(scene, integrator, opt);
+    RenderResult result = scene.render.indirect == IndirectMode::IrradianceCache
+                              ? render_with_cache(
+                                    scene, accel, lights, integrator,
+                                    [&](const CacheEvaluator* e) { integrator.set_cache(e); },
+                                    [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
+                                        return integrator.photon_radiance(sp, m, d);
+                                    },
+                                    opt)
+                              : render_camera(scene, integrator, opt);
     result.stats.merge(photon_stats);
-    result.stats.merge(cache_stats);
-    result.stats.cache_stored = cache.size();
-    result.stats.wall_seconds += photon_seconds + cache_seconds;
+    result.stats.wall_seconds += photon_seconds;
     result.stats.photons_global = maps.global.size() + maps.direct.size();
     result.stats.photons_caustic = maps.caustic.size();
     result.stats.photon_seconds = photon_seconds;
@@ -494,6 +535,14 @@ int resolve_threads(int requested) {
 }
 
 RenderResult render(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
+    if (scene.render.indirect == IndirectMode::IrradianceCache) {
+        const IntegratorType t = scene.render.integrator;
+        if (!(t == IntegratorType::Path ||
+              (t == IntegratorType::Photon && scene.render.photon.mode == PhotonMode::FinalGather)))
+            throw InputError("renderer", 0,
+                             "indirect=\"irradiance_cache\" needs type=\"path\" or type=\"photon\" "
+                             "in final-gather mode");
+    }
     switch (scene.render.integrator) {
         case IntegratorType::Light:
             return render_light(scene, accel, opt);
@@ -505,8 +554,12 @@ RenderResult render(const Scene& scene, const Intersector& accel, const RenderOp
         case IntegratorType::Path:
         case IntegratorType::Distributed: {
             const LightSet lights(scene);
-            const PathIntegrator integrator(scene, accel, lights, opt.seed,
-                                            scene.render.integrator == IntegratorType::Distributed);
+            PathIntegrator integrator(scene, accel, lights, opt.seed,
+                                      scene.render.integrator == IntegratorType::Distributed);
+            if (scene.render.indirect == IndirectMode::IrradianceCache)
+                return render_with_cache(
+                    scene, accel, lights, integrator,
+                    [&](const CacheEvaluator* e) { integrator.set_cache(e); }, nullptr, opt);
             return render_camera(scene, integrator, opt);
         }
         case IntegratorType::Whitted:

@@ -41,6 +41,7 @@ struct RenderResult {
     Film film;
     RenderStats stats;
     std::vector<uint32_t> samples_per_pixel;  // what each pixel's value averages
+    std::vector<Vec3> cache_points;           // the irradiance cache's records (first level)
 };
 
 int resolve_threads(int requested);

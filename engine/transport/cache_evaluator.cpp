@@ -1,0 +1,282 @@
+#include "cache_evaluator.h"
+
+#include <cmath>
+
+#include "cache_fill.h"
+#include "engine/core/rng.h"
+#include "next_event.h"
+#include "path.h"
+#include "shadow_batch.h"
+
+namespace foton {
+
+namespace {
+constexpr uint64_t kCacheStream = 0x1cac;
+// Random dimensions of a record ray's hit: light choice, light position (3).
+constexpr uint32_t kDimLight = 0;
+}  // namespace
+
+void CacheWorkspace::begin(std::size_t level_count, const Bounds3& bounds,
+                           const CacheParams& params) {
+    levels.resize(level_count);
+    for (CacheLevelWork& l : levels) {
+        l.pending.clear();
+        l.requests.clear();
+        l.rays.clear();
+        l.L.clear();
+        l.dist.clear();
+        if (l.found)
+            l.found->clear();
+        else
+            l.found = std::make_unique<IrradianceCache>(bounds, params);
+    }
+    lookup = {};
+    trace = {};
+}
+
+CacheEvaluator::CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
+                               const PathIntegrator* path)
+    : scene_(scene),
+      accel_(accel),
+      lights_(lights),
+      seed_(seed),
+      mode_(mode),
+      photons_(std::move(photons)),
+      path_(path),
+      levels_(mode == CacheSecondary::Cache ? scene.render.cache.levels : 1),
+      strata_(HemisphereStrata::from_count(scene.render.cache.samples)),
+      params_(cache_params(scene.render.cache)),
+      bounds_(scene.bounds()) {}
+
+bool CacheEvaluator::visible(const SurfacePoint& sp, const IrradianceRecord& r,
+                             CacheWorkspace& ws) const {
+    if (!scene_.render.cache.visibility) return true;
+    // The notes' edge case: a record beyond an edge that p cannot see must not be used.
+    // Both ends are lifted off their surfaces by a tenth of their distance, so that the
+    // segment clears a curved surface between them (a chord of a sphere of radius R dips
+    // d^2 / 8R below it) while a wall between them still blocks it.
+    const float gap = length(r.p - sp.p);
+    if (!(gap > sp.epsilon)) return true;
+    const float lift = std::max(sp.epsilon, 0.1f * gap);
+    const Vec3 a = sp.p + sp.ng * lift;
+    const Vec3 b = r.p + r.n * lift;
+    const Vec3 d = b - a;
+    const float len = length(d);
+    const Vec3 u = d * (1.f / len);
+    ++ws.lookup.visibility_tests;
+    if (accel_.occluded1({a.x, a.y, a.z, u.x, u.y, u.z, 0.f, len}, ws.trace)) {
+        ++ws.lookup.visibility_rejections;
+        return false;
+    }
+    return true;
+}
+
+void CacheEvaluator::lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame,
+                            const RGB& weight, uint32_t slot, uint64_t key, float path_length,
+                            CacheWorkspace& ws, std::vector<RGB>& out) const {
+    CacheLevelWork& work = ws.levels[level];
+    RGB e;
+    if (caches_[level]->interpolate(
+            sp.p, frame.n, e, [&](const IrradianceRecord& r) { return visible(sp, r, ws); },
+            ws.lookup, work.found.get())) {
+        out[slot] += weight * e;
+        return;
+    }
+    PendingLookup q;
+    q.sp = sp;
+    q.sp.ns = frame.n;
+    q.s = frame.s;
+    q.t = frame.t;
+    q.r_min = scene_.render.cache.r_min_pixels * scene_.camera.footprint(path_length);
+    q.path_length = path_length;
+    q.slot = slot;
+    q.weight = weight;
+    q.key = key;
+    work.pending.push_back(q);
+}
+
+void CacheEvaluator::resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats) const {
+    resolve_level(0, ws, out, stats);
+    stats.trace.merge(ws.trace);
+    stats.shadow_rays += ws.lookup.visibility_tests;
+    stats.cache.merge(ws.lookup);
+    ws.trace = {};
+    ws.lookup = {};
+}
+
+void CacheEvaluator::pick_sites(CacheLevelWork& work, float f) const {
+    const float factor = scene_.render.cache.r_max_factor;
+    work.picked.assign(work.pending.size(), 0);
+    std::vector<uint32_t> sites;
+    for (uint32_t i = 0; i < work.pending.size(); ++i) {
+        const PendingLookup& q = work.pending[i];
+        const float spacing = f * factor * q.r_min;
+        bool near = false;
+        if (spacing > q.r_min)
+            for (uint32_t j : sites) {
+                const PendingLookup& o = work.pending[j];
+                if (length_squared(o.sp.p - q.sp.p) < spacing * spacing &&
+                    dot(o.sp.ns, q.sp.ns) > 0.9f) {
+                    near = true;
+                    break;
+                }
+            }
+        if (near) continue;
+        sites.push_back(i);
+        work.picked[i] = 1;
+        queue_record(work, i);
+    }
+}
+
+void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const {
+    // M x N stratified rays; those below the geometric surface see nothing (their radiance
+    // stays 0, their distance infinite).
+    const CacheSettings& cs = scene_.render.cache;
+    const PendingLookup& q = work.pending[pending];
+    warp::Frame frame;
+    frame.s = q.s;
+    frame.t = q.t;
+    frame.n = q.sp.ns;
+    const uint32_t first = uint32_t(work.L.size());
+    const uint32_t count = strata_.count();
+    work.L.resize(work.L.size() + count, RGB{0.f});
+    work.dist.resize(work.dist.size() + count, kInfinity);
+    const float tmax =
+        mode_ == CacheSecondary::Occlusion && cs.ao_distance > 0.f ? cs.ao_distance : kInfinity;
+    for (uint32_t j = 0; j < strata_.m; ++j)
+        for (uint32_t k = 0; k < strata_.n; ++k) {
+            const uint32_t i = j * strata_.n + k;
+            const Vec3 wi = frame.to_world(strata_.direction(
+                j, k, {rng::uniform(seed_, q.key, i, 0), rng::uniform(seed_, q.key, i, 1)}));
+            if (dot(wi, q.sp.ng) <= 0.f) continue;
+            work.rays.push(offset_origin(q.sp, wi), wi, 0.f, tmax, first + i);
+        }
+    work.requests.push_back({pending, first});
+}
+
+void CacheEvaluator::resolve_level(uint32_t level, CacheWorkspace& ws, std::vector<RGB>& out,
+                                   RenderStats& stats) const {
+    CacheLevelWork& work = ws.levels[level];
+    const CacheSettings& cs = scene_.render.cache;
+    const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
+    for (int round = 0; !work.pending.empty(); ++round) {
+        if (round > 0) {
+            // What this batch's records now serve (counted as interpolated, not as lookups).
+            CacheCounters st;
+            std::size_t kept = 0;
+            for (std::size_t i = 0; i < work.pending.size(); ++i) {
+                const PendingLookup q = work.pending[i];
+                RGB e;
+                if (caches_[level]->interpolate(
+                        q.sp.p, q.sp.ns, e,
+                        [&](const IrradianceRecord& r) { return visible(q.sp, r, ws); }, st,
+                        work.found.get()))
+                    out[q.slot] += q.weight * e;
+                else
+                    work.pending[kept++] = q;
+            }
+            work.pending.resize(kept);
+            st.lookups = 0;
+            ws.lookup.merge(st);
+            if (work.pending.empty()) break;
+        }
+        pick_sites(work, std::ldexp(1.f, -round));
+        evaluate(level, ws, stats);
+        // Lookups of the next level that this round's rays made, served first: their
+        // irradiance is part of what those rays see.
+        if (level + 1 < levels_) resolve_level(level + 1, ws, work.L, stats);
+        StageClock clock;
+        for (const CacheRequest& r : work.requests) {
+            const PendingLookup& q = work.pending[r.pending];
+            const IrradianceRecord rec =
+                build_record(q.sp.p, q.s, q.t, q.sp.ns, strata_, &work.L[r.first],
+                             &work.dist[r.first], rule, q.r_min, q.r_min * cs.r_max_factor);
+            out[q.slot] += q.weight * rec.e;
+            work.found->insert(rec);
+        }
+        stats.cache_records += work.requests.size();
+        stats.stage_items[int(Stage::CacheRecords)] += work.requests.size();
+        stats.stage_seconds[int(Stage::CacheRecords)] += clock.lap();
+        work.requests.clear();
+        work.L.clear();
+        work.dist.clear();
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < work.pending.size(); ++i)
+            if (!work.picked[i]) work.pending[kept++] = work.pending[i];
+        work.pending.resize(kept);
+    }
+}
+
+void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& stats) const {
+    CacheLevelWork& work = ws.levels[level];
+    StageClock clock;
+    stats.secondary_rays += work.rays.size();
+    if (mode_ == CacheSecondary::Path) {
+        // Path tracing onwards, keyed per ray.
+        if (!ws.path) ws.path = path_->make_workspace();
+        std::vector<uint64_t>& keys = static_cast<PathWorkspace&>(*ws.path).keys;
+        keys.resize(work.L.size());
+        for (std::size_t i = 0; i < work.L.size(); ++i)
+            keys[i] = rng::hash(work.pending[work.requests[i / strata_.count()].pending].key,
+                                i % strata_.count(), kCacheStream, 1);
+        path_->trace_from(work.rays, static_cast<PathWorkspace&>(*ws.path), work.L,
+                          work.dist.data(), stats);
+        work.rays.clear();
+        return;
+    }
+    if (mode_ == CacheSecondary::Occlusion) {
+        // The ambient radiance from every direction not blocked within ao_distance.
+        const RGB sky = scene_.ambient.radiance().is_black() ? RGB{1.f} : scene_.ambient.radiance();
+        HitBatch& hits = ws.gather.hits;
+        accel_.intersect(work.rays, hits, stats.trace);
+        for (std::size_t i = 0; i < work.rays.size(); ++i) {
+            const uint32_t id = work.rays.id[i];
+            if (hits.geom[i] == kNoHit)
+                work.L[id] = sky;
+            else
+                work.dist[id] = hits.t[i];
+        }
+        stats.stage_items[int(Stage::Intersect)] += work.rays.size();
+        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        work.rays.clear();
+        return;
+    }
+    // Direct, photon or cache: the rays' first diffuse hits, through specular chains.
+    GatherBuffers& g = ws.gather;
+    std::swap(g.rays, work.rays);
+    work.rays.clear();
+    g.weight.assign(g.rays.size(), RGB{1.f});
+    ws.shadow.clear();
+    ws.shadow_value.clear();
+    const bool deeper = mode_ == CacheSecondary::Cache && level + 1 < levels_;
+    const std::size_t traced = trace_gather(
+        scene_, accel_, g, work.L, work.dist.data(), stats.trace,
+        [&](uint32_t id, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
+            if (mode_ == CacheSecondary::Photon) {
+                work.L[id] += w * photons_(sp, m, d);
+                return;
+            }
+            const warp::Frame frame(sp.ns);
+            const PendingLookup& q = work.pending[work.requests[id / strata_.count()].pending];
+            const uint64_t key = rng::hash(q.key, id % strata_.count(), kCacheStream, 2);
+            DirectSample ds;
+            if (sample_direct(lights_, sp, m.bsdf, frame.to_local(-d), frame, w,
+                              rng::uniform(seed_, key, kDimLight, 0),
+                              {rng::uniform(seed_, key, kDimLight + 1, 0),
+                               rng::uniform(seed_, key, kDimLight + 2, 0)},
+                              rng::uniform(seed_, key, kDimLight + 3, 0), ds))
+                queue_direct(ds, id, ws.shadow, ws.shadow_value);
+            RGB rho;
+            if (deeper && m.bsdf.lambert_albedo(rho) && !rho.is_black()) {
+                lookup(level + 1, sp, frame, w * rho * kInvPi, id,
+                       rng::hash(key, kCacheStream, 3, 0), q.path_length + length(sp.p - q.sp.p),
+                       ws, work.L);
+            }
+        });
+    stats.stage_items[int(Stage::FinalGather)] += traced;
+    stats.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+    resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, work.L, stats, clock);
+}
+
+}  // namespace foton

@@ -1,0 +1,121 @@
+#pragma once
+// The irradiance cache at work inside a camera wavefront. A lookup at a diffuse point
+// interpolates the records of its level's frozen cache and of the records the current batch
+// has computed so far, or waits. At the end of the batch the waiting points are served in
+// rounds, the batch's own version of the notes' hierarchical order: each round picks new
+// record sites among them, spaced by R_max in the first round and by half as much in each
+// next one (every remaining point in the last, when the spacing reaches R_min), computes
+// those records together (their M x N hemisphere rays traced as batches and evaluated by the
+// secondary mode, scene.h CacheSecondary), and lets the rest interpolate from them. Without
+// the rounds a batch could not reuse its own records, and with secondary = cache, where one
+// record's rays make hundreds of lookups in the next level, the work would multiply by the
+// ray count at every level. The new records stay in the workspace: the fill pass
+// (cache_fill.h) merges them in a fixed order.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "camera_integrator.h"
+#include "engine/accel/intersector.h"
+#include "engine/core/warp.h"
+#include "engine/scene/light_set.h"
+#include "gather_trace.h"
+#include "irradiance_cache.h"
+#include "surface.h"
+
+namespace foton {
+
+class PathIntegrator;
+
+// A lookup no record could serve yet.
+struct PendingLookup {
+    SurfacePoint sp;
+    Vec3 s, t;                // with sp.ns, the frame of its record
+    float r_min = 0.f;        // R_min there (pixel footprints along the path)
+    float path_length = 0.f;  // from the camera
+    uint32_t slot = 0;        // where weight * E goes
+    RGB weight;               // radiance per unit of irradiance (beta * rho / pi)
+    uint64_t key = 0;         // of its random numbers
+};
+
+// A record being computed: a picked lookup and its strata in L / dist.
+struct CacheRequest {
+    uint32_t pending = 0;
+    uint32_t first = 0;
+};
+
+// One cache level's work in the current batch.
+struct CacheLevelWork {
+    std::vector<PendingLookup> pending;
+    std::vector<CacheRequest> requests;  // this round's records
+    RayBatch rays;                       // their hemisphere rays; id = index into L and dist
+    std::vector<RGB> L;
+    std::vector<float> dist;
+    std::unique_ptr<IrradianceCache> found;  // the records this batch computed
+    std::vector<uint8_t> picked;
+};
+
+struct CacheWorkspace {
+    std::vector<CacheLevelWork> levels;
+    GatherBuffers gather;
+    RayBatch shadow;
+    std::vector<RGB> shadow_value;
+    std::vector<uint8_t> occluded;
+    std::unique_ptr<IntegratorWorkspace> path;  // secondary = path
+    CacheCounters lookup;
+    TraceCounters trace;  // visibility rays
+    // Empties every level (found records included) for a new batch.
+    void begin(std::size_t level_count, const Bounds3& bounds, const CacheParams& params);
+};
+
+class CacheEvaluator {
+  public:
+    // What a record ray sees at a non-delta hit in `photon` mode.
+    using PhotonRadiance =
+        std::function<RGB(const SurfacePoint& sp, const Material& m, const Vec3& dir)>;
+    // `photons` is needed by secondary = photon, `path` by secondary = path.
+    CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                   uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
+                   const PathIntegrator* path);
+    // The frozen caches, one per level (levels() of them).
+    void set_caches(std::vector<const IrradianceCache*> caches) { caches_ = std::move(caches); }
+    uint32_t levels() const { return levels_; }
+    CacheSecondary mode() const { return mode_; }
+    const CacheParams& params() const { return params_; }
+    const Bounds3& bounds() const { return bounds_; }
+
+    // At a point whose non-delta lobes are Lambertian and reflect `weight` radiance per unit
+    // of irradiance: adds weight * E to out[slot] if the level's cache can interpolate,
+    // otherwise queues a record (computed by resolve()). `key` keys its random numbers.
+    void lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
+                uint32_t slot, uint64_t key, float path_length, CacheWorkspace& ws,
+                std::vector<RGB>& out) const;
+    // Serves every waiting lookup (level 0's add weight * E to `out`); merges the lookup
+    // and visibility counts into `stats`.
+    void resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats) const;
+
+  private:
+    void resolve_level(uint32_t level, CacheWorkspace& ws, std::vector<RGB>& out,
+                       RenderStats& stats) const;
+    // Picks this round's record sites among the waiting lookups (spacing = f R_max).
+    void pick_sites(CacheLevelWork& work, float f) const;
+    void queue_record(CacheLevelWork& work, uint32_t pending) const;
+    // Traces the level's record rays and fills its L and dist (deeper lookups may wait).
+    void evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& stats) const;
+    bool visible(const SurfacePoint& sp, const IrradianceRecord& r, CacheWorkspace& ws) const;
+
+    const Scene& scene_;
+    const Intersector& accel_;
+    const LightSet& lights_;
+    uint64_t seed_;
+    CacheSecondary mode_;
+    PhotonRadiance photons_;
+    const PathIntegrator* path_;
+    uint32_t levels_;
+    HemisphereStrata strata_;
+    CacheParams params_;
+    Bounds3 bounds_;
+    std::vector<const IrradianceCache*> caches_;
+};
+
+}  // namespace foton

@@ -1,0 +1,87 @@
+#pragma once
+// Rays leaving a diffuse point to sample its incident light (final-gather rays, a cache
+// record's hemisphere rays), traced as batches through delta lobes: at a mirror or glass
+// surface both branches are followed deterministically, up to kGatherSpecularDepth
+// bounces; at every hit with non-delta lobes the caller's `at_hit` says what the ray sees
+// there. Emission is never counted: the diffuse point's direct light comes from its own
+// light sample.
+#include <vector>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/ray_batch.h"
+#include "engine/core/rgb.h"
+#include "engine/core/warp.h"
+#include "engine/scene/scene.h"
+#include "surface.h"
+
+namespace foton {
+
+inline constexpr uint32_t kGatherSpecularDepth = 4;
+
+struct GatherBuffers {
+    RayBatch rays, next;                   // ray id = the slot of `out` it adds to
+    std::vector<RGB> weight, weight_next;  // per ray
+    HitBatch hits;
+    void clear() {
+        rays.clear();
+        weight.clear();
+    }
+    void push(const Vec3& o, const Vec3& d, float tmax, uint32_t slot, const RGB& w) {
+        rays.push(o, d, 0.f, tmax, slot);
+        weight.push_back(w);
+    }
+};
+
+// Traces b.rays; a miss adds weight * background to out[slot]; at a hit with non-delta lobes
+// at_hit(slot, weight, sp, material, direction) is called. With `first_dist`, the first
+// segment's length (infinite for a miss) goes to first_dist[slot]. Returns the rays traced.
+template <class AtHit>
+std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuffers& b,
+                         std::vector<RGB>& out, float* first_dist, TraceCounters& trace,
+                         AtHit&& at_hit) {
+    std::size_t traced = 0;
+    for (uint32_t depth = 0; !b.rays.empty(); ++depth) {
+        accel.intersect(b.rays, b.hits, trace);
+        traced += b.rays.size();
+        b.next.clear();
+        b.weight_next.clear();
+        for (std::size_t i = 0; i < b.rays.size(); ++i) {
+            const uint32_t slot = b.rays.id[i];
+            const RGB& w = b.weight[i];
+            const uint32_t geom = b.hits.geom[i];
+            if (depth == 0 && first_dist)
+                first_dist[slot] = geom == kNoHit ? kInfinity : b.hits.t[i];
+            if (geom == kNoHit) {
+                out[slot] += w * scene.background;
+                continue;
+            }
+            const Vec3 d = b.rays.direction(i);
+            const SurfacePoint sp = surface_at(scene, b.rays, b.hits, i);
+            const Material& m = scene.materials[scene.objects[geom].material];
+            if (m.bsdf.empty()) continue;
+            // The non-delta lobes by the caller, the delta ones followed below: both parts
+            // are taken whole, so neither is reweighted.
+            if (m.bsdf.has_non_delta()) at_hit(slot, w, sp, m, d);
+            if (m.bsdf.has_delta() && depth < kGatherSpecularDepth) {
+                const warp::Frame frame(sp.ns);
+                const Vec3 wo = frame.to_local(-d);
+                const BsdfContext ctx{sp.front_face, Transport::Radiance};
+                Vec3 dirs[Bsdf::kMaxLobes * 2];
+                RGB dw[Bsdf::kMaxLobes * 2];
+                const int k = m.bsdf.specular_directions(wo, ctx, dirs, dw, Bsdf::kMaxLobes * 2);
+                for (int j = 0; j < k; ++j) {
+                    const RGB wj = w * dw[j];
+                    if (wj.max_component() < 1e-4f) continue;
+                    const Vec3 wi = frame.to_world(dirs[j]);
+                    b.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+                    b.weight_next.push_back(wj);
+                }
+            }
+        }
+        std::swap(b.rays, b.next);
+        std::swap(b.weight, b.weight_next);
+    }
+    return traced;
+}
+
+}  // namespace foton
