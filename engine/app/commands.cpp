@@ -17,6 +17,35 @@ namespace foton::app {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The image with every directly visible first-level cache record drawn as a white pixel (the
+// thesis' figure of computed vs interpolated points). Records seen only through a mirror or
+// glass are behind it, hence hidden.
+Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film& film,
+                       const std::vector<Vec3>& points, std::size_t& marked) {
+    Film f = film;
+    TraceCounters counters;
+    marked = 0;
+    for (const Vec3& p : points) {
+        float fx, fy;
+        if (!scene.camera.project(p, fx, fy)) continue;
+        Vec3 o, d;
+        scene.camera.generate(fx, fy, o, d);
+        const Vec3 to = p - o;
+        const float dist = length(to);
+        const Vec3 u = to * (1.f / dist);
+        if (accel.occluded1({o.x, o.y, o.z, u.x, u.y, u.z, 0.f, dist * (1.f - 1e-3f)}, counters))
+            continue;
+        const int x = std::min(int(fx), film.width - 1), y = std::min(int(fy), film.height - 1);
+        f.pixels[std::size_t(y) * film.width + x] = RGB{1e4f};
+        ++marked;
+    }
+    return f;
+}
+
+}  // namespace
+
 int run_render(const RenderArgs& args) {
     RendererOverrides overrides;
     for (const std::string& kv : args.set) {
@@ -117,6 +146,8 @@ int run_render(const RenderArgs& args) {
         };
     }
 
+    if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
+        throw InputError("--cache-points", 0, "needs indirect=irradiance_cache");
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel);
     const double build =
@@ -128,6 +159,14 @@ int run_render(const RenderArgs& args) {
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
     write_exr(out, res.film, attrs);
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
+    if (!args.cache_points.empty()) {
+        std::size_t marked = 0;
+        const Film f = mark_cache_points(scene, *accel, res.film, res.cache_points, marked);
+        write_png(args.cache_points, f, scene.camera.exposure, scene.film.gamma);
+        if (!args.quiet)
+            std::printf("wrote %s (%zu of %zu records directly visible)\n",
+                        args.cache_points.c_str(), marked, res.cache_points.size());
+    }
     if (!args.stats_json.empty()) {
         std::ofstream js(args.stats_json);
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");

@@ -29,6 +29,7 @@ struct RenderArgs {
     std::vector<std::string> set;  // key=value overrides of <renderer> attributes
     bool stats = false;
     std::string stats_json;
+    std::string cache_points;  // PNG of the image with the cache's records marked white
     bool quiet = false;
 };
 

@@ -46,6 +46,9 @@ int main(int argc, char** argv) {
                      "adaptive: Kirk-Arvo pilot (discarded) decides the count");
     render->add_flag("--stats", ra.stats, "print ray counts and the stage table");
     render->add_option("--stats-json", ra.stats_json, "write statistics as JSON");
+    render->add_option("--cache-points", ra.cache_points,
+                       "irradiance cache: also write this PNG, the image with the pixels where "
+                       "records were computed in white");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
 
     std::string info_scene;
