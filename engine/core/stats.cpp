@@ -120,7 +120,7 @@ std::string RenderStats::json() const {
         "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n"
         "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
         "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
-        "  \"cache_fill_seconds\": %.6f,\n"
+        "  \"cache_fill_seconds\": %.6f,\n  \"photon_seconds\": %.6f,\n"
         "  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
@@ -130,7 +130,7 @@ std::string RenderStats::json() const {
         (unsigned long long)trace.cells, (unsigned long long)cache_records,
         (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
         (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections,
-        cache_fill_seconds);
+        cache_fill_seconds, photon_seconds);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

@@ -70,11 +70,11 @@ enum class CacheSecondary { Auto, Direct, Photon, Path, Cache, Occlusion };
 
 // Ward's irradiance cache (the lecture notes, NPGR010 2011).
 struct CacheSettings {
-    uint32_t samples = 512;       // hemisphere rays per record, laid out as M x N with N ~ pi M
-    bool ward_weight = false;     // Ward's 1 / (d / R + sqrt(1 - n.n_i)) > 1 / a; else the notes'
-    float a = 0.3f;               // Ward's accuracy
-    float kappa = 2.f;            // the notes' accuracy (1 reaches out to 2 R_i: measured 2.5 % too bright
-                                  // on the diffuse box, where the features are dark corners)
+    uint32_t samples = 512;    // hemisphere rays per record, laid out as M x N with N ~ pi M
+    bool ward_weight = false;  // Ward's 1 / (d / R + sqrt(1 - n.n_i)) > 1 / a; else the notes'
+    float a = 0.3f;            // Ward's accuracy
+    float kappa = 2.f;  // the notes' accuracy (1 reaches out to 2 R_i: measured 2.5 % too bright
+                        // on the diffuse box, where the features are dark corners)
     float r_min_pixels = 1.5f;    // R_min: this many pixel footprints at the record
     float r_max_factor = 20.f;    // R_max = r_max_factor R_min
     bool minimum_radius = false;  // R_i from the shortest non-grazing ray, not the harmonic mean
