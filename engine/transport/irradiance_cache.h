@@ -140,12 +140,17 @@ class IrradianceCache {
     template <class Visible>
     void add(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, Visible&& visible,
              CacheCounters& st, Blend& b) const {
-        sort_indices(idx, count);
         st.candidates += count;
-        for (uint32_t c = 0; c < count; ++c) {
+        // Weigh every candidate, keep those with positive weight in place, and sort only
+        // them into index order (the octree finds far more candidates than it keeps).
+        uint32_t kept = 0;
+        for (uint32_t c = 0; c < count; ++c)
+            if (record_weight(params_, normal_limit_, records_[idx[c]], p, n) > 0.f)
+                idx[kept++] = idx[c];
+        sort_indices(idx, kept);
+        for (uint32_t c = 0; c < kept; ++c) {
             const IrradianceRecord& r = records_[idx[c]];
             const float w = record_weight(params_, normal_limit_, r, p, n);
-            if (!(w > 0.f)) continue;
             if (!visible(r)) continue;
             const RGB v = record_extrapolate(params_, r, p, n);
             b.sum[0] += double(w) * v.r;
