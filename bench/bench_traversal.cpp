@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <map>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "bench/ray_sets.h"
+#include "kernels/triangle_bvh.h"
 #include "kernels/uniform_grid.h"
 
 using namespace foton;
@@ -30,10 +32,44 @@ namespace {
 constexpr std::size_t kChunk = 4096;  // rays per task and per stream call
 constexpr std::size_t W = kern::kBlockWidth;
 
+// The wide BVH shapes of the width study (N children per node x M triangles per leaf block);
+// kern::TriangleBvh is the one the engine uses.
+using Bvh4x4 = kern::TriangleBvhT<4, 4>;
+#if defined(__AVX__)
+using Bvh8x4 = kern::TriangleBvhT<8, 4>;
+using Bvh8x8 = kern::TriangleBvhT<8, 8>;
+#endif
+#if defined(__AVX512BW__)
+using Bvh16x4 = kern::TriangleBvhT<16, 4>;
+#endif
+
+kern::BvhBuildParams::ParallelInvoke tbb_invoke() {
+    return [](const std::function<void()>& a, const std::function<void()>& b) {
+        tbb::parallel_invoke(a, b);
+    };
+}
+
+template <class Bvh>
+Bvh build_bvh(const TriangleMesh& m, bool parallel) {
+    auto p = Bvh::default_params();
+    if (parallel) p.parallel = tbb_invoke();
+    Bvh b;
+    b.build(m.positions.data(), m.indices.data(), m.num_triangles(), p);
+    return b;
+}
+
 struct SceneData {
     bench::KernelScene scene;
     bench::RaySets sets;
     kern::UniformGrid grid, grid_mailbox;
+    kern::TriangleBvh bvh;
+    Bvh4x4 bvh4x4;
+#if defined(__AVX__)
+    Bvh8x8 bvh8x8;
+#endif
+#if defined(__AVX512BW__)
+    Bvh16x4 bvh16x4;
+#endif
     RTCDevice device = nullptr;
     RTCScene rtc = nullptr;
     ~SceneData() {
@@ -72,6 +108,14 @@ SceneData& scene_data(const std::string& name) {
     kern::GridParams mailbox;
     mailbox.mailbox = true;
     d->grid_mailbox.build(m.positions.data(), m.indices.data(), m.num_triangles(), mailbox);
+    d->bvh = build_bvh<kern::TriangleBvh>(m, true);
+    d->bvh4x4 = build_bvh<Bvh4x4>(m, true);
+#if defined(__AVX__)
+    d->bvh8x8 = build_bvh<Bvh8x8>(m, true);
+#endif
+#if defined(__AVX512BW__)
+    d->bvh16x4 = build_bvh<Bvh16x4>(m, true);
+#endif
     d->device = rtcNewDevice(nullptr);
     d->rtc = embree_scene(d->device, m);
     return *(all[name] = std::move(d));
@@ -170,6 +214,41 @@ void BM_GridPacket(benchmark::State& state, std::string scene, std::size_t side,
             hits.add(h);
         });
     report(state, rays.size(), hits.n);
+}
+
+// ---- our wide BVH ----------------------------------------------------------------------
+
+template <class Bvh>
+void BM_BvhImpl(benchmark::State& state, const Bvh& bvh, const std::vector<Ray1>& rays, bool occl,
+                bool par) {
+    HitCount hits;
+    std::atomic<uint64_t> nodes{0}, blocks{0};
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            kern::BvhCounters c;
+            for (std::size_t i = b; i < e; ++i) {
+                if (occl) {
+                    h += bvh.occluded(rays[i], &c);
+                } else {
+                    kern::TriHit hit;
+                    h += bvh.intersect(rays[i], hit, &c);
+                }
+            }
+            hits.add(h);
+            nodes.fetch_add(c.nodes, std::memory_order_relaxed);
+            blocks.fetch_add(c.blocks, std::memory_order_relaxed);
+        });
+    report(state, rays.size(), hits.n);
+    const double traced = double(rays.size()) * double(state.iterations());
+    state.counters["nodes/ray"] = double(nodes) / traced;
+    state.counters["tris/ray"] = double(blocks) * double(Bvh::kLeafWidth) / traced;
+}
+
+template <class Bvh, Bvh SceneData::*member>
+void BM_Bvh(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    BM_BvhImpl(state, d.*member, ray_set(d, set), set == "shadow", par);
 }
 
 // ---- Embree ---------------------------------------------------------------------------
@@ -372,6 +451,23 @@ void BM_BuildGrid(benchmark::State& state, std::string scene) {
     state.counters["nested_grids"] = double(scene_data(scene).grid.num_child_grids());
 }
 
+template <class Bvh>
+void BM_BuildBvh(benchmark::State& state, std::string scene, bool parallel) {
+    const TriangleMesh& m = scene_data(scene).scene.mesh;
+    std::size_t bytes = 0;
+    double sah = 0.0;
+    for (auto _ : state) {
+        const Bvh b = build_bvh<Bvh>(m, parallel);
+        bytes = b.memory_bytes();
+        sah = b.stats().sah_wide;
+        benchmark::DoNotOptimize(b.root());
+    }
+    state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["bytes/tri"] = double(bytes) / double(m.num_triangles());
+    state.counters["sah"] = sah;
+}
+
 void BM_BuildEmbree(benchmark::State& state, std::string scene, bool one_thread) {
     const TriangleMesh& m = scene_data(scene).scene.mesh;
     RTCDevice dev = rtcNewDevice(one_thread ? "threads=1" : nullptr);
@@ -389,6 +485,14 @@ const bool registered = [] {
     const std::pair<const char*, Fn> intersect[] = {
         {"grid", BM_Grid},
         {"grid_mailbox", BM_GridMailbox},
+        {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
+        {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
+#if defined(__AVX__)
+        {"bvh8x8", BM_Bvh<Bvh8x8, &SceneData::bvh8x8>},
+#endif
+#if defined(__AVX512BW__)
+        {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},
+#endif
         {"embree_rtcIntersect1", BM_Embree1},
         {"embree_rtcIntersect8", BM_EmbreePacket<8>},
         {"embree_rtcIntersect16", BM_EmbreePacket<16>},
@@ -397,6 +501,14 @@ const bool registered = [] {
     };
     const std::pair<const char*, Fn> occlusion[] = {
         {"grid", BM_Grid},
+        {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
+        {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
+#if defined(__AVX__)
+        {"bvh8x8", BM_Bvh<Bvh8x8, &SceneData::bvh8x8>},
+#endif
+#if defined(__AVX512BW__)
+        {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},
+#endif
         {"embree_rtcOccluded1", BM_Embree1},
         {"embree_rtcOccluded8", BM_EmbreePacket<8>},
         {"embree_rtcOccluded16", BM_EmbreePacket<16>},
@@ -410,6 +522,8 @@ const bool registered = [] {
     for (const char* scene : {"bunny", "teapot", "dragon", "cornell", "stadium"}) {
         const std::string s = scene;
         add("build/" + s + "/grid", BM_BuildGrid, s);
+        add("build/" + s + "/bvh_1thread", BM_BuildBvh<kern::TriangleBvh>, s, false);
+        add("build/" + s + "/bvh", BM_BuildBvh<kern::TriangleBvh>, s, true);
         add("build/" + s + "/embree", BM_BuildEmbree, s, false);
         add("build/" + s + "/embree_1thread", BM_BuildEmbree, s, true);
         for (bool par : {false, true}) {

@@ -68,40 +68,51 @@ namespace detail {
 using simd::FloatV;
 using simd::MaskV;
 
-struct BlockTest {
-    FloatV t, u, v;
-    MaskV hit;
+template <class V>
+struct BlockTestT {
+    V t, u, v;
+    typename V::batch_bool_type hit;
 };
+using BlockTest = BlockTestT<FloatV>;
 
-struct TriV {
-    FloatV v0x, v0y, v0z, e1x, e1y, e1z, e2x, e2y, e2z;
+template <class V>
+struct TriVT {
+    V v0x, v0y, v0z, e1x, e1y, e1z, e2x, e2y, e2z;
 };
+using TriV = TriVT<FloatV>;
 
+template <class V, std::size_t M>
+inline TriVT<V> load_block(const TriangleBlockT<M>& b) {
+    static_assert(V::size == M);
+    return {V::load_aligned(b.v0x), V::load_aligned(b.v0y), V::load_aligned(b.v0z),
+            V::load_aligned(b.e1x), V::load_aligned(b.e1y), V::load_aligned(b.e1z),
+            V::load_aligned(b.e2x), V::load_aligned(b.e2y), V::load_aligned(b.e2z)};
+}
 inline TriV load_block(const TriangleBlock& b) {
-    return {FloatV::load_aligned(b.v0x), FloatV::load_aligned(b.v0y), FloatV::load_aligned(b.v0z),
-            FloatV::load_aligned(b.e1x), FloatV::load_aligned(b.e1y), FloatV::load_aligned(b.e1z),
-            FloatV::load_aligned(b.e2x), FloatV::load_aligned(b.e2y), FloatV::load_aligned(b.e2z)};
+    return load_block<FloatV>(b);
 }
 
-inline BlockTest test(const FloatV& ox, const FloatV& oy, const FloatV& oz, const FloatV& dx,
-                      const FloatV& dy, const FloatV& dz, const FloatV& tmin, const FloatV& tmax,
-                      const TriV& tri) {
-    const FloatV px = dy * tri.e2z - dz * tri.e2y;
-    const FloatV py = dz * tri.e2x - dx * tri.e2z;
-    const FloatV pz = dx * tri.e2y - dy * tri.e2x;
-    const FloatV det = tri.e1x * px + tri.e1y * py + tri.e1z * pz;
-    const FloatV inv = FloatV(1.f) / det;
-    const FloatV tx = ox - tri.v0x;
-    const FloatV ty = oy - tri.v0y;
-    const FloatV tz = oz - tri.v0z;
-    const FloatV u = (tx * px + ty * py + tz * pz) * inv;
-    const FloatV qx = ty * tri.e1z - tz * tri.e1y;
-    const FloatV qy = tz * tri.e1x - tx * tri.e1z;
-    const FloatV qz = tx * tri.e1y - ty * tri.e1x;
-    const FloatV v = (dx * qx + dy * qy + dz * qz) * inv;
-    const FloatV t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv;
-    const FloatV zero(0.f), one(1.f);
-    const MaskV hit =
+// The one Möller–Trumbore expression sequence every shape and width evaluates; the scalar
+// twin above spells out the same operations in the same order.
+template <class V>
+inline BlockTestT<V> test(const V& ox, const V& oy, const V& oz, const V& dx, const V& dy,
+                          const V& dz, const V& tmin, const V& tmax, const TriVT<V>& tri) {
+    const V px = dy * tri.e2z - dz * tri.e2y;
+    const V py = dz * tri.e2x - dx * tri.e2z;
+    const V pz = dx * tri.e2y - dy * tri.e2x;
+    const V det = tri.e1x * px + tri.e1y * py + tri.e1z * pz;
+    const V inv = V(1.f) / det;
+    const V tx = ox - tri.v0x;
+    const V ty = oy - tri.v0y;
+    const V tz = oz - tri.v0z;
+    const V u = (tx * px + ty * py + tz * pz) * inv;
+    const V qx = ty * tri.e1z - tz * tri.e1y;
+    const V qy = tz * tri.e1x - tx * tri.e1z;
+    const V qz = tx * tri.e1y - ty * tri.e1x;
+    const V v = (dx * qx + dy * qy + dz * qz) * inv;
+    const V t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv;
+    const V zero(0.f), one(1.f);
+    const auto hit =
         (det != zero) & (u >= zero) & (v >= zero) & (u + v <= one) & (t > tmin) & (t < tmax);
     return {t, u, v, hit};
 }

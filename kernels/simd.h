@@ -33,18 +33,58 @@ inline uint32_t mask_bits(__m128 r) {
 #endif
 }  // namespace detail
 
-// Bit i set when lane i of the mask is true.
-inline uint32_t movemask(const MaskV& m) {
-    return detail::mask_bits(static_cast<typename MaskV::register_type>(m));
+// Bit i set when lane i of the mask is true (any width: 4, 8 or 16 lanes).
+template <class A>
+inline uint32_t movemask(const xsimd::batch_bool<float, A>& m) {
+    return detail::mask_bits(static_cast<typename xsimd::batch_bool<float, A>::register_type>(m));
 }
+
+// The architecture of a given lane count, for kernels whose natural width differs from the
+// widest one (a BVH node of 8 children, a leaf of 4 triangles) on the same machine.
+template <std::size_t W>
+struct ArchOfWidth;
+template <>
+struct ArchOfWidth<4> {
+#if defined(__SSE4_2__)
+    using type = xsimd::sse4_2;
+#else
+    using type = xsimd::sse2;
+#endif
+};
+#if defined(__AVX__)
+template <>
+struct ArchOfWidth<8> {
+#if defined(__AVX2__)
+    using type = xsimd::avx2;
+#else
+    using type = xsimd::avx;
+#endif
+};
+#endif
+#if defined(__AVX512BW__)
+template <>
+struct ArchOfWidth<16> {
+    using type = xsimd::avx512bw;
+};
+#endif
+template <std::size_t W>
+using FloatW = xsimd::batch<float, typename ArchOfWidth<W>::type>;
+// The widest of 8 and 4 lanes this build has (BVH nodes, see kernels/bvh_node.h).
+#if defined(__AVX__)
+inline constexpr std::size_t kHalfWidth = 8;
+#else
+inline constexpr std::size_t kHalfWidth = 4;
+#endif
 
 // Lane-wise minimum / maximum as selects: GCC 12 warns (-Wmaybe-uninitialized) inside its own
 // AVX-512 min/max intrinsics, which xsimd::min/max use. Not NaN-symmetric: a NaN in `a`
 // yields `b`.
-inline FloatV vmin(const FloatV& a, const FloatV& b) {
+template <class V>
+inline V vmin(const V& a, const V& b) {
     return xsimd::select(a < b, a, b);
 }
-inline FloatV vmax(const FloatV& a, const FloatV& b) {
+template <class V>
+inline V vmax(const V& a, const V& b) {
     return xsimd::select(a > b, a, b);
 }
 

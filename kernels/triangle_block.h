@@ -1,7 +1,8 @@
 #pragma once
-// Triangles pre-packed for the SIMD Möller–Trumbore kernel: W triangles per block, one per
+// Triangles pre-packed for the SIMD Möller–Trumbore kernel: M triangles per block, one per
 // lane, stored as v0 and the two edges e1 = v1 - v0, e2 = v2 - v0. Unused lanes are inert:
-// zero edges give det = 0, which the kernel rejects, so no tail masks are needed.
+// zero edges give det = 0, which the kernel rejects, so no tail masks are needed. The grid
+// and brute force use the widest blocks (M = W); BVH leaves use narrower ones (bvh_node.h).
 #include <cstdint>
 #include <vector>
 
@@ -12,19 +13,23 @@ namespace foton::kern {
 
 inline constexpr std::size_t kBlockWidth = simd::kWidth;
 
-struct alignas(64) TriangleBlock {
-    float v0x[kBlockWidth], v0y[kBlockWidth], v0z[kBlockWidth];
-    float e1x[kBlockWidth], e1y[kBlockWidth], e1z[kBlockWidth];
-    float e2x[kBlockWidth], e2y[kBlockWidth], e2z[kBlockWidth];
-    uint32_t id[kBlockWidth];
+template <std::size_t M>
+struct alignas(64) TriangleBlockT {
+    static constexpr std::size_t kLanes = M;
+    float v0x[M], v0y[M], v0z[M];
+    float e1x[M], e1y[M], e1z[M];
+    float e2x[M], e2y[M], e2z[M];
+    uint32_t id[M];
 
     void clear();
     // Puts triangle (p0, p1, p2) with user id `tri_id` into lane `lane`.
     void set(std::size_t lane, const float* p0, const float* p1, const float* p2, uint32_t tri_id);
 };
+using TriangleBlock = TriangleBlockT<kBlockWidth>;
 
-inline void TriangleBlock::clear() {
-    for (std::size_t i = 0; i < kBlockWidth; ++i) {
+template <std::size_t M>
+inline void TriangleBlockT<M>::clear() {
+    for (std::size_t i = 0; i < M; ++i) {
         v0x[i] = v0y[i] = v0z[i] = 0.f;
         e1x[i] = e1y[i] = e1z[i] = 0.f;
         e2x[i] = e2y[i] = e2z[i] = 0.f;
@@ -32,8 +37,9 @@ inline void TriangleBlock::clear() {
     }
 }
 
-inline void TriangleBlock::set(std::size_t lane, const float* p0, const float* p1, const float* p2,
-                               uint32_t tri_id) {
+template <std::size_t M>
+inline void TriangleBlockT<M>::set(std::size_t lane, const float* p0, const float* p1,
+                                   const float* p2, uint32_t tri_id) {
     v0x[lane] = p0[0];
     v0y[lane] = p0[1];
     v0z[lane] = p0[2];

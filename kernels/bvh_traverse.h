@@ -1,0 +1,244 @@
+#pragma once
+// Single-ray traversal of TriangleBvhT (included by triangle_bvh.h): the hot loops.
+#include <cmath>
+#include <cstring>
+
+namespace foton::kern {
+
+namespace bvh_detail {
+
+// A ray prepared for box tests: origin and reciprocal direction broadcast to N lanes, and the
+// row offsets of the near and far planes per axis.
+template <std::size_t N>
+struct BoxRay {
+    using V = simd::FloatW<N>;
+    V ox, oy, oz, ix, iy, iz, fx, fy, fz, tmin;  // i: 1 / d for near planes; f: scaled, far
+    uint32_t near_x, near_y, near_z, far_x, far_y, far_z;  // float offsets into Node::bounds
+
+    explicit BoxRay(const Ray1& r) {
+        const float inv[3] = {1.f / r.dx, 1.f / r.dy, 1.f / r.dz};
+        ox = V(r.ox), oy = V(r.oy), oz = V(r.oz);
+        ix = V(inv[0]), iy = V(inv[1]), iz = V(inv[2]);
+        fx = V(inv[0] * kBvhFarScale), fy = V(inv[1] * kBvhFarScale), fz = V(inv[2] * kBvhFarScale);
+        tmin = V(r.tmin);
+        near_x = uint32_t((0 + std::signbit(inv[0])) * N);
+        far_x = uint32_t((1 - std::signbit(inv[0])) * N);
+        near_y = uint32_t((2 + std::signbit(inv[1])) * N);
+        far_y = uint32_t((3 - std::signbit(inv[1])) * N);
+        near_z = uint32_t((4 + std::signbit(inv[2])) * N);
+        far_z = uint32_t((5 - std::signbit(inv[2])) * N);
+    }
+
+    // Lanes whose box the ray enters within [tmin, tcur]; their entry distances in `tn`. The
+    // chains keep a non-NaN value innermost, so a NaN slab (see bvh_node.h) drops out.
+    uint32_t test(const WideNode<N>& node, float tcur, V& tn) const {
+        const float* b = &node.bounds[0][0];
+        const V tnx = (V::load_aligned(b + near_x) - ox) * ix;
+        const V tny = (V::load_aligned(b + near_y) - oy) * iy;
+        const V tnz = (V::load_aligned(b + near_z) - oz) * iz;
+        const V tfx = (V::load_aligned(b + far_x) - ox) * fx;
+        const V tfy = (V::load_aligned(b + far_y) - oy) * fy;
+        const V tfz = (V::load_aligned(b + far_z) - oz) * fz;
+        tn = simd::vmax(tnx, simd::vmax(tny, simd::vmax(tnz, tmin)));
+        const V tf = simd::vmin(tfx, simd::vmin(tfy, simd::vmin(tfz, V(tcur))));
+        return simd::movemask(tn <= tf);
+    }
+};
+
+// Rays the box test cannot order (NaN anywhere) or that have nothing to find.
+inline bool unusable(const Ray1& r) {
+    return std::isnan(r.ox + r.oy + r.oz + r.dx + r.dy + r.dz) || !(r.tmin < r.tmax) ||
+           (r.dx == 0.f && r.dy == 0.f && r.dz == 0.f);
+}
+
+// The ray broadcast to M lanes for the leaf blocks.
+template <std::size_t M>
+struct LeafRay {
+    using V = simd::FloatW<M>;
+    V ox, oy, oz, dx, dy, dz, tmin;
+    explicit LeafRay(const Ray1& r)
+        : ox(r.ox), oy(r.oy), oz(r.oz), dx(r.dx), dy(r.dy), dz(r.dz), tmin(r.tmin) {}
+};
+
+struct StackEntry {
+    uint32_t ref;
+    float t;
+};
+
+// The stack holds at most N - 1 entries per level; build depth is bounded (bvh_build.cpp).
+inline constexpr std::size_t kStackSize = 1024;
+
+// Closest hit among a leaf's blocks; the least (t, id) wins, as in brute force by id.
+template <std::size_t M>
+inline bool leaf_closest(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, uint32_t count,
+                         TriHit& hit) {
+    using V = simd::FloatW<M>;
+    bool improved = false;
+    for (uint32_t k = 0; k < count; ++k) {
+        const TriangleBlockT<M>& b = blocks[k];
+        // t <= hit.t once there is a hit (a tie may still win on id), t < tmax before.
+        const float bound = hit.valid() ? std::nextafter(hit.t, kInf) : hit.t;
+        const auto bt = detail::test<V>(lr.ox, lr.oy, lr.oz, lr.dx, lr.dy, lr.dz, lr.tmin, V(bound),
+                                        detail::load_block<V>(b));
+        uint32_t bits = simd::movemask(bt.hit);
+        if (bits == 0) continue;
+        alignas(64) float ts[M];
+        bt.t.store_aligned(ts);
+        do {
+            const uint32_t lane = uint32_t(__builtin_ctz(bits));
+            bits &= bits - 1;
+            const float t = ts[lane];
+            const uint32_t id = b.id[lane];
+            if (t < hit.t || (t == hit.t && id < hit.id)) {
+                alignas(64) float us[M], vs[M];
+                bt.u.store_aligned(us);
+                bt.v.store_aligned(vs);
+                hit = TriHit{t, us[lane], vs[lane], id};
+                improved = true;
+            }
+        } while (bits);
+    }
+    return improved;
+}
+
+template <std::size_t M>
+inline bool leaf_any(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, uint32_t count,
+                     float tmax) {
+    using V = simd::FloatW<M>;
+    for (uint32_t k = 0; k < count; ++k) {
+        const auto bt = detail::test<V>(lr.ox, lr.oy, lr.oz, lr.dx, lr.dy, lr.dz, lr.tmin, V(tmax),
+                                        detail::load_block<V>(blocks[k]));
+        if (simd::movemask(bt.hit)) return true;
+    }
+    return false;
+}
+
+}  // namespace bvh_detail
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::intersect(const Ray1& r, TriHit& hit, BvhCounters* counters) const {
+    using namespace bvh_detail;
+    using V = simd::FloatW<N>;
+    if (root_ == kBvhEmpty || unusable(r)) return false;
+    if (r.tmax < hit.t) hit.t = r.tmax;
+    const BoxRay<N> br(r);
+    const LeafRay<M> lr(r);
+    StackEntry stack[kStackSize];
+    std::size_t sp = 0;
+    uint32_t ref = root_;
+    bool found = false;
+    float tcull = hit.valid() ? hit.t * kBvhCullScale : hit.t;
+    uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
+    for (;;) {
+        // Descend until a leaf.
+        while (!bvh_is_leaf(ref)) {
+            const Node& node = nodes_[ref];
+            ++n_nodes;
+            V tnv;
+            uint32_t mask = br.test(node, tcull, tnv);
+            if (mask == 0) goto pop;
+            alignas(64) float tn[N];
+            tnv.store_aligned(tn);
+            const uint32_t c0 = uint32_t(__builtin_ctz(mask));
+            mask &= mask - 1;
+            if (mask == 0) {
+                ref = node.child[c0];
+                continue;
+            }
+            const uint32_t c1 = uint32_t(__builtin_ctz(mask));
+            mask &= mask - 1;
+            if (mask == 0) {
+                if (tn[c0] <= tn[c1]) {
+                    stack[sp++] = {node.child[c1], tn[c1]};
+                    ref = node.child[c0];
+                } else {
+                    stack[sp++] = {node.child[c0], tn[c0]};
+                    ref = node.child[c1];
+                }
+                continue;
+            }
+            // Three or more: push all, sort them far to near, enter the nearest.
+            const std::size_t first = sp;
+            stack[sp++] = {node.child[c0], tn[c0]};
+            stack[sp++] = {node.child[c1], tn[c1]};
+            do {
+                const uint32_t c = uint32_t(__builtin_ctz(mask));
+                mask &= mask - 1;
+                stack[sp++] = {node.child[c], tn[c]};
+            } while (mask);
+            for (std::size_t i = first + 1; i < sp; ++i) {
+                const StackEntry e = stack[i];
+                std::size_t j = i;
+                for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
+                stack[j] = e;
+            }
+            ref = stack[--sp].ref;
+        }
+        // Leaf.
+        ++n_leaves;
+        n_blocks += bvh_leaf_blocks(ref);
+        if (leaf_closest<M>(lr, &blocks_[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), hit)) {
+            found = true;
+            tcull = hit.t * kBvhCullScale;
+        }
+    pop:
+        for (;;) {
+            if (sp == 0) goto done;
+            const StackEntry& e = stack[--sp];
+            if (e.t <= tcull) {
+                ref = e.ref;
+                break;
+            }
+        }
+    }
+done:
+    if (counters) {
+        counters->nodes += n_nodes;
+        counters->leaves += n_leaves;
+        counters->blocks += n_blocks;
+    }
+    return found;
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::occluded(const Ray1& r, BvhCounters* counters) const {
+    using namespace bvh_detail;
+    using V = simd::FloatW<N>;
+    if (root_ == kBvhEmpty || unusable(r)) return false;
+    const BoxRay<N> br(r);
+    const LeafRay<M> lr(r);
+    uint32_t stack[kStackSize];
+    std::size_t sp = 0;
+    uint32_t ref = root_;
+    bool hit = false;
+    uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
+    for (;;) {
+        while (!bvh_is_leaf(ref)) {
+            const Node& node = nodes_[ref];
+            ++n_nodes;
+            V tnv;
+            uint32_t mask = br.test(node, r.tmax, tnv);
+            if (mask == 0) goto pop;
+            ref = node.child[__builtin_ctz(mask)];
+            for (mask &= mask - 1; mask; mask &= mask - 1)
+                stack[sp++] = node.child[__builtin_ctz(mask)];
+        }
+        ++n_leaves;
+        n_blocks += bvh_leaf_blocks(ref);
+        if (leaf_any<M>(lr, &blocks_[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), r.tmax)) {
+            hit = true;
+            break;
+        }
+    pop:
+        if (sp == 0) break;
+        ref = stack[--sp];
+    }
+    if (counters) {
+        counters->nodes += n_nodes;
+        counters->leaves += n_leaves;
+        counters->blocks += n_blocks;
+    }
+    return hit;
+}
+
+}  // namespace foton::kern
