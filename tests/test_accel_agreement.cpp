@@ -1,4 +1,5 @@
-// brute, brute-simd, grid and embree return identical closest hits and occlusion.
+// brute, brute-simd, grid, bvh and embree return identical closest hits and occlusion; bvh
+// equals brute force exactly (t, u, v, primitive, geometry, ties included).
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -14,6 +15,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
     const auto scalar = make_intersector(scene, AccelType::Brute);
     const auto brute = make_intersector(scene, AccelType::BruteSimd);
     const auto grid = make_intersector(scene, AccelType::Grid);
+    const auto bvh = make_intersector(scene, AccelType::Bvh);
     const auto embree = make_intersector(scene, AccelType::Embree);
     const Bounds3 bb = scene.bounds();
     const Vec3 ext = bb.diagonal();
@@ -27,7 +29,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         const Vec3 d = normalize(target - o);
         const kern::Ray1 r{o.x, o.y, o.z, d.x,
                            d.y, d.z, 0.f, i % 5 == 0 ? 0.3f * length(ext) : kInfinity};
-        Hit1 hb, hs, hg, he;
+        Hit1 hb, hs, hg, he, hv;
         const bool b = brute->intersect1(r, hb, c);
         if (i % 20 == 0) {
             REQUIRE(scalar->intersect1(r, hs, c) == b);
@@ -37,6 +39,8 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         }
         REQUIRE(grid->intersect1(r, hg, c) == b);
         REQUIRE(embree->intersect1(r, he, c) == b);
+        REQUIRE(bvh->intersect1(r, hv, c) == b);
+        REQUIRE(bvh->occluded1(r, c) == b);
         const bool occ = brute->occluded1(r, c);
         REQUIRE(occ == b);
         REQUIRE(grid->occluded1(r, c) == occ);
@@ -48,6 +52,11 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         REQUIRE(hs.t == hb.t);
         REQUIRE(hg.geom == hb.geom);
         REQUIRE(hg.t == hb.t);  // so a different prim can only be an exact tie
+        REQUIRE(hv.geom == hb.geom);
+        REQUIRE(hv.prim == hb.prim);
+        REQUIRE(hv.t == hb.t);
+        REQUIRE(hv.u == hb.u);
+        REQUIRE(hv.v == hb.v);
         REQUIRE(he.geom == hb.geom);
         if (he.prim == hb.prim) {
             REQUIRE(he.t == hb.t);  // re-evaluated with our arithmetic: bit-identical
@@ -87,7 +96,7 @@ TEST_CASE("accelerators agree in the batch interface", "[accel]") {
     const auto brute = make_intersector(scene, AccelType::Brute);
     brute->intersect(rays, ref, c);
     brute->occluded(rays, occ_ref, c);
-    for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Embree}) {
+    for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree}) {
         const auto acc = make_intersector(scene, a);
         acc->intersect(rays, other, c);
         acc->occluded(rays, occ, c);
@@ -96,5 +105,37 @@ TEST_CASE("accelerators agree in the batch interface", "[accel]") {
             if (ref.geom[i] != kNoHit) REQUIRE(other.t[i] == Approx(ref.t[i]).epsilon(1e-6));
             REQUIRE(occ[i] == occ_ref[i]);
         }
+    }
+}
+
+TEST_CASE("bvh equals brute force exactly on the mixed sphere and mesh scenes", "[accel][bvh]") {
+    // Several spheres (materials.xml has nine) and meshes in one scene: the sphere BVH and the
+    // triangle BVH together return brute force's hit, ties between spheres included.
+    for (const char* name : {"scenes/materials.xml", "scenes/mis-plates.xml"}) {
+        INFO(name);
+        const Scene scene = load_scene(test::source_path(name));
+        const auto brute = make_intersector(scene, AccelType::BruteSimd);
+        const auto bvh = make_intersector(scene, AccelType::Bvh);
+        const Bounds3 bb = scene.bounds();
+        const Vec3 ext = bb.diagonal();
+        std::mt19937 rng(21);
+        std::uniform_real_distribution<float> U(0.f, 1.f);
+        TraceCounters c;
+        std::size_t hits = 0;
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3 o = bb.lo + Vec3{U(rng) * ext.x, U(rng) * ext.y, U(rng) * ext.z};
+            const Vec3 d = normalize(Vec3{U(rng) - 0.5f, U(rng) - 0.5f, U(rng) - 0.5f});
+            const kern::Ray1 r{o.x, o.y, o.z, d.x, d.y, d.z, 1e-4f, kInfinity};
+            Hit1 hb, hv;
+            const bool b = brute->intersect1(r, hb, c);
+            REQUIRE(bvh->intersect1(r, hv, c) == b);
+            REQUIRE(bvh->occluded1(r, c) == b);
+            if (!b) continue;
+            ++hits;
+            REQUIRE(hv.geom == hb.geom);
+            REQUIRE(hv.prim == hb.prim);
+            REQUIRE(hv.t == hb.t);
+        }
+        CHECK(hits > 5000);
     }
 }

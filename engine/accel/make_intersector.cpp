@@ -1,4 +1,5 @@
 #include "brute_accel.h"
+#include "bvh_accel.h"
 #include "embree_accel.h"
 #include "grid_accel.h"
 
@@ -15,6 +16,8 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
             params.cells_per_triangle = scene.grid_density;
             return std::make_unique<GridAccel>(scene, params);
         }
+        case AccelType::Bvh:
+            return std::make_unique<BvhAccel>(scene, scene.render.threads);
         case AccelType::Embree:
             return std::make_unique<EmbreeAccel>(scene);
     }

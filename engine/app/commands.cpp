@@ -58,7 +58,7 @@ int run_render(const RenderArgs& args) {
     if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
         throw InputError(
             "--accel", 0,
-            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, embree)");
+            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, bvh, embree)");
     if (args.width || args.height) {
         const int w = args.width.value_or(scene.film.width);
         const int h = args.height.value_or(scene.film.height);

@@ -93,9 +93,10 @@ std::string RenderStats::table() const {
             (unsigned long long)cache.visibility_tests);
         s += buf;
     }
-    std::snprintf(buf, sizeof buf, "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu\n",
+    std::snprintf(buf, sizeof buf,
+                  "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu, bvh nodes %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-                  (unsigned long long)trace.cells);
+                  (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes);
     s += buf;
     s += "stage        thread-s      items     items/thread-s\n";
     for (int i = 0; i < kNumStages; ++i) {
@@ -117,7 +118,7 @@ std::string RenderStats::json() const {
         "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
         "  \"rays_per_second\": %.6g,\n  \"samples\": %llu,\n  \"passes\": %u,\n"
         "  \"samples_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
-        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n"
+        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"bvh_nodes\": %llu,\n"
         "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
         "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
         "  \"cache_fill_seconds\": %.6f,\n  \"photon_seconds\": %.6f,\n"
@@ -127,10 +128,10 @@ std::string RenderStats::json() const {
         wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0, (unsigned long long)samples,
         passes, wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-        (unsigned long long)trace.cells, (unsigned long long)cache_records,
-        (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
-        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections,
-        cache_fill_seconds, photon_seconds);
+        (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
+        (unsigned long long)cache_records, (unsigned long long)cache_stored,
+        (unsigned long long)cache.lookups, (unsigned long long)cache.interpolated,
+        (unsigned long long)cache.visibility_rejections, cache_fill_seconds, photon_seconds);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

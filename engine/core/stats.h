@@ -30,11 +30,13 @@ const char* stage_name(Stage s);
 struct TraceCounters {
     uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
     uint64_t sphere_tests = 0;
-    uint64_t cells = 0;  // grid cells visited (grid backend only)
+    uint64_t cells = 0;      // grid cells visited (grid backend only)
+    uint64_t bvh_nodes = 0;  // wide BVH nodes visited, N box tests each (bvh backend only)
     void merge(const TraceCounters& o) {
         triangle_tests += o.triangle_tests;
         sphere_tests += o.sphere_tests;
         cells += o.cells;
+        bvh_nodes += o.bvh_nodes;
     }
 };
 

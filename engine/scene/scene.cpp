@@ -12,6 +12,8 @@ const char* accel_name(AccelType a) {
             return "brute-simd";
         case AccelType::Grid:
             return "grid";
+        case AccelType::Bvh:
+            return "bvh";
         case AccelType::Embree:
             return "embree";
     }
@@ -25,6 +27,8 @@ bool parse_accel(const std::string& s, AccelType& out) {
         out = AccelType::BruteSimd;
     else if (s == "grid")
         out = AccelType::Grid;
+    else if (s == "bvh")
+        out = AccelType::Bvh;
     else if (s == "embree")
         out = AccelType::Embree;
     else

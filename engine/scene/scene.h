@@ -16,8 +16,9 @@
 namespace foton {
 
 // brute: the thesis' brute force, every ray against every primitive with the scalar
-// Möller–Trumbore; brute-simd: the same with the SIMD kernel (W triangles per test).
-enum class AccelType { Brute, BruteSimd, Grid, Embree };
+// Möller–Trumbore; brute-simd: the same with the SIMD kernel (W triangles per test); grid: the
+// thesis' nested uniform grids; bvh: our wide BVH (the default); embree: Intel Embree 3.
+enum class AccelType { Brute, BruteSimd, Grid, Bvh, Embree };
 const char* accel_name(AccelType a);
 bool parse_accel(const std::string& s, AccelType& out);
 
@@ -152,7 +153,7 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<Object> objects;
-    AccelType accel = AccelType::Grid;
+    AccelType accel = AccelType::Bvh;
     float grid_density = 0.5f;  // cells per triangle of the mesh grids
     Camera camera;
     FilmSettings film;

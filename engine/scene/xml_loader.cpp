@@ -202,7 +202,7 @@ Scene Loader::run() {
         check(n, {"type", "density"}, {});
         if (!parse_accel(n.attribute("type").value(), scene_.accel))
             fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
-                        "' (brute, brute-simd, grid, embree)");
+                        "' (brute, brute-simd, grid, bvh, embree)");
         scene_.grid_density = positive(n, "density", scene_.grid_density);
     }
     parse_camera(child(root, "camera"));

@@ -1,0 +1,170 @@
+#include "bvh_accel.h"
+
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace foton {
+
+namespace {
+
+kern::BvhBuildParams::ParallelInvoke tbb_invoke() {
+    return [](const std::function<void()>& a, const std::function<void()>& b) {
+        tbb::parallel_invoke(a, b);
+    };
+}
+
+bool slab(const kern::BinaryNode& n, const float o[3], const float inv[3], float tmin, float tmax) {
+    float tn = tmin, tf = tmax;
+    for (int a = 0; a < 3; ++a) {
+        const bool neg = std::signbit(inv[a]);
+        const float t0 = ((neg ? n.hi : n.lo)[a] - o[a]) * inv[a];
+        const float t1 = ((neg ? n.lo : n.hi)[a] - o[a]) * (inv[a] * kern::kBvhFarScale);
+        tn = t0 > tn ? t0 : tn;
+        tf = t1 < tf ? t1 : tf;
+    }
+    return tn <= tf;
+}
+
+}  // namespace
+
+BvhAccel::BvhAccel(const Scene& scene, int threads) : scene_(scene) {
+    std::vector<kern::TriangleSource> sources;
+    std::vector<kern::PrimRef> sphere_refs;
+    uint32_t next = 0;
+    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+        const Object& o = scene.objects[g];
+        if (o.kind == ObjectKind::Mesh) {
+            const TriangleMesh& m = scene.meshes[o.index];
+            sources.push_back({m.positions.data(), m.indices.data(), m.num_triangles()});
+            first_id_.push_back(next);
+            mesh_geom_.push_back(g);
+            next += uint32_t(m.num_triangles());
+            continue;
+        }
+        // Padded: the sphere test's rounding may put a hit just outside the exact box.
+        const Bounds3 b = scene.object_bounds(g);
+        const Vec3 e = b.diagonal();
+        const float pad =
+            1e-5f * (std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z),
+                               std::fabs(b.hi.x), std::fabs(b.hi.y), std::fabs(b.hi.z)}) +
+                     std::max({e.x, e.y, e.z}));
+        kern::PrimRef r;
+        for (int a = 0; a < 3; ++a) r.lo[a] = b.lo[a] - pad, r.hi[a] = b.hi[a] + pad;
+        r.id = g;
+        r.pad = 0;
+        sphere_refs.push_back(r);
+    }
+    auto build = [&] {
+        auto p = kern::TriangleBvh::default_params();
+        p.parallel = tbb_invoke();
+        tris_.build(sources.data(), sources.size(), p);
+        kern::BvhBuildParams sp;
+        sp.leaf_block = 1;
+        sp.max_leaf = 4;
+        spheres_ = kern::build_binary_bvh(sphere_refs, sp);
+    };
+    if (threads > 0) {
+        tbb::task_arena arena(threads);
+        arena.execute(build);
+    } else {
+        build();
+    }
+}
+
+std::size_t BvhAccel::memory_bytes() const {
+    return tris_.memory_bytes() + spheres_.used * sizeof(kern::BinaryNode) +
+           spheres_.prims.size() * sizeof(uint32_t);
+}
+
+void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    if (spheres_.empty()) return;
+    const float o[3] = {ray.ox, ray.oy, ray.oz};
+    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
+    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
+    uint32_t stack[128];
+    std::size_t sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const kern::BinaryNode& n = spheres_.nodes[stack[--sp]];
+        const float tcull = hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale;
+        if (!slab(n, o, inv, ray.tmin, tcull)) continue;
+        if (!n.leaf()) {
+            stack[sp++] = n.right;
+            stack[sp++] = n.left;
+            continue;
+        }
+        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+            const uint32_t g = spheres_.prims[i];
+            // A tie with a sphere of a larger id is won; with a triangle, lost.
+            const bool tie_wins =
+                hit.geom == kNoHit ||
+                (scene_.objects[hit.geom].kind == ObjectKind::Sphere && g < hit.geom);
+            const float bound =
+                tie_wins && hit.geom != kNoHit ? std::nextafter(hit.t, kInfinity) : hit.t;
+            float t;
+            ++c.sphere_tests;
+            if (!intersect_sphere(scene_.spheres[scene_.objects[g].index], org, dir, ray.tmin,
+                                  bound, t))
+                continue;
+            if (t < hit.t || tie_wins) hit = Hit1{t, 0.f, 0.f, 0, g};
+        }
+    }
+}
+
+bool BvhAccel::any_sphere(const kern::Ray1& ray, TraceCounters& c) const {
+    if (spheres_.empty()) return false;
+    const float o[3] = {ray.ox, ray.oy, ray.oz};
+    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
+    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
+    uint32_t stack[128];
+    std::size_t sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const kern::BinaryNode& n = spheres_.nodes[stack[--sp]];
+        if (!slab(n, o, inv, ray.tmin, ray.tmax)) continue;
+        if (!n.leaf()) {
+            stack[sp++] = n.right;
+            stack[sp++] = n.left;
+            continue;
+        }
+        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+            float t;
+            ++c.sphere_tests;
+            if (intersect_sphere(scene_.spheres[scene_.objects[spheres_.prims[i]].index], org, dir,
+                                 ray.tmin, ray.tmax, t))
+                return true;
+        }
+    }
+    return false;
+}
+
+bool BvhAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    hit.t = std::min(ray.tmax, hit.t);
+    kern::TriHit th;
+    th.t = hit.t;
+    kern::BvhCounters bc;
+    if (tris_.intersect(ray, th, &bc)) {
+        const std::size_t m =
+            std::size_t(std::upper_bound(first_id_.begin(), first_id_.end(), th.id) -
+                        first_id_.begin()) -
+            1;
+        hit = Hit1{th.t, th.u, th.v, th.id - first_id_[m], mesh_geom_[m]};
+    }
+    c.bvh_nodes += bc.nodes;
+    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    closest_sphere(ray, hit, c);
+    return hit.geom != kNoHit;
+}
+
+bool BvhAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
+    kern::BvhCounters bc;
+    const bool hit = tris_.occluded(ray, &bc);
+    c.bvh_nodes += bc.nodes;
+    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    return hit || any_sphere(ray, c);
+}
+
+}  // namespace foton

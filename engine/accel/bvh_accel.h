@@ -1,0 +1,40 @@
+#pragma once
+// Our wide BVH as a backend (kernels/triangle_bvh.h): one tree over the triangles of every mesh
+// of the scene, so a dense mesh in a large sparse scene costs nothing extra, and a small binary
+// BVH over the spheres, traversed after it. Closest hits are the least (t, geometry, primitive)
+// over the scene, exactly what brute force returns, so every image equals brute force's bit for
+// bit, ties included.
+#include <vector>
+
+#include "intersector.h"
+#include "kernels/bvh_build.h"
+#include "kernels/triangle_bvh.h"
+
+namespace foton {
+
+class BvhAccel final : public PerRayIntersector<BvhAccel> {
+  public:
+    // `threads` bounds the parallel build (0: all hardware threads).
+    BvhAccel(const Scene& scene, int threads);
+    const char* name() const override { return "bvh"; }
+    std::size_t memory_bytes() const override;
+
+    bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
+    bool any(const kern::Ray1& ray, TraceCounters& c) const;
+
+    const kern::TriangleBvh& triangles() const { return tris_; }
+
+  private:
+    // Updates `hit` with the nearest sphere before it (ties to the smaller geometry id among
+    // spheres; a triangle at the same t keeps the hit, as in brute force).
+    void closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
+    bool any_sphere(const kern::Ray1& ray, TraceCounters& c) const;
+
+    const Scene& scene_;
+    kern::TriangleBvh tris_;
+    std::vector<uint32_t> first_id_;   // per mesh object in geometry order: its first triangle id
+    std::vector<uint32_t> mesh_geom_;  // the geometry id of each of those
+    kern::BinaryBvh spheres_;          // over sphere objects; prims are geometry ids
+};
+
+}  // namespace foton
