@@ -1,12 +1,14 @@
 // Google Benchmark: ray traversal of the kernel scenes (bench/ray_sets.h), our uniform grid
 // (kernels/) against raw Embree on identical rays, single thread and all threads:
 //   intersect: grid single ray (with and without mailbox), grid coherent packets (primary rays;
-//   4x4, 8x8 and 16x16
-//              pixel bundles), rtcIntersect1, rtcIntersect8 / 16 (packets of consecutive
-//              rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and rtcIntersectNp
-//              streams of 4,096 rays (flagged coherent for primary rays only);
-//   occlusion: grid any-hit, rtcOccluded1 / 8 / 16 (shadow rays);
-//   build:     grid (one thread) against Embree's default build on all threads and on one.
+//              4x4, 8x8 and 16x16 pixel bundles), the wide BVH single ray in its engine shape
+//              and the width study's shapes (bvh4x4, bvh8x8, bvh16x4), BVH packets of W
+//              consecutive rays (primary), rtcIntersect1, rtcIntersect8 / 16 (packets of
+//              consecutive rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and
+//              rtcIntersectNp streams of 4,096 rays (flagged coherent for primary rays only);
+//   occlusion: grid and BVH any-hit, rtcOccluded1 / 8 / 16 (shadow rays);
+//   build:     grid (one thread) and BVH (one thread, all threads) against Embree's default
+//              build on all threads and on one.
 // Every form resets each ray's tmax and hit before it is traced, inside the timed loop.
 // Names: traversal/<scene>/<set>/<method>/threads:<n>; bench/report makes the ratio tables.
 #include <benchmark/benchmark.h>
@@ -15,6 +17,8 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
+#include <array>
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -243,6 +247,53 @@ void BM_BvhImpl(benchmark::State& state, const Bvh& bvh, const std::vector<Ray1>
     const double traced = double(rays.size()) * double(state.iterations());
     state.counters["nodes/ray"] = double(nodes) / traced;
     state.counters["tris/ray"] = double(blocks) * double(Bvh::kLeafWidth) / traced;
+}
+
+// The packet form: W consecutive rays per packet (a 4x4 pixel square of primary rays on
+// AVX-512, see ray_sets.h), all active.
+void BM_BvhPacket(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool occl = set == "shadow";
+    const std::size_t np = (rays.size() + W - 1) / W;
+    std::vector<kern::RayPacket> packets(np);
+    std::vector<std::array<float, W>> tmax(np);
+    std::vector<uint32_t> active(np, 0);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray1& r = rays[i];
+        kern::RayPacket& k = packets[i / W];
+        const std::size_t l = i % W;
+        k.ox[l] = r.ox, k.oy[l] = r.oy, k.oz[l] = r.oz;
+        k.dx[l] = r.dx, k.dy[l] = r.dy, k.dz[l] = r.dz, k.tmin[l] = r.tmin;
+        tmax[i / W][l] = r.tmax;
+        active[i / W] |= 1u << l;
+    }
+    HitCount hits;
+    std::atomic<uint64_t> nodes{0}, blocks{0};
+    for (auto _ : state)
+        for_chunks(np, kChunk / W, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            kern::BvhCounters c;
+            for (std::size_t p = b; p < e; ++p) {
+                if (occl) {
+                    h += std::size_t(__builtin_popcount(
+                        d.bvh.occluded_packet(packets[p], tmax[p].data(), active[p], &c)));
+                    continue;
+                }
+                kern::PacketHits ph;
+                for (std::size_t l = 0; l < W; ++l)
+                    ph.t[l] = tmax[p][l], ph.id[l] = kern::kInvalidId;
+                d.bvh.intersect_packet(packets[p], active[p], ph, &c);
+                for (std::size_t l = 0; l < W; ++l) h += ph.id[l] != kern::kInvalidId;
+            }
+            hits.add(h);
+            nodes.fetch_add(c.nodes, std::memory_order_relaxed);
+            blocks.fetch_add(c.blocks, std::memory_order_relaxed);
+        });
+    report(state, rays.size(), hits.n);
+    const double traced = double(rays.size()) * double(state.iterations());
+    state.counters["nodes/ray"] = double(nodes) / traced;
+    state.counters["tris/ray"] = double(blocks) * double(kern::TriangleBvh::kLeafWidth) / traced;
 }
 
 template <class Bvh, Bvh SceneData::*member>
@@ -531,6 +582,10 @@ const bool registered = [] {
             for (const char* set : {"primary", "diffuse"}) {
                 for (const auto& [method, fn] : intersect)
                     add("traversal/" + s + "/" + set + "/" + method + th, fn, s, set, par);
+                // Packets only where rays are coherent: on the scattered diffuse and shadow sets
+                // every packet falls back to single rays (bvh_packet.h).
+                if (std::string(set) == "primary")
+                    add("traversal/" + s + "/primary/bvh_packet" + th, BM_BvhPacket, s, set, par);
                 if (std::string(set) == "primary")
                     for (std::size_t side : {4, 8, 16})
                         if (side * side >= W && side * side / W <= kern::kMaxGridPackets)

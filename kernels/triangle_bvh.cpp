@@ -72,6 +72,7 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     nodes_.clear();
     blocks_.clear();
     root_ = kBvhEmpty;
+    packet_span_ = 0.f;
     stats_ = {};
     twin_ = {};
     twin_tri_.clear();
@@ -174,6 +175,12 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     }
     // A root with one leaf child is entered as that leaf.
     root_ = (wide.nodes[0].size() == 1 && wide.nodes[0][0].leaf) ? nodes_[0].child[0] : 0;
+    {
+        const BinaryNode& r = bin.nodes[0];
+        const float d[3] = {r.hi[0] - r.lo[0], r.hi[1] - r.lo[1], r.hi[2] - r.lo[2]};
+        packet_span_ =
+            std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * bvh_detail::kPacketOriginSpan;
+    }
     stats_.nodes = nodes_.size();
     stats_.blocks = blocks_.size();
     stats_.fill = blocks_.empty() ? 0.0 : double(used_lanes) / double(blocks_.size() * M);

@@ -71,6 +71,16 @@ class TriangleBvhT {
     // Any hit with r.tmin < t < r.tmax.
     bool occluded(const Ray1& r, BvhCounters* counters = nullptr) const;
 
+    // Packet forms for coherent rays (bvh_packet.h): the rays of `p` whose bit is set in
+    // `active` traverse the tree together; each gets exactly what the single-ray form gives it.
+    // Closest hit: h.t, h.u, h.v, h.id hold each ray's current hit (h.t = its tmax and h.id =
+    // kInvalidId when there is none yet) and are updated in place.
+    void intersect_packet(const RayPacket& p, uint32_t active, PacketHits& h,
+                          BvhCounters* counters = nullptr) const;
+    // Any hit with tmin < t < tmax[i]; returns the occluded rays as a bit mask.
+    uint32_t occluded_packet(const RayPacket& p, const float* tmax, uint32_t active,
+                             BvhCounters* counters = nullptr) const;
+
     // The scalar twin (needs keep_twin): binary tree, scalar slab and triangle tests.
     bool intersect_scalar(const Ray1& r, TriHit& hit) const;
     bool occluded_scalar(const Ray1& r) const;
@@ -86,6 +96,7 @@ class TriangleBvhT {
     std::vector<Node> nodes_;
     std::vector<Block> blocks_;
     uint32_t root_ = kBvhEmpty;
+    float packet_span_ = 0.f;  // largest origin spread of a packet (bvh_packet.h)
     TriangleBvhStats stats_;
     // Scalar twin: the binary tree and the triangles' corners by id.
     BinaryBvh twin_;
@@ -97,4 +108,5 @@ using TriangleBvh = TriangleBvhT<simd::kHalfWidth, 4>;
 
 }  // namespace foton::kern
 
+#include "bvh_packet.h"
 #include "bvh_traverse.h"

@@ -139,3 +139,74 @@ TEST_CASE("bvh equals brute force exactly on the mixed sphere and mesh scenes", 
         CHECK(hits > 5000);
     }
 }
+
+TEST_CASE("batch intersect equals per-ray intersect1 for every backend", "[accel][bvh]") {
+    // Camera rays (coherent: the bvh traces them as packets) and shadow rays from their hits to
+    // a point, with the batch flagged coherent and not; each must give every ray exactly what
+    // the backend's single-ray form gives it.
+    for (const char* name :
+         {"scenes/bunny.xml", "scenes/materials.xml", "scenes/cornell-box.xml"}) {
+        INFO(name);
+        const Scene scene = load_scene(test::source_path(name));
+        RayBatch cam;
+        const int w = 48, h = 36;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int s = 0; s < 2; ++s) {
+                    Vec3 o, d;
+                    scene.camera.generate(
+                        (float(x) + 0.25f + 0.5f * float(s)) * float(scene.film.width) / float(w),
+                        (float(y) + 0.5f) * float(scene.film.height) / float(h), {0.5f, 0.5f}, o,
+                        d);
+                    cam.push(o, d, 0.f, kInfinity, uint32_t(cam.size()));
+                }
+        // Beside the eye: most camera hits see it, some are hidden.
+        const Vec3 light = scene.camera.eye + (scene.camera.u + scene.camera.v) *
+                                                  (0.15f * length(scene.bounds().diagonal()));
+        for (AccelType a :
+             {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree}) {
+            INFO(int(a));
+            const auto acc = make_intersector(scene, a);
+            TraceCounters c;
+            RayBatch shadow;
+            for (bool coherent : {true, false}) {
+                cam.coherent = coherent;
+                HitBatch hits;
+                acc->intersect(cam, hits, c);
+                REQUIRE(hits.size() == cam.size());
+                std::size_t n_hits = 0;
+                for (std::size_t i = 0; i < cam.size(); ++i) {
+                    Hit1 one;
+                    const bool hit = acc->intersect1(ray_at(cam, i), one, c);
+                    REQUIRE((hits.geom[i] != kNoHit) == hit);
+                    if (!hit) continue;
+                    ++n_hits;
+                    REQUIRE(hits.t[i] == one.t);
+                    REQUIRE(hits.u[i] == one.u);
+                    REQUIRE(hits.v[i] == one.v);
+                    REQUIRE(hits.prim[i] == one.prim);
+                    REQUIRE(hits.geom[i] == one.geom);
+                    if (coherent) {
+                        const Vec3 p = cam.origin(i) + cam.direction(i) * (hits.t[i] * 0.999f);
+                        shadow.push(p, normalize(light - p), 0.f, length(light - p), uint32_t(i));
+                    }
+                }
+                CHECK(n_hits > cam.size() / 10);
+            }
+            REQUIRE(!shadow.empty());
+            for (bool coherent : {true, false}) {
+                shadow.coherent = coherent;
+                std::vector<uint8_t> occ;
+                acc->occluded(shadow, occ, c);
+                REQUIRE(occ.size() == shadow.size());
+                std::size_t blocked = 0;
+                for (std::size_t i = 0; i < shadow.size(); ++i) {
+                    REQUIRE(bool(occ[i]) == acc->occluded1(ray_at(shadow, i), c));
+                    blocked += occ[i];
+                }
+                CHECK(blocked < shadow.size());
+                CHECK(blocked > 0);
+            }
+        }
+    }
+}

@@ -141,18 +141,19 @@ bool BvhAccel::any_sphere(const kern::Ray1& ray, TraceCounters& c) const {
     return false;
 }
 
+Hit1 BvhAccel::mesh_hit(const kern::TriHit& th) const {
+    const std::size_t m = std::size_t(std::upper_bound(first_id_.begin(), first_id_.end(), th.id) -
+                                      first_id_.begin()) -
+                          1;
+    return Hit1{th.t, th.u, th.v, th.id - first_id_[m], mesh_geom_[m]};
+}
+
 bool BvhAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
     hit.t = std::min(ray.tmax, hit.t);
     kern::TriHit th;
     th.t = hit.t;
     kern::BvhCounters bc;
-    if (tris_.intersect(ray, th, &bc)) {
-        const std::size_t m =
-            std::size_t(std::upper_bound(first_id_.begin(), first_id_.end(), th.id) -
-                        first_id_.begin()) -
-            1;
-        hit = Hit1{th.t, th.u, th.v, th.id - first_id_[m], mesh_geom_[m]};
-    }
+    if (tris_.intersect(ray, th, &bc)) hit = mesh_hit(th);
     c.bvh_nodes += bc.nodes;
     c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
     closest_sphere(ray, hit, c);
@@ -165,6 +166,70 @@ bool BvhAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
     c.bvh_nodes += bc.nodes;
     c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
     return hit || any_sphere(ray, c);
+}
+
+namespace {
+
+constexpr std::size_t kW = kern::kBlockWidth;
+
+// Rays [first, first + count) of the batch as one packet; lanes past count are inactive.
+uint32_t load_packet(const RayBatch& rays, std::size_t first, std::size_t count, kern::RayPacket& p,
+                     float* tmax) {
+    for (std::size_t l = 0; l < kW; ++l) {
+        const std::size_t i = first + std::min(l, count - 1);
+        p.ox[l] = rays.ox[i], p.oy[l] = rays.oy[i], p.oz[l] = rays.oz[i];
+        p.dx[l] = rays.dx[i], p.dy[l] = rays.dy[i], p.dz[l] = rays.dz[i];
+        p.tmin[l] = rays.tmin[i];
+        tmax[l] = rays.tmax[i];
+    }
+    return count >= 32 ? ~0u : (1u << count) - 1u;
+}
+
+}  // namespace
+
+void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
+    if (!rays.coherent) return PerRayIntersector<BvhAccel>::intersect(rays, hits, c);
+    hits.resize(rays.size());
+    kern::BvhCounters bc;
+    for (std::size_t first = 0; first < rays.size(); first += kW) {
+        const std::size_t count = std::min(kW, rays.size() - first);
+        kern::RayPacket p;
+        kern::PacketHits ph;
+        const uint32_t active = load_packet(rays, first, count, p, ph.t);
+        for (std::size_t l = 0; l < kW; ++l) ph.u[l] = ph.v[l] = 0.f, ph.id[l] = kern::kInvalidId;
+        tris_.intersect_packet(p, active, ph, &bc);
+        for (std::size_t l = 0; l < count; ++l) {
+            const std::size_t i = first + l;
+            Hit1 h;
+            h.t = ph.t[l];
+            if (ph.id[l] != kern::kInvalidId) h = mesh_hit({ph.t[l], ph.u[l], ph.v[l], ph.id[l]});
+            closest_sphere(ray_at(rays, i), h, c);
+            hits.t[i] = h.t;
+            hits.u[i] = h.u;
+            hits.v[i] = h.v;
+            hits.prim[i] = h.prim;
+            hits.geom[i] = h.geom;
+        }
+    }
+    c.bvh_nodes += bc.nodes;
+    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+}
+
+void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCounters& c) const {
+    if (!rays.coherent) return PerRayIntersector<BvhAccel>::occluded(rays, occ, c);
+    occ.resize(rays.size());
+    kern::BvhCounters bc;
+    for (std::size_t first = 0; first < rays.size(); first += kW) {
+        const std::size_t count = std::min(kW, rays.size() - first);
+        kern::RayPacket p;
+        alignas(64) float tmax[kW];
+        const uint32_t active = load_packet(rays, first, count, p, tmax);
+        const uint32_t blocked = tris_.occluded_packet(p, tmax, active, &bc);
+        for (std::size_t l = 0; l < count; ++l)
+            occ[first + l] = ((blocked >> l) & 1u) || any_sphere(ray_at(rays, first + l), c);
+    }
+    c.bvh_nodes += bc.nodes;
+    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
 }
 
 }  // namespace foton

@@ -22,6 +22,12 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
+    // A coherent batch (camera rays) goes through the packet traversal, W rays at a time;
+    // any other batch ray by ray. Both give every ray exactly its single-ray hit.
+    void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override;
+    void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                  TraceCounters& c) const override;
+
     const kern::TriangleBvh& triangles() const { return tris_; }
 
   private:
@@ -29,6 +35,8 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     // spheres; a triangle at the same t keeps the hit, as in brute force).
     void closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any_sphere(const kern::Ray1& ray, TraceCounters& c) const;
+    // The mesh hit of a triangle id of the tree.
+    Hit1 mesh_hit(const kern::TriHit& th) const;
 
     const Scene& scene_;
     kern::TriangleBvh tris_;

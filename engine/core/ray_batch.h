@@ -12,6 +12,10 @@ inline constexpr uint32_t kNoHit = 0xffffffffu;
 struct RayBatch {
     AlignedVector<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
     AlignedVector<uint32_t> id;  // the slot (pixel sample, path, photon) the ray belongs to
+    // Set by the stage that makes the batch when neighbouring rays are nearly parallel and
+    // start close together (camera rays in pixel order), so a backend may trace them as
+    // packets; bounce and photon batches are not. clear() resets it.
+    bool coherent = false;
 
     std::size_t size() const { return id.size(); }
     bool empty() const { return id.empty(); }
@@ -42,6 +46,7 @@ inline void RayBatch::clear() {
     tmin.clear();
     tmax.clear();
     id.clear();
+    coherent = false;
 }
 
 inline void RayBatch::reserve(std::size_t n) {

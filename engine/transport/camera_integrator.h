@@ -45,6 +45,9 @@ inline Point2 pixel_sample(const Scene& scene, const SampleJob& j, uint64_t seed
 inline void generate_camera_rays(const Scene& scene, const std::vector<SampleJob>& jobs,
                                  uint64_t seed, RayBatch& rays) {
     rays.reserve(rays.size() + jobs.size());
+    // A tile's jobs are its pixels in rows, each pixel's samples together: neighbours in the
+    // batch are neighbours on the film.
+    rays.coherent = rays.empty();
     for (uint32_t slot = 0; slot < jobs.size(); ++slot) {
         const SampleJob& j = jobs[slot];
         const Point2 px = pixel_sample(scene, j, seed);
