@@ -1,5 +1,6 @@
 #include "embree_accel.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -72,8 +73,9 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
 
 }  // namespace
 
-EmbreeAccel::EmbreeAccel(const Scene& scene) : scene_(scene) {
-    device_ = rtcNewDevice(nullptr);
+EmbreeAccel::EmbreeAccel(const Scene& scene, int threads) : scene_(scene) {
+    const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
+    device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
     if (!device_) throw std::runtime_error("cannot create an Embree device");
     rtcSetDeviceErrorFunction(device_, error_handler, nullptr);
     rtc_scene_ = rtcNewScene(device_);
@@ -137,22 +139,24 @@ bool EmbreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters&) cons
     rtcIntersect1(rtc_scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID};
-    const Object& o = scene_.objects[rh.hit.geomID];
-    if (o.kind == ObjectKind::Mesh) {
-        // Re-evaluate on the triangle Embree chose, with our arithmetic (see header).
-        const TriangleMesh& m = scene_.meshes[o.index];
-        Vec3 p0, p1, p2;
-        m.corners(rh.hit.primID, p0, p1, p2);
-        const Vec3 e1 = p1 - p0, e2 = p2 - p0;
-        float t, u, v;
-        if (kern::intersect_triangle_scalar(ray, p0.x, p0.y, p0.z, e1.x, e1.y, e1.z, e2.x, e2.y,
-                                            e2.z, kInfinity, t, u, v)) {
-            hit.t = t;
-            hit.u = u;
-            hit.v = v;
-        }
-    }
+    reevaluate(ray, hit);
     return true;
+}
+
+void EmbreeAccel::reevaluate(const kern::Ray1& ray, Hit1& hit) const {
+    const Object& o = scene_.objects[hit.geom];
+    if (o.kind != ObjectKind::Mesh) return;
+    const TriangleMesh& m = scene_.meshes[o.index];
+    Vec3 p0, p1, p2;
+    m.corners(hit.prim, p0, p1, p2);
+    const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    float t, u, v;
+    if (kern::intersect_triangle_scalar(ray, p0.x, p0.y, p0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z,
+                                        kInfinity, t, u, v)) {
+        hit.t = t;
+        hit.u = u;
+        hit.v = v;
+    }
 }
 
 bool EmbreeAccel::any(const kern::Ray1& ray, TraceCounters&) const {
@@ -173,6 +177,80 @@ bool EmbreeAccel::any(const kern::Ray1& ray, TraceCounters&) const {
     r.flags = 0;
     rtcOccluded1(rtc_scene_, &ctx, &r);
     return r.tfar == -kInfinity;
+}
+
+namespace {
+
+RTCIntersectContext batch_context(bool coherent) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags =
+        coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    return ctx;
+}
+
+void fill_ray(const RayBatch& rays, std::size_t i, RTCRay& r) {
+    r.org_x = rays.ox[i];
+    r.org_y = rays.oy[i];
+    r.org_z = rays.oz[i];
+    r.dir_x = rays.dx[i];
+    r.dir_y = rays.dy[i];
+    r.dir_z = rays.dz[i];
+    r.tnear = rays.tmin[i];
+    r.tfar = rays.tmax[i];
+    r.time = 0.f;
+    r.mask = 0xffffffffu;
+    r.id = uint32_t(i);
+    r.flags = 0;
+}
+
+// Rays per stream call: large enough for Embree to sort them into packets, small enough to
+// stay in cache.
+constexpr std::size_t kStream = 1024;
+
+}  // namespace
+
+void EmbreeAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters&) const {
+    hits.resize(rays.size());
+    thread_local std::vector<RTCRayHit> stream;
+    RTCIntersectContext ctx = batch_context(rays.coherent);
+    for (std::size_t first = 0; first < rays.size(); first += kStream) {
+        const std::size_t n = std::min(kStream, rays.size() - first);
+        stream.resize(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            fill_ray(rays, first + k, stream[k].ray);
+            stream[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            stream[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect1M(rtc_scene_, &ctx, stream.data(), unsigned(n), sizeof(RTCRayHit));
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t i = first + k;
+            const RTCRayHit& rh = stream[k];
+            Hit1 h;  // as closest(): a miss leaves the hit untouched
+            if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+                h = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID};
+                reevaluate(ray_at(rays, i), h);
+            }
+            hits.t[i] = h.t;
+            hits.u[i] = h.u;
+            hits.v[i] = h.v;
+            hits.prim[i] = h.prim;
+            hits.geom[i] = h.geom;
+        }
+    }
+}
+
+void EmbreeAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCounters&) const {
+    occ.resize(rays.size());
+    thread_local std::vector<RTCRay> stream;
+    RTCIntersectContext ctx = batch_context(rays.coherent);
+    for (std::size_t first = 0; first < rays.size(); first += kStream) {
+        const std::size_t n = std::min(kStream, rays.size() - first);
+        stream.resize(n);
+        for (std::size_t k = 0; k < n; ++k) fill_ray(rays, first + k, stream[k]);
+        rtcOccluded1M(rtc_scene_, &ctx, stream.data(), unsigned(n), sizeof(RTCRay));
+        for (std::size_t k = 0; k < n; ++k) occ[first + k] = stream[k].tfar == -kInfinity;
+    }
 }
 
 }  // namespace foton

@@ -3,7 +3,8 @@
 // triangle geometries; spheres are user geometries that call our own sphere test, so that
 // sphere hits agree exactly with the other backends. Triangle hits are re-evaluated with our
 // Möller–Trumbore on the triangle Embree found, so that t, u, v (and hence images) agree bit
-// for bit with brute and grid; a benchmark of raw Embree lives in bench/.
+// for bit with brute and grid; a benchmark of raw Embree lives in bench/. Batches go through
+// the stream API (rtcIntersect1M / rtcOccluded1M), flagged coherent when the batch is.
 #include <embree3/rtcore.h>
 
 #include "intersector.h"
@@ -12,7 +13,8 @@ namespace foton {
 
 class EmbreeAccel final : public PerRayIntersector<EmbreeAccel> {
   public:
-    explicit EmbreeAccel(const Scene& scene);
+    // `threads` limits Embree's device (its build); 0 = all hardware threads.
+    explicit EmbreeAccel(const Scene& scene, int threads = 0);
     ~EmbreeAccel() override;
     EmbreeAccel(const EmbreeAccel&) = delete;
     EmbreeAccel& operator=(const EmbreeAccel&) = delete;
@@ -22,7 +24,14 @@ class EmbreeAccel final : public PerRayIntersector<EmbreeAccel> {
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
+    void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override;
+    void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                  TraceCounters& c) const override;
+
   private:
+    // Our Möller–Trumbore on the triangle Embree chose (see above).
+    void reevaluate(const kern::Ray1& ray, Hit1& hit) const;
+
     const Scene& scene_;
     RTCDevice device_ = nullptr;
     RTCScene rtc_scene_ = nullptr;

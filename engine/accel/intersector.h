@@ -35,8 +35,9 @@ class Intersector {
     virtual std::size_t memory_bytes() const = 0;
 };
 
-// Builds the backend over the scene's geometry (the scene must outlive it).
-std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type);
+// Builds the backend over the scene's geometry (the scene must outlive it). `threads` bounds
+// the threads the build (and Embree's own task system) may use; 0 = all hardware threads.
+std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads = 0);
 
 inline kern::Ray1 ray_at(const RayBatch& b, std::size_t i) {
     return {b.ox[i], b.oy[i], b.oz[i], b.dx[i], b.dy[i], b.dz[i], b.tmin[i], b.tmax[i]};

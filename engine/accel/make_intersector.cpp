@@ -5,7 +5,7 @@
 
 namespace foton {
 
-std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type) {
+std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads) {
     switch (type) {
         case AccelType::Brute:
             return std::make_unique<BruteAccel>(scene, false);
@@ -17,9 +17,9 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
             return std::make_unique<GridAccel>(scene, params);
         }
         case AccelType::Bvh:
-            return std::make_unique<BvhAccel>(scene, scene.render.threads);
+            return std::make_unique<BvhAccel>(scene, threads);
         case AccelType::Embree:
-            return std::make_unique<EmbreeAccel>(scene);
+            return std::make_unique<EmbreeAccel>(scene, threads);
     }
     return nullptr;
 }

@@ -149,7 +149,7 @@ int run_render(const RenderArgs& args) {
     if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
         throw InputError("--cache-points", 0, "needs indirect=irradiance_cache");
     const auto t0 = std::chrono::steady_clock::now();
-    const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel);
+    const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel, opt.threads);
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     RenderResult res = render(scene, *accel, opt);
