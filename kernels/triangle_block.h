@@ -14,7 +14,7 @@ namespace foton::kern {
 inline constexpr std::size_t kBlockWidth = simd::kWidth;
 
 template <std::size_t M>
-struct alignas(64) TriangleBlockT {
+struct alignas(M * 4 < 64 ? M * 4 : 64) TriangleBlockT {  // rows stay aligned, no padding
     static constexpr std::size_t kLanes = M;
     float v0x[M], v0y[M], v0z[M];
     float e1x[M], e1y[M], e1z[M];
