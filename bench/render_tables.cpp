@@ -2,7 +2,9 @@
 //   1. brute force vs grid on the ~4K-triangle scene, 1 thread, 1 sample per pixel
 //      (the thesis: 3,936-triangle monkey, 5:15 vs 0:04);
 //   2. grid vs Embree on the bunny and the dragon, 1 thread, 1 spp;
-//   3. render time for 1..N threads and the speed-up (the thesis: 4 spp, 1024 x 800).
+//   3. render time for 1..N threads and the speed-up (the thesis: 4 spp, 1024 x 800);
+//   4. every integrator on the dragon with bvh, grid and embree inside the renderer: render
+//      time, rays/s and the share of the stage time spent tracing (intersect + occlusion).
 // Every time is the median of --repeats renders; the tables are markdown on stdout.
 //
 //   build/release/bench/foton_bench_render [--repeats 5] [--quick]
@@ -16,6 +18,7 @@
 
 #include "bench_util.h"
 #include "engine/accel/intersector.h"
+#include "engine/core/stats.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/render.h"
 
@@ -29,13 +32,14 @@ struct Timing {
     double build = 0.0;   // median accelerator build, s
     double render = 0.0;  // median render, s
     double rays_per_s = 0.0;
+    double trace_share = 0.0;  // (intersect + occlusion) / all stages, of the median render
 };
 
 Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, int repeats) {
-    std::vector<double> builds, renders, rates;
+    std::vector<double> builds, renders, rates, shares;
     for (int r = 0; r < repeats; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
-        const auto acc = make_intersector(scene, accel);
+        const auto acc = make_intersector(scene, accel, threads);
         builds.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         RenderOptions opt;
@@ -44,8 +48,14 @@ Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, i
         const RenderResult res = render(scene, *acc, opt);
         renders.push_back(res.stats.wall_seconds);
         rates.push_back(double(res.stats.total_rays()) / res.stats.wall_seconds);
+        double all = 0.0;
+        for (double x : res.stats.stage_seconds) all += x;
+        shares.push_back(all > 0.0 ? (res.stats.stage_seconds[int(Stage::Intersect)] +
+                                      res.stats.stage_seconds[int(Stage::Occlusion)]) /
+                                         all
+                                   : 0.0);
     }
-    return {median(builds), median(renders), median(rates)};
+    return {median(builds), median(renders), median(rates), median(shares)};
 }
 
 }  // namespace
@@ -77,8 +87,8 @@ int main(int argc, char** argv) {
             "|\n|---|---:|---:|---:|---:|\n");
         // The scalar brute force takes seconds per run: fewer repeats, it is not noisy.
         const Timing brute = measure(s, AccelType::Brute, 1, 1, quick ? 1 : std::min(repeats, 3));
-        for (AccelType a :
-             {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Embree}) {
+        for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh,
+                            AccelType::Embree}) {
             const Timing t = a == AccelType::Brute ? brute : measure(s, a, 1, 1, repeats);
             std::printf("| %s | %.4f | %.4f | %.3g | %.1fx |\n", accel_name(a), t.build, t.render,
                         t.rays_per_s, brute.render / t.render);
@@ -113,6 +123,50 @@ int main(int argc, char** argv) {
             if (t == 1) t1 = r.render;
             std::printf("| %d | %.4f | %.2fx | %.0f%% |\n", t, r.render, t1 / r.render,
                         100.0 * t1 / r.render / t);
+        }
+        std::printf("\n");
+    }
+    {
+        // Small sizes: the point is the ratio between accelerators, measured back to back.
+        Scene base = load_scene(scene_path("dragon.xml"));
+        base.set_resolution(quick ? 80 : 160, quick ? 60 : 120);
+        std::printf(
+            "### Accelerators inside the renderer (dragon.xml, %zu triangles, %dx%d, 1 thread)\n\n",
+            base.num_triangles(), base.film.width, base.film.height);
+        std::printf(
+            "Trace share: intersect + occlusion stage time over all stages (photon tracing and "
+            "final gathering also trace rays, inside their own stages).\n\n");
+        std::printf(
+            "| integrator | spp | bvh [s] | grid [s] | embree [s] | bvh rays/s | embree rays/s | "
+            "bvh trace share | embree trace share | embree / bvh time |\n");
+        std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        struct Case {
+            const char* label;
+            IntegratorType type;
+            uint32_t spp;
+            bool cache;
+        };
+        const Case cases[] = {{"whitted", IntegratorType::Whitted, 4, false},
+                              {"path", IntegratorType::Path, 4, false},
+                              {"light", IntegratorType::Light, 4, false},
+                              {"photon (final gather)", IntegratorType::Photon, 1, false},
+                              {"photon (irradiance cache)", IntegratorType::Photon, 1, true},
+                              {"sppm", IntegratorType::Sppm, 4, false}};
+        for (const Case& c : cases) {
+            Scene s = base;
+            s.render.integrator = c.type;
+            s.render.photon.global_photons = 50000;
+            s.render.photon.caustic_photons = 0;
+            s.render.photon.gather_rays = 16;
+            s.render.cache.samples = 128;
+            s.render.indirect = c.cache ? IndirectMode::IrradianceCache : IndirectMode::FinalGather;
+            const Timing b = measure(s, AccelType::Bvh, 1, c.spp, repeats);
+            const Timing g = measure(s, AccelType::Grid, 1, c.spp, repeats);
+            const Timing e = measure(s, AccelType::Embree, 1, c.spp, repeats);
+            std::printf(
+                "| %s | %u | %.4f | %.4f | %.4f | %.3g | %.3g | %.0f%% | %.0f%% | %.2fx |\n",
+                c.label, c.spp, b.render, g.render, e.render, b.rays_per_s, e.rays_per_s,
+                100.0 * b.trace_share, 100.0 * e.trace_share, e.render / b.render);
         }
         std::printf("\n");
     }

@@ -173,89 +173,150 @@ inline PacketMask packet_mask(uint32_t bits) {
     return PacketV::load_aligned(f) != PacketV(0.f);
 }
 
-// The largest current bound of the packet's lanes in `lanes`: a box entered after it can hold
-// no hit for any of them (the cull margin as in the single-ray traversal).
-inline float packet_cull(const PacketV& t, const PacketMask& valid, uint32_t lanes) {
-    alignas(64) float c[kPacket];
-    xsimd::select(valid, t * PacketV(kBvhCullScale), t).store_aligned(c);
-    float m = -kInf;
-    for (uint32_t b = lanes; b; b &= b - 1) m = std::max(m, c[__builtin_ctz(b)]);
-    return m;
+// Below this many active rays a subtree is cheaper ray by ray than as a packet (a packet pays
+// for all W lanes at every node and triangle).
+inline constexpr int kPacketMinActive = kPacket >= 16 ? 4 : 2;
+
+// The packet's rays for the per-ray box test of one child: the arithmetic of BoxRay::test, one
+// ray per lane (all lanes share the octant, so the same near and far rows serve every ray).
+struct LaneRays {
+    PacketV ox, oy, oz, ix, iy, iz, fx, fy, fz, tmin;
+
+    LaneRays(const RayPacket& p, uint32_t lanes) {
+        alignas(64) float inv[3][kPacket], far[3][kPacket];
+        const float* d[3] = {p.dx, p.dy, p.dz};
+        for (int a = 0; a < 3; ++a)
+            for (std::size_t i = 0; i < kPacket; ++i) {
+                // Lanes outside the packet get a harmless finite factor; their results are masked.
+                inv[a][i] = ((lanes >> i) & 1u) ? 1.f / d[a][i] : 1.f;
+                far[a][i] = inv[a][i] * kBvhFarScale;
+            }
+        ox = PacketV::load_aligned(p.ox), oy = PacketV::load_aligned(p.oy);
+        oz = PacketV::load_aligned(p.oz), tmin = PacketV::load_aligned(p.tmin);
+        ix = PacketV::load_aligned(inv[0]), iy = PacketV::load_aligned(inv[1]);
+        iz = PacketV::load_aligned(inv[2]), fx = PacketV::load_aligned(far[0]);
+        fy = PacketV::load_aligned(far[1]), fz = PacketV::load_aligned(far[2]);
+    }
+
+    // Rays (bits) that enter child c of `node` before their own cull distance.
+    template <std::size_t N>
+    uint32_t test(const WideNode<N>& node, const BoxPacket<N>& bp, std::size_t c,
+                  const PacketV& cull) const {
+        const float* b = &node.bounds[0][0] + c;
+        const PacketV tnx = (PacketV(b[bp.near[0]]) - ox) * ix;
+        const PacketV tny = (PacketV(b[bp.near[1]]) - oy) * iy;
+        const PacketV tnz = (PacketV(b[bp.near[2]]) - oz) * iz;
+        const PacketV tfx = (PacketV(b[bp.far[0]]) - ox) * fx;
+        const PacketV tfy = (PacketV(b[bp.far[1]]) - oy) * fy;
+        const PacketV tfz = (PacketV(b[bp.far[2]]) - oz) * fz;
+        const PacketV tn = simd::vmax(tnx, simd::vmax(tny, simd::vmax(tnz, tmin)));
+        const PacketV tf = simd::vmin(tfx, simd::vmin(tfy, simd::vmin(tfz, cull)));
+        return simd::movemask(tn <= tf);
+    }
+};
+
+struct PacketEntry {
+    uint32_t ref;
+    float t;        // the packet's entry bound
+    uint32_t rays;  // the rays that enter it
+};
+
+// Children of a node the packet enters: the interval test first (one test for all children),
+// then the per-ray test of the survivors. Returns how many, near to far in `out`.
+template <std::size_t N>
+inline std::size_t packet_children(const WideNode<N>& node, const BoxPacket<N>& bp,
+                                   const LaneRays& lr, const PacketV& cull, float cull_max,
+                                   uint32_t rays, PacketEntry* out) {
+    simd::FloatW<N> tnv;
+    uint32_t mask = bp.test(node, cull_max, tnv);
+    if (mask == 0) return 0;
+    alignas(64) float tn[N];
+    tnv.store_aligned(tn);
+    std::size_t n = 0;
+    for (; mask; mask &= mask - 1) {
+        const uint32_t c = uint32_t(__builtin_ctz(mask));
+        const uint32_t r = lr.test(node, bp, c, cull) & rays;
+        if (r == 0) continue;
+        // Insertion by entry bound, nearest last (it is popped first).
+        std::size_t j = n++;
+        for (; j > 0 && out[j - 1].t < tn[c]; --j) out[j] = out[j - 1];
+        out[j] = {node.child[c], tn[c], r};
+    }
+    return n;
 }
 
 }  // namespace bvh_detail
-
 template <std::size_t N, std::size_t M>
 void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, PacketHits& h,
                                           BvhCounters* counters) const {
     using namespace bvh_detail;
-    using V = simd::FloatW<N>;
     if (root_ == kBvhEmpty || active == 0) return;
     uint32_t single;
     const uint32_t lanes = packet_lanes(p, h.t, active, packet_span_, single);
+    // Rays handed to the single-ray traversal at subtree `ref` (their current hits as bounds).
+    auto alone = [&](uint32_t ref, uint32_t rays) {
+        for (uint32_t b = rays; b; b &= b - 1) {
+            const uint32_t i = uint32_t(__builtin_ctz(b));
+            TriHit th{h.t[i], h.u[i], h.v[i], h.id[i]};
+            const Ray1 r{p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], h.t[i]};
+            if (closest_from(ref, r, th, counters))
+                h.t[i] = th.t, h.u[i] = th.u, h.v[i] = th.v, h.id[i] = th.id;
+        }
+    };
     for (uint32_t b = single; b; b &= b - 1) {
         const uint32_t i = uint32_t(__builtin_ctz(b));
-        TriHit th{h.t[i], h.u[i], h.v[i], h.id[i]};
-        const Ray1 r{p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], h.t[i]};
-        if (intersect(r, th, counters))
-            h.t[i] = th.t, h.u[i] = th.u, h.v[i] = th.v, h.id[i] = th.id;
+        if (!unusable({p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], h.t[i]}))
+            alone(root_, 1u << i);
     }
     if (lanes == 0) return;
 
     const BoxPacket<N> bp = make_box_packet<N>(p, lanes);
-    const PacketV ox = PacketV::load_aligned(p.ox), oy = PacketV::load_aligned(p.oy),
-                  oz = PacketV::load_aligned(p.oz), dx = PacketV::load_aligned(p.dx),
-                  dy = PacketV::load_aligned(p.dy), dz = PacketV::load_aligned(p.dz),
-                  tmin = PacketV::load_aligned(p.tmin);
-    const PacketMask active_m = packet_mask(lanes);
-    PacketV cur_t = PacketV::load_aligned(h.t), cur_u = PacketV::load_aligned(h.u),
-            cur_v = PacketV::load_aligned(h.v);
-    PacketV cur_id = PacketV::load_aligned(reinterpret_cast<const float*>(h.id));
-    uint32_t valid_bits = 0;
-    for (std::size_t i = 0; i < kPacket; ++i) valid_bits |= uint32_t(h.id[i] != kInvalidId) << i;
-    PacketMask valid_m = packet_mask(valid_bits);
-    float tcull = packet_cull(cur_t, valid_m, lanes);
+    const LaneRays lr(p, lanes);
+    // The packet's hits live in h between leaves; the cull distances in registers.
+    auto cull_of = [&](PacketV& cull) {
+        alignas(64) float c[kPacket];
+        float m = -kInf;
+        for (std::size_t i = 0; i < kPacket; ++i) {
+            c[i] = h.id[i] != kInvalidId ? h.t[i] * kBvhCullScale : h.t[i];
+            if ((lanes >> i) & 1u) m = std::max(m, c[i]);
+        }
+        cull = PacketV::load_aligned(c);
+        return m;
+    };
+    PacketV cull;
+    float cull_max = cull_of(cull);
 
-    StackEntry stack[kStackSize];
+    PacketEntry stack[kStackSize];
     std::size_t sp = 0;
-    uint32_t ref = root_;
+    uint32_t ref = root_, rays = lanes;
     uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
     for (;;) {
-        while (!bvh_is_leaf(ref)) {
-            const Node& node = nodes_[ref];
+        if (__builtin_popcount(rays) < kPacketMinActive) {
+            alone(ref, rays);
+            cull_max = cull_of(cull);
+            goto pop;
+        }
+        if (!bvh_is_leaf(ref)) {
             ++n_nodes;
-            V tnv;
-            uint32_t mask = bp.test(node, tcull, tnv);
-            if (mask == 0) goto pop;
-            alignas(64) float tn[N];
-            tnv.store_aligned(tn);
-            const uint32_t c0 = uint32_t(__builtin_ctz(mask));
-            mask &= mask - 1;
-            if (mask == 0) {
-                ref = node.child[c0];
-                continue;
-            }
-            // Push every hit child, sort far to near, enter the nearest.
-            const std::size_t first = sp;
-            stack[sp++] = {node.child[c0], tn[c0]};
-            do {
-                const uint32_t c = uint32_t(__builtin_ctz(mask));
-                mask &= mask - 1;
-                stack[sp++] = {node.child[c], tn[c]};
-            } while (mask);
-            for (std::size_t i = first + 1; i < sp; ++i) {
-                const StackEntry e = stack[i];
-                std::size_t j = i;
-                for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
-                stack[j] = e;
-            }
-            ref = stack[--sp].ref;
+            PacketEntry kids[N];
+            const std::size_t n = packet_children(nodes_[ref], bp, lr, cull, cull_max, rays, kids);
+            if (n == 0) goto pop;
+            for (std::size_t k = 0; k + 1 < n; ++k) stack[sp++] = kids[k];
+            ref = kids[n - 1].ref, rays = kids[n - 1].rays;
+            continue;
         }
         {
             ++n_leaves;
             const uint32_t nb = bvh_leaf_blocks(ref);
             n_blocks += nb;
             const Block* blocks = &blocks_[bvh_leaf_first(ref)];
+            const PacketV ox = lr.ox, oy = lr.oy, oz = lr.oz;
+            const PacketV dx = PacketV::load_aligned(p.dx), dy = PacketV::load_aligned(p.dy),
+                          dz = PacketV::load_aligned(p.dz);
+            const PacketMask on = packet_mask(rays);
+            PacketV cur_t = PacketV::load_aligned(h.t), cur_u = PacketV::load_aligned(h.u),
+                    cur_v = PacketV::load_aligned(h.v),
+                    cur_id = PacketV::load_aligned(reinterpret_cast<const float*>(h.id));
             bool improved = false;
             for (uint32_t k = 0; k < nb; ++k) {
                 const Block& blk = blocks[k];
@@ -267,55 +328,50 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
                         PacketV(blk.e1x[j]), PacketV(blk.e1y[j]), PacketV(blk.e1z[j]),
                         PacketV(blk.e2x[j]), PacketV(blk.e2y[j]), PacketV(blk.e2z[j])};
                     const detail::BlockTest bt =
-                        detail::test(ox, oy, oz, dx, dy, dz, tmin, PacketV(kInf), tri);
-                    const PacketMask hit = bt.hit & active_m;
+                        detail::test(ox, oy, oz, dx, dy, dz, lr.tmin, PacketV(kInf), tri);
+                    const PacketMask hit = bt.hit & on;
                     const PacketMask closer = hit & (bt.t < cur_t);
-                    const uint32_t tie = simd::movemask(hit & (bt.t == cur_t) & valid_m);
+                    // Same t as a current hit (a shared edge): the smaller id wins.
+                    uint32_t tie = simd::movemask(hit & (bt.t == cur_t));
                     if (simd::movemask(closer)) {
                         cur_t = xsimd::select(closer, bt.t, cur_t);
                         cur_u = xsimd::select(closer, bt.u, cur_u);
                         cur_v = xsimd::select(closer, bt.v, cur_v);
                         cur_id = xsimd::select(closer, PacketV(bits_to_float(id)), cur_id);
-                        valid_m = valid_m | closer;
                         improved = true;
                     }
                     if (tie) {
-                        // Same t as the current hit (a shared edge): the smaller id wins.
                         alignas(64) uint32_t ids[kPacket];
                         alignas(64) float us[kPacket], vs[kPacket], bu[kPacket], bv[kPacket];
                         cur_id.store_aligned(reinterpret_cast<float*>(ids));
                         cur_u.store_aligned(us), cur_v.store_aligned(vs);
                         bt.u.store_aligned(bu), bt.v.store_aligned(bv);
-                        for (uint32_t b = tie; b; b &= b - 1) {
-                            const uint32_t i = uint32_t(__builtin_ctz(b));
-                            if (id < ids[i]) ids[i] = id, us[i] = bu[i], vs[i] = bv[i];
+                        for (; tie; tie &= tie - 1) {
+                            const uint32_t i = uint32_t(__builtin_ctz(tie));
+                            // An invalid current id is tmax itself: a hit there is no hit.
+                            if (ids[i] != kInvalidId && id < ids[i])
+                                ids[i] = id, us[i] = bu[i], vs[i] = bv[i];
                         }
                         cur_id = PacketV::load_aligned(reinterpret_cast<const float*>(ids));
                         cur_u = PacketV::load_aligned(us), cur_v = PacketV::load_aligned(vs);
                     }
                 }
             }
-            if (improved) tcull = packet_cull(cur_t, valid_m, lanes);
+            cur_t.store_aligned(h.t), cur_u.store_aligned(h.u), cur_v.store_aligned(h.v);
+            cur_id.store_aligned(reinterpret_cast<float*>(h.id));
+            if (improved) cull_max = cull_of(cull);
         }
     pop:
         for (;;) {
             if (sp == 0) goto done;
-            const StackEntry& e = stack[--sp];
-            if (e.t <= tcull) {
-                ref = e.ref;
+            const PacketEntry& e = stack[--sp];
+            if (e.t <= cull_max) {
+                ref = e.ref, rays = e.rays;
                 break;
             }
         }
     }
 done:
-    alignas(64) float ts[kPacket], us[kPacket], vs[kPacket];
-    alignas(64) uint32_t ids[kPacket];
-    cur_t.store_aligned(ts), cur_u.store_aligned(us), cur_v.store_aligned(vs);
-    cur_id.store_aligned(reinterpret_cast<float*>(ids));
-    for (uint32_t b = lanes; b; b &= b - 1) {
-        const uint32_t i = uint32_t(__builtin_ctz(b));
-        h.t[i] = ts[i], h.u[i] = us[i], h.v[i] = vs[i], h.id[i] = ids[i];
-    }
     if (counters) {
         counters->nodes += n_nodes;
         counters->leaves += n_leaves;
@@ -327,50 +383,60 @@ template <std::size_t N, std::size_t M>
 uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tmax, uint32_t active,
                                              BvhCounters* counters) const {
     using namespace bvh_detail;
-    using V = simd::FloatW<N>;
     if (root_ == kBvhEmpty || active == 0) return 0;
     uint32_t single;
     uint32_t lanes = packet_lanes(p, tmax, active, packet_span_, single);
-    uint32_t occluded_bits = 0;
+    uint32_t blocked = 0;
+    auto alone = [&](uint32_t ref, uint32_t rays) {
+        for (uint32_t b = rays; b; b &= b - 1) {
+            const uint32_t i = uint32_t(__builtin_ctz(b));
+            const Ray1 r{p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], tmax[i]};
+            if (any_from(ref, r, counters)) blocked |= 1u << i;
+        }
+    };
     for (uint32_t b = single; b; b &= b - 1) {
         const uint32_t i = uint32_t(__builtin_ctz(b));
-        const Ray1 r{p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], tmax[i]};
-        if (occluded(r, counters)) occluded_bits |= 1u << i;
+        if (!unusable({p.ox[i], p.oy[i], p.oz[i], p.dx[i], p.dy[i], p.dz[i], p.tmin[i], tmax[i]}))
+            alone(root_, 1u << i);
     }
-    if (lanes == 0) return occluded_bits;
+    if (lanes == 0) return blocked;
 
     const BoxPacket<N> bp = make_box_packet<N>(p, lanes);
-    const PacketV ox = PacketV::load_aligned(p.ox), oy = PacketV::load_aligned(p.oy),
-                  oz = PacketV::load_aligned(p.oz), dx = PacketV::load_aligned(p.dx),
-                  dy = PacketV::load_aligned(p.dy), dz = PacketV::load_aligned(p.dz),
-                  tmin = PacketV::load_aligned(p.tmin);
+    const LaneRays lr(p, lanes);
     alignas(64) float tm[kPacket];
     for (std::size_t i = 0; i < kPacket; ++i) tm[i] = ((lanes >> i) & 1u) ? tmax[i] : -kInf;
-    const PacketV tmaxv = PacketV::load_aligned(tm);
-    float tcull = -kInf;
-    for (uint32_t b = lanes; b; b &= b - 1) tcull = std::max(tcull, tm[__builtin_ctz(b)]);
+    const PacketV cull = PacketV::load_aligned(tm);
+    float cull_max = -kInf;
+    for (uint32_t b = lanes; b; b &= b - 1) cull_max = std::max(cull_max, tm[__builtin_ctz(b)]);
+    const PacketV dx = PacketV::load_aligned(p.dx), dy = PacketV::load_aligned(p.dy),
+                  dz = PacketV::load_aligned(p.dz);
 
-    uint32_t stack[kStackSize];
+    PacketEntry stack[kStackSize];
     std::size_t sp = 0;
-    uint32_t ref = root_;
+    uint32_t ref = root_, rays = lanes;
     uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
     for (;;) {
-        while (!bvh_is_leaf(ref)) {
-            const Node& node = nodes_[ref];
+        rays &= ~blocked;  // rays already blocked elsewhere need nothing more
+        if (rays == 0) goto pop;
+        if (__builtin_popcount(rays) < kPacketMinActive) {
+            alone(ref, rays);
+            goto pop;
+        }
+        if (!bvh_is_leaf(ref)) {
             ++n_nodes;
-            V tnv;
-            uint32_t mask = bp.test(node, tcull, tnv);
-            if (mask == 0) goto pop;
-            ref = node.child[__builtin_ctz(mask)];
-            for (mask &= mask - 1; mask; mask &= mask - 1)
-                stack[sp++] = node.child[__builtin_ctz(mask)];
+            PacketEntry kids[N];
+            const std::size_t n = packet_children(nodes_[ref], bp, lr, cull, cull_max, rays, kids);
+            if (n == 0) goto pop;
+            for (std::size_t k = 0; k + 1 < n; ++k) stack[sp++] = kids[k];
+            ref = kids[n - 1].ref, rays = kids[n - 1].rays;
+            continue;
         }
         {
             ++n_leaves;
             const uint32_t nb = bvh_leaf_blocks(ref);
             n_blocks += nb;
             const Block* blocks = &blocks_[bvh_leaf_first(ref)];
-            for (uint32_t k = 0; k < nb; ++k) {
+            for (uint32_t k = 0; k < nb && rays; ++k) {
                 const Block& blk = blocks[k];
                 for (std::size_t j = 0; j < M; ++j) {
                     if (blk.id[j] == kInvalidId) break;
@@ -379,21 +445,20 @@ uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tm
                         PacketV(blk.e1x[j]), PacketV(blk.e1y[j]), PacketV(blk.e1z[j]),
                         PacketV(blk.e2x[j]), PacketV(blk.e2y[j]), PacketV(blk.e2z[j])};
                     const detail::BlockTest bt =
-                        detail::test(ox, oy, oz, dx, dy, dz, tmin, tmaxv, tri);
-                    const uint32_t hit = simd::movemask(bt.hit) & lanes;
+                        detail::test(lr.ox, lr.oy, lr.oz, dx, dy, dz, lr.tmin, cull, tri);
+                    const uint32_t hit = simd::movemask(bt.hit) & rays;
                     if (hit == 0) continue;
-                    occluded_bits |= hit;
-                    lanes &= ~hit;
-                    if (lanes == 0) goto done;
+                    blocked |= hit;
+                    rays &= ~hit;
+                    if ((blocked & lanes) == lanes) goto done;
+                    if (rays == 0) break;
                 }
             }
-            // Finished rays no longer widen the culling bound.
-            tcull = -kInf;
-            for (uint32_t b = lanes; b; b &= b - 1) tcull = std::max(tcull, tm[__builtin_ctz(b)]);
         }
     pop:
         if (sp == 0) break;
-        ref = stack[--sp];
+        ref = stack[--sp].ref;
+        rays = stack[sp].rays;
     }
 done:
     if (counters) {
@@ -401,7 +466,7 @@ done:
         counters->leaves += n_leaves;
         counters->blocks += n_blocks;
     }
-    return occluded_bits;
+    return blocked;
 }
 
 }  // namespace foton::kern

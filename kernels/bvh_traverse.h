@@ -117,15 +117,21 @@ inline bool leaf_any(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, uint
 
 template <std::size_t N, std::size_t M>
 bool TriangleBvhT<N, M>::intersect(const Ray1& r, TriHit& hit, BvhCounters* counters) const {
+    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
+    if (r.tmax < hit.t) hit.t = r.tmax;
+    return closest_from(root_, r, hit, counters);
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit,
+                                      BvhCounters* counters) const {
     using namespace bvh_detail;
     using V = simd::FloatW<N>;
-    if (root_ == kBvhEmpty || unusable(r)) return false;
-    if (r.tmax < hit.t) hit.t = r.tmax;
     const BoxRay<N> br(r);
     const LeafRay<M> lr(r);
     StackEntry stack[kStackSize];
     std::size_t sp = 0;
-    uint32_t ref = root_;
+    uint32_t ref = start;
     bool found = false;
     float tcull = hit.valid() ? hit.t * kBvhCullScale : hit.t;
     uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
@@ -202,14 +208,19 @@ done:
 
 template <std::size_t N, std::size_t M>
 bool TriangleBvhT<N, M>::occluded(const Ray1& r, BvhCounters* counters) const {
+    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
+    return any_from(root_, r, counters);
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const {
     using namespace bvh_detail;
     using V = simd::FloatW<N>;
-    if (root_ == kBvhEmpty || unusable(r)) return false;
     const BoxRay<N> br(r);
     const LeafRay<M> lr(r);
     uint32_t stack[kStackSize];
     std::size_t sp = 0;
-    uint32_t ref = root_;
+    uint32_t ref = start;
     bool hit = false;
     uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
     for (;;) {
