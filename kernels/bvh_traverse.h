@@ -60,6 +60,17 @@ struct LeafRay {
         : ox(r.ox), oy(r.oy), oz(r.oz), dx(r.dx), dy(r.dy), dz(r.dz), tmin(r.tmin) {}
 };
 
+// nextafter(t, +inf) without the libm call (it sits in the leaf loop): the next float up.
+inline float next_up(float t) {
+    if (!(t < kInf)) return t;  // +inf and NaN stay
+    if (t == 0.f) return 0x1p-149f;
+    uint32_t b;
+    std::memcpy(&b, &t, sizeof b);
+    b = t > 0.f ? b + 1 : b - 1;
+    std::memcpy(&t, &b, sizeof t);
+    return t;
+}
+
 struct StackEntry {
     uint32_t ref;
     float t;
@@ -77,7 +88,7 @@ inline bool leaf_closest(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, 
     for (uint32_t k = 0; k < count; ++k) {
         const TriangleBlockT<M>& b = blocks[k];
         // t <= hit.t once there is a hit (a tie may still win on id), t < tmax before.
-        const float bound = hit.valid() ? std::nextafter(hit.t, kInf) : hit.t;
+        const float bound = hit.valid() ? next_up(hit.t) : hit.t;
         const auto bt = detail::test<V>(lr.ox, lr.oy, lr.oz, lr.dx, lr.dy, lr.dz, lr.tmin, V(bound),
                                         detail::load_block<V>(b));
         uint32_t bits = simd::movemask(bt.hit);

@@ -5,6 +5,7 @@
 // use gives the same answers; bad input builds a valid tree without the bad triangles.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -376,4 +377,31 @@ TEST_CASE("bvh packets equal single rays, ray for ray", "[kernel][bvh]") {
         CHECK(h.id[i] == want[i].id);
         if (want[i].valid()) CHECK(h.u[i] == want[i].u);
     }
+}
+
+TEST_CASE("next_up is nextafter towards +inf", "[kernel][bvh]") {
+    std::mt19937 rng(9);
+    std::vector<float> xs = {0.f,
+                             -0.f,
+                             1.f,
+                             -1.f,
+                             0x1p-149f,
+                             -0x1p-149f,
+                             0x1p-126f,
+                             std::numeric_limits<float>::max(),
+                             -std::numeric_limits<float>::max(),
+                             kInf,
+                             -kInf};
+    for (int i = 0; i < 100000; ++i) {
+        const uint32_t b = uint32_t(rng());
+        float f;
+        std::memcpy(&f, &b, sizeof f);
+        if (!std::isnan(f)) xs.push_back(f);
+    }
+    for (float x : xs) {
+        INFO(std::hexfloat << x);
+        const float a = bvh_detail::next_up(x), b = std::nextafter(x, kInf);
+        REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+    }
+    CHECK(std::isnan(bvh_detail::next_up(std::numeric_limits<float>::quiet_NaN())));
 }
