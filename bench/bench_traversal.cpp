@@ -2,7 +2,7 @@
 // (kernels/) against raw Embree on identical rays, single thread and all threads:
 //   intersect: grid single ray (with and without mailbox), grid coherent packets (primary rays;
 //              4x4, 8x8 and 16x16 pixel bundles), the wide BVH single ray in its engine shape
-//              and the width study's shapes (bvh4x4, bvh8x8, bvh16x4), BVH packets of W
+//              and the width study's shapes (bvh4x4, bvh8x4, bvh16x4), BVH packets of W
 //              consecutive rays (primary), rtcIntersect1, rtcIntersect8 / 16 (packets of
 //              consecutive rays: 4x2 / 4x4 pixels for primary rays), rtcIntersect1M and
 //              rtcIntersectNp streams of 4,096 rays (flagged coherent for primary rays only);
@@ -41,7 +41,6 @@ constexpr std::size_t W = kern::kBlockWidth;
 using Bvh4x4 = kern::TriangleBvhT<4, 4>;
 #if defined(__AVX__)
 using Bvh8x4 = kern::TriangleBvhT<8, 4>;
-using Bvh8x8 = kern::TriangleBvhT<8, 8>;
 #endif
 #if defined(__AVX512BW__)
 using Bvh16x4 = kern::TriangleBvhT<16, 4>;
@@ -69,7 +68,7 @@ struct SceneData {
     kern::TriangleBvh bvh;
     Bvh4x4 bvh4x4;
 #if defined(__AVX__)
-    Bvh8x8 bvh8x8;
+    Bvh8x4 bvh8x4;
 #endif
 #if defined(__AVX512BW__)
     Bvh16x4 bvh16x4;
@@ -115,7 +114,7 @@ SceneData& scene_data(const std::string& name) {
     d->bvh = build_bvh<kern::TriangleBvh>(m, true);
     d->bvh4x4 = build_bvh<Bvh4x4>(m, true);
 #if defined(__AVX__)
-    d->bvh8x8 = build_bvh<Bvh8x8>(m, true);
+    d->bvh8x4 = build_bvh<Bvh8x4>(m, true);
 #endif
 #if defined(__AVX512BW__)
     d->bvh16x4 = build_bvh<Bvh16x4>(m, true);
@@ -539,7 +538,7 @@ const bool registered = [] {
         {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
         {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
 #if defined(__AVX__)
-        {"bvh8x8", BM_Bvh<Bvh8x8, &SceneData::bvh8x8>},
+        {"bvh8x4", BM_Bvh<Bvh8x4, &SceneData::bvh8x4>},
 #endif
 #if defined(__AVX512BW__)
         {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},
@@ -555,7 +554,7 @@ const bool registered = [] {
         {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
         {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
 #if defined(__AVX__)
-        {"bvh8x8", BM_Bvh<Bvh8x8, &SceneData::bvh8x8>},
+        {"bvh8x4", BM_Bvh<Bvh8x4, &SceneData::bvh8x4>},
 #endif
 #if defined(__AVX512BW__)
         {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},

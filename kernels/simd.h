@@ -40,7 +40,7 @@ inline uint32_t movemask(const xsimd::batch_bool<float, A>& m) {
 }
 
 // The architecture of a given lane count, for kernels whose natural width differs from the
-// widest one (a BVH node of 8 children, a leaf of 4 triangles) on the same machine.
+// widest one (a BVH node of 8 children, a leaf block of 4 triangles) on the same machine.
 template <std::size_t W>
 struct ArchOfWidth;
 template <>

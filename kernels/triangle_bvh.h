@@ -109,8 +109,10 @@ class TriangleBvhT {
     std::vector<float> twin_tri_;  // 9 floats per id: p0, p1, p2
 };
 
-// The shape the engine uses: N = 8 where the build has AVX (else 4), leaf blocks of 4.
-using TriangleBvh = TriangleBvhT<simd::kHalfWidth, 4>;
+// The shape the engine uses: N = 8 children and leaf blocks of M = 8 triangles where the build
+// has AVX (else 4 and 4). On the AVX-512 development machine 8x8 beat 8x4, 4x4 and 16x4 on
+// incoherent rays of every bench scene (bench/bench_traversal.cpp, the width study).
+using TriangleBvh = TriangleBvhT<simd::kHalfWidth, simd::kHalfWidth>;
 
 }  // namespace foton::kern
 
