@@ -159,14 +159,16 @@ struct Builder {
             out.merge(right, bn.bins);
             return;
         }
-        for (std::size_t i = begin; i < end; ++i) {
-            const V4 lo = load_lo(refs[i]), hi = load_hi(refs[i]);
-            alignas(16) int32_t b[4];
-            bn.index(lo + hi, b);
-            for (int a = 0; a < 3; ++a) {
-                out.box[a][b[a]].extend(lo, hi);
-                ++out.count[a][b[a]];
-            }
+        for (std::size_t i = begin; i < end; ++i) add(bn, refs[i], out);
+    }
+
+    static void add(const Binner& bn, const PrimRef& r, Bins& out) {
+        const V4 lo = load_lo(r), hi = load_hi(r);
+        alignas(16) int32_t b[4];
+        bn.index(lo + hi, b);
+        for (int a = 0; a < 3; ++a) {
+            out.box[a][b[a]].extend(lo, hi);
+            ++out.count[a][b[a]];
         }
     }
 
@@ -204,9 +206,13 @@ struct Builder {
         uint32_t nb = 0;
         alignas(16) float sc[4] = {0, 0, 0, 0};
         if (!flat && depth < kMaxSahDepth) {
-            // Small nodes need fewer bins: with n primitives, n bins already separate them.
-            nb = std::clamp<uint32_t>(
-                std::min<uint32_t>(p.bins, uint32_t(std::max<std::size_t>(4, n))), 2, kMaxBins);
+            // Small nodes need fewer bins: a node's fixed cost (clearing and sweeping the
+            // bins) would otherwise dwarf binning its few primitives. 4 + n / 20 bins (the rule
+            // Embree's binned builder uses) instead of min(n, 32) cut the dragon's binary
+            // build from ~255 to ~207 ms, and the SAH came out lower on all four bench meshes
+            // (dragon 48.8 -> 46.8).
+            nb =
+                std::clamp<uint32_t>(std::min<uint32_t>(p.bins, uint32_t(4 + n / 20)), 2, kMaxBins);
             for (int a = 0; a < 3; ++a)
                 sc[a] = ext[a] > 0.f ? float(nb) * (1.f - 1e-6f) / ext[a] : 0.f;
             bn = Binner{cbox.lo, V4::load_aligned(sc), nb};
