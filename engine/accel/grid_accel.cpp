@@ -1,7 +1,6 @@
 #include "grid_accel.h"
 
 #include <algorithm>
-#include <array>
 
 namespace foton {
 
@@ -134,88 +133,6 @@ bool GridAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
         return hit;
     });
     return hit;
-}
-
-void GridAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
-    if (!rays.coherent) return PerRayIntersector<GridAccel>::intersect(rays, hits, c);
-    constexpr std::size_t W = kern::kBlockWidth;
-    // Rays per bundle: 4 packets, e.g. 4 pixels x 4 samples x 4 on AVX-512.
-    constexpr std::size_t kPackets = 4, B = kPackets * W;
-    hits.resize(rays.size());
-    const std::size_t n_obj = scene_.objects.size();
-    // Per mesh object: the bundle's hits in that object alone (bound: each ray's tmax).
-    thread_local std::vector<std::array<kern::PacketHits, kPackets>> per_object;
-    thread_local std::vector<uint8_t> wanted;
-    per_object.resize(n_obj);
-    for (std::size_t first = 0; first < rays.size(); first += B) {
-        const std::size_t count = std::min(B, rays.size() - first);
-        const std::size_t np = (count + W - 1) / W;
-        // The objects any of the rays' full walks would reach.
-        wanted.assign(n_obj, 0);
-        for (std::size_t l = 0; l < count; ++l) {
-            const kern::Ray1 r = ray_at(rays, first + l);
-            const float no_limit = r.tmax;
-            kern::dda_walk(top_, r, no_limit, [&](uint32_t cell, float) {
-                for (uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k)
-                    wanted[cell_objects_[k]] = 1;
-                return false;
-            });
-        }
-        kern::RayPacket p[kPackets];
-        for (std::size_t l = 0; l < np * W; ++l) {
-            const std::size_t i = first + std::min(l, count - 1);
-            kern::RayPacket& k = p[l / W];
-            const std::size_t j = l % W;
-            k.ox[j] = rays.ox[i], k.oy[j] = rays.oy[i], k.oz[j] = rays.oz[i];
-            k.dx[j] = rays.dx[i], k.dy[j] = rays.dy[i], k.dz[j] = rays.dz[i];
-            k.tmin[j] = rays.tmin[i];
-        }
-        for (uint32_t g = 0; g < n_obj; ++g) {
-            const Object& o = scene_.objects[g];
-            if (!wanted[g] || o.kind != ObjectKind::Mesh) continue;
-            auto& ph = per_object[g];
-            for (std::size_t l = 0; l < np * W; ++l) {
-                ph[l / W].t[l % W] = l < count ? rays.tmax[first + l] : -kInfinity;
-                ph[l / W].id[l % W] = kern::kInvalidId;
-            }
-            kern::GridCounters gc;
-            grids_[o.index].intersect_packets(p, np, ph.data(), &gc);
-            c.cells += gc.cells;
-            c.triangle_tests += (gc.blocks + gc.packet_tests) * W;
-        }
-        // Each ray's own walk, as closest() does it, reading its hits from the packets: an
-        // object's hit counts when it is closer than the best so far, exactly as the object's
-        // own traversal bounded by that best would have found it.
-        for (std::size_t l = 0; l < count; ++l) {
-            const std::size_t i = first + l;
-            const kern::Ray1 r = ray_at(rays, i);
-            Mailbox& mb = t_mailbox;
-            mb.begin(n_obj);
-            Hit1 hit;
-            hit.t = std::min(hit.t, r.tmax);
-            kern::dda_walk(top_, r, hit.t, [&](uint32_t cell, float t_exit) {
-                for (uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
-                    const uint32_t g = cell_objects_[k];
-                    if (!mb.first_visit(g)) continue;
-                    const Object& o = scene_.objects[g];
-                    if (o.kind != ObjectKind::Mesh) {
-                        hit_object(g, r, hit, c);
-                        continue;
-                    }
-                    const kern::PacketHits& ph = per_object[g][l / W];
-                    const std::size_t j = l % W;
-                    if (ph.id[j] != kern::kInvalidId && ph.t[j] < hit.t)
-                        hit = Hit1{ph.t[j], ph.u[j], ph.v[j], ph.id[j], g};
-                }
-                return hit.geom != kNoHit && hit.t <= t_exit;
-            });
-            hits.t[i] = hit.t;
-            hits.u[i] = hit.u;
-            hits.v[i] = hit.v;
-            hits.prim[i] = hit.prim;
-            hits.geom[i] = hit.geom;
-        }
-    }
 }
 
 }  // namespace foton

@@ -20,11 +20,6 @@ class GridAccel final : public PerRayIntersector<GridAccel> {
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
-    // A coherent batch (camera rays) runs each mesh grid's coherent packet traversal
-    // (kernels/grid_packet.cpp) over W rays at a time, then replays each ray's walk through the
-    // top-level grid on those results, so every ray gets exactly what closest() gives it.
-    void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override;
-
   private:
     // Closest hit in one object over the whole ray; updates `hit` if closer.
     bool hit_object(uint32_t geom, const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
