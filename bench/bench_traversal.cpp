@@ -532,9 +532,8 @@ void BM_BuildEmbree(benchmark::State& state, std::string scene, bool one_thread)
 
 const bool registered = [] {
     using Fn = void (*)(benchmark::State&, std::string, std::string, bool);
-    const std::pair<const char*, Fn> intersect[] = {
-        {"grid", BM_Grid},
-        {"grid_mailbox", BM_GridMailbox},
+    // The BVH shapes run on every ray set: the engine's and the width study's.
+    const std::pair<const char*, Fn> bvh_shapes[] = {
         {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
         {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
 #if defined(__AVX__)
@@ -543,6 +542,10 @@ const bool registered = [] {
 #if defined(__AVX512BW__)
         {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},
 #endif
+    };
+    const std::pair<const char*, Fn> intersect[] = {
+        {"grid", BM_Grid},
+        {"grid_mailbox", BM_GridMailbox},
         {"embree_rtcIntersect1", BM_Embree1},
         {"embree_rtcIntersect8", BM_EmbreePacket<8>},
         {"embree_rtcIntersect16", BM_EmbreePacket<16>},
@@ -551,14 +554,6 @@ const bool registered = [] {
     };
     const std::pair<const char*, Fn> occlusion[] = {
         {"grid", BM_Grid},
-        {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
-        {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
-#if defined(__AVX__)
-        {"bvh8x4", BM_Bvh<Bvh8x4, &SceneData::bvh8x4>},
-#endif
-#if defined(__AVX512BW__)
-        {"bvh16x4", BM_Bvh<Bvh16x4, &SceneData::bvh16x4>},
-#endif
         {"embree_rtcOccluded1", BM_Embree1},
         {"embree_rtcOccluded8", BM_EmbreePacket<8>},
         {"embree_rtcOccluded16", BM_EmbreePacket<16>},
@@ -578,6 +573,9 @@ const bool registered = [] {
         add("build/" + s + "/embree_1thread", BM_BuildEmbree, s, true);
         for (bool par : {false, true}) {
             const std::string th = "/threads:" + std::to_string(par ? all : 1);
+            for (const char* set : {"primary", "diffuse", "shadow"})
+                for (const auto& [method, fn] : bvh_shapes)
+                    add("traversal/" + s + "/" + set + "/" + method + th, fn, s, set, par);
             for (const char* set : {"primary", "diffuse"}) {
                 for (const auto& [method, fn] : intersect)
                     add("traversal/" + s + "/" + set + "/" + method + th, fn, s, set, par);

@@ -3,6 +3,7 @@
 // SIMD slab test (N lanes) tests them all; a child reference is an inner node's index or a leaf
 // (a run of SIMD triangle blocks). Empty child slots have inverted, infinite boxes that every
 // ray misses, so the test needs no mask.
+#include <cmath>
 #include <cstdint>
 
 #include "ray1.h"
@@ -49,6 +50,14 @@ struct BvhCounters {
     uint64_t blocks = 0;  // triangle blocks tested (M ray/triangle tests each)
 };
 
+// A traversal counts in locals and adds them once at the end (the counters are optional).
+inline void add_counts(BvhCounters* c, uint64_t nodes, uint64_t leaves, uint64_t blocks) {
+    if (!c) return;
+    c->nodes += nodes;
+    c->leaves += leaves;
+    c->blocks += blocks;
+}
+
 // Far slab distances use 1 / d scaled by this, which makes the box test conservative: with
 // t = (b - o) * (1 / d) in floats, near and far can each be off by gamma(3) relative (Ize 2013,
 // "Robust BVH ray traversal"); the margin here is twice what that needs, so that the scaling's
@@ -60,6 +69,22 @@ inline constexpr float kBvhFarScale = 1.f + 4.f * (3.f * 0x1p-24f) / (1.f - 3.f 
 // edge) may have a box whose computed entry lies an ulp or two past that t, and it must still
 // be tested so that the smaller id wins, as in brute force.
 inline constexpr float kBvhCullScale = 1.f + 0x1p-16f;
+
+// The scalar slab test of a box against a ray (1 / d given): the arithmetic and NaN handling of
+// the SIMD node test, for the scalar twin and the binary trees. The entry distance in `tnear`.
+inline bool slab_test_scalar(const float lo[3], const float hi[3], const float o[3],
+                             const float inv[3], float tmin, float tmax, float& tnear) {
+    float tn = tmin, tf = tmax;
+    for (int a = 2; a >= 0; --a) {
+        const bool neg = std::signbit(inv[a]);
+        const float t0 = ((neg ? hi : lo)[a] - o[a]) * inv[a];
+        const float t1 = ((neg ? lo : hi)[a] - o[a]) * (inv[a] * kBvhFarScale);
+        tn = t0 > tn ? t0 : tn;  // NaN drops out
+        tf = t1 < tf ? t1 : tf;
+    }
+    tnear = tn;
+    return tn <= tf;
+}
 
 // Zero direction components are kept: 1 / d is then +-inf, a slab the ray lies in gives
 // (b - o) * inf = NaN, and the box test's min/max chains ignore NaN, which is the right answer

@@ -47,8 +47,8 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
     }
     if (lanes == 0) return;
 
-    const BoxPacket<N> bp = make_box_packet<N>(p, lanes);
     const LaneRays lr(p, lanes);
+    const BoxPacket<N> bp = make_box_packet<N>(p, lr, lanes);
     // The packet's hits live in h between leaves; the cull distances in registers.
     auto cull_of = [&](PacketV& cull) {
         alignas(64) float c[kPacket];
@@ -87,9 +87,6 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
             const uint32_t nb = bvh_leaf_blocks(ref);
             n_blocks += nb;
             const Block* blocks = &blocks_[bvh_leaf_first(ref)];
-            const PacketV ox = lr.ox, oy = lr.oy, oz = lr.oz;
-            const PacketV dx = PacketV::load_aligned(p.dx), dy = PacketV::load_aligned(p.dy),
-                          dz = PacketV::load_aligned(p.dz);
             const PacketMask on = packet_mask(rays);
             PacketV cur_t = PacketV::load_aligned(h.t), cur_u = PacketV::load_aligned(h.u),
                     cur_v = PacketV::load_aligned(h.v),
@@ -100,12 +97,9 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
                 for (std::size_t j = 0; j < M; ++j) {
                     const uint32_t id = blk.id[j];
                     if (id == kInvalidId) break;  // unused lanes are at the end of a block
-                    const detail::TriV tri{
-                        PacketV(blk.v0x[j]), PacketV(blk.v0y[j]), PacketV(blk.v0z[j]),
-                        PacketV(blk.e1x[j]), PacketV(blk.e1y[j]), PacketV(blk.e1z[j]),
-                        PacketV(blk.e2x[j]), PacketV(blk.e2y[j]), PacketV(blk.e2z[j])};
-                    const detail::BlockTest bt =
-                        detail::test(ox, oy, oz, dx, dy, dz, lr.tmin, PacketV(kInf), tri);
+                    const detail::TriV tri = detail::broadcast_lane<PacketV>(blk, j);
+                    const detail::BlockTest bt = detail::test(lr.ox, lr.oy, lr.oz, lr.dx, lr.dy,
+                                                              lr.dz, lr.tmin, PacketV(kInf), tri);
                     const PacketMask hit = bt.hit & on;
                     const PacketMask closer = hit & (bt.t < cur_t);
                     // Same t as a current hit (a shared edge): the smaller id wins.
@@ -149,11 +143,7 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
         }
     }
 done:
-    if (counters) {
-        counters->nodes += n_nodes;
-        counters->leaves += n_leaves;
-        counters->blocks += n_blocks;
-    }
+    add_counts(counters, n_nodes, n_leaves, n_blocks);
 }
 
 template <std::size_t N, std::size_t M>
@@ -178,15 +168,13 @@ uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tm
     }
     if (lanes == 0) return blocked;
 
-    const BoxPacket<N> bp = make_box_packet<N>(p, lanes);
     const LaneRays lr(p, lanes);
+    const BoxPacket<N> bp = make_box_packet<N>(p, lr, lanes);
     alignas(64) float tm[kPacket];
     for (std::size_t i = 0; i < kPacket; ++i) tm[i] = ((lanes >> i) & 1u) ? tmax[i] : -kInf;
     const PacketV cull = PacketV::load_aligned(tm);
     float cull_max = -kInf;
     for (uint32_t b = lanes; b; b &= b - 1) cull_max = std::max(cull_max, tm[__builtin_ctz(b)]);
-    const PacketV dx = PacketV::load_aligned(p.dx), dy = PacketV::load_aligned(p.dy),
-                  dz = PacketV::load_aligned(p.dz);
 
     PacketEntry stack[kStackSize];
     std::size_t sp = 0;
@@ -217,12 +205,9 @@ uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tm
                 const Block& blk = blocks[k];
                 for (std::size_t j = 0; j < M; ++j) {
                     if (blk.id[j] == kInvalidId) break;
-                    const detail::TriV tri{
-                        PacketV(blk.v0x[j]), PacketV(blk.v0y[j]), PacketV(blk.v0z[j]),
-                        PacketV(blk.e1x[j]), PacketV(blk.e1y[j]), PacketV(blk.e1z[j]),
-                        PacketV(blk.e2x[j]), PacketV(blk.e2y[j]), PacketV(blk.e2z[j])};
+                    const detail::TriV tri = detail::broadcast_lane<PacketV>(blk, j);
                     const detail::BlockTest bt =
-                        detail::test(lr.ox, lr.oy, lr.oz, dx, dy, dz, lr.tmin, cull, tri);
+                        detail::test(lr.ox, lr.oy, lr.oz, lr.dx, lr.dy, lr.dz, lr.tmin, cull, tri);
                     const uint32_t hit = simd::movemask(bt.hit) & rays;
                     if (hit == 0) continue;
                     blocked |= hit;
@@ -238,11 +223,7 @@ uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tm
         rays = stack[sp].rays;
     }
 done:
-    if (counters) {
-        counters->nodes += n_nodes;
-        counters->leaves += n_leaves;
-        counters->blocks += n_blocks;
-    }
+    add_counts(counters, n_nodes, n_leaves, n_blocks);
     return blocked;
 }
 

@@ -117,29 +117,65 @@ inline uint32_t packet_lanes(const RayPacket& p, const float* tmax, uint32_t act
     return lanes;
 }
 
+// The packet's rays one per lane: origins, directions, and 1 / d for the box tests (computed
+// once per packet, for the interval bounds and the per-ray child test alike). The per-ray test
+// is the arithmetic of BoxRay::test; all lanes share the octant, so the same near and far rows
+// serve every ray.
+struct LaneRays {
+    alignas(64) float inv[3][kPacket];  // 1 / d (1 in lanes outside the packet: masked anyway)
+    alignas(64) float far[3][kPacket];  // 1 / d * kBvhFarScale
+    PacketV ox, oy, oz, dx, dy, dz, ix, iy, iz, fx, fy, fz, tmin;
+
+    LaneRays(const RayPacket& p, uint32_t lanes) {
+        const float* d[3] = {p.dx, p.dy, p.dz};
+        for (int a = 0; a < 3; ++a)
+            for (std::size_t i = 0; i < kPacket; ++i) {
+                inv[a][i] = ((lanes >> i) & 1u) ? 1.f / d[a][i] : 1.f;
+                far[a][i] = inv[a][i] * kBvhFarScale;
+            }
+        ox = PacketV::load_aligned(p.ox), oy = PacketV::load_aligned(p.oy);
+        oz = PacketV::load_aligned(p.oz), tmin = PacketV::load_aligned(p.tmin);
+        dx = PacketV::load_aligned(p.dx), dy = PacketV::load_aligned(p.dy);
+        dz = PacketV::load_aligned(p.dz);
+        ix = PacketV::load_aligned(inv[0]), iy = PacketV::load_aligned(inv[1]);
+        iz = PacketV::load_aligned(inv[2]), fx = PacketV::load_aligned(far[0]);
+        fy = PacketV::load_aligned(far[1]), fz = PacketV::load_aligned(far[2]);
+    }
+
+    // Rays (bits) that enter child c of `node` before their own cull distance.
+    template <std::size_t N>
+    uint32_t test(const WideNode<N>& node, const BoxPacket<N>& bp, std::size_t c,
+                  const PacketV& cull) const {
+        const float* b = &node.bounds[0][0] + c;
+        const PacketV tnx = (PacketV(b[bp.near[0]]) - ox) * ix;
+        const PacketV tny = (PacketV(b[bp.near[1]]) - oy) * iy;
+        const PacketV tnz = (PacketV(b[bp.near[2]]) - oz) * iz;
+        const PacketV tfx = (PacketV(b[bp.far[0]]) - ox) * fx;
+        const PacketV tfy = (PacketV(b[bp.far[1]]) - oy) * fy;
+        const PacketV tfz = (PacketV(b[bp.far[2]]) - oz) * fz;
+        const PacketV tn = simd::vmax(tnx, simd::vmax(tny, simd::vmax(tnz, tmin)));
+        const PacketV tf = simd::vmin(tfx, simd::vmin(tfy, simd::vmin(tfz, cull)));
+        return simd::movemask(tn <= tf);
+    }
+};
+
 template <std::size_t N>
-BoxPacket<N> make_box_packet(const RayPacket& p, uint32_t lanes) {
+BoxPacket<N> make_box_packet(const RayPacket& p, const LaneRays& lr, uint32_t lanes) {
     using V = simd::FloatW<N>;
     BoxPacket<N> bp;
     const float* o[3] = {p.ox, p.oy, p.oz};
-    const float* d[3] = {p.dx, p.dy, p.dz};
     const uint32_t first = uint32_t(__builtin_ctz(lanes));
     float tmin = kInf;
+    for (uint32_t b = lanes; b; b &= b - 1) tmin = std::min(tmin, p.tmin[__builtin_ctz(b)]);
     for (int a = 0; a < 3; ++a) {
         float omin = kInf, omax = -kInf, imin = kInf, imax = -kInf, fmin = kInf, fmax = -kInf;
         for (uint32_t b = lanes; b; b &= b - 1) {
             const uint32_t i = uint32_t(__builtin_ctz(b));
-            const float inv = 1.f / d[a][i];
-            const float f = inv * kBvhFarScale;
-            omin = std::min(omin, o[a][i]);
-            omax = std::max(omax, o[a][i]);
-            imin = std::min(imin, inv);
-            imax = std::max(imax, inv);
-            fmin = std::min(fmin, f);
-            fmax = std::max(fmax, f);
-            if (a == 0) tmin = std::min(tmin, p.tmin[i]);
+            omin = std::min(omin, o[a][i]), omax = std::max(omax, o[a][i]);
+            imin = std::min(imin, lr.inv[a][i]), imax = std::max(imax, lr.inv[a][i]);
+            fmin = std::min(fmin, lr.far[a][i]), fmax = std::max(fmax, lr.far[a][i]);
         }
-        const bool neg = d[a][first] < 0.f;
+        const bool neg = lr.inv[a][first] < 0.f;
         // Entry (b - o) / d is least at the largest origin for d > 0, at the smallest for d < 0;
         // exit the other way round.
         bp.on[a] = V(neg ? omin : omax);
@@ -163,44 +199,6 @@ inline PacketMask packet_mask(uint32_t bits) {
 // Below this many active rays a subtree is cheaper ray by ray than as a packet (a packet pays
 // for all W lanes at every node and triangle).
 inline constexpr int kPacketMinActive = kPacket >= 16 ? 4 : 2;
-
-// The packet's rays for the per-ray box test of one child: the arithmetic of BoxRay::test, one
-// ray per lane (all lanes share the octant, so the same near and far rows serve every ray).
-struct LaneRays {
-    PacketV ox, oy, oz, ix, iy, iz, fx, fy, fz, tmin;
-
-    LaneRays(const RayPacket& p, uint32_t lanes) {
-        alignas(64) float inv[3][kPacket], far[3][kPacket];
-        const float* d[3] = {p.dx, p.dy, p.dz};
-        for (int a = 0; a < 3; ++a)
-            for (std::size_t i = 0; i < kPacket; ++i) {
-                // Lanes outside the packet get a harmless finite factor; their results are masked.
-                inv[a][i] = ((lanes >> i) & 1u) ? 1.f / d[a][i] : 1.f;
-                far[a][i] = inv[a][i] * kBvhFarScale;
-            }
-        ox = PacketV::load_aligned(p.ox), oy = PacketV::load_aligned(p.oy);
-        oz = PacketV::load_aligned(p.oz), tmin = PacketV::load_aligned(p.tmin);
-        ix = PacketV::load_aligned(inv[0]), iy = PacketV::load_aligned(inv[1]);
-        iz = PacketV::load_aligned(inv[2]), fx = PacketV::load_aligned(far[0]);
-        fy = PacketV::load_aligned(far[1]), fz = PacketV::load_aligned(far[2]);
-    }
-
-    // Rays (bits) that enter child c of `node` before their own cull distance.
-    template <std::size_t N>
-    uint32_t test(const WideNode<N>& node, const BoxPacket<N>& bp, std::size_t c,
-                  const PacketV& cull) const {
-        const float* b = &node.bounds[0][0] + c;
-        const PacketV tnx = (PacketV(b[bp.near[0]]) - ox) * ix;
-        const PacketV tny = (PacketV(b[bp.near[1]]) - oy) * iy;
-        const PacketV tnz = (PacketV(b[bp.near[2]]) - oz) * iz;
-        const PacketV tfx = (PacketV(b[bp.far[0]]) - ox) * fx;
-        const PacketV tfy = (PacketV(b[bp.far[1]]) - oy) * fy;
-        const PacketV tfz = (PacketV(b[bp.far[2]]) - oz) * fz;
-        const PacketV tn = simd::vmax(tnx, simd::vmax(tny, simd::vmax(tnz, tmin)));
-        const PacketV tf = simd::vmin(tfx, simd::vmin(tfy, simd::vmin(tfz, cull)));
-        return simd::movemask(tn <= tf);
-    }
-};
 
 struct PacketEntry {
     uint32_t ref;

@@ -209,11 +209,7 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
         }
     }
 done:
-    if (counters) {
-        counters->nodes += n_nodes;
-        counters->leaves += n_leaves;
-        counters->blocks += n_blocks;
-    }
+    add_counts(counters, n_nodes, n_leaves, n_blocks);
     return found;
 }
 
@@ -255,11 +251,7 @@ bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* co
         if (sp == 0) break;
         ref = stack[--sp];
     }
-    if (counters) {
-        counters->nodes += n_nodes;
-        counters->leaves += n_leaves;
-        counters->blocks += n_blocks;
-    }
+    add_counts(counters, n_nodes, n_leaves, n_blocks);
     return hit;
 }
 

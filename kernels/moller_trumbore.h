@@ -92,6 +92,13 @@ inline TriV load_block(const TriangleBlock& b) {
     return load_block<FloatV>(b);
 }
 
+// One triangle of a block (lane `l`) broadcast to every lane: for a packet of rays against it.
+template <class V, std::size_t M>
+inline TriVT<V> broadcast_lane(const TriangleBlockT<M>& b, std::size_t l) {
+    return {V(b.v0x[l]), V(b.v0y[l]), V(b.v0z[l]), V(b.e1x[l]), V(b.e1y[l]),
+            V(b.e1z[l]), V(b.e2x[l]), V(b.e2y[l]), V(b.e2z[l])};
+}
+
 // The one Möller–Trumbore expression sequence every shape and width evaluates; the scalar
 // twin above spells out the same operations in the same order.
 template <class V>
@@ -170,11 +177,7 @@ struct alignas(64) PacketHits {
 inline uint32_t intersect_packet(const RayPacket& p, const TriangleBlock& tri_block,
                                  std::size_t lane, PacketHits& h) {
     using simd::FloatV;
-    const std::size_t l = lane;
-    const detail::TriV tri{
-        FloatV(tri_block.v0x[l]), FloatV(tri_block.v0y[l]), FloatV(tri_block.v0z[l]),
-        FloatV(tri_block.e1x[l]), FloatV(tri_block.e1y[l]), FloatV(tri_block.e1z[l]),
-        FloatV(tri_block.e2x[l]), FloatV(tri_block.e2y[l]), FloatV(tri_block.e2z[l])};
+    const detail::TriV tri = detail::broadcast_lane<FloatV>(tri_block, lane);
     const FloatV tcur = FloatV::load_aligned(h.t);
     const detail::BlockTest bt = detail::test(
         FloatV::load_aligned(p.ox), FloatV::load_aligned(p.oy), FloatV::load_aligned(p.oz),

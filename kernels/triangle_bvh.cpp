@@ -22,21 +22,6 @@ bool degenerate(const float* p0, const float* p1, const float* p2) {
     return c[0] == 0.f && c[1] == 0.f && c[2] == 0.f;
 }
 
-// Scalar slab test of the twin: the same arithmetic and NaN handling as BoxRay::test.
-bool slab_scalar(const float lo[3], const float hi[3], const float o[3], const float inv[3],
-                 float tmin, float tmax, float& tnear) {
-    float tn = tmin, tf = tmax;
-    for (int a = 2; a >= 0; --a) {
-        const bool neg = std::signbit(inv[a]);
-        const float t0 = ((neg ? hi : lo)[a] - o[a]) * inv[a];
-        const float t1 = ((neg ? lo : hi)[a] - o[a]) * (inv[a] * kBvhFarScale);
-        tn = t0 > tn ? t0 : tn;  // NaN drops out
-        tf = t1 < tf ? t1 : tf;
-    }
-    tnear = tn;
-    return tn <= tf;
-}
-
 // Widens a box by about 8 ulps of its largest coordinate. Möller–Trumbore works in floats, and
 // a ray whose direction has a component far below an ulp of the origin (1e-20 next to 0.1, say)
 // stays on its starting plane in that arithmetic: it "hits" a triangle of a box that the exact
@@ -47,11 +32,6 @@ void pad_box(float lo[3], float hi[3]) {
     for (int a = 0; a < 3; ++a) m = std::max({m, std::fabs(lo[a]), std::fabs(hi[a])});
     const float pad = m * 0x1p-20f;
     for (int a = 0; a < 3; ++a) lo[a] -= pad, hi[a] += pad;
-}
-
-bool unusable_ray(const Ray1& r) {
-    return std::isnan(r.ox + r.oy + r.oz + r.dx + r.dy + r.dz) || !(r.tmin < r.tmax) ||
-           (r.dx == 0.f && r.dy == 0.f && r.dz == 0.f);
 }
 
 }  // namespace
@@ -212,7 +192,7 @@ std::size_t TriangleBvhT<N, M>::memory_bytes() const {
 
 template <std::size_t N, std::size_t M>
 bool TriangleBvhT<N, M>::intersect_scalar(const Ray1& r, TriHit& hit) const {
-    if (twin_.empty() || unusable_ray(r)) return false;
+    if (twin_.empty() || bvh_detail::unusable(r)) return false;
     if (r.tmax < hit.t) hit.t = r.tmax;
     const float o[3] = {r.ox, r.oy, r.oz};
     const float inv[3] = {1.f / r.dx, 1.f / r.dy, 1.f / r.dz};
@@ -223,7 +203,7 @@ bool TriangleBvhT<N, M>::intersect_scalar(const Ray1& r, TriHit& hit) const {
         stack.pop_back();
         float tn;
         const float tcull = hit.valid() ? hit.t * kBvhCullScale : hit.t;
-        if (!slab_scalar(n.lo, n.hi, o, inv, r.tmin, tcull, tn)) continue;
+        if (!slab_test_scalar(n.lo, n.hi, o, inv, r.tmin, tcull, tn)) continue;
         if (!n.leaf()) {
             stack.push_back(n.right);
             stack.push_back(n.left);
@@ -249,7 +229,7 @@ bool TriangleBvhT<N, M>::intersect_scalar(const Ray1& r, TriHit& hit) const {
 
 template <std::size_t N, std::size_t M>
 bool TriangleBvhT<N, M>::occluded_scalar(const Ray1& r) const {
-    if (twin_.empty() || unusable_ray(r)) return false;
+    if (twin_.empty() || bvh_detail::unusable(r)) return false;
     const float o[3] = {r.ox, r.oy, r.oz};
     const float inv[3] = {1.f / r.dx, 1.f / r.dy, 1.f / r.dz};
     std::vector<uint32_t> stack{0};
@@ -257,7 +237,7 @@ bool TriangleBvhT<N, M>::occluded_scalar(const Ray1& r) const {
         const BinaryNode& n = twin_.nodes[stack.back()];
         stack.pop_back();
         float tn;
-        if (!slab_scalar(n.lo, n.hi, o, inv, r.tmin, r.tmax, tn)) continue;
+        if (!slab_test_scalar(n.lo, n.hi, o, inv, r.tmin, r.tmax, tn)) continue;
         if (!n.leaf()) {
             stack.push_back(n.right);
             stack.push_back(n.left);

@@ -20,7 +20,6 @@
 
 #include "bvh_build.h"
 #include "bvh_node.h"
-#include "huge_pages.h"
 #include "moller_trumbore.h"
 #include "ray1.h"
 #include "simd.h"
@@ -89,8 +88,8 @@ class TriangleBvhT {
     bool empty() const { return root_ == kBvhEmpty; }
     const TriangleBvhStats& stats() const { return stats_; }
     std::size_t memory_bytes() const;
-    const HugeVector<Node>& nodes() const { return nodes_; }
-    const HugeVector<Block>& blocks() const { return blocks_; }
+    const std::vector<Node>& nodes() const { return nodes_; }
+    const std::vector<Block>& blocks() const { return blocks_; }
     uint32_t root() const { return root_; }
 
   private:
@@ -99,8 +98,8 @@ class TriangleBvhT {
     bool closest_from(uint32_t start, const Ray1& r, TriHit& hit, BvhCounters* counters) const;
     bool any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const;
 
-    HugeVector<Node> nodes_;
-    HugeVector<Block> blocks_;
+    std::vector<Node> nodes_;
+    std::vector<Block> blocks_;
     uint32_t root_ = kBvhEmpty;
     float packet_span_ = 0.f;  // largest origin spread of a packet (bvh_packet.h)
     TriangleBvhStats stats_;

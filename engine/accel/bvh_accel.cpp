@@ -16,16 +16,10 @@ kern::BvhBuildParams::ParallelInvoke tbb_invoke() {
     };
 }
 
-bool slab(const kern::BinaryNode& n, const float o[3], const float inv[3], float tmin, float tmax) {
-    float tn = tmin, tf = tmax;
-    for (int a = 0; a < 3; ++a) {
-        const bool neg = std::signbit(inv[a]);
-        const float t0 = ((neg ? n.hi : n.lo)[a] - o[a]) * inv[a];
-        const float t1 = ((neg ? n.lo : n.hi)[a] - o[a]) * (inv[a] * kern::kBvhFarScale);
-        tn = t0 > tn ? t0 : tn;
-        tf = t1 < tf ? t1 : tf;
-    }
-    return tn <= tf;
+// Trace counters from the kernel's (a block of M triangles is M ray/triangle tests).
+void add_counts(TraceCounters& c, const kern::BvhCounters& bc) {
+    c.bvh_nodes += bc.nodes;
+    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
 }
 
 }  // namespace
@@ -79,25 +73,33 @@ std::size_t BvhAccel::memory_bytes() const {
            spheres_.prims.size() * sizeof(uint32_t);
 }
 
-void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+template <class Bound, class Visit>
+void BvhAccel::walk_spheres(const kern::Ray1& ray, Bound&& bound, Visit&& visit) const {
     if (spheres_.empty()) return;
     const float o[3] = {ray.ox, ray.oy, ray.oz};
     const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
-    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
     uint32_t stack[128];
     std::size_t sp = 0;
     stack[sp++] = 0;
     while (sp) {
         const kern::BinaryNode& n = spheres_.nodes[stack[--sp]];
-        const float tcull = hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale;
-        if (!slab(n, o, inv, ray.tmin, tcull)) continue;
+        float tnear;
+        if (!kern::slab_test_scalar(n.lo, n.hi, o, inv, ray.tmin, bound(), tnear)) continue;
         if (!n.leaf()) {
             stack[sp++] = n.right;
             stack[sp++] = n.left;
             continue;
         }
-        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-            const uint32_t g = spheres_.prims[i];
+        for (uint32_t i = n.first; i < n.first + n.count; ++i)
+            if (visit(spheres_.prims[i])) return;
+    }
+}
+
+void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
+    walk_spheres(
+        ray, [&] { return hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale; },
+        [&](uint32_t g) {
             // A tie with a sphere of a larger id is won; with a triangle, lost.
             const bool tie_wins =
                 hit.geom == kNoHit ||
@@ -106,39 +108,27 @@ void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c
                 tie_wins && hit.geom != kNoHit ? std::nextafter(hit.t, kInfinity) : hit.t;
             float t;
             ++c.sphere_tests;
-            if (!intersect_sphere(scene_.spheres[scene_.objects[g].index], org, dir, ray.tmin,
-                                  bound, t))
-                continue;
-            if (t < hit.t || tie_wins) hit = Hit1{t, 0.f, 0.f, 0, g};
-        }
-    }
+            if (intersect_sphere(scene_.spheres[scene_.objects[g].index], org, dir, ray.tmin, bound,
+                                 t) &&
+                (t < hit.t || tie_wins))
+                hit = Hit1{t, 0.f, 0.f, 0, g};
+            return false;
+        });
 }
 
 bool BvhAccel::any_sphere(const kern::Ray1& ray, TraceCounters& c) const {
-    if (spheres_.empty()) return false;
-    const float o[3] = {ray.ox, ray.oy, ray.oz};
-    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
-    uint32_t stack[128];
-    std::size_t sp = 0;
-    stack[sp++] = 0;
-    while (sp) {
-        const kern::BinaryNode& n = spheres_.nodes[stack[--sp]];
-        if (!slab(n, o, inv, ray.tmin, ray.tmax)) continue;
-        if (!n.leaf()) {
-            stack[sp++] = n.right;
-            stack[sp++] = n.left;
-            continue;
-        }
-        for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+    bool hit = false;
+    walk_spheres(
+        ray, [&] { return ray.tmax; },
+        [&](uint32_t g) {
             float t;
             ++c.sphere_tests;
-            if (intersect_sphere(scene_.spheres[scene_.objects[spheres_.prims[i]].index], org, dir,
-                                 ray.tmin, ray.tmax, t))
-                return true;
-        }
-    }
-    return false;
+            hit = intersect_sphere(scene_.spheres[scene_.objects[g].index], org, dir, ray.tmin,
+                                   ray.tmax, t);
+            return hit;
+        });
+    return hit;
 }
 
 Hit1 BvhAccel::mesh_hit(const kern::TriHit& th) const {
@@ -154,8 +144,7 @@ bool BvhAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const
     th.t = hit.t;
     kern::BvhCounters bc;
     if (tris_.intersect(ray, th, &bc)) hit = mesh_hit(th);
-    c.bvh_nodes += bc.nodes;
-    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    add_counts(c, bc);
     closest_sphere(ray, hit, c);
     return hit.geom != kNoHit;
 }
@@ -163,8 +152,7 @@ bool BvhAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const
 bool BvhAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
     kern::BvhCounters bc;
     const bool hit = tris_.occluded(ray, &bc);
-    c.bvh_nodes += bc.nodes;
-    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    add_counts(c, bc);
     return hit || any_sphere(ray, c);
 }
 
@@ -211,8 +199,7 @@ void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c)
             hits.geom[i] = h.geom;
         }
     }
-    c.bvh_nodes += bc.nodes;
-    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    add_counts(c, bc);
 }
 
 void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCounters& c) const {
@@ -228,8 +215,7 @@ void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCo
         for (std::size_t l = 0; l < count; ++l)
             occ[first + l] = ((blocked >> l) & 1u) || any_sphere(ray_at(rays, first + l), c);
     }
-    c.bvh_nodes += bc.nodes;
-    c.triangle_tests += bc.blocks * kern::TriangleBvh::kLeafWidth;
+    add_counts(c, bc);
 }
 
 }  // namespace foton
