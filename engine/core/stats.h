@@ -56,6 +56,21 @@ struct CacheCounters {
     }
 };
 
+class StageClock {
+  public:
+    StageClock() : start_(std::chrono::steady_clock::now()) {}
+    // Seconds since construction or the last lap.
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - start_).count();
+        start_ = now;
+        return s;
+    }
+
+  private:
+    std::chrono::steady_clock::time_point start_;
+};
+
 struct RenderStats {
     uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
     uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
@@ -75,25 +90,15 @@ struct RenderStats {
     double build_seconds = 0.0;
     int threads = 1;
 
+    // The one way a stage reports: `items` processed since the clock's last lap.
+    void add(Stage s, uint64_t items, StageClock& clock) {
+        stage_items[int(s)] += items;
+        stage_seconds[int(s)] += clock.lap();
+    }
     void merge(const RenderStats& o);
     uint64_t total_rays() const { return camera_rays + secondary_rays + shadow_rays; }
     std::string table() const;  // human-readable, for --stats
     std::string json() const;   // for --stats-json
-};
-
-class StageClock {
-  public:
-    StageClock() : start_(std::chrono::steady_clock::now()) {}
-    // Seconds since construction or the last lap.
-    double lap() {
-        const auto now = std::chrono::steady_clock::now();
-        const double s = std::chrono::duration<double>(now - start_).count();
-        start_ = now;
-        return s;
-    }
-
-  private:
-    std::chrono::steady_clock::time_point start_;
 };
 
 }  // namespace foton

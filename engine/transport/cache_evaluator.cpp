@@ -196,8 +196,7 @@ void CacheEvaluator::resolve_level(uint32_t level, CacheWorkspace& ws, std::vect
             work.found->insert(rec);
         }
         stats.cache_records += work.requests.size();
-        stats.stage_items[int(Stage::CacheRecords)] += work.requests.size();
-        stats.stage_seconds[int(Stage::CacheRecords)] += clock.lap();
+        stats.add(Stage::CacheRecords, work.requests.size(), clock);
         work.requests.clear();
         work.L.clear();
         work.dist.clear();
@@ -237,8 +236,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
             else
                 work.dist[id] = hits.t[i];
         }
-        stats.stage_items[int(Stage::Intersect)] += work.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        stats.add(Stage::Intersect, work.rays.size(), clock);
         work.rays.clear();
         return;
     }
@@ -274,8 +272,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
                        ws, work.L);
             }
         });
-    stats.stage_items[int(Stage::FinalGather)] += traced;
-    stats.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+    stats.add(Stage::FinalGather, traced, clock);
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, work.L, stats, clock);
 }
 

@@ -75,13 +75,11 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
     }
     stats.samples += count;
-    stats.stage_items[int(Stage::Generate)] += count;
-    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+    stats.add(Stage::Generate, count, clock);
 
     for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
         accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        stats.add(Stage::Intersect, ws.rays.size(), clock);
 
         ws.next.clear();
         const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
@@ -131,8 +129,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             }
             ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
         }
-        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.add(Stage::Shade, ws.rays.size(), clock);
         stats.secondary_rays += ws.next.size();
         std::swap(ws.rays, ws.next);
     }
@@ -142,8 +139,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     if (!ws.shadow.empty()) {
         accel_.occluded(ws.shadow, ws.occluded, stats.trace);
         stats.shadow_rays += ws.shadow.size();
-        stats.stage_items[int(Stage::Occlusion)] += ws.shadow.size();
-        stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
+        stats.add(Stage::Occlusion, ws.shadow.size(), clock);
         for (std::size_t i = 0; i < ws.shadow.size(); ++i)
             if (!ws.occluded[i]) splats.push_back({ws.shadow_pixel[i], ws.shadow_value[i]});
     }

@@ -201,15 +201,13 @@ void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* f
                          RenderStats& stats, StageClock& clock) const {
     for (uint32_t depth = ws.first_depth; !ws.rays.empty(); ++depth) {
         accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        stats.add(Stage::Intersect, ws.rays.size(), clock);
         if (first_dist && depth == ws.first_depth)
             for (std::size_t i = 0; i < ws.rays.size(); ++i)
                 first_dist[ws.rays.id[i]] = ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i];
 
         shade(depth, ws, radiance);
-        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.add(Stage::Shade, ws.rays.size(), clock);
 
         resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
                             clock);
@@ -237,8 +235,7 @@ void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspa
     ws.rays.clear();
     generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
-    stats.stage_items[int(Stage::Generate)] += n;
-    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+    stats.add(Stage::Generate, n, clock);
     run(ws, radiance, nullptr, stats, clock);
     if (cache_) cache_->resolve(ws.cache, radiance, stats);
 }

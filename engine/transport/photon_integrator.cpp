@@ -176,8 +176,7 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
                      [&](uint32_t slot, const RGB& w, const SurfacePoint& sp, const Material& m,
                          const Vec3& d) { radiance[slot] += w * photon_radiance(sp, m, d); });
     stats.secondary_rays += rays;
-    stats.stage_items[int(Stage::FinalGather)] += rays;
-    stats.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+    stats.add(Stage::FinalGather, rays, clock);
 }
 
 void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
@@ -195,14 +194,12 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     generate_camera_rays(scene_, jobs, seed_, ws.rays);
     stats.camera_rays += n;
-    stats.stage_items[int(Stage::Generate)] += n;
-    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+    stats.add(Stage::Generate, n, clock);
 
     // Camera rays through specular chains to the visible points.
     for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
         accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        stats.add(Stage::Intersect, ws.rays.size(), clock);
         ws.next.clear();
         for (std::size_t i = 0; i < ws.rays.size(); ++i) {
             const uint32_t slot = ws.rays.id[i];
@@ -242,8 +239,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
             const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
             shade_visible(sp, m, d, w, slot, job, depth, ws, radiance);
         }
-        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.add(Stage::Shade, ws.rays.size(), clock);
         stats.secondary_rays += ws.next.size();
         std::swap(ws.rays, ws.next);
     }

@@ -57,8 +57,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         ws.power[k] = er.beta * inv_n;
         ws.rays.push(er.origin, er.emission.dir, 0.f, kInfinity, k);
     }
-    stats.stage_items[int(Stage::PhotonEmit)] += count;
-    stats.stage_seconds[int(Stage::PhotonEmit)] += clock.lap();
+    stats.add(Stage::PhotonEmit, count, clock);
 
     for (uint32_t depth = 0; !ws.rays.empty() && depth < s.max_depth; ++depth) {
         accel_.intersect(ws.rays, ws.hits, stats.trace);
@@ -123,8 +122,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         }
         std::swap(ws.rays, ws.next);
     }
-    stats.stage_items[int(Stage::PhotonTrace)] += count;
-    stats.stage_seconds[int(Stage::PhotonTrace)] += clock.lap();
+    stats.add(Stage::PhotonTrace, count, clock);
 }
 
 PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,
@@ -153,8 +151,7 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,
     if (shadow)
         for (const PhotonMap& p : shadow_parts) shadow->append(p);
     for (const RenderStats& l : st) stats.merge(l);
-    stats.stage_items[int(Stage::PhotonStore)] += total;
-    stats.stage_seconds[int(Stage::PhotonStore)] += clock.lap();
+    stats.add(Stage::PhotonStore, total, clock);
     return map;
 }
 

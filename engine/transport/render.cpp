@@ -164,8 +164,7 @@ class CameraDriver {
             acc.count[p] += 1;
         }
         st.samples += jobs.size();
-        st.stage_items[int(Stage::Accumulate)] += jobs.size();
-        st.stage_seconds[int(Stage::Accumulate)] += clock.lap();
+        st.add(Stage::Accumulate, jobs.size(), clock);
     }
 
     // Adaptive sampling of one tile (the thesis' section 6.2): a pilot of `pilot` samples
@@ -348,8 +347,7 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
             count += list.size();
         }
         RenderStats& st = stats.local();
-        st.stage_items[int(Stage::Accumulate)] += count;
-        st.stage_seconds[int(Stage::Accumulate)] += clock.lap();
+        st.add(Stage::Accumulate, count, clock);
         ++passes;
     } while (control.another(passes, image));
     RenderResult result;
@@ -468,9 +466,8 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
             maps.global.build(par);
             maps.direct.build(par);
             maps.shadow.build(par);
-            global_stats.stage_items[int(Stage::Balance)] +=
-                maps.global.size() + maps.direct.size() + maps.shadow.size();
-            global_stats.stage_seconds[int(Stage::Balance)] += c.lap();
+            global_stats.add(Stage::Balance,
+                             maps.global.size() + maps.direct.size() + maps.shadow.size(), c);
         });
         Node precompute(g, [&](Msg) {
             if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return;
@@ -485,15 +482,13 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
             maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
             if (!maps.direct.empty())
                 maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
-            global_stats.stage_items[int(Stage::Precompute)] +=
-                maps.global.precomputed_size() + maps.direct.precomputed_size();
-            global_stats.stage_seconds[int(Stage::Precompute)] += c.lap();
+            global_stats.add(Stage::Precompute,
+                             maps.global.precomputed_size() + maps.direct.precomputed_size(), c);
         });
         Node balance_caustic(g, [&](Msg) {
             StageClock c;
             maps.caustic.build(par);
-            caustic_stats.stage_items[int(Stage::Balance)] += maps.caustic.size();
-            caustic_stats.stage_seconds[int(Stage::Balance)] += c.lap();
+            caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
         });
         Node done(g, [](Msg) {});
         tbb::flow::make_edge(start_node, trace_global);

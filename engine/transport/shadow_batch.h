@@ -18,8 +18,7 @@ inline void resolve_shadow_rays(const Intersector& accel, const RayBatch& shadow
     for (std::size_t i = 0; i < shadow.size(); ++i)
         if (!occluded[i]) radiance[shadow.id[i]] += value[i];
     stats.shadow_rays += shadow.size();
-    stats.stage_items[int(Stage::Occlusion)] += shadow.size();
-    stats.stage_seconds[int(Stage::Occlusion)] += clock.lap();
+    stats.add(Stage::Occlusion, shadow.size(), clock);
 }
 
 }  // namespace foton

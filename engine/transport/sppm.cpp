@@ -212,8 +212,7 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
                                               pm.camera_pass(pass, uint32_t(x), uint32_t(y),
                                                              pixels[y * std::size_t(w) + x], st);
                                   });
-                st0.stage_items[int(Stage::Shade)] += npix;
-                st0.stage_seconds[int(Stage::Shade)] += clock.lap();
+                st0.add(Stage::Shade, npix, clock);
             }
             PhotonPassSettings s;
             s.kind = PhotonMapKind::Global;
@@ -226,15 +225,13 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
             photons.build([](const std::function<void()>& a, const std::function<void()>& b) {
                 tbb::parallel_invoke(a, b);
             });
-            st0.stage_items[int(Stage::Balance)] += photons.size();
-            st0.stage_seconds[int(Stage::Balance)] += clock.lap();
+            st0.add(Stage::Balance, photons.size(), clock);
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
                               [&](const tbb::blocked_range<std::size_t>& r) {
                                   for (std::size_t i = r.begin(); i != r.end(); ++i)
                                       pm.gather(photons, ps.alpha, pixels[i]);
                               });
-            st0.stage_items[int(Stage::FinalGather)] += npix;
-            st0.stage_seconds[int(Stage::FinalGather)] += clock.lap();
+            st0.add(Stage::FinalGather, npix, clock);
             st0.samples += npix;
         });
         ++pass;

@@ -189,17 +189,14 @@ void WhittedIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWork
     generate(jobs, ws);
     radiance.assign(jobs.size(), RGB{0.f});
     stats.camera_rays += ws.rays.size();
-    stats.stage_items[int(Stage::Generate)] += ws.rays.size();
-    stats.stage_seconds[int(Stage::Generate)] += clock.lap();
+    stats.add(Stage::Generate, ws.rays.size(), clock);
 
     for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
         accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.stage_items[int(Stage::Intersect)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Intersect)] += clock.lap();
+        stats.add(Stage::Intersect, ws.rays.size(), clock);
 
         shade(depth, jobs, ws, radiance);
-        stats.stage_items[int(Stage::Shade)] += ws.rays.size();
-        stats.stage_seconds[int(Stage::Shade)] += clock.lap();
+        stats.add(Stage::Shade, ws.rays.size(), clock);
 
         resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
                             clock);
