@@ -11,7 +11,7 @@
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/render.h"
+#include "engine/transport/driver/render.h"
 
 namespace foton::app {
 

@@ -21,7 +21,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
-#include "photon_map.h"
+#include "engine/transport/photon/photon_map.h"
 
 namespace foton {
 

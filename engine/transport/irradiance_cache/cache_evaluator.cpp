@@ -2,11 +2,11 @@
 
 #include <cmath>
 
-#include "cache_fill.h"
 #include "engine/core/rng.h"
-#include "next_event.h"
-#include "path.h"
-#include "shadow_batch.h"
+#include "engine/transport/common/next_event.h"
+#include "engine/transport/common/shadow_batch.h"
+#include "engine/transport/irradiance_cache/cache_fill.h"
+#include "engine/transport/path/path.h"
 
 namespace foton {
 

@@ -9,7 +9,7 @@
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/material.h"
-#include "surface.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

@@ -19,11 +19,11 @@
 // vertex of each camera path (one reached through specular vertices only) whose non-delta
 // lobes are Lambertian: its direct light from one light sample, its indirect light from the
 // cache.
-#include "cache_evaluator.h"
-#include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/irradiance_cache/cache_evaluator.h"
 
 namespace foton {
 

@@ -9,12 +9,12 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
-#include "camera_integrator.h"
 #include "engine/core/error.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
-#include "photon_tracer.h"
-#include "surface.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
+#include "engine/transport/photon/photon_tracer.h"
 
 namespace foton {
 

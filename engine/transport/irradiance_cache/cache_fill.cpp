@@ -8,7 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "cache_evaluator.h"
+#include "engine/transport/irradiance_cache/cache_evaluator.h"
 
 namespace foton {
 

@@ -15,16 +15,16 @@
 #include <tbb/flow_graph.h>
 #include <tbb/parallel_invoke.h>
 
-#include "cache_evaluator.h"
-#include "cache_fill.h"
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
-#include "light_tracer.h"
-#include "path.h"
-#include "photon_integrator.h"
-#include "photon_tracer.h"
-#include "sppm.h"
-#include "whitted.h"
+#include "engine/transport/irradiance_cache/cache_evaluator.h"
+#include "engine/transport/irradiance_cache/cache_fill.h"
+#include "engine/transport/light/light_tracer.h"
+#include "engine/transport/path/path.h"
+#include "engine/transport/photon/photon_integrator.h"
+#include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/photon/sppm.h"
+#include "engine/transport/whitted/whitted.h"
 
 namespace foton {
 

@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "engine/core/warp.h"
-#include "mis.h"
-#include "next_event.h"
-#include "shadow_batch.h"
-#include "surface.h"
+#include "engine/transport/common/mis.h"
+#include "engine/transport/common/next_event.h"
+#include "engine/transport/common/shadow_batch.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "camera_integrator.h"
 #include "engine/core/warp.h"
-#include "surface.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

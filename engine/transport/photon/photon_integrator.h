@@ -8,14 +8,14 @@
 //     biased mode: direct, indirect and caustics all from the photons).
 // A material with both delta and non-delta lobes continues the chain or becomes the visible
 // point with the probabilities of its lobe choice, each weighted by its inverse.
-#include "cache_evaluator.h"
-#include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
-#include "gather_guide.h"
-#include "photon_map.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/irradiance_cache/cache_evaluator.h"
+#include "engine/transport/photon/gather_guide.h"
+#include "engine/transport/photon/photon_map.h"
 
 namespace foton {
 

@@ -11,7 +11,7 @@
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
 #include "engine/core/stats.h"
-#include "record_octree.h"
+#include "engine/transport/irradiance_cache/record_octree.h"
 
 namespace foton {
 

@@ -12,7 +12,7 @@
 #include "engine/core/rgb.h"
 #include "engine/core/warp.h"
 #include "engine/scene/scene.h"
-#include "surface.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

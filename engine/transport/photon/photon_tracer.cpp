@@ -6,9 +6,9 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "camera_integrator.h"
 #include "engine/core/warp.h"
-#include "surface.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

@@ -15,13 +15,13 @@
 #include <memory>
 #include <vector>
 
-#include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
-#include "gather_trace.h"
-#include "irradiance_cache.h"
-#include "surface.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/gather_trace.h"
+#include "engine/transport/common/surface.h"
+#include "engine/transport/irradiance_cache/irradiance_cache.h"
 
 namespace foton {
 

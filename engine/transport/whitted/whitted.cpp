@@ -6,7 +6,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/sampler.h"
 #include "engine/core/warp.h"
-#include "shadow_batch.h"
+#include "engine/transport/common/shadow_batch.h"
 
 namespace foton {
 

@@ -11,10 +11,10 @@
 // statistics as records per pixel.
 #include <functional>
 
-#include "camera_integrator.h"
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
-#include "irradiance_cache.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/irradiance_cache/irradiance_cache.h"
 
 namespace foton {
 

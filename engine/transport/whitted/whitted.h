@@ -4,12 +4,12 @@
 // each carries if unoccluded) and a batch of reflected/refracted rays (with their path
 // weights), the shadow rays are tested, and the loop repeats on the secondary batch until
 // it is empty, the depth limit is reached, or every weight falls below the cut-off.
-#include "camera_integrator.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/aligned.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
-#include "surface.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 

@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "engine/core/warp.h"
-#include "gather_trace.h"
-#include "next_event.h"
-#include "shadow_batch.h"
-#include "surface.h"
+#include "engine/transport/common/gather_trace.h"
+#include "engine/transport/common/next_event.h"
+#include "engine/transport/common/shadow_batch.h"
+#include "engine/transport/common/surface.h"
 
 namespace foton {
 
