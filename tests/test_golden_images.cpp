@@ -14,7 +14,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/render.h"
+#include "engine/transport/driver/render.h"
 #include "test_util.h"
 
 using namespace foton;

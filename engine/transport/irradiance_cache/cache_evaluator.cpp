@@ -5,12 +5,20 @@
 #include "engine/core/rng.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
-#include "engine/transport/irradiance_cache/cache_fill.h"
-#include "engine/transport/path/path.h"
 
 namespace foton {
 
 namespace {
+// The cache's parameters from the scene's settings.
+CacheParams cache_params(const CacheSettings& s) {
+    CacheParams p;
+    p.weight = s.ward_weight ? CacheWeight::Ward : CacheWeight::Notes;
+    p.a = s.a;
+    p.kappa = s.kappa;
+    p.gradients = s.gradients;
+    return p;
+}
+
 constexpr uint64_t kCacheStream = 0x1cac;
 // Random dimensions of a record ray's hit: light choice, light position (3).
 constexpr uint32_t kDimLight = 0;
@@ -36,7 +44,7 @@ void CacheWorkspace::begin(std::size_t level_count, const Bounds3& bounds,
 
 CacheEvaluator::CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
                                uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
-                               const PathIntegrator* path)
+                               const RadianceAlongRays* path)
     : scene_(scene),
       accel_(accel),
       lights_(lights),
@@ -214,13 +222,12 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
     if (mode_ == CacheSecondary::Path) {
         // Path tracing onwards, keyed per ray.
         if (!ws.path) ws.path = path_->make_workspace();
-        std::vector<uint64_t>& keys = static_cast<PathWorkspace&>(*ws.path).keys;
+        std::vector<uint64_t>& keys = ws.path_keys;
         keys.resize(work.L.size());
         for (std::size_t i = 0; i < work.L.size(); ++i)
             keys[i] = rng::hash(work.pending[work.requests[i / strata_.count()].pending].key,
                                 i % strata_.count(), kCacheStream, 1);
-        path_->trace_from(work.rays, static_cast<PathWorkspace&>(*ws.path), work.L,
-                          work.dist.data(), stats);
+        path_->radiance_along(work.rays, keys, *ws.path, work.L, work.dist.data(), stats);
         work.rays.clear();
         return;
     }

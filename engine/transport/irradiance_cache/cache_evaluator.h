@@ -20,12 +20,11 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/gather_trace.h"
+#include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
 
 namespace foton {
-
-class PathIntegrator;
 
 // A lookup no record could serve yet.
 struct PendingLookup {
@@ -62,6 +61,7 @@ struct CacheWorkspace {
     std::vector<RGB> shadow_value;
     std::vector<uint8_t> occluded;
     std::unique_ptr<IntegratorWorkspace> path;  // secondary = path
+    std::vector<uint64_t> path_keys;
     CacheCounters lookup;
     TraceCounters trace;  // visibility rays
     // Empties every level (found records included) for a new batch.
@@ -76,7 +76,7 @@ class CacheEvaluator {
     // `photons` is needed by secondary = photon, `path` by secondary = path.
     CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
                    uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
-                   const PathIntegrator* path);
+                   const RadianceAlongRays* path);
     // The frozen caches, one per level (levels() of them).
     void set_caches(std::vector<const IrradianceCache*> caches) { caches_ = std::move(caches); }
     uint32_t levels() const { return levels_; }
@@ -110,7 +110,7 @@ class CacheEvaluator {
     uint64_t seed_;
     CacheSecondary mode_;
     PhotonRadiance photons_;
-    const PathIntegrator* path_;
+    const RadianceAlongRays* path_;
     uint32_t levels_;
     HemisphereStrata strata_;
     CacheParams params_;

@@ -16,15 +16,6 @@ namespace {
 constexpr std::size_t kChunk = 64;  // pixels per job of a pass
 }
 
-CacheParams cache_params(const CacheSettings& s) {
-    CacheParams p;
-    p.weight = s.ward_weight ? CacheWeight::Ward : CacheWeight::Notes;
-    p.a = s.a;
-    p.kappa = s.kappa;
-    p.gradients = s.gradients;
-    return p;
-}
-
 void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
                            std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
                            RenderStats& stats) {

@@ -18,9 +18,6 @@
 
 namespace foton {
 
-// The cache's parameters from the scene's settings.
-CacheParams cache_params(const CacheSettings& s);
-
 // Fills `caches` (one per level) through `integrator`, whose cache evaluator reads them.
 // `spp` is the image pass's samples per pixel: the fill traces sample 0 of pass 0 of every
 // pixel, the very sample the image pass will trace first.

@@ -240,9 +240,12 @@ void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspa
     if (cache_) cache_->resolve(ws.cache, radiance, stats);
 }
 
-void PathIntegrator::trace_from(const RayBatch& rays, PathWorkspace& ws, std::vector<RGB>& radiance,
-                                float* first_dist, RenderStats& stats) const {
+void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint64_t>& keys,
+                                    IntegratorWorkspace& base, std::vector<RGB>& radiance,
+                                    float* first_dist, RenderStats& stats) const {
+    PathWorkspace& ws = static_cast<PathWorkspace&>(base);
     StageClock clock;
+    ws.keys = keys;
     const std::size_t n = radiance.size();
     ws.beta.assign(n, RGB{1.f});
     ws.pdf_prev.assign(n, 0.f);

@@ -23,6 +23,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 
 namespace foton {
@@ -40,12 +41,12 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<uint64_t> keys;           // what keys the path's random numbers
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)
     std::vector<float> path_length;       // from the camera (the cache's pixel footprint)
-    uint32_t first_depth = 0;             // > 0: paths started at a scattering vertex (trace_from)
+    uint32_t first_depth = 0;  // > 0: paths started at a scattering vertex (radiance_along)
     CacheWorkspace cache;
     CacheWorkspace* cache_workspace() override { return &cache; }
 };
 
-class PathIntegrator : public CameraIntegrator {
+class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
   public:
     PathIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
                    uint64_t seed, bool distributed);
@@ -57,12 +58,10 @@ class PathIntegrator : public CameraIntegrator {
     // Indirect light at the first diffuse vertex from this cache (path only).
     void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
-    // rays): ray i adds what it brings back to radiance[rays.id[i]], its random numbers keyed
-    // by ws.keys[rays.id[i]]; the first segment's length goes to first_dist[id]. The vertex's
-    // own light sample stands for its direct light, so emission the first segment finds is
-    // not counted.
-    void trace_from(const RayBatch& rays, PathWorkspace& ws, std::vector<RGB>& radiance,
-                    float* first_dist, RenderStats& stats) const;
+    // rays); see RadianceAlongRays.
+    void radiance_along(const RayBatch& rays, const std::vector<uint64_t>& keys,
+                        IntegratorWorkspace& ws, std::vector<RGB>& radiance, float* first_dist,
+                        RenderStats& stats) const override;
 
   private:
     void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;

@@ -11,7 +11,7 @@
 //         anti-aliased and glossy-correct in the limit;
 //   ppm:  the visible points of the first pass are kept.
 #include "engine/accel/intersector.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/driver/render_options.h"
 
 namespace foton {
 

@@ -1,0 +1,17 @@
+#pragma once
+// The tile driver of the camera integrators: the image is cut into tiles, tiles run in
+// parallel on oneTBB inside a task_arena of the requested size, and every tile's samples go
+// to the integrator as one list (traced as a wavefront of ray batches). A pass gives every
+// pixel `spp` samples, or, adaptive, as many as its error asks for; a time budget or a pass
+// count repeats passes (pass_control.h). Tiles own their pixels, so the image is
+// bit-identical for any thread count.
+#include "engine/scene/scene.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "render_options.h"
+
+namespace foton {
+
+RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
+                           const RenderOptions& options);
+
+}  // namespace foton

@@ -1,0 +1,54 @@
+#include "cache_render.h"
+
+#include <chrono>
+
+#include "cache_fill.h"
+#include "engine/core/error.h"
+#include "engine/transport/driver/camera_driver.h"
+
+namespace foton {
+
+CacheSecondary cache_secondary(const Scene& scene) {
+    const CacheSecondary m = scene.render.cache.secondary;
+    const bool photon = scene.render.integrator == IntegratorType::Photon;
+    if (m == CacheSecondary::Auto) return photon ? CacheSecondary::Photon : CacheSecondary::Path;
+    if (m == CacheSecondary::Photon && !photon)
+        throw InputError(
+            "renderer", 0,
+            "cache_secondary=\"photon\" needs type=\"photon\" (there is no photon map)");
+    return m;
+}
+
+// Renders through `integrator` with an irradiance cache: one cache per level, filled in
+// hierarchical passes, then read (frozen) by the image pass. `attach` hands the evaluator
+// to the integrator.
+RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               const CameraIntegrator& integrator,
+                               const std::function<void(const CacheEvaluator*)>& attach,
+                               CacheEvaluator::PhotonRadiance photons,
+                               const RadianceAlongRays& onwards, const RenderOptions& opt) {
+    CacheEvaluator evaluator(scene, accel, lights, opt.seed, cache_secondary(scene),
+                             std::move(photons), &onwards);
+    std::vector<IrradianceCache> caches(evaluator.levels(),
+                                        IrradianceCache(scene.bounds(), evaluator.params()));
+    std::vector<const IrradianceCache*> frozen;
+    for (const IrradianceCache& c : caches) frozen.push_back(&c);
+    evaluator.set_caches(frozen);
+    attach(&evaluator);
+    RenderStats fill_stats;
+    StageClock fill_clock;
+    fill_irradiance_cache(scene, integrator, caches, opt.spp, resolve_threads(opt.threads),
+                          fill_stats);
+    const double fill_seconds = fill_clock.lap();
+    RenderResult result = render_camera(scene, integrator, opt);
+    attach(nullptr);
+    result.stats.merge(fill_stats);
+    result.stats.wall_seconds += fill_seconds;
+    result.stats.cache_fill_seconds = fill_seconds;
+    for (const IrradianceCache& c : caches) result.stats.cache_stored += c.size();
+    for (std::size_t i = 0; i < caches[0].size(); ++i)
+        result.cache_points.push_back(caches[0].record(i).p);
+    return result;
+}
+
+}  // namespace foton

@@ -1,0 +1,79 @@
+#include "light_render.h"
+
+#include <algorithm>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "engine/core/error.h"
+#include "engine/scene/light_set.h"
+#include "engine/transport/driver/pass_control.h"
+#include "light_tracer.h"
+
+namespace foton {
+
+RenderResult render_light(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
+    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
+        throw InputError(scene.source, 0,
+                         "the light tracer needs a pinhole perspective camera (no lens_radius)");
+    const LightSet lights(scene);
+    if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
+    const LightTracer tracer(scene, accel, lights, opt.seed);
+    const int threads = resolve_threads(opt.threads);
+    const uint64_t per_pass =
+        uint64_t(scene.film.width) * uint64_t(scene.film.height) * uint64_t(opt.spp);
+    constexpr uint32_t kChunk = 4096;
+    const std::size_t chunks = std::size_t((per_pass + kChunk - 1) / kChunk);
+    std::vector<RGB> sum(std::size_t(scene.film.width) * scene.film.height);
+    std::vector<std::vector<Splat>> splats(chunks);
+    tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
+    tbb::enumerable_thread_specific<RenderStats> stats;
+    PassControl control(opt);
+    uint32_t passes = 0;
+    auto image = [&] {
+        Film f(scene.film.width, scene.film.height);
+        // A pixel's estimate is its splat sum over the number of paths traced.
+        const float inv = float(1.0 / (double(per_pass) * passes));
+        for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
+        return f;
+    };
+    tbb::task_arena arena(threads);
+    do {
+        const uint64_t base = uint64_t(passes) * per_pass;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  LightTracerWorkspace& ws = workspaces.local();
+                                  RenderStats& st = stats.local();
+                                  for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                      const uint64_t first = uint64_t(c) * kChunk;
+                                      const uint32_t n =
+                                          uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
+                                      splats[c].clear();
+                                      tracer.trace(base + first, n, ws, splats[c], st);
+                                  }
+                              });
+        });
+        StageClock clock;
+        std::size_t count = 0;
+        for (const std::vector<Splat>& list : splats) {
+            for (const Splat& s : list) sum[s.pixel] += s.value;
+            count += list.size();
+        }
+        RenderStats& st = stats.local();
+        st.add(Stage::Accumulate, count, clock);
+        ++passes;
+    } while (control.another(passes, image));
+    RenderResult result;
+    result.stats.wall_seconds = control.elapsed();
+    for (const RenderStats& s : stats) result.stats.merge(s);
+    result.stats.threads = threads;
+    result.stats.passes = passes;
+    result.film = image();
+    result.samples_per_pixel.assign(sum.size(), opt.spp * passes);
+    return result;
+}
+
+}  // namespace foton

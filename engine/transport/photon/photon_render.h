@@ -1,0 +1,14 @@
+#pragma once
+// Two-pass photon mapping as one job graph: the global and caustic passes (emit, trace and
+// store, parallel inside) run side by side, each feeds the balancing of its kd-tree, the
+// global tree feeds the precomputed irradiance, and all of it feeds the camera pass.
+#include "engine/accel/intersector.h"
+#include "engine/scene/scene.h"
+#include "engine/transport/driver/render_options.h"
+
+namespace foton {
+
+RenderResult render_photon(const Scene& scene, const Intersector& accel,
+                           const RenderOptions& options);
+
+}  // namespace foton
