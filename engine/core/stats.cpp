@@ -18,8 +18,10 @@ const char* stage_name(Stage s) {
             return "accumulate";
         case Stage::PhotonEmit:
             return "emit";
+        case Stage::PhotonIntersect:
+            return "photon-intersect";
         case Stage::PhotonTrace:
-            return "trace+store";
+            return "scatter+store";
         case Stage::PhotonStore:
             return "merge";
         case Stage::Balance:

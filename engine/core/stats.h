@@ -15,6 +15,7 @@ enum class Stage {
     Occlusion,
     Accumulate,
     PhotonEmit,
+    PhotonIntersect,
     PhotonTrace,
     PhotonStore,
     Balance,

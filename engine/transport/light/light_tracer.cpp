@@ -5,6 +5,7 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
 
 namespace foton {
 
@@ -77,11 +78,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     stats.samples += count;
     stats.add(Stage::Generate, count, clock);
 
-    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.add(Stage::Intersect, ws.rays.size(), clock);
-
-        ws.next.clear();
+    run_wavefront(accel_, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
         const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
         for (std::size_t i = 0; i < ws.rays.size(); ++i) {
             const uint32_t geom = ws.hits.geom[i];
@@ -129,10 +126,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             }
             ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
         }
-        stats.add(Stage::Shade, ws.rays.size(), clock);
-        stats.secondary_rays += ws.next.size();
-        std::swap(ws.rays, ws.next);
-    }
+    });
 
     // The connections, tested at once. Splats keep the order the connections were made in,
     // which depends only on the chunk's paths.

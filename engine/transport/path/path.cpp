@@ -7,6 +7,7 @@
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
 
 namespace foton {
 
@@ -80,14 +81,6 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
     const MisHeuristic mis = distributed_ ? MisHeuristic::None : rs.mis;
     const RGB ambient = scene_.ambient.radiance();
 
-    auto queue_shadow = [&](const SurfacePoint& sp, const LightSample& ls, const RGB& value,
-                            uint32_t slot) {
-        const Vec3 o = offset_origin(sp, ls.wi);
-        const float tmax = std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
-        ws.shadow.push(o, ls.wi, 0.f, tmax, slot);
-        ws.shadow_value.push_back(value);
-    };
-
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
         const uint32_t slot = ws.rays.id[i];
         const uint64_t key = ws.keys[slot];
@@ -136,20 +129,14 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         // Next event estimation.
         if (nee && m.bsdf.has_non_delta() && !lights_.empty()) {
             auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
-                LightSample ls;
-                if (!lights_.sample_li(li, sp.p, u, uc, ls)) return;
-                if (dot(ls.wi, sp.ng) <= 0.f) return;
-                const Vec3 wi = frame.to_local(ls.wi);
-                const bool delta = lights_.emitter(li).is_delta();
                 // The distributed tracer's glossy lobes see area lights by being sampled.
-                const uint8_t only =
-                    distributed_ && !delta ? uint8_t(kDiffuse) : uint8_t(kDiffuse | kGlossy);
-                const RGB f = m.bsdf.f_restricted(wo, wi, ctx, only);
-                if (f.is_black()) return;
-                const float pl = pick_pdf * ls.pdf;
-                const float w = delta ? 1.f : mis_weight(mis, pl, m.bsdf.pdf(wo, wi, ctx));
-                const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
-                if (!value.is_black()) queue_shadow(sp, ls, value, slot);
+                const uint8_t lobes = distributed_ && !lights_.emitter(li).is_delta()
+                                          ? uint8_t(kDiffuse)
+                                          : uint8_t(kDiffuse | kGlossy);
+                DirectSample ds;
+                if (sample_light(lights_, li, pick_pdf, sp, m.bsdf, ctx, wo, frame, beta, u, uc,
+                                 lobes, mis, scale, ds))
+                    queue_direct(ds, slot, ws.shadow, ws.shadow_value);
             };
             if (distributed_) {
                 const uint32_t n = rs.light_samples;
@@ -199,21 +186,20 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
 
 void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist,
                          RenderStats& stats, StageClock& clock) const {
-    for (uint32_t depth = ws.first_depth; !ws.rays.empty(); ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.add(Stage::Intersect, ws.rays.size(), clock);
-        if (first_dist && depth == ws.first_depth)
-            for (std::size_t i = 0; i < ws.rays.size(); ++i)
-                first_dist[ws.rays.id[i]] = ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i];
-
-        shade(depth, ws, radiance);
-        stats.add(Stage::Shade, ws.rays.size(), clock);
-
-        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
-                            clock);
-        stats.secondary_rays += ws.next.size();
-        std::swap(ws.rays, ws.next);
-    }
+    run_wavefront(
+        accel_, ws.rays, ws.next, ws.hits, ws.first_depth, std::numeric_limits<uint32_t>::max(),
+        stats, clock,
+        [&](uint32_t depth) {
+            if (first_dist && depth == ws.first_depth)
+                for (std::size_t i = 0; i < ws.rays.size(); ++i)
+                    first_dist[ws.rays.id[i]] =
+                        ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i];
+            shade(depth, ws, radiance);
+        },
+        [&](uint32_t) {
+            resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                                clock);
+        });
 }
 
 void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,

@@ -7,6 +7,7 @@
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
 
 namespace foton {
 
@@ -197,10 +198,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     stats.add(Stage::Generate, n, clock);
 
     // Camera rays through specular chains to the visible points.
-    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.add(Stage::Intersect, ws.rays.size(), clock);
-        ws.next.clear();
+    run_wavefront(accel_, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
         for (std::size_t i = 0; i < ws.rays.size(); ++i) {
             const uint32_t slot = ws.rays.id[i];
             const SampleJob& job = jobs[slot];
@@ -239,10 +237,7 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
             const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
             shade_visible(sp, m, d, w, slot, job, depth, ws, radiance);
         }
-        stats.add(Stage::Shade, ws.rays.size(), clock);
-        stats.secondary_rays += ws.next.size();
-        std::swap(ws.rays, ws.next);
-    }
+    });
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);

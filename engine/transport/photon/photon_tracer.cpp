@@ -9,6 +9,7 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
 
 namespace foton {
 
@@ -59,70 +60,75 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
     }
     stats.add(Stage::PhotonEmit, count, clock);
 
-    for (uint32_t depth = 0; !ws.rays.empty() && depth < s.max_depth; ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        ws.next.clear();
-        for (std::size_t r = 0; r < ws.rays.size(); ++r) {
-            const uint32_t geom = ws.hits.geom[r];
-            if (geom == kNoHit) continue;
-            const uint32_t slot = ws.rays.id[r];
-            const uint64_t i = first + slot;
-            const Vec3 d = ws.rays.direction(r);
-            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
-            const Material& m = scene_.materials[scene_.objects[geom].material];
-            if (m.bsdf.empty()) continue;
-            RGB& power = ws.power[slot];
-            if (m.bsdf.has_non_delta()) {
-                const bool caustic = ws.specular_only[slot] && depth > 0;
-                const uint8_t flags =
-                    uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
-                if (s.kind == PhotonMapKind::Global || caustic)
-                    out.push(sp.p, power, -d, sp.ng, flags, ws.light[slot]);
-            }
-            if (depth == 0 && shadow && s.shadow_photons) {
-                // The photon's line beyond its first hit: every further surface is in shadow
-                // of this light there.
-                Vec3 o = offset_origin(sp, d);
-                for (int crossing = 0; crossing < 8; ++crossing) {
-                    Hit1 h;
-                    if (!accel_.intersect1({o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity}, h,
-                                           stats.trace))
-                        break;
-                    const SurfacePoint q = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
-                    const Material& mq = scene_.materials[scene_.objects[h.geom].material];
-                    if (mq.bsdf.has_non_delta())
-                        shadow->push(q.p, power * -1.f, -d, q.ng, kPhotonShadow, ws.light[slot]);
-                    o = offset_origin(q, d);
+    // A photon's scattering (store, roulette, next direction) is the trace stage; the merge
+    // of the chunks' photons is the store stage.
+    const WavefrontStages stages{Stage::PhotonIntersect, Stage::PhotonTrace, nullptr};
+    run_wavefront(
+        accel_, ws.rays, ws.next, ws.hits, 0, s.max_depth, stats, clock,
+        [&](uint32_t depth) {
+            for (std::size_t r = 0; r < ws.rays.size(); ++r) {
+                const uint32_t geom = ws.hits.geom[r];
+                if (geom == kNoHit) continue;
+                const uint32_t slot = ws.rays.id[r];
+                const uint64_t i = first + slot;
+                const Vec3 d = ws.rays.direction(r);
+                const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
+                const Material& m = scene_.materials[scene_.objects[geom].material];
+                if (m.bsdf.empty()) continue;
+                RGB& power = ws.power[slot];
+                if (m.bsdf.has_non_delta()) {
+                    const bool caustic = ws.specular_only[slot] && depth > 0;
+                    const uint8_t flags =
+                        uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
+                    if (s.kind == PhotonMapKind::Global || caustic)
+                        out.push(sp.p, power, -d, sp.ng, flags, ws.light[slot]);
                 }
+                if (depth == 0 && shadow && s.shadow_photons) {
+                    // The photon's line beyond its first hit: every further surface is in shadow
+                    // of this light there.
+                    Vec3 o = offset_origin(sp, d);
+                    for (int crossing = 0; crossing < 8; ++crossing) {
+                        Hit1 h;
+                        if (!accel_.intersect1({o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity}, h,
+                                               stats.trace))
+                            break;
+                        const SurfacePoint q =
+                            surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
+                        const Material& mq = scene_.materials[scene_.objects[h.geom].material];
+                        if (mq.bsdf.has_non_delta())
+                            shadow->push(q.p, power * -1.f, -d, q.ng, kPhotonShadow,
+                                         ws.light[slot]);
+                        o = offset_origin(q, d);
+                    }
+                }
+                const warp::Frame frame(sp.ns);
+                const Vec3 wl = -d;
+                const Vec3 wo = frame.to_local(wl);
+                const BsdfContext ctx{sp.front_face, Transport::Importance};
+                const float wl_ng = std::fabs(dot(wl, sp.ng));
+                if (wl_ng == 0.f) continue;
+                const float adj = std::fabs(wo.z) / wl_ng;
+                const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
+                BsdfSample bs;
+                // A caustic pass follows only L S+ paths: its photons continue through the delta
+                // lobes alone (the sample then carries only their share of the throughput).
+                const uint8_t only = s.kind == PhotonMapKind::Caustic ? uint8_t(kSpecular) : 0xff;
+                if (!m.bsdf.sample(wo, rand(s.pass, i, dim),
+                                   {rand(s.pass, i, dim + 1), rand(s.pass, i, dim + 2)}, ctx, bs,
+                                   only))
+                    continue;
+                const Vec3 wi = frame.to_world(bs.wi);
+                const float side = dot(wi, sp.ng);
+                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+                RGB w = bs.f * (adj * std::fabs(side) / bs.pdf);
+                const float q = std::min(1.f, w.max_component());
+                if (!(q > 0.f) || rand(s.pass, i, dim + 3) >= q) continue;
+                if (!s.unscaled_roulette) power *= w * (1.f / q);
+                if (!bs.is_delta()) ws.specular_only[slot] = 0;
+                ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             }
-            const warp::Frame frame(sp.ns);
-            const Vec3 wl = -d;
-            const Vec3 wo = frame.to_local(wl);
-            const BsdfContext ctx{sp.front_face, Transport::Importance};
-            const float wl_ng = std::fabs(dot(wl, sp.ng));
-            if (wl_ng == 0.f) continue;
-            const float adj = std::fabs(wo.z) / wl_ng;
-            const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
-            BsdfSample bs;
-            // A caustic pass follows only L S+ paths: its photons continue through the delta
-            // lobes alone (the sample then carries only their share of the throughput).
-            const uint8_t only = s.kind == PhotonMapKind::Caustic ? uint8_t(kSpecular) : 0xff;
-            if (!m.bsdf.sample(wo, rand(s.pass, i, dim),
-                               {rand(s.pass, i, dim + 1), rand(s.pass, i, dim + 2)}, ctx, bs, only))
-                continue;
-            const Vec3 wi = frame.to_world(bs.wi);
-            const float side = dot(wi, sp.ng);
-            if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
-            RGB w = bs.f * (adj * std::fabs(side) / bs.pdf);
-            const float q = std::min(1.f, w.max_component());
-            if (!(q > 0.f) || rand(s.pass, i, dim + 3) >= q) continue;
-            if (!s.unscaled_roulette) power *= w * (1.f / q);
-            if (!bs.is_delta()) ws.specular_only[slot] = 0;
-            ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
-        }
-        std::swap(ws.rays, ws.next);
-    }
-    stats.add(Stage::PhotonTrace, count, clock);
+        },
+        [](uint32_t) {}, stages);
 }
 
 PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,

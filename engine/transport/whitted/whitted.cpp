@@ -7,6 +7,7 @@
 #include "engine/core/sampler.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/shadow_batch.h"
+#include "engine/transport/common/wavefront.h"
 
 namespace foton {
 
@@ -191,19 +192,14 @@ void WhittedIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWork
     stats.camera_rays += ws.rays.size();
     stats.add(Stage::Generate, ws.rays.size(), clock);
 
-    for (uint32_t depth = 0; !ws.rays.empty(); ++depth) {
-        accel_.intersect(ws.rays, ws.hits, stats.trace);
-        stats.add(Stage::Intersect, ws.rays.size(), clock);
-
-        shade(depth, jobs, ws, radiance);
-        stats.add(Stage::Shade, ws.rays.size(), clock);
-
-        resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
-                            clock);
-        stats.secondary_rays += ws.next.size();
-        std::swap(ws.rays, ws.next);
-        std::swap(ws.weight, ws.next_weight);
-    }
+    run_wavefront(
+        accel_, ws.rays, ws.next, ws.hits, 0, std::numeric_limits<uint32_t>::max(), stats, clock,
+        [&](uint32_t depth) { shade(depth, jobs, ws, radiance); },
+        [&](uint32_t) {
+            resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                                clock);
+            std::swap(ws.weight, ws.next_weight);
+        });
 }
 
 }  // namespace foton
