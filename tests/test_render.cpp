@@ -202,3 +202,51 @@ TEST_CASE("the Whitted tracer renders the physically based materials too", "[ren
     INFO("rmse " << e.rmse << " max " << e.max_abs);
     CHECK(e.rmse < 1e-3);
 }
+
+TEST_CASE("every integrator reports its stage graph; photon mapping's runs through the camera",
+          "[render]") {
+    auto graph_of = [](const std::string& type, const std::string& indirect) {
+        Scene s = load_scene(test::source_path("scenes/cornell-caustics.xml"),
+                             {{"type", type},
+                              {"indirect", indirect},
+                              {"global_photons", "2000"},
+                              {"caustic_photons", "2000"},
+                              {"gather_rays", "4"},
+                              {"cache_samples", "16"}});
+        s.set_resolution(16, 12);
+        return render_scene(s, AccelType::Bvh, 2, 1).stats;
+    };
+    auto index = [](const GraphStats& g, const std::string& name) {
+        for (std::size_t i = 0; i < g.nodes.size(); ++i)
+            if (g.nodes[i].name == name) return int(i);
+        return -1;
+    };
+    auto has_edge = [&](const GraphStats& g, const std::string& a, const std::string& b) {
+        const int ia = index(g, a), ib = index(g, b);
+        for (const auto& [from, to] : g.edges)
+            if (int(from) == ia && int(to) == ib) return true;
+        return false;
+    };
+    for (const char* type : {"raytracer", "path", "distributed", "light", "photon", "sppm", "ppm"}) {
+        INFO(type);
+        const RenderStats st = graph_of(type, "final_gather");
+        REQUIRE(st.graph.nodes.size() >= 2);
+        CHECK(st.json().find("\"graph\"") != std::string::npos);
+        CHECK(st.table().find("graph node") != std::string::npos);
+        for (const GraphStats::Node& n : st.graph.nodes) CHECK(n.runs > 0);
+    }
+    const RenderStats photon = graph_of("photon", "final_gather");
+    CHECK(has_edge(photon.graph, "photons-global", "balance-global"));
+    CHECK(has_edge(photon.graph, "precompute-irradiance", "camera-gather"));
+    CHECK(has_edge(photon.graph, "balance-caustic", "camera-gather"));
+    CHECK(has_edge(photon.graph, "camera-gather", "final-gather"));
+    CHECK(has_edge(photon.graph, "final-gather", "accumulate"));
+    // Every tile went through both camera nodes.
+    CHECK(photon.graph.nodes[index(photon.graph, "camera-gather")].items == 16 * 12);
+    CHECK(photon.graph.nodes[index(photon.graph, "final-gather")].items == 16 * 12);
+    const RenderStats cached = graph_of("photon", "irradiance_cache");
+    CHECK(has_edge(cached.graph, "precompute-irradiance", "cache-fill"));
+    CHECK(has_edge(cached.graph, "cache-fill", "camera-gather"));
+    const RenderStats path_cached = graph_of("path", "irradiance_cache");
+    CHECK(has_edge(path_cached.graph, "cache-fill", "camera-paths"));
+}

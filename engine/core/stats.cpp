@@ -108,6 +108,19 @@ std::string RenderStats::table() const {
                       stage_seconds[i] > 0 ? double(stage_items[i]) / stage_seconds[i] : 0.0);
         s += buf;
     }
+    if (!graph.nodes.empty()) {
+        s += "graph node                busy-s      items   runs  after\n";
+        for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
+            const GraphStats::Node& n = graph.nodes[i];
+            std::string after;
+            for (const auto& [from, to] : graph.edges)
+                if (to == i) after += (after.empty() ? "" : ", ") + graph.nodes[from].name;
+            std::snprintf(buf, sizeof buf, "%-24s %9.3f %10llu %6llu  %s\n", n.name.c_str(),
+                          n.busy_seconds, (unsigned long long)n.items, (unsigned long long)n.runs,
+                          after.c_str());
+            s += buf;
+        }
+    }
     return s;
 }
 
@@ -142,7 +155,24 @@ std::string RenderStats::json() const {
                       i + 1 < kNumStages ? "," : "");
         s += buf;
     }
-    s += "  }\n}\n";
+    s += "  },\n  \"graph\": {\n    \"nodes\": [";
+    for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
+        const GraphStats::Node& n = graph.nodes[i];
+        std::snprintf(buf, sizeof buf,
+                      "%s\n      {\"name\": \"%s\", \"busy_seconds\": %.6f, \"items\": %llu, "
+                      "\"runs\": %llu}",
+                      i ? "," : "", n.name.c_str(), n.busy_seconds, (unsigned long long)n.items,
+                      (unsigned long long)n.runs);
+        s += buf;
+    }
+    s += "\n    ],\n    \"edges\": [";
+    for (std::size_t i = 0; i < graph.edges.size(); ++i) {
+        std::snprintf(buf, sizeof buf, "%s[\"%s\", \"%s\"]", i ? ", " : "",
+                      graph.nodes[graph.edges[i].first].name.c_str(),
+                      graph.nodes[graph.edges[i].second].name.c_str());
+        s += buf;
+    }
+    s += "]\n  }\n}\n";
     return s;
 }
 

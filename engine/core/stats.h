@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace foton {
 
@@ -72,6 +74,21 @@ class StageClock {
     std::chrono::steady_clock::time_point start_;
 };
 
+// The render's stage graph as it ran (driver/stage_graph.h): its nodes, the time their bodies
+// ran summed over all runs, the items they processed, and the dependencies between them. A
+// node that runs once per pass parallelises inside, so its time is wall time; a tile node
+// runs on many threads at once (one run per tile), so its time is thread time.
+struct GraphStats {
+    struct Node {
+        std::string name;
+        double busy_seconds = 0.0;
+        uint64_t items = 0;
+        uint64_t runs = 0;  // times the node ran (once per pass, or per tile)
+    };
+    std::vector<Node> nodes;
+    std::vector<std::pair<uint32_t, uint32_t>> edges;  // from, to (indices into nodes)
+};
+
 struct RenderStats {
     uint64_t camera_rays = 0, secondary_rays = 0, shadow_rays = 0;
     uint64_t samples = 0;  // pixel samples (camera integrators) or light paths (light tracer)
@@ -89,6 +106,7 @@ struct RenderStats {
     uint64_t stage_items[kNumStages] = {};
     double wall_seconds = 0.0;
     double build_seconds = 0.0;
+    GraphStats graph;  // set once by the render's driver, not merged
     int threads = 1;
 
     // The one way a stage reports: `items` processed since the clock's last lap.

@@ -1,5 +1,5 @@
 #pragma once
-// What the tile driver (render.cpp) asks of an integrator that starts its paths at the
+// What the tile driver (driver/camera_driver.h) asks of an integrator that starts its paths at the
 // camera (raytracer, path, distributed): the radiance of a list of pixel samples. The driver
 // decides which samples (fixed count, progressive passes, adaptive rounds) and accumulates
 // them; the integrator traces them as a wavefront of ray batches.
@@ -72,9 +72,22 @@ class CameraIntegrator {
   public:
     virtual ~CameraIntegrator() = default;
     virtual std::unique_ptr<IntegratorWorkspace> make_workspace() const = 0;
-    // radiance[i] = the estimate of jobs[i].
-    virtual void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
-                       std::vector<RGB>& radiance, RenderStats& stats) const = 0;
+    // The phases a list of samples goes through, each a node of the render's stage graph
+    // that tiles stream through: most integrators trace their camera paths in one; the
+    // photon mapper's camera gather (to the visible points) and final gather are two.
+    virtual uint32_t phases() const { return 1; }
+    virtual const char* phase_name(uint32_t) const { return "camera-paths"; }
+    // Phase `phase` of the samples `jobs`: phase 0 starts them (radiance is resized to
+    // jobs.size()), and after the last, radiance[i] is the estimate of jobs[i]. The
+    // workspace carries the samples' state from one phase to the next.
+    virtual void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs,
+                             IntegratorWorkspace& ws, std::vector<RGB>& radiance,
+                             RenderStats& stats) const = 0;
+    // Every phase in turn.
+    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+               std::vector<RGB>& radiance, RenderStats& stats) const {
+        for (uint32_t p = 0; p < phases(); ++p) trace_phase(p, jobs, ws, radiance, stats);
+    }
 };
 
 }  // namespace foton

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <memory>
 
-#include <tbb/blocked_range.h>
+#include <tbb/concurrent_queue.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
+#include <tbb/flow_graph.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
@@ -74,8 +74,7 @@ class CameraDriver {
         : scene_(scene), integrator_(integrator), opt_(opt) {}
 
     // Fixed samples: pass p gives every pixel of the tile opt.spp samples.
-    void fixed_pass(const Tile& t, uint32_t pass, Accumulator& acc, IntegratorWorkspace& ws,
-                    RenderStats& st, std::vector<SampleJob>& jobs, std::vector<RGB>& out) const {
+    void make_jobs(const Tile& t, uint32_t pass, std::vector<SampleJob>& jobs) const {
         const uint32_t spp = opt_.spp;
         const uint64_t npix = uint64_t(scene_.film.width) * uint64_t(scene_.film.height);
         jobs.clear();
@@ -86,7 +85,10 @@ class CameraDriver {
                     jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
                                     (uint64_t(pass) * npix + pixel) * spp + s});
             }
-        integrator_.trace(jobs, ws, out, st);
+    }
+
+    void accumulate_samples(const std::vector<SampleJob>& jobs, const std::vector<RGB>& out,
+                            Accumulator& acc, RenderStats& st) const {
         StageClock clock;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
@@ -102,12 +104,15 @@ class CameraDriver {
     // standard error is above the threshold (biased: the stopping rule sees the samples it
     // averages), or, unbiased (Kirk & Arvo), one fresh batch sized from the pilot's variance
     // with the pilot discarded.
-    void adaptive_tile(const Tile& t, Accumulator& acc, IntegratorWorkspace& ws, RenderStats& st,
-                       std::vector<SampleJob>& jobs, std::vector<RGB>& out) const {
+    // The tile's sums and sample counts per pixel go to `sum` and `count` (row-major in the
+    // tile).
+    void adaptive_tile(const Tile& t, IntegratorWorkspace& ws, RenderStats& st,
+                       std::vector<SampleJob>& jobs, std::vector<RGB>& out, std::vector<RGB>& sum,
+                       std::vector<uint32_t>& count) const {
         const AdaptiveSettings& ad = scene_.render.adaptive;
         const int tw = t.x1 - t.x0;
         std::vector<PixelMoments> mom(std::size_t(t.pixels()));
-        std::vector<RGB> sum(std::size_t(t.pixels()));
+        sum.assign(std::size_t(t.pixels()), RGB{0.f});
         std::vector<uint32_t> want(std::size_t(t.pixels()), ad.pilot);
         std::vector<uint32_t> taken(std::size_t(t.pixels()), 0);
         auto local = [&](const SampleJob& j) {
@@ -158,13 +163,23 @@ class CameraDriver {
                 if (!run_round(round)) break;
             }
         }
+        count.resize(mom.size());
+        for (std::size_t l = 0; l < mom.size(); ++l) count[l] = mom[l].n;
+    }
+
+    void accumulate_tile(const Tile& t, const std::vector<RGB>& sum,
+                         const std::vector<uint32_t>& count, Accumulator& acc,
+                         RenderStats& st) const {
+        StageClock clock;
+        const int tw = t.x1 - t.x0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
                 const std::size_t p = std::size_t(y) * scene_.film.width + x;
                 acc.sum[p] += sum[l];
-                acc.count[p] += mom[l].n;
+                acc.count[p] += count[l];
             }
+        st.add(Stage::Accumulate, std::size_t(t.pixels()), clock);
     }
 
   private:
@@ -177,21 +192,109 @@ class CameraDriver {
 
 RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
                            const RenderOptions& opt) {
+    StageGraph graph;
+    RenderResult result = render_camera(scene, integrator, opt, graph, {});
+    result.stats.graph = graph.report();
+    return result;
+}
+
+RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
+                           const RenderOptions& opt, StageGraph& graph,
+                           const std::vector<uint32_t>& after) {
     RenderResult result;
     Accumulator acc(scene.film.width, scene.film.height);
     const std::vector<Tile> tiles = make_tiles(scene.film.width, scene.film.height, opt.tile_size);
     const CameraDriver driver(scene, integrator, opt);
-    struct Scratch {
-        std::unique_ptr<IntegratorWorkspace> ws;
-        std::vector<SampleJob> jobs;
-        std::vector<RGB> out;
-    };
-    tbb::enumerable_thread_specific<Scratch> scratch;
-    tbb::enumerable_thread_specific<RenderStats> stats;
-    std::atomic<std::size_t> done{0};
     const int threads = resolve_threads(opt.threads);
     const bool adaptive = scene.render.adaptive.enabled;
     const bool progressive = opt.time_limit > 0.f || opt.max_passes > 1;
+
+    // The graph's tile nodes: the integrator's phases (one adaptive-sampling node instead,
+    // whose rounds need the tile's own results), then accumulation.
+    std::vector<uint32_t> nodes;
+    if (adaptive) {
+        nodes.push_back(graph.declare("adaptive-sampling"));
+    } else {
+        for (uint32_t p = 0; p < integrator.phases(); ++p)
+            nodes.push_back(graph.declare(integrator.phase_name(p)));
+    }
+    nodes.push_back(graph.declare("accumulate"));
+    for (uint32_t a : after) graph.edge(a, nodes.front());
+    for (std::size_t i = 1; i < nodes.size(); ++i) graph.edge(nodes[i - 1], nodes[i]);
+
+    // A tile in flight, with the workspace that carries its samples from node to node.
+    struct TileWork {
+        std::size_t tile = 0;
+        std::unique_ptr<IntegratorWorkspace> ws;
+        std::vector<SampleJob> jobs;
+        std::vector<RGB> out, sum;
+        std::vector<uint32_t> count;
+    };
+    std::vector<std::unique_ptr<TileWork>> owned;
+    tbb::concurrent_queue<TileWork*> idle;
+    // Tiles in flight at once: enough to keep every thread busy, few enough to bound memory.
+    const std::size_t in_flight = std::size_t(4 * threads);
+    tbb::enumerable_thread_specific<RenderStats> stats;
+    std::atomic<std::size_t> done{0};
+
+    auto run_pass = [&](uint32_t pass) {
+        namespace flow = tbb::flow;
+        flow::graph g;
+        std::size_t next = 0;
+        flow::input_node<TileWork*> source(g, [&](tbb::flow_control& fc) -> TileWork* {
+            if (next == tiles.size()) {
+                fc.stop();
+                return nullptr;
+            }
+            // The source holds one tile ahead of the limiter, so the pool may run dry once.
+            TileWork* w = nullptr;
+            if (!idle.try_pop(w)) {
+                owned.push_back(std::make_unique<TileWork>());
+                owned.back()->ws = integrator.make_workspace();
+                w = owned.back().get();
+            }
+            w->tile = next++;
+            return w;
+        });
+        flow::limiter_node<TileWork*> limit(g, in_flight);
+        std::vector<std::unique_ptr<flow::function_node<TileWork*, TileWork*>>> stages;
+        for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
+            stages.push_back(std::make_unique<flow::function_node<TileWork*, TileWork*>>(
+                g, flow::unlimited, [&, k](TileWork* w) {
+                    NodeTimer timer(graph, nodes[k]);
+                    RenderStats& st = stats.local();
+                    const Tile& t = tiles[w->tile];
+                    if (adaptive) {
+                        driver.adaptive_tile(t, *w->ws, st, w->jobs, w->out, w->sum, w->count);
+                    } else {
+                        if (k == 0) driver.make_jobs(t, pass, w->jobs);
+                        integrator.trace_phase(uint32_t(k), w->jobs, *w->ws, w->out, st);
+                    }
+                    timer.items = w->jobs.size();
+                    return w;
+                }));
+        }
+        flow::function_node<TileWork*, flow::continue_msg> accumulate(
+            g, flow::unlimited, [&](TileWork* w) {
+                NodeTimer timer(graph, nodes.back());
+                RenderStats& st = stats.local();
+                if (adaptive)
+                    driver.accumulate_tile(tiles[w->tile], w->sum, w->count, acc, st);
+                else
+                    driver.accumulate_samples(w->jobs, w->out, acc, st);
+                timer.items = tiles[w->tile].pixels();
+                idle.push(w);
+                done.fetch_add(1, std::memory_order_relaxed);
+                return flow::continue_msg();
+            });
+        flow::make_edge(source, limit);
+        flow::make_edge(limit, *stages.front());
+        for (std::size_t k = 1; k < stages.size(); ++k) flow::make_edge(*stages[k - 1], *stages[k]);
+        flow::make_edge(*stages.back(), accumulate);
+        flow::make_edge(accumulate, limit.decrementer());
+        source.activate();
+        g.wait_for_all();
+    };
 
     PassControl control(opt);
     uint32_t passes = 0;
@@ -201,23 +304,7 @@ RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrato
             bar = std::make_unique<ProgressBar>(done, tiles.size());
         tbb::task_arena arena(threads);
         do {
-            const uint32_t pass = passes;
-            arena.execute([&] {
-                tbb::parallel_for(
-                    tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                        Scratch& s = scratch.local();
-                        if (!s.ws) s.ws = integrator.make_workspace();
-                        RenderStats& st = stats.local();
-                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            if (adaptive)
-                                driver.adaptive_tile(tiles[i], acc, *s.ws, st, s.jobs, s.out);
-                            else
-                                driver.fixed_pass(tiles[i], pass, acc, *s.ws, st, s.jobs, s.out);
-                            done.fetch_add(1, std::memory_order_relaxed);
-                        }
-                    });
-            });
+            arena.execute([&] { run_pass(passes); });
             ++passes;
         } while (!adaptive && control.another(passes, [&] { return acc.film(); }));
     }

@@ -8,10 +8,16 @@
 #include "engine/scene/scene.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "render_options.h"
+#include "stage_graph.h"
 
 namespace foton {
 
+// A render of its own: the result's stats hold the graph of tile nodes.
 RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
                            const RenderOptions& options);
+// The camera pass as the last nodes of `graph`, after the nodes `after` (which have run).
+RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
+                           const RenderOptions& options, StageGraph& graph,
+                           const std::vector<uint32_t>& after);
 
 }  // namespace foton

@@ -27,6 +27,19 @@ RenderResult render_with_cache(const Scene& scene, const Intersector& accel, con
                                const std::function<void(const CacheEvaluator*)>& attach,
                                CacheEvaluator::PhotonRadiance photons,
                                const RadianceAlongRays& onwards, const RenderOptions& opt) {
+    StageGraph graph;
+    RenderResult result = render_with_cache(scene, accel, lights, integrator, attach,
+                                            std::move(photons), onwards, opt, graph, {});
+    result.stats.graph = graph.report();
+    return result;
+}
+
+RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               const CameraIntegrator& integrator,
+                               const std::function<void(const CacheEvaluator*)>& attach,
+                               CacheEvaluator::PhotonRadiance photons,
+                               const RadianceAlongRays& onwards, const RenderOptions& opt,
+                               StageGraph& graph, const std::vector<uint32_t>& after) {
     CacheEvaluator evaluator(scene, accel, lights, opt.seed, cache_secondary(scene),
                              std::move(photons), &onwards);
     std::vector<IrradianceCache> caches(evaluator.levels(),
@@ -36,16 +49,24 @@ RenderResult render_with_cache(const Scene& scene, const Intersector& accel, con
     evaluator.set_caches(frozen);
     attach(&evaluator);
     RenderStats fill_stats;
+    const uint32_t fill = graph.declare("cache-fill");
+    for (uint32_t a : after) graph.edge(a, fill);
     StageClock fill_clock;
     fill_irradiance_cache(scene, integrator, caches, opt.spp, resolve_threads(opt.threads),
                           fill_stats);
     const double fill_seconds = fill_clock.lap();
-    RenderResult result = render_camera(scene, integrator, opt);
+    std::size_t stored = 0;
+    for (const IrradianceCache& c : caches) stored += c.size();
+    // The fill's busy thread time is what its stages measured (tracing, records, gathers).
+    double busy = 0.0;
+    for (double t : fill_stats.stage_seconds) busy += t;
+    graph.record(fill, busy, stored);
+    RenderResult result = render_camera(scene, integrator, opt, graph, {fill});
     attach(nullptr);
     result.stats.merge(fill_stats);
     result.stats.wall_seconds += fill_seconds;
     result.stats.cache_fill_seconds = fill_seconds;
-    for (const IrradianceCache& c : caches) result.stats.cache_stored += c.size();
+    result.stats.cache_stored = stored;
     for (std::size_t i = 0; i < caches[0].size(); ++i)
         result.cache_points.push_back(caches[0].record(i).p);
     return result;

@@ -9,6 +9,7 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/stage_graph.h"
 
 namespace foton {
 
@@ -22,5 +23,12 @@ RenderResult render_with_cache(const Scene& scene, const Intersector& accel, con
                                const std::function<void(const CacheEvaluator*)>& attach,
                                CacheEvaluator::PhotonRadiance photons,
                                const RadianceAlongRays& onwards, const RenderOptions& options);
+// The same as the last nodes of `graph` (cache-fill, then the camera's), after `after`.
+RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+                               const CameraIntegrator& integrator,
+                               const std::function<void(const CacheEvaluator*)>& attach,
+                               CacheEvaluator::PhotonRadiance photons,
+                               const RadianceAlongRays& onwards, const RenderOptions& options,
+                               StageGraph& graph, const std::vector<uint32_t>& after);
 
 }  // namespace foton

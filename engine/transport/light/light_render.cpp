@@ -10,6 +10,7 @@
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/driver/pass_control.h"
+#include "engine/transport/driver/stage_graph.h"
 #include "light_tracer.h"
 
 namespace foton {
@@ -39,31 +40,38 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
         for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
         return f;
     };
-    tbb::task_arena arena(threads);
-    do {
+    // Per pass: the light paths in parallel chunks, then their splats in chunk order.
+    StageGraph graph;
+    const uint32_t trace = graph.add("light-paths", [&]() -> uint64_t {
         const uint64_t base = uint64_t(passes) * per_pass;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  LightTracerWorkspace& ws = workspaces.local();
-                                  RenderStats& st = stats.local();
-                                  for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                                      const uint64_t first = uint64_t(c) * kChunk;
-                                      const uint32_t n =
-                                          uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
-                                      splats[c].clear();
-                                      tracer.trace(base + first, n, ws, splats[c], st);
-                                  }
-                              });
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              LightTracerWorkspace& ws = workspaces.local();
+                              RenderStats& st = stats.local();
+                              for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                  const uint64_t first = uint64_t(c) * kChunk;
+                                  const uint32_t n =
+                                      uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
+                                  splats[c].clear();
+                                  tracer.trace(base + first, n, ws, splats[c], st);
+                              }
+                          });
+        return per_pass;
+    });
+    const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
         std::size_t count = 0;
         for (const std::vector<Splat>& list : splats) {
             for (const Splat& s : list) sum[s.pixel] += s.value;
             count += list.size();
         }
-        RenderStats& st = stats.local();
-        st.add(Stage::Accumulate, count, clock);
+        stats.local().add(Stage::Accumulate, count, clock);
+        return count;
+    });
+    graph.edge(trace, splat);
+    tbb::task_arena arena(threads);
+    do {
+        graph.run(arena);
         ++passes;
     } while (control.another(passes, image));
     RenderResult result;
@@ -71,6 +79,7 @@ RenderResult render_light(const Scene& scene, const Intersector& accel, const Re
     for (const RenderStats& s : stats) result.stats.merge(s);
     result.stats.threads = threads;
     result.stats.passes = passes;
+    result.stats.graph = graph.report();
     result.film = image();
     result.samples_per_pixel.assign(sum.size(), opt.spp * passes);
     return result;

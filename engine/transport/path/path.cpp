@@ -202,8 +202,9 @@ void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* f
         });
 }
 
-void PathIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
-                           std::vector<RGB>& radiance, RenderStats& stats) const {
+void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob>& jobs,
+                                 IntegratorWorkspace& base, std::vector<RGB>& radiance,
+                                 RenderStats& stats) const {
     PathWorkspace& ws = static_cast<PathWorkspace&>(base);
     StageClock clock;
     const std::size_t n = jobs.size();

@@ -53,8 +53,8 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PathWorkspace>();
     }
-    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
-               std::vector<RGB>& radiance, RenderStats& stats) const override;
+    void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+                     std::vector<RGB>& radiance, RenderStats& stats) const override;
     // Indirect light at the first diffuse vertex from this cache (path only).
     void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere

@@ -180,9 +180,15 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
     stats.add(Stage::FinalGather, rays, clock);
 }
 
-void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
-                             std::vector<RGB>& radiance, RenderStats& stats) const {
+void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs,
+                                   IntegratorWorkspace& base, std::vector<RGB>& radiance,
+                                   RenderStats& stats) const {
     PhotonCameraWorkspace& ws = static_cast<PhotonCameraWorkspace&>(base);
+    if (phase == 1) {
+        final_gather(ws, radiance, stats);
+        if (cache_) cache_->resolve(ws.cache, radiance, stats);
+        return;
+    }
     StageClock clock;
     const std::size_t n = jobs.size();
     radiance.assign(n, RGB{0.f});
@@ -241,8 +247,6 @@ void PhotonIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorks
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);
-    final_gather(ws, radiance, stats);
-    if (cache_) cache_->resolve(ws.cache, radiance, stats);
 }
 
 }  // namespace foton

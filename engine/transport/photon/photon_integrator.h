@@ -46,8 +46,15 @@ class PhotonIntegrator : public CameraIntegrator {
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PhotonCameraWorkspace>();
     }
-    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
-               std::vector<RGB>& radiance, RenderStats& stats) const override;
+    // Camera gather: camera rays through specular chains to the visible points, their direct
+    // light and caustics, and their final-gather rays queued; final gather: those rays traced
+    // and shaded by the photon maps (or the irradiance cache's lookups resolved).
+    uint32_t phases() const override { return 2; }
+    const char* phase_name(uint32_t p) const override {
+        return p == 0 ? "camera-gather" : "final-gather";
+    }
+    void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+                     std::vector<RGB>& radiance, RenderStats& stats) const override;
     // Indirect diffuse light from this cache instead of final gathering at every point;
     // visible points it cannot serve compute new records, which the last trace() left in
     // the workspace's cache part.

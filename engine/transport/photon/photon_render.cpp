@@ -3,7 +3,6 @@
 #include <chrono>
 
 #include <tbb/blocked_range.h>
-#include <tbb/flow_graph.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
@@ -11,6 +10,7 @@
 #include "engine/core/error.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
 #include "engine/transport/path/path.h"
 #include "photon_integrator.h"
@@ -44,88 +44,87 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
         tbb::parallel_invoke(a, b);
     };
     StageClock photon_clock;
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        using Node = tbb::flow::continue_node<tbb::flow::continue_msg>;
-        using Msg = const tbb::flow::continue_msg&;
-        tbb::flow::graph g;
-        tbb::flow::broadcast_node<tbb::flow::continue_msg> start_node(g);
-        Node trace_global(g, [&](Msg) {
-            PhotonPassSettings s;
-            s.kind = PhotonMapKind::Global;
-            s.emitted = ps.global_photons;
-            s.max_depth = scene.render.max_depth;
-            s.unscaled_roulette = ps.unscaled_roulette;
-            s.pass = 0;
-            s.shadow_photons = ps.shadow_photons;
-            if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow);
-            if (ps.split_direct) maps.direct = maps.global.extract(kPhotonDirect);
-        });
-        Node trace_caustic(g, [&](Msg) {
-            PhotonPassSettings s;
-            s.kind = PhotonMapKind::Caustic;
-            s.emitted = ps.caustic_photons;
-            s.max_depth = scene.render.max_depth;
-            s.unscaled_roulette = ps.unscaled_roulette;
-            s.pass = 1;
-            // The direct-visualisation mode reads the global map only.
-            if (s.emitted > 0 && ps.mode == PhotonMode::FinalGather)
-                maps.caustic = tracer.run(s, caustic_stats);
-        });
-        Node balance_global(g, [&](Msg) {
-            StageClock c;
-            maps.global.build(par);
-            maps.direct.build(par);
-            maps.shadow.build(par);
-            global_stats.add(Stage::Balance,
-                             maps.global.size() + maps.direct.size() + maps.shadow.size(), c);
-        });
-        Node precompute(g, [&](Msg) {
-            if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return;
-            StageClock c;
-            const auto parallel_for =
-                [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-                    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
-                                      [&](const tbb::blocked_range<std::size_t>& r) {
-                                          body(r.begin(), r.end());
-                                      });
-                };
-            maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
-            if (!maps.direct.empty())
-                maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
-            global_stats.add(Stage::Precompute,
-                             maps.global.precomputed_size() + maps.direct.precomputed_size(), c);
-        });
-        Node balance_caustic(g, [&](Msg) {
-            StageClock c;
-            maps.caustic.build(par);
-            caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
-        });
-        Node done(g, [](Msg) {});
-        tbb::flow::make_edge(start_node, trace_global);
-        tbb::flow::make_edge(start_node, trace_caustic);
-        tbb::flow::make_edge(trace_global, balance_global);
-        tbb::flow::make_edge(trace_caustic, balance_caustic);
-        tbb::flow::make_edge(balance_global, precompute);
-        tbb::flow::make_edge(precompute, done);
-        tbb::flow::make_edge(balance_caustic, done);
-        start_node.try_put(tbb::flow::continue_msg());
-        g.wait_for_all();
+    StageGraph graph;
+    auto pass_settings = [&](PhotonMapKind kind, uint64_t emitted, uint64_t pass) {
+        PhotonPassSettings s;
+        s.kind = kind;
+        s.emitted = emitted;
+        s.max_depth = scene.render.max_depth;
+        s.unscaled_roulette = ps.unscaled_roulette;
+        s.pass = pass;
+        return s;
+    };
+    const uint32_t trace_global = graph.add("photons-global", [&]() -> uint64_t {
+        PhotonPassSettings s = pass_settings(PhotonMapKind::Global, ps.global_photons, 0);
+        s.shadow_photons = ps.shadow_photons;
+        if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow);
+        if (ps.split_direct) maps.direct = maps.global.extract(kPhotonDirect);
+        return s.emitted;
     });
+    const uint32_t trace_caustic = graph.add("photons-caustic", [&]() -> uint64_t {
+        const PhotonPassSettings s = pass_settings(PhotonMapKind::Caustic, ps.caustic_photons, 1);
+        // The direct-visualisation mode reads the global map only.
+        if (s.emitted == 0 || ps.mode != PhotonMode::FinalGather) return 0;
+        maps.caustic = tracer.run(s, caustic_stats);
+        return s.emitted;
+    });
+    const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
+        StageClock c;
+        maps.global.build(par);
+        maps.direct.build(par);
+        maps.shadow.build(par);
+        const uint64_t n = maps.global.size() + maps.direct.size() + maps.shadow.size();
+        global_stats.add(Stage::Balance, n, c);
+        return n;
+    });
+    const uint32_t precompute = graph.add("precompute-irradiance", [&]() -> uint64_t {
+        if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return 0;
+        StageClock c;
+        const auto parallel_for = [](std::size_t n,
+                                     const std::function<void(std::size_t, std::size_t)>& body) {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, n, 1024),
+                [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+        };
+        maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+        if (!maps.direct.empty())
+            maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+        const uint64_t n = maps.global.precomputed_size() + maps.direct.precomputed_size();
+        global_stats.add(Stage::Precompute, n, c);
+        return n;
+    });
+    const uint32_t balance_caustic = graph.add("balance-caustic", [&]() -> uint64_t {
+        StageClock c;
+        maps.caustic.build(par);
+        caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
+        return maps.caustic.size();
+    });
+    graph.edge(trace_global, balance_global);
+    graph.edge(trace_caustic, balance_caustic);
+    graph.edge(balance_global, precompute);
+    {
+        tbb::task_arena arena(threads);
+        graph.run(arena);
+    }
     const double photon_seconds = photon_clock.lap();
     photon_stats.merge(global_stats);
     photon_stats.merge(caustic_stats);
 
     PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
-    RenderResult result = scene.render.indirect == IndirectMode::IrradianceCache
-                              ? render_with_cache(
-                                    scene, accel, lights, integrator,
-                                    [&](const CacheEvaluator* e) { integrator.set_cache(e); },
-                                    [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
-                                        return integrator.photon_radiance(sp, m, d);
-                                    },
-                                    PathIntegrator(scene, accel, lights, opt.seed, false), opt)
-                              : render_camera(scene, integrator, opt);
+    // The camera nodes (camera gather, final gather, accumulate; the cache fill before them)
+    // join the graph after the maps are ready.
+    const std::vector<uint32_t> maps_ready = graph.sinks();
+    RenderResult result =
+        scene.render.indirect == IndirectMode::IrradianceCache
+            ? render_with_cache(
+                  scene, accel, lights, integrator,
+                  [&](const CacheEvaluator* e) { integrator.set_cache(e); },
+                  [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
+                      return integrator.photon_radiance(sp, m, d);
+                  },
+                  PathIntegrator(scene, accel, lights, opt.seed, false), opt, graph, maps_ready)
+            : render_camera(scene, integrator, opt, graph, maps_ready);
+    result.stats.graph = graph.report();
     result.stats.merge(photon_stats);
     result.stats.wall_seconds += photon_seconds;
     result.stats.photons_global = maps.global.size() + maps.direct.size();

@@ -14,6 +14,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
 
 namespace foton {
@@ -199,41 +200,60 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
     const uint32_t fixed = opt.time_limit > 0.f ? 0 : std::max<uint32_t>(1, opt.spp);
     std::size_t next_snapshot = 0;
     uint32_t pass = 0;
-    for (;;) {
-        arena.execute([&] {
-            StageClock clock;
-            RenderStats& st0 = local.local();
-            if (stochastic || pass == 0) {
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::size_t(h)),
-                                  [&](const tbb::blocked_range<std::size_t>& r) {
-                                      RenderStats& st = local.local();
-                                      for (std::size_t y = r.begin(); y != r.end(); ++y)
-                                          for (int x = 0; x < w; ++x)
-                                              pm.camera_pass(pass, uint32_t(x), uint32_t(y),
-                                                             pixels[y * std::size_t(w) + x], st);
-                                  });
-                st0.add(Stage::Shade, npix, clock);
-            }
-            PhotonPassSettings s;
-            s.kind = PhotonMapKind::Global;
-            s.emitted = per_pass;
-            s.max_depth = scene.render.max_depth;
-            s.unscaled_roulette = ps.unscaled_roulette;
-            s.pass = 1000 + pass;
-            PhotonMap photons = tracer.run(s, st0);
-            clock.lap();
-            photons.build([](const std::function<void()>& a, const std::function<void()>& b) {
-                tbb::parallel_invoke(a, b);
-            });
-            st0.add(Stage::Balance, photons.size(), clock);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t i = r.begin(); i != r.end(); ++i)
-                                      pm.gather(photons, ps.alpha, pixels[i]);
-                              });
-            st0.add(Stage::FinalGather, npix, clock);
-            st0.samples += npix;
+    // A pass as a graph: the visible points (SPPM: every pass; PPM: the first) and the
+    // pass's photons are independent and run side by side; the photons are balanced; then
+    // every visible point gathers.
+    StageGraph graph;
+    PhotonMap photons;
+    const uint32_t visible = graph.add("visible-points", [&]() -> uint64_t {
+        if (!stochastic && pass > 0) return 0;
+        StageClock clock;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::size_t(h)),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              RenderStats& st = local.local();
+                              for (std::size_t y = r.begin(); y != r.end(); ++y)
+                                  for (int x = 0; x < w; ++x)
+                                      pm.camera_pass(pass, uint32_t(x), uint32_t(y),
+                                                     pixels[y * std::size_t(w) + x], st);
+                          });
+        local.local().add(Stage::Shade, npix, clock);
+        return npix;
+    });
+    const uint32_t trace = graph.add("photons", [&]() -> uint64_t {
+        PhotonPassSettings s;
+        s.kind = PhotonMapKind::Global;
+        s.emitted = per_pass;
+        s.max_depth = scene.render.max_depth;
+        s.unscaled_roulette = ps.unscaled_roulette;
+        s.pass = 1000 + pass;
+        photons = tracer.run(s, local.local());
+        return per_pass;
+    });
+    const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
+        StageClock clock;
+        photons.build([](const std::function<void()>& a, const std::function<void()>& b) {
+            tbb::parallel_invoke(a, b);
         });
+        local.local().add(Stage::Balance, photons.size(), clock);
+        return photons.size();
+    });
+    const uint32_t gather = graph.add("gather", [&]() -> uint64_t {
+        StageClock clock;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                  pm.gather(photons, ps.alpha, pixels[i]);
+                          });
+        RenderStats& st = local.local();
+        st.add(Stage::FinalGather, npix, clock);
+        st.samples += npix;
+        return npix;
+    });
+    graph.edge(trace, balance);
+    graph.edge(visible, gather);
+    graph.edge(balance, gather);
+    for (;;) {
+        graph.run(arena);
         ++pass;
         const double t = elapsed();
         while (next_snapshot < opt.snapshot_times.size() &&
@@ -251,6 +271,7 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
     stats.threads = threads;
     stats.passes = pass;
     result.stats = stats;
+    result.stats.graph = graph.report();
     result.film = image(pass);
     result.samples_per_pixel.assign(npix, pass);
     return result;

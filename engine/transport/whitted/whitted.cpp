@@ -183,8 +183,9 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
     }
 }
 
-void WhittedIntegrator::trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
-                              std::vector<RGB>& radiance, RenderStats& stats) const {
+void WhittedIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob>& jobs,
+                                    IntegratorWorkspace& base, std::vector<RGB>& radiance,
+                                    RenderStats& stats) const {
     WhittedWorkspace& ws = static_cast<WhittedWorkspace&>(base);
     StageClock clock;
     generate(jobs, ws);

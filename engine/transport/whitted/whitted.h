@@ -27,8 +27,8 @@ class WhittedIntegrator : public CameraIntegrator {
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<WhittedWorkspace>();
     }
-    void trace(const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
-               std::vector<RGB>& radiance, RenderStats& stats) const override;
+    void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
+                     std::vector<RGB>& radiance, RenderStats& stats) const override;
 
   private:
     void generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const;
