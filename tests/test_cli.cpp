@@ -145,7 +145,12 @@ TEST_CASE("foton render --set overrides renderer attributes and checks them", "[
     CHECK_THAT(ok.output, Catch::Contains("final-gather"));  // the photon stages ran
     const Run bad = run("render " + cornell + " --set k=abc -o " + dir.file("b.exr"));
     CHECK(bad.code == 2);
-    CHECK_THAT(bad.output, Catch::Contains("attribute 'k' is not a number"));
+    CHECK_THAT(bad.output, Catch::Contains("--set: setting 'k' is not a number"));
+    // Settings are checked by name whatever the scene format: a misspelt key is an error.
+    const Run typo = run("render " + cornell + " --set gather_ray=4 -o " + dir.file("b.exr"));
+    CHECK(typo.code == 2);
+    CHECK_THAT(typo.output, Catch::Contains("unknown setting 'gather_ray' (did you mean "
+                                            "'gather_rays'?)"));
     CHECK(run("render " + cornell + " --set nonsense -o " + dir.file("b.exr")).code == 2);
     CHECK(run("render " + cornell + " --set colour=red -o " + dir.file("b.exr")).code == 2);
     CHECK_FALSE(std::filesystem::exists(dir.file("b.exr")));

@@ -227,7 +227,8 @@ TEST_CASE("every integrator reports its stage graph; photon mapping's runs throu
             if (int(from) == ia && int(to) == ib) return true;
         return false;
     };
-    for (const char* type : {"raytracer", "path", "distributed", "light", "photon", "sppm", "ppm"}) {
+    for (const char* type :
+         {"raytracer", "path", "distributed", "light", "photon", "sppm", "ppm"}) {
         INFO(type);
         const RenderStats st = graph_of(type, "final_gather");
         REQUIRE(st.graph.nodes.size() >= 2);

@@ -289,3 +289,36 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
     expect_error(scene_xml("\n<renderer><adaptive pilot=\"16\" max_spp=\"8\"/></renderer>"), 5,
                  "max_spp must be at least pilot");
 }
+
+TEST_CASE("XML: renderer settings are typed and checked by name, with their line",
+          "[xml][bad-input]") {
+    expect_error(scene_xml("\n<renderer spp=\"4\" gather_ray=\"8\"/>"), 5,
+                 "unknown setting 'gather_ray' (did you mean 'gather_rays'?)");
+    expect_error(scene_xml("\n<renderer frobnicate=\"yes\"/>"), 5, "unknown setting 'frobnicate'");
+    expect_error(scene_xml("\n<renderer cache_levels=\"9\"/>"), 5,
+                 "setting 'cache_levels' must be an integer in [1, 8], not 9");
+    expect_error(scene_xml("\n<renderer alpha=\"1.5\"/>"), 5, "alpha must be in (0, 1]");
+    expect_error(scene_xml("\n<renderer filter=\"box\"/>"), 5,
+                 "unknown filter 'box' (none, cone, gauss, simpson)");
+    expect_error(scene_xml("\n<renderer nee=\"maybe\"/>"), 5, "must be true or false");
+    expect_error(scene_xml("\n<renderer>\n<adaptive pilot=\"0\"/></renderer>"), 6,
+                 "setting 'adaptive_pilot' must be a positive integer");
+    // The same keys from the command line: later wins, errors name --set.
+    const Scene s = parse_scene(scene_xml("\n<renderer type=\"path\" spp=\"4\"/>"), "s.xml", ".",
+                                {{"spp", "9"}, {"mis", "balance"}, {"adaptive", "true"}});
+    CHECK(s.render.spp == 9);
+    CHECK(s.render.mis == MisHeuristic::Balance);
+    CHECK(s.render.adaptive.enabled);
+    try {
+        parse_scene(scene_xml(""), "s.xml", ".", {{"mis", "cubic"}});
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("--set: unknown mis heuristic 'cubic'"));
+    }
+    // One name table per enum: every name parses back to itself.
+    for (const auto& [name, value] : integrator_names().entries) {
+        IntegratorType t;
+        REQUIRE(parse_integrator(name, t));
+        CHECK(t == value);
+    }
+}

@@ -49,9 +49,10 @@ class Loader {
     }
 
     // Rejects attributes and child elements that the element does not define.
-    void check(const pugi::xml_node& n, const Names& attrs, const Names& children) const {
+    void check(const pugi::xml_node& n, const Names& attrs, const Names& children,
+               bool any_attribute = false) const {
         for (const pugi::xml_attribute& a : n.attributes())
-            if (!in(attrs, a.name()))
+            if (!any_attribute && !in(attrs, a.name()))
                 fail(n, std::string("unknown attribute '") + a.name() + "' on <" + n.name() + ">");
         for (const pugi::xml_node& c : n.children()) {
             if (c.type() != pugi::node_element) continue;
@@ -139,8 +140,6 @@ class Loader {
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);
     void parse_renderer(const pugi::xml_node& n);
-    void parse_photon_settings(const pugi::xml_node& n);
-    void parse_cache_settings(const pugi::xml_node& n);
     void parse_camera(const pugi::xml_node& n);
     uint32_t parse_material(const pugi::xml_node& object);
     Material material(const pugi::xml_node& n, bool top);
@@ -188,16 +187,7 @@ Scene Loader::run() {
     }
     // Film before camera: the camera's view plane is film size x pixel count.
     parse_film(child(root, "film"));
-    if (!overrides_.empty()) {
-        pugi::xml_node n = root.child("renderer");
-        if (!n) n = doc.document_element().append_child("renderer");
-        for (const auto& [key, value] : overrides_) {
-            pugi::xml_attribute a = n.attribute(key.c_str());
-            if (!a) a = n.append_attribute(key.c_str());
-            a.set_value(value.c_str());
-        }
-    }
-    if (const auto n = root.child("renderer")) parse_renderer(n);
+    parse_renderer(root.child("renderer"));
     if (const auto n = root.child("aggregate")) {
         check(n, {"type", "density"}, {});
         if (!parse_accel(n.attribute("type").value(), scene_.accel))
@@ -224,260 +214,26 @@ void Loader::parse_film(const pugi::xml_node& n) {
     f.gamma = positive(n, "gamma", 2.2f);
 }
 
+// The <renderer> attributes, and those of its <adaptive> element as adaptive_*, become
+// settings with their line; --set overrides come after them.
 void Loader::parse_renderer(const pugi::xml_node& n) {
-    check(n,
-          {"type",
-           "aa_samples",
-           "spp",
-           "num_threads",
-           "sampler",
-           "max_depth",
-           "min_contribution",
-           "seed",
-           "mis",
-           "nee",
-           "rr_depth",
-           "time",
-           "light_samples",
-           "global_photons",
-           "caustic_photons",
-           "k",
-           "caustic_k",
-           "max_radius",
-           "caustic_radius",
-           "envelope",
-           "filter",
-           "caustic_filter",
-           "cone_k",
-           "mode",
-           "gather_rays",
-           "photon_rr",
-           "irradiance_stride",
-           "initial_radius",
-           "alpha",
-           "photons_per_pass",
-           "shadow_photons",
-           "split_direct",
-           "guided_gather",
-           "guide_photons",
-           "indirect",
-           "cache_samples",
-           "cache_weight",
-           "cache_a",
-           "cache_kappa",
-           "cache_r_min",
-           "cache_r_max_factor",
-           "cache_radius",
-           "cache_gradients",
-           "cache_visibility",
-           "cache_secondary",
-           "cache_levels",
-           "cache_ao_distance"},
-          {"adaptive"});
-    RenderSettings& r = scene_.render;
-    if (n.attribute("type") && !parse_integrator(n.attribute("type").value(), r.integrator))
-        fail(n, std::string("unknown renderer type '") + n.attribute("type").value() +
-                    "' (raytracer, path, light, distributed, photon, sppm, ppm)");
-    parse_photon_settings(n);
-    parse_cache_settings(n);
-    if (n.attribute("mis") && !parse_mis(n.attribute("mis").value(), r.mis))
-        fail(n, std::string("unknown mis heuristic '") + n.attribute("mis").value() +
-                    "' (balance, power, max, none)");
-    r.nee = boolean(n, "nee", r.nee);
-    if (n.attribute("rr_depth")) {
-        const float d = number(n, "rr_depth");
-        if (d < 0.f || d != std::floor(d)) fail(n, "rr_depth must be a non-negative integer");
-        r.rr_depth = uint32_t(d);
+    ParamSet params;
+    params.file = name_;
+    if (n) {
+        check(n, {}, {"adaptive"}, /*any_attribute=*/true);
+        for (const pugi::xml_attribute& a : n.attributes())
+            params.set(a.name(), a.value(), name_, line_of(n));
+        if (const pugi::xml_node a = n.child("adaptive")) {
+            check(a, {"pilot", "max_spp", "threshold", "unbiased", "enabled"}, {});
+            params.set("adaptive", a.attribute("enabled") ? a.attribute("enabled").value() : "true",
+                       name_, line_of(a));
+            for (const pugi::xml_attribute& at : a.attributes())
+                if (std::string_view(at.name()) != "enabled")
+                    params.set(std::string("adaptive_") + at.name(), at.value(), name_, line_of(a));
+        }
     }
-    r.time_limit = non_negative(n, "time", 0.f);
-    r.light_samples = count(n, "light_samples", r.light_samples);
-    if (const pugi::xml_node a = n.child("adaptive")) {
-        check(a, {"pilot", "max_spp", "threshold", "unbiased", "enabled"}, {});
-        AdaptiveSettings& ad = r.adaptive;
-        ad.enabled = boolean(a, "enabled", true);
-        ad.pilot = count(a, "pilot", ad.pilot);
-        ad.max_spp = count(a, "max_spp", ad.max_spp);
-        ad.threshold = positive(a, "threshold", ad.threshold);
-        ad.unbiased = boolean(a, "unbiased", ad.unbiased);
-        if (ad.max_spp < ad.pilot) fail(a, "max_spp must be at least pilot");
-    }
-    if (n.attribute("spp")) r.spp = count(n, "spp", 1);
-    if (n.attribute("aa_samples")) r.spp = count(n, "aa_samples", 1);
-    if (n.attribute("num_threads")) {
-        const float t = number(n, "num_threads");
-        if (t < 0.f || t != std::floor(t))
-            fail(n, "num_threads must be 0 (all) or a positive integer");
-        r.threads = int(t);
-    }
-    if (n.attribute("sampler")) {
-        const auto k = parse_sampler(n.attribute("sampler").value());
-        if (!k)
-            fail(n, std::string("unknown sampler '") + n.attribute("sampler").value() +
-                        "' (regular, random, jittered, hammersley)");
-        r.sampler = *k;
-    }
-    if (n.attribute("max_depth")) {
-        const float d = number(n, "max_depth");
-        if (d < 0.f || d != std::floor(d) || d > 1000.f)
-            fail(n, "max_depth must be an integer in [0, 1000]");
-        r.max_depth = uint32_t(d);
-    }
-    r.min_contribution = non_negative(n, "min_contribution", r.min_contribution);
-    if (n.attribute("seed")) {
-        const float s = number(n, "seed");
-        if (s < 0.f || s != std::floor(s)) fail(n, "seed must be a non-negative integer");
-        r.seed = uint64_t(s);
-    }
-}
-
-void Loader::parse_photon_settings(const pugi::xml_node& n) {
-    PhotonSettings& p = scene_.render.photon;
-    auto photons = [&](const char* a, uint64_t& out) {
-        if (!n.attribute(a)) return;
-        const float v = number(n, a);
-        if (v < 0.f || v != std::floor(v) || v > 4e9f)
-            fail(n, std::string(a) + " must be a non-negative integer");
-        out = uint64_t(v);
-    };
-    photons("global_photons", p.global_photons);
-    photons("caustic_photons", p.caustic_photons);
-    p.k = count(n, "k", p.k);
-    p.caustic_k = count(n, "caustic_k", p.caustic_k);
-    if (p.k > 4096 || p.caustic_k > 4096) fail(n, "k and caustic_k must be at most 4096");
-    p.max_radius = non_negative(n, "max_radius", p.max_radius);
-    p.caustic_radius = non_negative(n, "caustic_radius", p.caustic_radius);
-    p.cone_k = number(n, "cone_k", p.cone_k);
-    if (!(p.cone_k >= 1.f)) fail(n, "cone_k must be at least 1");
-    if (n.attribute("gather_rays")) {
-        const float g = number(n, "gather_rays");
-        if (g < 0.f || g != std::floor(g) || g > 1e6f)
-            fail(n, "gather_rays must be a non-negative integer");
-        p.gather_rays = uint32_t(g);
-    }
-    p.shadow_photons = boolean(n, "shadow_photons", p.shadow_photons);
-    p.split_direct = boolean(n, "split_direct", p.split_direct);
-    p.guided_gather = boolean(n, "guided_gather", p.guided_gather);
-    p.guide_photons = count(n, "guide_photons", p.guide_photons);
-    if (p.guide_photons > 4096) fail(n, "guide_photons must be at most 4096");
-    p.initial_radius = non_negative(n, "initial_radius", p.initial_radius);
-    p.alpha = number(n, "alpha", p.alpha);
-    if (!(p.alpha > 0.f && p.alpha <= 1.f)) fail(n, "alpha must be in (0, 1]");
-    photons("photons_per_pass", p.photons_per_pass);
-    if (n.attribute("irradiance_stride")) {
-        const float g = number(n, "irradiance_stride");
-        if (g < 0.f || g != std::floor(g) || g > 1e6f)
-            fail(n, "irradiance_stride must be a non-negative integer (0: off)");
-        p.irradiance_stride = uint32_t(g);
-    }
-    if (n.attribute("envelope")) {
-        const std::string e = n.attribute("envelope").value();
-        if (e == "sphere")
-            p.envelope = 0;
-        else if (e == "disc")
-            p.envelope = 1;
-        else
-            fail(n, "unknown envelope '" + e + "' (sphere, disc)");
-    }
-    auto filter = [&](const char* a, uint8_t& out) {
-        if (!n.attribute(a)) return;
-        const std::string f = n.attribute(a).value();
-        if (f == "none")
-            out = 0;
-        else if (f == "cone")
-            out = 1;
-        else if (f == "gauss")
-            out = 2;
-        else if (f == "simpson")
-            out = 3;
-        else
-            fail(n, "unknown filter '" + f + "' (none, cone, gauss, simpson)");
-    };
-    filter("filter", p.filter);
-    filter("caustic_filter", p.caustic_filter);
-    if (n.attribute("mode")) {
-        const std::string m = n.attribute("mode").value();
-        if (m == "final_gather")
-            p.mode = PhotonMode::FinalGather;
-        else if (m == "direct_visualisation" || m == "direct_visualization")
-            p.mode = PhotonMode::DirectVisualisation;
-        else
-            fail(n, "unknown photon mode '" + m + "' (final_gather, direct_visualisation)");
-    }
-    if (n.attribute("photon_rr")) {
-        const std::string r = n.attribute("photon_rr").value();
-        if (r == "unbiased")
-            p.unscaled_roulette = false;
-        else if (r == "unscaled")
-            p.unscaled_roulette = true;
-        else
-            fail(n, "unknown photon_rr '" + r + "' (unbiased, unscaled)");
-    }
-}
-
-void Loader::parse_cache_settings(const pugi::xml_node& n) {
-    CacheSettings& c = scene_.render.cache;
-    if (n.attribute("indirect")) {
-        const std::string v = n.attribute("indirect").value();
-        if (v == "final_gather")
-            scene_.render.indirect = IndirectMode::FinalGather;
-        else if (v == "irradiance_cache")
-            scene_.render.indirect = IndirectMode::IrradianceCache;
-        else
-            fail(n, "unknown indirect '" + v + "' (final_gather, irradiance_cache)");
-    }
-    if (n.attribute("cache_samples")) {
-        const float v = number(n, "cache_samples");
-        if (v != std::floor(v) || v < 4.f || v > 100000.f)
-            fail(n, "cache_samples must be an integer in [4, 100000]");
-        c.samples = uint32_t(v);
-    }
-    if (n.attribute("cache_weight")) {
-        const std::string v = n.attribute("cache_weight").value();
-        if (v == "ward")
-            c.ward_weight = true;
-        else if (v == "notes")
-            c.ward_weight = false;
-        else
-            fail(n, "unknown cache_weight '" + v + "' (notes, ward)");
-    }
-    c.a = positive(n, "cache_a", c.a);
-    c.kappa = positive(n, "cache_kappa", c.kappa);
-    c.r_min_pixels = positive(n, "cache_r_min", c.r_min_pixels);
-    c.r_max_factor = number(n, "cache_r_max_factor", c.r_max_factor);
-    if (!(c.r_max_factor >= 1.f)) fail(n, "cache_r_max_factor must be at least 1");
-    if (n.attribute("cache_radius")) {
-        const std::string v = n.attribute("cache_radius").value();
-        if (v == "harmonic")
-            c.minimum_radius = false;
-        else if (v == "minimum")
-            c.minimum_radius = true;
-        else
-            fail(n, "unknown cache_radius '" + v + "' (harmonic, minimum)");
-    }
-    c.gradients = boolean(n, "cache_gradients", c.gradients);
-    c.visibility = boolean(n, "cache_visibility", c.visibility);
-    if (n.attribute("cache_secondary")) {
-        const std::string v = n.attribute("cache_secondary").value();
-        if (v == "photon")
-            c.secondary = CacheSecondary::Photon;
-        else if (v == "direct")
-            c.secondary = CacheSecondary::Direct;
-        else if (v == "path")
-            c.secondary = CacheSecondary::Path;
-        else if (v == "cache")
-            c.secondary = CacheSecondary::Cache;
-        else if (v == "occlusion")
-            c.secondary = CacheSecondary::Occlusion;
-        else
-            fail(n, "unknown cache_secondary '" + v + "' (photon, direct, path, cache, occlusion)");
-    }
-    if (n.attribute("cache_levels")) {
-        const float v = number(n, "cache_levels");
-        if (v != std::floor(v) || v < 1.f || v > 8.f)
-            fail(n, "cache_levels must be an integer in [1, 8]");
-        c.levels = uint32_t(v);
-    }
-    c.ao_distance = non_negative(n, "cache_ao_distance", c.ao_distance);
+    for (const auto& [key, value] : overrides_) params.set(key, value, "--set", 0);
+    scene_.render = parse_render_settings(params);
 }
 
 void Loader::parse_camera(const pugi::xml_node& n) {
