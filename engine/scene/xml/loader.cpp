@@ -1,0 +1,146 @@
+// The document, film, renderer settings and camera; the public entry points.
+#include "loader.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/scene/render_settings.h"
+
+namespace foton::xml {
+
+Scene Loader::run() {
+    pugi::xml_document doc;
+    const pugi::xml_parse_result r = doc.load_buffer(xml_.data(), xml_.size());
+    if (!r)
+        throw InputError(name_, line_of(r.offset),
+                         std::string("malformed XML: ") + r.description());
+    const pugi::xml_node root = doc.document_element();
+    if (std::string_view(root.name()) != "scene")
+        fail(root, std::string("root element must be <scene>, not <") + root.name() + ">");
+    check(
+        root, {},
+        {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer", "camera"});
+    scene_.source = name_;
+    for (const char* once : {"background", "ambient", "lights", "aggregate", "objects", "film",
+                             "renderer", "camera"}) {
+        int k = 0;
+        for (const pugi::xml_node& c : root.children(once)) {
+            if (++k > 1) fail(c, std::string("<") + once + "> given more than once");
+        }
+    }
+    if (const auto n = root.child("background")) {
+        check(n, {"r", "g", "b"}, {});
+        scene_.background = rgb(n);
+    }
+    if (const auto n = root.child("ambient")) {
+        check(n, {"r", "g", "b", "intensity"}, {});
+        scene_.ambient.color = rgb(n, {"intensity"});
+        scene_.ambient.intensity = non_negative(n, "intensity", 1.f);
+    }
+    // Film before camera: the camera's view plane is film size x pixel count.
+    parse_film(child(root, "film"));
+    parse_renderer(root.child("renderer"));
+    if (const auto n = root.child("aggregate")) {
+        check(n, {"type", "density"}, {});
+        if (!parse_accel(n.attribute("type").value(), scene_.accel))
+            fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
+                        "' (brute, brute-simd, grid, bvh, embree)");
+        scene_.grid_density = positive(n, "density", scene_.grid_density);
+    }
+    parse_camera(child(root, "camera"));
+    if (const auto n = root.child("lights")) parse_lights(n);
+    parse_objects(child(root, "objects"));
+    bool has_geometry = false;
+    for (const Object& o : scene_.objects)
+        if (scene_.materials[o.material].type != MaterialType::Emitter) has_geometry = true;
+    if (!has_geometry) fail(root.child("objects"), "the scene has no objects");
+    return std::move(scene_);
+}
+
+void Loader::parse_film(const pugi::xml_node& n) {
+    check(n, {"width", "height", "size", "gamma"}, {});
+    FilmSettings& f = scene_.film;
+    f.width = int(count(n, "width", 512));
+    f.height = int(count(n, "height", 512));
+    f.pixel_size = positive(n, "size", 0.001f);
+    f.gamma = positive(n, "gamma", 2.2f);
+}
+
+// The <renderer> attributes, and those of its <adaptive> element as adaptive_*, become
+// settings with their line; --set overrides come after them.
+void Loader::parse_renderer(const pugi::xml_node& n) {
+    ParamSet params;
+    params.file = name_;
+    if (n) {
+        check(n, {}, {"adaptive"}, /*any_attribute=*/true);
+        for (const pugi::xml_attribute& a : n.attributes())
+            params.set(a.name(), a.value(), name_, line_of(n));
+        if (const pugi::xml_node a = n.child("adaptive")) {
+            check(a, {"pilot", "max_spp", "threshold", "unbiased", "enabled"}, {});
+            params.set("adaptive", a.attribute("enabled") ? a.attribute("enabled").value() : "true",
+                       name_, line_of(a));
+            for (const pugi::xml_attribute& at : a.attributes())
+                if (std::string_view(at.name()) != "enabled")
+                    params.set(std::string("adaptive_") + at.name(), at.value(), name_, line_of(a));
+        }
+    }
+    for (const auto& [key, value] : overrides_) params.set(key, value, "--set", 0);
+    scene_.render = parse_render_settings(params);
+}
+
+void Loader::parse_camera(const pugi::xml_node& n) {
+    check(n, {"type", "d", "exposure", "fov", "lens_radius", "focal_distance"},
+          {"eye", "target", "up"});
+    Camera& c = scene_.camera;
+    const std::string type = n.attribute("type") ? n.attribute("type").value() : "perspective";
+    if (type == "perspective")
+        c.type = CameraType::Perspective;
+    else if (type == "orthographic")
+        c.type = CameraType::Orthographic;
+    else
+        fail(n, "unknown camera type '" + type + "' (perspective, orthographic)");
+    c.eye = xyz_child(n, "eye");
+    c.target = xyz_child(n, "target");
+    c.up = n.child("up") ? xyz_child(n, "up") : Vec3{0, 1, 0};
+    c.d = positive(n, "d", 1.f);
+    c.exposure = positive(n, "exposure", 1.f);
+    c.width = scene_.film.width;
+    c.height = scene_.film.height;
+    if (n.attribute("fov")) {
+        // Convenience: a vertical field of view in degrees sets the pixel size.
+        const float fov = number(n, "fov");
+        if (!(fov > 0.f && fov < 180.f)) fail(n, "fov must be in (0, 180) degrees");
+        if (c.type != CameraType::Perspective) fail(n, "fov applies to perspective cameras only");
+        scene_.film.pixel_size = 2.f * c.d * std::tan(0.5f * fov * kPi / 180.f) / float(c.height);
+    }
+    c.pixel_size = scene_.film.pixel_size;
+    if (length_squared(c.target - c.eye) == 0.f) fail(n, "camera eye and target coincide");
+    c.lens_radius = non_negative(n, "lens_radius", 0.f);
+    c.focal_distance = positive(n, "focal_distance", length(c.target - c.eye));
+    if (c.lens_radius > 0.f && c.type != CameraType::Perspective)
+        fail(n, "a thin lens (lens_radius) needs a perspective camera");
+    if (length_squared(cross(c.target - c.eye, c.up)) == 0.f)
+        fail(n, "camera up is parallel to the viewing direction");
+    c.setup();
+}
+
+}  // namespace foton::xml
+
+namespace foton {
+
+Scene parse_scene(const std::string& xml, const std::string& name, const std::string& base_dir,
+                  const RendererOverrides& overrides) {
+    return xml::Loader(xml, name, base_dir, overrides).run();
+}
+
+Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, "cannot open scene file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    return parse_scene(ss.str(), path, base.empty() ? "." : base, overrides);
+}
+
+}  // namespace foton

@@ -1,0 +1,159 @@
+#pragma once
+// The XML scene loader's internals, shared by its parts: loader.cpp (the document, film,
+// renderer, camera), lights.cpp, materials.cpp and objects.cpp. The helpers read attributes
+// as checked numbers, colours and vectors and report every problem as `file:line: what`.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "engine/core/error.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/xml_loader.h"
+
+namespace foton::xml {
+
+using Names = std::initializer_list<const char*>;
+
+inline bool in(const Names& names, const char* s) {
+    return std::any_of(names.begin(), names.end(),
+                       [&](const char* n) { return std::string_view(n) == s; });
+}
+
+class Loader {
+  public:
+    Loader(const std::string& xml, std::string name, std::string base_dir,
+           const RendererOverrides& overrides)
+        : xml_(xml), name_(std::move(name)), base_(std::move(base_dir)), overrides_(overrides) {
+        line_starts_.push_back(0);
+        for (std::size_t i = 0; i < xml_.size(); ++i)
+            if (xml_[i] == '\n') line_starts_.push_back(i + 1);
+    }
+
+    Scene run();
+
+  private:
+    int line_of(std::ptrdiff_t offset) const {
+        if (offset < 0) return 0;
+        auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), std::size_t(offset));
+        return int(it - line_starts_.begin());
+    }
+    int line_of(const pugi::xml_node& n) const { return line_of(n.offset_debug()); }
+    [[noreturn]] void fail(const pugi::xml_node& n, const std::string& what) const {
+        throw InputError(name_, line_of(n), what);
+    }
+
+    // Rejects attributes and child elements that the element does not define.
+    void check(const pugi::xml_node& n, const Names& attrs, const Names& children,
+               bool any_attribute = false) const {
+        for (const pugi::xml_attribute& a : n.attributes())
+            if (!any_attribute && !in(attrs, a.name()))
+                fail(n, std::string("unknown attribute '") + a.name() + "' on <" + n.name() + ">");
+        for (const pugi::xml_node& c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (!in(children, c.name()))
+                fail(c, std::string("unknown element <") + c.name() + "> in <" + n.name() + ">");
+        }
+    }
+
+    float number(const pugi::xml_node& n, const char* attr) const {
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) fail(n, std::string("<") + n.name() + "> needs attribute '" + attr + "'");
+        std::string_view s = a.value();
+        while (!s.empty() && std::isspace((unsigned char)s.front())) s.remove_prefix(1);
+        while (!s.empty() && std::isspace((unsigned char)s.back())) s.remove_suffix(1);
+        if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+        float v = 0.f;
+        auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
+            fail(n, std::string("attribute '") + attr + "' is not a number: '" + a.value() + "'");
+        if (!std::isfinite(v)) fail(n, std::string("attribute '") + attr + "' is NaN or infinite");
+        return v;
+    }
+    float number(const pugi::xml_node& n, const char* attr, float fallback) const {
+        return n.attribute(attr) ? number(n, attr) : fallback;
+    }
+    float positive(const pugi::xml_node& n, const char* attr, float fallback) const {
+        const float v = number(n, attr, fallback);
+        if (!(v > 0.f)) fail(n, std::string("attribute '") + attr + "' must be positive");
+        return v;
+    }
+    float non_negative(const pugi::xml_node& n, const char* attr, float fallback) const {
+        const float v = number(n, attr, fallback);
+        if (v < 0.f) fail(n, std::string("attribute '") + attr + "' must not be negative");
+        return v;
+    }
+    uint32_t count(const pugi::xml_node& n, const char* attr, uint32_t fallback) const {
+        if (!n.attribute(attr)) return fallback;
+        const float v = number(n, attr);
+        if (v < 1.f || v != std::floor(v) || v > 1e8f)
+            fail(n, std::string("attribute '") + attr + "' must be a positive integer");
+        return uint32_t(v);
+    }
+    bool boolean(const pugi::xml_node& n, const char* attr, bool fallback) const {
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) return fallback;
+        const std::string v = a.value();
+        if (v == "true" || v == "1") return true;
+        if (v == "false" || v == "0") return false;
+        fail(n, std::string("attribute '") + attr + "' must be true or false");
+    }
+    pugi::xml_node child(const pugi::xml_node& n, const char* name) const {
+        const pugi::xml_node c = n.child(name);
+        if (!c) fail(n, std::string("<") + n.name() + "> needs a <" + name + "> element");
+        return c;
+    }
+    Vec3 xyz(const pugi::xml_node& n) const {
+        check(n, {"x", "y", "z"}, {});
+        return {number(n, "x"), number(n, "y"), number(n, "z")};
+    }
+    Vec3 xyz_child(const pugi::xml_node& n, const char* name) const { return xyz(child(n, name)); }
+    RGB rgb(const pugi::xml_node& n, Names extra = {}) const {
+        for (const pugi::xml_attribute& a : n.attributes()) {
+            const std::string_view an = a.name();
+            if (an != "r" && an != "g" && an != "b" && !in(extra, a.name()))
+                fail(n, std::string("unknown attribute '") + a.name() + "' on <" + n.name() + ">");
+        }
+        const RGB c{number(n, "r"), number(n, "g"), number(n, "b")};
+        if (c.r < 0.f || c.g < 0.f || c.b < 0.f) fail(n, "colour components must not be negative");
+        return c;
+    }
+    RGB rgb_child(const pugi::xml_node& n, const char* name, RGB fallback) const {
+        const pugi::xml_node c = n.child(name);
+        if (!c) return fallback;
+        check(c, {"r", "g", "b"}, {});
+        return rgb(c);
+    }
+    Vec3 direction(const pugi::xml_node& n, const char* name) const {
+        const pugi::xml_node c = child(n, name);
+        const Vec3 d = xyz(c);
+        if (length_squared(d) == 0.f) fail(c, std::string("<") + name + "> is a zero vector");
+        return normalize(d);
+    }
+
+    void parse_lights(const pugi::xml_node& n);
+    void parse_objects(const pugi::xml_node& n);
+    void parse_film(const pugi::xml_node& n);
+    void parse_renderer(const pugi::xml_node& n);
+    void parse_camera(const pugi::xml_node& n);
+    uint32_t parse_material(const pugi::xml_node& object);
+    Material material(const pugi::xml_node& n, bool top);
+    Fresnel conductor_fresnel(const pugi::xml_node& n) const;
+    MicrofacetDistribution distribution(const pugi::xml_node& n, const char* fallback) const;
+    Affine parse_transform(const pugi::xml_node& object) const;
+    void add_area_light(const pugi::xml_node& n);
+    uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
+
+    const std::string& xml_;
+    std::string name_, base_;
+    std::vector<std::size_t> line_starts_;
+    const RendererOverrides& overrides_;
+    Scene scene_;
+};
+
+}  // namespace foton::xml
