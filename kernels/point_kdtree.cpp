@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace foton::kern {
 
@@ -177,13 +178,51 @@ uint32_t PointKdTree::knn_scalar(const float q[3], float max_d2, uint32_t k, uin
     return knn_impl<false>(q, max_d2, k, out_index, out_d2);
 }
 
+std::vector<uint32_t> morton_order(const float* x, const float* y, const float* z, std::size_t n) {
+    float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+    const float* p[3] = {x, y, z};
+    for (std::size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) {
+            if (p[a][i] < lo[a]) lo[a] = p[a][i];
+            if (p[a][i] > hi[a]) hi[a] = p[a][i];
+        }
+    auto spread = [](uint64_t v) {  // 21 bits to every third bit of 63
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffull;
+        v = (v | v << 16) & 0x1f0000ff0000ffull;
+        v = (v | v << 8) & 0x100f00f00f00f00full;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+        v = (v | v << 2) & 0x1249249249249249ull;
+        return v;
+    };
+    std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const float extent = hi[a] - lo[a];
+            const float t = extent > 0.f ? (p[a][i] - lo[a]) / extent : 0.f;
+            // NaN and out-of-range coordinates clamp to the box: they only affect the order.
+            const float c = t > 0.f ? std::min(t, 1.f) * 2097151.f : 0.f;
+            code |= spread(uint64_t(c)) << a;
+        }
+        keyed[i] = {code, uint32_t(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<uint32_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
+    return order;
+}
+
 void PointKdTree::knn_batch(const float* qx, const float* qy, const float* qz, const float* max_d2,
                             std::size_t n, uint32_t k, KnnBatchResult& out) const {
     out.resize(n, k);
-    for (std::size_t i = 0; i < n; ++i) {
+    // The queries run in Morton order of their positions: neighbours in that order walk the
+    // same nodes and leaves, which are then still in cache. Each result goes to its query's
+    // own row, so the order changes the speed and nothing else.
+    for (const uint32_t i : morton_order(qx, qy, qz, n)) {
         const float q[3] = {qx[i], qy[i], qz[i]};
-        out.count[i] =
-            knn_impl<true>(q, max_d2[i], k, out.index.data() + i * k, out.dist2.data() + i * k);
+        out.count[i] = knn_impl<true>(q, max_d2[i], k, out.index.data() + std::size_t(i) * k,
+                                      out.dist2.data() + std::size_t(i) * k);
     }
 }
 

@@ -107,6 +107,10 @@ class PointKdTree {
     std::vector<uint32_t> index_;
 };
 
+// The indices of points (x[i], y[i], z[i]), i < n, in Morton (Z-curve) order of their
+// positions in their bounding box: neighbours in the order are neighbours in space.
+std::vector<uint32_t> morton_order(const float* x, const float* y, const float* z, std::size_t n);
+
 // Sorts a knn() result (a max-heap of `count` entries) by ascending distance, in place.
 void sort_knn_result(uint32_t count, uint32_t* index, float* d2);
 

@@ -30,6 +30,8 @@ const char* stage_name(Stage s) {
             return "irradiance";
         case Stage::FinalGather:
             return "final-gather";
+        case Stage::PhotonEstimate:
+            return "photon-estimate";
         case Stage::CacheRecords:
             return "cache-record";
         case Stage::kCount:

@@ -23,6 +23,7 @@ enum class Stage {
     Balance,
     Precompute,
     FinalGather,
+    PhotonEstimate,
     CacheRecords,
     kCount
 };

@@ -5,6 +5,7 @@
 // bounces; at every hit with non-delta lobes the caller's `at_hit` says what the ray sees
 // there. Emission is never counted: the diffuse point's direct light comes from its own
 // light sample.
+#include <utility>
 #include <vector>
 
 #include "engine/accel/intersector.h"
@@ -32,13 +33,13 @@ struct GatherBuffers {
     }
 };
 
-// Traces b.rays; a miss adds weight * background to out[slot]; at a hit with non-delta lobes
-// at_hit(slot, weight, sp, material, direction) is called. With `first_dist`, the first
+// Traces b.rays; a miss calls at_miss(slot, weight * background); at a hit with non-delta
+// lobes at_hit(slot, weight, sp, material, direction) is called. With `first_dist`, the first
 // segment's length (infinite for a miss) goes to first_dist[slot]. Returns the rays traced.
-template <class AtHit>
+template <class AtHit, class AtMiss>
 std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuffers& b,
-                         std::vector<RGB>& out, float* first_dist, TraceCounters& trace,
-                         AtHit&& at_hit) {
+                         float* first_dist, TraceCounters& trace, AtHit&& at_hit,
+                         AtMiss&& at_miss) {
     std::size_t traced = 0;
     for (uint32_t depth = 0; !b.rays.empty(); ++depth) {
         accel.intersect(b.rays, b.hits, trace);
@@ -52,7 +53,7 @@ std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuf
             if (depth == 0 && first_dist)
                 first_dist[slot] = geom == kNoHit ? kInfinity : b.hits.t[i];
             if (geom == kNoHit) {
-                out[slot] += w * scene.background;
+                at_miss(slot, w * scene.background);
                 continue;
             }
             const Vec3 d = b.rays.direction(i);
@@ -82,6 +83,15 @@ std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuf
         std::swap(b.weight, b.weight_next);
     }
     return traced;
+}
+
+// The same, a miss adding weight * background to out[slot].
+template <class AtHit>
+std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuffers& b,
+                         std::vector<RGB>& out, float* first_dist, TraceCounters& trace,
+                         AtHit&& at_hit) {
+    return trace_gather(scene, accel, b, first_dist, trace, std::forward<AtHit>(at_hit),
+                        [&](uint32_t slot, const RGB& v) { out[slot] += v; });
 }
 
 }  // namespace foton

@@ -167,17 +167,72 @@ RGB PhotonIntegrator::photon_radiance(const SurfacePoint& sp, const Material& m,
     return sum;
 }
 
+void PhotonIntegrator::photon_radiance_batch(FinalGatherBatch& b) const {
+    const std::size_t n = b.hits.size();
+    b.L.assign(n, RGB{0.f});
+    for (const PhotonMap* map : {&maps_.global, &maps_.direct}) {
+        if (map->empty()) continue;
+        // Lambertian hits read Christensen's precomputed irradiance when there is one nearby
+        // with a similar normal (all such lookups in one batch); anything else takes a full
+        // estimate. As in photon_radiance.
+        b.lambert.clear();
+        b.rho.clear();
+        b.queries.clear();
+        std::vector<uint8_t>& served = b.found;
+        if (map->has_precomputed()) {
+            for (uint32_t i = 0; i < n; ++i) {
+                RGB rho;
+                if (!b.hits[i].m->bsdf.lambert_albedo(rho)) continue;
+                b.lambert.push_back(i);
+                b.rho.push_back(rho);
+                b.queries.push(b.hits[i].sp.p, b.hits[i].sp.ng, maps_.global_params.max_radius);
+            }
+            map->lookup_irradiance_batch(b.queries, b.e, served);
+        }
+        std::size_t next = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            const FinalGatherBatch::Hit& h = b.hits[i];
+            if (next < b.lambert.size() && b.lambert[next] == i) {
+                const std::size_t j = next++;
+                if (served[j]) {
+                    b.L[i] += b.rho[j] * b.e[j] * kInvPi;
+                    continue;
+                }
+            }
+            const warp::Frame frame(h.sp.ns);
+            const BsdfContext ctx{h.sp.front_face, Transport::Radiance};
+            b.L[i] += map->radiance(h.sp.p, frame.s, frame.t, frame.n, h.m->bsdf,
+                                    frame.to_local(-h.d), ctx, maps_.global_params);
+        }
+    }
+}
+
 void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
                                     RenderStats& stats) const {
     StageClock clock;
+    FinalGatherBatch& b = ws.batch;
+    b.hits.clear();
+    b.order.clear();
+    b.values.clear();
     // Emission is not counted at the hits: direct light came from NEE, and light through
     // specular surfaces from the caustic map.
-    const std::size_t rays =
-        trace_gather(scene_, accel_, ws.gather, radiance, nullptr, stats.trace,
-                     [&](uint32_t slot, const RGB& w, const SurfacePoint& sp, const Material& m,
-                         const Vec3& d) { radiance[slot] += w * photon_radiance(sp, m, d); });
+    const std::size_t rays = trace_gather(
+        scene_, accel_, ws.gather, nullptr, stats.trace,
+        [&](uint32_t slot, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
+            b.order.emplace_back(slot, int32_t(b.hits.size()));
+            b.hits.push_back({sp, &m, d, w});
+        },
+        [&](uint32_t slot, const RGB& v) {
+            b.order.emplace_back(slot, -1 - int32_t(b.values.size()));
+            b.values.push_back(v);
+        });
     stats.secondary_rays += rays;
     stats.add(Stage::FinalGather, rays, clock);
+    photon_radiance_batch(b);
+    for (const auto& [slot, i] : b.order)
+        radiance[slot] +=
+            i >= 0 ? b.hits[std::size_t(i)].w * b.L[std::size_t(i)] : b.values[std::size_t(-1 - i)];
+    stats.add(Stage::PhotonEstimate, b.hits.size(), clock);
 }
 
 void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs,

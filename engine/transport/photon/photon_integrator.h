@@ -13,6 +13,7 @@
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_map.h"
@@ -25,6 +26,26 @@ struct PhotonMaps {
     EstimateParams global_params, caustic_params;
 };
 
+// The final gather's hits, whose photon estimates are made together: every contribution is
+// kept in the order the rays made it (a value, or a query answered by the batch), so the
+// sums are the very same as adding them one by one.
+struct FinalGatherBatch {
+    struct Hit {
+        SurfacePoint sp;
+        const Material* m;
+        Vec3 d;
+        RGB w;
+    };
+    std::vector<Hit> hits;
+    std::vector<RGB> L;                               // radiance of each hit from the photons
+    std::vector<std::pair<uint32_t, int32_t>> order;  // slot, hit index (-1: values[i])
+    std::vector<RGB> values;
+    std::vector<uint32_t> lambert;  // hits read through the precomputed irradiance
+    std::vector<RGB> rho, e;
+    std::vector<uint8_t> found;
+    PhotonMap::IrradianceQueries queries;
+};
+
 struct PhotonCameraWorkspace : IntegratorWorkspace {
     RayBatch rays, next, shadow;
     HitBatch hits;
@@ -33,6 +54,7 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
     std::vector<RGB> beta, shadow_value;
     uint64_t saved = 0;  // shadow rays decided by shadow photons
     GatherGuide guide;
+    FinalGatherBatch batch;
     // Irradiance cache: path length of each camera sample so far (for the pixel footprint).
     std::vector<float> path_length;
     CacheWorkspace cache;
@@ -74,6 +96,9 @@ class PhotonIntegrator : public CameraIntegrator {
     void gather_rays(const struct SurfacePoint& sp, const Material& m, const Vec3& wo,
                      const warp::Frame& frame, const RGB& weight, uint32_t slot,
                      const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws) const;
+    // The photon estimates of every hit of the batch (photon_radiance for each, with the
+    // precomputed-irradiance lookups made as one batched kNN per map).
+    void photon_radiance_batch(FinalGatherBatch& b) const;
     // Traces ws.gather and adds what each ray brings back to radiance[ray id].
     void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
                       RenderStats& stats) const;

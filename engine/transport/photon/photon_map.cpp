@@ -188,14 +188,40 @@ void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& par
     irr_z_.resize(m);
     irr_n_.resize(m);
     irr_e_.resize(m);
+    for (std::size_t j = 0; j < m; ++j) {
+        const std::size_t i = j * stride;
+        irr_x_[j] = x_[i];
+        irr_y_[j] = y_[i];
+        irr_z_[j] = z_[i];
+        irr_n_[j] = normal_[i];
+    }
+    // The estimates run in Morton order of their points, each parallel chunk as one batched
+    // kNN: a chunk's queries are then neighbours and share the tree's nodes in cache. Every
+    // estimate still lands at its own point, so the order changes nothing but the speed.
+    const std::vector<uint32_t> order =
+        kern::morton_order(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
+    const uint32_t k = std::min(params.k, kMaxEstimate);
     auto body = [&](std::size_t begin, std::size_t end) {
-        for (std::size_t j = begin; j < end; ++j) {
-            const std::size_t i = j * stride;
-            irr_x_[j] = x_[i];
-            irr_y_[j] = y_[i];
-            irr_z_[j] = z_[i];
-            irr_n_[j] = normal_[i];
-            irr_e_[j] = irradiance(position(i), normal(i), params);
+        const std::size_t count = end - begin;
+        std::vector<float> qx(count), qy(count), qz(count),
+            max_d2(count, params.max_radius * params.max_radius);
+        for (std::size_t t = 0; t < count; ++t) {
+            const uint32_t j = order[begin + t];
+            qx[t] = irr_x_[j];
+            qy[t] = irr_y_[j];
+            qz[t] = irr_z_[j];
+        }
+        kern::KnnBatchResult res;
+        tree_.knn_batch(qx.data(), qy.data(), qz.data(), max_d2.data(), count, k, res);
+        for (std::size_t t = 0; t < count; ++t) {
+            const uint32_t j = order[begin + t];
+            const std::size_t i = std::size_t(j) * stride;
+            uint32_t* idx = res.index.data() + t * k;
+            float* d2 = res.dist2.data() + t * k;
+            float r = 0.f;
+            const Vec3 n = normal(i);
+            const uint32_t kept = accept(position(i), n, params, k, res.count[t], idx, d2, r);
+            irr_e_[j] = irradiance_of(n, params, kept, idx, d2, r);
         }
     };
     if (parallel_for)
@@ -205,12 +231,8 @@ void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& par
     irr_tree_.build(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
 }
 
-bool PhotonMap::lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const {
-    constexpr uint32_t kCandidates = 8;
-    uint32_t idx[kCandidates];
-    float d2[kCandidates];
-    const float q[3] = {p.x, p.y, p.z};
-    const uint32_t found = irr_tree_.knn(q, max_radius * max_radius, kCandidates, idx, d2);
+int PhotonMap::best_irradiance(const uint32_t* idx, const float* d2, uint32_t found,
+                               const Vec3& n) const {
     int best = -1;
     float best_d2 = kInfinity;
     for (uint32_t i = 0; i < found; ++i) {
@@ -221,9 +243,35 @@ bool PhotonMap::lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius
             best = int(idx[i]);
         }
     }
+    return best;
+}
+
+bool PhotonMap::lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const {
+    uint32_t idx[kIrradianceCandidates];
+    float d2[kIrradianceCandidates];
+    const float q[3] = {p.x, p.y, p.z};
+    const uint32_t found =
+        irr_tree_.knn(q, max_radius * max_radius, kIrradianceCandidates, idx, d2);
+    const int best = best_irradiance(idx, d2, found, n);
     if (best < 0) return false;
     e = irr_e_[std::size_t(best)];
     return true;
+}
+
+void PhotonMap::lookup_irradiance_batch(IrradianceQueries& q, std::vector<RGB>& e,
+                                        std::vector<uint8_t>& found) const {
+    const std::size_t n = q.size();
+    irr_tree_.knn_batch(q.x.data(), q.y.data(), q.z.data(), q.max_d2.data(), n,
+                        kIrradianceCandidates, q.knn);
+    e.resize(n);
+    found.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t row = i * kIrradianceCandidates;
+        const int best = best_irradiance(q.knn.index.data() + row, q.knn.dist2.data() + row,
+                                         q.knn.count[i], q.n[i]);
+        found[i] = best >= 0;
+        if (best >= 0) e[i] = irr_e_[std::size_t(best)];
+    }
 }
 
 void PhotonMap::build(const kern::PointKdTree::ParallelInvoke& parallel) {
@@ -249,6 +297,11 @@ uint32_t PhotonMap::gather(const Vec3& p, const Vec3& n, const EstimateParams& p
     const float q[3] = {p.x, p.y, p.z};
     const uint32_t k = std::min(params.k, kMaxEstimate);
     const uint32_t found = tree_.knn(q, params.max_radius * params.max_radius, k, idx, d2);
+    return accept(p, n, params, k, found, idx, d2, radius);
+}
+
+uint32_t PhotonMap::accept(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t k,
+                           uint32_t found, uint32_t* idx, float* d2, float& radius) const {
     if (found == 0) return 0;
     // With k photons the disc reaches the k-th; with fewer, the whole search radius was
     // searched and is the area they were found in. Taking the farthest photon's distance
@@ -303,6 +356,11 @@ RGB PhotonMap::irradiance(const Vec3& p, const Vec3& n, const EstimateParams& pa
     float r = 0.f;
     const uint32_t m = gather(p, n, params, idx, d2, r);
     if (found) *found = m;
+    return irradiance_of(n, params, m, idx, d2, r);
+}
+
+RGB PhotonMap::irradiance_of(const Vec3& n, const EstimateParams& params, uint32_t m,
+                             const uint32_t* idx, const float* d2, float r) const {
     if (m == 0 || !(r > 0.f)) return RGB{0.f};
     RGB sum;
     for (uint32_t i = 0; i < m; ++i) {

@@ -119,8 +119,41 @@ class PhotonMap {
     // The precomputed irradiance nearest to p among those within max_radius whose normal is
     // within ~25 degrees of n; false when there is none.
     bool lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const;
+    // The same for a batch of queries in SoA, served at once by the kd-tree's batched kNN
+    // (Morton-ordered): found[i] and e[i] are what lookup_irradiance gives for query i.
+    struct IrradianceQueries {
+        std::vector<float> x, y, z, max_d2;
+        std::vector<Vec3> n;
+        kern::KnnBatchResult knn;
+        void clear() {
+            x.clear();
+            y.clear();
+            z.clear();
+            max_d2.clear();
+            n.clear();
+        }
+        void push(const Vec3& p, const Vec3& normal, float max_radius) {
+            x.push_back(p.x);
+            y.push_back(p.y);
+            z.push_back(p.z);
+            max_d2.push_back(max_radius * max_radius);
+            n.push_back(normal);
+        }
+        std::size_t size() const { return x.size(); }
+    };
+    void lookup_irradiance_batch(IrradianceQueries& q, std::vector<RGB>& e,
+                                 std::vector<uint8_t>& found) const;
 
   private:
+    static constexpr uint32_t kIrradianceCandidates = 8;
+    // Among kNN candidates of the precomputed points: the nearest whose normal agrees with n.
+    int best_irradiance(const uint32_t* idx, const float* d2, uint32_t found, const Vec3& n) const;
+    // The accepted photons among `found` kNN results (k asked) for a query at p with normal n:
+    // compacts idx/d2 in place, sets the radius, returns how many.
+    uint32_t accept(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t k,
+                    uint32_t found, uint32_t* idx, float* d2, float& radius) const;
+    RGB irradiance_of(const Vec3& n, const EstimateParams& params, uint32_t m, const uint32_t* idx,
+                      const float* d2, float r) const;
     // Gathers the accepted photons of an estimate: indices, squared distances and the radius.
     uint32_t gather(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t* idx,
                     float* d2, float& radius) const;
