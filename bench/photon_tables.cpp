@@ -24,8 +24,8 @@
 #include "engine/accel/intersector.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/photon/photon_tracer.h"
 #include "engine/transport/driver/render.h"
+#include "engine/transport/photon/photon_tracer.h"
 
 using namespace foton;
 using namespace foton::bench;
@@ -233,7 +233,10 @@ int main(int argc, char** argv) {
                 const double rays = double(res.stats.stage_items[int(Stage::FinalGather)]);
                 const double camera = res.stats.wall_seconds - res.stats.photon_seconds;
                 rates.push_back(rays / camera);
-                per_thread.push_back(rays / res.stats.stage_seconds[int(Stage::FinalGather)]);
+                // Tracing the gather rays and the photon estimates at their hits (two stages
+                // since the estimates are batched).
+                per_thread.push_back(rays / (res.stats.stage_seconds[int(Stage::FinalGather)] +
+                                             res.stats.stage_seconds[int(Stage::PhotonEstimate)]));
                 walls.push_back(res.stats.wall_seconds);
             }
             std::printf("| %s | %d | %.3g | %.3g | %.3f |\n",

@@ -35,15 +35,28 @@ bool parse_mis(const std::string& s, MisHeuristic& out) {
     return mis_names().parse(s, out);
 }
 
+const EnumTable<PhotonEnvelope>& envelope_names() {
+    static const EnumTable<PhotonEnvelope> t{
+        {{"sphere", PhotonEnvelope::Sphere}, {"disc", PhotonEnvelope::Disc}}};
+    return t;
+}
+const EnumTable<PhotonFilter>& filter_names() {
+    static const EnumTable<PhotonFilter> t{{{"none", PhotonFilter::None},
+                                            {"cone", PhotonFilter::Cone},
+                                            {"gauss", PhotonFilter::Gauss},
+                                            {"simpson", PhotonFilter::Simpson}}};
+    return t;
+}
+const char* filter_name(PhotonFilter f) {
+    return filter_names().name(f);
+}
+
 namespace {
 
 const EnumTable<SamplerKind> kSamplers{{{"regular", SamplerKind::Regular},
                                         {"random", SamplerKind::Random},
                                         {"jittered", SamplerKind::Jittered},
                                         {"hammersley", SamplerKind::Hammersley}}};
-// PhotonEnvelope and PhotonFilter of photon_map.h, by number.
-const EnumTable<uint8_t> kEnvelopes{{{"sphere", 0}, {"disc", 1}}};
-const EnumTable<uint8_t> kFilters{{{"none", 0}, {"cone", 1}, {"gauss", 2}, {"simpson", 3}}};
 const EnumTable<PhotonMode> kPhotonModes{
     {{"final_gather", PhotonMode::FinalGather},
      {"direct_visualisation", PhotonMode::DirectVisualisation},
@@ -105,9 +118,9 @@ void parse_photon(const ParamSet& p, PhotonSettings& s) {
     if (!(s.alpha > 0.f && s.alpha <= 1.f)) p.fail("alpha", "alpha must be in (0, 1]");
     s.photons_per_pass = p.integer("photons_per_pass", s.photons_per_pass, 0, 4000000000ull);
     s.irradiance_stride = uint32_t(p.integer("irradiance_stride", s.irradiance_stride, 0, 1000000));
-    s.envelope = p.choice("envelope", kEnvelopes, s.envelope);
-    s.filter = p.choice("filter", kFilters, s.filter);
-    s.caustic_filter = p.choice("caustic_filter", kFilters, s.caustic_filter, "filter");
+    s.envelope = p.choice("envelope", envelope_names(), s.envelope);
+    s.filter = p.choice("filter", filter_names(), s.filter);
+    s.caustic_filter = p.choice("caustic_filter", filter_names(), s.caustic_filter, "filter");
     s.mode = p.choice("mode", kPhotonModes, s.mode, "photon mode");
     s.unscaled_roulette = p.choice("photon_rr", kPhotonRoulette, s.unscaled_roulette);
 }

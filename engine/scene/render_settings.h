@@ -34,6 +34,14 @@ struct AdaptiveSettings {
     bool unbiased = false;
 };
 
+// The photon estimate's envelope (the thesis' sphere, or its flattened ellipsoid: a disc) and
+// its filters (none, cone, Gauss, Simpson), used by photon_map.h.
+enum class PhotonEnvelope : uint8_t { Sphere, Disc };
+enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
+const EnumTable<PhotonEnvelope>& envelope_names();
+const EnumTable<PhotonFilter>& filter_names();
+const char* filter_name(PhotonFilter f);
+
 // Two-pass photon mapping (the photon-mapping thesis, chapters 5-6).
 enum class PhotonMode { FinalGather, DirectVisualisation };
 // Indirect diffuse light at the visible points: final-gather rays at every point, or the
@@ -71,9 +79,9 @@ struct PhotonSettings {
     uint32_t k = 100, caustic_k = 50;   // photons per estimate
     float max_radius = 0.f;             // 0: 5 % of the scene's bounding radius
     float caustic_radius = 0.f;         // 0: 2 % of it
-    uint8_t envelope = 1;               // PhotonEnvelope: 0 sphere, 1 disc
-    uint8_t filter = 0;  // PhotonFilter of the global map: none, cone, gauss, simpson
-    uint8_t caustic_filter = 0;
+    PhotonEnvelope envelope = PhotonEnvelope::Disc;
+    PhotonFilter filter = PhotonFilter::None;  // of the global map
+    PhotonFilter caustic_filter = PhotonFilter::None;
     float cone_k = 1.1f;
     PhotonMode mode = PhotonMode::FinalGather;
     uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample

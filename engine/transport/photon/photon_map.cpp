@@ -17,20 +17,6 @@ double gauss_integral() {
 
 }  // namespace
 
-const char* filter_name(PhotonFilter f) {
-    switch (f) {
-        case PhotonFilter::None:
-            return "none";
-        case PhotonFilter::Cone:
-            return "cone";
-        case PhotonFilter::Gauss:
-            return "gauss";
-        case PhotonFilter::Simpson:
-            return "simpson";
-    }
-    return "?";
-}
-
 float filter_weight(const EstimateParams& p, float d, float r) {
     const float s = d / r;
     switch (p.filter) {

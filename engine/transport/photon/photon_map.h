@@ -14,13 +14,10 @@
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/bsdf.h"
+#include "engine/scene/render_settings.h"
 #include "kernels/point_kdtree.h"
 
 namespace foton {
-
-enum class PhotonEnvelope : uint8_t { Sphere, Disc };
-enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
-const char* filter_name(PhotonFilter f);
 
 struct EstimateParams {
     uint32_t k = 100;        // photons in an estimate

@@ -28,14 +28,14 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
     EstimateParams& gp = maps.global_params;
     gp.k = ps.k;
     gp.max_radius = ps.max_radius > 0.f ? ps.max_radius : 0.05f * radius;
-    gp.envelope = PhotonEnvelope(ps.envelope);
-    gp.filter = PhotonFilter(ps.filter);
+    gp.envelope = ps.envelope;
+    gp.filter = ps.filter;
     gp.cone_k = ps.cone_k;
     EstimateParams& cp = maps.caustic_params;
     cp = gp;
     cp.k = ps.caustic_k;
     cp.max_radius = ps.caustic_radius > 0.f ? ps.caustic_radius : 0.02f * radius;
-    cp.filter = PhotonFilter(ps.caustic_filter);
+    cp.filter = ps.caustic_filter;
 
     RenderStats photon_stats, global_stats, caustic_stats;
     const int threads = resolve_threads(opt.threads);
