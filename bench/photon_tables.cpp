@@ -44,7 +44,7 @@ PhotonMap trace(const Scene& scene, const Intersector& acc, PhotonMapKind kind, 
     PhotonPassSettings s;
     s.kind = kind;
     s.emitted = emitted;
-    s.max_depth = scene.render.max_depth;
+    s.max_depth = render_settings(scene).max_depth;
     RenderStats st;
     PhotonMap map;
     tbb::task_arena arena(threads);
@@ -219,17 +219,18 @@ int main(int argc, char** argv) {
         "thread-second | render [s] |\n|---|---:|---:|---:|---:|\n");
     Scene fg = diffuse;
     fg.set_resolution(128, 128);
-    fg.render.integrator = IntegratorType::Photon;
-    fg.render.photon.gather_rays = 64;
+    RenderSettings fgs = render_settings(fg);
+    fgs.integrator = "photon";
+    fgs.photon.gather_rays = 64;
     for (uint32_t stride : {4u, 0u}) {
-        fg.render.photon.irradiance_stride = stride;
+        fgs.photon.irradiance_stride = stride;
         for (int t : thread_counts) {
             std::vector<double> rates, per_thread, walls;
             for (int r = 0; r < repeats; ++r) {
                 RenderOptions opt;
                 opt.threads = t;
                 opt.spp = 1;
-                const RenderResult res = render(fg, *acc, opt);
+                const RenderResult res = render(fg, fgs, *acc, opt);
                 const double rays = double(res.stats.stage_items[int(Stage::FinalGather)]);
                 const double camera = res.stats.wall_seconds - res.stats.photon_seconds;
                 rates.push_back(rays / camera);

@@ -35,7 +35,8 @@ struct Timing {
     double trace_share = 0.0;  // (intersect + occlusion) / all stages, of the median render
 };
 
-Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, int repeats) {
+Timing measure(const Scene& scene, const RenderSettings& settings, AccelType accel, int threads,
+               uint32_t spp, int repeats) {
     std::vector<double> builds, renders, rates, shares;
     for (int r = 0; r < repeats; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -45,7 +46,7 @@ Timing measure(const Scene& scene, AccelType accel, int threads, uint32_t spp, i
         RenderOptions opt;
         opt.threads = threads;
         opt.spp = spp;
-        const RenderResult res = render(scene, *acc, opt);
+        const RenderResult res = render(scene, settings, *acc, opt);
         renders.push_back(res.stats.wall_seconds);
         rates.push_back(double(res.stats.total_rays()) / res.stats.wall_seconds);
         double all = 0.0;
@@ -86,10 +87,12 @@ int main(int argc, char** argv) {
             "| accelerator | build [s] | render [s] | rays/s | brute / this "
             "|\n|---|---:|---:|---:|---:|\n");
         // The scalar brute force takes seconds per run: fewer repeats, it is not noisy.
-        const Timing brute = measure(s, AccelType::Brute, 1, 1, quick ? 1 : std::min(repeats, 3));
+        const Timing brute = measure(s, render_settings(s), AccelType::Brute, 1, 1,
+                                     quick ? 1 : std::min(repeats, 3));
         for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh,
                             AccelType::Embree}) {
-            const Timing t = a == AccelType::Brute ? brute : measure(s, a, 1, 1, repeats);
+            const Timing t =
+                a == AccelType::Brute ? brute : measure(s, render_settings(s), a, 1, 1, repeats);
             std::printf("| %s | %.4f | %.4f | %.3g | %.1fx |\n", accel_name(a), t.build, t.render,
                         t.rays_per_s, brute.render / t.render);
         }
@@ -104,8 +107,8 @@ int main(int argc, char** argv) {
         for (const char* name : {"bunny.xml", "dragon.xml"}) {
             if (quick && std::string(name) == "dragon.xml") continue;
             const Scene s = load_scene(scene_path(name));
-            const Timing g = measure(s, AccelType::Grid, 1, 1, repeats);
-            const Timing e = measure(s, AccelType::Embree, 1, 1, repeats);
+            const Timing g = measure(s, render_settings(s), AccelType::Grid, 1, 1, repeats);
+            const Timing e = measure(s, render_settings(s), AccelType::Embree, 1, 1, repeats);
             std::printf("| %s | %zu | %.3f | %.3f | %.4f | %.4f | %.3g | %.3g | %.2fx |\n", name,
                         s.num_triangles(), g.build, e.build, g.render, e.render, g.rays_per_s,
                         e.rays_per_s, e.render / g.render);
@@ -119,7 +122,7 @@ int main(int argc, char** argv) {
         std::printf("| threads | render [s] | speed-up | efficiency |\n|---:|---:|---:|---:|\n");
         double t1 = 0.0;
         for (int t = 1; t <= std::max(nproc, 1); ++t) {
-            const Timing r = measure(s, AccelType::Grid, t, 4, repeats);
+            const Timing r = measure(s, render_settings(s), AccelType::Grid, t, 4, repeats);
             if (t == 1) t1 = r.render;
             std::printf("| %d | %.4f | %.2fx | %.0f%% |\n", t, r.render, t1 / r.render,
                         100.0 * t1 / r.render / t);
@@ -142,27 +145,28 @@ int main(int argc, char** argv) {
         std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         struct Case {
             const char* label;
-            IntegratorType type;
+            const char* type;
             uint32_t spp;
             bool cache;
         };
-        const Case cases[] = {{"whitted", IntegratorType::Whitted, 4, false},
-                              {"path", IntegratorType::Path, 4, false},
-                              {"light", IntegratorType::Light, 4, false},
-                              {"photon (final gather)", IntegratorType::Photon, 1, false},
-                              {"photon (irradiance cache)", IntegratorType::Photon, 1, true},
-                              {"sppm", IntegratorType::Sppm, 4, false}};
+        const Case cases[] = {{"whitted", "raytracer", 4, false},
+                              {"path", "path", 4, false},
+                              {"light", "light", 4, false},
+                              {"photon (final gather)", "photon", 1, false},
+                              {"photon (irradiance cache)", "photon", 1, true},
+                              {"sppm", "sppm", 4, false}};
         for (const Case& c : cases) {
-            Scene s = base;
-            s.render.integrator = c.type;
-            s.render.photon.global_photons = 50000;
-            s.render.photon.caustic_photons = 0;
-            s.render.photon.gather_rays = 16;
-            s.render.cache.samples = 128;
-            s.render.indirect = c.cache ? IndirectMode::IrradianceCache : IndirectMode::FinalGather;
-            const Timing b = measure(s, AccelType::Bvh, 1, c.spp, repeats);
-            const Timing g = measure(s, AccelType::Grid, 1, c.spp, repeats);
-            const Timing e = measure(s, AccelType::Embree, 1, c.spp, repeats);
+            const Scene& s = base;
+            RenderSettings rs = render_settings(s);
+            rs.integrator = c.type;
+            rs.photon.global_photons = 50000;
+            rs.photon.caustic_photons = 0;
+            rs.photon.gather_rays = 16;
+            rs.cache.samples = 128;
+            rs.indirect = c.cache ? IndirectMode::IrradianceCache : IndirectMode::FinalGather;
+            const Timing b = measure(s, rs, AccelType::Bvh, 1, c.spp, repeats);
+            const Timing g = measure(s, rs, AccelType::Grid, 1, c.spp, repeats);
+            const Timing e = measure(s, rs, AccelType::Embree, 1, c.spp, repeats);
             std::printf(
                 "| %s | %u | %.4f | %.4f | %.4f | %.3g | %.3g | %.0f%% | %.0f%% | %.2fx |\n",
                 c.label, c.spp, b.render, g.render, e.render, b.rays_per_s, e.rays_per_s,

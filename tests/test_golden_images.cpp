@@ -79,17 +79,19 @@ uint64_t fnv1a(const void* data, std::size_t bytes, uint64_t h = 146959810393466
 // (the light tracer behind a thin lens, photon mapping without a light).
 std::string image_hash(const std::string& path, const Config& c) {
     Scene scene;
+    RenderSettings settings;
     try {
         scene = load_scene(path, c.settings);
+        settings = render_settings(scene);
     } catch (const InputError&) {
         return "error";
     }
     scene.set_resolution(32, 24);
     if (c.adaptive) {
-        scene.render.adaptive.enabled = true;
-        scene.render.adaptive.pilot = 2;
-        scene.render.adaptive.max_spp = 8;
-        scene.render.adaptive.threshold = 0.05f;
+        settings.adaptive.enabled = true;
+        settings.adaptive.pilot = 2;
+        settings.adaptive.max_spp = 8;
+        settings.adaptive.threshold = 0.05f;
     }
     const auto accel = make_intersector(scene, AccelType::Bvh, 2);
     RenderOptions opt;
@@ -100,7 +102,7 @@ std::string image_hash(const std::string& path, const Config& c) {
     opt.time_limit = c.passes > 1 ? 1e6f : 0.f;
     RenderResult r;
     try {
-        r = render(scene, *accel, opt);
+        r = render(scene, settings, *accel, opt);
     } catch (const InputError&) {
         return "error";
     }

@@ -15,13 +15,13 @@ using namespace foton;
 
 namespace {
 
-RenderResult run(const Scene& scene, uint32_t spp, int threads = 0, uint64_t seed = 1) {
+RenderResult run(const TestScene& scene, uint32_t spp, int threads = 0, uint64_t seed = 1) {
     const auto acc = make_intersector(scene, scene.accel);
     RenderOptions opt;
     opt.spp = spp;
     opt.threads = threads;
     opt.seed = seed;
-    return render(scene, *acc, opt);
+    return render(scene, scene.render, *acc, opt);
 }
 
 RGB mean(const Film& f, const std::vector<uint8_t>* mask = nullptr) {
@@ -52,10 +52,10 @@ Scene furnace(float a, float le, const std::string& renderer) {
                        "furnace.xml", ".");
 }
 
-Scene cornell(int size, const std::string& type) {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+TestScene cornell(int size, const std::string& type) {
+    TestScene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
     s.set_resolution(size, size);
-    parse_integrator(type, s.render.integrator);
+    s.render.integrator = type;
     return s;
 }
 
@@ -70,14 +70,14 @@ TEST_CASE("white furnace: an emitting closed sphere converges to Le / (1 - a)", 
                           R"(<renderer type="path" mis="none" max_depth="100"/>)",
                           R"(<renderer type="path" nee="false" max_depth="100"/>)",
                           R"(<renderer type="light" max_depth="100"/>)"}) {
-        const Scene s = furnace(a, le, r);
+        const TestScene s = furnace(a, le, r);
         const RenderResult res = run(s, 256);
         const RGB m = mean(res.film);
         INFO(r << ": mean " << m.g << ", expected " << expect);
         CHECK(m.g == Approx(expect).epsilon(0.01));
     }
     // With max depth 2 the series stops after a^2: Le (1 + a + a^2) for the path tracer.
-    const Scene s = furnace(a, le, R"(<renderer type="path" max_depth="2" rr_depth="100"/>)");
+    const TestScene s = furnace(a, le, R"(<renderer type="path" max_depth="2" rr_depth="100"/>)");
     CHECK(mean(run(s, 64).film).g == Approx(le * (1 + a + a * a)).epsilon(0.01));
 }
 
@@ -87,16 +87,16 @@ TEST_CASE("light tracer: a spot light over a Lambert plane matches the analytic 
     // degree cone, no fall-off, so that most light paths land in view) sits at height 2 above
     // the image centre. Radiance: I cos / d^2 * R / pi, checked on 5 x 5 pixel blocks.
     for (const char* type : {"light", "path"}) {
-        const Scene s = parse_scene(std::string(R"(<scene><lights>
+        const TestScene s = parse_scene(std::string(R"(<scene><lights>
             <spot intensity="8" angle="30"><position x="0" y="0" z="2"/><direction x="0" y="0" z="-1"/>
             </spot></lights><objects>
             <quad><corner x="-50" y="-50" z="0"/><edge1 x="100" y="0" z="0"/><edge2 x="0" y="100" z="0"/>
               <material type="lambert"><reflectance r="0.5" g="0.5" b="0.5"/></material></quad></objects>
             <film width="33" height="33"/><renderer type=")") +
-                                        type + R"(" max_depth="1"/>
+                                            type + R"(" max_depth="1"/>
             <camera fov="20"><eye x="0" y="0" z="4"/><target x="0" y="0" z="0"/>
               <up x="0" y="1" z="0"/></camera></scene>)",
-                                    "plane.xml", ".");
+                                        "plane.xml", ".");
         const RenderResult r = run(s, 512);
         const float half = 4.f * std::tan(10.f * kPi / 180.f);  // half the view at the plane
         auto analytic = [&](int px, int py) {
@@ -169,7 +169,7 @@ TEST_CASE("path tracing agrees with pbrt-v4's SPPM on the caustics Cornell box",
     // is on channel means (the reference carries SPPM's +0.1..0.5 % blur bias) and on 32 x 32
     // blocks. The light tracer cannot take this test: no path reaches a pinhole through the
     // delta lobes of the spheres it sees directly.
-    Scene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
+    TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
     s.set_resolution(128, 128);
     const Film ref =
         downsample(read_exr(test::shared_path("refs/cornell_caustics_sppm_256it.exr")), 4);
@@ -215,7 +215,7 @@ TEST_CASE("distributed ray tracing equals path tracing where both are exact", "[
 TEST_CASE("path and light tracing are bit-identical for any thread count",
           "[integrator][determinism]") {
     for (const char* type : {"path", "light", "distributed"}) {
-        const Scene s = cornell(32, type);
+        const TestScene s = cornell(32, type);
         const RenderResult one = run(s, 4, 1, 9);
         const RenderResult two = run(s, 4, 2, 9);
         const RenderResult five = run(s, 4, 5, 9);
@@ -227,7 +227,7 @@ TEST_CASE("path and light tracing are bit-identical for any thread count",
 }
 
 TEST_CASE("adaptive sampling spends samples where the error is", "[integrator][adaptive]") {
-    Scene s = cornell(32, "path");
+    TestScene s = cornell(32, "path");
     s.render.adaptive.enabled = true;
     s.render.adaptive.pilot = 8;
     s.render.adaptive.max_spp = 128;
@@ -258,7 +258,7 @@ TEST_CASE("adaptive sampling spends samples where the error is", "[integrator][a
 }
 
 TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator][progressive]") {
-    const Scene s = cornell(24, "path");
+    const TestScene s = cornell(24, "path");
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 2;
@@ -272,17 +272,17 @@ TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator]
         CHECK(passes == 1);
         CHECK(f.width == 24);
     };
-    const RenderResult r = render(s, *acc, opt);
+    const RenderResult r = render(s, s.render, *acc, opt);
     CHECK(r.stats.passes == 3);
     CHECK(r.stats.samples == 3u * 2u * 24u * 24u);
     CHECK(snapshots == 1);
     opt.threads = 1;
     opt.on_snapshot = nullptr;
-    CHECK(compare_images(r.film, render(s, *acc, opt).film).max_abs == 0.0);
+    CHECK(compare_images(r.film, render(s, s.render, *acc, opt).film).max_abs == 0.0);
     // A time limit alone stops after the first pass that ends past it.
     RenderOptions timed;
     timed.time_limit = 0.05f;
-    const RenderResult t = render(s, *acc, timed);
+    const RenderResult t = render(s, s.render, *acc, timed);
     CHECK(t.stats.passes >= 1);
     CHECK(t.stats.wall_seconds >= 0.05);
 }

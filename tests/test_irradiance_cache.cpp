@@ -9,8 +9,8 @@
 #include "engine/core/rng.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/irradiance_cache/irradiance_cache.h"
 #include "engine/transport/driver/render.h"
+#include "engine/transport/irradiance_cache/irradiance_cache.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -209,19 +209,19 @@ TEST_CASE("the notes' weight: zero at the validity limit and beyond 10 degrees",
 
 TEST_CASE("the irradiance cache renders the closed diffuse box like plain final gathering",
           "[cache][photon]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    TestScene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
     s.set_resolution(64, 64);
-    s.render.integrator = IntegratorType::Photon;
+    s.render.integrator = "photon";
     s.render.photon.global_photons = 100000;
     s.render.photon.caustic_photons = 0;
     const auto acc = make_intersector(s, s.accel);
     RenderOptions opt;
     opt.spp = 2;
     s.render.photon.gather_rays = 512;
-    const RenderResult fg = render(s, *acc, opt);
+    const RenderResult fg = render(s, s.render, *acc, opt);
     s.render.indirect = IndirectMode::IrradianceCache;
     s.render.cache.samples = 1024;
-    const RenderResult ic = render(s, *acc, opt);
+    const RenderResult ic = render(s, s.render, *acc, opt);
     const ImageError e = compare_images(ic.film, fg.film);
     INFO("records " << ic.stats.cache_stored << ", lookups " << ic.stats.cache.lookups << ", rmse "
                     << e.rmse << ", means " << e.mean_a.g << " " << e.mean_b.g);
@@ -234,9 +234,9 @@ TEST_CASE("the irradiance cache renders the closed diffuse box like plain final 
     CHECK(e.rmse < 0.01);
     // Deterministic for any thread count: the fill's passes merge in a fixed order.
     opt.threads = 1;
-    const Film one = render(s, *acc, opt).film;
+    const Film one = render(s, s.render, *acc, opt).film;
     opt.threads = 2;
-    CHECK(compare_images(one, render(s, *acc, opt).film).max_abs == 0.0);
+    CHECK(compare_images(one, render(s, s.render, *acc, opt).film).max_abs == 0.0);
 }
 
 TEST_CASE(
@@ -301,7 +301,7 @@ TEST_CASE("the visibility test keeps a lit room's records out of the dark room b
     // the parting wall reach across it. The records' rays see direct light only: a photon
     // estimate would bring its own leak (photons of the lit floor found across the wall's
     // foot), and the truth in the dark room would no longer be exactly zero.
-    Scene s = load_scene(test::source_path("scenes/cache-leak.xml"));
+    TestScene s = load_scene(test::source_path("scenes/cache-leak.xml"));
     s.set_resolution(128, 64);
     s.render.photon.global_photons = 50000;
     s.render.cache.secondary = CacheSecondary::Direct;
@@ -330,9 +330,9 @@ TEST_CASE("the visibility test keeps a lit room's records out of the dark room b
             }
         mean = sum / n;
     };
-    const RenderResult on = render(s, *acc, opt);
+    const RenderResult on = render(s, s.render, *acc, opt);
     s.render.cache.visibility = false;
-    const RenderResult off = render(s, *acc, opt);
+    const RenderResult off = render(s, s.render, *acc, opt);
     double on_mean, on_max, off_mean, off_max, lit_mean, lit_max;
     side(on.film, true, on_mean, on_max);
     side(off.film, true, off_mean, off_max);
@@ -348,7 +348,7 @@ TEST_CASE("the visibility test keeps a lit room's records out of the dark room b
 
 TEST_CASE("every secondary mode and the path renderer's cache agree with their references",
           "[cache][photon]") {
-    Scene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    TestScene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
     // R_min is 1.5 pixel footprints and R_max 20 R_min: at a few dozen pixels across the
     // records would span the room.
     s.set_resolution(96, 96);
@@ -362,11 +362,11 @@ TEST_CASE("every secondary mode and the path renderer's cache agree with their r
     };
     // Path tracing without and with the cache at the first diffuse vertex (records traced
     // onwards by path tracing): the same mean.
-    s.render.integrator = IntegratorType::Path;
+    s.render.integrator = "path";
     s.render.cache.samples = 256;
-    const double path = luminance_mean(render(s, *acc, opt).film);
+    const double path = luminance_mean(render(s, s.render, *acc, opt).film);
     s.render.indirect = IndirectMode::IrradianceCache;
-    const RenderResult pc = render(s, *acc, opt);
+    const RenderResult pc = render(s, s.render, *acc, opt);
     INFO("path " << path << ", path + cache " << luminance_mean(pc.film));
     CHECK(luminance_mean(pc.film) == Approx(path).epsilon(0.02));
     // One cache per bounce: three levels of indirect light, so a little darker than all of
@@ -375,27 +375,27 @@ TEST_CASE("every secondary mode and the path renderer's cache agree with their r
     s.render.cache.levels = 3;
     s.render.cache.samples = 128;
     opt.threads = 1;
-    const RenderResult levels = render(s, *acc, opt);
+    const RenderResult levels = render(s, s.render, *acc, opt);
     const double lv = luminance_mean(levels.film);
     INFO("three cache levels " << lv << ", records " << levels.stats.cache_stored);
     CHECK(lv < path);
     CHECK(lv > 0.95 * path);
     opt.threads = 2;
-    CHECK(compare_images(levels.film, render(s, *acc, opt).film).max_abs == 0.0);
+    CHECK(compare_images(levels.film, render(s, s.render, *acc, opt).film).max_abs == 0.0);
     // Direct light only at the records' hits: one bounce, clearly darker.
     s.render.cache.samples = 256;
     s.render.cache.secondary = CacheSecondary::Direct;
-    const double one = luminance_mean(render(s, *acc, opt).film);
+    const double one = luminance_mean(render(s, s.render, *acc, opt).film);
     INFO("one bounce " << one);
     CHECK(one < 0.9 * lv);
     // The photon renderer: records from path tracing and from the photon map agree.
-    s.render.integrator = IntegratorType::Photon;
+    s.render.integrator = "photon";
     s.render.photon.global_photons = 100000;
     s.render.photon.caustic_photons = 0;
     s.render.cache.secondary = CacheSecondary::Photon;
-    const double photon = luminance_mean(render(s, *acc, opt).film);
+    const double photon = luminance_mean(render(s, s.render, *acc, opt).film);
     s.render.cache.secondary = CacheSecondary::Path;
-    const double onwards = luminance_mean(render(s, *acc, opt).film);
+    const double onwards = luminance_mean(render(s, s.render, *acc, opt).film);
     INFO("photon renderer: photon records " << photon << ", path-traced records " << onwards);
     CHECK(onwards == Approx(photon).epsilon(0.02));
     CHECK(onwards == Approx(path).epsilon(0.02));
@@ -405,9 +405,9 @@ TEST_CASE("ambient-occlusion records hold the unoccluded fraction", "[cache]") {
     // cache-leak.xml's open-topped rooms: from the middle of the left room's floor only the
     // open top is unoccluded, a cosine-weighted fraction F (Lambert's polygon formula); with
     // a hair's reach nothing is occluded.
-    Scene s = load_scene(test::source_path("scenes/cache-leak.xml"));
+    TestScene s = load_scene(test::source_path("scenes/cache-leak.xml"));
     s.set_resolution(128, 64);
-    s.render.integrator = IntegratorType::Path;
+    s.render.integrator = "path";
     s.render.cache.secondary = CacheSecondary::Occlusion;
     s.render.cache.samples = 1024;
     s.render.cache.r_max_factor = 1.f;  // records valid a pixel or two, not the whole room
@@ -415,9 +415,9 @@ TEST_CASE("ambient-occlusion records hold the unoccluded fraction", "[cache]") {
     RenderOptions opt;
     opt.spp = 4;
     s.render.cache.ao_distance = 1e-4f;
-    const Film open = render(s, *acc, opt).film;
+    const Film open = render(s, s.render, *acc, opt).film;
     s.render.cache.ao_distance = 0.f;  // unlimited
-    const Film closed = render(s, *acc, opt).film;
+    const Film closed = render(s, s.render, *acc, opt).film;
     // White sky radiance 1 on a floor of rho 0.75; the direct light is the same in both, so
     // the difference is rho (1 - F).
     const Vec3 p{-1.f, 0.f, 0.f};

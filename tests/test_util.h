@@ -4,6 +4,18 @@
 #include <random>
 #include <string>
 
+#include "engine/scene/scene.h"
+#include "engine/transport/driver/integrators.h"
+
+namespace foton {
+// A scene with its renderer settings typed, for tests that adjust them
+// (s.render.photon.k = 50) and render with render(s, s.render, accel, opt).
+struct TestScene : Scene {
+    RenderSettings render;
+    TestScene(Scene scene) : Scene(std::move(scene)), render(render_settings(*this)) {}
+};
+}  // namespace foton
+
 namespace foton::test {
 
 inline std::string source_path(const std::string& rel) {

@@ -27,7 +27,8 @@ Scene parse(const std::string& xml, const std::string& dir = ".") {
 void expect_error(const std::string& xml, int line, const std::string& what,
                   const std::string& dir = ".") {
     try {
-        parse(xml, dir);
+        // The renderer's settings are checked where they are typed (render_settings).
+        const TestScene s = parse(xml, dir);
         FAIL("no error for: " << xml);
     } catch (const InputError& e) {
         INFO(e.what());
@@ -38,7 +39,7 @@ void expect_error(const std::string& xml, int line, const std::string& what,
 }  // namespace
 
 TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
-    const Scene s = parse(R"(<scene>
+    const TestScene s = parse(R"(<scene>
   <background r="0.1" g="0.2" b="0.3"/>
   <ambient r="1" g="0.5" b="1" intensity="0.1"/>
   <lights>
@@ -64,7 +65,7 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
   <renderer type="raytracer" aa_samples="4" num_threads="2" sampler="hammersley" max_depth="5" min_contribution="0.01" seed="7"/>
   <camera type="orthographic" d="50.0" exposure="1.5"><eye x="-26" y="3.5" z="35"/><target x="0" y="0" z="0"/><up x="0" y="1" z="0"/></camera>
 </scene>)",
-                          test::source_path(""));
+                              test::source_path(""));
     CHECK(s.background == RGB(0.1f, 0.2f, 0.3f));
     CHECK(s.ambient.radiance().g == Approx(0.05f));
     REQUIRE(s.lights.points.size() == 1);
@@ -113,7 +114,7 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
 }
 
 TEST_CASE("XML: fov sets the pixel size; the shipped scenes load", "[xml]") {
-    const Scene s = parse_scene(
+    const TestScene s = parse_scene(
         R"(<scene><film width="512" height="512"/><camera d="1" fov="39.3077"><eye x="278" y="277.5" z="-800"/><target x="278" y="277.5" z="0"/></camera>)" +
             std::string(kSphere) + "</scene>",
         "s.xml", ".");
@@ -212,7 +213,7 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     auto obj = [](const std::string& mat) {
         return "<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>" + mat + "</sphere>";
     };
-    const Scene s = parse(
+    const TestScene s = parse(
         std::string("<scene>") + kFilmCamera + "<objects>" +
         obj(R"(<material type="lambert"><reflectance r="0.2" g="0.4" b="0.6"/></material>)") +
         obj(R"(<material type="oren_nayar" sigma="0.4"/>)") +
@@ -242,7 +243,7 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     CHECK(s.materials[7].bsdf.lobe(0).color.r == Approx(0.25f));  // 0.5 x the default 0.5
     CHECK(s.materials[7].emission.b == 3.f);
     CHECK(s.materials[7].emission_two_sided);
-    CHECK(s.render.integrator == IntegratorType::Path);
+    CHECK(s.render.integrator == "path");
     CHECK(s.render.spp == 7);
     CHECK(s.render.mis == MisHeuristic::Maximum);
     CHECK_FALSE(s.render.nee);
@@ -304,21 +305,22 @@ TEST_CASE("XML: renderer settings are typed and checked by name, with their line
     expect_error(scene_xml("\n<renderer>\n<adaptive pilot=\"0\"/></renderer>"), 6,
                  "setting 'adaptive_pilot' must be a positive integer");
     // The same keys from the command line: later wins, errors name --set.
-    const Scene s = parse_scene(scene_xml("\n<renderer type=\"path\" spp=\"4\"/>"), "s.xml", ".",
-                                {{"spp", "9"}, {"mis", "balance"}, {"adaptive", "true"}});
+    const TestScene s = parse_scene(scene_xml("\n<renderer type=\"path\" spp=\"4\"/>"), "s.xml",
+                                    ".", {{"spp", "9"}, {"mis", "balance"}, {"adaptive", "true"}});
     CHECK(s.render.spp == 9);
     CHECK(s.render.mis == MisHeuristic::Balance);
     CHECK(s.render.adaptive.enabled);
     try {
-        parse_scene(scene_xml(""), "s.xml", ".", {{"mis", "cubic"}});
+        const TestScene bad = parse_scene(scene_xml(""), "s.xml", ".", {{"mis", "cubic"}});
         FAIL("no error");
     } catch (const InputError& e) {
         CHECK_THAT(e.what(), Catch::Contains("--set: unknown mis heuristic 'cubic'"));
     }
-    // One name table per enum: every name parses back to itself.
-    for (const auto& [name, value] : integrator_names().entries) {
-        IntegratorType t;
-        REQUIRE(parse_integrator(name, t));
-        CHECK(t == value);
+    // One table of integrators: every name and alias is found, and an alias means its name.
+    for (const IntegratorInfo& info : integrators()) {
+        CHECK(find_integrator(info.name) == &info);
+        for (const char* alias : info.aliases) CHECK(find_integrator(alias) == &info);
     }
+    CHECK(TestScene(parse_scene(scene_xml("\n<renderer type=\"whitted\"/>"), "s.xml", "."))
+              .render.integrator == "raytracer");
 }

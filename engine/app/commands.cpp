@@ -65,12 +65,9 @@ int run_render(const RenderArgs& args) {
         if (w <= 0 || h <= 0) throw InputError("--width/--height", 0, "must be positive");
         scene.set_resolution(w, h);
     }
-    RenderSettings& rs = scene.render;
-    if (!args.integrator.empty() && !parse_integrator(args.integrator, rs.integrator))
-        throw InputError("--integrator", 0,
-                         "unknown integrator '" + args.integrator +
-                             "' (raytracer, path, light, distributed, photon, sppm, ppm)");
-    if (!args.mis.empty() && !parse_mis(args.mis, rs.mis))
+    if (!args.integrator.empty()) scene.renderer.set("type", args.integrator, "--integrator", 0);
+    RenderSettings rs = render_settings(scene);
+    if (!args.mis.empty() && !mis_names().parse(args.mis, rs.mis))
         throw InputError("--mis", 0,
                          "unknown heuristic '" + args.mis + "' (balance, power, max, none)");
     if (args.nee) rs.nee = *args.nee;
@@ -92,12 +89,12 @@ int run_render(const RenderArgs& args) {
         if (args.spp) rs.adaptive.pilot = *args.spp;
         if (rs.adaptive.max_spp < rs.adaptive.pilot)
             throw InputError("--adaptive-max", 0, "must be at least the pilot sample count");
-        if (rs.integrator == IntegratorType::Light)
+        if (!find_integrator(rs.integrator)->camera)
             throw InputError("--adaptive", 0, "adaptive sampling applies to camera integrators");
     }
     RenderOptions opt;
-    opt.spp = args.spp.value_or(scene.render.spp);
-    opt.time_limit = args.time.value_or(scene.render.time_limit);
+    opt.spp = args.spp.value_or(rs.spp);
+    opt.time_limit = args.time.value_or(rs.time_limit);
     if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
     if (opt.time_limit > 0.f && rs.adaptive.enabled)
         throw InputError("--time", 0, "progressive passes and adaptive sampling do not mix");
@@ -105,9 +102,9 @@ int run_render(const RenderArgs& args) {
     if (opt.time_limit > 0.f && !args.spp) opt.spp = 1;
     opt.snapshot_times = args.snapshots;
     if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
-    opt.threads = args.threads.value_or(scene.render.threads);
+    opt.threads = args.threads.value_or(rs.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
-    opt.seed = args.seed.value_or(scene.render.seed);
+    opt.seed = args.seed.value_or(rs.seed);
     opt.progress = !args.quiet;
 
     std::string out = args.output;
@@ -118,12 +115,12 @@ int run_render(const RenderArgs& args) {
     const fs::path out_dir = fs::path(out).parent_path();
     if (!out_dir.empty()) fs::create_directories(out_dir);
     const std::string png = fs::path(out).replace_extension(".png").string();
-    const char* integrator = integrator_name(rs.integrator);
+    const char* integrator = rs.integrator.c_str();
     auto attributes = [&](double seconds, uint32_t passes, const char* accel_name) {
         char secs[32];
         std::snprintf(secs, sizeof secs, "%.3f", seconds);
         std::string method = integrator;
-        if (rs.integrator == IntegratorType::Path)
+        if (rs.integrator == "path")
             method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) : " bsdf-only";
         return ImageAttributes{
             {"foton:scene", args.scene},
@@ -152,7 +149,7 @@ int run_render(const RenderArgs& args) {
     const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel, opt.threads);
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    RenderResult res = render(scene, *accel, opt);
+    RenderResult res = render(scene, rs, *accel, opt);
     res.stats.build_seconds = build;
 
     ImageAttributes attrs = attributes(res.stats.wall_seconds, res.stats.passes, accel->name());
@@ -186,7 +183,10 @@ int run_render(const RenderArgs& args) {
 
 int run_info(const std::string& path) {
     const Scene scene = load_scene(path);
+    const RenderSettings rs = render_settings(scene);
     std::fputs(scene.summary().c_str(), stdout);
+    std::printf("renderer   %s, %u spp (%s), depth %u, accel %s\n", rs.integrator.c_str(), rs.spp,
+                sampler_name(rs.sampler), rs.max_depth, accel_name(scene.accel));
     return 0;
 }
 

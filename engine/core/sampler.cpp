@@ -6,26 +6,22 @@
 
 namespace foton {
 
+const EnumTable<SamplerKind>& sampler_names() {
+    static const EnumTable<SamplerKind> t{{{"regular", SamplerKind::Regular},
+                                           {"random", SamplerKind::Random},
+                                           {"jittered", SamplerKind::Jittered},
+                                           {"hammersley", SamplerKind::Hammersley}}};
+    return t;
+}
+
 std::optional<SamplerKind> parse_sampler(std::string_view name) {
-    if (name == "regular") return SamplerKind::Regular;
-    if (name == "random") return SamplerKind::Random;
-    if (name == "jittered") return SamplerKind::Jittered;
-    if (name == "hammersley") return SamplerKind::Hammersley;
-    return std::nullopt;
+    SamplerKind k;
+    if (!sampler_names().parse(name, k)) return std::nullopt;
+    return k;
 }
 
 const char* sampler_name(SamplerKind kind) {
-    switch (kind) {
-        case SamplerKind::Regular:
-            return "regular";
-        case SamplerKind::Random:
-            return "random";
-        case SamplerKind::Jittered:
-            return "jittered";
-        case SamplerKind::Hammersley:
-            return "hammersley";
-    }
-    return "?";
+    return sampler_names().name(kind);
 }
 
 float radical_inverse2(uint32_t i) {

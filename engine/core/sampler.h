@@ -6,6 +6,8 @@
 #include <optional>
 #include <string_view>
 
+#include "params.h"
+
 namespace foton {
 
 enum class SamplerKind { Regular, Random, Jittered, Hammersley };
@@ -14,6 +16,7 @@ struct Point2 {
     float x = 0.f, y = 0.f;
 };
 
+const EnumTable<SamplerKind>& sampler_names();
 std::optional<SamplerKind> parse_sampler(std::string_view name);
 const char* sampler_name(SamplerKind kind);
 

@@ -127,10 +127,6 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g\n", film.width, film.height,
                   film.gamma);
     s += buf;
-    std::snprintf(buf, sizeof buf, "renderer   %s, %u spp (%s), depth %u, accel %s\n",
-                  integrator_name(render.integrator), render.spp, sampler_name(render.sampler),
-                  render.max_depth, accel_name(accel));
-    s += buf;
     return s;
 }
 

@@ -7,12 +7,12 @@
 
 #include "camera.h"
 #include "engine/core/math.h"
+#include "engine/core/params.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
 #include "light.h"
 #include "material.h"
 #include "mesh.h"
-#include "render_settings.h"
 
 namespace foton {
 
@@ -52,14 +52,16 @@ struct Scene {
     float grid_density = 0.5f;  // cells per triangle of the mesh grids
     Camera camera;
     FilmSettings film;
-    RenderSettings render;
+    // The renderer's settings as written (<renderer>, with --set applied), each with its file
+    // and line: the integrators read and check them (transport/driver/render_settings.h).
+    ParamSet renderer;
     std::size_t skipped_degenerate = 0;
 
     std::size_t num_triangles() const;
     Bounds3 bounds() const;
     Bounds3 object_bounds(uint32_t geom) const;
     std::size_t memory_bytes() const;
-    std::string summary() const;  // foton info
+    std::string summary() const;  // foton info (the scene; the renderer's line is the app's)
     // Applies film/camera consistency after width/height changes.
     void set_resolution(int width, int height);
 };

@@ -90,7 +90,7 @@ void Loader::add_area_light(const pugi::xml_node& l) {
         a.radiance = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
     }
     a.samples = count(l, "samples", 16);
-    a.sampler = scene_.render.sampler;
+    a.sampler = scene_.renderer.choice("sampler", sampler_names(), SamplerKind::Jittered);
     if (l.attribute("sampler")) {
         const auto k = parse_sampler(l.attribute("sampler").value());
         if (!k) fail(l, std::string("unknown sampler '") + l.attribute("sampler").value() + "'");

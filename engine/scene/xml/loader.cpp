@@ -5,8 +5,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/scene/render_settings.h"
-
 namespace foton::xml {
 
 Scene Loader::run() {
@@ -86,7 +84,7 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
         }
     }
     for (const auto& [key, value] : overrides_) params.set(key, value, "--set", 0);
-    scene_.render = parse_render_settings(params);
+    scene_.renderer = std::move(params);
 }
 
 void Loader::parse_camera(const pugi::xml_node& n) {

@@ -34,23 +34,25 @@ enum RandomStream : uint64_t {
     kLensStream = 5,
 };
 
-inline Point2 pixel_sample(const Scene& scene, const SampleJob& j, uint64_t seed) {
+inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const SampleJob& j,
+                           uint64_t seed) {
     const uint64_t pixel = uint64_t(j.y) * uint64_t(scene.film.width) + j.x;
-    return sample_pattern(scene.render.sampler, j.pat_i, j.pat_n, seed,
+    return sample_pattern(sampler, j.pat_i, j.pat_n, seed,
                           rng::hash(kPixelStream, pixel, j.pat_round, 0));
 }
 
 // Appends the camera rays of `jobs` to `rays` (slot = job index): the pixel position from
-// the scene's sampler, the thin-lens position from the job's own stream.
-inline void generate_camera_rays(const Scene& scene, const std::vector<SampleJob>& jobs,
-                                 uint64_t seed, RayBatch& rays) {
+// the renderer's sampler, the thin-lens position from the job's own stream.
+inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
+                                 const std::vector<SampleJob>& jobs, uint64_t seed,
+                                 RayBatch& rays) {
     rays.reserve(rays.size() + jobs.size());
     // A tile's jobs are its pixels in rows, each pixel's samples together: neighbours in the
     // batch are neighbours on the film.
     rays.coherent = rays.empty();
     for (uint32_t slot = 0; slot < jobs.size(); ++slot) {
         const SampleJob& j = jobs[slot];
-        const Point2 px = pixel_sample(scene, j, seed);
+        const Point2 px = pixel_sample(scene, sampler, j, seed);
         const Point2 lens = {rng::uniform(seed, kLensStream, j.id, 0),
                              rng::uniform(seed, kLensStream, j.id, 1)};
         Vec3 o, d;

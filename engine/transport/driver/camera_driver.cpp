@@ -70,8 +70,9 @@ struct PixelMoments {
 
 class CameraDriver {
   public:
-    CameraDriver(const Scene& scene, const CameraIntegrator& integrator, const RenderOptions& opt)
-        : scene_(scene), integrator_(integrator), opt_(opt) {}
+    CameraDriver(const Scene& scene, const AdaptiveSettings& adaptive,
+                 const CameraIntegrator& integrator, const RenderOptions& opt)
+        : scene_(scene), adaptive_(adaptive), integrator_(integrator), opt_(opt) {}
 
     // Fixed samples: pass p gives every pixel of the tile opt.spp samples.
     void make_jobs(const Tile& t, uint32_t pass, std::vector<SampleJob>& jobs) const {
@@ -109,7 +110,7 @@ class CameraDriver {
     void adaptive_tile(const Tile& t, IntegratorWorkspace& ws, RenderStats& st,
                        std::vector<SampleJob>& jobs, std::vector<RGB>& out, std::vector<RGB>& sum,
                        std::vector<uint32_t>& count) const {
-        const AdaptiveSettings& ad = scene_.render.adaptive;
+        const AdaptiveSettings& ad = adaptive_;
         const int tw = t.x1 - t.x0;
         std::vector<PixelMoments> mom(std::size_t(t.pixels()));
         sum.assign(std::size_t(t.pixels()), RGB{0.f});
@@ -184,29 +185,30 @@ class CameraDriver {
 
   private:
     const Scene& scene_;
+    const AdaptiveSettings& adaptive_;
     const CameraIntegrator& integrator_;
     const RenderOptions& opt_;
 };
 
 }  // namespace
 
-RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
-                           const RenderOptions& opt) {
+RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
+                           const CameraIntegrator& integrator, const RenderOptions& opt) {
     StageGraph graph;
-    RenderResult result = render_camera(scene, integrator, opt, graph, {});
+    RenderResult result = render_camera(scene, settings, integrator, opt, graph, {});
     result.stats.graph = graph.report();
     return result;
 }
 
-RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
-                           const RenderOptions& opt, StageGraph& graph,
-                           const std::vector<uint32_t>& after) {
+RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
+                           const CameraIntegrator& integrator, const RenderOptions& opt,
+                           StageGraph& graph, const std::vector<uint32_t>& after) {
     RenderResult result;
     Accumulator acc(scene.film.width, scene.film.height);
     const std::vector<Tile> tiles = make_tiles(scene.film.width, scene.film.height, opt.tile_size);
-    const CameraDriver driver(scene, integrator, opt);
+    const CameraDriver driver(scene, settings.adaptive, integrator, opt);
     const int threads = resolve_threads(opt.threads);
-    const bool adaptive = scene.render.adaptive.enabled;
+    const bool adaptive = settings.adaptive.enabled;
     const bool progressive = opt.time_limit > 0.f || opt.max_passes > 1;
 
     // The graph's tile nodes: the integrator's phases (one adaptive-sampling node instead,

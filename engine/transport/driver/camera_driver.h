@@ -8,16 +8,17 @@
 #include "engine/scene/scene.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "render_options.h"
+#include "render_settings.h"
 #include "stage_graph.h"
 
 namespace foton {
 
 // A render of its own: the result's stats hold the graph of tile nodes.
-RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
-                           const RenderOptions& options);
+RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
+                           const CameraIntegrator& integrator, const RenderOptions& options);
 // The camera pass as the last nodes of `graph`, after the nodes `after` (which have run).
-RenderResult render_camera(const Scene& scene, const CameraIntegrator& integrator,
-                           const RenderOptions& options, StageGraph& graph,
-                           const std::vector<uint32_t>& after);
+RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
+                           const CameraIntegrator& integrator, const RenderOptions& options,
+                           StageGraph& graph, const std::vector<uint32_t>& after);
 
 }  // namespace foton

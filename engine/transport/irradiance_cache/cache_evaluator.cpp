@@ -42,24 +42,26 @@ void CacheWorkspace::begin(std::size_t level_count, const Bounds3& bounds,
     trace = {};
 }
 
-CacheEvaluator::CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                               uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
+CacheEvaluator::CacheEvaluator(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const LightSet& lights, uint64_t seed,
+                               CacheSecondary mode, PhotonRadiance photons,
                                const RadianceAlongRays* path)
     : scene_(scene),
+      settings_(settings),
       accel_(accel),
       lights_(lights),
       seed_(seed),
       mode_(mode),
       photons_(std::move(photons)),
       path_(path),
-      levels_(mode == CacheSecondary::Cache ? scene.render.cache.levels : 1),
-      strata_(HemisphereStrata::from_count(scene.render.cache.samples)),
-      params_(cache_params(scene.render.cache)),
+      levels_(mode == CacheSecondary::Cache ? settings.cache.levels : 1),
+      strata_(HemisphereStrata::from_count(settings.cache.samples)),
+      params_(cache_params(settings.cache)),
       bounds_(scene.bounds()) {}
 
 bool CacheEvaluator::visible(const SurfacePoint& sp, const IrradianceRecord& r,
                              CacheWorkspace& ws) const {
-    if (!scene_.render.cache.visibility) return true;
+    if (!settings_.cache.visibility) return true;
     // The notes' edge case: a record beyond an edge that p cannot see must not be used.
     // Both ends are lifted off their surfaces by a tenth of their distance, so that the
     // segment clears a curved surface between them (a chord of a sphere of radius R dips
@@ -96,7 +98,7 @@ void CacheEvaluator::lookup(uint32_t level, const SurfacePoint& sp, const warp::
     q.sp.ns = frame.n;
     q.s = frame.s;
     q.t = frame.t;
-    q.r_min = scene_.render.cache.r_min_pixels * scene_.camera.footprint(path_length);
+    q.r_min = settings_.cache.r_min_pixels * scene_.camera.footprint(path_length);
     q.path_length = path_length;
     q.slot = slot;
     q.weight = weight;
@@ -114,7 +116,7 @@ void CacheEvaluator::resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderSt
 }
 
 void CacheEvaluator::pick_sites(CacheLevelWork& work, float f) const {
-    const float factor = scene_.render.cache.r_max_factor;
+    const float factor = settings_.cache.r_max_factor;
     work.picked.assign(work.pending.size(), 0);
     std::vector<uint32_t> sites;
     for (uint32_t i = 0; i < work.pending.size(); ++i) {
@@ -140,7 +142,7 @@ void CacheEvaluator::pick_sites(CacheLevelWork& work, float f) const {
 void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const {
     // M x N stratified rays; those below the geometric surface see nothing (their radiance
     // stays 0, their distance infinite).
-    const CacheSettings& cs = scene_.render.cache;
+    const CacheSettings& cs = settings_.cache;
     const PendingLookup& q = work.pending[pending];
     warp::Frame frame;
     frame.s = q.s;
@@ -166,7 +168,7 @@ void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const 
 void CacheEvaluator::resolve_level(uint32_t level, CacheWorkspace& ws, std::vector<RGB>& out,
                                    RenderStats& stats) const {
     CacheLevelWork& work = ws.levels[level];
-    const CacheSettings& cs = scene_.render.cache;
+    const CacheSettings& cs = settings_.cache;
     const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
     for (int round = 0; !work.pending.empty(); ++round) {
         if (round > 0) {

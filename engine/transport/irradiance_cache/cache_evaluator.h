@@ -22,6 +22,7 @@
 #include "engine/transport/common/gather_trace.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
 
 namespace foton {
@@ -74,9 +75,9 @@ class CacheEvaluator {
     using PhotonRadiance =
         std::function<RGB(const SurfacePoint& sp, const Material& m, const Vec3& dir)>;
     // `photons` is needed by secondary = photon, `path` by secondary = path.
-    CacheEvaluator(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                   uint64_t seed, CacheSecondary mode, PhotonRadiance photons,
-                   const RadianceAlongRays* path);
+    CacheEvaluator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                   const LightSet& lights, uint64_t seed, CacheSecondary mode,
+                   PhotonRadiance photons, const RadianceAlongRays* path);
     // The frozen caches, one per level (levels() of them).
     void set_caches(std::vector<const IrradianceCache*> caches) { caches_ = std::move(caches); }
     uint32_t levels() const { return levels_; }
@@ -105,6 +106,7 @@ class CacheEvaluator {
     bool visible(const SurfacePoint& sp, const IrradianceRecord& r, CacheWorkspace& ws) const;
 
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;

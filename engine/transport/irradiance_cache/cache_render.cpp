@@ -8,39 +8,27 @@
 
 namespace foton {
 
-CacheSecondary cache_secondary(const Scene& scene) {
-    const CacheSecondary m = scene.render.cache.secondary;
-    const bool photon = scene.render.integrator == IntegratorType::Photon;
-    if (m == CacheSecondary::Auto) return photon ? CacheSecondary::Photon : CacheSecondary::Path;
-    if (m == CacheSecondary::Photon && !photon)
+CacheSecondary cache_secondary(const CacheSettings& settings, bool photon_map) {
+    const CacheSecondary m = settings.secondary;
+    if (m == CacheSecondary::Auto)
+        return photon_map ? CacheSecondary::Photon : CacheSecondary::Path;
+    if (m == CacheSecondary::Photon && !photon_map)
         throw InputError(
             "renderer", 0,
             "cache_secondary=\"photon\" needs type=\"photon\" (there is no photon map)");
     return m;
 }
 
-// Renders through `integrator` with an irradiance cache: one cache per level, filled in
-// hierarchical passes, then read (frozen) by the image pass. `attach` hands the evaluator
-// to the integrator.
-RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                               const CameraIntegrator& integrator,
-                               const std::function<void(const CacheEvaluator*)>& attach,
-                               CacheEvaluator::PhotonRadiance photons,
-                               const RadianceAlongRays& onwards, const RenderOptions& opt) {
-    StageGraph graph;
-    RenderResult result = render_with_cache(scene, accel, lights, integrator, attach,
-                                            std::move(photons), onwards, opt, graph, {});
-    result.stats.graph = graph.report();
-    return result;
-}
-
-RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+// One cache per level, filled in hierarchical passes, then read (frozen) by the image pass.
+RenderResult render_with_cache(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const LightSet& lights,
                                const CameraIntegrator& integrator,
                                const std::function<void(const CacheEvaluator*)>& attach,
                                CacheEvaluator::PhotonRadiance photons,
                                const RadianceAlongRays& onwards, const RenderOptions& opt,
                                StageGraph& graph, const std::vector<uint32_t>& after) {
-    CacheEvaluator evaluator(scene, accel, lights, opt.seed, cache_secondary(scene),
+    const CacheSecondary secondary = cache_secondary(settings.cache, bool(photons));
+    CacheEvaluator evaluator(scene, settings, accel, lights, opt.seed, secondary,
                              std::move(photons), &onwards);
     std::vector<IrradianceCache> caches(evaluator.levels(),
                                         IrradianceCache(scene.bounds(), evaluator.params()));
@@ -61,7 +49,7 @@ RenderResult render_with_cache(const Scene& scene, const Intersector& accel, con
     double busy = 0.0;
     for (double t : fill_stats.stage_seconds) busy += t;
     graph.record(fill, busy, stored);
-    RenderResult result = render_camera(scene, integrator, opt, graph, {fill});
+    RenderResult result = render_camera(scene, settings, integrator, opt, graph, {fill});
     attach(nullptr);
     result.stats.merge(fill_stats);
     result.stats.wall_seconds += fill_seconds;

@@ -9,22 +9,20 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/driver/stage_graph.h"
 
 namespace foton {
 
-// The secondary evaluation the scene asks for, checked against the renderer.
-CacheSecondary cache_secondary(const Scene& scene);
+// The secondary evaluation the settings ask for; Auto and "photon" depend on whether a
+// photon map is there to read.
+CacheSecondary cache_secondary(const CacheSettings& settings, bool photon_map);
 
-// `attach` hands the evaluator to the integrator (and nullptr at the end); `photons` and
-// `onwards` serve the photon and path secondary modes.
-RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                               const CameraIntegrator& integrator,
-                               const std::function<void(const CacheEvaluator*)>& attach,
-                               CacheEvaluator::PhotonRadiance photons,
-                               const RadianceAlongRays& onwards, const RenderOptions& options);
-// The same as the last nodes of `graph` (cache-fill, then the camera's), after `after`.
-RenderResult render_with_cache(const Scene& scene, const Intersector& accel, const LightSet& lights,
+// The cache fill and the camera pass as the last nodes of `graph`, after `after`. `attach`
+// hands the evaluator to the integrator (and nullptr at the end); `photons` (null without a
+// photon map) and `onwards` serve the photon and path secondary modes.
+RenderResult render_with_cache(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const LightSet& lights,
                                const CameraIntegrator& integrator,
                                const std::function<void(const CacheEvaluator*)>& attach,
                                CacheEvaluator::PhotonRadiance photons,

@@ -15,13 +15,14 @@
 
 namespace foton {
 
-RenderResult render_light(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
+RenderResult render_light(const Scene& scene, const RenderSettings& settings,
+                          const Intersector& accel, const RenderOptions& opt) {
     if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
         throw InputError(scene.source, 0,
                          "the light tracer needs a pinhole perspective camera (no lens_radius)");
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
-    const LightTracer tracer(scene, accel, lights, opt.seed);
+    const LightTracer tracer(scene, settings, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
     const uint64_t per_pass =
         uint64_t(scene.film.width) * uint64_t(scene.film.height) * uint64_t(opt.spp);

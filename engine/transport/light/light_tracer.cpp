@@ -16,9 +16,9 @@ constexpr uint32_t kDimLightSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle =
                    kDimFirstBounce = 8, kDimsPerBounce = 4;
 }  // namespace
 
-LightTracer::LightTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                         uint64_t seed)
-    : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {}
+LightTracer::LightTracer(const Scene& scene, const RenderSettings& settings,
+                         const Intersector& accel, const LightSet& lights, uint64_t seed)
+    : scene_(scene), settings_(settings), accel_(accel), lights_(lights), seed_(seed) {}
 
 float LightTracer::rand(uint64_t path, uint32_t dim) const {
     return rng::uniform(seed_, kLightPathStream, path, dim);
@@ -27,7 +27,7 @@ float LightTracer::rand(uint64_t path, uint32_t dim) const {
 void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws,
                         std::vector<Splat>& splats, RenderStats& stats) const {
     const Camera& cam = scene_.camera;
-    const RenderSettings& rs = scene_.render;
+    const RenderSettings& rs = settings_;
     StageClock clock;
     ws.rays.clear();
     ws.shadow.clear();

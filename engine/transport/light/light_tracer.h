@@ -15,6 +15,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/driver/render_settings.h"
 
 namespace foton {
 
@@ -33,8 +34,8 @@ struct LightTracerWorkspace {
 
 class LightTracer {
   public:
-    LightTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                uint64_t seed);
+    LightTracer(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                const LightSet& lights, uint64_t seed);
     // Traces paths [first, first + count) and appends their (unoccluded) splats. A splat's
     // value is one path's contribution: the pixel estimate is the splat sum over the number
     // of paths traced.
@@ -45,6 +46,7 @@ class LightTracer {
     float rand(uint64_t path, uint32_t dim) const;
 
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;

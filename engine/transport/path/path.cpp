@@ -8,6 +8,8 @@
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
+#include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/irradiance_cache/cache_render.h"
 
 namespace foton {
 
@@ -20,9 +22,15 @@ constexpr uint32_t kDimLightSelect = 0, kDimLight = 1, kDimBsdf = 4, kDimRoulett
 constexpr uint64_t kChoiceStream = 0xc401;
 }  // namespace
 
-PathIntegrator::PathIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                               uint64_t seed, bool distributed)
-    : scene_(scene), accel_(accel), lights_(lights), seed_(seed), distributed_(distributed) {}
+PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const LightSet& lights, uint64_t seed,
+                               bool distributed)
+    : scene_(scene),
+      settings_(settings),
+      accel_(accel),
+      lights_(lights),
+      seed_(seed),
+      distributed_(distributed) {}
 
 float PathIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
     return rng::uniform(seed_, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
@@ -73,7 +81,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
 }
 
 void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
-    const RenderSettings& rs = scene_.render;
+    const RenderSettings& rs = settings_;
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
@@ -220,7 +228,7 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();
-    generate_camera_rays(scene_, jobs, seed_, ws.rays);
+    generate_camera_rays(scene_, settings_.sampler, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.add(Stage::Generate, n, clock);
     run(ws, radiance, nullptr, stats, clock);
@@ -243,6 +251,28 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     ws.first_depth = 1;
     ws.rays = rays;
     run(ws, radiance, first_dist, stats, clock);
+}
+
+RenderResult render_path(const Scene& scene, const RenderSettings& settings,
+                         const Intersector& accel, const RenderOptions& opt) {
+    const LightSet lights(scene);
+    PathIntegrator integrator(scene, settings, accel, lights, opt.seed, false);
+    if (settings.indirect != IndirectMode::IrradianceCache)
+        return render_camera(scene, settings, integrator, opt);
+    StageGraph graph;
+    RenderResult result = render_with_cache(
+        scene, settings, accel, lights, integrator,
+        [&](const CacheEvaluator* e) { integrator.set_cache(e); }, nullptr,
+        PathIntegrator(scene, settings, accel, lights, opt.seed, false), opt, graph, {});
+    result.stats.graph = graph.report();
+    return result;
+}
+
+RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
+                                const Intersector& accel, const RenderOptions& opt) {
+    const LightSet lights(scene);
+    const PathIntegrator integrator(scene, settings, accel, lights, opt.seed, true);
+    return render_camera(scene, settings, integrator, opt);
 }
 
 }  // namespace foton

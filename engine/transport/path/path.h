@@ -24,6 +24,8 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/radiance_along_rays.h"
+#include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 
 namespace foton {
@@ -48,8 +50,8 @@ struct PathWorkspace : IntegratorWorkspace {
 
 class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
   public:
-    PathIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                   uint64_t seed, bool distributed);
+    PathIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                   const LightSet& lights, uint64_t seed, bool distributed);
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PathWorkspace>();
     }
@@ -74,11 +76,19 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     float rand(uint64_t key, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;
     bool distributed_;
     const CacheEvaluator* cache_ = nullptr;
 };
+
+// The table entries (driver/integrators.h): the tile driver over path tracing (with the
+// irradiance cache when the settings ask for it) or Cook's distributed ray tracing.
+RenderResult render_path(const Scene& scene, const RenderSettings& settings,
+                         const Intersector& accel, const RenderOptions& options);
+RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
+                                const Intersector& accel, const RenderOptions& options);
 
 }  // namespace foton

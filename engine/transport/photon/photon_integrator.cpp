@@ -18,9 +18,15 @@ constexpr uint32_t kDimsPerBounce = 8;
 constexpr uint32_t kDimChoice = 0, kDimLobe = 1, kDimLight = 4;
 }  // namespace
 
-PhotonIntegrator::PhotonIntegrator(const Scene& scene, const Intersector& accel,
-                                   const LightSet& lights, const PhotonMaps& maps, uint64_t seed)
-    : scene_(scene), accel_(accel), lights_(lights), maps_(maps), seed_(seed) {}
+PhotonIntegrator::PhotonIntegrator(const Scene& scene, const RenderSettings& settings,
+                                   const Intersector& accel, const LightSet& lights,
+                                   const PhotonMaps& maps, uint64_t seed)
+    : scene_(scene),
+      settings_(settings),
+      accel_(accel),
+      lights_(lights),
+      maps_(maps),
+      seed_(seed) {}
 
 float PhotonIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
     return rng::uniform(seed_, kPathStream, j.id, uint64_t(depth) * kDimsPerBounce + k);
@@ -30,7 +36,7 @@ void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, 
                                      const RGB& weight, uint32_t slot, const SampleJob& job,
                                      uint32_t depth, PhotonCameraWorkspace& ws,
                                      std::vector<RGB>& radiance) const {
-    const PhotonSettings& ps = scene_.render.photon;
+    const PhotonSettings& ps = settings_.photon;
     const warp::Frame frame(sp.ns);
     const Vec3 wo = frame.to_local(-d);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
@@ -98,7 +104,7 @@ void PhotonIntegrator::gather_rays(const SurfacePoint& sp, const Material& m, co
                                    const warp::Frame& frame, const RGB& weight, uint32_t slot,
                                    const SampleJob& job, uint32_t depth,
                                    PhotonCameraWorkspace& ws) const {
-    const PhotonSettings& ps = scene_.render.photon;
+    const PhotonSettings& ps = settings_.photon;
     const uint32_t n = ps.gather_rays;
     if (n == 0 || maps_.global.empty()) return;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
@@ -254,7 +260,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
     ws.gather.clear();
     ws.path_length.assign(n, 0.f);
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
-    generate_camera_rays(scene_, jobs, seed_, ws.rays);
+    generate_camera_rays(scene_, settings_.sampler, jobs, seed_, ws.rays);
     stats.camera_rays += n;
     stats.add(Stage::Generate, n, clock);
 
@@ -279,7 +285,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
             if (m.bsdf.empty()) continue;
             const float p_delta = m.bsdf.selection_probability(kSpecular);
             if (m.bsdf.has_delta() && rand(job, depth, kDimChoice) < p_delta) {
-                if (depth >= scene_.render.max_depth) continue;
+                if (depth >= settings_.max_depth) continue;
                 const warp::Frame frame(sp.ns);
                 const Vec3 wo = frame.to_local(-d);
                 const BsdfContext ctx{sp.front_face, Transport::Radiance};

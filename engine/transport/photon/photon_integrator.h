@@ -14,6 +14,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_map.h"
@@ -63,8 +64,8 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
 
 class PhotonIntegrator : public CameraIntegrator {
   public:
-    PhotonIntegrator(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                     const PhotonMaps& maps, uint64_t seed);
+    PhotonIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                     const LightSet& lights, const PhotonMaps& maps, uint64_t seed);
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PhotonCameraWorkspace>();
     }
@@ -105,6 +106,7 @@ class PhotonIntegrator : public CameraIntegrator {
     float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     const LightSet& lights_;
     const PhotonMaps& maps_;

@@ -14,7 +14,7 @@
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/bsdf.h"
-#include "engine/scene/render_settings.h"
+#include "engine/transport/photon/photon_settings.h"
 #include "kernels/point_kdtree.h"
 
 namespace foton {

@@ -18,8 +18,14 @@
 
 namespace foton {
 
-RenderResult render_photon(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
-    const PhotonSettings& ps = scene.render.photon;
+RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
+                           const Intersector& accel, const RenderOptions& opt) {
+    if (settings.indirect == IndirectMode::IrradianceCache &&
+        settings.photon.mode != PhotonMode::FinalGather)
+        throw InputError("renderer", 0,
+                         "indirect=\"irradiance_cache\" needs type=\"path\" or type=\"photon\" "
+                         "in final-gather mode");
+    const PhotonSettings& ps = settings.photon;
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
@@ -49,7 +55,7 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
         PhotonPassSettings s;
         s.kind = kind;
         s.emitted = emitted;
-        s.max_depth = scene.render.max_depth;
+        s.max_depth = settings.max_depth;
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = pass;
         return s;
@@ -110,20 +116,20 @@ RenderResult render_photon(const Scene& scene, const Intersector& accel, const R
     photon_stats.merge(global_stats);
     photon_stats.merge(caustic_stats);
 
-    PhotonIntegrator integrator(scene, accel, lights, maps, opt.seed);
+    PhotonIntegrator integrator(scene, settings, accel, lights, maps, opt.seed);
     // The camera nodes (camera gather, final gather, accumulate; the cache fill before them)
     // join the graph after the maps are ready.
     const std::vector<uint32_t> maps_ready = graph.sinks();
-    RenderResult result =
-        scene.render.indirect == IndirectMode::IrradianceCache
-            ? render_with_cache(
-                  scene, accel, lights, integrator,
-                  [&](const CacheEvaluator* e) { integrator.set_cache(e); },
-                  [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
-                      return integrator.photon_radiance(sp, m, d);
-                  },
-                  PathIntegrator(scene, accel, lights, opt.seed, false), opt, graph, maps_ready)
-            : render_camera(scene, integrator, opt, graph, maps_ready);
+    RenderResult result = settings.indirect == IndirectMode::IrradianceCache
+                              ? render_with_cache(
+                                    scene, settings, accel, lights, integrator,
+                                    [&](const CacheEvaluator* e) { integrator.set_cache(e); },
+                                    [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
+                                        return integrator.photon_radiance(sp, m, d);
+                                    },
+                                    PathIntegrator(scene, settings, accel, lights, opt.seed, false),
+                                    opt, graph, maps_ready)
+                              : render_camera(scene, settings, integrator, opt, graph, maps_ready);
     result.stats.graph = graph.report();
     result.stats.merge(photon_stats);
     result.stats.wall_seconds += photon_seconds;

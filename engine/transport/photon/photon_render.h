@@ -5,10 +5,11 @@
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/render_settings.h"
 
 namespace foton {
 
-RenderResult render_photon(const Scene& scene, const Intersector& accel,
-                           const RenderOptions& options);
+RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
+                           const Intersector& accel, const RenderOptions& options);
 
 }  // namespace foton

@@ -41,9 +41,9 @@ constexpr uint64_t kSppmStream = 32;
 
 class ProgressivePhotons {
   public:
-    ProgressivePhotons(const Scene& scene, const Intersector& accel, const LightSet& lights,
-                       uint64_t seed)
-        : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {}
+    ProgressivePhotons(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                       const LightSet& lights, uint64_t seed)
+        : scene_(scene), settings_(settings), accel_(accel), lights_(lights), seed_(seed) {}
 
     float rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
         return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
@@ -60,7 +60,7 @@ class ProgressivePhotons {
         ++st.camera_rays;
         RGB beta{1.f};
         px.valid = false;
-        for (uint32_t depth = 0; depth <= scene_.render.max_depth; ++depth) {
+        for (uint32_t depth = 0; depth <= settings_.max_depth; ++depth) {
             kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity};
             Hit1 h;
             if (!accel_.intersect1(ray, h, st.trace)) {
@@ -151,6 +151,7 @@ class ProgressivePhotons {
 
   private:
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;
@@ -158,10 +159,10 @@ class ProgressivePhotons {
 
 }  // namespace
 
-RenderResult render_progressive_photons(const Scene& scene, const Intersector& accel,
-                                        const RenderOptions& opt) {
-    const PhotonSettings& ps = scene.render.photon;
-    const bool stochastic = scene.render.integrator == IntegratorType::Sppm;
+RenderResult render_progressive_photons(const Scene& scene, const RenderSettings& settings,
+                                        const Intersector& accel, const RenderOptions& opt,
+                                        bool stochastic) {
+    const PhotonSettings& ps = settings.photon;
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
     const int w = scene.film.width, h = scene.film.height;
@@ -172,7 +173,7 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
     const uint64_t per_pass = ps.photons_per_pass > 0 ? ps.photons_per_pass : npix;
     std::vector<PixelState> pixels(npix);
     for (PixelState& p : pixels) p.radius = radius0;
-    const ProgressivePhotons pm(scene, accel, lights, opt.seed);
+    const ProgressivePhotons pm(scene, settings, accel, lights, opt.seed);
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
     tbb::task_arena arena(threads);
@@ -223,7 +224,7 @@ RenderResult render_progressive_photons(const Scene& scene, const Intersector& a
         PhotonPassSettings s;
         s.kind = PhotonMapKind::Global;
         s.emitted = per_pass;
-        s.max_depth = scene.render.max_depth;
+        s.max_depth = settings.max_depth;
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = 1000 + pass;
         photons = tracer.run(s, local.local());

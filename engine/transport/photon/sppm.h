@@ -12,10 +12,21 @@
 //   ppm:  the visible points of the first pass are kept.
 #include "engine/accel/intersector.h"
 #include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/render_settings.h"
 
 namespace foton {
 
-RenderResult render_progressive_photons(const Scene& scene, const Intersector& accel,
-                                        const RenderOptions& options);
+RenderResult render_progressive_photons(const Scene& scene, const RenderSettings& settings,
+                                        const Intersector& accel, const RenderOptions& options,
+                                        bool stochastic);
+// The two entries of the integrator table.
+inline RenderResult render_sppm(const Scene& scene, const RenderSettings& settings,
+                                const Intersector& accel, const RenderOptions& options) {
+    return render_progressive_photons(scene, settings, accel, options, true);
+}
+inline RenderResult render_ppm(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const RenderOptions& options) {
+    return render_progressive_photons(scene, settings, accel, options, false);
+}
 
 }  // namespace foton

@@ -8,6 +8,7 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/wavefront.h"
+#include "engine/transport/driver/camera_driver.h"
 
 namespace foton {
 
@@ -26,14 +27,15 @@ RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
 
 }  // namespace
 
-WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Intersector& accel, uint64_t seed)
-    : scene_(scene), accel_(accel), seed_(seed) {}
+WhittedIntegrator::WhittedIntegrator(const Scene& scene, const RenderSettings& settings,
+                                     const Intersector& accel, uint64_t seed)
+    : scene_(scene), settings_(settings), accel_(accel), seed_(seed) {}
 
 void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const {
     const std::size_t n = jobs.size();
     ws.rays.clear();
     ws.weight.assign(n, RGB{1.f});
-    generate_camera_rays(scene_, jobs, seed_, ws.rays);
+    generate_camera_rays(scene_, settings_.sampler, jobs, seed_, ws.rays);
 }
 
 template <class Brdf>
@@ -99,13 +101,13 @@ void WhittedIntegrator::shade_generic(const SurfacePoint& sp, const Material& m,
             sp, [&](const Vec3& wi) { return m.bsdf.f(wo, frame.to_local(wi), ctx); }, weight, slot,
             sample_index, depth, ws);
     }
-    if (depth >= scene_.render.max_depth) return;
+    if (depth >= settings_.max_depth) return;
     Vec3 dirs[Bsdf::kMaxLobes * 2];
     RGB w[Bsdf::kMaxLobes * 2];
     const int n = m.bsdf.specular_directions(wo, ctx, dirs, w, Bsdf::kMaxLobes * 2);
     for (int k = 0; k < n; ++k) {
         const RGB wk = weight * w[k];
-        if (wk.max_component() < scene_.render.min_contribution) continue;
+        if (wk.max_component() < settings_.min_contribution) continue;
         const Vec3 wi = frame.to_world(dirs[k]);
         ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
         ws.next_weight.push_back(wk);
@@ -119,8 +121,8 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
     ws.next.clear();
     ws.next_weight.clear();
     const RGB ambient = scene_.ambient.radiance();
-    const bool may_continue = depth < scene_.render.max_depth;
-    const float cutoff = scene_.render.min_contribution;
+    const bool may_continue = depth < settings_.max_depth;
+    const float cutoff = settings_.min_contribution;
     auto spawn = [&](const SurfacePoint& sp, const Vec3& w, const RGB& weight, uint32_t slot) {
         if (!may_continue || weight.max_component() < cutoff) return;
         ws.next.push(offset_origin(sp, w), w, 0.f, kInfinity, slot);
@@ -201,6 +203,12 @@ void WhittedIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<Sample
                                 clock);
             std::swap(ws.weight, ws.next_weight);
         });
+}
+
+RenderResult render_whitted(const Scene& scene, const RenderSettings& settings,
+                            const Intersector& accel, const RenderOptions& opt) {
+    const WhittedIntegrator integrator(scene, settings, accel, opt.seed);
+    return render_camera(scene, settings, integrator, opt);
 }
 
 }  // namespace foton

@@ -10,6 +10,8 @@
 #include "engine/core/rgb.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/driver/render_options.h"
+#include "engine/transport/driver/render_settings.h"
 
 namespace foton {
 
@@ -23,7 +25,8 @@ struct WhittedWorkspace : IntegratorWorkspace {
 
 class WhittedIntegrator : public CameraIntegrator {
   public:
-    WhittedIntegrator(const Scene& scene, const Intersector& accel, uint64_t seed);
+    WhittedIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+                      uint64_t seed);
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<WhittedWorkspace>();
     }
@@ -45,8 +48,13 @@ class WhittedIntegrator : public CameraIntegrator {
                        std::vector<RGB>& radiance) const;
 
     const Scene& scene_;
+    const RenderSettings& settings_;
     const Intersector& accel_;
     uint64_t seed_;
 };
+
+// The table entry (driver/integrators.h): the tile driver over this integrator.
+RenderResult render_whitted(const Scene& scene, const RenderSettings& settings,
+                            const Intersector& accel, const RenderOptions& options);
 
 }  // namespace foton

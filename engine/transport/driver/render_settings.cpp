@@ -1,0 +1,47 @@
+#include "render_settings.h"
+
+namespace foton {
+
+namespace {
+
+constexpr uint64_t kMaxCount = 100000000;
+
+void parse_sampling(const ParamSet& p, RenderSettings& r) {
+    r.integrator = p.text("type", r.integrator);
+    r.spp = uint32_t(p.integer("spp", r.spp, 1, kMaxCount));
+    r.spp = uint32_t(p.integer("aa_samples", r.spp, 1, kMaxCount));  // the first thesis' name
+    r.threads = int(p.integer("num_threads", 0, 0, 65536));
+    r.sampler = p.choice("sampler", sampler_names(), r.sampler);
+    r.max_depth = uint32_t(p.integer("max_depth", r.max_depth, 0, 1000));
+    r.min_contribution = p.real("min_contribution", r.min_contribution, 0.f);
+    r.seed = p.integer("seed", r.seed);
+    r.time_limit = p.real("time", 0.f, 0.f);
+    AdaptiveSettings& ad = r.adaptive;
+    ad.enabled = p.boolean("adaptive", ad.enabled);
+    ad.pilot = uint32_t(p.integer("adaptive_pilot", ad.pilot, 1, kMaxCount));
+    ad.max_spp = uint32_t(p.integer("adaptive_max_spp", ad.max_spp, 1, kMaxCount));
+    ad.threshold = p.positive("adaptive_threshold", ad.threshold);
+    ad.unbiased = p.boolean("adaptive_unbiased", ad.unbiased);
+    if (ad.max_spp < ad.pilot) p.fail("adaptive_max_spp", "max_spp must be at least pilot");
+}
+
+void parse_path(const ParamSet& p, RenderSettings& r) {
+    r.mis = p.choice("mis", mis_names(), r.mis, "mis heuristic");
+    r.nee = p.boolean("nee", r.nee);
+    r.rr_depth = uint32_t(p.integer("rr_depth", r.rr_depth, 0, 1000000));
+    r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
+}
+
+}  // namespace
+
+RenderSettings parse_render_settings(const ParamSet& params) {
+    RenderSettings r;
+    parse_sampling(params, r);
+    parse_path(params, r);
+    parse_photon_settings(params, r.photon);
+    parse_cache_settings(params, r.indirect, r.cache);
+    params.reject_unused();
+    return r;
+}
+
+}  // namespace foton

@@ -1,0 +1,55 @@
+#pragma once
+// The renderer's settings (<renderer> in the XML format, --set and the flags on the command
+// line), typed and checked. Each family keeps its own group (photon/photon_settings.h,
+// irradiance_cache/cache_settings.h, the MIS heuristic in common/mis.h); render_settings()
+// (integrators.h) reads them all from the scene's ParamSet, reporting every bad value at its file
+// and line and rejecting keys nobody knows.
+#include <cstdint>
+#include <string>
+
+#include "engine/core/params.h"
+#include "engine/core/sampler.h"
+#include "engine/transport/common/mis.h"
+#include "engine/transport/irradiance_cache/cache_settings.h"
+#include "engine/transport/photon/photon_settings.h"
+
+namespace foton {
+
+struct AdaptiveSettings {
+    bool enabled = false;
+    uint32_t pilot = 8;       // samples every pixel gets first
+    uint32_t max_spp = 256;   // never more than this per pixel
+    float threshold = 0.02f;  // target relative standard error of a pixel's mean luminance
+    // Kirk & Arvo: the pilot samples only decide the count and are not averaged in, which
+    // keeps the estimate unbiased (the default, iterative rule stops on the very samples it
+    // averages, a small bias).
+    bool unbiased = false;
+};
+
+struct RenderSettings {
+    std::string integrator = "raytracer";  // a name in integrators()
+    uint32_t spp = 1;                      // aa_samples
+    int threads = 0;                       // 0 = all hardware threads
+    SamplerKind sampler = SamplerKind::Jittered;
+    // raytracer: specular bounces after the camera ray; path/light: scattering vertices.
+    uint32_t max_depth = 8;
+    float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
+    uint64_t seed = 0;
+    MisHeuristic mis = MisHeuristic::Power;
+    bool nee = true;             // path: next event estimation (false = BSDF sampling only)
+    uint32_t rr_depth = 3;       // Russian roulette from this many scattering vertices on
+    float time_limit = 0.f;      // seconds; > 0 renders passes until the time is up
+    uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
+    AdaptiveSettings adaptive;
+    PhotonSettings photon;
+    // photon (final-gather mode): at every diffuse visible point; path: at the first diffuse
+    // vertex of each camera path (after specular ones only).
+    IndirectMode indirect = IndirectMode::FinalGather;
+    CacheSettings cache;
+};
+
+// Every group's keys, then rejects keys nobody read. The integrator's name is checked
+// against the table by render_settings() (integrators.h), which is what callers use.
+RenderSettings parse_render_settings(const ParamSet& params);
+
+}  // namespace foton

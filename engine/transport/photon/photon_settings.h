@@ -1,0 +1,53 @@
+#pragma once
+// Photon mapping's settings (photon, sppm, ppm), read from the renderer's ParamSet.
+#include <cstdint>
+
+#include "engine/core/params.h"
+
+namespace foton {
+
+// The photon estimate's envelope (the thesis' sphere, or its flattened ellipsoid: a disc) and
+// its filters (none, cone, Gauss, Simpson), used by photon_map.h.
+enum class PhotonEnvelope : uint8_t { Sphere, Disc };
+enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
+const EnumTable<PhotonEnvelope>& envelope_names();
+const EnumTable<PhotonFilter>& filter_names();
+const char* filter_name(PhotonFilter f);
+
+// Two-pass photon mapping (the photon-mapping thesis, chapters 5-6).
+enum class PhotonMode { FinalGather, DirectVisualisation };
+struct PhotonSettings {
+    uint64_t global_photons = 200000;   // emitted for the global map
+    uint64_t caustic_photons = 200000;  // emitted for the caustic map (0: none)
+    uint32_t k = 100, caustic_k = 50;   // photons per estimate
+    float max_radius = 0.f;             // 0: 5 % of the scene's bounding radius
+    float caustic_radius = 0.f;         // 0: 2 % of it
+    PhotonEnvelope envelope = PhotonEnvelope::Disc;
+    PhotonFilter filter = PhotonFilter::None;  // of the global map
+    PhotonFilter caustic_filter = PhotonFilter::None;
+    float cone_k = 1.1f;
+    PhotonMode mode = PhotonMode::FinalGather;
+    uint32_t gather_rays = 64;       // final-gather rays per visible point and pixel sample
+    uint32_t irradiance_stride = 4;  // precomputed irradiance at every n-th photon (0: off)
+    bool unscaled_roulette = false;
+    // Shadow photons (Jensen 1995): a shadow map decides next event estimation's visibility
+    // where the nearest photons agree (only direct ones: lit; only shadow ones: dark).
+    bool shadow_photons = false;
+    // Split the global map into a direct map (first-hit photons) and an indirect map: direct
+    // visualisation then takes direct light from next event estimation (ray traced) and only
+    // the indirect light from the photons.
+    bool split_direct = false;
+    // Photon-guided final gathering (Jensen 1995): gather directions at diffuse visible points
+    // drawn from a histogram of the nearby indirect photons' incident power.
+    bool guided_gather = false;
+    uint32_t guide_photons = 400;  // nearest photons in the guide's histogram
+    // Progressive photon mapping (ppm, sppm).
+    float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
+    float alpha = 2.f / 3.f;        // fraction of new photons kept per pass
+    uint64_t photons_per_pass = 0;  // 0: one per pixel
+};
+
+// Reads the photon keys (global_photons, k, filter, mode, alpha, ...) into `s`.
+void parse_photon_settings(const ParamSet& params, PhotonSettings& s);
+
+}  // namespace foton
