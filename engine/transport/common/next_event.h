@@ -12,6 +12,7 @@
 #include "engine/scene/material.h"
 #include "engine/transport/common/surface.h"
 #include "mis.h"
+#include "shading_point.h"
 
 namespace foton {
 
@@ -22,25 +23,33 @@ struct DirectSample {
     RGB value;  // the contribution if the shadow ray is unoccluded
 };
 
-// Next event estimation, the one version every integrator uses: a sample of light `li`
-// (picked with probability `pick`; u and uc choose the point on it) lighting the `lobes` of
-// `bsdf` at sp, carrying weight * f * Li * |cos| * w * scale / (pick * pdf), where w is the
-// MIS weight against BSDF sampling under `mis` (None: full weight; delta lights always take
-// full weight). False when the sample adds nothing.
-inline bool sample_light(const LightSet& lights, uint32_t li, float pick, const SurfacePoint& sp,
-                         const Bsdf& bsdf, const BsdfContext& ctx, const Vec3& wo,
-                         const warp::Frame& frame, const RGB& weight, Point2 u, float uc,
+// Which light a sample takes (picked with probability `pick`) and the numbers that place the
+// sample on it.
+struct LightChoice {
+    uint32_t light = 0;
+    float pick = 1.f;
+    Point2 u;
+    float uc = 0.f;
+};
+
+// Next event estimation, the one version every integrator uses: a sample of the chosen
+// light lighting the `lobes` of v's BSDF, carrying v.weight * f * Li * |cos| * w * scale /
+// (pick * pdf), where w is the MIS weight against BSDF sampling under `mis` (None: full
+// weight; delta lights always take full weight). False when the sample adds nothing.
+inline bool sample_light(const LightSet& lights, const LightChoice& c, const ShadingPoint& v,
                          uint8_t lobes, MisHeuristic mis, float scale, DirectSample& out) {
+    const SurfacePoint& sp = v.sp;
     LightSample ls;
-    if (!lights.sample_li(li, sp.p, u, uc, ls) || dot(ls.wi, sp.ng) <= 0.f) return false;
-    const Vec3 wi = frame.to_local(ls.wi);
-    const RGB f = bsdf.f_restricted(wo, wi, ctx, lobes);
+    if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls) || dot(ls.wi, sp.ng) <= 0.f) return false;
+    const Vec3 wi = v.frame.to_local(ls.wi);
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    const RGB f = v.m.bsdf.f_restricted(v.wo, wi, ctx, lobes);
     if (f.is_black()) return false;
-    const float pl = pick * ls.pdf;
-    const bool full = mis == MisHeuristic::None || lights.emitter(li).is_delta();
-    const float w = full ? 1.f : mis_weight(mis, pl, bsdf.pdf(wo, wi, ctx));
-    out.light = li;
-    out.value = weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
+    const float pl = c.pick * ls.pdf;
+    const bool full = mis == MisHeuristic::None || lights.emitter(c.light).is_delta();
+    const float w = full ? 1.f : mis_weight(mis, pl, v.m.bsdf.pdf(v.wo, wi, ctx));
+    out.light = c.light;
+    out.value = v.weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
     if (out.value.is_black()) return false;
     out.origin = offset_origin(sp, ls.wi);
     out.dir = ls.wi;
@@ -51,15 +60,14 @@ inline bool sample_light(const LightSet& lights, uint32_t li, float pick, const 
 // One light sample for the non-delta lobes, without multiple importance sampling: for
 // vertices whose BSDF is not sampled onwards (see the top of this file). u_pick chooses the
 // light.
-inline bool sample_direct(const LightSet& lights, const SurfacePoint& sp, const Bsdf& bsdf,
-                          const Vec3& wo, const warp::Frame& frame, const RGB& weight, float u_pick,
-                          Point2 u, float uc, DirectSample& out) {
+inline bool sample_direct(const LightSet& lights, const ShadingPoint& v, float u_pick, Point2 u,
+                          float uc, DirectSample& out) {
     if (lights.empty()) return false;
-    float pick;
-    const uint32_t li = lights.select(u_pick, pick);
-    const BsdfContext ctx{sp.front_face, Transport::Radiance};
-    return sample_light(lights, li, pick, sp, bsdf, ctx, wo, frame, weight, u, uc,
-                        kDiffuse | kGlossy, MisHeuristic::None, 1.f, out);
+    LightChoice c;
+    c.light = lights.select(u_pick, c.pick);
+    c.u = u;
+    c.uc = uc;
+    return sample_light(lights, c, v, kDiffuse | kGlossy, MisHeuristic::None, 1.f, out);
 }
 
 inline void queue_direct(const DirectSample& ds, uint32_t slot, RayBatch& shadow,

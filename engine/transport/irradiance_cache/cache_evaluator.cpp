@@ -268,7 +268,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
             const PendingLookup& q = work.pending[work.requests[id / strata_.count()].pending];
             const uint64_t key = rng::hash(q.key, id % strata_.count(), kCacheStream, 2);
             DirectSample ds;
-            if (sample_direct(lights_, sp, m.bsdf, frame.to_local(-d), frame, w,
+            if (sample_direct(lights_, ShadingPoint(sp, m, d, w, id, 0, key),
                               rng::uniform(seed_, key, kDimLight, 0),
                               {rng::uniform(seed_, key, kDimLight + 1, 0),
                                rng::uniform(seed_, key, kDimLight + 2, 0)},

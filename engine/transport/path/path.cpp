@@ -45,6 +45,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     const warp::Frame frame(sp.ns);
     const Vec3 wo = frame.to_local(-d);
     RGB& beta = ws.beta[slot];
+    const auto vertex = [&] { return ShadingPoint(sp, m, d, beta, slot, depth, key); };
     // A material with delta lobes too: the delta part continues the path, the diffuse part
     // stops here, each chosen with its lobes' probability and weighted by its inverse.
     if (m.bsdf.has_delta()) {
@@ -70,7 +71,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // No BSDF sample leaves this vertex, so the light sample is the only estimator of its
     // direct light and takes full weight.
     DirectSample ds;
-    if (sample_direct(lights_, sp, m.bsdf, wo, frame, beta, rand(key, depth, kDimLightSelect),
+    if (sample_direct(lights_, vertex(), rand(key, depth, kDimLightSelect),
                       {rand(key, depth, kDimLight), rand(key, depth, kDimLight + 1)},
                       rand(key, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
@@ -124,8 +125,9 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws, radiance))
             continue;
 
-        const warp::Frame frame(sp.ns);
-        const Vec3 wo = frame.to_local(-d);
+        const ShadingPoint v(sp, m, d, beta, slot, depth, key);
+        const warp::Frame& frame = v.frame;
+        const Vec3& wo = v.wo;
         const BsdfContext ctx{sp.front_face, Transport::Radiance};
 
         if (distributed_) {
@@ -142,8 +144,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                                           ? uint8_t(kDiffuse)
                                           : uint8_t(kDiffuse | kGlossy);
                 DirectSample ds;
-                if (sample_light(lights_, li, pick_pdf, sp, m.bsdf, ctx, wo, frame, beta, u, uc,
-                                 lobes, mis, scale, ds))
+                if (sample_light(lights_, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds))
                     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
             };
             if (distributed_) {

@@ -28,51 +28,53 @@ PhotonIntegrator::PhotonIntegrator(const Scene& scene, const RenderSettings& set
       maps_(maps),
       seed_(seed) {}
 
-float PhotonIntegrator::rand(const SampleJob& j, uint32_t depth, uint32_t k) const {
-    return rng::uniform(seed_, kPathStream, j.id, uint64_t(depth) * kDimsPerBounce + k);
+float PhotonIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
+    return rng::uniform(seed_, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
 }
 
-void PhotonIntegrator::shade_visible(const SurfacePoint& sp, const Material& m, const Vec3& d,
-                                     const RGB& weight, uint32_t slot, const SampleJob& job,
-                                     uint32_t depth, PhotonCameraWorkspace& ws,
+void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspace& ws,
                                      std::vector<RGB>& radiance) const {
     const PhotonSettings& ps = settings_.photon;
-    const warp::Frame frame(sp.ns);
-    const Vec3 wo = frame.to_local(-d);
+    const SurfacePoint& sp = v.sp;
+    const Material& m = v.m;
+    const warp::Frame& frame = v.frame;
+    const Vec3& wo = v.wo;
+    const RGB& weight = v.weight;
+    const uint32_t slot = v.slot;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     if (ps.mode == PhotonMode::DirectVisualisation) {
         // The global map seen directly; when split it holds the indirect light only and the
         // direct light is ray traced (the thesis' comparison of the two).
         radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                          wo, ctx, maps_.global_params);
-        if (ps.split_direct) direct_light(sp, m, wo, frame, weight, slot, job, depth, ws, radiance);
+        if (ps.split_direct) direct_light(v, ws, radiance);
         return;
     }
     // Caustics: L S+ D paths, from their own map.
     if (!maps_.caustic.empty())
         radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                           wo, ctx, maps_.caustic_params);
-    direct_light(sp, m, wo, frame, weight, slot, job, depth, ws, radiance);
+    direct_light(v, ws, radiance);
     // The cache holds irradiance: it serves surfaces whose non-delta part is Lambertian.
     RGB rho;
     if (cache_ && m.bsdf.lambert_albedo(rho)) {
         if (!rho.is_black())
             cache_->lookup(0, sp, frame, weight * rho * kInvPi, slot,
-                           rng::hash(job.id, depth, 0x1cac, 0), ws.path_length[slot], ws.cache,
+                           rng::hash(v.key, v.depth, 0x1cac, 0), ws.path_length[slot], ws.cache,
                            radiance);
         return;
     }
-    gather_rays(sp, m, wo, frame, weight, slot, job, depth, ws);
+    gather_rays(v, ws);
 }
 
-void PhotonIntegrator::direct_light(const SurfacePoint& sp, const Material& m, const Vec3& wo,
-                                    const warp::Frame& frame, const RGB& weight, uint32_t slot,
-                                    const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws,
+void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace& ws,
                                     std::vector<RGB>& radiance) const {
+    const SurfacePoint& sp = v.sp;
+    const uint32_t slot = v.slot;
     DirectSample ds;
-    if (!sample_direct(lights_, sp, m.bsdf, wo, frame, weight, rand(job, depth, kDimLight),
-                       {rand(job, depth, kDimLight + 1), rand(job, depth, kDimLight + 2)},
-                       rand(job, depth, kDimLight + 3), ds))
+    if (!sample_direct(lights_, v, rand(v.key, v.depth, kDimLight),
+                       {rand(v.key, v.depth, kDimLight + 1), rand(v.key, v.depth, kDimLight + 2)},
+                       rand(v.key, v.depth, kDimLight + 3), ds))
         return;
     const uint32_t li = ds.light;
     // Shadow photons: among the nearest photons of this light, only direct ones mean lit,
@@ -100,15 +102,16 @@ void PhotonIntegrator::direct_light(const SurfacePoint& sp, const Material& m, c
     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
 }
 
-void PhotonIntegrator::gather_rays(const SurfacePoint& sp, const Material& m, const Vec3& wo,
-                                   const warp::Frame& frame, const RGB& weight, uint32_t slot,
-                                   const SampleJob& job, uint32_t depth,
-                                   PhotonCameraWorkspace& ws) const {
+void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace& ws) const {
     const PhotonSettings& ps = settings_.photon;
+    const SurfacePoint& sp = v.sp;
+    const Material& m = v.m;
+    const warp::Frame& frame = v.frame;
+    const Vec3& wo = v.wo;
     const uint32_t n = ps.gather_rays;
     if (n == 0 || maps_.global.empty()) return;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
-    const uint64_t key = rng::hash(job.id, depth, 0x6a7, 0);
+    const uint64_t key = rng::hash(v.key, v.depth, 0x6a7, 0);
     // Guided gathering on diffuse surfaces: the histogram of the indirect photons here (the
     // direct ones point at the lights, whose emission the gather hits do not count).
     bool guided = false;
@@ -146,9 +149,9 @@ void PhotonIntegrator::gather_rays(const SurfacePoint& sp, const Material& m, co
         if (!(pdf > 0.f)) continue;
         const Vec3 wi = frame.to_world(wl);
         if (dot(wi, sp.ng) <= 0.f) continue;
-        const RGB w = weight * f * (std::fabs(wl.z) / (pdf * float(n)));
+        const RGB w = v.weight * f * (std::fabs(wl.z) / (pdf * float(n)));
         if (w.is_black()) continue;
-        ws.gather.push(offset_origin(sp, wi), wi, kInfinity, slot, w);
+        ws.gather.push(offset_origin(sp, wi), wi, kInfinity, v.slot, w);
     }
 }
 
@@ -284,15 +287,16 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
             if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;
             if (m.bsdf.empty()) continue;
             const float p_delta = m.bsdf.selection_probability(kSpecular);
-            if (m.bsdf.has_delta() && rand(job, depth, kDimChoice) < p_delta) {
+            if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
                 if (depth >= settings_.max_depth) continue;
                 const warp::Frame frame(sp.ns);
                 const Vec3 wo = frame.to_local(-d);
                 const BsdfContext ctx{sp.front_face, Transport::Radiance};
                 BsdfSample bs;
-                if (!m.bsdf.sample(wo, rand(job, depth, kDimLobe),
-                                   {rand(job, depth, kDimLobe + 1), rand(job, depth, kDimLobe + 2)},
-                                   ctx, bs, kSpecular))
+                if (!m.bsdf.sample(
+                        wo, rand(job.id, depth, kDimLobe),
+                        {rand(job.id, depth, kDimLobe + 1), rand(job.id, depth, kDimLobe + 2)}, ctx,
+                        bs, kSpecular))
                     continue;
                 const Vec3 wi = frame.to_world(bs.wi);
                 const float side = dot(wi, sp.ng);
@@ -302,7 +306,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 continue;
             }
             const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
-            shade_visible(sp, m, d, w, slot, job, depth, ws, radiance);
+            shade_visible(ShadingPoint(sp, m, d, w, slot, depth, job.id), ws, radiance);
         }
     });
     stats.shadow_rays_saved += ws.saved;

@@ -13,6 +13,7 @@
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/shading_point.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
@@ -87,23 +88,18 @@ class PhotonIntegrator : public CameraIntegrator {
     RGB photon_radiance(const struct SurfacePoint& sp, const Material& m, const Vec3& d) const;
 
   private:
-    void shade_visible(const struct SurfacePoint& sp, const Material& m, const Vec3& d,
-                       const RGB& weight, uint32_t slot, const SampleJob& job, uint32_t depth,
-                       PhotonCameraWorkspace& ws, std::vector<RGB>& radiance) const;
-    void direct_light(const struct SurfacePoint& sp, const Material& m, const Vec3& wo,
-                      const warp::Frame& frame, const RGB& weight, uint32_t slot,
-                      const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws,
+    void shade_visible(const ShadingPoint& v, PhotonCameraWorkspace& ws,
+                       std::vector<RGB>& radiance) const;
+    void direct_light(const ShadingPoint& v, PhotonCameraWorkspace& ws,
                       std::vector<RGB>& radiance) const;
-    void gather_rays(const struct SurfacePoint& sp, const Material& m, const Vec3& wo,
-                     const warp::Frame& frame, const RGB& weight, uint32_t slot,
-                     const SampleJob& job, uint32_t depth, PhotonCameraWorkspace& ws) const;
+    void gather_rays(const ShadingPoint& v, PhotonCameraWorkspace& ws) const;
     // The photon estimates of every hit of the batch (photon_radiance for each, with the
     // precomputed-irradiance lookups made as one batched kNN per map).
     void photon_radiance_batch(FinalGatherBatch& b) const;
     // Traces ws.gather and adds what each ray brings back to radiance[ray id].
     void final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>& radiance,
                       RenderStats& stats) const;
-    float rand(const SampleJob& j, uint32_t depth, uint32_t k) const;
+    float rand(uint64_t key, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
     const RenderSettings& settings_;

@@ -87,12 +87,15 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
     }
 }
 
-void WhittedIntegrator::shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d,
-                                      const RGB& weight, uint32_t slot, uint64_t sample_index,
-                                      uint32_t depth, WhittedWorkspace& ws,
+void WhittedIntegrator::shade_generic(const ShadingPoint& v, WhittedWorkspace& ws,
                                       std::vector<RGB>& radiance) const {
-    const warp::Frame frame(sp.ns);
-    const Vec3 wo = frame.to_local(-d);
+    const SurfacePoint& sp = v.sp;
+    const Material& m = v.m;
+    const warp::Frame& frame = v.frame;
+    const Vec3& wo = v.wo;
+    const RGB& weight = v.weight;
+    const uint32_t slot = v.slot, depth = v.depth;
+    const uint64_t sample_index = v.key;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     // Ambient light reflected by the diffuse lobes, as the thesis' c_ambient term.
     radiance[slot] += weight * m.base_color * scene_.ambient.radiance() * m.c_diffuse;
@@ -145,8 +148,9 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
             case MaterialType::Emitter:
                 break;
             case MaterialType::Generic:
-                shade_generic(sp, m, d, weight, slot,
-                              scene_.lights.areas.empty() ? 0 : jobs[slot].id, depth, ws, radiance);
+                shade_generic(ShadingPoint(sp, m, d, weight, slot, depth,
+                                           scene_.lights.areas.empty() ? 0 : jobs[slot].id),
+                              ws, radiance);
                 break;
             case MaterialType::Matte:
             case MaterialType::Phong:

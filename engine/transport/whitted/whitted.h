@@ -9,6 +9,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/shading_point.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/driver/render_options.h"
 #include "engine/transport/driver/render_settings.h"
@@ -43,8 +44,9 @@ class WhittedIntegrator : public CameraIntegrator {
                       uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws) const;
     // The physically based materials under the Whitted model: their BSDF lit by the point,
     // directional, spot and area lights, and their delta lobes followed recursively.
-    void shade_generic(const SurfacePoint& sp, const Material& m, const Vec3& d, const RGB& weight,
-                       uint32_t slot, uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws,
+    // A generic (BSDF) material: ambient, direct light and the specular directions; v.key
+    // keys the area lights' samples.
+    void shade_generic(const ShadingPoint& v, WhittedWorkspace& ws,
                        std::vector<RGB>& radiance) const;
 
     const Scene& scene_;
