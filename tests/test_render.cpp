@@ -246,8 +246,13 @@ TEST_CASE("every integrator reports its stage graph; photon mapping's runs throu
     CHECK(photon.graph.nodes[index(photon.graph, "camera-gather")].items == 16 * 12);
     CHECK(photon.graph.nodes[index(photon.graph, "final-gather")].items == 16 * 12);
     const RenderStats cached = graph_of("photon", "irradiance_cache");
-    CHECK(has_edge(cached.graph, "precompute-irradiance", "cache-fill"));
-    CHECK(has_edge(cached.graph, "cache-fill", "camera-gather"));
+    CHECK(has_edge(cached.graph, "precompute-irradiance", "cache-fill-records"));
+    CHECK(has_edge(cached.graph, "cache-fill-records", "cache-fill-insert"));
+    CHECK(has_edge(cached.graph, "cache-fill-insert", "camera-gather"));
     const RenderStats path_cached = graph_of("path", "irradiance_cache");
-    CHECK(has_edge(path_cached.graph, "cache-fill", "camera-paths"));
+    CHECK(has_edge(path_cached.graph, "cache-fill-insert", "camera-paths"));
+    // One run of the fill's nodes per hierarchical pass (16 x 12: corners, then grids 2^k
+    // apart down to every pixel, 5 passes), and the photon passes ran once.
+    CHECK(cached.graph.nodes[index(cached.graph, "cache-fill-records")].runs == 5);
+    CHECK(cached.graph.nodes[index(cached.graph, "photons-global")].runs == 1);
 }

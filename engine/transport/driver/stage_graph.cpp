@@ -31,12 +31,19 @@ void StageGraph::record(uint32_t node, double seconds, uint64_t items) {
 }
 
 void StageGraph::run(tbb::task_arena& arena) {
+    std::vector<uint32_t> all;
+    for (uint32_t i = 0; i < nodes_.size(); ++i)
+        if (nodes_[i].body) all.push_back(i);
+    run(arena, all);
+}
+
+void StageGraph::run(tbb::task_arena& arena, const std::vector<uint32_t>& which) {
     using Msg = tbb::flow::continue_msg;
     arena.execute([&] {
         tbb::flow::graph g;
         tbb::flow::broadcast_node<Msg> start(g);
         std::vector<std::unique_ptr<tbb::flow::continue_node<Msg>>> flow(nodes_.size());
-        for (uint32_t i = 0; i < nodes_.size(); ++i) {
+        for (const uint32_t i : which) {
             if (!nodes_[i].body) continue;
             flow[i] = std::make_unique<tbb::flow::continue_node<Msg>>(g, [this, i](const Msg&) {
                 NodeTimer timer(*this, i);

@@ -33,6 +33,9 @@ class StageGraph {
 
     // Runs every add()ed node once inside `arena`; returns when all have finished.
     void run(tbb::task_arena& arena);
+    // Runs only these add()ed nodes (a pass of one part of the render, such as the cache
+    // fill's, in a graph that holds the photon passes too), with the edges among them.
+    void run(tbb::task_arena& arena, const std::vector<uint32_t>& nodes);
     // The nodes that nothing added after them depends on yet (where a next stage attaches).
     std::vector<uint32_t> sinks() const;
     GraphStats report() const;

@@ -16,9 +16,10 @@ namespace {
 constexpr std::size_t kChunk = 64;  // pixels per job of a pass
 }
 
-void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
-                           std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
-                           RenderStats& stats) {
+uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
+                               std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
+                               RenderStats& stats, StageGraph& graph,
+                               const std::vector<uint32_t>& after) {
     const int w = scene.film.width, h = scene.film.height;
     const uint64_t npix = uint64_t(w) * uint64_t(h);
     std::vector<uint8_t> visited(npix, 0);
@@ -29,11 +30,48 @@ void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrato
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::task_arena arena(threads);
+    // A pass as two graph nodes: the pass's pixels traced in parallel chunks against the
+    // frozen caches, then the chunks' new records inserted in chunk order.
+    std::vector<SampleJob> jobs;
+    std::vector<std::vector<std::vector<IrradianceRecord>>> found;  // [chunk][level]
+    const uint32_t records = graph.add("cache-fill-records", [&]() -> uint64_t {
+        const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
+        found.assign(chunks, {});
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, chunks, 1),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                Scratch& s = scratch.local();
+                if (!s.ws) s.ws = integrator.make_workspace();
+                for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                    const std::vector<SampleJob> part(
+                        jobs.begin() + std::ptrdiff_t(c * kChunk),
+                        jobs.begin() + std::ptrdiff_t(std::min(jobs.size(), (c + 1) * kChunk)));
+                    integrator.trace(part, *s.ws, s.out, s.stats);
+                    for (CacheLevelWork& l : s.ws->cache_workspace()->levels) {
+                        found[c].emplace_back();
+                        for (std::size_t i = 0; i < l.found->size(); ++i)
+                            found[c].back().push_back(l.found->record(i));
+                    }
+                }
+            });
+        return jobs.size();
+    });
+    const uint32_t insert = graph.add("cache-fill-insert", [&]() -> uint64_t {
+        uint64_t n = 0;
+        for (const auto& chunk : found)
+            for (std::size_t l = 0; l < chunk.size(); ++l) {
+                for (const IrradianceRecord& rec : chunk[l]) caches[l].insert(rec);
+                n += chunk[l].size();
+            }
+        return n;
+    });
+    graph.edge(records, insert);
+    for (uint32_t a : after) graph.edge(a, records);
     const int extent = std::max(w, h) - 1;
     for (int level = 0;; ++level) {
         // Grid points round(i (size - 1) / 2^level): both image edges at every level.
         const int steps = 1 << level;
-        std::vector<SampleJob> jobs;
+        jobs.clear();
         for (int iy = 0; iy <= steps; ++iy) {
             const int y = int(std::lround(double(iy) * (h - 1) / steps));
             for (int ix = 0; ix <= steps; ++ix) {
@@ -44,34 +82,7 @@ void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrato
                 jobs.push_back({uint32_t(x), uint32_t(y), 0, spp, 0, pixel * spp});
             }
         }
-        if (!jobs.empty()) {
-            const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
-            // found[chunk][level]
-            std::vector<std::vector<std::vector<IrradianceRecord>>> found(chunks);
-            arena.execute([&] {
-                tbb::parallel_for(
-                    tbb::blocked_range<std::size_t>(0, chunks, 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                        Scratch& s = scratch.local();
-                        if (!s.ws) s.ws = integrator.make_workspace();
-                        for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                            const std::vector<SampleJob> part(
-                                jobs.begin() + std::ptrdiff_t(c * kChunk),
-                                jobs.begin() +
-                                    std::ptrdiff_t(std::min(jobs.size(), (c + 1) * kChunk)));
-                            integrator.trace(part, *s.ws, s.out, s.stats);
-                            for (CacheLevelWork& l : s.ws->cache_workspace()->levels) {
-                                found[c].emplace_back();
-                                for (std::size_t i = 0; i < l.found->size(); ++i)
-                                    found[c].back().push_back(l.found->record(i));
-                            }
-                        }
-                    });
-            });
-            for (const auto& chunk : found)
-                for (std::size_t l = 0; l < chunk.size(); ++l)
-                    for (const IrradianceRecord& rec : chunk[l]) caches[l].insert(rec);
-        }
+        if (!jobs.empty()) graph.run(arena, {records, insert});
         if (steps >= extent) break;
     }
     for (Scratch& s : scratch) {
@@ -79,6 +90,7 @@ void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrato
         s.stats.cache = {};
         stats.merge(s.stats);
     }
+    return insert;
 }
 
 }  // namespace foton

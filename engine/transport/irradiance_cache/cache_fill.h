@@ -14,6 +14,7 @@
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
 
 namespace foton {
@@ -21,8 +22,11 @@ namespace foton {
 // Fills `caches` (one per level) through `integrator`, whose cache evaluator reads them.
 // `spp` is the image pass's samples per pixel: the fill traces sample 0 of pass 0 of every
 // pixel, the very sample the image pass will trace first.
-void fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
-                           std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
-                           RenderStats& stats);
+// Each pass runs as the graph's nodes cache-fill-records -> cache-fill-insert (after the
+// nodes `after`); returns the last, for the camera pass to follow.
+uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
+                               std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
+                               RenderStats& stats, StageGraph& graph,
+                               const std::vector<uint32_t>& after);
 
 }  // namespace foton

@@ -37,18 +37,12 @@ RenderResult render_with_cache(const Scene& scene, const RenderSettings& setting
     evaluator.set_caches(frozen);
     attach(&evaluator);
     RenderStats fill_stats;
-    const uint32_t fill = graph.declare("cache-fill");
-    for (uint32_t a : after) graph.edge(a, fill);
     StageClock fill_clock;
-    fill_irradiance_cache(scene, integrator, caches, opt.spp, resolve_threads(opt.threads),
-                          fill_stats);
+    const uint32_t fill = fill_irradiance_cache(
+        scene, integrator, caches, opt.spp, resolve_threads(opt.threads), fill_stats, graph, after);
     const double fill_seconds = fill_clock.lap();
     std::size_t stored = 0;
     for (const IrradianceCache& c : caches) stored += c.size();
-    // The fill's busy thread time is what its stages measured (tracing, records, gathers).
-    double busy = 0.0;
-    for (double t : fill_stats.stage_seconds) busy += t;
-    graph.record(fill, busy, stored);
     RenderResult result = render_camera(scene, settings, integrator, opt, graph, {fill});
     attach(nullptr);
     result.stats.merge(fill_stats);
