@@ -34,6 +34,8 @@ const char* stage_name(Stage s) {
             return "photon-estimate";
         case Stage::CacheRecords:
             return "cache-record";
+        case Stage::CacheLookup:
+            return "cache-lookup";
         case Stage::kCount:
             break;
     }

@@ -25,6 +25,7 @@ enum class Stage {
     FinalGather,
     PhotonEstimate,
     CacheRecords,
+    CacheLookup,
     kCount
 };
 inline constexpr int kNumStages = int(Stage::kCount);

@@ -59,27 +59,123 @@ CacheEvaluator::CacheEvaluator(const Scene& scene, const RenderSettings& setting
       params_(cache_params(settings.cache)),
       bounds_(scene.bounds()) {}
 
-bool CacheEvaluator::visible(const SurfacePoint& sp, const IrradianceRecord& r,
-                             CacheWorkspace& ws) const {
-    if (!settings_.cache.visibility) return true;
+bool CacheEvaluator::visibility_ray(const SurfacePoint& sp, const IrradianceRecord& r,
+                                    kern::Ray1& ray) const {
+    if (!settings_.cache.visibility) return false;
     // The notes' edge case: a record beyond an edge that p cannot see must not be used.
     // Both ends are lifted off their surfaces by a tenth of their distance, so that the
     // segment clears a curved surface between them (a chord of a sphere of radius R dips
     // d^2 / 8R below it) while a wall between them still blocks it.
     const float gap = length(r.p - sp.p);
-    if (!(gap > sp.epsilon)) return true;
+    if (!(gap > sp.epsilon)) return false;
     const float lift = std::max(sp.epsilon, 0.1f * gap);
     const Vec3 a = sp.p + sp.ng * lift;
     const Vec3 b = r.p + r.n * lift;
     const Vec3 d = b - a;
     const float len = length(d);
     const Vec3 u = d * (1.f / len);
+    ray = {a.x, a.y, a.z, u.x, u.y, u.z, 0.f, len};
+    return true;
+}
+
+bool CacheEvaluator::visible(const SurfacePoint& sp, const IrradianceRecord& r,
+                             CacheWorkspace& ws) const {
+    kern::Ray1 ray;
+    if (!visibility_ray(sp, r, ray)) return true;
     ++ws.lookup.visibility_tests;
-    if (accel_.occluded1({a.x, a.y, a.z, u.x, u.y, u.z, 0.f, len}, ws.trace)) {
+    if (accel_.occluded1(ray, ws.trace)) {
         ++ws.lookup.visibility_rejections;
         return false;
     }
     return true;
+}
+
+void CacheEvaluator::queue_pending(const SurfacePoint& sp, const warp::Frame& frame,
+                                   const RGB& weight, uint32_t slot, uint64_t key,
+                                   float path_length, CacheLevelWork& work) const {
+    PendingLookup q;
+    q.sp = sp;
+    q.sp.ns = frame.n;
+    q.s = frame.s;
+    q.t = frame.t;
+    q.r_min = settings_.cache.r_min_pixels * scene_.camera.footprint(path_length);
+    q.path_length = path_length;
+    q.slot = slot;
+    q.weight = weight;
+    q.key = key;
+    work.pending.push_back(q);
+}
+
+void CacheEvaluator::queue_lookup(const SurfacePoint& sp, const warp::Frame& frame,
+                                  const RGB& weight, uint32_t slot, uint64_t key, float path_length,
+                                  CacheWorkspace& ws) const {
+    CacheLookupBatch& b = ws.batch;
+    CacheLookupBatch::Query q;
+    q.sp = sp;
+    q.sp.ns = frame.n;
+    q.s = frame.s;
+    q.t = frame.t;
+    q.weight = weight;
+    q.slot = slot;
+    q.key = key;
+    q.path_length = path_length;
+    q.first = uint32_t(b.record.size());
+    // The candidates in the order interpolate() takes them: the frozen cache's, then the
+    // records this batch computed so far.
+    caches_[0]->candidates(sp.p, frame.n, b.record, ws.lookup);
+    q.frozen = uint32_t(b.record.size()) - q.first;
+    ws.levels[0].found->candidates(sp.p, frame.n, b.record, ws.lookup);
+    q.count = uint32_t(b.record.size()) - q.first;
+    for (uint32_t c = q.first; c < q.first + q.count; ++c) {
+        const IrradianceRecord& r = c < q.first + q.frozen
+                                        ? caches_[0]->record(b.record[c])
+                                        : ws.levels[0].found->record(b.record[c]);
+        kern::Ray1 ray;
+        if (visibility_ray(sp, r, ray)) {
+            b.ray.push_back(int32_t(b.rays.size()));
+            b.rays.push({ray.ox, ray.oy, ray.oz}, {ray.dx, ray.dy, ray.dz}, ray.tmin, ray.tmax,
+                        uint32_t(b.rays.size()));
+        } else {
+            b.ray.push_back(-1);
+        }
+    }
+    b.queries.push_back(q);
+}
+
+void CacheEvaluator::serve_lookups(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats,
+                                   StageClock& clock) const {
+    CacheLookupBatch& b = ws.batch;
+    if (b.queries.empty()) return;
+    if (!b.rays.empty()) accel_.occluded(b.rays, b.occluded, ws.trace);
+    ws.lookup.visibility_tests += b.rays.size();
+    b.visible.resize(b.record.size());
+    for (std::size_t c = 0; c < b.record.size(); ++c) {
+        const bool blocked = b.ray[c] >= 0 && b.occluded[std::size_t(b.ray[c])];
+        b.visible[c] = !blocked;
+        ws.lookup.visibility_rejections += blocked;
+    }
+    for (const CacheLookupBatch::Query& q : b.queries) {
+        IrradianceCache::Blend blend;
+        ++ws.lookup.lookups;
+        const Vec3& n = q.sp.ns;
+        caches_[0]->blend_visible(q.sp.p, n, b.record.data() + q.first, b.visible.data() + q.first,
+                                  q.frozen, ws.lookup, blend);
+        ws.levels[0].found->blend_visible(q.sp.p, n, b.record.data() + q.first + q.frozen,
+                                          b.visible.data() + q.first + q.frozen, q.count - q.frozen,
+                                          ws.lookup, blend);
+        RGB e;
+        if (blend.finish(e, ws.lookup)) {
+            out[q.slot] += q.weight * e;
+            continue;
+        }
+        warp::Frame frame;
+        frame.s = q.s;
+        frame.t = q.t;
+        frame.n = q.sp.ns;
+        queue_pending(q.sp, frame, q.weight, q.slot, q.key, q.path_length, ws.levels[0]);
+    }
+    stats.add(Stage::CacheLookup, b.queries.size(), clock);
+    b.clear();
 }
 
 void CacheEvaluator::lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame,
@@ -93,17 +189,7 @@ void CacheEvaluator::lookup(uint32_t level, const SurfacePoint& sp, const warp::
         out[slot] += weight * e;
         return;
     }
-    PendingLookup q;
-    q.sp = sp;
-    q.sp.ns = frame.n;
-    q.s = frame.s;
-    q.t = frame.t;
-    q.r_min = settings_.cache.r_min_pixels * scene_.camera.footprint(path_length);
-    q.path_length = path_length;
-    q.slot = slot;
-    q.weight = weight;
-    q.key = key;
-    work.pending.push_back(q);
+    queue_pending(sp, frame, weight, slot, key, path_length, work);
 }
 
 void CacheEvaluator::resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats) const {

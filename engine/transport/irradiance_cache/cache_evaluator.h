@@ -55,8 +55,38 @@ struct CacheLevelWork {
     std::vector<uint8_t> picked;
 };
 
+// The camera paths' level-0 lookups of one bounce, served together: each one's candidate
+// records (of the frozen cache, then of the batch's own), and one batch of visibility rays
+// for all of them.
+struct CacheLookupBatch {
+    struct Query {
+        SurfacePoint sp;
+        Vec3 s, t;
+        RGB weight;
+        uint32_t slot = 0;
+        uint64_t key = 0;
+        float path_length = 0.f;
+        uint32_t first = 0, frozen = 0, count = 0;  // its candidates: [first, first + count),
+                                                    // the first `frozen` of the frozen cache
+    };
+    std::vector<Query> queries;
+    std::vector<uint32_t> record;  // candidate records
+    std::vector<uint8_t> visible;  // per candidate
+    std::vector<int32_t> ray;      // per candidate: its visibility ray, or -1 for none
+    RayBatch rays;
+    std::vector<uint8_t> occluded;
+    void clear() {
+        queries.clear();
+        record.clear();
+        visible.clear();
+        ray.clear();
+        rays.clear();
+    }
+};
+
 struct CacheWorkspace {
     std::vector<CacheLevelWork> levels;
+    CacheLookupBatch batch;
     GatherBuffers gather;
     RayBatch shadow;
     std::vector<RGB> shadow_value;
@@ -91,6 +121,16 @@ class CacheEvaluator {
     void lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
                 uint32_t slot, uint64_t key, float path_length, CacheWorkspace& ws,
                 std::vector<RGB>& out) const;
+    // lookup() at level 0, served later by serve_lookups() with the other lookups of the
+    // bounce: the octree walks and weights one query after another, the visibility rays of
+    // all of them as one batch.
+    void queue_lookup(const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
+                      uint32_t slot, uint64_t key, float path_length, CacheWorkspace& ws) const;
+    // Serves the queued lookups in the order they were queued: exactly what lookup() would
+    // have done for each, in that order.
+    // Its time goes to the cache-lookup stage (a lap of `clock`).
+    void serve_lookups(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats,
+                       StageClock& clock) const;
     // Serves every waiting lookup (level 0's add weight * E to `out`); merges the lookup
     // and visibility counts into `stats`.
     void resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats) const;
@@ -104,6 +144,10 @@ class CacheEvaluator {
     // Traces the level's record rays and fills its L and dist (deeper lookups may wait).
     void evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& stats) const;
     bool visible(const SurfacePoint& sp, const IrradianceRecord& r, CacheWorkspace& ws) const;
+    // The visibility test's segment from sp to r; false when no ray is needed (it passes).
+    bool visibility_ray(const SurfacePoint& sp, const IrradianceRecord& r, kern::Ray1& ray) const;
+    void queue_pending(const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
+                       uint32_t slot, uint64_t key, float path_length, CacheLevelWork& work) const;
 
     const Scene& scene_;
     const RenderSettings& settings_;

@@ -113,8 +113,32 @@ class IrradianceCache {
         return b.finish(e, st);
     }
 
+    // interpolate() in two steps, for lookups served as a batch: the records that may take
+    // part at (p, n), in the order interpolate() sums them (appended to `out`); then the
+    // interpolation from those of them whose visibility test passed.
+    void candidates(const Vec3& p, const Vec3& n, std::vector<uint32_t>& out,
+                    CacheCounters& st) const {
+        uint32_t idx[kMaxCandidates];
+        uint32_t count = 0;
+        octree_.for_each_candidate(p, [&](uint32_t i) {
+            if (count < kMaxCandidates) idx[count++] = i;
+        });
+        const uint32_t kept = keep_weighted(p, n, idx, count, st);
+        out.insert(out.end(), idx, idx + kept);
+    }
+    // Sums records idx[i] with visible[i] into the running blend `b` (start with Blend{}).
+    struct Blend;
+    void blend_visible(const Vec3& p, const Vec3& n, const uint32_t* idx, const uint8_t* visible,
+                       std::size_t count, CacheCounters& st, Blend& b) const {
+        for (std::size_t i = 0; i < count; ++i)
+            if (visible[i]) blend(p, n, records_[idx[i]], st, b);
+    }
+
   private:
     static constexpr uint32_t kMaxCandidates = 4096;
+
+  public:
+    // The running weighted sum of an interpolation.
     struct Blend {
         double sum[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
         bool finish(RGB& e, CacheCounters& st) const {
@@ -127,6 +151,8 @@ class IrradianceCache {
             return true;
         }
     };
+
+  private:
     template <class Visible>
     void add_candidates(const Vec3& p, const Vec3& n, Visible&& visible, CacheCounters& st,
                         Blend& b) const {
@@ -140,25 +166,33 @@ class IrradianceCache {
     template <class Visible>
     void add(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count, Visible&& visible,
              CacheCounters& st, Blend& b) const {
+        const uint32_t kept = keep_weighted(p, n, idx, count, st);
+        for (uint32_t c = 0; c < kept; ++c) {
+            const IrradianceRecord& r = records_[idx[c]];
+            if (visible(r)) blend(p, n, r, st, b);
+        }
+    }
+    // Weighs every candidate, keeps those with positive weight in place, and sorts only them
+    // into index order (the octree finds far more candidates than it keeps).
+    uint32_t keep_weighted(const Vec3& p, const Vec3& n, uint32_t* idx, uint32_t count,
+                           CacheCounters& st) const {
         st.candidates += count;
-        // Weigh every candidate, keep those with positive weight in place, and sort only
-        // them into index order (the octree finds far more candidates than it keeps).
         uint32_t kept = 0;
         for (uint32_t c = 0; c < count; ++c)
             if (record_weight(params_, normal_limit_, records_[idx[c]], p, n) > 0.f)
                 idx[kept++] = idx[c];
         sort_indices(idx, kept);
-        for (uint32_t c = 0; c < kept; ++c) {
-            const IrradianceRecord& r = records_[idx[c]];
-            const float w = record_weight(params_, normal_limit_, r, p, n);
-            if (!visible(r)) continue;
-            const RGB v = record_extrapolate(params_, r, p, n);
-            b.sum[0] += double(w) * v.r;
-            b.sum[1] += double(w) * v.g;
-            b.sum[2] += double(w) * v.b;
-            b.wsum += w;
-            ++st.used;
-        }
+        return kept;
+    }
+    void blend(const Vec3& p, const Vec3& n, const IrradianceRecord& r, CacheCounters& st,
+               Blend& b) const {
+        const float w = record_weight(params_, normal_limit_, r, p, n);
+        const RGB v = record_extrapolate(params_, r, p, n);
+        b.sum[0] += double(w) * v.r;
+        b.sum[1] += double(w) * v.g;
+        b.sum[2] += double(w) * v.b;
+        b.wsum += w;
+        ++st.used;
     }
     static void sort_indices(uint32_t* idx, uint32_t count);
 

@@ -37,8 +37,7 @@ float PathIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
 }
 
 bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
-                                  const Vec3& d, uint32_t slot, PathWorkspace& ws,
-                                  std::vector<RGB>& radiance) const {
+                                  const Vec3& d, uint32_t slot, PathWorkspace& ws) const {
     RGB rho;
     if (!m.bsdf.has_non_delta() || !m.bsdf.lambert_albedo(rho)) return false;
     const uint64_t key = ws.keys[slot];
@@ -76,8 +75,8 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
                       rand(key, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
     if (!rho.is_black())
-        cache_->lookup(0, sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
-                       ws.path_length[slot], ws.cache, radiance);
+        cache_->queue_lookup(sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
+                             ws.path_length[slot], ws.cache);
     return true;
 }
 
@@ -122,8 +121,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             radiance[slot] += beta * m.emission * w;
         }
         if (depth >= rs.max_depth || m.bsdf.empty()) continue;
-        if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws, radiance))
-            continue;
+        if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws)) continue;
 
         const ShadingPoint v(sp, m, d, beta, slot, depth, key);
         const warp::Frame& frame = v.frame;
@@ -206,6 +204,9 @@ void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* f
             shade(depth, ws, radiance);
         },
         [&](uint32_t) {
+            // The bounce's cache lookups before its shadow rays, as when they were made one
+            // by one during shading.
+            if (cache_) cache_->serve_lookups(ws.cache, radiance, stats, clock);
             resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
                                 clock);
         });

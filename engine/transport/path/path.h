@@ -69,8 +69,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;
     // The cache's vertex: true when it took the path over.
     bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,
-                      const Vec3& d, uint32_t slot, PathWorkspace& ws,
-                      std::vector<RGB>& radiance) const;
+                      const Vec3& d, uint32_t slot, PathWorkspace& ws) const;
     void run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist, RenderStats& stats,
              StageClock& clock) const;
     float rand(uint64_t key, uint32_t depth, uint32_t k) const;

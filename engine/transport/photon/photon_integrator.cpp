@@ -59,9 +59,9 @@ void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspac
     RGB rho;
     if (cache_ && m.bsdf.lambert_albedo(rho)) {
         if (!rho.is_black())
-            cache_->lookup(0, sp, frame, weight * rho * kInvPi, slot,
-                           rng::hash(v.key, v.depth, 0x1cac, 0), ws.path_length[slot], ws.cache,
-                           radiance);
+            cache_->queue_lookup(sp, frame, weight * rho * kInvPi, slot,
+                                 rng::hash(v.key, v.depth, 0x1cac, 0), ws.path_length[slot],
+                                 ws.cache);
         return;
     }
     gather_rays(v, ws);
@@ -268,47 +268,53 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
     stats.add(Stage::Generate, n, clock);
 
     // Camera rays through specular chains to the visible points.
-    run_wavefront(accel_, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
-        for (std::size_t i = 0; i < ws.rays.size(); ++i) {
-            const uint32_t slot = ws.rays.id[i];
-            const SampleJob& job = jobs[slot];
-            RGB& beta = ws.beta[slot];
-            const uint32_t geom = ws.hits.geom[i];
-            if (geom == kNoHit) {
-                radiance[slot] += beta * scene_.background;
-                continue;
-            }
-            const Vec3 d = ws.rays.direction(i);
-            ws.path_length[slot] += ws.hits.t[i];
-            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-            const Material& m = scene_.materials[scene_.objects[geom].material];
-            // Emitters seen from the camera or through specular chains (L S* E paths have no
-            // diffuse vertex, so no photon estimate holds them).
-            if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;
-            if (m.bsdf.empty()) continue;
-            const float p_delta = m.bsdf.selection_probability(kSpecular);
-            if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
-                if (depth >= settings_.max_depth) continue;
-                const warp::Frame frame(sp.ns);
-                const Vec3 wo = frame.to_local(-d);
-                const BsdfContext ctx{sp.front_face, Transport::Radiance};
-                BsdfSample bs;
-                if (!m.bsdf.sample(
-                        wo, rand(job.id, depth, kDimLobe),
-                        {rand(job.id, depth, kDimLobe + 1), rand(job.id, depth, kDimLobe + 2)}, ctx,
-                        bs, kSpecular))
+    run_wavefront(
+        accel_, ws.rays, ws.next, ws.hits, 0, std::numeric_limits<uint32_t>::max(), stats, clock,
+        [&](uint32_t depth) {
+            for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+                const uint32_t slot = ws.rays.id[i];
+                const SampleJob& job = jobs[slot];
+                RGB& beta = ws.beta[slot];
+                const uint32_t geom = ws.hits.geom[i];
+                if (geom == kNoHit) {
+                    radiance[slot] += beta * scene_.background;
                     continue;
-                const Vec3 wi = frame.to_world(bs.wi);
-                const float side = dot(wi, sp.ng);
-                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
-                beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
-                ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
-                continue;
+                }
+                const Vec3 d = ws.rays.direction(i);
+                ws.path_length[slot] += ws.hits.t[i];
+                const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
+                const Material& m = scene_.materials[scene_.objects[geom].material];
+                // Emitters seen from the camera or through specular chains (L S* E paths have no
+                // diffuse vertex, so no photon estimate holds them).
+                if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;
+                if (m.bsdf.empty()) continue;
+                const float p_delta = m.bsdf.selection_probability(kSpecular);
+                if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
+                    if (depth >= settings_.max_depth) continue;
+                    const warp::Frame frame(sp.ns);
+                    const Vec3 wo = frame.to_local(-d);
+                    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+                    BsdfSample bs;
+                    if (!m.bsdf.sample(
+                            wo, rand(job.id, depth, kDimLobe),
+                            {rand(job.id, depth, kDimLobe + 1), rand(job.id, depth, kDimLobe + 2)},
+                            ctx, bs, kSpecular))
+                        continue;
+                    const Vec3 wi = frame.to_world(bs.wi);
+                    const float side = dot(wi, sp.ng);
+                    if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+                    beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+                    ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+                    continue;
+                }
+                const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
+                shade_visible(ShadingPoint(sp, m, d, w, slot, depth, job.id), ws, radiance);
             }
-            const RGB w = m.bsdf.has_delta() ? beta * (1.f / (1.f - p_delta)) : beta;
-            shade_visible(ShadingPoint(sp, m, d, w, slot, depth, job.id), ws, radiance);
-        }
-    });
+        },
+        // The bounce's cache lookups, served as a batch once it is shaded.
+        [&](uint32_t) {
+            if (cache_) cache_->serve_lookups(ws.cache, radiance, stats, clock);
+        });
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);
