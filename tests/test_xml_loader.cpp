@@ -103,11 +103,11 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
     CHECK(s.film.width == 800);
     CHECK(s.film.pixel_size == Approx(0.008f));
     CHECK(s.film.gamma == 1.f);
-    CHECK(s.render.spp == 4);
-    CHECK(s.render.threads == 2);
+    CHECK(s.render.run.spp == 4);
+    CHECK(s.render.run.threads == 2);
     CHECK(s.render.sampler == SamplerKind::Hammersley);
     CHECK(s.render.max_depth == 5);
-    CHECK(s.render.seed == 7);
+    CHECK(s.render.run.seed == 7);
     CHECK(s.camera.type == CameraType::Orthographic);
     CHECK(s.camera.d == 50.f);
     CHECK(s.camera.exposure == 1.5f);
@@ -244,11 +244,11 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     CHECK(s.materials[7].emission.b == 3.f);
     CHECK(s.materials[7].emission_two_sided);
     CHECK(s.render.integrator == "path");
-    CHECK(s.render.spp == 7);
+    CHECK(s.render.run.spp == 7);
     CHECK(s.render.mis == MisHeuristic::Maximum);
     CHECK_FALSE(s.render.nee);
     CHECK(s.render.rr_depth == 5);
-    CHECK(s.render.time_limit == 12.f);
+    CHECK(s.render.run.time_limit == 12.f);
     CHECK(s.render.adaptive.enabled);
     CHECK(s.render.adaptive.unbiased);
     CHECK(s.render.adaptive.max_spp == 64);
@@ -307,7 +307,7 @@ TEST_CASE("XML: renderer settings are typed and checked by name, with their line
     // The same keys from the command line: later wins, errors name --set.
     const TestScene s = parse_scene(scene_xml("\n<renderer type=\"path\" spp=\"4\"/>"), "s.xml",
                                     ".", {{"spp", "9"}, {"mis", "balance"}, {"adaptive", "true"}});
-    CHECK(s.render.spp == 9);
+    CHECK(s.render.run.spp == 9);
     CHECK(s.render.mis == MisHeuristic::Balance);
     CHECK(s.render.adaptive.enabled);
     try {

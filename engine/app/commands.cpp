@@ -92,9 +92,9 @@ int run_render(const RenderArgs& args) {
         if (!find_integrator(rs.integrator)->camera)
             throw InputError("--adaptive", 0, "adaptive sampling applies to camera integrators");
     }
-    RenderOptions opt;
-    opt.spp = args.spp.value_or(rs.spp);
-    opt.time_limit = args.time.value_or(rs.time_limit);
+    RenderOptions opt = rs.run;
+    opt.spp = args.spp.value_or(opt.spp);
+    opt.time_limit = args.time.value_or(opt.time_limit);
     if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
     if (opt.time_limit > 0.f && rs.adaptive.enabled)
         throw InputError("--time", 0, "progressive passes and adaptive sampling do not mix");
@@ -102,9 +102,9 @@ int run_render(const RenderArgs& args) {
     if (opt.time_limit > 0.f && !args.spp) opt.spp = 1;
     opt.snapshot_times = args.snapshots;
     if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
-    opt.threads = args.threads.value_or(rs.threads);
+    opt.threads = args.threads.value_or(opt.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
-    opt.seed = args.seed.value_or(rs.seed);
+    opt.seed = args.seed.value_or(opt.seed);
     opt.progress = !args.quiet;
 
     std::string out = args.output;
@@ -185,8 +185,8 @@ int run_info(const std::string& path) {
     const Scene scene = load_scene(path);
     const RenderSettings rs = render_settings(scene);
     std::fputs(scene.summary().c_str(), stdout);
-    std::printf("renderer   %s, %u spp (%s), depth %u, accel %s\n", rs.integrator.c_str(), rs.spp,
-                sampler_name(rs.sampler), rs.max_depth, accel_name(scene.accel));
+    std::printf("renderer   %s, %u spp (%s), depth %u, accel %s\n", rs.integrator.c_str(),
+                rs.run.spp, sampler_name(rs.sampler), rs.max_depth, accel_name(scene.accel));
     return 0;
 }
 

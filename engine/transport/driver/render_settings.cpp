@@ -8,14 +8,14 @@ constexpr uint64_t kMaxCount = 100000000;
 
 void parse_sampling(const ParamSet& p, RenderSettings& r) {
     r.integrator = p.text("type", r.integrator);
-    r.spp = uint32_t(p.integer("spp", r.spp, 1, kMaxCount));
-    r.spp = uint32_t(p.integer("aa_samples", r.spp, 1, kMaxCount));  // the first thesis' name
-    r.threads = int(p.integer("num_threads", 0, 0, 65536));
+    r.run.spp = uint32_t(p.integer("spp", r.run.spp, 1, kMaxCount));
+    r.run.spp = uint32_t(p.integer("aa_samples", r.run.spp, 1, kMaxCount));  // the first thesis'
+    r.run.threads = int(p.integer("num_threads", 0, 0, 65536));
     r.sampler = p.choice("sampler", sampler_names(), r.sampler);
     r.max_depth = uint32_t(p.integer("max_depth", r.max_depth, 0, 1000));
     r.min_contribution = p.real("min_contribution", r.min_contribution, 0.f);
-    r.seed = p.integer("seed", r.seed);
-    r.time_limit = p.real("time", 0.f, 0.f);
+    r.run.seed = p.integer("seed", r.run.seed);
+    r.run.time_limit = p.real("time", 0.f, 0.f);
     AdaptiveSettings& ad = r.adaptive;
     ad.enabled = p.boolean("adaptive", ad.enabled);
     ad.pilot = uint32_t(p.integer("adaptive_pilot", ad.pilot, 1, kMaxCount));

@@ -12,6 +12,7 @@
 #include "engine/transport/common/mis.h"
 #include "engine/transport/irradiance_cache/cache_settings.h"
 #include "engine/transport/photon/photon_settings.h"
+#include "render_options.h"
 
 namespace foton {
 
@@ -28,17 +29,16 @@ struct AdaptiveSettings {
 
 struct RenderSettings {
     std::string integrator = "raytracer";  // a name in integrators()
-    uint32_t spp = 1;                      // aa_samples
-    int threads = 0;                       // 0 = all hardware threads
+    // The run's own settings as the file gives them (spp, num_threads, seed, time): the
+    // command line starts from these and overrides them with its flags.
+    RenderOptions run;
     SamplerKind sampler = SamplerKind::Jittered;
     // raytracer: specular bounces after the camera ray; path/light: scattering vertices.
     uint32_t max_depth = 8;
     float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
-    uint64_t seed = 0;
     MisHeuristic mis = MisHeuristic::Power;
     bool nee = true;             // path: next event estimation (false = BSDF sampling only)
     uint32_t rr_depth = 3;       // Russian roulette from this many scattering vertices on
-    float time_limit = 0.f;      // seconds; > 0 renders passes until the time is up
     uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
     AdaptiveSettings adaptive;
     PhotonSettings photon;
