@@ -18,6 +18,8 @@ struct WavefrontStages {
     Stage shade = Stage::Shade;
     // Where the continuation rays are counted (nullptr: not counted).
     uint64_t RenderStats::*continuations = &RenderStats::secondary_rays;
+    // false: the caller times the whole loop as one stage of its own (the gather rays).
+    bool timed = true;
 };
 
 // Runs bounces depth, depth + 1, ... while rays are alive and depth < depth_end.
@@ -27,10 +29,10 @@ void run_wavefront(const Intersector& accel, RayBatch& rays, RayBatch& next, Hit
                    Shade&& shade, AfterShade&& after_shade, const WavefrontStages& stages = {}) {
     for (; !rays.empty() && depth < depth_end; ++depth) {
         accel.intersect(rays, hits, stats.trace);
-        stats.add(stages.intersect, rays.size(), clock);
+        if (stages.timed) stats.add(stages.intersect, rays.size(), clock);
         next.clear();
         shade(depth);
-        stats.add(stages.shade, rays.size(), clock);
+        if (stages.timed) stats.add(stages.shade, rays.size(), clock);
         after_shade(depth);
         if (stages.continuations) stats.*stages.continuations += next.size();
         std::swap(rays, next);

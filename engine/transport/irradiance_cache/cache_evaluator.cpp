@@ -344,7 +344,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
     ws.shadow_value.clear();
     const bool deeper = mode_ == CacheSecondary::Cache && level + 1 < levels_;
     const std::size_t traced = trace_gather(
-        scene_, accel_, g, work.L, work.dist.data(), stats.trace,
+        scene_, accel_, g, work.L, work.dist.data(), stats,
         [&](uint32_t id, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
             if (mode_ == CacheSecondary::Photon) {
                 work.L[id] += w * photons_(sp, m, d);

@@ -226,7 +226,7 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
     // Emission is not counted at the hits: direct light came from NEE, and light through
     // specular surfaces from the caustic map.
     const std::size_t rays = trace_gather(
-        scene_, accel_, ws.gather, nullptr, stats.trace,
+        scene_, accel_, ws.gather, nullptr, stats,
         [&](uint32_t slot, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
             b.order.emplace_back(slot, int32_t(b.hits.size()));
             b.hits.push_back({sp, &m, d, w});
