@@ -199,6 +199,10 @@ void PhotonIntegrator::photon_radiance_batch(FinalGatherBatch& b) const {
             map->lookup_irradiance_batch(b.queries, b.e, served);
         }
         std::size_t next = 0;
+        b.full.clear();
+        b.fx.clear();
+        b.fy.clear();
+        b.fz.clear();
         for (uint32_t i = 0; i < n; ++i) {
             const FinalGatherBatch::Hit& h = b.hits[i];
             if (next < b.lambert.size() && b.lambert[next] == i) {
@@ -208,10 +212,23 @@ void PhotonIntegrator::photon_radiance_batch(FinalGatherBatch& b) const {
                     continue;
                 }
             }
+            b.full.push_back(i);
+            b.fx.push_back(h.sp.p.x);
+            b.fy.push_back(h.sp.p.y);
+            b.fz.push_back(h.sp.p.z);
+        }
+        // The full estimates' kNN queries as one batch too.
+        if (b.full.empty()) continue;
+        const EstimateParams& gp = maps_.global_params;
+        map->knn_batch(b.fx.data(), b.fy.data(), b.fz.data(), b.full.size(), gp, b.knn);
+        for (std::size_t q = 0; q < b.full.size(); ++q) {
+            const FinalGatherBatch::Hit& h = b.hits[b.full[q]];
             const warp::Frame frame(h.sp.ns);
             const BsdfContext ctx{h.sp.front_face, Transport::Radiance};
-            b.L[i] += map->radiance(h.sp.p, frame.s, frame.t, frame.n, h.m->bsdf,
-                                    frame.to_local(-h.d), ctx, maps_.global_params);
+            const std::size_t row = q * b.knn.k;
+            b.L[b.full[q]] += map->radiance_from(
+                h.sp.p, frame.s, frame.t, frame.n, h.m->bsdf, frame.to_local(-h.d), ctx, gp,
+                b.knn.count[q], b.knn.index.data() + row, b.knn.dist2.data() + row);
         }
     }
 }

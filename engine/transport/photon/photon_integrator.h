@@ -46,6 +46,9 @@ struct FinalGatherBatch {
     std::vector<RGB> rho, e;
     std::vector<uint8_t> found;
     PhotonMap::IrradianceQueries queries;
+    std::vector<uint32_t> full;  // hits that take a full estimate
+    std::vector<float> fx, fy, fz;
+    kern::KnnBatchResult knn;
 };
 
 struct PhotonCameraWorkspace : IntegratorWorkspace {

@@ -322,6 +322,27 @@ RGB PhotonMap::radiance(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3&
     float r = 0.f;
     const uint32_t m = gather(p, n, params, idx, d2, r);
     if (found) *found = m;
+    return radiance_of(s, t, n, bsdf, wo, ctx, params, m, idx, d2, r);
+}
+
+void PhotonMap::knn_batch(const float* x, const float* y, const float* z, std::size_t count,
+                          const EstimateParams& params, kern::KnnBatchResult& out) const {
+    const std::vector<float> max_d2(count, params.max_radius * params.max_radius);
+    tree_.knn_batch(x, y, z, max_d2.data(), count, std::min(params.k, kMaxEstimate), out);
+}
+
+RGB PhotonMap::radiance_from(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n,
+                             const Bsdf& bsdf, const Vec3& wo, const BsdfContext& ctx,
+                             const EstimateParams& params, uint32_t found, uint32_t* idx,
+                             float* d2) const {
+    float r = 0.f;
+    const uint32_t m = accept(p, n, params, std::min(params.k, kMaxEstimate), found, idx, d2, r);
+    return radiance_of(s, t, n, bsdf, wo, ctx, params, m, idx, d2, r);
+}
+
+RGB PhotonMap::radiance_of(const Vec3& s, const Vec3& t, const Vec3& n, const Bsdf& bsdf,
+                           const Vec3& wo, const BsdfContext& ctx, const EstimateParams& params,
+                           uint32_t m, const uint32_t* idx, const float* d2, float r) const {
     if (m == 0 || !(r > 0.f)) return RGB{0.f};
     RGB sum;
     for (uint32_t i = 0; i < m; ++i) {

@@ -71,6 +71,14 @@ class PhotonMap {
     RGB radiance(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n, const Bsdf& bsdf,
                  const Vec3& wo_local, const BsdfContext& ctx, const EstimateParams& params,
                  uint32_t* found = nullptr) const;
+    // radiance() in two steps, for estimates made as a batch: the kNN of `count` queries at
+    // once (Morton-ordered, kern::PointKdTree::knn_batch; k and radius from params), then
+    // each estimate from its row of the result (its idx/d2 are compacted in place).
+    void knn_batch(const float* x, const float* y, const float* z, std::size_t count,
+                   const EstimateParams& params, kern::KnnBatchResult& out) const;
+    RGB radiance_from(const Vec3& p, const Vec3& s, const Vec3& t, const Vec3& n, const Bsdf& bsdf,
+                      const Vec3& wo_local, const BsdfContext& ctx, const EstimateParams& params,
+                      uint32_t found, uint32_t* idx, float* d2) const;
     // Irradiance E at p with normal n (the estimate with f = 1/pi removed: sum power / pi r^2).
     RGB irradiance(const Vec3& p, const Vec3& n, const EstimateParams& params,
                    uint32_t* found = nullptr) const;
@@ -149,6 +157,9 @@ class PhotonMap {
     // compacts idx/d2 in place, sets the radius, returns how many.
     uint32_t accept(const Vec3& p, const Vec3& n, const EstimateParams& params, uint32_t k,
                     uint32_t found, uint32_t* idx, float* d2, float& radius) const;
+    RGB radiance_of(const Vec3& s, const Vec3& t, const Vec3& n, const Bsdf& bsdf, const Vec3& wo,
+                    const BsdfContext& ctx, const EstimateParams& params, uint32_t m,
+                    const uint32_t* idx, const float* d2, float r) const;
     RGB irradiance_of(const Vec3& n, const EstimateParams& params, uint32_t m, const uint32_t* idx,
                       const float* d2, float r) const;
     // Gathers the accepted photons of an estimate: indices, squared distances and the radius.
