@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
+#include "engine/film/image_io.h"
 #include "test_util.h"
 
 namespace {
@@ -154,4 +156,48 @@ TEST_CASE("foton render --set overrides renderer attributes and checks them", "[
     CHECK(run("render " + cornell + " --set nonsense -o " + dir.file("b.exr")).code == 2);
     CHECK(run("render " + cornell + " --set colour=red -o " + dir.file("b.exr")).code == 2);
     CHECK_FALSE(std::filesystem::exists(dir.file("b.exr")));
+}
+
+TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
+    foton::test::TempDir dir;
+    auto attribute = [](const std::string& exr, const std::string& key) {
+        for (const auto& [k, v] : foton::read_exr_attributes(exr))
+            if (k == key) return v;
+        return std::string("(missing)");
+    };
+    auto json = [](const std::string& path) {
+        std::ifstream in(path);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    const std::string caustics = foton::test::source_path("scenes/cornell-caustics.xml");
+    // SPPM: --spp is the number of passes, one sample per pixel each.
+    const Run sppm = run("render " + caustics + " --width 16 --height 12 --integrator sppm" +
+                         " --spp 4 --threads 64 -q --stats-json " + dir.file("s.json") + " -o " +
+                         dir.file("s.exr"));
+    REQUIRE(sppm.code == 0);
+    CHECK(attribute(dir.file("s.exr"), "foton:samples") == "4");
+    const std::string js = json(dir.file("s.json"));
+    // More threads than the machine has really run (oversubscribed), and the record says so
+    // beside the machine's own count.
+    CHECK_THAT(js, Catch::Contains("\"threads_requested\": 64"));
+    CHECK_THAT(js, Catch::Contains("\"threads\": 64"));
+    CHECK_THAT(js, Catch::Contains("\"hardware_threads\""));
+    for (const char* field : {"\"schema_version\"", "\"cpu\"", "\"simd\"", "\"simd_width\"",
+                              "\"spp_mean\": 4", "\"integrator\": \"sppm\"", "\"seed\"",
+                              "\"width\": 16", "\"photons_global\"", "\"graph\""})
+        CHECK_THAT(js, Catch::Contains(field));
+    // Adaptive sampling: the mean of what the pixels averaged, not the pilot.
+    const Run adaptive = run("render " + caustics + " --width 16 --height 12 --integrator path" +
+                             " --spp 2 --adaptive 0.05 --adaptive-max 16 -q --stats-json " +
+                             dir.file("a.json") + " -o " + dir.file("a.exr"));
+    REQUIRE(adaptive.code == 0);
+    const double mean = std::stod(attribute(dir.file("a.exr"), "foton:samples"));
+    CHECK(mean > 2.0);
+    CHECK(mean <= 16.0);
+    // Snapshots need a timed render; without one they are an error, not ignored.
+    const Run snap =
+        run("render " + caustics + " --width 8 --height 8 --snapshots 1 -o " + dir.file("n.exr"));
+    CHECK(snap.code == 2);
+    CHECK_THAT(snap.output, Catch::Contains("--snapshots: needs --time"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("n.exr")));
 }

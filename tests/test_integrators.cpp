@@ -267,7 +267,7 @@ TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator]
     opt.seed = 4;
     opt.snapshot_times = {0.0};
     int snapshots = 0;
-    opt.on_snapshot = [&](const Film& f, double, double, uint32_t passes) {
+    opt.on_snapshot = [&](const Film& f, double, double, uint32_t passes, double) {
         ++snapshots;
         CHECK(passes == 1);
         CHECK(f.width == 24);

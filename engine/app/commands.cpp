@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
@@ -12,12 +13,43 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
+#include "kernels/simd.h"
 
 namespace foton::app {
 
 namespace fs = std::filesystem;
 
 namespace {
+
+// Shortest decimal form (%.6g): 16, 24.5.
+std::string format_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+// A JSON string literal.
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+// The CPU model, from /proc/cpuinfo ("unknown" elsewhere).
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon != std::string::npos)
+                return line.substr(line.find_first_not_of(' ', colon + 1));
+        }
+    return "unknown";
+}
 
 // The image with every directly visible first-level cache record drawn as a white pixel (the
 // thesis' figure of computed vs interpolated points). Records seen only through a mirror or
@@ -101,6 +133,10 @@ int run_render(const RenderArgs& args) {
     // With --time alone, each pass is one sample per pixel (unless --spp sets the pass size).
     if (opt.time_limit > 0.f && !args.spp) opt.spp = 1;
     opt.snapshot_times = args.snapshots;
+    if (!opt.snapshot_times.empty() && !(opt.time_limit > 0.f))
+        throw InputError("--snapshots", 0,
+                         "needs --time (snapshots are taken between the passes of a timed "
+                         "render)");
     if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
     opt.threads = args.threads.value_or(opt.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
@@ -116,7 +152,7 @@ int run_render(const RenderArgs& args) {
     if (!out_dir.empty()) fs::create_directories(out_dir);
     const std::string png = fs::path(out).replace_extension(".png").string();
     const char* integrator = rs.integrator.c_str();
-    auto attributes = [&](double seconds, uint32_t passes, const char* accel_name) {
+    auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
         char secs[32];
         std::snprintf(secs, sizeof secs, "%.3f", seconds);
         std::string method = integrator;
@@ -125,7 +161,9 @@ int run_render(const RenderArgs& args) {
         return ImageAttributes{
             {"foton:scene", args.scene},
             {"foton:integrator", method},
-            {"foton:samples", std::to_string(opt.spp * passes)},
+            // What a pixel's value averages: the mean over pixels for adaptive sampling,
+            // the passes for SPPM, spp x passes otherwise.
+            {"foton:samples", format_number(spp)},
             {"foton:passes", std::to_string(passes)},
             {"foton:seed", std::to_string(opt.seed)},
             {"foton:renderSeconds", secs},
@@ -135,24 +173,31 @@ int run_render(const RenderArgs& args) {
     };
     if (!opt.snapshot_times.empty()) {
         // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
-        opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes) {
+        opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes,
+                              double spp) {
             char suffix[48];
             std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
             write_exr(fs::path(out).replace_extension("").string() + suffix, f,
-                      attributes(seconds, passes, accel_name(scene.accel)));
+                      attributes(seconds, passes, spp, accel_name(scene.accel)));
         };
     }
 
     if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
         throw InputError("--cache-points", 0, "needs indirect=irradiance_cache");
     const auto t0 = std::chrono::steady_clock::now();
-    const std::unique_ptr<Intersector> accel = make_intersector(scene, scene.accel, opt.threads);
+    // The accelerator's own pool (Embree's) gets the same bound as the render's.
+    const std::unique_ptr<Intersector> accel =
+        make_intersector(scene, scene.accel, resolve_threads(opt.threads));
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     RenderResult res = render(scene, rs, *accel, opt);
     res.stats.build_seconds = build;
 
-    ImageAttributes attrs = attributes(res.stats.wall_seconds, res.stats.passes, accel->name());
+    double spp_mean = 0.0;
+    for (uint32_t c : res.samples_per_pixel) spp_mean += c;
+    if (!res.samples_per_pixel.empty()) spp_mean /= double(res.samples_per_pixel.size());
+    ImageAttributes attrs =
+        attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
     write_exr(out, res.film, attrs);
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
@@ -167,7 +212,22 @@ int run_render(const RenderArgs& args) {
     if (!args.stats_json.empty()) {
         std::ofstream js(args.stats_json);
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
-        js << res.stats.json();
+        const std::vector<std::pair<std::string, std::string>> run = {
+            {"version", json_string(FOTON_VERSION)},
+            {"scene", json_string(args.scene)},
+            {"integrator", json_string(rs.integrator)},
+            {"accelerator", json_string(accel->name())},
+            {"width", std::to_string(scene.film.width)},
+            {"height", std::to_string(scene.film.height)},
+            {"spp_mean", format_number(spp_mean)},
+            {"seed", std::to_string(opt.seed)},
+            {"threads_requested", std::to_string(opt.threads)},
+            {"cpu", json_string(cpu_model())},
+            {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
+            {"simd", json_string(std::string(simd::Arch::name()))},
+            {"simd_width", std::to_string(simd::kWidth)},
+        };
+        js << res.stats.json(run);
     }
     if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
     if (!args.quiet)

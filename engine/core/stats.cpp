@@ -128,9 +128,10 @@ std::string RenderStats::table() const {
     return s;
 }
 
-std::string RenderStats::json() const {
-    char buf[1024];
-    std::string s = "{\n";
+std::string RenderStats::json(const std::vector<std::pair<std::string, std::string>>& run) const {
+    char buf[4096];
+    std::string s = "{\n  \"schema_version\": 2,\n";
+    for (const auto& [key, value] : run) s += "  \"" + key + "\": " + value + ",\n";
     std::snprintf(
         buf, sizeof buf,
         "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
@@ -141,6 +142,9 @@ std::string RenderStats::json() const {
         "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
         "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
         "  \"cache_fill_seconds\": %.6f,\n  \"photon_seconds\": %.6f,\n"
+        "  \"photons_global\": %llu,\n  \"photons_caustic\": %llu,\n"
+        "  \"shadow_rays_saved\": %llu,\n  \"cache_candidates\": %llu,\n"
+        "  \"cache_used\": %llu,\n  \"cache_visibility_tests\": %llu,\n"
         "  \"stages\": {\n",
         threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
         (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
@@ -150,7 +154,10 @@ std::string RenderStats::json() const {
         (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
         (unsigned long long)cache_records, (unsigned long long)cache_stored,
         (unsigned long long)cache.lookups, (unsigned long long)cache.interpolated,
-        (unsigned long long)cache.visibility_rejections, cache_fill_seconds, photon_seconds);
+        (unsigned long long)cache.visibility_rejections, cache_fill_seconds, photon_seconds,
+        (unsigned long long)photons_global, (unsigned long long)photons_caustic,
+        (unsigned long long)shadow_rays_saved, (unsigned long long)cache.candidates,
+        (unsigned long long)cache.used, (unsigned long long)cache.visibility_tests);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

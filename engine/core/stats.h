@@ -119,7 +119,8 @@ struct RenderStats {
     void merge(const RenderStats& o);
     uint64_t total_rays() const { return camera_rays + secondary_rays + shadow_rays; }
     std::string table() const;  // human-readable, for --stats
-    std::string json() const;   // for --stats-json
+    // For --stats-json; `run` are the run's own fields (key, JSON value), written first.
+    std::string json(const std::vector<std::pair<std::string, std::string>>& run = {}) const;
 };
 
 }  // namespace foton

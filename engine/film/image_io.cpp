@@ -87,6 +87,20 @@ Film read_exr(const std::string& path) {
     }
 }
 
+ImageAttributes read_exr_attributes(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
+    try {
+        Imf::InputFile file(path.c_str());
+        ImageAttributes out;
+        for (auto it = file.header().begin(); it != file.header().end(); ++it)
+            if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                out.emplace_back(it.name(), a->value());
+        return out;
+    } catch (const std::exception& e) {
+        throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
+    }
+}
+
 void write_png(const std::string& path, const Film& film, float exposure, float gamma) {
     std::vector<unsigned char> px(std::size_t(film.width) * std::size_t(film.height) * 3);
     const float inv_gamma = 1.f / gamma;

@@ -15,6 +15,8 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 
 // Linear float RGB OpenEXR with string header attributes.
 void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs = {});
+// The string attributes of an OpenEXR file's header.
+ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
 Film read_exr(const std::string& path);
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).

@@ -190,6 +190,12 @@ class CameraDriver {
     const RenderOptions& opt_;
 };
 
+double mean_count(const std::vector<uint32_t>& count) {
+    double sum = 0.0;
+    for (uint32_t c : count) sum += c;
+    return count.empty() ? 0.0 : sum / double(count.size());
+}
+
 }  // namespace
 
 RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
@@ -308,7 +314,9 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         do {
             arena.execute([&] { run_pass(passes); });
             ++passes;
-        } while (!adaptive && control.another(passes, [&] { return acc.film(); }));
+        } while (!adaptive &&
+                 control.another(
+                     passes, [&] { return acc.film(); }, [&] { return mean_count(acc.count); }));
     }
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);

@@ -19,12 +19,14 @@ class PassControl {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     }
     // After pass `passes` (1-based) has finished: whether to run another.
-    bool another(uint32_t passes, const std::function<Film()>& image) {
+    // `spp`: the mean samples per pixel so far (for the snapshot's metadata).
+    bool another(uint32_t passes, const std::function<Film()>& image,
+                 const std::function<double()>& spp) {
         const double t = elapsed();
         while (next_snapshot_ < opt_.snapshot_times.size() &&
                t >= opt_.snapshot_times[next_snapshot_]) {
             if (opt_.on_snapshot)
-                opt_.on_snapshot(image(), opt_.snapshot_times[next_snapshot_], t, passes);
+                opt_.on_snapshot(image(), opt_.snapshot_times[next_snapshot_], t, passes, spp());
             ++next_snapshot_;
         }
         if (opt_.max_passes > 0 && passes >= opt_.max_passes) return false;

@@ -1,5 +1,8 @@
 #include "render.h"
 
+#include <memory>
+
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 
 #include "engine/core/error.h"
@@ -7,7 +10,11 @@
 namespace foton {
 
 int resolve_threads(int requested) {
-    return requested > 0 ? requested : tbb::info::default_concurrency();
+    // oneTBB never runs more threads than its global limit (the hardware's by default): a
+    // larger request is bounded to what can actually run, and that is what gets recorded.
+    const int limit =
+        int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    return requested > 0 ? std::min(requested, limit) : tbb::info::default_concurrency();
 }
 
 RenderResult render(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
@@ -26,6 +33,13 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
             "renderer", 0,
             "indirect=\"irradiance_cache\" needs " + which + " (photon in final-gather mode)");
     }
+    // oneTBB runs no more threads than the hardware has unless told otherwise: a request
+    // for more (a scaling study, a determinism test) raises the limit for this render, so
+    // the threads recorded are the threads that ran.
+    std::unique_ptr<tbb::global_control> allow;
+    if (opt.threads > tbb::info::default_concurrency())
+        allow = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                      std::size_t(opt.threads));
     return info->render(scene, settings, accel, opt);
 }
 

@@ -23,7 +23,9 @@ struct RenderOptions {
     // Called after the first pass that ends at or after each of these times (seconds), with
     // the image so far: equal-time studies take several snapshots from one run.
     std::vector<double> snapshot_times;
-    std::function<void(const Film&, double requested, double seconds, uint32_t passes)> on_snapshot;
+    // `spp` is the mean number of samples each pixel's value averages so far.
+    std::function<void(const Film&, double requested, double seconds, uint32_t passes, double spp)>
+        on_snapshot;
 };
 
 struct RenderResult {

@@ -74,7 +74,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     do {
         graph.run(arena);
         ++passes;
-    } while (control.another(passes, image));
+    } while (control.another(passes, image, [&] { return double(opt.spp) * passes; }));
     RenderResult result;
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);

@@ -260,7 +260,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         while (next_snapshot < opt.snapshot_times.size() &&
                t >= opt.snapshot_times[next_snapshot]) {
             if (opt.on_snapshot)
-                opt.on_snapshot(image(pass), opt.snapshot_times[next_snapshot], t, pass);
+                opt.on_snapshot(image(pass), opt.snapshot_times[next_snapshot], t, pass, pass);
             ++next_snapshot;
         }
         if (fixed > 0 ? pass >= fixed : t >= double(opt.time_limit)) break;
