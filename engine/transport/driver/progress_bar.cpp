@@ -12,7 +12,9 @@ ProgressBar::ProgressBar(const std::atomic<std::size_t>& done, std::size_t total
 ProgressBar::~ProgressBar() {
     stop_ = true;
     thread_.join();
-    std::fprintf(stderr, "\r%*s\r", 60, "");
+    // Blank exactly what was drawn (the line grows with the times shown), then return.
+    if (drawn_ > 0) std::fprintf(stderr, "\r%*s\r", drawn_, "");
+    std::fflush(stderr);
 }
 
 void ProgressBar::run() {
@@ -28,7 +30,9 @@ void ProgressBar::run() {
         const int fill = int(frac * 30);
         for (int i = 0; i < 30; ++i) bar[i] = i < fill ? '#' : '.';
         bar[30] = 0;
-        std::fprintf(stderr, "\r[%s] %5.1f%%  %6.1fs  ETA %6.1fs", bar, 100 * frac, el, eta);
+        const int n =
+            std::fprintf(stderr, "\r[%s] %5.1f%%  %6.1fs  ETA %6.1fs", bar, 100 * frac, el, eta);
+        drawn_ = std::max(drawn_, n - 1);  // without the carriage return
         std::fflush(stderr);
     }
 }

@@ -19,6 +19,7 @@ class ProgressBar {
     const std::atomic<std::size_t>& done_;
     std::size_t total_;
     std::atomic<bool> stop_{false};
+    int drawn_ = 0;  // the longest line drawn, in characters
     std::thread thread_;
 };
 
