@@ -176,6 +176,12 @@ TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
                          dir.file("s.exr"));
     REQUIRE(sppm.code == 0);
     CHECK(attribute(dir.file("s.exr"), "foton:samples") == "4");
+    // pbrt-v4's standard attributes, the command line and the settings as used.
+    CHECK(attribute(dir.file("s.exr"), "samplesPerPixel") == "4");
+    CHECK(std::stod(attribute(dir.file("s.exr"), "renderTimeSeconds")) > 0.0);
+    CHECK_THAT(attribute(dir.file("s.exr"), "foton:commandLine"),
+               Catch::Contains("--integrator sppm --spp 4"));
+    CHECK_THAT(attribute(dir.file("s.exr"), "foton:settings"), Catch::Contains("type=sppm"));
     const std::string js = json(dir.file("s.json"));
     // More threads than the machine has really run (oversubscribed), and the record says so
     // beside the machine's own count.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -152,6 +153,12 @@ int run_render(const RenderArgs& args) {
     if (!out_dir.empty()) fs::create_directories(out_dir);
     const std::string png = fs::path(out).replace_extension(".png").string();
     const char* integrator = rs.integrator.c_str();
+    // Every renderer setting as the run used it, the file's and --set's alike.
+    std::string settings_text;
+    for (const std::string& key : scene.renderer.read_keys()) {
+        if (!scene.renderer.has(key)) continue;
+        settings_text += (settings_text.empty() ? "" : " ") + key + "=" + scene.renderer.text(key);
+    }
     auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
         char secs[32];
         std::snprintf(secs, sizeof secs, "%.3f", seconds);
@@ -169,6 +176,8 @@ int run_render(const RenderArgs& args) {
             {"foton:renderSeconds", secs},
             {"foton:accel", accel_name},
             {"foton:version", FOTON_VERSION},
+            {"foton:commandLine", args.command_line},
+            {"foton:settings", settings_text},
         };
     };
     if (!opt.snapshot_times.empty()) {
@@ -178,7 +187,8 @@ int run_render(const RenderArgs& args) {
             char suffix[48];
             std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
             write_exr(fs::path(out).replace_extension("").string() + suffix, f,
-                      attributes(seconds, passes, spp, accel_name(scene.accel)));
+                      attributes(seconds, passes, spp, accel_name(scene.accel)),
+                      {float(seconds), int(std::lround(spp))});
         };
     }
 
@@ -199,7 +209,7 @@ int run_render(const RenderArgs& args) {
     ImageAttributes attrs =
         attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
-    write_exr(out, res.film, attrs);
+    write_exr(out, res.film, attrs, {float(res.stats.wall_seconds), int(std::lround(spp_mean))});
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
     if (!args.cache_points.empty()) {
         std::size_t marked = 0;

@@ -31,6 +31,7 @@ struct RenderArgs {
     std::string stats_json;
     std::string cache_points;  // PNG of the image with the cache's records marked white
     bool quiet = false;
+    std::string command_line;  // as typed, for the image's metadata
 };
 
 int run_render(const RenderArgs& args);

@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
+        for (int i = 0; i < argc; ++i) ra.command_line += (i ? " " : "") + std::string(argv[i]);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForVersion& e) {

@@ -7,10 +7,13 @@
 #include <stdexcept>
 
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
@@ -45,11 +48,19 @@ void write_atomically(const std::string& path,
 
 }  // namespace
 
-void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs) {
+void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
+               const ExrRenderInfo& info) {
     write_atomically(path, [&](const std::string& tmp) {
         Imf::Header header(film.width, film.height);
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
         for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
+        // foton's RGB is linear with the sRGB / Rec. 709 primaries and D65 white: OpenEXR's
+        // default chromaticities, written out so that readers need not assume them.
+        Imf::addChromaticities(header, Imf::Chromaticities());
+        if (info.render_seconds >= 0.f)
+            header.insert("renderTimeSeconds", Imf::FloatAttribute(info.render_seconds));
+        if (info.samples_per_pixel >= 0)
+            header.insert("samplesPerPixel", Imf::IntAttribute(info.samples_per_pixel));
         Imf::OutputFile file(tmp.c_str(), header);
         Imf::FrameBuffer fb;
         char* base = reinterpret_cast<char*>(const_cast<RGB*>(film.pixels.data()));
@@ -95,6 +106,10 @@ ImageAttributes read_exr_attributes(const std::string& path) {
         for (auto it = file.header().begin(); it != file.header().end(); ++it)
             if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
                 out.emplace_back(it.name(), a->value());
+            else if (const auto* f = dynamic_cast<const Imf::FloatAttribute*>(&it.attribute()))
+                out.emplace_back(it.name(), std::to_string(f->value()));
+            else if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&it.attribute()))
+                out.emplace_back(it.name(), std::to_string(i->value()));
         return out;
     } catch (const std::exception& e) {
         throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());

@@ -13,9 +13,18 @@ namespace foton {
 
 using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 
-// Linear float RGB OpenEXR with string header attributes.
-void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs = {});
-// The string attributes of an OpenEXR file's header.
+// The standard attributes pbrt-v4 writes that tools read (tev, OpenImageIO): the render
+// time and samples per pixel (each left out when negative).
+struct ExrRenderInfo {
+    float render_seconds = -1.f;
+    int samples_per_pixel = -1;
+};
+
+// Linear float RGB OpenEXR (Rec. 709 / sRGB primaries, written as chromaticities) with string
+// header attributes and, when given, the standard render attributes.
+void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs = {},
+               const ExrRenderInfo& info = {});
+// The string, float and int attributes of an OpenEXR file's header, as text.
 ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
 Film read_exr(const std::string& path);
