@@ -200,6 +200,13 @@ TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
     const double mean = std::stod(attribute(dir.file("a.exr"), "foton:samples"));
     CHECK(mean > 2.0);
     CHECK(mean <= 16.0);
+    // The flags that are settings are recorded as the run used them.
+    CHECK(run("render " + caustics + " --width 8 --height 8 --integrator path --mis balance" +
+              " --max-depth 3 -q -o " + dir.file("m.exr"))
+              .code == 0);
+    const std::string settings = attribute(dir.file("m.exr"), "foton:settings");
+    CHECK_THAT(settings, Catch::Contains("mis=balance"));
+    CHECK_THAT(settings, Catch::Contains("max_depth=3"));
     // Snapshots need a timed render; without one they are an error, not ignored.
     const Run snap =
         run("render " + caustics + " --width 8 --height 8 --snapshots 1 -o " + dir.file("n.exr"));

@@ -1,6 +1,7 @@
 #include "commands.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,13 @@ namespace foton::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The shortest text that reads back as exactly v.
+std::string exact_text(float v) {
+    char buf[32];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
+}
 
 // Shortest decimal form (%.6g): 16, 24.5.
 std::string format_number(double v) {
@@ -98,32 +106,30 @@ int run_render(const RenderArgs& args) {
         if (w <= 0 || h <= 0) throw InputError("--width/--height", 0, "must be positive");
         scene.set_resolution(w, h);
     }
-    if (!args.integrator.empty()) scene.renderer.set("type", args.integrator, "--integrator", 0);
-    RenderSettings rs = render_settings(scene);
-    if (!args.mis.empty() && !mis_names().parse(args.mis, rs.mis))
-        throw InputError("--mis", 0,
-                         "unknown heuristic '" + args.mis + "' (balance, power, max, none)");
-    if (args.nee) rs.nee = *args.nee;
-    if (args.max_depth) rs.max_depth = *args.max_depth;
-    if (args.rr_depth) rs.rr_depth = *args.rr_depth;
-    if (args.light_samples) {
-        if (*args.light_samples == 0) throw InputError("--light-samples", 0, "must be at least 1");
-        rs.light_samples = *args.light_samples;
-    }
+    // The flags that are renderer settings join the file's and --set's in the scene's set:
+    // checked by the same rules, reported under their own name, recorded with the others.
+    auto flag = [&](const char* key, const std::string& value, const char* name) {
+        scene.renderer.set(key, value, name, 0);
+    };
+    if (!args.integrator.empty()) flag("type", args.integrator, "--integrator");
+    if (!args.mis.empty()) flag("mis", args.mis, "--mis");
+    if (args.nee) flag("nee", *args.nee ? "true" : "false", "--nee");
+    if (args.max_depth) flag("max_depth", std::to_string(*args.max_depth), "--max-depth");
+    if (args.rr_depth) flag("rr_depth", std::to_string(*args.rr_depth), "--rr-depth");
+    if (args.light_samples)
+        flag("light_samples", std::to_string(*args.light_samples), "--light-samples");
     if (args.adaptive) {
-        if (!(*args.adaptive > 0.f))
-            throw InputError("--adaptive", 0, "threshold must be positive");
-        rs.adaptive.enabled = true;
-        rs.adaptive.threshold = *args.adaptive;
+        flag("adaptive", "true", "--adaptive");
+        flag("adaptive_threshold", exact_text(*args.adaptive), "--adaptive");
     }
-    if (args.adaptive_max) rs.adaptive.max_spp = *args.adaptive_max;
-    if (args.adaptive_unbiased) rs.adaptive.unbiased = true;
-    if (rs.adaptive.enabled) {
-        if (args.spp) rs.adaptive.pilot = *args.spp;
-        if (rs.adaptive.max_spp < rs.adaptive.pilot)
-            throw InputError("--adaptive-max", 0, "must be at least the pilot sample count");
-        if (!find_integrator(rs.integrator)->camera)
-            throw InputError("--adaptive", 0, "adaptive sampling applies to camera integrators");
+    if (args.adaptive_max)
+        flag("adaptive_max_spp", std::to_string(*args.adaptive_max), "--adaptive-max");
+    if (args.adaptive_unbiased) flag("adaptive_unbiased", "true", "--adaptive-unbiased");
+    RenderSettings rs = render_settings(scene);
+    if (rs.adaptive.enabled && args.spp) {
+        // Under adaptive sampling --spp is the pilot.
+        flag("adaptive_pilot", std::to_string(*args.spp), "--spp");
+        rs = render_settings(scene);
     }
     RenderOptions opt = rs.run;
     opt.spp = args.spp.value_or(opt.spp);

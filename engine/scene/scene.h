@@ -57,6 +57,8 @@ struct Scene {
     ParamSet renderer;
     std::size_t skipped_degenerate = 0;
 
+    // The material of geometry `geom` (a hit's geom id).
+    const Material& material_of(uint32_t geom) const { return materials[objects[geom].material]; }
     std::size_t num_triangles() const;
     Bounds3 bounds() const;
     Bounds3 object_bounds(uint32_t geom) const;

@@ -24,6 +24,10 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
         throw InputError(
             scene.source, 0,
             "unknown renderer type '" + settings.integrator + "' (" + integrator_list() + ")");
+    if (settings.adaptive.enabled && !info->camera)
+        throw InputError("renderer", 0,
+                         "adaptive sampling applies to camera integrators, not type=\"" +
+                             settings.integrator + "\"");
     if (settings.indirect == IndirectMode::IrradianceCache && !info->irradiance_cache) {
         std::string which;
         for (const IntegratorInfo& i : integrators())

@@ -87,7 +87,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const uint64_t path = first + slot;
             const Vec3 d = ws.rays.direction(i);
             const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-            const Material& m = scene_.materials[scene_.objects[geom].material];
+            const Material& m = scene_.material_of(geom);
             if (m.bsdf.empty() || vertex > rs.max_depth) continue;
             RGB& beta = ws.beta[slot];
             const warp::Frame frame(sp.ns);

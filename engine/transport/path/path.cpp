@@ -100,7 +100,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         }
         const Vec3 d = ws.rays.direction(i);
         const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-        const Material& m = scene_.materials[scene_.objects[geom].material];
+        const Material& m = scene_.material_of(geom);
         ws.path_length[slot] += ws.hits.t[i];
 
         // Emission found by this ray, weighted against having sampled it as a light.

@@ -300,7 +300,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const Vec3 d = ws.rays.direction(i);
                 ws.path_length[slot] += ws.hits.t[i];
                 const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-                const Material& m = scene_.materials[scene_.objects[geom].material];
+                const Material& m = scene_.material_of(geom);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
                 if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;

@@ -73,7 +73,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const uint64_t i = first + slot;
                 const Vec3 d = ws.rays.direction(r);
                 const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
-                const Material& m = scene_.materials[scene_.objects[geom].material];
+                const Material& m = scene_.material_of(geom);
                 if (m.bsdf.empty()) continue;
                 RGB& power = ws.power[slot];
                 if (m.bsdf.has_non_delta()) {
@@ -94,7 +94,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                             break;
                         const SurfacePoint q =
                             surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
-                        const Material& mq = scene_.materials[scene_.objects[h.geom].material];
+                        const Material& mq = scene_.material_of(h.geom);
                         if (mq.bsdf.has_non_delta())
                             shadow->push(q.p, power * -1.f, -d, q.ng, kPhotonShadow,
                                          ws.light[slot]);
