@@ -286,3 +286,39 @@ TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator]
     CHECK(t.stats.passes >= 1);
     CHECK(t.stats.wall_seconds >= 0.05);
 }
+
+TEST_CASE("every integrator reports each pass to the pass observer", "[integrator][progressive]") {
+    for (const char* type : {"path", "light", "photon", "sppm", "ppm", "raytracer"}) {
+        INFO(type);
+        const TestScene s = cornell(16, type);
+        const auto acc = make_intersector(s, s.accel);
+        RenderOptions opt;
+        opt.spp = 1;
+        opt.max_passes = 3;
+        opt.seed = 3;
+        std::vector<PassReport> reports;
+        Film last;
+        opt.on_pass = [&](const Film& f, const PassReport& r) {
+            reports.push_back(r);
+            last = f;
+        };
+        const RenderResult r = render(s, s.render, *acc, opt);
+        REQUIRE(reports.size() == 3);
+        for (std::size_t i = 0; i < reports.size(); ++i) {
+            CHECK(reports[i].passes == i + 1);
+            CHECK(reports[i].last == (i + 1 == reports.size()));
+            if (i > 0) CHECK(reports[i].seconds >= reports[i - 1].seconds);
+            CHECK(reports[i].cpu_seconds >= 0.0);
+        }
+        // The observer's last image is the result, and its time is the render's.
+        CHECK(compare_images(last, r.film).max_abs == 0.0);
+        CHECK(reports.back().seconds <= r.stats.wall_seconds);
+        CHECK(reports.back().spp > 0.0);
+        // Without max_passes a fixed-sample render is one pass (SPPM: spp passes), reported.
+        reports.clear();
+        opt.max_passes = 0;
+        render(s, s.render, *acc, opt);
+        REQUIRE(reports.size() == 1);
+        CHECK(reports[0].last);
+    }
+}

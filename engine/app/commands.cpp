@@ -135,15 +135,21 @@ int run_render(const RenderArgs& args) {
     opt.spp = args.spp.value_or(opt.spp);
     opt.time_limit = args.time.value_or(opt.time_limit);
     if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
-    if (opt.time_limit > 0.f && rs.adaptive.enabled)
-        throw InputError("--time", 0, "progressive passes and adaptive sampling do not mix");
-    // With --time alone, each pass is one sample per pixel (unless --spp sets the pass size).
-    if (opt.time_limit > 0.f && !args.spp) opt.spp = 1;
+    if (args.passes) {
+        if (*args.passes == 0) throw InputError("--passes", 0, "must be at least 1");
+        opt.max_passes = *args.passes;
+    }
+    const bool progressive = opt.time_limit > 0.f || args.passes;
+    if (progressive && rs.adaptive.enabled)
+        throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
+                         "progressive passes and adaptive sampling do not mix");
+    // Progressive passes are one sample per pixel each unless --spp sets the pass size.
+    if (progressive && !args.spp) opt.spp = 1;
     opt.snapshot_times = args.snapshots;
-    if (!opt.snapshot_times.empty() && !(opt.time_limit > 0.f))
+    if (!opt.snapshot_times.empty() && !progressive)
         throw InputError("--snapshots", 0,
-                         "needs --time (snapshots are taken between the passes of a timed "
-                         "render)");
+                         "needs --time or --passes (snapshots are taken between the passes of "
+                         "a progressive render)");
     if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
     opt.threads = args.threads.value_or(opt.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");

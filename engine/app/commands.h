@@ -20,9 +20,10 @@ struct RenderArgs {
     std::string mis;
     std::optional<bool> nee;
     std::optional<uint32_t> max_depth, rr_depth;
-    std::optional<float> time;      // seconds of progressive passes
-    std::vector<double> snapshots;  // seconds at which to also write the image so far
-    std::optional<float> adaptive;  // adaptive sampling with this relative-error threshold
+    std::optional<float> time;       // seconds of progressive passes
+    std::optional<uint32_t> passes;  // progressive passes (with --time: at most this many)
+    std::vector<double> snapshots;   // seconds at which to also write the image so far
+    std::optional<float> adaptive;   // adaptive sampling with this relative-error threshold
     std::optional<uint32_t> adaptive_max;
     bool adaptive_unbiased = false;
     std::optional<uint32_t> light_samples;

@@ -37,9 +37,12 @@ int main(int argc, char** argv) {
     render->add_option("--rr-depth", ra.rr_depth, "Russian roulette from this depth on");
     render->add_option("--light-samples", ra.light_samples, "distributed: shadow rays per light");
     render->add_option("--time", ra.time, "render progressive passes for this many seconds");
+    render->add_option("--passes", ra.passes,
+                       "render this many progressive passes of --spp samples (SPPM/PPM: photon "
+                       "passes); with --time, at most this many");
     render
         ->add_option("--snapshots", ra.snapshots,
-                     "with --time: also write out-<t>s.exr after these many seconds")
+                     "with --time or --passes: also write out-<t>s.exr after these many seconds")
         ->delimiter(',');
     render->add_option("--adaptive", ra.adaptive,
                        "adaptive sampling to this relative standard error (--spp = pilot)");

@@ -314,9 +314,8 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         do {
             arena.execute([&] { run_pass(passes); });
             ++passes;
-        } while (!adaptive &&
-                 control.another(
-                     passes, [&] { return acc.film(); }, [&] { return mean_count(acc.count); }));
+        } while (control.another(
+            passes, [&] { return acc.film(); }, [&] { return mean_count(acc.count); }, adaptive));
     }
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);

@@ -1,9 +1,11 @@
 #pragma once
-// When a progressive render stops (a pass count, a time budget) and when it fires the
-// snapshots of an equal-time study: every pass loop (camera tiles, light tracer, SPPM)
-// asks it after each pass.
+// When a progressive render stops (a pass count, a time budget), and what it reports between
+// passes: the snapshots of an equal-time study and the per-pass observer (the live preview,
+// convergence tracking). Every pass loop (camera tiles, light tracer, SPPM) asks it after
+// each pass.
 #include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <functional>
 
 #include "engine/film/film.h"
@@ -11,31 +13,63 @@
 
 namespace foton {
 
-// Decides when the progressive loop stops and fires the snapshots.
+// Decides when the progressive loop stops and calls the snapshot and pass observers.
 class PassControl {
   public:
-    PassControl(const RenderOptions& opt) : opt_(opt), start_(std::chrono::steady_clock::now()) {}
-    double elapsed() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    }
-    // After pass `passes` (1-based) has finished: whether to run another.
-    // `spp`: the mean samples per pixel so far (for the snapshot's metadata).
+    explicit PassControl(const RenderOptions& opt)
+        : opt_(opt), start_(opt.start.value_or(RenderStart::now())) {}
+    // Seconds since the render started, without the time the observers took.
+    double elapsed() const { return wall() - observer_seconds_; }
+    double cpu_elapsed() const { return cpu() - observer_cpu_seconds_; }
+    // After pass `passes` (1-based) has finished: whether to run another. `image` makes the
+    // image so far and `spp` its mean samples per pixel; both are called only when an
+    // observer needs them. `stop` ends the render here whatever the options say (an
+    // adaptive render's single pass).
     bool another(uint32_t passes, const std::function<Film()>& image,
-                 const std::function<double()>& spp) {
+                 const std::function<double()>& spp, bool stop = false) {
         const double t = elapsed();
+        bool more = !stop;
+        if (opt_.max_passes > 0 && passes >= opt_.max_passes)
+            more = false;
+        else if (opt_.time_limit > 0.f)
+            more = more && t < double(opt_.time_limit);
+        else
+            more = more && opt_.max_passes > 0;
+        const double wall0 = wall(), cpu0 = cpu();
+        bool observed = false;
+        Film film;
         while (next_snapshot_ < opt_.snapshot_times.size() &&
                t >= opt_.snapshot_times[next_snapshot_]) {
-            if (opt_.on_snapshot)
-                opt_.on_snapshot(image(), opt_.snapshot_times[next_snapshot_], t, passes, spp());
+            if (opt_.on_snapshot) {
+                if (!observed) film = image();
+                observed = true;
+                opt_.on_snapshot(film, opt_.snapshot_times[next_snapshot_], t, passes, spp());
+            }
             ++next_snapshot_;
         }
-        if (opt_.max_passes > 0 && passes >= opt_.max_passes) return false;
-        return opt_.time_limit > 0.f && t < double(opt_.time_limit);
+        if (opt_.on_pass) {
+            if (!observed) film = image();
+            observed = true;
+            opt_.on_pass(film, PassReport{passes, t, cpu_elapsed(), spp(), !more});
+        }
+        if (observed) {
+            observer_seconds_ += wall() - wall0;
+            observer_cpu_seconds_ += cpu() - cpu0;
+        }
+        return more;
     }
 
   private:
+    double wall() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_.wall)
+            .count();
+    }
+    // The process's CPU time (every thread's) since the render started.
+    double cpu() const { return double(std::clock() - start_.cpu) / CLOCKS_PER_SEC; }
+
     const RenderOptions& opt_;
-    std::chrono::steady_clock::time_point start_;
+    RenderStart start_;
+    double observer_seconds_ = 0.0, observer_cpu_seconds_ = 0.0;
     std::size_t next_snapshot_ = 0;
 };
 

@@ -2,8 +2,11 @@
 // What every renderer takes (RenderOptions) and gives back (RenderResult). The families'
 // render functions and the driver's loops share these types and nothing else, so the
 // dispatch (render.h) can include every family without a cycle.
+#include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "engine/core/math.h"
@@ -12,12 +15,30 @@
 
 namespace foton {
 
+// Where a progressive render is after a pass, for the pass observer.
+struct PassReport {
+    uint32_t passes = 0;       // finished so far
+    double seconds = 0.0;      // wall time of rendering (the observers' own time left out)
+    double cpu_seconds = 0.0;  // CPU time of every thread, likewise
+    double spp = 0.0;          // mean samples per pixel of the image so far
+    bool last = false;         // no pass follows
+};
+
+// When a render began, on the wall clock and the process's CPU clock.
+struct RenderStart {
+    std::chrono::steady_clock::time_point wall;
+    std::clock_t cpu;
+    static RenderStart now() { return {std::chrono::steady_clock::now(), std::clock()}; }
+};
+
 struct RenderOptions {
     int threads = 0;  // 0 = all hardware threads
     uint64_t seed = 0;
-    uint32_t spp = 1;         // samples per pixel per pass
-    float time_limit = 0.f;   // > 0: passes until this many seconds have passed
-    uint32_t max_passes = 0;  // > 0: stop after this many passes (with or without a time)
+    uint32_t spp = 1;        // samples per pixel per pass
+    float time_limit = 0.f;  // > 0: passes until this many seconds have passed
+    // > 0: this many passes (with a time limit: at most this many). SPPM and PPM without
+    // either run `spp` passes.
+    uint32_t max_passes = 0;
     int tile_size = 16;
     bool progress = false;  // progress bar and ETA on stderr
     // Called after the first pass that ends at or after each of these times (seconds), with
@@ -26,6 +47,12 @@ struct RenderOptions {
     // `spp` is the mean number of samples each pixel's value averages so far.
     std::function<void(const Film&, double requested, double seconds, uint32_t passes, double spp)>
         on_snapshot;
+    // Called after every pass of every integrator, the last included, with the image so far
+    // (the live preview, convergence tracking). Its time is not counted as render time.
+    std::function<void(const Film&, const PassReport&)> on_pass;
+    // Set by a render whose passes follow work of their own (photon tracing, the cache
+    // fill): the passes' times and the time budget then count from here.
+    std::optional<RenderStart> start;
 };
 
 struct RenderResult {

@@ -27,6 +27,9 @@ RenderResult render_with_cache(const Scene& scene, const RenderSettings& setting
                                CacheEvaluator::PhotonRadiance photons,
                                const RadianceAlongRays& onwards, const RenderOptions& opt,
                                StageGraph& graph, const std::vector<uint32_t>& after) {
+    // The passes' times (and a time budget) count the fill too.
+    RenderOptions pass_opt = opt;
+    if (!pass_opt.start) pass_opt.start = RenderStart::now();
     const CacheSecondary secondary = cache_secondary(settings.cache, bool(photons));
     CacheEvaluator evaluator(scene, settings, accel, lights, opt.seed, secondary,
                              std::move(photons), &onwards);
@@ -43,10 +46,9 @@ RenderResult render_with_cache(const Scene& scene, const RenderSettings& setting
     const double fill_seconds = fill_clock.lap();
     std::size_t stored = 0;
     for (const IrradianceCache& c : caches) stored += c.size();
-    RenderResult result = render_camera(scene, settings, integrator, opt, graph, {fill});
+    RenderResult result = render_camera(scene, settings, integrator, pass_opt, graph, {fill});
     attach(nullptr);
     result.stats.merge(fill_stats);
-    result.stats.wall_seconds += fill_seconds;
     result.stats.cache_fill_seconds = fill_seconds;
     result.stats.cache_stored = stored;
     for (std::size_t i = 0; i < caches[0].size(); ++i)

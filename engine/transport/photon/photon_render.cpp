@@ -19,7 +19,10 @@
 namespace foton {
 
 RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
-                           const Intersector& accel, const RenderOptions& opt) {
+                           const Intersector& accel, const RenderOptions& render_opt) {
+    // The camera passes' times (and a time budget) count the photon passes too.
+    RenderOptions opt = render_opt;
+    if (!opt.start) opt.start = RenderStart::now();
     if (settings.indirect == IndirectMode::IrradianceCache &&
         settings.photon.mode != PhotonMode::FinalGather)
         throw InputError("renderer", 0,
@@ -132,7 +135,6 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
                               : render_camera(scene, settings, integrator, opt, graph, maps_ready);
     result.stats.graph = graph.report();
     result.stats.merge(photon_stats);
-    result.stats.wall_seconds += photon_seconds;
     result.stats.photons_global = maps.global.size() + maps.direct.size();
     result.stats.photons_caustic = maps.caustic.size();
     result.stats.photon_seconds = photon_seconds;

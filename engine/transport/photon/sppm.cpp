@@ -14,6 +14,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/driver/pass_control.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
 
@@ -179,10 +180,6 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     tbb::task_arena arena(threads);
     RenderStats stats;
     tbb::enumerable_thread_specific<RenderStats> local;
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
     auto image = [&](uint32_t passes) {
         Film f(w, h);
         // A pass's photons carry its light's flux divided by the photons of the pass, so tau
@@ -197,9 +194,11 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         }
         return f;
     };
-    // Passes: opt.spp of them, or as many as fit in the time limit.
-    const uint32_t fixed = opt.time_limit > 0.f ? 0 : std::max<uint32_t>(1, opt.spp);
-    std::size_t next_snapshot = 0;
+    // Passes: max_passes, else opt.spp of them, or as many as fit in the time limit.
+    RenderOptions pass_opt = opt;
+    if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f))
+        pass_opt.max_passes = std::max<uint32_t>(1, opt.spp);
+    PassControl control(pass_opt);
     uint32_t pass = 0;
     // A pass as a graph: the visible points (SPPM: every pass; PPM: the first) and the
     // pass's photons are independent and run side by side; the photons are balanced; then
@@ -253,22 +252,14 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     graph.edge(trace, balance);
     graph.edge(visible, gather);
     graph.edge(balance, gather);
-    for (;;) {
+    do {
         graph.run(arena);
         ++pass;
-        const double t = elapsed();
-        while (next_snapshot < opt.snapshot_times.size() &&
-               t >= opt.snapshot_times[next_snapshot]) {
-            if (opt.on_snapshot)
-                opt.on_snapshot(image(pass), opt.snapshot_times[next_snapshot], t, pass, pass);
-            ++next_snapshot;
-        }
-        if (fixed > 0 ? pass >= fixed : t >= double(opt.time_limit)) break;
-        if (opt.max_passes > 0 && pass >= opt.max_passes) break;
-    }
+    } while (control.another(
+        pass, [&] { return image(pass); }, [&] { return double(pass); }));
     RenderResult result;
     for (const RenderStats& s : local) stats.merge(s);
-    stats.wall_seconds = elapsed();
+    stats.wall_seconds = control.elapsed();
     stats.threads = threads;
     stats.passes = pass;
     result.stats = stats;
