@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "engine/film/image_io.h"
 #include "test_util.h"
@@ -213,4 +214,65 @@ TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
     CHECK(snap.code == 2);
     CHECK_THAT(snap.output, Catch::Contains("--snapshots: needs --time"));
     CHECK_FALSE(std::filesystem::exists(dir.file("n.exr")));
+}
+
+TEST_CASE("foton render --reference: a convergence curve whose last error is foton compare's",
+          "[cli]") {
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-diffuse.xml");
+    const std::string size = " --width 32 --height 32 -q";
+    REQUIRE(run("render " + scene + size + " --spp 32 --seed 9 -o " + dir.file("ref.exr")).code ==
+            0);
+    for (const char* method : {"path", "light", "sppm", "photon"}) {
+        INFO(method);
+        const Run r = run("render " + scene + size + " --integrator " + method +
+                          " --passes 4 --reference " + dir.file("ref.exr") +
+                          " --exclude-above 2 --set global_photons=5000 --set "
+                          "caustic_photons=0 --set gather_rays=8 -o " +
+                          dir.file("a.exr") + " --stats-json " + dir.file("a.json"));
+        REQUIRE(r.code == 0);
+        std::ifstream csv(dir.file("a.convergence.csv"));
+        std::string header, line;
+        std::getline(csv, header);
+        CHECK(header ==
+              "passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,bias_g,"
+              "bias_b");
+        std::vector<std::vector<double>> rows;
+        while (std::getline(csv, line)) {
+            std::vector<double> v;
+            std::stringstream ss(line);
+            for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+            REQUIRE(v.size() == 10);
+            rows.push_back(v);
+        }
+        REQUIRE(rows.size() == 4);
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            CHECK(rows[i][0] == double(i + 1));
+            if (i > 0) {
+                CHECK(rows[i][1] > rows[i - 1][1]);  // wall time grows
+                CHECK(rows[i][3] > rows[i - 1][3]);  // so do the samples
+            }
+        }
+        // The last row is the written image's error, as foton compare measures it.
+        const Run c =
+            run("compare " + dir.file("a.exr") + " " + dir.file("ref.exr") + " --exclude-above 2");
+        REQUIRE(c.code == 0);
+        const std::size_t at = c.output.find("rmse ");
+        REQUIRE(at != std::string::npos);
+        CHECK(rows.back()[4] == Approx(std::stod(c.output.substr(at + 5))).epsilon(1e-5));
+        std::ifstream js(dir.file("a.json"));
+        const std::string json((std::istreambuf_iterator<char>(js)),
+                               std::istreambuf_iterator<char>());
+        CHECK_THAT(json, Catch::Contains("\"convergence\": ["));
+        CHECK_THAT(json, Catch::Contains("{\"passes\": 4, "));
+    }
+    // Bad use: a reference of another size, --exclude-above alone; no image either way.
+    const Run wrong = run("render " + scene + " --width 24 --height 32 -q --reference " +
+                          dir.file("ref.exr") + " -o " + dir.file("w.exr"));
+    CHECK(wrong.code == 2);
+    CHECK_THAT(wrong.output, Catch::Contains("ref.exr: image is 32x32, the render is 24x32"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("w.exr")));
+    const Run alone = run("render " + scene + size + " --exclude-above 2 -o " + dir.file("w.exr"));
+    CHECK(alone.code == 2);
+    CHECK_THAT(alone.output, Catch::Contains("--exclude-above: needs --reference"));
 }

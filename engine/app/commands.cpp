@@ -9,6 +9,9 @@
 #include <fstream>
 #include <thread>
 
+#include <unistd.h>
+
+#include "convergence_log.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
 #include "engine/film/image_io.h"
@@ -16,6 +19,7 @@
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
 #include "kernels/simd.h"
+#include "progress_line.h"
 
 namespace foton::app {
 
@@ -83,6 +87,18 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
         ++marked;
     }
     return f;
+}
+
+// A file we are about to write later: its directory must exist (or be creatable) and be
+// writable, and it must not be a directory. Checked before the render, not after it.
+void check_writable(const std::string& path, const char* what) {
+    const fs::path p(path);
+    if (fs::is_directory(p)) throw InputError(what, 0, "'" + path + "' is a directory");
+    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || access(dir.c_str(), W_OK) != 0)
+        throw InputError(what, 0, "cannot write '" + path + "' (directory not writable)");
 }
 
 }  // namespace
@@ -154,7 +170,11 @@ int run_render(const RenderArgs& args) {
     opt.threads = args.threads.value_or(opt.threads);
     if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
     opt.seed = args.seed.value_or(opt.seed);
-    opt.progress = !args.quiet;
+    // Progress goes to stderr when it is a terminal, never into a file or a pipe.
+    Progress progress;
+    opt.progress = &progress;
+    std::unique_ptr<ProgressLine> line;
+    if (!args.quiet && isatty(fileno(stderr))) line = std::make_unique<ProgressLine>(progress);
 
     std::string out = args.output;
     if (out.empty()) out = (fs::path("out") / fs::path(args.scene).stem()).string() + ".exr";
@@ -204,15 +224,36 @@ int run_render(const RenderArgs& args) {
         };
     }
 
+    // Observers of every pass: convergence against a reference.
+    std::unique_ptr<ConvergenceLog> convergence;
+    std::string convergence_csv = args.convergence_csv;
+    if (!args.reference.empty()) {
+        convergence = std::make_unique<ConvergenceLog>(args.reference, scene.film.width,
+                                                       scene.film.height, args.exclude_above);
+        if (convergence_csv.empty())
+            convergence_csv = fs::path(out).replace_extension(".convergence.csv").string();
+        check_writable(convergence_csv, "--convergence");
+    } else if (args.exclude_above || !args.convergence_csv.empty()) {
+        throw InputError(args.exclude_above ? "--exclude-above" : "--convergence", 0,
+                         "needs --reference");
+    }
+    opt.on_pass = [&](const Film& film, const PassReport& pass) {
+        if (convergence) convergence->record(film, pass);
+    };
+
     if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
         throw InputError("--cache-points", 0, "needs indirect=irradiance_cache");
     const auto t0 = std::chrono::steady_clock::now();
     // The accelerator's own pool (Embree's) gets the same bound as the render's.
-    const std::unique_ptr<Intersector> accel =
-        make_intersector(scene, scene.accel, resolve_threads(opt.threads));
+    std::unique_ptr<Intersector> accel;
+    {
+        const ProgressTask task(&progress, "build-accelerator", 0);
+        accel = make_intersector(scene, scene.accel, resolve_threads(opt.threads));
+    }
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     RenderResult res = render(scene, rs, *accel, opt);
+    line.reset();
     res.stats.build_seconds = build;
 
     double spp_mean = 0.0;
@@ -231,10 +272,15 @@ int run_render(const RenderArgs& args) {
             std::printf("wrote %s (%zu of %zu records directly visible)\n",
                         args.cache_points.c_str(), marked, res.cache_points.size());
     }
+    if (convergence) {
+        std::ofstream csv(convergence_csv);
+        csv << convergence->csv();
+        if (!csv) throw InputError(convergence_csv, 0, "cannot write the convergence CSV");
+    }
     if (!args.stats_json.empty()) {
         std::ofstream js(args.stats_json);
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
-        const std::vector<std::pair<std::string, std::string>> run = {
+        std::vector<std::pair<std::string, std::string>> run = {
             {"version", json_string(FOTON_VERSION)},
             {"scene", json_string(args.scene)},
             {"integrator", json_string(rs.integrator)},
@@ -249,6 +295,10 @@ int run_render(const RenderArgs& args) {
             {"simd", json_string(std::string(simd::Arch::name()))},
             {"simd_width", std::to_string(simd::kWidth)},
         };
+        if (convergence) {
+            run.push_back({"reference", json_string(args.reference)});
+            run.push_back({"convergence", convergence->json()});
+        }
         js << res.stats.json(run);
     }
     if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
@@ -260,6 +310,7 @@ int run_render(const RenderArgs& args) {
             double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
             res.stats.passes, accel->name(), res.stats.threads, res.stats.wall_seconds, out.c_str(),
             png.c_str());
+    if (convergence && !args.quiet) std::printf("wrote %s\n", convergence_csv.c_str());
     return 0;
 }
 
@@ -275,18 +326,12 @@ int run_info(const std::string& path) {
 int run_compare(const CompareArgs& args) {
     const Film a = read_exr(args.a);
     Film b = read_exr(args.b);
-    if ((a.width != b.width || a.height != b.height) && a.width > 0 && b.width % a.width == 0 &&
-        b.width / a.width == b.height / std::max(a.height, 1) && b.height % a.height == 0) {
-        // A reference at an integer multiple of the resolution: box-filter it down.
-        const int factor = b.width / a.width;
-        b = downsample(b, factor);
+    if (a.width != b.width || a.height != b.height) {
+        // A reference at an integer multiple of the resolution is box-filtered down.
+        const int factor = a.width > 0 ? b.width / a.width : 0;
+        b = fit_reference(std::move(b), a.width, a.height, args.b);
         std::printf("reference downsampled %dx to %dx%d\n", factor, b.width, b.height);
     }
-    if (a.width != b.width || a.height != b.height)
-        throw InputError(args.b, 0,
-                         "image is " + std::to_string(b.width) + "x" + std::to_string(b.height) +
-                             ", the first is " + std::to_string(a.width) + "x" +
-                             std::to_string(a.height));
     std::vector<uint8_t> mask(a.pixels.size(), 1);
     if (args.exclude_above) mask = luminance_mask(b, *args.exclude_above);
     if (!args.mask_png.empty()) {

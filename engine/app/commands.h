@@ -30,7 +30,10 @@ struct RenderArgs {
     std::vector<std::string> set;  // key=value overrides of <renderer> attributes
     bool stats = false;
     std::string stats_json;
-    std::string cache_points;  // PNG of the image with the cache's records marked white
+    std::string cache_points;            // PNG of the image with the cache's records marked white
+    std::string reference;               // EXR: record each pass's error to it (convergence curve)
+    std::optional<float> exclude_above;  // leave brighter reference pixels out of the error
+    std::string convergence_csv;         // where the curve goes (default: beside the output)
     bool quiet = false;
     std::string command_line;  // as typed, for the image's metadata
 };

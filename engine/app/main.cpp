@@ -54,6 +54,14 @@ int main(int argc, char** argv) {
     render->add_option("--cache-points", ra.cache_points,
                        "irradiance cache: also write this PNG, the image with the pixels where "
                        "records were computed in white");
+    render->add_option("--reference", ra.reference,
+                       "EXR: record after every pass the error to this image (RMSE, relMSE, "
+                       "bias per channel) with wall and CPU time, as CSV and in --stats-json");
+    render->add_option("--exclude-above", ra.exclude_above,
+                       "with --reference: leave out pixels whose reference luminance is above "
+                       "this (e.g. 2: the light)");
+    render->add_option("--convergence", ra.convergence_csv,
+                       "with --reference: the CSV to write (default <output>.convergence.csv)");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
 
     std::string info_scene;

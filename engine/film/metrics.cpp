@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/error.h"
+
 namespace foton {
 
 ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_t>* mask) {
@@ -37,6 +39,18 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
         e.mean_b = RGB(float(mb[0] / p), float(mb[1] / p), float(mb[2] / p));
     }
     return e;
+}
+
+Film fit_reference(Film ref, int width, int height, const std::string& path) {
+    if (ref.width == width && ref.height == height) return ref;
+    if (width > 0 && height > 0 && ref.width % width == 0 && ref.height % height == 0 &&
+        ref.width / width == ref.height / height)
+        return downsample(ref, ref.width / width);
+    throw InputError(path, 0,
+                     "image is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                         ", the render is " + std::to_string(width) + "x" + std::to_string(height) +
+                         " (a reference must be that size or an "
+                         "integer multiple of it)");
 }
 
 Film downsample(const Film& f, int factor) {

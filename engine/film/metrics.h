@@ -1,6 +1,7 @@
 #pragma once
 // Image error metrics for comparing renders with each other and with references.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "film.h"
@@ -23,6 +24,10 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
 // pixels): a reference rendered with a 1-pixel box filter at N times the resolution becomes
 // the box-filtered reference at the lower resolution, exactly.
 Film downsample(const Film& f, int factor);
+
+// The reference `ref` (read from `path`) at width x height: as it is, or box-filtered down
+// when it is an integer multiple of that size. Other sizes are bad input (InputError).
+Film fit_reference(Film ref, int width, int height, const std::string& path);
 
 // Mask of the pixels whose luminance in `ref` is at most `max_luminance` (e.g. to leave the
 // directly seen light out of an error figure).

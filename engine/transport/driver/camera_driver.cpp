@@ -10,10 +10,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/flow_graph.h>
 #include <tbb/task_arena.h>
-#include <unistd.h>
 
 #include "pass_control.h"
-#include "progress_bar.h"
 
 namespace foton {
 
@@ -201,6 +199,7 @@ double mean_count(const std::vector<uint32_t>& count) {
 RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                            const CameraIntegrator& integrator, const RenderOptions& opt) {
     StageGraph graph;
+    graph.set_progress(opt.progress);
     RenderResult result = render_camera(scene, settings, integrator, opt, graph, {});
     result.stats.graph = graph.report();
     return result;
@@ -215,7 +214,6 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     const CameraDriver driver(scene, settings.adaptive, integrator, opt);
     const int threads = resolve_threads(opt.threads);
     const bool adaptive = settings.adaptive.enabled;
-    const bool progressive = opt.time_limit > 0.f || opt.max_passes > 1;
 
     // The graph's tile nodes: the integrator's phases (one adaptive-sampling node instead,
     // whose rounds need the tile's own results), then accumulation.
@@ -243,7 +241,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     // Tiles in flight at once: enough to keep every thread busy, few enough to bound memory.
     const std::size_t in_flight = std::size_t(4 * threads);
     tbb::enumerable_thread_specific<RenderStats> stats;
-    std::atomic<std::size_t> done{0};
+    const ProgressTask* progress_task = nullptr;
 
     auto run_pass = [&](uint32_t pass) {
         namespace flow = tbb::flow;
@@ -292,7 +290,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     driver.accumulate_samples(w->jobs, w->out, acc, st);
                 timer.items = tiles[w->tile].pixels();
                 idle.push(w);
-                done.fetch_add(1, std::memory_order_relaxed);
+                progress_task->advance();
                 return flow::continue_msg();
             });
         flow::make_edge(source, limit);
@@ -307,9 +305,9 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     PassControl control(opt);
     uint32_t passes = 0;
     {
-        std::unique_ptr<ProgressBar> bar;
-        if (opt.progress && !progressive && isatty(fileno(stderr)))
-            bar = std::make_unique<ProgressBar>(done, tiles.size());
+        const ProgressTask task =
+            control.task(adaptive ? "adaptive-sampling" : integrator.phase_name(0), tiles.size());
+        progress_task = &task;
         tbb::task_arena arena(threads);
         do {
             arena.execute([&] { run_pass(passes); });

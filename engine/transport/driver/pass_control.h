@@ -3,11 +3,14 @@
 // passes: the snapshots of an equal-time study and the per-pass observer (the live preview,
 // convergence tracking). Every pass loop (camera tiles, light tracer, SPPM) asks it after
 // each pass.
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <ctime>
 #include <functional>
+#include <string_view>
 
+#include "engine/core/progress.h"
 #include "engine/film/film.h"
 #include "render_options.h"
 
@@ -21,6 +24,15 @@ class PassControl {
     // Seconds since the render started, without the time the observers took.
     double elapsed() const { return wall() - observer_seconds_; }
     double cpu_elapsed() const { return cpu() - observer_cpu_seconds_; }
+    // When the render began (the time budget counts from here).
+    std::chrono::steady_clock::time_point start() const { return start_.wall; }
+    // The progress of the passes: `per_pass` items each (tiles, light-path chunks), or the
+    // time budget's clock.
+    ProgressTask task(std::string_view name, uint64_t per_pass) const {
+        if (opt_.time_limit > 0.f)
+            return ProgressTask(opt_.progress, name, double(opt_.time_limit), start_.wall);
+        return ProgressTask(opt_.progress, name, per_pass * std::max<uint32_t>(1, opt_.max_passes));
+    }
     // After pass `passes` (1-based) has finished: whether to run another. `image` makes the
     // image so far and `spp` its mean samples per pixel; both are called only when an
     // observer needs them. `stop` ends the render here whatever the options say (an

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/math.h"
+#include "engine/core/progress.h"
 #include "engine/core/stats.h"
 #include "engine/film/film.h"
 
@@ -40,7 +41,7 @@ struct RenderOptions {
     // either run `spp` passes.
     uint32_t max_passes = 0;
     int tile_size = 16;
-    bool progress = false;  // progress bar and ETA on stderr
+    Progress* progress = nullptr;  // where the render reports its tasks (a progress line)
     // Called after the first pass that ends at or after each of these times (seconds), with
     // the image so far: equal-time studies take several snapshots from one run.
     std::vector<double> snapshot_times;

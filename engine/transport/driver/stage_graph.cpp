@@ -46,6 +46,7 @@ void StageGraph::run(tbb::task_arena& arena, const std::vector<uint32_t>& which)
         for (const uint32_t i : which) {
             if (!nodes_[i].body) continue;
             flow[i] = std::make_unique<tbb::flow::continue_node<Msg>>(g, [this, i](const Msg&) {
+                const ProgressTask task(progress_, nodes_[i].name, 0);
                 NodeTimer timer(*this, i);
                 timer.items = nodes_[i].body();
             });

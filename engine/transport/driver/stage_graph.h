@@ -14,6 +14,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "engine/core/progress.h"
 #include "engine/core/stats.h"
 
 namespace foton {
@@ -39,6 +40,10 @@ class StageGraph {
     // The nodes that nothing added after them depends on yet (where a next stage attaches).
     std::vector<uint32_t> sinks() const;
     GraphStats report() const;
+    // Where the nodes report: each run of an add()ed node is a task of its name (of unknown
+    // size: nodes that know theirs report a sized task of their own through progress()).
+    void set_progress(Progress* p) { progress_ = p; }
+    Progress* progress() const { return progress_; }
 
   private:
     struct Node {
@@ -48,6 +53,7 @@ class StageGraph {
     };
     std::deque<Node> nodes_;  // deque: atomics do not move
     std::vector<std::pair<uint32_t, uint32_t>> edges_;
+    Progress* progress_ = nullptr;
 };
 
 // Times a node's work on one thread and records it on destruction.

@@ -37,6 +37,7 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
     const uint32_t records = graph.add("cache-fill-records", [&]() -> uint64_t {
         const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
         found.assign(chunks, {});
+        const ProgressTask task(graph.progress(), "cache-fill-records", chunks);
         tbb::parallel_for(
             tbb::blocked_range<std::size_t>(0, chunks, 1),
             [&](const tbb::blocked_range<std::size_t>& r) {
@@ -52,6 +53,7 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
                         for (std::size_t i = 0; i < l.found->size(); ++i)
                             found[c].back().push_back(l.found->record(i));
                     }
+                    task.advance();
                 }
             });
         return jobs.size();

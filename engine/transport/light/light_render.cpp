@@ -33,6 +33,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> stats;
     PassControl control(opt);
+    const ProgressTask task = control.task("light-paths", chunks);
     uint32_t passes = 0;
     auto image = [&] {
         Film f(scene.film.width, scene.film.height);
@@ -43,6 +44,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     };
     // Per pass: the light paths in parallel chunks, then their splats in chunk order.
     StageGraph graph;
+    graph.set_progress(opt.progress);
     const uint32_t trace = graph.add("light-paths", [&]() -> uint64_t {
         const uint64_t base = uint64_t(passes) * per_pass;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
@@ -55,6 +57,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
                                       uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
                                   splats[c].clear();
                                   tracer.trace(base + first, n, ws, splats[c], st);
+                                  task.advance();
                               }
                           });
         return per_pass;

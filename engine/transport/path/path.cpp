@@ -262,6 +262,7 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
     if (settings.indirect != IndirectMode::IrradianceCache)
         return render_camera(scene, settings, integrator, opt);
     StageGraph graph;
+    graph.set_progress(opt.progress);
     RenderResult result = render_with_cache(
         scene, settings, accel, lights, integrator,
         [&](const CacheEvaluator* e) { integrator.set_cache(e); }, nullptr,

@@ -54,6 +54,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     };
     StageClock photon_clock;
     StageGraph graph;
+    graph.set_progress(opt.progress);
     auto pass_settings = [&](PhotonMapKind kind, uint64_t emitted, uint64_t pass) {
         PhotonPassSettings s;
         s.kind = kind;
@@ -66,7 +67,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     const uint32_t trace_global = graph.add("photons-global", [&]() -> uint64_t {
         PhotonPassSettings s = pass_settings(PhotonMapKind::Global, ps.global_photons, 0);
         s.shadow_photons = ps.shadow_photons;
-        if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow);
+        const ProgressTask task(graph.progress(), "photons-global", s.emitted);
+        if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow, &task);
         if (ps.split_direct) maps.direct = maps.global.extract(kPhotonDirect);
         return s.emitted;
     });
@@ -74,7 +76,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         const PhotonPassSettings s = pass_settings(PhotonMapKind::Caustic, ps.caustic_photons, 1);
         // The direct-visualisation mode reads the global map only.
         if (s.emitted == 0 || ps.mode != PhotonMode::FinalGather) return 0;
-        maps.caustic = tracer.run(s, caustic_stats);
+        const ProgressTask task(graph.progress(), "photons-caustic", s.emitted);
+        maps.caustic = tracer.run(s, caustic_stats, nullptr, &task);
         return s.emitted;
     });
     const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
@@ -89,11 +92,14 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     const uint32_t precompute = graph.add("precompute-irradiance", [&]() -> uint64_t {
         if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return 0;
         StageClock c;
-        const auto parallel_for = [](std::size_t n,
-                                     const std::function<void(std::size_t, std::size_t)>& body) {
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, n, 1024),
-                [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+        const auto parallel_for = [&](std::size_t n,
+                                      const std::function<void(std::size_t, std::size_t)>& body) {
+            const ProgressTask task(graph.progress(), "precompute-irradiance", n);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  body(r.begin(), r.end());
+                                  task.advance(r.size());
+                              });
         };
         maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
         if (!maps.direct.empty())

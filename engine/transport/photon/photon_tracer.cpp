@@ -131,8 +131,8 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         [](uint32_t) {}, stages);
 }
 
-PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,
-                            PhotonMap* shadow) const {
+PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow,
+                            const ProgressTask* task) const {
     const std::size_t chunks = std::size_t((s.emitted + kChunk - 1) / kChunk);
     std::vector<PhotonMap> parts(chunks), shadow_parts(shadow ? chunks : 0);
     tbb::enumerable_thread_specific<PhotonWorkspace> workspaces;
@@ -146,6 +146,7 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats,
                 const uint64_t first = uint64_t(c) * kChunk;
                 const uint32_t n = uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
                 trace(s, first, n, ws, parts[c], shadow ? &shadow_parts[c] : nullptr, local);
+                if (task) task->advance(n);
             }
         });
     StageClock clock;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/accel/intersector.h"
+#include "engine/core/progress.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
@@ -57,9 +58,9 @@ class PhotonTracer {
     void trace(const PhotonPassSettings& s, uint64_t first, uint32_t count, PhotonWorkspace& ws,
                PhotonMap& out, PhotonMap* shadow, RenderStats& stats) const;
     // The whole pass on the calling arena's threads, chunks concatenated in order; shadow
-    // photons (s.shadow_photons) go to `shadow`.
-    PhotonMap run(const PhotonPassSettings& s, RenderStats& stats,
-                  PhotonMap* shadow = nullptr) const;
+    // photons (s.shadow_photons) go to `shadow`; `task` counts the photons emitted.
+    PhotonMap run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow = nullptr,
+                  const ProgressTask* task = nullptr) const;
 
   private:
     float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;

@@ -199,11 +199,13 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f))
         pass_opt.max_passes = std::max<uint32_t>(1, opt.spp);
     PassControl control(pass_opt);
+    const ProgressTask task = control.task(stochastic ? "sppm passes" : "ppm passes", 1);
     uint32_t pass = 0;
     // A pass as a graph: the visible points (SPPM: every pass; PPM: the first) and the
     // pass's photons are independent and run side by side; the photons are balanced; then
     // every visible point gathers.
     StageGraph graph;
+    graph.set_progress(opt.progress);
     PhotonMap photons;
     const uint32_t visible = graph.add("visible-points", [&]() -> uint64_t {
         if (!stochastic && pass > 0) return 0;
@@ -255,6 +257,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     do {
         graph.run(arena);
         ++pass;
+        task.advance();
     } while (control.another(
         pass, [&] { return image(pass); }, [&] { return double(pass); }));
     RenderResult result;

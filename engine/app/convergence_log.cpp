@@ -1,0 +1,53 @@
+#include "convergence_log.h"
+
+#include <cstdio>
+
+#include "engine/film/image_io.h"
+
+namespace foton::app {
+
+ConvergenceLog::ConvergenceLog(const std::string& path, int width, int height,
+                               std::optional<float> exclude_above)
+    : reference_(fit_reference(read_exr(path), width, height, path)),
+      mask_(reference_.pixels.size(), 1) {
+    if (exclude_above) mask_ = luminance_mask(reference_, *exclude_above);
+}
+
+void ConvergenceLog::record(const Film& image, const PassReport& pass) {
+    ConvergencePoint p;
+    p.pass = pass;
+    p.error = compare_images(image, reference_, &mask_);
+    p.bias = p.error.mean_a - p.error.mean_b;
+    points_.push_back(p);
+}
+
+namespace {
+// Nine significant digits: a float's value survives the round trip.
+std::string row(const ConvergencePoint& p, const char* format) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, format, p.pass.passes, p.pass.seconds, p.pass.cpu_seconds,
+                  p.pass.spp, p.error.rmse, p.error.relative_mse, p.error.mae, double(p.bias.r),
+                  double(p.bias.g), double(p.bias.b));
+    return buf;
+}
+}  // namespace
+
+std::string ConvergenceLog::csv() const {
+    std::string out = "passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,bias_g,bias_b\n";
+    for (const ConvergencePoint& p : points_)
+        out += row(p, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n");
+    return out;
+}
+
+std::string ConvergenceLog::json() const {
+    std::string out = "[";
+    for (std::size_t i = 0; i < points_.size(); ++i)
+        out += (i ? ",\n    " : "\n    ") +
+               row(points_[i],
+                   "{\"passes\": %u, \"seconds\": %.9g, \"cpu_seconds\": %.9g, \"spp\": %.9g, "
+                   "\"rmse\": %.9g, \"relative_mse\": %.9g, \"mae\": %.9g, "
+                   "\"bias\": [%.9g, %.9g, %.9g]}");
+    return out + (points_.empty() ? "]" : "\n  ]");
+}
+
+}  // namespace foton::app
