@@ -20,6 +20,7 @@
 #include "engine/transport/driver/render.h"
 #include "kernels/simd.h"
 #include "progress_line.h"
+#include "tev_display.h"
 
 namespace foton::app {
 
@@ -237,8 +238,14 @@ int run_render(const RenderArgs& args) {
         throw InputError(args.exclude_above ? "--exclude-above" : "--convergence", 0,
                          "needs --reference");
     }
+    // And the live preview.
+    std::unique_ptr<TevDisplay> display;
+    if (!args.display.empty())
+        display = std::make_unique<TevDisplay>(args.display, fs::path(out).filename().string(),
+                                               scene.film.width, scene.film.height);
     opt.on_pass = [&](const Film& film, const PassReport& pass) {
         if (convergence) convergence->record(film, pass);
+        if (display) display->show(film);
     };
 
     if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
@@ -254,6 +261,7 @@ int run_render(const RenderArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     RenderResult res = render(scene, rs, *accel, opt);
     line.reset();
+    display.reset();  // the last pass's image reaches the viewer
     res.stats.build_seconds = build;
 
     double spp_mean = 0.0;

@@ -34,6 +34,7 @@ struct RenderArgs {
     std::string reference;               // EXR: record each pass's error to it (convergence curve)
     std::optional<float> exclude_above;  // leave brighter reference pixels out of the error
     std::string convergence_csv;         // where the curve goes (default: beside the output)
+    std::string display;                 // HOST:PORT of a tev to stream each pass to
     bool quiet = false;
     std::string command_line;  // as typed, for the image's metadata
 };

@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
                        "this (e.g. 2: the light)");
     render->add_option("--convergence", ra.convergence_csv,
                        "with --reference: the CSV to write (default <output>.convergence.csv)");
+    render->add_option("--display", ra.display,
+                       "HOST:PORT: stream the image after every pass to the tev viewer listening "
+                       "there (start it with `tev --hostname 127.0.0.1:14158`)");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
 
     std::string info_scene;

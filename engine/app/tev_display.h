@@ -1,0 +1,64 @@
+#pragma once
+// Live preview in tev (https://github.com/Tom94/tev), the HDR viewer: the image so far is
+// streamed over tev's TCP protocol after every pass. Sending runs on a thread of its own and
+// keeps only the newest image, so a slow viewer never slows the render; when no tev is
+// listening (or it goes away) the render warns once and carries on.
+//
+// The packets (little-endian): uint32 size of the whole packet, a type byte, then fields;
+// strings are NUL-terminated. CloseImage (2): name. CreateImage (4): grabFocus byte, name,
+// int32 width, height, channel count, channel names. UpdateImage v3 (6): grabFocus byte,
+// name, int32 channel count, channel names, int32 x, y, width, height, int64 offset and
+// stride per channel, then the floats.
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "engine/film/film.h"
+
+namespace foton::app {
+
+namespace tev {
+enum class PacketType : uint8_t { CloseImage = 2, CreateImage = 4, UpdateImage = 6 };
+std::vector<char> close_image(const std::string& name);
+std::vector<char> create_image(const std::string& name, int width, int height);
+// Rows [y0, y1) of `film` as R, G, B channels.
+std::vector<char> update_image(const std::string& name, const Film& film, int y0, int y1);
+}  // namespace tev
+
+class TevDisplay {
+  public:
+    // `address` is HOST:PORT (bad input otherwise). `name` is the image's name in tev.
+    TevDisplay(const std::string& address, std::string name, int width, int height);
+    ~TevDisplay();  // sends what is queued, then disconnects
+    TevDisplay(const TevDisplay&) = delete;
+    TevDisplay& operator=(const TevDisplay&) = delete;
+
+    // Queues `film` for sending, replacing an image not yet sent.
+    void show(const Film& film);
+    // Returns when everything queued has been sent (or the connection has failed).
+    void flush();
+    // Images sent in full so far.
+    std::size_t sent() const;
+
+  private:
+    void run();
+    bool connect_once();
+    bool send_all(const std::vector<char>& packet);
+
+    std::string host_, port_, name_;
+    int width_, height_;
+    int socket_ = -1;
+    bool failed_ = false;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_, idle_;
+    std::optional<Film> pending_;
+    bool busy_ = false, stop_ = false;
+    std::size_t sent_ = 0;
+    std::thread thread_;
+};
+
+}  // namespace foton::app
