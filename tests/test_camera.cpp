@@ -85,3 +85,45 @@ TEST_CASE("thin lens: every ray of a pixel meets the pinhole ray on the plane in
     CHECK(fy == Approx(50.75f).epsilon(1e-4));
     CHECK_FALSE(c.project(c.eye - c.w, fx, fy));  // behind the eye
 }
+
+namespace {
+// p * M with the homogeneous divide, as Imath's multVecMatrix.
+Vec3 transform(const std::array<float, 16>& m, const Vec3& p) {
+    double r[4];
+    for (int j = 0; j < 4; ++j)
+        r[j] = double(p.x) * m[0 * 4 + j] + double(p.y) * m[1 * 4 + j] +
+               double(p.z) * m[2 * 4 + j] + m[3 * 4 + j];
+    return Vec3(float(r[0] / r[3]), float(r[1] / r[3]), float(r[2] / r[3]));
+}
+}  // namespace
+
+TEST_CASE("EXR camera matrices: worldToCamera and worldToNDC agree with the camera's rays",
+          "[camera]") {
+    for (CameraType type : {CameraType::Perspective, CameraType::Orthographic}) {
+        Camera c = make(type);
+        c.eye = {1, 2, 3};
+        c.target = {-2, 0.5f, -4};
+        c.up = {0.1f, 1, 0};
+        c.setup();
+        const auto to_camera = c.world_to_camera();
+        const auto to_ndc = c.world_to_ndc();
+        // The eye is the origin, the view direction +z, right +x, up +y.
+        const Vec3 e = transform(to_camera, c.eye);
+        CHECK(length(e) < 1e-5f);
+        const Vec3 ahead = transform(to_camera, c.eye + c.w * 5.f);
+        CHECK(ahead.z == Approx(5.f).margin(1e-4));
+        CHECK(transform(to_camera, c.eye + c.u).x == Approx(1.f).margin(1e-5));
+        CHECK(transform(to_camera, c.eye + c.v).y == Approx(1.f).margin(1e-5));
+        // Every point on a pixel's ray lands on that pixel's NDC position.
+        for (const auto& [fx, fy] : {std::pair{0.f, 0.f}, std::pair{512.f, 256.f},
+                                     std::pair{100.5f, 30.25f}, std::pair{400.f, 200.f}}) {
+            Vec3 o, d;
+            c.generate(fx, fy, o, d);
+            for (float t : {0.5f, 3.f, 40.f}) {
+                const Vec3 ndc = transform(to_ndc, o + d * t);
+                CHECK(ndc.x == Approx(fx / 512.f).margin(1e-4));
+                CHECK(ndc.y == Approx(fy / 256.f).margin(1e-4));
+            }
+        }
+    }
+}

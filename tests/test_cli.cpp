@@ -183,6 +183,14 @@ TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
     CHECK_THAT(attribute(dir.file("s.exr"), "foton:commandLine"),
                Catch::Contains("--integrator sppm --spp 4"));
     CHECK_THAT(attribute(dir.file("s.exr"), "foton:settings"), Catch::Contains("type=sppm"));
+    CHECK(attribute(dir.file("s.exr"), "foton:gitCommit").size() >= 7);
+    for (const char* m : {"worldToCamera", "worldToNDC"}) {
+        // 16 numbers, the last column's homogeneous entries included.
+        std::stringstream ss(attribute(dir.file("s.exr"), m));
+        int n = 0;
+        for (double v; ss >> v;) ++n;
+        CHECK(n == 16);
+    }
     const std::string js = json(dir.file("s.json"));
     // More threads than the machine has really run (oversubscribed), and the record says so
     // beside the machine's own count.
@@ -201,6 +209,8 @@ TEST_CASE("foton render records what ran: samples, threads, machine", "[cli]") {
     const double mean = std::stod(attribute(dir.file("a.exr"), "foton:samples"));
     CHECK(mean > 2.0);
     CHECK(mean <= 16.0);
+    CHECK(attribute(dir.file("a.exr"), "worldToNDC") != "(missing)");
+    CHECK_THAT(json(dir.file("a.json")), Catch::Contains("\"git_commit\""));
     // The flags that are settings are recorded as the run used them.
     CHECK(run("render " + caustics + " --width 8 --height 8 --integrator path --mis balance" +
               " --max-depth 3 -q -o " + dir.file("m.exr"))
@@ -275,4 +285,41 @@ TEST_CASE("foton render --reference: a convergence curve whose last error is fot
     const Run alone = run("render " + scene + size + " --exclude-above 2 -o " + dir.file("w.exr"));
     CHECK(alone.code == 2);
     CHECK_THAT(alone.output, Catch::Contains("--exclude-above: needs --reference"));
+}
+
+TEST_CASE("foton render --crop and --pixel-bounds", "[cli][crop]") {
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-diffuse.xml");
+    const std::string common = " --width 40 --height 20 --spp 1 -q --seed 3";
+    REQUIRE(run("render " + scene + common + " -o " + dir.file("full.exr")).code == 0);
+    // Fractions as pbrt's --cropwindow: [ceil(0.25 * 40), ceil(0.75 * 40)) = [10, 30).
+    REQUIRE(run("render " + scene + common + " --crop 0.25,0.75,0.1,0.6 -o " + dir.file("c.exr"))
+                .code == 0);
+    REQUIRE(run("render " + scene + common + " --pixel-bounds 10,30,2,12 -o " + dir.file("p.exr"))
+                .code == 0);
+    const foton::Film full = foton::read_exr(dir.file("full.exr"));
+    for (const char* f : {"c.exr", "p.exr"}) {
+        const foton::Film c = foton::read_exr(dir.file(f));
+        REQUIRE(c.width == 20);
+        REQUIRE(c.height == 10);
+        int differing = 0;
+        for (int y = 0; y < 10; ++y)
+            for (int x = 0; x < 20; ++x) {
+                const foton::RGB& p = full.at(10 + x, 2 + y);
+                const foton::RGB& q = c.at(x, y);
+                differing += p.r != q.r || p.g != q.g || p.b != q.b;
+            }
+        CHECK(differing == 0);
+    }
+    // A reference of the whole image serves a crop's convergence curve.
+    CHECK(run("render " + scene + common + " --pixel-bounds 10,30,2,12 --passes 2 --reference " +
+              dir.file("full.exr") + " -o " + dir.file("r.exr"))
+              .code == 0);
+    for (const char* bad : {"--crop 0.5,0.5,0,1", "--crop 0,1.5,0,1", "--pixel-bounds 0,41,0,20",
+                            "--pixel-bounds 1,2,3", "--crop 0,1,0,1 --pixel-bounds 0,1,0,1"}) {
+        INFO(bad);
+        const Run r = run("render " + scene + common + " " + bad + " -o " + dir.file("bad.exr"));
+        CHECK(r.code == 2);
+        CHECK_FALSE(std::filesystem::exists(dir.file("bad.exr")));
+    }
 }

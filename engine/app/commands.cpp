@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "build_info.h"
 #include "convergence_log.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
@@ -18,6 +19,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
+#include "json_text.h"
 #include "kernels/simd.h"
 #include "progress_line.h"
 #include "tev_display.h"
@@ -40,16 +42,6 @@ std::string format_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
-}
-
-// A JSON string literal.
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out + "\"";
 }
 
 // The CPU model, from /proc/cpuinfo ("unknown" elsewhere).
@@ -83,7 +75,8 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
         const Vec3 u = to * (1.f / dist);
         if (accel.occluded1({o.x, o.y, o.z, u.x, u.y, u.z, 0.f, dist * (1.f - 1e-3f)}, counters))
             continue;
-        const int x = std::min(int(fx), film.width - 1), y = std::min(int(fy), film.height - 1);
+        const int x = std::min(int(fx) - scene.film.x0, film.width - 1);
+        const int y = std::min(int(fy) - scene.film.y0, film.height - 1);
         f.pixels[std::size_t(y) * film.width + x] = RGB{1e4f};
         ++marked;
     }
@@ -122,6 +115,34 @@ int run_render(const RenderArgs& args) {
         const int h = args.height.value_or(scene.film.height);
         if (w <= 0 || h <= 0) throw InputError("--width/--height", 0, "must be positive");
         scene.set_resolution(w, h);
+    }
+    if (!args.crop.empty() || !args.pixel_bounds.empty()) {
+        const char* flag = args.crop.empty() ? "--pixel-bounds" : "--crop";
+        if (!args.crop.empty() && !args.pixel_bounds.empty())
+            throw InputError("--crop", 0, "give --crop or --pixel-bounds, not both");
+        if (args.crop.size() != 4 && args.pixel_bounds.size() != 4)
+            throw InputError(flag, 0, "expected four numbers x0,x1,y0,y1");
+        const int w = scene.film.full_width, h = scene.film.full_height;
+        int b[4];
+        if (!args.crop.empty()) {
+            for (double f : args.crop)
+                if (!(f >= 0.0 && f <= 1.0))
+                    throw InputError(flag, 0, "fractions must be in [0, 1]");
+            // As pbrt's --cropwindow: both ends rounded up to whole pixels.
+            b[0] = int(std::ceil(args.crop[0] * w));
+            b[1] = int(std::ceil(args.crop[1] * w));
+            b[2] = int(std::ceil(args.crop[2] * h));
+            b[3] = int(std::ceil(args.crop[3] * h));
+        } else {
+            std::copy(args.pixel_bounds.begin(), args.pixel_bounds.end(), b);
+        }
+        if (!(0 <= b[0] && b[0] < b[1] && b[1] <= w && 0 <= b[2] && b[2] < b[3] && b[3] <= h))
+            throw InputError(flag, 0,
+                             "the window [" + std::to_string(b[0]) + "," + std::to_string(b[1]) +
+                                 ") x [" + std::to_string(b[2]) + "," + std::to_string(b[3]) +
+                                 ") is empty or outside the " + std::to_string(w) + "x" +
+                                 std::to_string(h) + " image");
+        scene.set_crop(b[0], b[1], b[2], b[3]);
     }
     // The flags that are renderer settings join the file's and --set's in the scene's set:
     // checked by the same rules, reported under their own name, recorded with the others.
@@ -209,9 +230,22 @@ int run_render(const RenderArgs& args) {
             {"foton:renderSeconds", secs},
             {"foton:accel", accel_name},
             {"foton:version", FOTON_VERSION},
+            {"foton:gitCommit", git_commit()},
             {"foton:commandLine", args.command_line},
             {"foton:settings", settings_text},
         };
+    };
+    // pbrt-v4's standard attributes: time, samples, the camera's matrices.
+    auto exr_info = [&](double seconds, double spp) {
+        ExrRenderInfo info{float(seconds), int(std::lround(spp)), {}, {}, 0, 0, 0, 0};
+        info.world_to_camera = scene.camera.world_to_camera();
+        info.world_to_ndc = scene.camera.world_to_ndc();
+        // A crop is the data window of the full image's display window.
+        info.x0 = scene.film.x0;
+        info.y0 = scene.film.y0;
+        info.display_width = scene.film.full_width;
+        info.display_height = scene.film.full_height;
+        return info;
     };
     if (!opt.snapshot_times.empty()) {
         // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
@@ -221,7 +255,7 @@ int run_render(const RenderArgs& args) {
             std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
             write_exr(fs::path(out).replace_extension("").string() + suffix, f,
                       attributes(seconds, passes, spp, accel_name(scene.accel)),
-                      {float(seconds), int(std::lround(spp))});
+                      exr_info(seconds, spp));
         };
     }
 
@@ -229,8 +263,8 @@ int run_render(const RenderArgs& args) {
     std::unique_ptr<ConvergenceLog> convergence;
     std::string convergence_csv = args.convergence_csv;
     if (!args.reference.empty()) {
-        convergence = std::make_unique<ConvergenceLog>(args.reference, scene.film.width,
-                                                       scene.film.height, args.exclude_above);
+        convergence =
+            std::make_unique<ConvergenceLog>(args.reference, scene.film, args.exclude_above);
         if (convergence_csv.empty())
             convergence_csv = fs::path(out).replace_extension(".convergence.csv").string();
         check_writable(convergence_csv, "--convergence");
@@ -270,7 +304,7 @@ int run_render(const RenderArgs& args) {
     ImageAttributes attrs =
         attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
-    write_exr(out, res.film, attrs, {float(res.stats.wall_seconds), int(std::lround(spp_mean))});
+    write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
     if (!args.cache_points.empty()) {
         std::size_t marked = 0;
@@ -290,6 +324,7 @@ int run_render(const RenderArgs& args) {
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
         std::vector<std::pair<std::string, std::string>> run = {
             {"version", json_string(FOTON_VERSION)},
+            {"git_commit", json_string(git_commit())},
             {"scene", json_string(args.scene)},
             {"integrator", json_string(rs.integrator)},
             {"accelerator", json_string(accel->name())},

@@ -16,7 +16,9 @@ struct RenderArgs {
     std::optional<uint64_t> seed;
     std::string accel;  // empty = the scene's <aggregate>
     std::optional<int> width, height;
-    std::string integrator;  // empty = the scene's <renderer type>
+    std::vector<double> crop;       // x0,x1,y0,y1 as fractions of the image (pbrt's)
+    std::vector<int> pixel_bounds;  // x0,x1,y0,y1 in pixels
+    std::string integrator;         // empty = the scene's <renderer type>
     std::string mis;
     std::optional<bool> nee;
     std::optional<uint32_t> max_depth, rr_depth;

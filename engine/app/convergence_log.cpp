@@ -6,10 +6,23 @@
 
 namespace foton::app {
 
-ConvergenceLog::ConvergenceLog(const std::string& path, int width, int height,
+namespace {
+Film reference_for(const std::string& path, const FilmSettings& film) {
+    Film ref = read_exr(path);
+    if (!film.cropped() || (ref.width == film.width && ref.height == film.height))
+        return fit_reference(std::move(ref), film.width, film.height, path);
+    // A reference of the whole image: the window's pixels.
+    ref = fit_reference(std::move(ref), film.full_width, film.full_height, path);
+    Film window(film.width, film.height);
+    for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) window.at(x, y) = ref.at(film.x0 + x, film.y0 + y);
+    return window;
+}
+}  // namespace
+
+ConvergenceLog::ConvergenceLog(const std::string& path, const FilmSettings& film,
                                std::optional<float> exclude_above)
-    : reference_(fit_reference(read_exr(path), width, height, path)),
-      mask_(reference_.pixels.size(), 1) {
+    : reference_(reference_for(path, film)), mask_(reference_.pixels.size(), 1) {
     if (exclude_above) mask_ = luminance_mask(reference_, *exclude_above);
 }
 

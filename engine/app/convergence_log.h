@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/film/metrics.h"
+#include "engine/scene/scene.h"
 #include "engine/transport/driver/render_options.h"
 
 namespace foton::app {
@@ -20,9 +21,10 @@ struct ConvergencePoint {
 
 class ConvergenceLog {
   public:
-    // `reference` is read from `path`, fitted to width x height (see fit_reference);
-    // pixels whose reference luminance is above `exclude_above` do not count.
-    ConvergenceLog(const std::string& path, int width, int height,
+    // `reference` is read from `path`, fitted to the film (see fit_reference; a reference of
+    // the full image is cut to a crop window); pixels whose reference luminance is above
+    // `exclude_above` do not count.
+    ConvergenceLog(const std::string& path, const FilmSettings& film,
                    std::optional<float> exclude_above);
     void record(const Film& image, const PassReport& pass);
     const std::vector<ConvergencePoint>& points() const { return points_; }

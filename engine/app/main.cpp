@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "engine/core/error.h"
+#include "serve.h"
 
 int main(int argc, char** argv) {
     using namespace foton;
@@ -25,6 +26,16 @@ int main(int argc, char** argv) {
         "brute | brute-simd | grid | bvh | embree (default: the scene's <aggregate>, else bvh)");
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
+    render
+        ->add_option("--crop", ra.crop,
+                     "x0,x1,y0,y1: render only this window, in fractions of the image (like "
+                     "pbrt's --cropwindow); its pixels equal the full render's")
+        ->delimiter(',');
+    render
+        ->add_option("--pixel-bounds", ra.pixel_bounds,
+                     "x0,x1,y0,y1: render only pixels [x0,x1) x [y0,y1) (like pbrt's "
+                     "--pixelbounds)")
+        ->delimiter(',');
     render->add_option("--integrator", ra.integrator,
                        "raytracer | path | light | distributed | photon | sppm | ppm");
     render->add_option("--set", ra.set,
@@ -81,6 +92,15 @@ int main(int argc, char** argv) {
                         "leave out pixels whose luminance in b is above this (e.g. 2: the light)");
     compare->add_option("--mask", ca.mask_png, "PNG: count only its non-black pixels");
 
+    app::ServeArgs sa;
+    CLI::App* serve = app.add_subcommand(
+        "serve", "a local web page to open scenes, render, watch and save (one render at a time)");
+    serve->add_option("--port", sa.port, "TCP port (0: any free one, printed); default 8080");
+    serve->add_option("--host", sa.host,
+                      "address to listen on; default 127.0.0.1 (this machine only)");
+    serve->add_option("--scenes", sa.scene_dirs,
+                      "folders whose *.xml scenes the page may open (default: scenes)");
+
     try {
         app.parse(argc, argv);
         for (int i = 0; i < argc; ++i) ra.command_line += (i ? " " : "") + std::string(argv[i]);
@@ -96,6 +116,7 @@ int main(int argc, char** argv) {
         if (*render) return app::run_render(ra);
         if (*info) return app::run_info(info_scene);
         if (*compare) return app::run_compare(ca);
+        if (*serve) return app::run_serve(sa);
     } catch (const InputError& e) {
         std::fprintf(stderr, "%s\n", e.what());
         return kExitBadInput;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfMatrixAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfStringAttribute.h>
@@ -51,19 +53,33 @@ void write_atomically(const std::string& path,
 void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
                const ExrRenderInfo& info) {
     write_atomically(path, [&](const std::string& tmp) {
-        Imf::Header header(film.width, film.height);
+        const int dw = info.display_width > 0 ? info.display_width : film.width;
+        const int dh = info.display_height > 0 ? info.display_height : film.height;
+        const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(dw - 1, dh - 1));
+        const Imath::Box2i data(Imath::V2i(info.x0, info.y0),
+                                Imath::V2i(info.x0 + film.width - 1, info.y0 + film.height - 1));
+        Imf::Header header(display, data);
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
         for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
         // foton's RGB is linear with the sRGB / Rec. 709 primaries and D65 white: OpenEXR's
         // default chromaticities, written out so that readers need not assume them.
         Imf::addChromaticities(header, Imf::Chromaticities());
+        auto m44 = [](const std::array<float, 16>& m) {
+            return Imath::M44f(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10],
+                               m[11], m[12], m[13], m[14], m[15]);
+        };
+        if (info.world_to_camera) Imf::addWorldToCamera(header, m44(*info.world_to_camera));
+        if (info.world_to_ndc) Imf::addWorldToNDC(header, m44(*info.world_to_ndc));
         if (info.render_seconds >= 0.f)
             header.insert("renderTimeSeconds", Imf::FloatAttribute(info.render_seconds));
         if (info.samples_per_pixel >= 0)
             header.insert("samplesPerPixel", Imf::IntAttribute(info.samples_per_pixel));
         Imf::OutputFile file(tmp.c_str(), header);
         Imf::FrameBuffer fb;
-        char* base = reinterpret_cast<char*>(const_cast<RGB*>(film.pixels.data()));
+        // Slices address pixels by data-window coordinates.
+        char* base = reinterpret_cast<char*>(const_cast<RGB*>(film.pixels.data())) -
+                     (std::ptrdiff_t(info.x0) + std::ptrdiff_t(info.y0) * film.width) *
+                         std::ptrdiff_t(sizeof(RGB));
         const std::size_t xs = sizeof(RGB), ys = sizeof(RGB) * std::size_t(film.width);
         fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
@@ -110,13 +126,27 @@ ImageAttributes read_exr_attributes(const std::string& path) {
                 out.emplace_back(it.name(), std::to_string(f->value()));
             else if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&it.attribute()))
                 out.emplace_back(it.name(), std::to_string(i->value()));
+            else if (const auto* m = dynamic_cast<const Imf::M44fAttribute*>(&it.attribute())) {
+                // The 16 entries row by row, each exactly.
+                std::string text;
+                for (int r = 0; r < 4; ++r)
+                    for (int c = 0; c < 4; ++c) {
+                        char buf[32];
+                        std::snprintf(buf, sizeof buf, "%.9g", double(m->value()[r][c]));
+                        if (!text.empty()) text += ' ';
+                        text += buf;
+                    }
+                out.emplace_back(it.name(), text);
+            }
         return out;
     } catch (const std::exception& e) {
         throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
     }
 }
 
-void write_png(const std::string& path, const Film& film, float exposure, float gamma) {
+namespace {
+// 8-bit sRGB-ish bytes of the preview: clamp(exposure * L, 0, 1)^(1 / gamma).
+std::vector<unsigned char> tone_map(const Film& film, float exposure, float gamma) {
     std::vector<unsigned char> px(std::size_t(film.width) * std::size_t(film.height) * 3);
     const float inv_gamma = 1.f / gamma;
     auto encode = [&](float v) {
@@ -128,6 +158,24 @@ void write_png(const std::string& path, const Film& film, float exposure, float 
         px[3 * i + 1] = encode(film.pixels[i].g);
         px[3 * i + 2] = encode(film.pixels[i].b);
     }
+    return px;
+}
+}  // namespace
+
+std::string encode_png(const Film& film, float exposure, float gamma) {
+    const std::vector<unsigned char> px = tone_map(film, exposure, gamma);
+    std::string out;
+    stbi_write_png_to_func(
+        [](void* context, void* data, int size) {
+            static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                                       std::size_t(size));
+        },
+        &out, film.width, film.height, 3, px.data(), film.width * 3);
+    return out;
+}
+
+void write_png(const std::string& path, const Film& film, float exposure, float gamma) {
+    const std::vector<unsigned char> px = tone_map(film, exposure, gamma);
     write_atomically(path, [&](const std::string& tmp) {
         if (!stbi_write_png(tmp.c_str(), film.width, film.height, 3, px.data(), film.width * 3))
             throw std::runtime_error("cannot write PNG " + tmp);

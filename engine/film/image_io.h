@@ -2,7 +2,9 @@
 // Image output. Every writer goes through a temporary file in the target directory and a
 // rename, so a failed or interrupted render never leaves a truncated image under the
 // requested name.
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +20,11 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 struct ExrRenderInfo {
     float render_seconds = -1.f;
     int samples_per_pixel = -1;
+    // OpenEXR's worldToCamera and worldToNDC (Camera::world_to_camera/world_to_ndc).
+    std::optional<std::array<float, 16>> world_to_camera, world_to_ndc;
+    // A crop window: the film is the data window at (x0, y0) of a display window of
+    // display_width x display_height (0: the film's own size).
+    int x0 = 0, y0 = 0, display_width = 0, display_height = 0;
 };
 
 // Linear float RGB OpenEXR (Rec. 709 / sRGB primaries, written as chromaticities) with string
@@ -30,6 +37,8 @@ ImageAttributes read_exr_attributes(const std::string& path);
 Film read_exr(const std::string& path);
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
+// The same preview as PNG file contents, in memory.
+std::string encode_png(const Film& film, float exposure, float gamma);
 // A mask from a PNG of the given size: pixels that are not black count. Throws InputError.
 std::vector<uint8_t> read_png_mask(const std::string& path, int width, int height);
 // False-colour PNG of |a - b| per pixel (mean over channels): black at 0 through red and

@@ -2,6 +2,8 @@
 // Pinhole perspective and orthographic cameras of the first thesis: a view plane of
 // width x height pixels of edge `pixel_size`, at distance d in front of the eye (perspective),
 // with the orthonormal basis u (right), v (up), w (forward) built from eye, target and up.
+#include <array>
+
 #include "engine/core/math.h"
 #include "engine/core/sampler.h"
 
@@ -15,7 +17,19 @@ struct Camera {
     float d = 1.f;         // eye to view-plane distance (perspective)
     float exposure = 1.f;  // scales the PNG preview
     float pixel_size = 0.001f;
-    int width = 1, height = 1;
+    int width = 1, height = 1;  // the whole image
+    // The film's pixels within the image (a crop window): film pixel (x, y) is image pixel
+    // (x0 + x, y0 + y). film_width 0 means the whole image. Rays and projections are in
+    // image positions, so a crop's rays are the full render's, bit for bit.
+    int x0 = 0, y0 = 0, film_width = 0, film_height = 0;
+    int film_w() const { return film_width > 0 ? film_width : width; }
+    int film_h() const { return film_height > 0 ? film_height : height; }
+    void crop(int x, int y, int w, int h) {
+        x0 = x;
+        y0 = y;
+        film_width = w;
+        film_height = h;
+    }
     // Thin lens (distributed ray tracing): aperture radius and the distance of the plane in
     // focus along the view direction. lens_radius = 0 is the pinhole.
     float lens_radius = 0.f;
@@ -25,12 +39,12 @@ struct Camera {
     Vec3 u, v, w;
     void setup();
 
-    // Ray through film position (fx, fy) in pixels, (0, 0) the top-left corner of the image.
+    // Ray through image position (fx, fy) in pixels, (0, 0) the top-left corner of the image.
     void generate(float fx, float fy, Vec3& origin, Vec3& dir) const;
     // The same through the thin lens, `lens` uniform in the unit square.
     void generate(float fx, float fy, Point2 lens, Vec3& origin, Vec3& dir) const;
-    // Film position (pixels) of a world point seen by the pinhole; false when it is behind
-    // the eye or off the film.
+    // Image position (pixels) of a world point seen by the pinhole; false when it is behind
+    // the eye or off the film (outside the crop window).
     bool project(const Vec3& p, float& fx, float& fy) const;
     // Importance of the pinhole for a box-filtered pixel towards a point at distance `dist`
     // with cos_theta between the view axis and the ray: the pixel's measurement is the mean
@@ -43,6 +57,12 @@ struct Camera {
     }
     // Vertical field of view in degrees implied by d, pixel size and height.
     float vertical_fov_degrees() const;
+    // OpenEXR's standard worldToCamera and worldToNDC attributes, row-major in Imath's
+    // convention (a point is a row vector multiplied from the left, the homogeneous divide
+    // follows). Camera space is left-handed: x right, y up, z along the view. NDC has (0, 0)
+    // at the image's top-left corner and (1, 1) at its bottom-right.
+    std::array<float, 16> world_to_camera() const;
+    std::array<float, 16> world_to_ndc() const;
 };
 
 }  // namespace foton

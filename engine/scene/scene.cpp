@@ -81,12 +81,22 @@ std::size_t Scene::memory_bytes() const {
 void Scene::set_resolution(int width, int height) {
     // Keep the view plane's extent: the field of view does not change with resolution.
     const float view_w = film.pixel_size * float(film.width);
-    film.width = width;
-    film.height = height;
+    film.width = film.full_width = width;
+    film.height = film.full_height = height;
+    film.x0 = film.y0 = 0;
     film.pixel_size = view_w / float(width);
     camera.width = width;
     camera.height = height;
+    camera.crop(0, 0, width, height);
     camera.pixel_size = film.pixel_size;
+}
+
+void Scene::set_crop(int x0, int x1, int y0, int y1) {
+    film.x0 = x0;
+    film.y0 = y0;
+    film.width = x1 - x0;
+    film.height = y1 - y0;
+    camera.crop(x0, y0, x1 - x0, y1 - y0);
 }
 
 std::string Scene::summary() const {

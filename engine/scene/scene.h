@@ -34,9 +34,21 @@ struct Object {
 };
 
 struct FilmSettings {
-    int width = 512, height = 512;
+    int width = 512, height = 512;  // the pixels rendered (a crop window's, when cropped)
     float pixel_size = 0.001f;
     float gamma = 2.2f;
+    // A crop window: the rendered pixels are [x0, x0 + width) x [y0, y0 + height) of an image
+    // of full_width x full_height (equal to width x height without a crop).
+    int x0 = 0, y0 = 0;
+    int full_width = 512, full_height = 512;
+
+    bool cropped() const { return width != full_width || height != full_height; }
+    // The pixel's index in the full image: random streams are keyed by it, so a crop renders
+    // exactly the pixels of the full image.
+    uint64_t pixel_id(uint32_t x, uint32_t y) const {
+        return (uint64_t(y) + uint64_t(y0)) * uint64_t(full_width) + uint64_t(x) + uint64_t(x0);
+    }
+    uint64_t full_pixels() const { return uint64_t(full_width) * uint64_t(full_height); }
 };
 
 struct Scene {
@@ -66,6 +78,8 @@ struct Scene {
     std::string summary() const;  // foton info (the scene; the renderer's line is the app's)
     // Applies film/camera consistency after width/height changes.
     void set_resolution(int width, int height);
+    // Renders only pixels [x0, x1) x [y0, y1) of the image (after set_resolution).
+    void set_crop(int x0, int x1, int y0, int y1);
 };
 
 }  // namespace foton

@@ -61,6 +61,8 @@ void Loader::parse_film(const pugi::xml_node& n) {
     FilmSettings& f = scene_.film;
     f.width = int(count(n, "width", 512));
     f.height = int(count(n, "height", 512));
+    f.full_width = f.width;
+    f.full_height = f.height;
     f.pixel_size = positive(n, "size", 0.001f);
     f.gamma = positive(n, "gamma", 2.2f);
 }

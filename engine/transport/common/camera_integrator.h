@@ -36,7 +36,7 @@ enum RandomStream : uint64_t {
 
 inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const SampleJob& j,
                            uint64_t seed) {
-    const uint64_t pixel = uint64_t(j.y) * uint64_t(scene.film.width) + j.x;
+    const uint64_t pixel = scene.film.pixel_id(j.x, j.y);
     return sample_pattern(sampler, j.pat_i, j.pat_n, seed,
                           rng::hash(kPixelStream, pixel, j.pat_round, 0));
 }
@@ -56,7 +56,9 @@ inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
         const Point2 lens = {rng::uniform(seed, kLensStream, j.id, 0),
                              rng::uniform(seed, kLensStream, j.id, 1)};
         Vec3 o, d;
-        scene.camera.generate(float(j.x) + px.x, float(j.y) + px.y, lens, o, d);
+        // Image position: the film's pixel plus a crop window's offset, as integers first.
+        scene.camera.generate(float(int(j.x) + scene.film.x0) + px.x,
+                              float(int(j.y) + scene.film.y0) + px.y, lens, o, d);
         rays.push(o, d, 0.f, kInfinity, slot);
     }
 }

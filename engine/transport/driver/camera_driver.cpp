@@ -75,11 +75,11 @@ class CameraDriver {
     // Fixed samples: pass p gives every pixel of the tile opt.spp samples.
     void make_jobs(const Tile& t, uint32_t pass, std::vector<SampleJob>& jobs) const {
         const uint32_t spp = opt_.spp;
-        const uint64_t npix = uint64_t(scene_.film.width) * uint64_t(scene_.film.height);
+        const uint64_t npix = scene_.film.full_pixels();
         jobs.clear();
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
+                const uint64_t pixel = scene_.film.pixel_id(uint32_t(x), uint32_t(y));
                 for (uint32_t s = 0; s < spp; ++s)
                     jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
                                     (uint64_t(pass) * npix + pixel) * spp + s});
@@ -122,7 +122,7 @@ class CameraDriver {
             for (int y = t.y0; y < t.y1; ++y)
                 for (int x = t.x0; x < t.x1; ++x) {
                     const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
-                    const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + uint64_t(x);
+                    const uint64_t pixel = scene_.film.pixel_id(uint32_t(x), uint32_t(y));
                     for (uint32_t s = 0; s < want[l]; ++s)
                         jobs.push_back({uint32_t(x), uint32_t(y), s, want[l], round,
                                         (pixel << 24) + taken[l] + s});

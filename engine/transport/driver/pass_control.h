@@ -40,7 +40,7 @@ class PassControl {
     bool another(uint32_t passes, const std::function<Film()>& image,
                  const std::function<double()>& spp, bool stop = false) {
         const double t = elapsed();
-        bool more = !stop;
+        bool more = !stop && !(opt_.cancel && opt_.cancel->load());
         if (opt_.max_passes > 0 && passes >= opt_.max_passes)
             more = false;
         else if (opt_.time_limit > 0.f)

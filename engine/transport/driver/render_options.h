@@ -2,6 +2,7 @@
 // What every renderer takes (RenderOptions) and gives back (RenderResult). The families'
 // render functions and the driver's loops share these types and nothing else, so the
 // dispatch (render.h) can include every family without a cycle.
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <ctime>
@@ -54,6 +55,8 @@ struct RenderOptions {
     // Set by a render whose passes follow work of their own (photon tracing, the cache
     // fill): the passes' times and the time budget then count from here.
     std::optional<RenderStart> start;
+    // When set, the render stops after the pass in flight (a stop button, a signal).
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct RenderResult {

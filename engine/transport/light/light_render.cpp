@@ -24,8 +24,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
     const LightTracer tracer(scene, settings, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
-    const uint64_t per_pass =
-        uint64_t(scene.film.width) * uint64_t(scene.film.height) * uint64_t(opt.spp);
+    const uint64_t per_pass = scene.film.full_pixels() * uint64_t(opt.spp);
     constexpr uint32_t kChunk = 4096;
     const std::size_t chunks = std::size_t((per_pass + kChunk - 1) / kChunk);
     std::vector<RGB> sum(std::size_t(scene.film.width) * scene.film.height);

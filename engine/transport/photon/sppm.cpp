@@ -53,10 +53,11 @@ class ProgressivePhotons {
     // One camera sample per pixel through specular chains to its visible point; emission
     // found on the way and one NEE sample at the visible point go to `direct`.
     void camera_pass(uint64_t pass, uint32_t x, uint32_t y, PixelState& px, RenderStats& st) const {
-        const uint64_t pixel = uint64_t(y) * uint64_t(scene_.film.width) + x;
+        const uint64_t pixel = scene_.film.pixel_id(x, y);
         const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
         Vec3 o, d;
-        scene_.camera.generate(float(x) + j.x, float(y) + j.y,
+        scene_.camera.generate(float(int(x) + scene_.film.x0) + j.x,
+                               float(int(y) + scene_.film.y0) + j.y,
                                {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
         ++st.camera_rays;
         RGB beta{1.f};
@@ -171,7 +172,9 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const float radius0 = ps.initial_radius > 0.f
                               ? ps.initial_radius
                               : 0.01f * 0.5f * length(scene.bounds().diagonal());
-    const uint64_t per_pass = ps.photons_per_pass > 0 ? ps.photons_per_pass : npix;
+    // A pass's photons default to the full image's pixel count, crop window or not.
+    const uint64_t per_pass =
+        ps.photons_per_pass > 0 ? ps.photons_per_pass : scene.film.full_pixels();
     std::vector<PixelState> pixels(npix);
     for (PixelState& p : pixels) p.radius = radius0;
     const ProgressivePhotons pm(scene, settings, accel, lights, opt.seed);

@@ -1,0 +1,150 @@
+#include "render_session.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/error.h"
+#include "engine/film/image_io.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "json_text.h"
+
+namespace foton::app {
+
+RenderSession::~RenderSession() {
+    stop();
+    if (thread_.joinable()) thread_.join();
+}
+
+bool RenderSession::start(const SessionRequest& request, std::string& error) {
+    std::lock_guard lock(mutex_);
+    if (state_ == "running") {
+        error = "a render is running; stop it first";
+        return false;
+    }
+    if (thread_.joinable()) thread_.join();  // the previous render, finished
+    cancel_ = false;
+    state_ = "running";
+    message_.clear();
+    stats_table_.clear();
+    image_.reset();
+    exr_.clear();
+    passes_ = 0;
+    seconds_ = spp_ = rays_per_second_ = 0.0;
+    scene_name_ = std::filesystem::path(request.scene_path).filename().string();
+    thread_ = std::thread([this, request] { run(request); });
+    return true;
+}
+
+void RenderSession::stop() {
+    cancel_ = true;
+}
+
+void RenderSession::run(SessionRequest req) {
+    try {
+        RendererOverrides overrides(req.set.begin(), req.set.end());
+        Scene scene = load_scene(req.scene_path, overrides);
+        if (!req.accel.empty() && !parse_accel(req.accel, scene.accel))
+            throw InputError("accelerator", 0, "unknown accelerator '" + req.accel + "'");
+        if (req.width > 0 || req.height > 0)
+            scene.set_resolution(req.width > 0 ? req.width : scene.film.width,
+                                 req.height > 0 ? req.height : scene.film.height);
+        if (!req.integrator.empty()) scene.renderer.set("type", req.integrator, "integrator", 0);
+        const RenderSettings rs = render_settings(scene);
+        RenderOptions opt = rs.run;
+        opt.spp = req.spp;
+        opt.seed = req.seed;
+        opt.threads = req.threads;
+        opt.max_passes = req.passes;
+        opt.time_limit = req.time;
+        opt.progress = &progress_;
+        opt.cancel = &cancel_;
+        opt.on_pass = [&](const Film& film, const PassReport& pass) {
+            std::lock_guard lock(mutex_);
+            image_ = film;
+            passes_ = pass.passes;
+            seconds_ = pass.seconds;
+            spp_ = pass.spp;
+        };
+        {
+            std::lock_guard lock(mutex_);
+            exposure_ = scene.camera.exposure;
+            gamma_ = scene.film.gamma;
+            width_ = scene.film.width;
+            height_ = scene.film.height;
+        }
+        const auto accel = make_intersector(scene, scene.accel, resolve_threads(opt.threads));
+        RenderResult res = render(scene, rs, *accel, opt);
+        // The EXR as the command line writes it, kept for download.
+        const std::string tmp = (std::filesystem::temp_directory_path() /
+                                 ("foton-serve-" + std::to_string(getpid()) + ".exr"))
+                                    .string();
+        write_exr(tmp, res.film,
+                  {{"foton:scene", req.scene_path},
+                   {"foton:integrator", rs.integrator},
+                   {"foton:seed", std::to_string(opt.seed)},
+                   {"foton:passes", std::to_string(res.stats.passes)},
+                   {"foton:version", FOTON_VERSION}},
+                  {float(res.stats.wall_seconds), int(opt.spp * res.stats.passes), {}, {}});
+        std::ifstream in(tmp, std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::filesystem::remove(tmp);
+        std::lock_guard lock(mutex_);
+        image_ = res.film;
+        exr_ = std::move(bytes);
+        passes_ = res.stats.passes;
+        seconds_ = res.stats.wall_seconds;
+        rays_per_second_ = res.stats.wall_seconds > 0
+                               ? double(res.stats.total_rays()) / res.stats.wall_seconds
+                               : 0.0;
+        stats_table_ = res.stats.table();
+        state_ = cancel_ ? "stopped" : "done";
+    } catch (const InputError& e) {
+        std::lock_guard lock(mutex_);
+        state_ = "error";
+        message_ = e.what();
+    } catch (const std::exception& e) {
+        std::lock_guard lock(mutex_);
+        state_ = "error";
+        message_ = std::string("internal error: ") + e.what();
+    }
+}
+
+std::string RenderSession::status_json() const {
+    std::lock_guard lock(mutex_);
+    std::string out = "{\"state\": " + json_string(state_);
+    out += ", \"scene\": " + json_string(scene_name_);
+    out += ", \"message\": " + json_string(message_);
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  ", \"passes\": %u, \"seconds\": %.6g, \"spp\": %.6g, \"rays_per_second\": %.6g"
+                  ", \"width\": %d, \"height\": %d",
+                  passes_, seconds_, spp_, rays_per_second_, width_, height_);
+    out += buf;
+    if (const std::optional<Progress::View> v = progress_.view(); v && state_ == "running") {
+        std::snprintf(buf, sizeof buf, ", \"progress\": {\"fraction\": %.6g, \"eta\": %.6g, ",
+                      v->fraction, v->eta);
+        out += buf + std::string("\"task\": ") + json_string(v->name) + "}";
+    }
+    out += ", \"stats\": " + json_string(stats_table_) + "}";
+    return out;
+}
+
+std::optional<Film> RenderSession::image(float& exposure, float& gamma) const {
+    std::lock_guard lock(mutex_);
+    exposure = exposure_;
+    gamma = gamma_;
+    return image_;
+}
+
+std::string RenderSession::exr_bytes() const {
+    std::lock_guard lock(mutex_);
+    return exr_;
+}
+
+}  // namespace foton::app

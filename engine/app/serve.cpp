@@ -1,0 +1,185 @@
+#include "serve.h"
+
+#include <httplib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "engine/core/error.h"
+#include "engine/film/image_io.h"
+#include "engine/scene/scene.h"
+#include "engine/transport/driver/integrators.h"
+#include "json_text.h"
+#include "render_session.h"
+#include "web_page.h"
+
+namespace foton::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The scenes the page may open: name ("folder/file.xml") -> path. Nothing else is ever read.
+std::map<std::string, std::string> list_scenes(const std::vector<std::string>& dirs) {
+    std::map<std::string, std::string> scenes;
+    for (const std::string& d : dirs) {
+        if (!fs::is_directory(d)) throw InputError(d, 0, "not a directory of scenes");
+        const std::string folder =
+            fs::path(d).lexically_normal().filename().string().empty()
+                ? fs::path(d).lexically_normal().parent_path().filename().string()
+                : fs::path(d).lexically_normal().filename().string();
+        for (const auto& e : fs::directory_iterator(d))
+            if (e.is_regular_file() && e.path().extension() == ".xml")
+                scenes[folder + "/" + e.path().filename().string()] = e.path().string();
+    }
+    return scenes;
+}
+
+template <typename T>
+bool parse_number(const std::string& text, T& out) {
+    try {
+        std::size_t used = 0;
+        if constexpr (std::is_floating_point_v<T>)
+            out = T(std::stod(text, &used));
+        else
+            out = T(std::stoll(text, &used));
+        return used == text.size() && !(out < T(0));
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+}  // namespace
+
+int run_serve(const ServeArgs& args) {
+    const std::vector<std::string> dirs =
+        args.scene_dirs.empty() ? std::vector<std::string>{"scenes"} : args.scene_dirs;
+    const std::map<std::string, std::string> scenes = list_scenes(dirs);
+    RenderSession session;
+    httplib::Server server;
+
+    server.Get("/", [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(kWebPage, "text/html; charset=utf-8");
+    });
+    server.Get("/api/options", [&](const httplib::Request&, httplib::Response& res) {
+        std::string out = "{\"scenes\": [";
+        bool first = true;
+        for (const auto& [name, path] : scenes) {
+            out += (first ? "" : ", ") + json_string(name);
+            first = false;
+        }
+        out += "], \"integrators\": [";
+        first = true;
+        for (const IntegratorInfo& i : integrators()) {
+            out += (first ? "" : ", ") + json_string(i.name);
+            first = false;
+        }
+        out += "], \"accelerators\": [\"bvh\", \"embree\", \"grid\", \"brute-simd\", \"brute\"]}";
+        res.set_content(out, "application/json");
+    });
+    server.Post("/api/render", [&](const httplib::Request& req, httplib::Response& res) {
+        auto fail = [&](const std::string& message) {
+            res.status = 400;
+            res.set_content("{\"error\": " + json_string(message) + "}", "application/json");
+        };
+        const auto scene = scenes.find(req.get_param_value("scene"));
+        if (scene == scenes.end())
+            return fail("unknown scene '" + req.get_param_value("scene") + "'");
+        SessionRequest r;
+        r.scene_path = scene->second;
+        r.integrator = req.get_param_value("integrator");
+        r.accel = req.get_param_value("accel");
+        const std::pair<const char*, std::function<bool(const std::string&)>> numbers[] = {
+            {"threads", [&](const std::string& v) { return parse_number(v, r.threads); }},
+            {"width", [&](const std::string& v) { return parse_number(v, r.width); }},
+            {"height", [&](const std::string& v) { return parse_number(v, r.height); }},
+            {"spp", [&](const std::string& v) { return parse_number(v, r.spp) && r.spp > 0; }},
+            {"passes", [&](const std::string& v) { return parse_number(v, r.passes); }},
+            {"time", [&](const std::string& v) { return parse_number(v, r.time); }},
+            {"seed", [&](const std::string& v) { return parse_number(v, r.seed); }},
+        };
+        for (const auto& [key, parse] : numbers)
+            if (req.has_param(key) && !req.get_param_value(key).empty() &&
+                !parse(req.get_param_value(key)))
+                return fail(std::string("bad ") + key + " '" + req.get_param_value(key) + "'");
+        // Further settings, one key=value per line.
+        std::string set = req.get_param_value("set");
+        for (std::size_t at = 0; at < set.size();) {
+            std::size_t end = set.find('\n', at);
+            if (end == std::string::npos) end = set.size();
+            std::string line = set.substr(at, end - at);
+            at = end + 1;
+            line.erase(std::remove(line.begin(), line.end(), '\r'), line.end());
+            if (line.find_first_not_of(" \t") == std::string::npos) continue;
+            const auto eq = line.find('=');
+            if (eq == std::string::npos || eq == 0)
+                return fail("settings: expected key=value, got '" + line + "'");
+            r.set[line.substr(0, eq)] = line.substr(eq + 1);
+        }
+        std::string error;
+        if (!session.start(r, error)) {
+            res.status = 409;
+            res.set_content("{\"error\": " + json_string(error) + "}", "application/json");
+            return;
+        }
+        res.set_content("{\"started\": true}", "application/json");
+    });
+    server.Post("/api/stop", [&](const httplib::Request&, httplib::Response& res) {
+        session.stop();
+        res.set_content("{\"stopping\": true}", "application/json");
+    });
+    server.Get("/api/status", [&](const httplib::Request&, httplib::Response& res) {
+        res.set_header("Cache-Control", "no-store");
+        res.set_content(session.status_json(), "application/json");
+    });
+    server.Get("/api/image.png", [&](const httplib::Request& req, httplib::Response& res) {
+        float exposure = 1.f, gamma = 2.2f;
+        const std::optional<Film> film = session.image(exposure, gamma);
+        if (!film) {
+            res.status = 404;
+            return;
+        }
+        float stops = 0.f;
+        if (req.has_param("stops")) {
+            try {
+                stops = std::stof(req.get_param_value("stops"));
+            } catch (const std::exception&) {
+                stops = 0.f;
+            }
+        }
+        res.set_header("Cache-Control", "no-store");
+        if (req.has_param("download"))
+            res.set_header("Content-Disposition", "attachment; filename=\"foton.png\"");
+        res.set_content(
+            encode_png(*film, exposure * std::exp2(std::clamp(stops, -20.f, 20.f)), gamma),
+            "image/png");
+    });
+    server.Get("/api/image.exr", [&](const httplib::Request&, httplib::Response& res) {
+        const std::string exr = session.exr_bytes();
+        if (exr.empty()) {
+            res.status = 404;
+            return;
+        }
+        res.set_header("Content-Disposition", "attachment; filename=\"foton.exr\"");
+        res.set_content(exr, "image/x-exr");
+    });
+
+    int port = args.port;
+    if (port == 0) {
+        port = server.bind_to_any_port(args.host);
+    } else if (!server.bind_to_port(args.host, port)) {
+        port = -1;
+    }
+    if (port < 0)
+        throw InputError("--port", 0,
+                         "cannot listen on " + args.host + ":" + std::to_string(args.port));
+    std::printf("foton serve: http://%s:%d/ (%zu scenes; Ctrl-C stops)\n", args.host.c_str(), port,
+                scenes.size());
+    std::fflush(stdout);
+    server.listen_after_bind();
+    return 0;
+}
+
+}  // namespace foton::app

@@ -1,0 +1,18 @@
+#pragma once
+// `foton serve`: the ray-tracing thesis' GUI as a local web page. One render at a time, run
+// on a thread of the server; the page polls its status and preview. Scenes come only from the
+// folders given, by name: the server never reads a path the page sends.
+#include <string>
+#include <vector>
+
+namespace foton::app {
+
+struct ServeArgs {
+    std::string host = "127.0.0.1";
+    int port = 8080;                      // 0: any free port (printed)
+    std::vector<std::string> scene_dirs;  // default: scenes/
+};
+
+int run_serve(const ServeArgs& args);
+
+}  // namespace foton::app

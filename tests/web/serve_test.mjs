@@ -1,0 +1,107 @@
+// foton serve in a real browser: Debian's chromium, headless, driven by Playwright. The page
+// lists the scenes, starts a small render, shows the preview updating pass by pass, saves an
+// EXR equal bit for bit to the command line's render with the same seed and passes, shows a
+// bad scene's file:line message, stops a long render, and the server opens nothing outside
+// its scene folders.
+//
+// usage: node tests/web/serve_test.mjs FOTON_BINARY SOURCE_DIR
+import { chromium } from 'playwright-core';
+import { spawn, execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import assert from 'node:assert/strict';
+
+const [foton, source] = process.argv.slice(2);
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'foton-web-'));
+const badDir = path.join(tmp, 'bad');
+fs.mkdirSync(badDir);
+fs.writeFileSync(path.join(badDir, 'broken.xml'),
+                 '<scene>\n<film width="8" height="8"/>\n<camera type="fisheye"/>\n</scene>\n');
+
+const server = spawn(foton, ['serve', '--port', '0', '--scenes', path.join(source, 'scenes'),
+                             '--scenes', badDir], {stdio: ['ignore', 'pipe', 'inherit']});
+const url = await new Promise((resolve, reject) => {
+  let out = '';
+  server.stdout.on('data', (d) => {
+    out += d;
+    const m = out.match(/http:\/\/[0-9.]+:\d+\//);
+    if (m) resolve(m[0]);
+  });
+  server.on('exit', (code) => reject(new Error(`foton serve exited with ${code}`)));
+  setTimeout(() => reject(new Error('foton serve did not start')), 10000);
+});
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--no-sandbox'],
+});
+let failed = false;
+try {
+  const page = await browser.newPage({acceptDownloads: true});
+  const previews = [];
+  page.on('request', (r) => { if (r.url().includes('/api/image.png')) previews.push(r.url()); });
+  await page.goto(url);
+  await page.waitForSelector('#scene option[value="scenes/cornell-diffuse.xml"]', {state: 'attached'});
+
+  // A progressive render for a second and a half: the preview follows the passes.
+  await page.selectOption('#scene', 'scenes/cornell-diffuse.xml');
+  await page.selectOption('#integrator', 'path');
+  for (const [id, v] of [['#width', '48'], ['#height', '32'], ['#spp', '1'], ['#passes', '0'],
+                         ['#time', '1.5'], ['#seed', '5'], ['#threads', '2']])
+    await page.fill(id, v);
+  await page.click('#start');
+  await page.waitForSelector('#state[data-state="running"]');
+  await page.waitForSelector('#state[data-state="done"]', {timeout: 30000});
+  const passes = Number(await page.getAttribute('#state', 'data-passes'));
+  assert.ok(passes >= 2, `passes ${passes}`);
+  await page.waitForFunction(() => document.getElementById('preview').naturalWidth === 48);
+  assert.ok(previews.length >= 2, `the preview was fetched ${previews.length} times`);
+
+  // Saved EXR = the command line's with the same seed and passes, bit for bit.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save-exr')]);
+  const served = path.join(tmp, 'served.exr');
+  await download.saveAs(served);
+  const cli = path.join(tmp, 'cli.exr');
+  execFileSync(foton, ['render', path.join(source, 'scenes/cornell-diffuse.xml'), '--integrator',
+                       'path', '--width', '48', '--height', '32', '--spp', '1', '--passes',
+                       String(passes), '--seed', '5', '--threads', '2', '-q', '-o', cli]);
+  const compare = execFileSync(foton, ['compare', served, cli]).toString();
+  assert.match(compare, /max_abs 0\n/, compare);
+
+  // A bad scene: the loader's file:line message on the page.
+  await page.selectOption('#scene', 'bad/broken.xml');
+  await page.click('#start');
+  await page.waitForSelector('#state[data-state="error"]');
+  const error = await page.textContent('#error');
+  assert.match(error, /broken\.xml:3: .*fisheye/, error);
+
+  // Stop: a long render ends after the pass in flight.
+  await page.selectOption('#scene', 'scenes/cornell-diffuse.xml');
+  await page.fill('#time', '60');
+  await page.click('#start');
+  await page.waitForSelector('#state[data-state="running"]');
+  await page.click('#stop');
+  await page.waitForSelector('#state[data-state="stopped"]', {timeout: 10000});
+
+  // Nothing outside the scene folders: names not listed are refused, paths are not files.
+  const refused = await page.evaluate(async () => {
+    const body = new URLSearchParams({scene: '../../../etc/passwd'});
+    const r = await fetch('/api/render', {method: 'POST', body});
+    return [r.status, (await r.json()).error];
+  });
+  assert.equal(refused[0], 400);
+  assert.match(refused[1], /unknown scene/);
+  const traversal = await page.evaluate(async () => (await fetch('/../../etc/passwd')).status);
+  assert.equal(traversal, 404);
+  console.log(`web page: ${passes} passes previewed in ${previews.length} fetches; saved EXR ` +
+              'equals the CLI render; bad scene, stop and path checks pass');
+} catch (e) {
+  console.error(e);
+  failed = true;
+} finally {
+  await browser.close();
+  server.kill();
+  fs.rmSync(tmp, {recursive: true, force: true});
+}
+process.exit(failed ? 1 : 0);
