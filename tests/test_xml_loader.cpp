@@ -154,7 +154,7 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
             std::string("<scene>") + kFilmCamera +
                 "\n<objects>\n<triangle_mesh src=\"nothere.obj\"><material type=\"matte\"/>"
                 "</triangle_mesh></objects></scene>",
-            5, "mesh file 'nothere.obj' not found");
+            5, "mesh file not found: 'nothere.obj'");
     }
     SECTION("face index out of range, reported in the OBJ file") {
         test::TempDir dir;

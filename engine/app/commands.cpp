@@ -19,6 +19,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
+#include "image_flags.h"
 #include "json_text.h"
 #include "kernels/simd.h"
 #include "progress_line.h"
@@ -85,14 +86,19 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
 
 // A file we are about to write later: its directory must exist (or be creatable) and be
 // writable, and it must not be a directory. Checked before the render, not after it.
-void check_writable(const std::string& path, const char* what) {
+// `input` (the scene) must not be overwritten.
+void check_writable(const std::string& path, const char* what, const std::string& input = "") {
     const fs::path p(path);
-    if (fs::is_directory(p)) throw InputError(what, 0, "'" + path + "' is a directory");
-    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     std::error_code ec;
+    if (fs::is_directory(p, ec)) throw InputError(what, 0, "'" + path + "' is a directory");
+    if (!input.empty() && fs::exists(p, ec) && fs::equivalent(p, input, ec))
+        throw InputError(what, 0, "'" + path + "' is the scene file itself");
+    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     fs::create_directories(dir, ec);
     if (ec || access(dir.c_str(), W_OK) != 0)
-        throw InputError(what, 0, "cannot write '" + path + "' (directory not writable)");
+        throw InputError(what, 0,
+                         "cannot write '" + path + "' (" +
+                             (ec ? ec.message() : std::string("directory not writable")) + ")");
 }
 
 }  // namespace
@@ -110,40 +116,7 @@ int run_render(const RenderArgs& args) {
         throw InputError(
             "--accel", 0,
             "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, bvh, embree)");
-    if (args.width || args.height) {
-        const int w = args.width.value_or(scene.film.width);
-        const int h = args.height.value_or(scene.film.height);
-        if (w <= 0 || h <= 0) throw InputError("--width/--height", 0, "must be positive");
-        scene.set_resolution(w, h);
-    }
-    if (!args.crop.empty() || !args.pixel_bounds.empty()) {
-        const char* flag = args.crop.empty() ? "--pixel-bounds" : "--crop";
-        if (!args.crop.empty() && !args.pixel_bounds.empty())
-            throw InputError("--crop", 0, "give --crop or --pixel-bounds, not both");
-        if (args.crop.size() != 4 && args.pixel_bounds.size() != 4)
-            throw InputError(flag, 0, "expected four numbers x0,x1,y0,y1");
-        const int w = scene.film.full_width, h = scene.film.full_height;
-        int b[4];
-        if (!args.crop.empty()) {
-            for (double f : args.crop)
-                if (!(f >= 0.0 && f <= 1.0))
-                    throw InputError(flag, 0, "fractions must be in [0, 1]");
-            // As pbrt's --cropwindow: both ends rounded up to whole pixels.
-            b[0] = int(std::ceil(args.crop[0] * w));
-            b[1] = int(std::ceil(args.crop[1] * w));
-            b[2] = int(std::ceil(args.crop[2] * h));
-            b[3] = int(std::ceil(args.crop[3] * h));
-        } else {
-            std::copy(args.pixel_bounds.begin(), args.pixel_bounds.end(), b);
-        }
-        if (!(0 <= b[0] && b[0] < b[1] && b[1] <= w && 0 <= b[2] && b[2] < b[3] && b[3] <= h))
-            throw InputError(flag, 0,
-                             "the window [" + std::to_string(b[0]) + "," + std::to_string(b[1]) +
-                                 ") x [" + std::to_string(b[2]) + "," + std::to_string(b[3]) +
-                                 ") is empty or outside the " + std::to_string(w) + "x" +
-                                 std::to_string(h) + " image");
-        scene.set_crop(b[0], b[1], b[2], b[3]);
-    }
+    apply_image_flags({args.width, args.height, args.crop, args.pixel_bounds}, scene);
     // The flags that are renderer settings join the file's and --set's in the scene's set:
     // checked by the same rules, reported under their own name, recorded with the others.
     auto flag = [&](const char* key, const std::string& value, const char* name) {
@@ -163,20 +136,19 @@ int run_render(const RenderArgs& args) {
     if (args.adaptive_max)
         flag("adaptive_max_spp", std::to_string(*args.adaptive_max), "--adaptive-max");
     if (args.adaptive_unbiased) flag("adaptive_unbiased", "true", "--adaptive-unbiased");
+    // Numbers are parsed by the settings' one integer parser, whatever wrote them.
+    if (args.seed) flag("seed", *args.seed, "--seed");
+    if (args.threads) flag("num_threads", *args.threads, "--threads");
     RenderSettings rs = render_settings(scene);
-    if (rs.adaptive.enabled && args.spp) {
-        // Under adaptive sampling --spp is the pilot.
-        flag("adaptive_pilot", std::to_string(*args.spp), "--spp");
-        rs = render_settings(scene);
-    }
+    // --spp: the samples per pixel (per pass), or under adaptive sampling the pilot.
+    if (args.spp) flag(rs.adaptive.enabled ? "adaptive_pilot" : "spp", *args.spp, "--spp");
+    rs = render_settings(scene);
     RenderOptions opt = rs.run;
-    opt.spp = args.spp.value_or(opt.spp);
     opt.time_limit = args.time.value_or(opt.time_limit);
     if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
-    if (args.passes) {
-        if (*args.passes == 0) throw InputError("--passes", 0, "must be at least 1");
-        opt.max_passes = *args.passes;
-    }
+    if (args.passes)
+        opt.max_passes =
+            uint32_t(integer_or_fail(*args.passes, 1, 1u << 30, "--passes", 0, "the value"));
     const bool progressive = opt.time_limit > 0.f || args.passes;
     if (progressive && rs.adaptive.enabled)
         throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
@@ -188,10 +160,6 @@ int run_render(const RenderArgs& args) {
         throw InputError("--snapshots", 0,
                          "needs --time or --passes (snapshots are taken between the passes of "
                          "a progressive render)");
-    if (opt.spp == 0) throw InputError("--spp", 0, "must be at least 1");
-    opt.threads = args.threads.value_or(opt.threads);
-    if (opt.threads < 0) throw InputError("--threads", 0, "must not be negative");
-    opt.seed = args.seed.value_or(opt.seed);
     // Progress goes to stderr when it is a terminal, never into a file or a pipe.
     Progress progress;
     opt.progress = &progress;
@@ -203,9 +171,12 @@ int run_render(const RenderArgs& args) {
     if (fs::path(out).extension() != ".exr")
         throw InputError(out, 0,
                          "output must be an .exr file (a .png preview is written beside it)");
-    const fs::path out_dir = fs::path(out).parent_path();
-    if (!out_dir.empty()) fs::create_directories(out_dir);
+    // Every file the render will write is checked now, before any work.
     const std::string png = fs::path(out).replace_extension(".png").string();
+    check_writable(out, "-o", args.scene);
+    check_writable(png, "-o (its .png preview)", args.scene);
+    if (!args.stats_json.empty()) check_writable(args.stats_json, "--stats-json", args.scene);
+    if (!args.cache_points.empty()) check_writable(args.cache_points, "--cache-points", args.scene);
     const char* integrator = rs.integrator.c_str();
     // Every renderer setting as the run used it, the file's and --set's alike.
     std::string settings_text;
@@ -267,7 +238,7 @@ int run_render(const RenderArgs& args) {
             std::make_unique<ConvergenceLog>(args.reference, scene.film, args.exclude_above);
         if (convergence_csv.empty())
             convergence_csv = fs::path(out).replace_extension(".convergence.csv").string();
-        check_writable(convergence_csv, "--convergence");
+        check_writable(convergence_csv, "--convergence", args.scene);
     } else if (args.exclude_above || !args.convergence_csv.empty()) {
         throw InputError(args.exclude_above ? "--exclude-above" : "--convergence", 0,
                          "needs --reference");

@@ -11,21 +11,20 @@ namespace foton::app {
 struct RenderArgs {
     std::string scene;
     std::string output;  // .exr; empty = out/<scene name>.exr
-    std::optional<uint32_t> spp;
-    std::optional<int> threads;
-    std::optional<uint64_t> seed;
+    // Numbers as typed: parsed and checked by the settings' integer parser (core/params.h).
+    std::optional<std::string> spp, threads, seed;
     std::string accel;  // empty = the scene's <aggregate>
-    std::optional<int> width, height;
+    std::optional<std::string> width, height;
     std::vector<double> crop;       // x0,x1,y0,y1 as fractions of the image (pbrt's)
     std::vector<int> pixel_bounds;  // x0,x1,y0,y1 in pixels
     std::string integrator;         // empty = the scene's <renderer type>
     std::string mis;
     std::optional<bool> nee;
     std::optional<uint32_t> max_depth, rr_depth;
-    std::optional<float> time;       // seconds of progressive passes
-    std::optional<uint32_t> passes;  // progressive passes (with --time: at most this many)
-    std::vector<double> snapshots;   // seconds at which to also write the image so far
-    std::optional<float> adaptive;   // adaptive sampling with this relative-error threshold
+    std::optional<float> time;          // seconds of progressive passes
+    std::optional<std::string> passes;  // progressive passes (with --time: at most this many)
+    std::vector<double> snapshots;      // seconds at which to also write the image so far
+    std::optional<float> adaptive;      // adaptive sampling with this relative-error threshold
     std::optional<uint32_t> adaptive_max;
     bool adaptive_unbiased = false;
     std::optional<uint32_t> light_samples;

@@ -36,6 +36,53 @@ std::size_t distance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
+IntegerText parse_integer(std::string_view text, uint64_t min, uint64_t max, uint64_t& out) {
+    const std::string_view s = trim(text);
+    if (s.empty()) return IntegerText::NotANumber;
+    uint64_t u = 0;
+    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), u);
+    if (ec == std::errc() && end == s.data() + s.size()) {
+        out = u;
+        return u < min || u > max ? IntegerText::OutOfRange : IntegerText::Ok;
+    }
+    if (ec == std::errc::result_out_of_range) return IntegerText::OutOfRange;
+    double v = 0.0;
+    auto [dend, dec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (dec != std::errc() || dend != s.data() + s.size()) return IntegerText::NotANumber;
+    constexpr double kExact = 9007199254740992.0;  // 2^53
+    if (!(v == std::floor(v)) || v < double(min) || v > double(max) || v > kExact || v < 0.0)
+        return IntegerText::OutOfRange;
+    out = uint64_t(v);
+    return IntegerText::Ok;
+}
+
+namespace {
+std::string range_text(uint64_t min, uint64_t max) {
+    if (max != UINT64_MAX && max <= 1000000)
+        return "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    std::string r = min == 0   ? "a non-negative integer"
+                    : min == 1 ? "a positive integer"
+                               : "an integer of at least " + std::to_string(min);
+    if (max != UINT64_MAX) r += " (at most " + std::to_string(max) + ")";
+    return r;
+}
+}  // namespace
+
+uint64_t integer_or_fail(std::string_view text, uint64_t min, uint64_t max, const std::string& file,
+                         int line, const std::string& what) {
+    uint64_t v = 0;
+    switch (parse_integer(text, min, max, v)) {
+        case IntegerText::Ok:
+            return v;
+        case IntegerText::NotANumber:
+            throw InputError(file, line, what + " is not a number: '" + std::string(text) + "'");
+        case IntegerText::OutOfRange:
+            break;
+    }
+    throw InputError(file, line,
+                     what + " must be " + range_text(min, max) + ", not " + std::string(text));
+}
+
 void ParamSet::set(const std::string& key, const std::string& value, const std::string& f,
                    int line) {
     for (Param& p : params_)
@@ -101,24 +148,7 @@ uint64_t ParamSet::integer(const std::string& key, uint64_t fallback, uint64_t m
                            uint64_t max) const {
     const Param* p = find(key);
     if (!p) return fallback;
-    const std::string_view s = trim(p->value);
-    // Integers are also accepted in float notation (1e6), as the XML format always did.
-    double v = 0.0;
-    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
-        fail(*p, "setting '" + key + "' is not a number: '" + p->value + "'");
-    if (!(v == std::floor(v)) || v < double(min) || v > double(max)) {
-        std::string range = "setting '" + key + "' must be ";
-        if (max != UINT64_MAX && max <= 1000000)
-            range += "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-        else if (min <= 1)
-            range += min == 0 ? "a non-negative integer" : "a positive integer";
-        else
-            range += "an integer of at least " + std::to_string(min);
-        if (max != UINT64_MAX && max > 1000000) range += " (at most " + std::to_string(max) + ")";
-        fail(*p, range + ", not " + p->value);
-    }
-    return uint64_t(v);
+    return integer_or_fail(p->value, min, max, p->file, p->line, "setting '" + key + "'");
 }
 
 bool ParamSet::boolean(const std::string& key, bool fallback) const {

@@ -45,6 +45,15 @@ struct EnumTable {
     }
 };
 
+// An integer in [min, max] from text: digits are read exactly (any size up to 2^64 - 1);
+// float notation (1e6) is accepted when its value is an integer up to 2^53, where doubles
+// are exact. One parser for the scene file, --set and the command line's numbers.
+enum class IntegerText { Ok, NotANumber, OutOfRange };
+IntegerText parse_integer(std::string_view text, uint64_t min, uint64_t max, uint64_t& out);
+// The same, or an InputError at `file` naming `what` ("--seed", "attribute 'width'").
+uint64_t integer_or_fail(std::string_view text, uint64_t min, uint64_t max, const std::string& file,
+                         int line, const std::string& what);
+
 class ParamSet {
   public:
     // Sets `key` (a later set of the same key replaces it: --set after the file).

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/core/error.h"
+#include "engine/core/input_file.h"
 
 namespace foton {
 
@@ -168,11 +169,7 @@ ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
 }
 
 ObjLoadResult load_obj(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "cannot open mesh file");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return parse_obj(ss.str(), path);
+    return parse_obj(read_input_file(path, kMaxMeshFileBytes, "mesh file"), path);
 }
 
 }  // namespace foton

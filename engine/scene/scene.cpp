@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include "engine/core/error.h"
+
 #include <cstdio>
 
 namespace foton {
@@ -76,6 +78,15 @@ std::size_t Scene::memory_bytes() const {
                     materials.size() * sizeof(Material);
     for (const auto& m : meshes) n += m.memory_bytes();
     return n;
+}
+
+void check_image_size(int width, int height, const std::string& file, int line) {
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+        uint64_t(width) * uint64_t(height) > kMaxImagePixels)
+        throw InputError(file, line,
+                         "image " + std::to_string(width) + "x" + std::to_string(height) +
+                             " is outside the limits: sides 1.." + std::to_string(kMaxImageSide) +
+                             ", at most " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
 void Scene::set_resolution(int width, int height) {

@@ -33,6 +33,13 @@ struct Object {
     bool smooth = false;    // interpolate vertex normals (meshes)
 };
 
+// The largest image a render makes: a side, and the pixel count (the accumulators hold about
+// 40 bytes a pixel). Larger requests are bad input, not an allocation failure.
+constexpr int kMaxImageSide = 32768;
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 27;
+// Throws InputError at file:line for an image beyond those limits.
+void check_image_size(int width, int height, const std::string& file, int line);
+
 struct FilmSettings {
     int width = 512, height = 512;  // the pixels rendered (a crop window's, when cropped)
     float pixel_size = 0.001f;

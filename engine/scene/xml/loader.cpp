@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/core/input_file.h"
+
 namespace foton::xml {
 
 Scene Loader::run() {
@@ -61,6 +63,7 @@ void Loader::parse_film(const pugi::xml_node& n) {
     FilmSettings& f = scene_.film;
     f.width = int(count(n, "width", 512));
     f.height = int(count(n, "height", 512));
+    check_image_size(f.width, f.height, name_, line_of(n));
     f.full_width = f.width;
     f.full_height = f.height;
     f.pixel_size = positive(n, "size", 0.001f);
@@ -135,12 +138,9 @@ Scene parse_scene(const std::string& xml, const std::string& name, const std::st
 }
 
 Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "cannot open scene file");
-    std::ostringstream ss;
-    ss << in.rdbuf();
+    const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
     const std::string base = std::filesystem::path(path).parent_path().string();
-    return parse_scene(ss.str(), path, base.empty() ? "." : base, overrides);
+    return parse_scene(text, path, base.empty() ? "." : base, overrides);
 }
 
 }  // namespace foton

@@ -13,6 +13,7 @@
 #include <pugixml.hpp>
 
 #include "engine/core/error.h"
+#include "engine/core/params.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/xml_loader.h"
 
@@ -89,10 +90,12 @@ class Loader {
         return v;
     }
     uint32_t count(const pugi::xml_node& n, const char* attr, uint32_t fallback) const {
-        if (!n.attribute(attr)) return fallback;
-        const float v = number(n, attr);
-        if (v < 1.f || v != std::floor(v) || v > 1e8f)
-            fail(n, std::string("attribute '") + attr + "' must be a positive integer");
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) return fallback;
+        uint64_t v = 0;
+        if (parse_integer(a.value(), 1, 100000000, v) != IntegerText::Ok)
+            fail(n,
+                 std::string("attribute '") + attr + "' must be a positive integer (at most 1e8)");
         return uint32_t(v);
     }
     bool boolean(const pugi::xml_node& n, const char* attr, bool fallback) const {
@@ -142,8 +145,12 @@ class Loader {
     void parse_renderer(const pugi::xml_node& n);
     void parse_camera(const pugi::xml_node& n);
     uint32_t parse_material(const pugi::xml_node& object);
+    static constexpr int kMaxMixDepth = 16;
+    int mix_depth_ = 0;  // of the mix being read
     Material material(const pugi::xml_node& n, bool top);
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
+    float roughness(const pugi::xml_node& n) const;
+    float exponent(const pugi::xml_node& n, const char* attr, float fallback) const;
     MicrofacetDistribution distribution(const pugi::xml_node& n, const char* fallback) const;
     Affine parse_transform(const pugi::xml_node& object) const;
     void add_area_light(const pugi::xml_node& n);

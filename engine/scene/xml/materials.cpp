@@ -59,28 +59,41 @@ Fresnel Loader::conductor_fresnel(const pugi::xml_node& n) const {
     return f;
 }
 
+// The limits that keep every lobe finite in float (documented in scenes/README.md): a
+// microfacet roughness in [2e-3, 2] (smoother is a specular lobe), an exponent in (0, 1e6].
+float Loader::roughness(const pugi::xml_node& n) const {
+    const float a = positive(n, "roughness", 0.2f);
+    if (a < 2e-3f || a > 2.f)
+        fail(n,
+             "roughness must be in [0.002, 2] (use a specular conductor or dielectric for "
+             "smoother surfaces)");
+    return a;
+}
+
+float Loader::exponent(const pugi::xml_node& n, const char* attr, float fallback) const {
+    const float e = positive(n, attr, fallback);
+    if (e > 1e6f) fail(n, std::string("attribute '") + attr + "' must be at most 1e6");
+    return e;
+}
+
 MicrofacetDistribution Loader::distribution(const pugi::xml_node& n, const char* fallback) const {
     const std::string d =
         n.attribute("distribution") ? n.attribute("distribution").value() : fallback;
     if (d == "blinn") {
         float e = 0.f;
         if (n.attribute("exponent"))
-            e = positive(n, "exponent", 100.f);
+            e = exponent(n, "exponent", 100.f);
         else {
             // Blinn's exponent with the same RMS slope as a Beckmann roughness alpha.
-            const float a = positive(n, "roughness", 0.2f);
+            const float a = roughness(n);
             e = std::max(0.f, 2.f / (a * a) - 2.f);
         }
         return MicrofacetDistribution::blinn(e);
     }
-    if (d == "beckmann") {
-        const float a = positive(n, "roughness", 0.2f);
-        if (a > 2.f) fail(n, "roughness must be in (0, 2]");
-        return MicrofacetDistribution::beckmann(a);
-    }
+    if (d == "beckmann") return MicrofacetDistribution::beckmann(roughness(n));
     if (d == "ashikhmin_shirley" || d == "anisotropic") {
-        return MicrofacetDistribution::ashikhmin_shirley(positive(n, "nu", 100.f),
-                                                         positive(n, "nv", 100.f));
+        return MicrofacetDistribution::ashikhmin_shirley(exponent(n, "nu", 100.f),
+                                                         exponent(n, "nv", 100.f));
     }
     fail(n, "unknown distribution '" + d + "' (blinn, beckmann, ashikhmin_shirley)");
 }
@@ -135,7 +148,7 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         m.c_ambient = non_negative(n, "c_ambient", 0.f);
         m.c_diffuse = non_negative(n, "c_diffuse", m.type == MaterialType::Glass ? 0.f : 1.f);
         m.c_specular = non_negative(n, "c_specular", 1.f);
-        m.exponent = positive(n, "exp", 10.f);
+        m.exponent = exponent(n, "exp", 10.f);
         m.c_reflective = non_negative(n, "c_reflective", 1.f);
         m.ior = positive(n, "ior", 1.5f);
         m.base_color =
@@ -160,12 +173,16 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         if (type == "lambert") {
             check_v(attrs({}), with({"reflectance"}, common_children));
             const RGB r = rgb_child(n, "reflectance", RGB{0.5f});
+            if (r.max_component() > 1.f)
+                fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
             m.bsdf.add(Lobe::lambert(r));
             m.base_color = r;
             m.c_diffuse = 1.f;
         } else if (type == "oren_nayar") {
             check_v(attrs({"sigma"}), with({"reflectance"}, common_children));
             const RGB r = rgb_child(n, "reflectance", RGB{0.5f});
+            if (r.max_component() > 1.f)
+                fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
             const float sigma = non_negative(n, "sigma", 0.3f);
             if (sigma > 1.6f) fail(n, "sigma is in radians and must be at most 1.6");
             m.bsdf.add(Lobe::oren_nayar(r, sigma));
@@ -226,6 +243,14 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
             m.bsdf.add(Lobe::microfacet(spec, d, f));
         } else if (type == "mix") {
             check_v(attrs({}), with({"material"}, common_children));
+            // Mixes nest by recursion: a bound keeps a hostile file from exhausting the stack.
+            if (mix_depth_ >= kMaxMixDepth)
+                fail(n, "mixes nest at most " + std::to_string(kMaxMixDepth) + " deep");
+            ++mix_depth_;
+            struct Leave {
+                int& depth;
+                ~Leave() { --depth; }
+            } leave{mix_depth_};
             float total = 0.f;
             for (const pugi::xml_node& c : n.children("material")) {
                 const float w = non_negative(c, "weight", 1.f);

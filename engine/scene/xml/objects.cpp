@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "engine/core/input_file.h"
 #include "engine/scene/obj_loader.h"
 
 namespace foton::xml {
@@ -49,8 +50,12 @@ void Loader::parse_objects(const pugi::xml_node& n) {
             const std::string src = o.attribute("src").value();
             if (src.empty()) fail(o, "<triangle_mesh> needs attribute 'src'");
             const std::filesystem::path path = std::filesystem::path(base_) / src;
-            if (!std::filesystem::is_regular_file(path))
-                fail(o, "mesh file '" + src + "' not found (looked for " + path.string() + ")");
+            // Any problem with the path (missing, a loop, too long, a pipe) at this line.
+            const std::string problem = input_file_problem(path.string(), kMaxMeshFileBytes);
+            if (!problem.empty())
+                fail(o, (problem == "not found" ? std::string("mesh file not found")
+                                                : "cannot read mesh file (" + problem + ")") +
+                            ": '" + src + "' (looked for " + path.string() + ")");
             const Affine xf = parse_transform(o);
             const uint32_t mat = parse_material(o);
             ObjLoadResult r = load_obj(path.string());

@@ -1,5 +1,7 @@
 #include "render.h"
 
+#include <algorithm>
+
 #include <memory>
 
 #include <tbb/global_control.h>
@@ -14,7 +16,8 @@ int resolve_threads(int requested) {
     // larger request is bounded to what can actually run, and that is what gets recorded.
     const int limit =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    return requested > 0 ? std::min(requested, limit) : tbb::info::default_concurrency();
+    return requested > 0 ? std::min({requested, limit, kMaxThreads})
+                         : std::min(tbb::info::default_concurrency(), kMaxThreads);
 }
 
 RenderResult render(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
@@ -41,6 +44,10 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
     // for more (a scaling study, a determinism test) raises the limit for this render, so
     // the threads recorded are the threads that ran.
     std::unique_ptr<tbb::global_control> allow;
+    if (opt.threads > kMaxThreads)
+        throw InputError("threads", 0,
+                         std::to_string(opt.threads) + " threads: at most " +
+                             std::to_string(kMaxThreads) + " run");
     if (opt.threads > tbb::info::default_concurrency())
         allow = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                       std::size_t(opt.threads));

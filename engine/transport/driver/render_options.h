@@ -66,6 +66,9 @@ struct RenderResult {
     std::vector<Vec3> cache_points;           // the irradiance cache's records (first level)
 };
 
+// The most worker threads a render runs (oneTBB itself fails beyond 65,536).
+constexpr int kMaxThreads = 4096;
+
 // The worker count to run with: `requested`, or every hardware thread for 0.
 int resolve_threads(int requested);
 

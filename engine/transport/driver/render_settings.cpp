@@ -8,9 +8,10 @@ constexpr uint64_t kMaxCount = 100000000;
 
 void parse_sampling(const ParamSet& p, RenderSettings& r) {
     r.integrator = p.text("type", r.integrator);
+    // aa_samples is the first thesis' name; spp (and --spp, which sets it) wins over it.
+    r.run.spp = uint32_t(p.integer("aa_samples", r.run.spp, 1, kMaxCount));
     r.run.spp = uint32_t(p.integer("spp", r.run.spp, 1, kMaxCount));
-    r.run.spp = uint32_t(p.integer("aa_samples", r.run.spp, 1, kMaxCount));  // the first thesis'
-    r.run.threads = int(p.integer("num_threads", 0, 0, 65536));
+    r.run.threads = int(p.integer("num_threads", 0, 0, kMaxThreads));
     r.sampler = p.choice("sampler", sampler_names(), r.sampler);
     r.max_depth = uint32_t(p.integer("max_depth", r.max_depth, 0, 1000));
     r.min_contribution = p.real("min_contribution", r.min_contribution, 0.f);

@@ -1,0 +1,20 @@
+#pragma once
+// The command line's image flags: --width/--height (the field of view kept) and a crop
+// window (--crop in fractions, --pixel-bounds in pixels), checked against the image limits.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/scene.h"
+
+namespace foton::app {
+
+struct ImageFlags {
+    std::optional<std::string> width, height;  // as typed
+    std::vector<double> crop;                  // x0,x1,y0,y1 in fractions of the image
+    std::vector<int> pixel_bounds;             // x0,x1,y0,y1 in pixels
+};
+
+void apply_image_flags(const ImageFlags& args, Scene& scene);
+
+}  // namespace foton::app

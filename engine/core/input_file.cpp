@@ -1,0 +1,39 @@
+#include "input_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "error.h"
+
+namespace foton {
+
+std::string input_file_problem(const std::string& path, uint64_t max_bytes) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (st.type() == fs::file_type::not_found || ec == std::errc::no_such_file_or_directory)
+        return "not found";
+    if (ec) return ec.message();
+    if (st.type() == fs::file_type::directory) return "it is a directory";
+    if (st.type() != fs::file_type::regular) return "not a regular file (a pipe or a device?)";
+    const uint64_t size = fs::file_size(path, ec);
+    if (ec) return ec.message();
+    if (size > max_bytes)
+        return "it is " + std::to_string(size >> 20) + " MiB, more than the " +
+               std::to_string(max_bytes >> 20) + " MiB allowed";
+    return "";
+}
+
+std::string read_input_file(const std::string& path, uint64_t max_bytes, const char* what) {
+    const std::string problem = input_file_problem(path, max_bytes);
+    if (!problem.empty())
+        throw InputError(path, 0, std::string("cannot read ") + what + ": " + problem);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, std::string("cannot open ") + what);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path, 0, std::string("error reading ") + what);
+    return text;
+}
+
+}  // namespace foton

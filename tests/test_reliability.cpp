@@ -1,0 +1,231 @@
+// Issue 19's cases, each as written by the attacker or careless user who found it: exit 2
+// with a clear message (or a correct render), no crash, no NaN, no stray or clobbered file.
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/error.h"
+#include "engine/film/image_io.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "test_util.h"
+
+using namespace foton;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int code;
+    std::string output;
+};
+
+Run foton_cli(const std::string& args) {
+    const std::string cmd = std::string(FOTON_BINARY) + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    const int status = pclose(p);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string scene_with(const std::string& material, const std::string& objects_extra = "") {
+    return R"(<scene><film width="16" height="16"/>
+<camera><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/></camera>
+<lights><point><position x="2" y="3" z="4"/><color r="20" g="20" b="20"/></point></lights>
+<objects>)" +
+           objects_extra + R"(<sphere radius="1"><center x="0" y="0" z="0"/>)" + material +
+           "</sphere></objects></scene>\n";
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_CASE("reliability: nested mixes end with an error, not a stack overflow",
+          "[reliability][fast]") {
+    test::TempDir dir;
+    std::string mix;
+    for (int i = 0; i < 20000; ++i) mix += R"(<material type="mix">)";
+    mix += R"(<material type="lambert"/>)";
+    for (int i = 0; i < 20000; ++i) mix += "</material>";
+    std::ofstream(dir.file("deep.xml")) << scene_with(mix);
+    for (const char* cmd : {"info ", "render -q --width 4 --height 4 -o "}) {
+        const std::string out = std::string(cmd).rfind("render", 0) == 0
+                                    ? dir.file("o.exr") + " " + dir.file("deep.xml")
+                                    : dir.file("deep.xml");
+        const Run r = foton_cli(cmd + out);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("deep.xml:4: mixes nest at most 16 deep"));
+    }
+}
+
+TEST_CASE("reliability: thread counts beyond the limit are bad input", "[reliability][fast]") {
+    const std::string scene = test::source_path("scenes/cornell-diffuse.xml");
+    for (const char* a :
+         {"--threads 70000", "--set num_threads=70000", "--set num_threads=3e9", "--threads -3"}) {
+        INFO(a);
+        const Run r = foton_cli("render " + scene + " --width 8 --height 8 -q -o /dev/null " + a);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("num_threads' must be an integer in [0, 4096]"));
+    }
+    TestScene s = load_scene(scene);
+    s.set_resolution(4, 4);
+    const auto accel = make_intersector(s, AccelType::Bvh, 1);
+    RenderOptions opt;
+    opt.threads = 70000;
+    CHECK_THROWS_AS(render(s, s.render, *accel, opt), InputError);
+}
+
+TEST_CASE("reliability: integers are parsed as integers, exactly, everywhere",
+          "[reliability][fast]") {
+    test::TempDir dir;
+    const std::string scene = test::source_path("scenes/cornell-diffuse.xml");
+    const std::string common = " --width 12 --height 12 -q -o ";
+    for (const char* a :
+         {"--set rr_depth=1e20", "--set seed=1e30", "--seed -1", "--seed 18446744073709551616",
+          "--spp -1", "--spp 2.5", "--set max_depth=-1"}) {
+        INFO(a);
+        const Run r = foton_cli("render " + scene + common + dir.file("x.exr") + " " + a);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("must be"));
+        CHECK_THAT(r.output, !Catch::Contains("must not be negative"));
+    }
+    // Seeds that a float could not tell apart give different images, from the file, --set
+    // and --seed alike; the largest seed is accepted.
+    auto image = [&](const std::string& flags) {
+        const std::string out = dir.file("s.exr");
+        REQUIRE(foton_cli("render " + scene + common + out + " --spp 1 " + flags).code == 0);
+        return read_exr(out).pixels;
+    };
+    auto same = [](const std::vector<RGB>& a, const std::vector<RGB>& b) {
+        return std::memcmp(a.data(), b.data(), a.size() * sizeof(RGB)) == 0;
+    };
+    CHECK_FALSE(same(image("--set seed=16777216"), image("--set seed=16777217")));
+    CHECK_FALSE(same(image("--seed 100000000"), image("--seed 100000001")));
+    CHECK_FALSE(same(image("--seed 1152921504606846976"), image("--seed 1152921504606846977")));
+    CHECK(same(image("--seed 100000001"), image("--set seed=100000001")));
+    CHECK(same(image("--seed 1000000"), image("--set seed=1e6")));  // float notation, exact
+    image("--seed 18446744073709551615");
+}
+
+TEST_CASE("reliability: outputs are checked before any work", "[reliability][fast]") {
+    test::TempDir dir;
+    const std::string scene = dir.file("scene.xml");
+    fs::copy_file(test::source_path("scenes/cornell-diffuse.xml"), scene);
+    const std::string before = slurp(scene);
+    fs::create_directories(dir.file("adir.exr"));
+    struct Case {
+        std::string flags, message;
+    };
+    for (const Case& c : {Case{"-o " + dir.file("adir.exr"), "is a directory"},
+                          Case{"--stats-json " + scene, "is the scene file itself"},
+                          Case{"--cache-points " + scene, "is the scene file itself"},
+                          Case{"--stats-json " + dir.file("adir.exr"), "is a directory"},
+                          Case{"-o " + dir.file("x.png"), "output must be an .exr file"}}) {
+        INFO(c.flags);
+        const Run r = foton_cli("render " + scene + " --width 8 --height 8 -q " + c.flags);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains(c.message));
+        CHECK_THAT(r.output, !Catch::Contains("internal error"));
+    }
+    CHECK(slurp(scene) == before);  // never overwritten
+    int files = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++files;
+    CHECK(files == 2);  // the scene and the directory: nothing written, no temporary left
+}
+
+TEST_CASE("reliability: bad paths and sizes are bad input at their line", "[reliability][fast]") {
+    test::TempDir dir;
+    // A symlink loop and an over-long name as mesh files; a FIFO and a device as scenes.
+    fs::create_symlink(dir.file("loop_b"), dir.file("loop_a"));
+    fs::create_symlink(dir.file("loop_a"), dir.file("loop_b"));
+    const std::string longname(5000, 'n');
+    for (const auto& [src, message] :
+         {std::pair{dir.file("loop_a"), "Too many levels of symbolic links"},
+          std::pair{longname, "File name too long"}}) {
+        std::ofstream(dir.file("m.xml"))
+            << scene_with(R"(<material type="lambert"/>)", "<triangle_mesh src=\"" + src + "\"/>");
+        const Run r = foton_cli("info " + dir.file("m.xml"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("m.xml:4: cannot read mesh file"));
+        CHECK_THAT(r.output, Catch::Contains(message));
+        CHECK(r.output.size() < 3000);  // the long name is cut in the message
+    }
+    REQUIRE(mkfifo(dir.file("fifo.xml").c_str(), 0600) == 0);
+    for (const std::string& s : {dir.file("fifo.xml"), std::string("/dev/zero"), dir.path().string()}) {
+        const Run r = foton_cli("info " + s);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("cannot read scene file"));
+    }
+    const std::string scene = test::source_path("scenes/cornell-diffuse.xml");
+    for (const char* a : {"--width 40000", "--width 20000 --height 20000", "--height 0"}) {
+        const Run r = foton_cli("render " + scene + " -q -o " + dir.file("big.exr") + " " + a);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, !Catch::Contains("bad_alloc"));
+    }
+    // A 1 MB attribute with control bytes: the message is short and prints no raw control.
+    std::string value(1 << 20, 'x');
+    value[10] = '\x1b';
+    std::string text = scene_with("<material type=\"lambert\"/>");
+    text.replace(text.find("radius=\"1\""), 10, "radius=\"" + value + "\"");
+    std::ofstream(dir.file("v.xml")) << text;
+    const Run v = foton_cli("info " + dir.file("v.xml"));
+    CHECK(v.code == 2);
+    CHECK(v.output.size() < 3000);
+    CHECK(v.output.find('\x1b') == std::string::npos);
+    CHECK_THAT(v.output, Catch::Contains("\\x1b"));
+}
+
+TEST_CASE("reliability: every accepted material parameter renders without NaN",
+          "[reliability][fast]") {
+    test::TempDir dir;
+    // Beyond the documented limits: bad input.
+    for (const char* m :
+         {R"(<material type="phong" exp="1e8"><base_color r="0.5" g="0.5" b="0.5"/></material>)",
+          R"(<material type="microfacet" distribution="blinn" exponent="1e20"/>)",
+          R"(<material type="conductor" preset="gold" roughness="1e-30"/>)",
+          R"(<material type="microfacet" distribution="beckmann" roughness="1e-10"/>)",
+          R"(<material type="lambert"><reflectance r="1.5" g="0.5" b="0.5"/></material>)",
+          R"(<material type="oren_nayar"><reflectance r="0.5" g="2" b="0.5"/></material>)"}) {
+        INFO(m);
+        std::ofstream(dir.file("m.xml")) << scene_with(m);
+        const Run r = foton_cli("info " + dir.file("m.xml"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("m.xml:"));
+    }
+    // At the limits: finite pixels with every integrator that reads them.
+    for (const char* m :
+         {R"(<material type="phong" exp="1e6"><base_color r="0.5" g="0.5" b="0.5"/></material>)",
+          R"(<material type="microfacet" distribution="blinn" exponent="1e6"/>)",
+          R"(<material type="microfacet" distribution="blinn" roughness="0.002"/>)",
+          R"(<material type="conductor" preset="gold" roughness="0.002"/>)",
+          R"(<material type="microfacet" distribution="beckmann" roughness="0.002"/>)",
+          R"(<material type="microfacet" distribution="ashikhmin_shirley" nu="1e6" nv="0.001"/>)",
+          R"(<material type="lambert"><reflectance r="1" g="1" b="1"/></material>)"}) {
+        INFO(m);
+        std::ofstream(dir.file("m.xml")) << scene_with(m);
+        for (const char* type : {"raytracer", "path", "light", "photon"}) {
+            INFO(type);
+            const Run r = foton_cli("render " + dir.file("m.xml") + " -q --spp 2 --integrator " +
+                                    type + " -o " + dir.file("m.exr"));
+            REQUIRE(r.code == 0);
+            int bad = 0;
+            for (const RGB& p : read_exr(dir.file("m.exr")).pixels)
+                bad += !(std::isfinite(p.r) && std::isfinite(p.g) && std::isfinite(p.b));
+            CHECK(bad == 0);
+        }
+    }
+}
