@@ -210,7 +210,7 @@ TEST_CASE("chi-square: emitted directions of point, spot, rectangle and two-side
     }
 }
 
-TEST_CASE("emitted flux equals each light's power; lights are chosen by power", "[light]") {
+TEST_CASE("emitted flux equals each light's power, and lights are chosen by power", "[light]") {
     const Scene scene = light_scene();
     const LightSet ls(scene);
     for (std::size_t li = 0; li < ls.size(); ++li) {

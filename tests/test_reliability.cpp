@@ -4,12 +4,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <thread>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
@@ -165,7 +168,8 @@ TEST_CASE("reliability: bad paths and sizes are bad input at their line", "[reli
         CHECK(r.output.size() < 3000);  // the long name is cut in the message
     }
     REQUIRE(mkfifo(dir.file("fifo.xml").c_str(), 0600) == 0);
-    for (const std::string& s : {dir.file("fifo.xml"), std::string("/dev/zero"), dir.path().string()}) {
+    for (const std::string& s :
+         {dir.file("fifo.xml"), std::string("/dev/zero"), dir.path().string()}) {
         const Run r = foton_cli("info " + s);
         CHECK(r.code == 2);
         CHECK_THAT(r.output, Catch::Contains("cannot read scene file"));
@@ -228,4 +232,77 @@ TEST_CASE("reliability: every accepted material parameter renders without NaN",
             CHECK(bad == 0);
         }
     }
+}
+
+namespace {
+// Starts foton with `args` (no shell), its output to /dev/null.
+pid_t spawn_foton(const std::vector<std::string>& args) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::vector<char*> argv{const_cast<char*>(FOTON_BINARY)};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execv(FOTON_BINARY, argv.data());
+        _exit(127);
+    }
+    return pid;
+}
+
+int wait_exit(pid_t pid) {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int hidden_files(const std::string& dir) {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string()[0] == '.';
+    return n;
+}
+}  // namespace
+
+TEST_CASE("reliability: Ctrl-C keeps the image so far, a second one quits at once",
+          "[reliability]") {
+    test::TempDir dir;
+    const std::string scene = test::source_path("scenes/cornell-diffuse.xml");
+    // A 30 s progressive render and a long single pass: the first signal ends each soon after,
+    // with a valid image that says how many samples it holds.
+    for (const std::vector<std::string>& extra :
+         {std::vector<std::string>{"--time", "30", "--width", "32", "--height", "32"},
+          std::vector<std::string>{"--spp", "4000", "--width", "256", "--height", "256"}}) {
+        std::vector<std::string> args = {"render", scene, "-q", "-o", dir.file("i.exr")};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto t0 = std::chrono::steady_clock::now();
+        const pid_t pid = spawn_foton(args);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        kill(pid, SIGINT);
+        CHECK(wait_exit(pid) == 130);
+        CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20));
+        const Film f = read_exr(dir.file("i.exr"));
+        CHECK(f.width > 0);
+        std::string interrupted, spp;
+        for (const auto& [k, v] : read_exr_attributes(dir.file("i.exr"))) {
+            if (k == "foton:interrupted") interrupted = v;
+            if (k == "foton:samples") spp = v;
+        }
+        CHECK(interrupted == "true");
+        CHECK(std::stod(spp) > 0.0);
+        CHECK(hidden_files(dir.path()) == 0);
+        fs::remove(dir.file("i.exr"));
+    }
+    // Photon tracing does not stop between passes: the second signal ends the process.
+    const pid_t pid = spawn_foton({"render", test::source_path("scenes/cornell-caustics.xml"),
+                                   "--integrator", "photon", "--set", "global_photons=2000000000",
+                                   "--width", "8", "--height", "8", "-q", "-o", dir.file("p.exr")});
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    const auto t0 = std::chrono::steady_clock::now();
+    kill(pid, SIGTERM);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    kill(pid, SIGINT);
+    CHECK(wait_exit(pid) == 130);
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(3));
+    CHECK_FALSE(fs::exists(dir.file("p.exr")));
+    CHECK(hidden_files(dir.path()) == 0);
 }

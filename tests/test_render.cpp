@@ -203,7 +203,7 @@ TEST_CASE("the Whitted tracer renders the physically based materials too", "[ren
     CHECK(e.rmse < 1e-3);
 }
 
-TEST_CASE("every integrator reports its stage graph; photon mapping's runs through the camera",
+TEST_CASE("every integrator reports its stage graph, and photon mapping's runs through the camera",
           "[render]") {
     auto graph_of = [](const std::string& type, const std::string& indirect) {
         TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"),

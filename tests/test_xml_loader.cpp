@@ -113,7 +113,7 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
     CHECK(s.camera.exposure == 1.5f);
 }
 
-TEST_CASE("XML: fov sets the pixel size; the shipped scenes load", "[xml]") {
+TEST_CASE("XML: fov sets the pixel size, and the shipped scenes load", "[xml]") {
     const TestScene s = parse_scene(
         R"(<scene><film width="512" height="512"/><camera d="1" fov="39.3077"><eye x="278" y="277.5" z="-800"/><target x="278" y="277.5" z="0"/></camera>)" +
             std::string(kSphere) + "</scene>",

@@ -20,6 +20,7 @@
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
 #include "image_flags.h"
+#include "interrupt.h"
 #include "json_text.h"
 #include "kernels/simd.h"
 #include "progress_line.h"
@@ -264,7 +265,11 @@ int run_render(const RenderArgs& args) {
     }
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Ctrl-C from here on stops the render and keeps what it made.
+    InterruptGuard interrupt;
+    opt.cancel = &InterruptGuard::requested();
     RenderResult res = render(scene, rs, *accel, opt);
+    const bool interrupted = InterruptGuard::requested().load();
     line.reset();
     display.reset();  // the last pass's image reaches the viewer
     res.stats.build_seconds = build;
@@ -275,6 +280,7 @@ int run_render(const RenderArgs& args) {
     ImageAttributes attrs =
         attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
+    if (interrupted) attrs.push_back({"foton:interrupted", "true"});
     write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
     write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
     if (!args.cache_points.empty()) {
@@ -325,6 +331,13 @@ int run_render(const RenderArgs& args) {
             res.stats.passes, accel->name(), res.stats.threads, res.stats.wall_seconds, out.c_str(),
             png.c_str());
     if (convergence && !args.quiet) std::printf("wrote %s\n", convergence_csv.c_str());
+    if (interrupted) {
+        std::fprintf(stderr,
+                     "foton: interrupted after %u passes (%.4g spp on average): the image "
+                     "so far was written\n",
+                     res.stats.passes, spp_mean);
+        return kExitInterrupted;
+    }
     return 0;
 }
 

@@ -1,8 +1,10 @@
 #include "image_io.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -27,6 +29,11 @@ namespace foton {
 
 namespace {
 
+// The temporary file being written, for remove_pending_temp_file (a signal handler): a
+// fixed buffer, published by an atomic pointer, so the handler reads no half-written name.
+char g_temp_name[4096];
+std::atomic<const char*> g_pending_temp{nullptr};
+
 // Runs `write(tmp)` and renames tmp to `path`; removes tmp on any failure.
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string&)>& write) {
@@ -38,10 +45,17 @@ void write_atomically(const std::string& path,
     std::string name = ".";
     name.append(target.filename().string()).append(".tmp-").append(std::to_string(getpid()));
     const fs::path tmp = dir / name;
+    const std::string tmp_text = tmp.string();
+    if (tmp_text.size() < sizeof g_temp_name) {
+        std::memcpy(g_temp_name, tmp_text.c_str(), tmp_text.size() + 1);
+        g_pending_temp.store(g_temp_name);
+    }
     try {
-        write(tmp.string());
+        write(tmp_text);
         fs::rename(tmp, target);
+        g_pending_temp.store(nullptr);
     } catch (...) {
+        g_pending_temp.store(nullptr);
         std::error_code ec;
         fs::remove(tmp, ec);
         throw;
@@ -49,6 +63,10 @@ void write_atomically(const std::string& path,
 }
 
 }  // namespace
+
+void remove_pending_temp_file() noexcept {
+    if (const char* name = g_pending_temp.exchange(nullptr)) unlink(name);
+}
 
 void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
                const ExrRenderInfo& info) {

@@ -35,6 +35,9 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
 ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
 Film read_exr(const std::string& path);
+// Removes the temporary file of an image being written, if any: async-signal-safe, for an
+// interrupt handler that is about to end the process.
+void remove_pending_temp_file() noexcept;
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
 // The same preview as PNG file contents, in memory.

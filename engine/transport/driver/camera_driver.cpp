@@ -248,7 +248,8 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         flow::graph g;
         std::size_t next = 0;
         flow::input_node<TileWork*> source(g, [&](tbb::flow_control& fc) -> TileWork* {
-            if (next == tiles.size()) {
+            // A cancelled render hands out no further tile: the pass ends with what is done.
+            if (next == tiles.size() || (opt.cancel && opt.cancel->load())) {
                 fc.stop();
                 return nullptr;
             }
