@@ -20,7 +20,7 @@ Camera make(CameraType type) {
 }
 }  // namespace
 
-TEST_CASE("perspective camera rays for known pixels", "[camera]") {
+TEST_CASE("perspective camera rays for known pixels", "[camera][fast]") {
     const Camera c = make(CameraType::Perspective);
     Vec3 o, d;
     // Image centre: straight down the view axis.
@@ -43,7 +43,7 @@ TEST_CASE("perspective camera rays for known pixels", "[camera]") {
     CHECK(c.vertical_fov_degrees() == Approx(2.0 * std::atan(128 * 0.004 / 2.0) * 180.0 / M_PI));
 }
 
-TEST_CASE("orthographic camera rays are parallel and offset on the view plane", "[camera]") {
+TEST_CASE("orthographic camera rays are parallel and offset on the view plane", "[camera][fast]") {
     const Camera c = make(CameraType::Orthographic);
     Vec3 o, d;
     c.generate(256.f, 128.f, o, d);
@@ -57,7 +57,7 @@ TEST_CASE("orthographic camera rays are parallel and offset on the view plane", 
 }
 
 TEST_CASE("thin lens: every ray of a pixel meets the pinhole ray on the plane in focus",
-          "[camera]") {
+          "[camera][fast]") {
     Camera c = make(CameraType::Perspective);
     c.lens_radius = 5.f;
     c.focal_distance = 600.f;
@@ -98,7 +98,7 @@ Vec3 transform(const std::array<float, 16>& m, const Vec3& p) {
 }  // namespace
 
 TEST_CASE("EXR camera matrices: worldToCamera and worldToNDC agree with the camera's rays",
-          "[camera]") {
+          "[camera][fast]") {
     for (CameraType type : {CameraType::Perspective, CameraType::Orthographic}) {
         Camera c = make(type);
         c.eye = {1, 2, 3};

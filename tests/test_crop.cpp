@@ -11,7 +11,7 @@
 
 using namespace foton;
 
-TEST_CASE("a crop window's pixels equal the full render's, bit for bit", "[crop]") {
+TEST_CASE("a crop window's pixels equal the full render's, bit for bit", "[crop][fast]") {
     struct Case {
         const char* scene;
         const char* type;
@@ -60,7 +60,7 @@ TEST_CASE("a crop window's pixels equal the full render's, bit for bit", "[crop]
     }
 }
 
-TEST_CASE("a crop is written as the data window of the full image", "[crop]") {
+TEST_CASE("a crop is written as the data window of the full image", "[crop][fast]") {
     test::TempDir dir;
     Film f(4, 3);
     for (int y = 0; y < 3; ++y)

@@ -8,7 +8,7 @@
 
 using namespace foton;
 
-TEST_CASE("EXR round trip keeps float values", "[image]") {
+TEST_CASE("EXR round trip keeps float values", "[image][fast]") {
     test::TempDir dir;
     Film f(7, 5);
     for (int y = 0; y < 5; ++y)
@@ -24,13 +24,13 @@ TEST_CASE("EXR round trip keeps float values", "[image]") {
     CHECK(files == 1);
 }
 
-TEST_CASE("writing into a missing directory fails cleanly", "[image][bad-input]") {
+TEST_CASE("writing into a missing directory fails cleanly", "[image][bad-input][fast]") {
     Film f(2, 2);
     CHECK_THROWS_AS(write_exr("/nonexistent-dir/x.exr", f), InputError);
     CHECK_THROWS_AS(read_exr("/nonexistent-dir/x.exr"), InputError);
 }
 
-TEST_CASE("image metrics", "[image]") {
+TEST_CASE("image metrics", "[image][fast]") {
     Film a(2, 1), b(2, 1);
     a.at(0, 0) = RGB(1.f);
     b.at(0, 0) = RGB(0.f);

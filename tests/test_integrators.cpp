@@ -287,7 +287,8 @@ TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator]
     CHECK(t.stats.wall_seconds >= 0.05);
 }
 
-TEST_CASE("every integrator reports each pass to the pass observer", "[integrator][progressive]") {
+TEST_CASE("every integrator reports each pass to the pass observer",
+          "[integrator][progressive][fast]") {
     for (const char* type : {"path", "light", "photon", "sppm", "ppm", "raytracer"}) {
         INFO(type);
         const TestScene s = cornell(16, type);

@@ -20,7 +20,7 @@ void expect_error(const std::string& text, int line, const std::string& what) {
 }
 }  // namespace
 
-TEST_CASE("OBJ: positions, polygons, normals, negative indices", "[obj]") {
+TEST_CASE("OBJ: positions, polygons, normals, negative indices", "[obj][fast]") {
     const ObjLoadResult r = parse_obj(
         "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\ng group\nf 1 2 3 4\n", "q.obj");
     CHECK(r.mesh.num_triangles() == 2);
@@ -34,7 +34,7 @@ TEST_CASE("OBJ: positions, polygons, normals, negative indices", "[obj]") {
     CHECK(n.mesh.vertex_normal(0).z == 1.f);
 }
 
-TEST_CASE("OBJ: bad input is reported with its line", "[obj][bad-input]") {
+TEST_CASE("OBJ: bad input is reported with its line", "[obj][bad-input][fast]") {
     expect_error("v 0 0 0\nv 1 0 0\nf 1 2 3\n", 3, "vertex index 3 out of range");
     expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 0 1 2\n", 4, "out of range");
     expect_error("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 -4\n", 4, "out of range");
@@ -50,14 +50,14 @@ TEST_CASE("OBJ: bad input is reported with its line", "[obj][bad-input]") {
     CHECK_THROWS_AS(load_obj("/nonexistent/mesh.obj"), InputError);
 }
 
-TEST_CASE("OBJ: degenerate triangles are skipped and counted", "[obj][bad-input]") {
+TEST_CASE("OBJ: degenerate triangles are skipped and counted", "[obj][bad-input][fast]") {
     const ObjLoadResult r =
         parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 3\n", "d.obj");
     CHECK(r.mesh.num_triangles() == 1);
     CHECK(r.degenerate_skipped == 2);
 }
 
-TEST_CASE("OBJ: the shared meshes load with their documented sizes", "[obj]") {
+TEST_CASE("OBJ: the shared meshes load with their documented sizes", "[obj][fast]") {
     const ObjLoadResult bunny = load_obj(test::shared_path("meshes/bunny.obj"));
     CHECK(bunny.mesh.num_triangles() == 69451);
     CHECK(bunny.degenerate_skipped == 0);

@@ -4,7 +4,7 @@
 
 using namespace foton;
 
-TEST_CASE("Fresnel reflectance of a dielectric", "[optics]") {
+TEST_CASE("Fresnel reflectance of a dielectric", "[optics][fast]") {
     // Normal incidence: ((n - 1) / (n + 1))^2.
     CHECK(fresnel_dielectric(1.f, 1.f, 1.5f) == Approx(0.04f));
     CHECK(fresnel_dielectric(1.f, 1.5f, 1.f) == Approx(0.04f));
@@ -22,7 +22,7 @@ TEST_CASE("Fresnel reflectance of a dielectric", "[optics]") {
     CHECK(fresnel_dielectric(std::cos(40.f * kPi / 180.f), 1.5f, 1.f) < 1.f);
 }
 
-TEST_CASE("reflection and refraction directions, total internal reflection", "[optics]") {
+TEST_CASE("reflection and refraction directions, total internal reflection", "[optics][fast]") {
     const Vec3 n{0, 1, 0};
     const Vec3 d = normalize(Vec3{1, -1, 0});
     const Vec3 r = reflect(d, n);

@@ -26,7 +26,7 @@ double chi_square(SamplerKind kind, uint32_t n, int n_patterns, int k) {
 }
 }  // namespace
 
-TEST_CASE("random and jittered patterns are uniform (chi-square)", "[sampler]") {
+TEST_CASE("random and jittered patterns are uniform (chi-square)", "[sampler][fast]") {
     // 64 bins: 63 degrees of freedom; the 0.999 quantile is 103.4.
     CHECK(chi_square(SamplerKind::Random, 16, 4000, 8) < 103.4);
     CHECK(chi_square(SamplerKind::Jittered, 16, 4000, 8) < 103.4);
@@ -39,7 +39,7 @@ TEST_CASE("random and jittered patterns are uniform (chi-square)", "[sampler]") 
     CHECK(chi2 > 103.4);
 }
 
-TEST_CASE("jittered samples stay in their strata", "[sampler]") {
+TEST_CASE("jittered samples stay in their strata", "[sampler][fast]") {
     for (uint32_t n : {1u, 4u, 6u, 16u, 7u}) {
         uint32_t cols, rows;
         stratum_grid(n, cols, rows);
@@ -53,7 +53,7 @@ TEST_CASE("jittered samples stay in their strata", "[sampler]") {
     }
 }
 
-TEST_CASE("regular and Hammersley patterns are deterministic", "[sampler]") {
+TEST_CASE("regular and Hammersley patterns are deterministic", "[sampler][fast]") {
     const Point2 c = sample_pattern(SamplerKind::Regular, 0, 1, 0, 0);
     CHECK(c.x == 0.5f);
     CHECK(c.y == 0.5f);

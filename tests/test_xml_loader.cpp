@@ -38,7 +38,7 @@ void expect_error(const std::string& xml, int line, const std::string& what,
 }
 }  // namespace
 
-TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
+TEST_CASE("XML: the thesis' appendix A elements", "[xml][fast]") {
     const TestScene s = parse(R"(<scene>
   <background r="0.1" g="0.2" b="0.3"/>
   <ambient r="1" g="0.5" b="1" intensity="0.1"/>
@@ -113,7 +113,7 @@ TEST_CASE("XML: the thesis' appendix A elements", "[xml]") {
     CHECK(s.camera.exposure == 1.5f);
 }
 
-TEST_CASE("XML: fov sets the pixel size, and the shipped scenes load", "[xml]") {
+TEST_CASE("XML: fov sets the pixel size, and the shipped scenes load", "[xml][fast]") {
     const TestScene s = parse_scene(
         R"(<scene><film width="512" height="512"/><camera d="1" fov="39.3077"><eye x="278" y="277.5" z="-800"/><target x="278" y="277.5" z="0"/></camera>)" +
             std::string(kSphere) + "</scene>",
@@ -125,7 +125,7 @@ TEST_CASE("XML: fov sets the pixel size, and the shipped scenes load", "[xml]") 
     }
 }
 
-TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
+TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input][fast]") {
     SECTION("malformed XML") {
         expect_error("<scene>\n<film width=\"1\"\n</scene>", 3, "malformed XML");
     }
@@ -209,7 +209,7 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input]") {
     }
 }
 
-TEST_CASE("XML: physically based materials, emission, integrator settings", "[xml]") {
+TEST_CASE("XML: physically based materials, emission, integrator settings", "[xml][fast]") {
     auto obj = [](const std::string& mat) {
         return "<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>" + mat + "</sphere>";
     };
@@ -258,7 +258,7 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     CHECK(t.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
 }
 
-TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][bad-input]") {
+TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][bad-input][fast]") {
     auto mat = [](const std::string& m) {
         return std::string("<scene>") + kFilmCamera +
                "<objects>\n<sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>\n" + m +
@@ -292,7 +292,7 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
 }
 
 TEST_CASE("XML: renderer settings are typed and checked by name, with their line",
-          "[xml][bad-input]") {
+          "[xml][bad-input][fast]") {
     expect_error(scene_xml("\n<renderer spp=\"4\" gather_ray=\"8\"/>"), 5,
                  "unknown setting 'gather_ray' (did you mean 'gather_rays'?)");
     expect_error(scene_xml("\n<renderer frobnicate=\"yes\"/>"), 5, "unknown setting 'frobnicate'");
