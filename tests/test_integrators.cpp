@@ -3,6 +3,7 @@
 // reference, distributed = path where they must agree, determinism, adaptive and progressive
 // sampling.
 #include <catch2/catch.hpp>
+#include <cstring>
 
 #include "engine/accel/intersector.h"
 #include "engine/film/image_io.h"
@@ -321,5 +322,26 @@ TEST_CASE("every integrator reports each pass to the pass observer",
         render(s, s.render, *acc, opt);
         REQUIRE(reports.size() == 1);
         CHECK(reports[0].last);
+    }
+}
+
+TEST_CASE("a pass of many samples runs in pieces with the same image", "[integrator][fast]") {
+    for (const char* type : {"path", "raytracer", "distributed", "photon"}) {
+        INFO(type);
+        TestScene s = cornell(16, type);
+        s.render.photon.global_photons = 2000;
+        s.render.photon.gather_rays = 2;
+        const auto acc = make_intersector(s, s.accel);
+        RenderOptions opt;
+        opt.spp = 7;
+        opt.seed = 5;
+        opt.threads = 2;
+        const RenderResult whole = render(s, s.render, *acc, opt);
+        opt.chunk_spp = 3;  // pieces of 3, 3 and 1 samples
+        const RenderResult pieces = render(s, s.render, *acc, opt);
+        CHECK(std::memcmp(whole.film.pixels.data(), pieces.film.pixels.data(),
+                          whole.film.pixels.size() * sizeof(RGB)) == 0);
+        CHECK(pieces.samples_per_pixel == whole.samples_per_pixel);
+        CHECK(pieces.stats.samples == whole.stats.samples);
     }
 }

@@ -72,15 +72,17 @@ class CameraDriver {
                  const CameraIntegrator& integrator, const RenderOptions& opt)
         : scene_(scene), adaptive_(adaptive), integrator_(integrator), opt_(opt) {}
 
-    // Fixed samples: pass p gives every pixel of the tile opt.spp samples.
-    void make_jobs(const Tile& t, uint32_t pass, std::vector<SampleJob>& jobs) const {
+    // Fixed samples: pass p gives every pixel of the tile opt.spp samples, [s0, s1) of them
+    // in this piece of the pass.
+    void make_jobs(const Tile& t, uint32_t pass, uint32_t s0, uint32_t s1,
+                   std::vector<SampleJob>& jobs) const {
         const uint32_t spp = opt_.spp;
         const uint64_t npix = scene_.film.full_pixels();
         jobs.clear();
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const uint64_t pixel = scene_.film.pixel_id(uint32_t(x), uint32_t(y));
-                for (uint32_t s = 0; s < spp; ++s)
+                for (uint32_t s = s0; s < s1; ++s)
                     jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
                                     (uint64_t(pass) * npix + pixel) * spp + s});
             }
@@ -243,7 +245,12 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     tbb::enumerable_thread_specific<RenderStats> stats;
     const ProgressTask* progress_task = nullptr;
 
-    auto run_pass = [&](uint32_t pass) {
+    // A pass of many samples per pixel runs in pieces of at most opt.chunk_spp, one after
+    // the other: a tile's jobs stay small, and as every pixel still adds its samples in
+    // order, the image is the same bit for bit.
+    const uint32_t chunk = adaptive ? opt.spp : std::max<uint32_t>(1, opt.chunk_spp);
+    const uint32_t pieces = (opt.spp + chunk - 1) / chunk;
+    auto run_piece = [&](uint32_t pass, uint32_t s0, uint32_t s1) {
         namespace flow = tbb::flow;
         flow::graph g;
         std::size_t next = 0;
@@ -274,7 +281,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     if (adaptive) {
                         driver.adaptive_tile(t, *w->ws, st, w->jobs, w->out, w->sum, w->count);
                     } else {
-                        if (k == 0) driver.make_jobs(t, pass, w->jobs);
+                        if (k == 0) driver.make_jobs(t, pass, s0, s1, w->jobs);
                         integrator.trace_phase(uint32_t(k), w->jobs, *w->ws, w->out, st);
                     }
                     timer.items = w->jobs.size();
@@ -302,12 +309,17 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         source.activate();
         g.wait_for_all();
     };
+    auto run_pass = [&](uint32_t pass) {
+        for (uint32_t p = 0; p < pieces; ++p)
+            run_piece(pass, p * chunk, std::min(opt.spp, (p + 1) * chunk));
+    };
 
     PassControl control(opt);
     uint32_t passes = 0;
     {
         const ProgressTask task =
-            control.task(adaptive ? "adaptive-sampling" : integrator.phase_name(0), tiles.size());
+            control.task(adaptive ? "adaptive-sampling" : integrator.phase_name(0),
+                         uint64_t(tiles.size()) * pieces);
         progress_task = &task;
         tbb::task_arena arena(threads);
         do {

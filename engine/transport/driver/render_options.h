@@ -42,6 +42,9 @@ struct RenderOptions {
     // either run `spp` passes.
     uint32_t max_passes = 0;
     int tile_size = 16;
+    // Samples per pixel a camera tile carries at once: a pass of more runs in pieces (memory
+    // stays bounded; the image does not depend on it).
+    uint32_t chunk_spp = 256;
     Progress* progress = nullptr;  // where the render reports its tasks (a progress line)
     // Called after the first pass that ends at or after each of these times (seconds), with
     // the image so far: equal-time studies take several snapshots from one run.
