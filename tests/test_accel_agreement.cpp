@@ -74,7 +74,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
 
 TEST_CASE("accelerators agree on 100k random rays over the bunny", "[accel]") {
     const Scene scene = load_scene(test::source_path("scenes/bunny.xml"));
-    check_agreement(scene, 100000, 11);
+    check_agreement(scene, test::scaled(100000), 11);
 }
 
 TEST_CASE("accelerators agree on the Cornell box", "[accel]") {

@@ -12,6 +12,7 @@
 #include "bench/ray_sets.h"
 #include "brute_oracle.h"
 #include "kernels/triangle_bvh.h"
+#include "test_util.h"
 
 using namespace foton;
 using namespace foton::kern;
@@ -123,7 +124,7 @@ template <class Bvh>
 std::size_t check_rays(const Bvh& bvh, const test::BruteOracle& brute, const TriangleMesh& mesh,
                        const std::vector<Ray1>& rays, bool twin, double max_unstable = 0.005) {
     std::size_t hits = 0, unstable = 0;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
+    for (std::size_t i = 0; i < rays.size(); i += test::kSanitizedStride) {
         const Ray1& r = rays[i];
         INFO(std::hexfloat << "ray " << i << ": o " << r.ox << " " << r.oy << " " << r.oz << " d "
                            << r.dx << " " << r.dy << " " << r.dz << " tmax " << r.tmax);
@@ -174,13 +175,14 @@ TEST_CASE("bvh equals brute force on every ray of the benchmark ray sets", "[ker
         const std::size_t hits = check_rays(bvh, brute, scene.mesh, sets.primary, !big) +
                                  check_rays(bvh, brute, scene.mesh, sets.diffuse, !big);
         std::size_t blocked = 0;
-        for (const Ray1& r : sets.shadow) {
+        for (std::size_t i = 0; i < sets.shadow.size(); i += test::kSanitizedStride) {
+            const Ray1& r = sets.shadow[i];
             TriHit hb;
             const bool b = brute.closest(r, hb);
             REQUIRE(bvh.occluded(r) == b);
             blocked += b;
         }
-        CHECK(hits > sets.primary.size() / 20);
+        CHECK(hits > sets.primary.size() / 20 / test::kSanitizedStride);
         CHECK(blocked > 0);
         // A fifth of these graze an edge on purpose: up to 5 % may be unstable hits.
         if (!big) {

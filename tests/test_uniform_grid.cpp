@@ -24,7 +24,7 @@ TEST_CASE("uniform grid equals brute force on the bunny", "[kernel][grid]") {
         gp.cells_per_triangle = density;
         grid.build(mesh.positions.data(), mesh.indices.data(), mesh.num_triangles(), gp);
         std::size_t hits = 0;
-        const int n = 20000;
+        const int n = test::scaled(20000);
         for (int i = 0; i < n; ++i) {
             // Origins around the mesh; directions either random or aimed at a surface point.
             const Vec3 o =

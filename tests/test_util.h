@@ -18,6 +18,17 @@ struct TestScene : Scene {
 
 namespace foton::test {
 
+// Under the sanitizers the brute-force oracles run some 50x slower: loops that compare
+// against them take every 16th case there, and all of them in normal builds.
+#ifdef FOTON_SANITIZED
+inline constexpr int kSanitizedStride = 16;
+#else
+inline constexpr int kSanitizedStride = 1;
+#endif
+inline constexpr int scaled(int n) {
+    return n / kSanitizedStride > 0 ? n / kSanitizedStride : 1;
+}
+
 inline std::string source_path(const std::string& rel) {
     return std::string(FOTON_SOURCE_DIR) + "/" + rel;
 }
