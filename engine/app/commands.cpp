@@ -113,6 +113,9 @@ int run_render(const RenderArgs& args) {
         overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
     }
     Scene scene = load_scene(args.scene, overrides);
+    if (!args.quiet)
+        for (const std::string& w : scene.warnings)
+            std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
     if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
         throw InputError(
             "--accel", 0,

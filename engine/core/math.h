@@ -127,6 +127,8 @@ struct Affine {
     // Normals transform with the inverse transpose of the linear part.
     Vec3 normal(const Vec3& n) const;
     float determinant() const;
+    // The inverse (the matrix must not be singular: check determinant() first).
+    Affine inverse() const;
     static Affine translate(const Vec3& t);
     static Affine scale(const Vec3& s);
     static Affine rotate(const Vec3& axis, float degrees);

@@ -10,7 +10,8 @@ void Camera::setup() {
     w = normalize(target - eye);
     // Right-handed: u = w x up points to the image's right when looking along w.
     u = normalize(cross(w, up));
-    v = cross(u, w);
+    if (mirror) u = -u;
+    v = mirror ? cross(w, u) : cross(u, w);
 }
 
 void Camera::generate(float fx, float fy, Vec3& origin, Vec3& dir) const {

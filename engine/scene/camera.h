@@ -35,6 +35,9 @@ struct Camera {
     float lens_radius = 0.f;
     float focal_distance = 1.f;
 
+    // The image's x axis reversed (u = up x w): pbrt's left-handed camera space.
+    bool mirror = false;
+
     // Derived basis (call setup() after changing the fields above).
     Vec3 u, v, w;
     void setup();

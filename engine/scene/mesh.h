@@ -13,6 +13,7 @@ struct TriangleMesh {
     std::string name;
     std::vector<float> positions;   // xyz per vertex
     std::vector<float> normals;     // xyz per vertex, empty for flat shading
+    std::vector<float> uvs;         // uv per vertex, empty when the mesh has none
     std::vector<uint32_t> indices;  // three per triangle
 
     std::size_t num_triangles() const { return indices.size() / 3; }
@@ -33,7 +34,8 @@ struct TriangleMesh {
     void compute_smooth_normals();
     void transform(const Affine& xf);
     std::size_t memory_bytes() const {
-        return (positions.size() + normals.size()) * sizeof(float) + indices.size() * 4;
+        return (positions.size() + normals.size() + uvs.size()) * sizeof(float) +
+               indices.size() * 4;
     }
 };
 

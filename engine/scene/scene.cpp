@@ -126,6 +126,12 @@ std::string Scene::summary() const {
                   lights.count(), lights.points.size(), lights.directionals.size(),
                   lights.spots.size(), lights.areas.size(), double(ambient.intensity));
     s += buf;
+    std::size_t emitting = 0;
+    for (const Object& o : objects) emitting += materials[o.material].emission.is_black() ? 0 : 1;
+    if (emitting > 0) {
+        std::snprintf(buf, sizeof buf, "emitters   %zu emitting objects\n", emitting);
+        s += buf;
+    }
     const Bounds3 b = bounds();
     std::snprintf(buf, sizeof buf, "bounds     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y,
                   b.lo.z, b.hi.x, b.hi.y, b.hi.z);
@@ -148,6 +154,12 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g\n", film.width, film.height,
                   film.gamma);
     s += buf;
+    if (!imported.empty()) {
+        s += "imported  ";
+        for (const std::string& i : imported) s += " " + i + ";";
+        s.back() = '\n';
+    }
+    for (const std::string& w : warnings) s += "ignored    " + w + "\n";
     return s;
 }
 

@@ -75,6 +75,10 @@ struct Scene {
     // and line: the integrators read and check them (transport/driver/render_settings.h).
     ParamSet renderer;
     std::size_t skipped_degenerate = 0;
+    // Imported formats (pbrt-v4): what was read ("Shape sphere x2"), and what was left out
+    // or approximated, as "file:line: what" (shown by `foton info` and before a render).
+    std::vector<std::string> imported;
+    std::vector<std::string> warnings;
 
     // The material of geometry `geom` (a hit's geom id).
     const Material& material_of(uint32_t geom) const { return materials[objects[geom].material]; }

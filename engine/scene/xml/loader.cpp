@@ -137,7 +137,7 @@ Scene parse_scene(const std::string& xml, const std::string& name, const std::st
     return xml::Loader(xml, name, base_dir, overrides).run();
 }
 
-Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
+Scene load_xml_scene(const std::string& path, const RendererOverrides& overrides) {
     const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
     const std::string base = std::filesystem::path(path).parent_path().string();
     return parse_scene(text, path, base.empty() ? "." : base, overrides);

@@ -1,0 +1,144 @@
+#pragma once
+// The pbrt-v4 scene importer's internals, shared by its parts: importer.cpp (files,
+// tokens, directives, transforms, the attribute stack), options.cpp (camera, film, sampler,
+// integrator), materials.cpp (materials and textures), lights.cpp and shapes.cpp (shapes,
+// object instances). The result is an ordinary foton Scene: everything imported is
+// counted for `foton info`, everything left out is a warning at its file and line, and
+// everything that would make the image wrong is an InputError.
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/core/error.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/xml_loader.h"
+#include "param_list.h"
+#include "tokenizer.h"
+
+namespace foton::pbrt {
+
+struct AreaLightDesc {
+    RGB radiance{0.f};
+    bool two_sided = false;
+    int id = -1;  // -1: shapes do not emit
+};
+
+struct GraphicsState {
+    Affine ctm;  // object to world (camera space before WorldBegin)
+    bool reverse = false;
+    uint32_t material = 0;  // into Importer::materials_
+    AreaLightDesc area;
+};
+
+// The geometry of an ObjectBegin/ObjectEnd block, in world space at its definition:
+// each ObjectInstance places a copy under the instance's transform.
+struct Prototype {
+    std::vector<TriangleMesh> meshes;
+    std::vector<uint32_t> mesh_materials;  // scene material indices
+    std::vector<bool> mesh_smooth;
+    std::vector<Sphere> spheres;
+    std::vector<uint32_t> sphere_materials;
+    int line = 0;
+    std::string file;
+};
+
+struct TextureDesc {
+    std::string type;  // "constant", "scale"
+    RGB value{1.f};    // constant textures (and products of constants)
+    bool is_float = false;
+};
+
+class Importer {
+  public:
+    Importer(std::string path, std::string text, std::string base_dir,
+             const RendererOverrides& overrides);
+    Scene run();
+
+  private:
+    // importer.cpp
+    Token next();
+    Token expect_string(const Token& directive, const char* what);
+    float expect_number(const Token& directive);
+    ParamList read_params();
+    void directive(const Token& t);
+    void include(const Token& t);
+    void apply(const Affine& xf, bool replace = false);
+    [[noreturn]] void fail(const Token& t, const std::string& what) const {
+        throw InputError(file(), t.line, what);
+    }
+    void warn(const std::string& where, int line, const std::string& what);
+    void warn_unused(const ParamList& p, const std::string& what);
+    void count(const std::string& what) { ++imported_[what]; }
+    const std::string& file() const { return files_.back()->file(); }
+
+    // options.cpp
+    void camera(const Token& t, const std::string& type, const ParamList& p);
+    void film(const Token& t, const std::string& type, const ParamList& p);
+    void sampler(const Token& t, const std::string& type, const ParamList& p);
+    void integrator(const Token& t, const std::string& type, const ParamList& p);
+    void pixel_filter(const Token& t, const std::string& type, const ParamList& p);
+    void finish_camera();
+
+    // materials.cpp
+    Material make_material(const Token& t, const std::string& type, const ParamList& p);
+    void texture(const Token& t, const std::string& name, const std::string& kind,
+                 const std::string& type, const ParamList& p);
+    RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                    const std::string& what);
+    float float_value(const ParamList& p, const std::string& name, float fallback);
+    uint32_t scene_material(const GraphicsState& gs);
+
+    // lights.cpp
+    void light_source(const Token& t, const std::string& type, const ParamList& p);
+    void area_light(const Token& t, const std::string& type, const ParamList& p);
+
+    // shapes.cpp
+    void shape(const Token& t, const std::string& type, const ParamList& p);
+    void add_mesh(TriangleMesh mesh, bool smooth, const Token& t);
+    void add_sphere(const Sphere& s, const Token& t);
+    void object_instance(const Token& t, const std::string& name);
+
+    std::vector<std::unique_ptr<Tokenizer>> files_;
+    std::string base_;
+    const RendererOverrides& overrides_;
+    Scene scene_;
+    ParamSet renderer_;
+
+    GraphicsState gs_;
+    std::vector<GraphicsState> stack_;
+    std::vector<char> stack_kind_;  // 'a' AttributeBegin, 't' TransformBegin
+    std::map<std::string, Affine> coordinate_systems_;
+    bool in_world_ = false;
+    bool transform_start_ = true, transform_end_ = true;  // ActiveTransform
+
+    std::vector<Material> materials_;
+    std::map<std::string, uint32_t> named_materials_;
+    std::map<std::string, TextureDesc> textures_;
+    std::map<std::pair<uint32_t, int>, uint32_t> scene_materials_;
+    int area_lights_ = 0;
+
+    std::map<std::string, Prototype> prototypes_;
+    std::string defining_;  // the ObjectBegin block being read ("" outside)
+    Prototype* proto_ = nullptr;
+
+    // The camera, read when it appears and placed once the film's resolution is known.
+    Affine camera_from_world_;
+    std::string camera_type_ = "perspective";
+    float fov_ = 90.f, lens_radius_ = 0.f, focal_distance_ = 1e6f;
+    std::optional<std::vector<float>> screen_window_;
+    bool camera_seen_ = false;
+    int camera_line_ = 0;
+    std::string camera_file_;
+    int width_ = 1280, height_ = 720;
+    std::optional<std::array<int, 4>> crop_;  // x0 x1 y0 y1
+
+    std::vector<std::string> warnings_;
+    std::map<std::string, int> imported_;
+};
+
+constexpr int kMaxIncludeDepth = 32;
+
+}  // namespace foton::pbrt

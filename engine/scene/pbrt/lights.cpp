@@ -1,0 +1,77 @@
+// LightSource and AreaLightSource. Emission spectra other than rgb are taken at luminance
+// 1 times "scale", as pbrt-v4 normalises them; "power" and "illuminance" set the scale the
+// way pbrt-v4 does for point, spot and distant lights.
+#include <cmath>
+
+#include "importer.h"
+
+namespace foton::pbrt {
+
+void Importer::light_source(const Token& t, const std::string& type, const ParamList& p) {
+    const std::string what = "LightSource \"" + type + "\"";
+    const float scale = p.real("scale", 1.f);
+    if (scale < 0.f) fail(t, what + ": scale must not be negative");
+    auto photometric = [&](const char* key, float k_e) {
+        const float v = p.real(key, -1.f);
+        return v > 0.f ? v / k_e : 1.f;
+    };
+    if (type == "point") {
+        const auto i = p.color("I", true);
+        PointLight l;
+        l.position =
+            gs_.ctm.point(p.triples("from").empty() ? Vec3{0, 0, 0} : p.triples("from")[0]);
+        l.intensity = (i ? *i : RGB{1.f}) * scale * photometric("power", 4.f * kPi);
+        scene_.lights.points.push_back(l);
+    } else if (type == "spot") {
+        const auto i = p.color("I", true);
+        const std::vector<Vec3> from = p.triples("from"), to = p.triples("to");
+        const Vec3 f = from.empty() ? Vec3{0, 0, 0} : from[0];
+        const Vec3 d = (to.empty() ? Vec3{0, 0, 1} : to[0]) - f;
+        if (length_squared(d) == 0.f) fail(t, what + ": from and to coincide");
+        const float cone = p.real("coneangle", 30.f), delta = p.real("conedeltaangle", 5.f);
+        if (!(cone > 0.f && cone <= 180.f) || delta < 0.f)
+            fail(t, what + ": coneangle must be in (0, 180] and conedeltaangle not negative");
+        SpotLight l;
+        l.position = gs_.ctm.point(f);
+        l.direction = normalize(gs_.ctm.vector(d));
+        l.cos_outer = std::cos(cone * kPi / 180.f);
+        l.cos_inner = std::cos(std::max(cone - delta, 0.f) * kPi / 180.f);
+        const float k_e = 2.f * kPi * ((1.f - l.cos_inner) + 0.5f * (l.cos_inner - l.cos_outer));
+        l.intensity = (i ? *i : RGB{1.f}) * scale * photometric("power", k_e);
+        scene_.lights.spots.push_back(l);
+    } else if (type == "distant") {
+        const auto radiance = p.color("L", true);
+        const std::vector<Vec3> from = p.triples("from"), to = p.triples("to");
+        const Vec3 d =
+            (to.empty() ? Vec3{0, 0, 1} : to[0]) - (from.empty() ? Vec3{0, 0, 0} : from[0]);
+        if (length_squared(d) == 0.f) fail(t, what + ": from and to coincide");
+        DirectionalLight l;
+        l.direction = normalize(gs_.ctm.vector(d));
+        l.radiance = (radiance ? *radiance : RGB{1.f}) * scale * photometric("illuminance", 1.f);
+        scene_.lights.directionals.push_back(l);
+    } else if (type == "infinite") {
+        fail(t, what + ": environment lights are not supported yet");
+    } else {
+        fail(t, "unsupported light '" + type + "' (point, spot, distant)");
+    }
+    warn_unused(p, what);
+    count("LightSource " + type);
+}
+
+void Importer::area_light(const Token& t, const std::string& type, const ParamList& p) {
+    if (type != "diffuse") fail(t, "unsupported area light '" + type + "' (diffuse)");
+    if (!defining_.empty())
+        fail(t, "area lights inside an object definition are not supported (as in pbrt-v4)");
+    if (p.has("filename")) fail(t, "image area lights are not supported");
+    if (p.has("power")) fail(t, "\"power\" on area lights is not supported: give L and scale");
+    const float scale = p.real("scale", 1.f);
+    if (scale < 0.f) fail(t, "scale must not be negative");
+    const auto radiance = p.color("L", true);
+    gs_.area.radiance = (radiance ? *radiance : RGB{1.f}) * scale;
+    gs_.area.two_sided = p.boolean("twosided", false);
+    gs_.area.id = area_lights_++;
+    warn_unused(p, "AreaLightSource \"diffuse\"");
+    count("AreaLightSource diffuse");
+}
+
+}  // namespace foton::pbrt

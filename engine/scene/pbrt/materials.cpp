@@ -1,0 +1,244 @@
+// Material, MakeNamedMaterial and Texture: pbrt-v4's materials as foton BSDFs.
+#include <cmath>
+
+#include "importer.h"
+
+namespace foton::pbrt {
+
+RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                          const std::string& what) {
+    RGB c = fallback;
+    const std::string tex = p.texture(name);
+    if (!tex.empty()) {
+        const auto it = textures_.find(tex);
+        if (it == textures_.end())
+            throw InputError(p.file, p.find(name)->line, "unknown texture '" + tex + "'");
+        c = it->second.value;
+    } else if (const auto v = p.color(name, false)) {
+        c = *v;
+    }
+    if (c.max_component() > 1.f) {
+        warn(p.file, p.find(name)->line,
+             what + " " + name + " above 1 clamped to 1 (as pbrt-v4 does)");
+        c = {std::min(c.r, 1.f), std::min(c.g, 1.f), std::min(c.b, 1.f)};
+    }
+    return c;
+}
+
+float Importer::float_value(const ParamList& p, const std::string& name, float fallback) {
+    const std::string tex = p.texture(name);
+    if (tex.empty()) return p.real(name, fallback);
+    const auto it = textures_.find(tex);
+    if (it == textures_.end() || !it->second.is_float)
+        throw InputError(p.file, p.find(name)->line, "unknown float texture '" + tex + "'");
+    return it->second.value.r;
+}
+
+void Importer::texture(const Token& t, const std::string& name, const std::string& kind,
+                       const std::string& type, const ParamList& p) {
+    if (kind != "spectrum" && kind != "float")
+        fail(t, "texture kind must be spectrum or float, not '" + kind + "'");
+    TextureDesc tex;
+    tex.type = type;
+    tex.is_float = kind == "float";
+    auto value = [&](const std::string& key, RGB fallback) {
+        if (tex.is_float) {
+            const std::string ref = p.texture(key);
+            if (!ref.empty()) {
+                const auto it = textures_.find(ref);
+                if (it == textures_.end() || !it->second.is_float)
+                    fail(t, "unknown float texture '" + ref + "'");
+                return it->second.value;
+            }
+            return RGB{p.real(key, fallback.r)};
+        }
+        const std::string ref = p.texture(key);
+        if (!ref.empty()) {
+            const auto it = textures_.find(ref);
+            if (it == textures_.end()) fail(t, "unknown texture '" + ref + "'");
+            return it->second.value;
+        }
+        const auto c = p.color(key, false);
+        return c ? *c : fallback;
+    };
+    if (type == "constant") {
+        tex.value = value("value", RGB{1.f});
+    } else if (type == "scale") {
+        tex.value = value("tex", RGB{1.f});
+        const std::string ref = p.texture("scale");
+        float s = p.real("scale", 1.f);
+        if (!ref.empty()) {
+            const auto it = textures_.find(ref);
+            if (it == textures_.end() || !it->second.is_float)
+                fail(t, "unknown float texture '" + ref + "'");
+            s = it->second.value.r;
+        }
+        tex.value = tex.value * s;
+    } else {
+        fail(t, "texture type '" + type + "' is not supported yet (constant, scale)");
+    }
+    textures_[name] = tex;
+    warn_unused(p, "Texture \"" + name + "\"");
+    count("Texture " + type);
+}
+
+namespace {
+
+// pbrt-v4's roughness to microfacet alpha (remaproughness): alpha = sqrt(roughness).
+float alpha_of(float roughness, bool remap) {
+    return remap ? std::sqrt(std::max(roughness, 0.f)) : roughness;
+}
+
+}  // namespace
+
+Material Importer::make_material(const Token& t, const std::string& type, const ParamList& p) {
+    Material m;
+    m.type = MaterialType::Generic;
+    m.name = type;
+    m.c_diffuse = 0.f;
+    m.base_color = RGB{0.f};
+    const std::string what = "Material \"" + type + "\"";
+    // Rough lobes: pbrt's Trowbridge–Reitz alpha, rendered with foton's Beckmann of the same
+    // alpha (their widths agree; the tails differ). Below pbrt's smoothness limit: specular.
+    auto alpha = [&](bool& smooth) {
+        const bool remap = p.boolean("remaproughness", true);
+        float u = float_value(p, "roughness", 0.f), v = u;
+        if (p.has("uroughness") || p.has("vroughness")) {
+            u = float_value(p, "uroughness", u);
+            v = float_value(p, "vroughness", v);
+            if (u != v)
+                warn(file(), t.line, what + ": anisotropic roughness rendered isotropic (mean)");
+        }
+        const float a = alpha_of(0.5f * (u + v), remap);
+        smooth = a < 1e-3f;
+        if (!smooth && a > 2.f) fail(t, what + ": roughness gives alpha above 2");
+        if (!smooth) {
+            warn(file(), t.line,
+                 what +
+                     ": Trowbridge-Reitz roughness rendered with a Beckmann distribution of "
+                     "the same alpha");
+        }
+        return std::clamp(a, 0.002f, 2.f);
+    };
+    if (type == "diffuse") {
+        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what);
+        if (!r.is_black()) m.bsdf.add(Lobe::lambert(r));
+        m.base_color = r;
+        m.c_diffuse = 1.f;
+    } else if (type == "conductor") {
+        Fresnel f;
+        f.kind = FresnelKind::Conductor;
+        if (p.has("reflectance")) {
+            // pbrt-v4's reading of a reflectance: eta = 1 and k from the normal-incidence value.
+            const RGB r = reflectance(p, "reflectance", RGB{1.f}, what);
+            auto kk = [](float x) {
+                x = std::min(x, 0.9999f);
+                return 2.f * std::sqrt(x / (1.f - x));
+            };
+            f.eta = RGB{1.f};
+            f.k = {kk(r.r), kk(r.g), kk(r.b)};
+        } else {
+            const auto eta = p.color("eta", false), k = p.color("k", false);
+            f.eta = eta ? *eta : RGB{0.200f, 0.924f, 1.102f};  // metal-Cu-eta, pbrt's default
+            f.k = k ? *k : RGB{3.912f, 2.452f, 2.142f};
+            if (!(f.eta.r > 0.f && f.eta.g > 0.f && f.eta.b > 0.f))
+                fail(t, what + ": eta must be positive");
+        }
+        bool smooth = true;
+        const float a = alpha(smooth);
+        if (smooth)
+            m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
+        else
+            m.bsdf.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(a), f));
+    } else if (type == "dielectric") {
+        float eta = 1.5f;
+        if (const Param* q = p.find("eta")) {
+            if (q->type == "float") {
+                eta = p.real("eta", 1.5f);
+            } else {
+                const auto c = p.color("eta", false);
+                eta = c->g;
+                warn(file(), q->line, what + ": a spectral eta is rendered without dispersion");
+            }
+        }
+        if (!(eta > 0.f)) fail(t, what + ": eta must be positive");
+        bool smooth = true;
+        alpha(smooth);
+        if (!smooth) fail(t, what + ": rough dielectrics are not supported (roughness must be 0)");
+        m.ior = eta;
+        m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
+    } else if (type == "coateddiffuse") {
+        // Documented approximation: a dielectric coat's reflection over a Lambertian base
+        // that receives what the coat lets through (1 - the coat's mean Fresnel reflectance);
+        // pbrt-v4 simulates the layer's inner bounces stochastically.
+        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what);
+        const float eta = p.real("eta", 1.5f);
+        if (!(eta > 1.f)) fail(t, what + ": eta must be above 1");
+        bool smooth = true;
+        const float a = alpha(smooth);
+        Fresnel f;
+        f.kind = FresnelKind::Dielectric;
+        f.ior = eta;
+        // Hemispherical mean of the dielectric's Fresnel reflectance (cosine weighted).
+        float mean = 0.f;
+        for (int i = 0; i < 64; ++i) {
+            const float mu = (float(i) + 0.5f) / 64.f;
+            mean += 2.f * mu * f.eval(mu).r / 64.f;
+        }
+        m.bsdf.add(Lobe::lambert(r * (1.f - mean)));
+        m.base_color = r * (1.f - mean);
+        m.c_diffuse = 1.f;
+        if (smooth)
+            m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
+        else
+            m.bsdf.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(a), f));
+        for (const char* layer : {"thickness", "albedo", "g", "maxdepth", "nsamples"})
+            if (p.has(layer))
+                warn(file(), t.line, what + ": '" + layer + "' ignored by the approximation");
+        count("coateddiffuse (approximated as Lambert + dielectric coat)");
+    } else if (type == "mix") {
+        const Param* q = p.find("materials");
+        if (!q || q->type != "string" || q->strings.size() != 2)
+            fail(t, "mix needs \"string materials\" with two named materials");
+        const float amount = float_value(p, "amount", 0.5f);
+        if (!(amount >= 0.f && amount <= 1.f)) fail(t, "mix amount must be in [0, 1]");
+        for (int i = 0; i < 2; ++i) {
+            const auto it = named_materials_.find(q->strings[std::size_t(i)]);
+            if (it == named_materials_.end())
+                fail(t, "unknown named material '" + q->strings[std::size_t(i)] + "'");
+            const float w = i == 0 ? 1.f - amount : amount;
+            Bsdf b = materials_[it->second].bsdf;
+            b.scale(w);
+            for (int l = 0; l < b.size(); ++l)
+                if (!m.bsdf.add(b.lobe(l)))
+                    fail(t, "a mix may hold at most " + std::to_string(Bsdf::kMaxLobes) + " lobes");
+            m.base_color += materials_[it->second].base_color * w;
+        }
+        m.c_diffuse = 1.f;
+    } else {
+        fail(t, "unsupported material '" + type +
+                    "' (diffuse, conductor, dielectric, coateddiffuse, mix)");
+    }
+    for (const char* ignored : {"normalmap", "displacement"})
+        if (p.has(ignored)) warn(file(), t.line, what + ": '" + ignored + "' ignored");
+    warn_unused(p, what);
+    count("Material " + type);
+    return m;
+}
+
+uint32_t Importer::scene_material(const GraphicsState& gs) {
+    const auto key = std::make_pair(gs.material, gs.area.id);
+    const auto it = scene_materials_.find(key);
+    if (it != scene_materials_.end()) return it->second;
+    Material m = materials_[gs.material];
+    if (gs.area.id >= 0) {
+        m.emission = gs.area.radiance;
+        m.emission_two_sided = gs.area.two_sided;
+    }
+    scene_.materials.push_back(m);
+    const uint32_t index = uint32_t(scene_.materials.size() - 1);
+    scene_materials_[key] = index;
+    return index;
+}
+
+}  // namespace foton::pbrt

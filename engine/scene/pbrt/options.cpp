@@ -1,0 +1,223 @@
+// Camera, Film, Sampler, Integrator and PixelFilter: pbrt-v4's rendering options as
+// foton's camera, film and renderer settings.
+#include <cmath>
+#include <sstream>
+
+#include "engine/transport/driver/integrators.h"
+#include "importer.h"
+
+namespace foton::pbrt {
+
+void Importer::camera(const Token& t, const std::string& type, const ParamList& p) {
+    if (type != "perspective" && type != "orthographic")
+        fail(t, "unsupported camera '" + type + "' (perspective, orthographic)");
+    camera_type_ = type;
+    camera_seen_ = true;
+    camera_line_ = t.line;
+    camera_file_ = file();
+    camera_from_world_ = gs_.ctm;
+    coordinate_systems_["camera"] = gs_.ctm.inverse();
+    if (type == "perspective") {
+        fov_ = p.real("fov", 90.f);
+        if (!(fov_ > 0.f && fov_ < 180.f)) fail(t, "fov must be in (0, 180) degrees");
+    }
+    lens_radius_ = p.real("lensradius", 0.f);
+    focal_distance_ = p.real("focaldistance", 1e6f);
+    if (lens_radius_ < 0.f || !(focal_distance_ > 0.f))
+        fail(t, "lensradius must not be negative and focaldistance must be positive");
+    if (lens_radius_ > 0.f && type != "perspective")
+        fail(t, "a thin lens (lensradius) needs a perspective camera");
+    const std::vector<float> sw = p.reals("screenwindow");
+    if (!sw.empty()) {
+        if (sw.size() != 4 || !(sw[1] > sw[0]) || !(sw[3] > sw[2]))
+            fail(t, "screenwindow takes four numbers: xmin xmax ymin ymax");
+        screen_window_ = sw;
+    }
+    for (const char* ignored : {"shutteropen", "shutterclose"})
+        if (p.has(ignored))
+            warn(file(), t.line, std::string(ignored) + " ignored (no motion blur)");
+    warn_unused(p, "Camera \"" + type + "\"");
+    count("Camera " + type);
+}
+
+void Importer::film(const Token& t, const std::string& type, const ParamList& p) {
+    if (type != "rgb" && type != "gbuffer" && type != "spectral")
+        fail(t, "unsupported film '" + type + "' (rgb)");
+    if (type != "rgb") warn(file(), t.line, "Film \"" + type + "\" is rendered as an rgb film");
+    width_ = p.integer("xresolution", 1280);
+    height_ = p.integer("yresolution", 720);
+    if (width_ < 1 || height_ < 1) fail(t, "xresolution and yresolution must be positive");
+    check_image_size(width_, height_, file(), t.line);
+    if (p.has("filename"))
+        warn(file(), t.line,
+             "Film filename '" + p.text("filename", "") +
+                 "' ignored: foton writes out/<scene>.exr, or the file given by -o");
+    const std::vector<float> cw = p.reals("cropwindow");
+    if (!cw.empty()) {
+        if (cw.size() != 4 || !(cw[0] >= 0.f && cw[0] < cw[1] && cw[1] <= 1.f && cw[2] >= 0.f &&
+                                cw[2] < cw[3] && cw[3] <= 1.f))
+            fail(t, "cropwindow takes x0 x1 y0 y1 with 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1");
+        crop_ = {int(std::ceil(float(width_) * cw[0])), int(std::ceil(float(width_) * cw[1])),
+                 int(std::ceil(float(height_) * cw[2])), int(std::ceil(float(height_) * cw[3]))};
+    }
+    const std::vector<int> pb = p.integers("pixelbounds");
+    if (!pb.empty()) {
+        if (pb.size() != 4 || !(pb[0] >= 0 && pb[0] < pb[1] && pb[1] <= width_ && pb[2] >= 0 &&
+                                pb[2] < pb[3] && pb[3] <= height_))
+            fail(t, "pixelbounds takes x0 x1 y0 y1 within the image");
+        crop_ = {pb[0], pb[1], pb[2], pb[3]};
+    }
+    warn_unused(p, "Film \"" + type + "\"");
+    count("Film " + type);
+}
+
+void Importer::sampler(const Token& t, const std::string& type, const ParamList& p) {
+    int spp = p.integer("pixelsamples", 16);
+    if (type == "stratified") {
+        const int xs = p.integer("xsamples", 4), ys = p.integer("ysamples", 4);
+        if (xs < 1 || ys < 1) fail(t, "xsamples and ysamples must be positive");
+        spp = xs * ys;
+        renderer_.set("sampler", p.boolean("jitter", true) ? "jittered" : "regular", file(),
+                      t.line);
+    } else if (type == "independent") {
+        renderer_.set("sampler", "random", file(), t.line);
+    } else if (type == "halton" || type == "sobol" || type == "zsobol" || type == "paddedsobol" ||
+               type == "pmj02bn") {
+        warn(file(), t.line,
+             "Sampler \"" + type + "\" is not available: foton's jittered sampler is used");
+        renderer_.set("sampler", "jittered", file(), t.line);
+        for (const char* ignored : {"randomization", "seed"}) p.has(ignored);
+    } else {
+        fail(t, "unknown sampler '" + type + "'");
+    }
+    if (spp < 1) fail(t, "pixelsamples must be positive");
+    renderer_.set("spp", std::to_string(spp), file(), t.line);
+    if (p.has("seed")) renderer_.set("seed", std::to_string(p.integer("seed", 0)), file(), t.line);
+    warn_unused(p, "Sampler \"" + type + "\"");
+    count("Sampler " + type);
+}
+
+namespace {
+
+std::string number_text(const Param& q) {
+    std::ostringstream s;
+    s.precision(9);
+    if (!q.strings.empty()) return q.strings[0];
+    s << q.numbers[0];
+    return s.str();
+}
+
+}  // namespace
+
+void Importer::integrator(const Token& t, const std::string& type, const ParamList& p) {
+    const std::string here = file();
+    auto depth = [&] {
+        const int d = p.integer("maxdepth", 5);
+        if (d < 0) fail(t, "maxdepth must not be negative");
+        renderer_.set("max_depth", std::to_string(d), here, t.line);
+    };
+    if (type == "path" || type == "volpath" || type == "simplepath" || type == "bdpt" ||
+        type == "mlt" || type == "randomwalk" || type == "simplevolpath") {
+        if (type != "path")
+            warn(here, t.line,
+                 "Integrator \"" + type +
+                     "\" is rendered with foton's path tracer (the same "
+                     "expected image" +
+                     (type.find("vol") != std::string::npos ? ", no media" : "") + ")");
+        renderer_.set("type", "path", here, t.line);
+        depth();
+        if (p.has("regularize") && p.boolean("regularize", false))
+            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+        if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
+            warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
+        for (const char* other :
+             {"bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma",
+              "visualizestrategies", "visualizeweights", "samplelights", "samplebsdf"})
+            if (p.has(other)) warn(here, t.line, std::string(other) + " ignored");
+    } else if (type == "lighttracer") {
+        renderer_.set("type", "light", here, t.line);
+        depth();
+    } else if (type == "sppm") {
+        renderer_.set("type", "sppm", here, t.line);
+        depth();
+        renderer_.set("spp", std::to_string(p.integer("iterations", 64)), here, t.line);
+        if (p.has("photonsperiteration"))
+            renderer_.set("photons_per_pass", std::to_string(p.integer("photonsperiteration", 0)),
+                          here, t.line);
+        renderer_.set("initial_radius", std::to_string(p.real("radius", 1.f)), here, t.line);
+        if (p.has("seed"))
+            renderer_.set("seed", std::to_string(p.integer("seed", 0)), here, t.line);
+    } else if (find_integrator(type)) {
+        // foton's own integrators by name: their parameters are foton's renderer settings.
+        renderer_.set("type", type, here, t.line);
+        for (const Param& q : p.params) {
+            q.used = true;
+            if (q.numbers.size() + q.strings.size() != 1)
+                p.fail(q, "foton's renderer settings take one value");
+            renderer_.set(q.name, number_text(q), q.file, q.line);
+        }
+    } else {
+        fail(t, "unsupported integrator '" + type + "' (path, volpath, lighttracer, sppm, or " +
+                    "foton's: " + integrator_list() + ")");
+    }
+    warn_unused(p, "Integrator \"" + type + "\"");
+    count("Integrator " + type);
+}
+
+void Importer::pixel_filter(const Token& t, const std::string& type, const ParamList& p) {
+    const float xr = p.real("xradius", 0.5f), yr = p.real("yradius", 0.5f);
+    if (type != "box" || xr != 0.5f || yr != 0.5f)
+        warn(file(), t.line,
+             "PixelFilter \"" + type + "\": foton reconstructs with the 1-pixel box filter");
+    for (const Param& q : p.params) q.used = true;
+    count("PixelFilter " + type);
+}
+
+void Importer::finish_camera() {
+    Camera& c = scene_.camera;
+    const Affine world_from_camera = camera_from_world_.inverse();
+    const Vec3 eye = world_from_camera.point({0, 0, 0});
+    const Vec3 forward = normalize(world_from_camera.vector({0, 0, 1}));
+    const Vec3 up = normalize(world_from_camera.vector({0, 1, 0}));
+    const Vec3 right = world_from_camera.vector({1, 0, 0});
+    c.type = camera_type_ == "perspective" ? CameraType::Perspective : CameraType::Orthographic;
+    c.eye = eye;
+    c.target = eye + forward;
+    c.up = up;
+    c.d = 1.f;
+    c.width = width_;
+    c.height = height_;
+    // pbrt's screen window spans [-1, 1] on the image's shorter side, at the distance where
+    // it covers the field of view (perspective) or in scene units (orthographic).
+    const float scale = camera_type_ == "perspective" ? std::tan(0.5f * fov_ * kPi / 180.f) : 1.f;
+    c.pixel_size = 2.f * scale / float(std::min(width_, height_));
+    if (screen_window_) {
+        const std::vector<float>& sw = *screen_window_;
+        const float sx = (sw[1] - sw[0]) / float(width_), sy = (sw[3] - sw[2]) / float(height_);
+        if (std::fabs(sw[0] + sw[1]) > 1e-4f * (sw[1] - sw[0]) ||
+            std::fabs(sw[2] + sw[3]) > 1e-4f * (sw[3] - sw[2]) || std::fabs(sx - sy) > 1e-4f * sx)
+            throw InputError(camera_file_, camera_line_,
+                             "screenwindow must be centred with square pixels");
+        c.pixel_size = sx * scale;
+    }
+    c.lens_radius = lens_radius_;
+    c.focal_distance = focal_distance_;
+    c.exposure = 1.f;
+    c.mirror = false;
+    c.setup();
+    // pbrt's camera space is left-handed; a transform may mirror it again.
+    if (dot(c.u, right) < 0.f) {
+        c.mirror = true;
+        c.setup();
+    }
+    FilmSettings& f = scene_.film;
+    f.width = f.full_width = width_;
+    f.height = f.full_height = height_;
+    f.pixel_size = c.pixel_size;
+    f.gamma = 2.2f;
+    scene_.set_resolution(width_, height_);
+    if (crop_) scene_.set_crop((*crop_)[0], (*crop_)[1], (*crop_)[2], (*crop_)[3]);
+    if (!camera_seen_) warn(scene_.source, 0, "no Camera: pbrt's default perspective camera");
+}
+
+}  // namespace foton::pbrt

@@ -1,0 +1,108 @@
+// Reading the tokens of a directive: its string and number arguments and its parameter
+// list, each value checked for type and range at its line.
+#include <charconv>
+#include <cmath>
+
+#include "importer.h"
+
+namespace foton::pbrt {
+
+Token Importer::expect_string(const Token& directive, const char* what) {
+    const Token& p = files_.back()->peek();
+    if (p.kind != TokenKind::String)
+        fail(directive, std::string(directive.text) + " needs " + what + " (a quoted string)");
+    return files_.back()->next();
+}
+
+float Importer::expect_number(const Token& directive) {
+    const Token t = files_.back()->next();
+    double v = 0.0;
+    if (t.kind == TokenKind::Number) {
+        auto [ptr, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), v);
+        if (ec == std::errc() && ptr == t.text.data() + t.text.size() && std::isfinite(v))
+            return float(v);
+    }
+    fail(t.kind == TokenKind::End ? directive : t,
+         std::string(directive.text) + " expects a number, got '" + std::string(t.text) + "'");
+}
+
+namespace {
+
+bool numeric_type(const std::string& t) {
+    return t == "integer" || t == "float" || t == "point2" || t == "vector2" || t == "point3" ||
+           t == "vector3" || t == "normal3" || t == "normal" || t == "point" || t == "vector" ||
+           t == "rgb" || t == "color" || t == "blackbody";
+}
+
+bool known_type(const std::string& t) {
+    return numeric_type(t) || t == "spectrum" || t == "bool" || t == "string" || t == "texture";
+}
+
+}  // namespace
+
+ParamList Importer::read_params() {
+    ParamList list;
+    list.file = file();
+    Tokenizer& tk = *files_.back();
+    while (tk.peek().kind == TokenKind::String) {
+        const Token decl = tk.next();
+        Param p;
+        p.file = file();
+        p.line = decl.line;
+        const std::string d(decl.text);
+        std::size_t a = d.find_first_not_of(" \t"), b = d.find_first_of(" \t", a);
+        const std::size_t c = d.find_first_not_of(" \t", b), e = d.find_last_not_of(" \t");
+        if (a == std::string::npos || b == std::string::npos || c == std::string::npos ||
+            d.find_first_of(" \t", c) < e)
+            fail(decl, "malformed parameter '" + d + "' (expected \"type name\")");
+        p.type = d.substr(a, b - a);
+        p.name = d.substr(c, e + 1 - c);
+        if (!known_type(p.type)) fail(decl, "unknown parameter type '" + p.type + "'");
+        auto value = [&](const Token& v) {
+            if (v.kind == TokenKind::Number) {
+                double x = 0.0;
+                auto [ptr, ec] = std::from_chars(v.text.data(), v.text.data() + v.text.size(), x);
+                if (ec != std::errc() || ptr != v.text.data() + v.text.size() || !std::isfinite(x))
+                    fail(v, "parameter '" + p.name + "': '" + std::string(v.text) +
+                                "' is not a finite number");
+                if (p.type == "integer" && (x != std::floor(x) || std::fabs(x) > 2147483647.0))
+                    fail(v, "parameter '" + p.name + "': '" + std::string(v.text) +
+                                "' is not an integer");
+                p.numbers.push_back(x);
+            } else if (v.kind == TokenKind::String || v.kind == TokenKind::Word) {
+                if (v.kind == TokenKind::Word && v.text != "true" && v.text != "false")
+                    fail(v, "parameter '" + p.name + "': unexpected '" + std::string(v.text) + "'");
+                p.strings.emplace_back(v.text);
+            } else {
+                fail(v, "parameter '" + p.name + "' has no value");
+            }
+        };
+        if (tk.peek().kind == TokenKind::Open) {
+            tk.next();
+            for (;;) {
+                const Token v = tk.next();
+                if (v.kind == TokenKind::Close) break;
+                if (v.kind == TokenKind::End || v.kind == TokenKind::Open)
+                    fail(decl, "parameter '" + p.name + "': missing ']'");
+                value(v);
+            }
+        } else {
+            value(tk.next());
+        }
+        const bool numeric = numeric_type(p.type);
+        if (numeric && !p.strings.empty())
+            fail(decl, "parameter '" + p.type + " " + p.name + "' takes numbers");
+        if ((p.type == "string" || p.type == "texture" || p.type == "bool") && !p.numbers.empty())
+            fail(decl, "parameter '" + p.type + " " + p.name + "' takes quoted strings");
+        if (p.type == "bool")
+            for (const std::string& s : p.strings)
+                if (s != "true" && s != "false")
+                    fail(decl, "parameter '" + p.name + "' must be true or false");
+        if (p.numbers.empty() && p.strings.empty())
+            fail(decl, "parameter '" + p.type + " " + p.name + "' has no values");
+        list.params.push_back(std::move(p));
+    }
+    return list;
+}
+
+}  // namespace foton::pbrt
