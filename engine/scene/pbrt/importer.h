@@ -129,7 +129,6 @@ class Importer {
     std::string camera_type_ = "perspective";
     float fov_ = 90.f, lens_radius_ = 0.f, focal_distance_ = 1e6f;
     std::optional<std::vector<float>> screen_window_;
-    bool camera_seen_ = false;
     int camera_line_ = 0;
     std::string camera_file_;
     int width_ = 1280, height_ = 720;

@@ -66,7 +66,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     } else if (type == "scale") {
         tex.value = value("tex", RGB{1.f});
         const std::string ref = p.texture("scale");
-        float s = p.real("scale", 1.f);
+        float s = ref.empty() ? p.real("scale", 1.f) : 1.f;
         if (!ref.empty()) {
             const auto it = textures_.find(ref);
             if (it == textures_.end() || !it->second.is_float)

@@ -12,7 +12,6 @@ void Importer::camera(const Token& t, const std::string& type, const ParamList& 
     if (type != "perspective" && type != "orthographic")
         fail(t, "unsupported camera '" + type + "' (perspective, orthographic)");
     camera_type_ = type;
-    camera_seen_ = true;
     camera_line_ = t.line;
     camera_file_ = file();
     camera_from_world_ = gs_.ctm;
@@ -217,7 +216,6 @@ void Importer::finish_camera() {
     f.gamma = 2.2f;
     scene_.set_resolution(width_, height_);
     if (crop_) scene_.set_crop((*crop_)[0], (*crop_)[1], (*crop_)[2], (*crop_)[3]);
-    if (!camera_seen_) warn(scene_.source, 0, "no Camera: pbrt's default perspective camera");
 }
 
 }  // namespace foton::pbrt

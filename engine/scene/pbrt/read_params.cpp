@@ -71,7 +71,8 @@ ParamList Importer::read_params() {
                 p.numbers.push_back(x);
             } else if (v.kind == TokenKind::String || v.kind == TokenKind::Word) {
                 if (v.kind == TokenKind::Word && v.text != "true" && v.text != "false")
-                    fail(v, "parameter '" + p.name + "': unexpected '" + std::string(v.text) + "'");
+                    fail(v, "parameter '" + p.name + "': '" + std::string(v.text) + "' is not " +
+                                (numeric_type(p.type) ? "a number" : "a value"));
                 p.strings.emplace_back(v.text);
             } else {
                 fail(v, "parameter '" + p.name + "' has no value");

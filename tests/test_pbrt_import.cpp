@@ -1,0 +1,340 @@
+// The pbrt-v4 importer: the refs' Cornell boxes against pbrt-v4's images, the camera and
+// transform conventions, orientation rules, materials, lights, spectra, warnings for what
+// is left out and file:line errors for what cannot be rendered.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/error.h"
+#include "engine/film/image_io.h"
+#include "engine/film/metrics.h"
+#include "engine/scene/pbrt/spectrum.h"
+#include "engine/scene/pbrt_loader.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+
+Scene import_text(const std::string& body, const std::string& base = ".") {
+    return parse_pbrt_scene(body, "test.pbrt", base);
+}
+
+// A pbrt file: options, then a world with `world` and a floor, so that it has a shape.
+Scene world(const std::string& options, const std::string& world) {
+    return import_text(
+        options + "\nWorldBegin\n" + world +
+        "\nShape \"trianglemesh\" \"point3 P\" [-10 -1 -10  10 -1 -10  10 -1 10  -10 -1 "
+        "10] \"integer indices\" [0 1 2 0 2 3]\n");
+}
+
+std::string error_of(const std::string& body) {
+    try {
+        import_text(body);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+Film render_at(Scene s, int size, uint32_t spp) {
+    s.set_resolution(size, size);
+    s.renderer.set("sampler", "jittered", "test", 0);
+    TestScene ts(std::move(s));
+    const auto acc = make_intersector(ts, ts.accel);
+    RenderOptions opt = ts.render.run;
+    opt.spp = spp;
+    opt.seed = 1;
+    return render(ts, ts.render, *acc, opt).film;
+}
+
+}  // namespace
+
+TEST_CASE("pbrt-v4: the refs' Cornell boxes import and match pbrt-v4's images",
+          "[pbrt][reference]") {
+    struct Case {
+        const char* file;
+        const char* ref;
+        uint32_t spp;
+        double mean_tol, block_tol;
+        int block;
+    };
+    // Means: 1 % on the diffuse box; the caustics reference carries SPPM's +0.1..0.5 % blur
+    // bias and 256 spp leave the caustic noisy, so 1.5 % there (0.7 % at 512 spp, measured).
+    for (const Case& c :
+         {Case{"path_diffuse.pbrt", "cornell_diffuse_path_512spp.exr", 64, 0.01, 0.04, 16},
+          Case{"path_caustics.pbrt", "cornell_caustics_sppm_256it.exr", 256, 0.015, 0.06, 32}}) {
+        INFO(c.file);
+        const Scene s = load_scene(test::source_path(std::string("scenes/pbrt/cornell/") + c.file));
+        CHECK(s.warnings.empty());
+        const Film ref = downsample(read_exr(test::shared_path(std::string("refs/") + c.ref)), 4);
+        const std::vector<uint8_t> mask = luminance_mask(ref, 2.f);
+        const Film img = render_at(s, 128, c.spp);
+        const ImageError e = compare_images(img, ref, &mask);
+        INFO("means " << e.mean_a.r << " " << e.mean_a.g << " " << e.mean_a.b << " ref "
+                      << e.mean_b.r << " " << e.mean_b.g << " " << e.mean_b.b << " rmse "
+                      << e.rmse);
+        CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(c.mean_tol));
+        CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(c.mean_tol));
+        CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(c.mean_tol));
+        // Blocks: the red wall on the left, the light where pbrt has it.
+        const Film ib = downsample(img, c.block), rb = downsample(ref, c.block);
+        double worst = 0.0;
+        for (std::size_t i = 0; i < rb.pixels.size(); ++i)
+            worst = std::max(worst, std::fabs(double(ib.pixels[i].luminance()) /
+                                                  double(rb.pixels[i].luminance()) -
+                                              1.0));
+        INFO("worst block " << worst);
+        CHECK(worst < c.block_tol);
+    }
+}
+
+TEST_CASE("pbrt-v4: camera conventions (LookAt, fov on the short side, handedness)",
+          "[pbrt][fast]") {
+    const Scene s = world(R"(LookAt 0 0 -5  0 0 0  0 1 0
+        Camera "perspective" "float fov" [ 60 ]
+        Film "rgb" "integer xresolution" [ 200 ] "integer yresolution" [ 100 ])",
+                          "");
+    const Camera& c = s.camera;
+    CHECK(s.film.width == 200);
+    CHECK(s.film.height == 100);
+    // The fov spans the shorter (vertical) side.
+    CHECK(c.vertical_fov_degrees() == Approx(60.0).epsilon(1e-4));
+    // pbrt's camera space is left-handed: world +x (camera +x) is on the image's right.
+    float fx = 0, fy = 0;
+    REQUIRE(c.project({1, 0, 0}, fx, fy));
+    CHECK(fx > 100.f);
+    REQUIRE(c.project({0, 1, 0}, fx, fy));
+    CHECK(fy < 50.f);
+    // Scale -1 1 1 mirrors it (as the refs' scenes do to put the red wall on the left).
+    const Scene m = world(R"(Scale -1 1 1 LookAt 0 0 -5  0 0 0  0 1 0 Camera "perspective")", "");
+    REQUIRE(m.camera.project({1, 0, 0}, fx, fy));
+    CHECK(fx < 640.f);
+    CHECK(m.film.width == 1280);  // pbrt's default film
+}
+
+TEST_CASE("pbrt-v4: transforms, attributes, coordinate systems and instances", "[pbrt][fast]") {
+    const Scene s = world("", R"(
+        AttributeBegin
+          Translate 1 2 3
+          Scale 2 2 2
+          Shape "sphere" "float radius" [ 0.5 ]
+          CoordinateSystem "here"
+        AttributeEnd
+        Shape "sphere"
+        TransformBegin
+          Rotate 90 0 0 1
+          Translate 1 0 0
+          Shape "sphere" "float radius" [ 0.25 ]
+        TransformEnd
+        AttributeBegin
+          CoordSysTransform "here"
+          ConcatTransform [ 1 0 0 0  0 1 0 0  0 0 1 0  1 0 0 1 ]
+          Shape "sphere"
+        AttributeEnd
+        ObjectBegin "pair"
+          Shape "sphere" "float radius" [ 0.1 ]
+          Translate 0 0 1
+          Shape "sphere" "float radius" [ 0.1 ]
+        ObjectEnd
+        AttributeBegin Translate 5 0 0 ObjectInstance "pair" AttributeEnd
+        AttributeBegin Translate -5 0 0 ObjectInstance "pair" AttributeEnd
+    )");
+    REQUIRE(s.spheres.size() == 8);
+    auto near = [](const Vec3& a, const Vec3& b) { return length(a - b) < 1e-5f; };
+    CHECK(near(s.spheres[0].center, {1, 2, 3}));
+    CHECK(s.spheres[0].radius == Approx(1.f));
+    CHECK(near(s.spheres[1].center, {0, 0, 0}));
+    CHECK(near(s.spheres[2].center, {0, 1, 0}));  // translate, then rotate about z
+    CHECK(near(s.spheres[3].center, {3, 2, 3}));  // "here" then a column-major translation
+    CHECK(s.spheres[3].radius == Approx(2.f));
+    CHECK(near(s.spheres[4].center, {5, 0, 0}));
+    CHECK(near(s.spheres[5].center, {5, 0, 1}));
+    CHECK(near(s.spheres[6].center, {-5, 0, 0}));
+    CHECK(near(s.spheres[7].center, {-5, 0, 1}));
+    CHECK(s.spheres[7].radius == Approx(0.1f));
+    CHECK(s.warnings.empty());
+}
+
+TEST_CASE("pbrt-v4: emitting side and ReverseOrientation follow pbrt", "[pbrt][fast]") {
+    // A quad whose winding faces +y; N, when given, decides the side; ReverseOrientation
+    // flips it.
+    auto normal_of = [](const std::string& before, const std::string& normals) {
+        const Scene s = import_text("WorldBegin\n" + before + R"(
+            AreaLightSource "diffuse" "rgb L" [1 1 1]
+            Shape "trianglemesh" "point3 P" [0 0 0  0 0 1  1 0 1  1 0 0]
+            "integer indices" [0 1 2 0 2 3] )" +
+                                    normals);
+        Vec3 p0, p1, p2;
+        s.meshes[0].corners(0, p0, p1, p2);
+        return normalize(cross(p1 - p0, p2 - p0));
+    };
+    CHECK(normal_of("", "").y == Approx(1.f));
+    CHECK(normal_of("ReverseOrientation", "").y == Approx(-1.f));
+    CHECK(normal_of("", R"("normal N" [0 -1 0 0 -1 0 0 -1 0 0 -1 0])").y == Approx(-1.f));
+    CHECK(normal_of("ReverseOrientation", R"("normal N" [0 -1 0 0 -1 0 0 -1 0 0 -1 0])").y ==
+          Approx(1.f));
+    CHECK(normal_of("Scale 1 1 -1", "").y == Approx(1.f));  // a mirror keeps it outward
+}
+
+TEST_CASE("pbrt-v4: materials, named materials, textures and lights", "[pbrt][fast]") {
+    const Scene s = world(R"(Integrator "sppm" "integer iterations" [ 7 ] "float radius" [ 2 ])",
+                          R"(
+        Texture "grey" "spectrum" "constant" "rgb value" [0.25 0.5 0.75]
+        Texture "half" "float" "constant" "float value" [0.5]
+        Texture "scaled" "spectrum" "scale" "texture tex" "grey" "texture scale" "half"
+        MakeNamedMaterial "gold" "string type" "conductor"
+            "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k"
+        MakeNamedMaterial "matte" "string type" "diffuse" "texture reflectance" "scaled"
+        Material "mix" "string materials" ["gold" "matte"] "float amount" 0.25
+        Shape "sphere"
+        NamedMaterial "matte" Shape "sphere"
+        Material "coateddiffuse" "rgb reflectance" [0.5 0.5 0.5] "float roughness" 0
+        Shape "sphere"
+        Material "dielectric" "spectrum eta" "glass-BK7" Shape "sphere"
+        LightSource "point" "rgb I" [1 2 3] "point3 from" [0 4 0]
+        LightSource "spot" "blackbody I" [3000] "float power" [100] "float coneangle" [20]
+        LightSource "distant" "point3 to" [0 -1 0] "float illuminance" [3]
+    )");
+    REQUIRE(s.spheres.size() == 4);
+    auto sphere_material = [&](std::size_t i) -> const Material& {
+        for (const Object& o : s.objects)
+            if (o.kind == ObjectKind::Sphere && o.index == i) return s.materials[o.material];
+        FAIL("no sphere " << i);
+        return s.materials[0];
+    };
+    // mix: 0.75 gold mirror + 0.25 Lambert of 0.5 x (0.25, 0.5, 0.75).
+    const Bsdf& m0 = sphere_material(0).bsdf;
+    REQUIRE(m0.size() == 2);
+    CHECK(m0.lobe(0).type == LobeType::Mirror);
+    CHECK(m0.lobe(0).fresnel.eta.b == Approx(1.442f));
+    CHECK(m0.lobe(0).color.r == Approx(0.75f));
+    CHECK(m0.lobe(1).color.g == Approx(0.25f * 0.25f));
+    CHECK(sphere_material(1).bsdf.lobe(0).color.b == Approx(0.375f));
+    const Bsdf& coat = sphere_material(2).bsdf;
+    REQUIRE(coat.size() == 2);
+    CHECK(coat.lobe(0).type == LobeType::Lambert);
+    CHECK(coat.lobe(0).color.r < 0.5f);
+    CHECK(coat.lobe(0).color.r > 0.4f);
+    CHECK(sphere_material(3).ior == Approx(1.5168f));
+    REQUIRE(s.lights.points.size() == 1);
+    CHECK(s.lights.points[0].intensity.b == Approx(3.f));
+    CHECK(s.lights.points[0].position.y == Approx(4.f));
+    REQUIRE(s.lights.spots.size() == 1);
+    // power 100 over pbrt's spot solid angle, colour of luminance 1.
+    const SpotLight& spot = s.lights.spots[0];
+    const float k_e =
+        2.f * kPi * ((1.f - spot.cos_inner) + 0.5f * (spot.cos_inner - spot.cos_outer));
+    CHECK(spot.intensity.luminance() == Approx(100.f / k_e).epsilon(0.03));
+    CHECK(spot.intensity.r > spot.intensity.b);  // 3000 K is red
+    REQUIRE(s.lights.directionals.size() == 1);
+    CHECK(s.lights.directionals[0].direction.y == Approx(-1.f));
+    CHECK(s.lights.directionals[0].radiance.g == Approx(3.f));
+    CHECK(s.renderer.text("type") == "sppm");
+    CHECK(s.renderer.text("spp") == "7");
+}
+
+TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
+    const RGB d65 = pbrt::blackbody_rgb(6504.f);
+    CHECK(d65.luminance() == Approx(1.f).epsilon(0.02));
+    CHECK(d65.r == Approx(1.f).margin(0.08));
+    CHECK(d65.b == Approx(1.f).margin(0.08));
+    const RGB flat = pbrt::sampled_spectrum_rgb({400, 0.3f, 700, 0.3f}, false);
+    CHECK(flat.r == Approx(0.3f).epsilon(1e-3));
+    CHECK(flat.b == Approx(0.3f).epsilon(1e-3));
+    const RGB red = pbrt::sampled_spectrum_rgb({400, 0.f, 599, 0.f, 600, 1.f, 700, 1.f}, false);
+    CHECK(red.r > 4.f * red.b);
+    CHECK(pbrt::named_spectrum_rgb("metal-Cu-k").has_value());
+    CHECK(!pbrt::named_spectrum_rgb("metal-Xx-k").has_value());
+}
+
+TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fast]") {
+    const Scene s = world(R"(PixelFilter "gaussian"
+        Sampler "halton" "integer pixelsamples" 8
+        Integrator "volpath" "integer maxdepth" 3 "float foo" 1)",
+                          R"(Material "diffuse" "float sigma" [ 0 ]
+        Shape "sphere")");
+    auto has = [&](const std::string& text) {
+        for (const std::string& w : s.warnings)
+            if (w.find(text) != std::string::npos) return true;
+        return false;
+    };
+    CHECK(has("test.pbrt:1: PixelFilter \"gaussian\""));
+    CHECK(has("test.pbrt:2: Sampler \"halton\""));
+    CHECK(has("test.pbrt:3: unsupported parameter 'float foo' of Integrator \"volpath\""));
+    CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));
+    CHECK(s.renderer.text("spp") == "8");
+    CHECK(s.renderer.text("max_depth") == "3");
+}
+
+TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]") {
+    const std::string shape = "\nShape \"sphere\"\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {"WorldBegin\nFoo 1", "test.pbrt:2: unknown directive 'Foo'"},
+        {"WorldBegin\nShape \"sphere\" \"float radius [ 1 ]", "test.pbrt:2: unterminated string"},
+        {"WorldBegin\nShape \"sphere\" \"radius\" [ 1 ]", "test.pbrt:2: malformed parameter"},
+        {"WorldBegin\nShape \"sphere\" \"float radius\" [ 1 ", "missing ']'"},
+        {"WorldBegin\nShape \"sphere\" \"float radius\" [ nan ]",
+         "test.pbrt:2: parameter 'radius': 'nan' is not a number"},
+        {"WorldBegin\nShape \"sphere\" \"integer radius\" [ 1.5 ]", "is not an integer"},
+        {"WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]", "test.pbrt:2: sphere radius"},
+        {"WorldBegin\nShape \"disk\"", "test.pbrt:2: unsupported shape 'disk'"},
+        {"WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] "
+         "\"integer indices\" [0 1 3]",
+         "test.pbrt:2: Shape \"trianglemesh\": index 3 outside the 3 points"},
+        {"WorldBegin\nInclude \"missing.pbrt\"",
+         "test.pbrt:2: Include 'missing.pbrt': file not found"},
+        {"WorldBegin\nMaterial \"hair\"" + shape, "test.pbrt:2: unsupported material 'hair'"},
+        {"WorldBegin\nNamedMaterial \"x\"" + shape, "unknown named material 'x'"},
+        {"WorldBegin\nLightSource \"goniometric\"" + shape, "unsupported light 'goniometric'"},
+        {"WorldBegin\nAttributeEnd" + shape, "test.pbrt:2: AttributeEnd without"},
+        {"WorldBegin\nAttributeBegin" + shape, "without its end"},
+        {"WorldBegin\nObjectInstance \"x\"" + shape, "unknown object 'x'"},
+        {"WorldBegin\nScale 0 1 1" + shape, "test.pbrt:2: Scale: the transform is singular"},
+        {"WorldBegin\nScale 1 2 1" + shape, "test.pbrt:3: a sphere takes only uniform scaling"},
+        {"WorldBegin\nTransform [1 0 0 0 0 1 0 0 0 0 1 1 0 0 0 1]" + shape, "projective"},
+        {"WorldBegin\nCamera \"perspective\"" + shape, "test.pbrt:2: Camera belongs before"},
+        {"Camera \"realistic\"\nWorldBegin" + shape, "test.pbrt:1: unsupported camera"},
+        {"Film \"rgb\" \"integer xresolution\" [ 100000 ]\nWorldBegin" + shape, "test.pbrt:1:"},
+        {"WorldBegin\nMakeNamedMedium \"fog\"" + shape, "participating media"},
+        {"WorldBegin\nMaterial \"dielectric\" \"float roughness\" 0.3" + shape, "rough dielectric"},
+        {"WorldBegin\nLightSource \"infinite\"" + shape, "environment lights"},
+        {"WorldBegin\nShape \"sphere\" \"spectrum reflectance\" \"metal-Zz-eta\"\n"
+         "Material \"diffuse\" \"spectrum reflectance\" \"metal-Zz-eta\"" +
+             shape,
+         "test.pbrt:3: parameter 'spectrum reflectance': unknown named spectrum"},
+        {"WorldBegin", "the scene has no shapes"},
+        {"WorldBegin\n@", "test.pbrt:2: unexpected character '@'"},
+    };
+    for (const auto& [text, want] : cases) {
+        INFO(text);
+        const std::string got = error_of(text);
+        INFO("got: " << got);
+        CHECK(got.find(want) != std::string::npos);
+    }
+}
+
+TEST_CASE("pbrt-v4: Include resolves against the scene's directory; plymesh reads PLY",
+          "[pbrt][fast]") {
+    test::TempDir dir;
+    {
+        std::ofstream(dir.file("geometry.pbrt")) << "Shape \"plymesh\" \"string filename\" "
+                                                    "\"quad.ply\"\n";
+        std::ofstream(dir.file("quad.ply"))
+            << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+               "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+               "property list uchar int vertex_indices\nend_header\n"
+               "0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n4 0 1 2 3\n";
+        std::ofstream(dir.file("main.pbrt")) << "WorldBegin\nTranslate 0 0 2\n"
+                                                "Include \"geometry.pbrt\"\n";
+    }
+    const Scene s = load_scene(dir.file("main.pbrt"));
+    REQUIRE(s.meshes.size() == 1);
+    CHECK(s.meshes[0].num_triangles() == 2);
+    CHECK(s.meshes[0].uvs.size() == 8);
+    CHECK(s.meshes[0].vertex(2).z == Approx(2.f));
+    CHECK(s.source == dir.file("main.pbrt"));
+}
