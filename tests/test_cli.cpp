@@ -323,3 +323,29 @@ TEST_CASE("foton render --crop and --pixel-bounds", "[cli][crop]") {
         CHECK_FALSE(std::filesystem::exists(dir.file("bad.exr")));
     }
 }
+
+TEST_CASE("foton render and info read pbrt-v4 files; bad ones exit 2 with no image",
+          "[cli][pbrt]") {
+    foton::test::TempDir dir;
+    const std::string good = dir.file("ok.pbrt");
+    std::ofstream(good) << "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"perspective\"\n"
+                           "PixelFilter \"gaussian\"\nWorldBegin\n"
+                           "LightSource \"point\" \"rgb I\" [5 5 5] \"point3 from\" [0 2 -2]\n"
+                           "Shape \"sphere\"\n";
+    const Run r =
+        run("render " + good + " --width 16 --height 16 --spp 1 -o " + dir.file("ok.exr"));
+    CHECK(r.code == 0);
+    CHECK_THAT(r.output, Catch::Contains("warning: " + good + ":3: PixelFilter \"gaussian\""));
+    CHECK(std::filesystem::exists(dir.file("ok.exr")));
+    const Run i = run("info " + good);
+    CHECK(i.code == 0);
+    CHECK_THAT(i.output, Catch::Contains("imported   Camera perspective;"));
+    CHECK_THAT(i.output, Catch::Contains("ignored    " + good + ":3:"));
+    const std::string bad = dir.file("bad.pbrt");
+    std::ofstream(bad) << "WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]\n";
+    const Run b = run("render " + bad + " -o " + dir.file("bad.exr"));
+    CHECK(b.code == 2);
+    CHECK_THAT(b.output, Catch::Contains(bad + ":2: sphere radius must be positive"));
+    CHECK(!std::filesystem::exists(dir.file("bad.exr")));
+    CHECK(!std::filesystem::exists(dir.file("bad.png")));
+}

@@ -18,6 +18,7 @@ Importer::Importer(std::string path, std::string text, std::string base_dir,
     scene_.source = path;
     renderer_.file = path;
     // pbrt-v4's defaults where they differ from foton's own.
+    renderer_.set("type", "path", path, 0);
     renderer_.set("spp", "16", path, 0);
     renderer_.set("max_depth", "5", path, 0);
     Material diffuse;
