@@ -324,7 +324,7 @@ TEST_CASE("foton render --crop and --pixel-bounds", "[cli][crop]") {
     }
 }
 
-TEST_CASE("foton render and info read pbrt-v4 files; bad ones exit 2 with no image",
+TEST_CASE("foton render and info read pbrt-v4 files, bad ones exit 2 with no image",
           "[cli][pbrt]") {
     foton::test::TempDir dir;
     const std::string good = dir.file("ok.pbrt");

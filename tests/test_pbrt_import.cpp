@@ -11,6 +11,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/pbrt/spectrum.h"
 #include "engine/scene/pbrt_loader.h"
+#include "engine/scene/texture.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
 #include "test_util.h"
@@ -317,7 +318,7 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
     }
 }
 
-TEST_CASE("pbrt-v4: Include resolves against the scene's directory; plymesh reads PLY",
+TEST_CASE("pbrt-v4: Include resolves against the scene's directory, plymesh reads PLY",
           "[pbrt][fast]") {
     test::TempDir dir;
     {
@@ -337,4 +338,110 @@ TEST_CASE("pbrt-v4: Include resolves against the scene's directory; plymesh read
     CHECK(s.meshes[0].uvs.size() == 8);
     CHECK(s.meshes[0].vertex(2).z == Approx(2.f));
     CHECK(s.source == dir.file("main.pbrt"));
+}
+
+TEST_CASE("textures: bilinear image lookups and sRGB decoding", "[texture][fast]") {
+    test::TempDir dir;
+    // A 2 x 2 binary PPM: red, green / blue, grey 128 (sRGB).
+    const std::string path = dir.file("t.ppm");
+    {
+        std::ofstream f(path, std::ios::binary);
+        f << "P6\n2 2\n255\n";
+        const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 128, 128, 128};
+        f.write(reinterpret_cast<const char*>(px), sizeof px);
+    }
+    const TextureImage img = load_texture_image(path);
+    REQUIRE(img.width == 2);
+    const float grey = 0.2158605f;  // sRGB 128/255 decoded
+    // Texel centres give the texels; v = 0 is the bottom row.
+    CHECK(img.bilinear({0.25f, 0.75f}).r == Approx(1.f));
+    CHECK(img.bilinear({0.75f, 0.75f}).g == Approx(1.f));
+    CHECK(img.bilinear({0.25f, 0.25f}).b == Approx(1.f));
+    CHECK(img.bilinear({0.75f, 0.25f}).g == Approx(grey).epsilon(1e-4));
+    // Half-way between red and green; repeating across the edge.
+    const RGB mid = img.bilinear({0.5f, 0.75f});
+    CHECK(mid.r == Approx(0.5f));
+    CHECK(mid.g == Approx(0.5f));
+    CHECK(img.bilinear({1.25f, -0.25f}).r == Approx(img.bilinear({0.25f, 0.75f}).r));
+    CHECK(load_texture_image(path, true).bilinear({0.75f, 0.25f}).g == Approx(128.f / 255.f));
+    // Bad files name themselves.
+    std::ofstream(dir.file("bad.png")) << "not an image";
+    CHECK_THROWS_WITH(load_texture_image(dir.file("bad.png")),
+                      Catch::Contains(dir.file("bad.png") + ": not a readable image"));
+}
+
+TEST_CASE("textures: a textured quad renders the texture's colours", "[texture][pbrt]") {
+    test::TempDir dir;
+    {
+        std::ofstream f(dir.file("t.ppm"), std::ios::binary);
+        f << "P6\n2 2\n255\n";
+        const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 128, 128, 128};
+        f.write(reinterpret_cast<const char*>(px), sizeof px);
+        // Irradiance pi on a Lambertian quad: its radiance is its albedo, texel by texel.
+        std::ofstream(dir.file("quad.pbrt"))
+            << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
+               "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+               "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\n"
+               "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
+               "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
+               "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
+               "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"t.ppm\"\n"
+               "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 "
+               "\"float vscale\" 4 \"rgb tex1\" [0.8 0.8 0.8] \"rgb tex2\" [0.1 0.2 0.3]\n"
+               "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" "
+               "\"img\"\n"
+               "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" "
+               "\"checks\"\n"
+               "MakeNamedMaterial \"c\" \"string type\" \"diffuse\"\n"
+               "Material \"mix\" \"string materials\" [\"c\" \"a\"] \"float amount\" 1\n"
+               "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+               "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
+               "AttributeBegin Translate 0 0 -1 NamedMaterial \"b\"\n"
+               "Shape \"trianglemesh\" \"point3 P\" [-1 -1 0 2 -1 0 2 2 0 -1 2 0] "
+               "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
+               "AttributeEnd\n"
+               "Material \"mix\" \"string materials\" [\"a\" \"b\"] \"float amount\" 0.5\n";
+    }
+    CHECK_THROWS_WITH(load_scene(dir.file("quad.pbrt")),
+                      Catch::Contains("quad.pbrt:18: a mix of two differently textured"));
+    // Without the last line: the quad in front (the checkerboard plane behind it is hidden).
+    {
+        std::ifstream in(dir.file("quad.pbrt"));
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text.erase(text.rfind("Material"));
+        std::ofstream(dir.file("quad.pbrt")) << text;
+    }
+    Scene s = load_scene(dir.file("quad.pbrt"));
+    // The checkerboard: 4 x 4 cells over the unit square.
+    CHECK(s.textures[1].eval(s.texture_images, {0.1f, 0.1f}).r == Approx(0.8f));
+    CHECK(s.textures[1].eval(s.texture_images, {0.3f, 0.1f}).b == Approx(0.3f));
+    CHECK(s.texture_images.size() == 1);
+    CHECK(s.textures.size() == 2);
+    TestScene ts(std::move(s));
+    const auto acc = make_intersector(ts, ts.accel);
+    RenderOptions opt = ts.render.run;
+    opt.spp = 16;
+    const Film f = render(ts, ts.render, *acc, opt).film;
+    auto px = [&](int x, int y) { return f.pixels[std::size_t(y) * 64 + std::size_t(x)]; };
+    // Image rows run down, v up: the top-left texel (red) is at the image's top left.
+    CHECK(px(16, 16).r > 0.9f);
+    CHECK(px(16, 16).g < 0.1f);
+    // Every pixel: the bilinear texture averaged over the pixel's square (8 x 8 points).
+    const TextureImage& img = ts.texture_images[0];
+    double worst = 0.0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            RGB want{0.f};
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i)
+                    want += img.bilinear({(float(x) + (float(i) + 0.5f) / 8.f) / 64.f,
+                                          1.f - (float(y) + (float(j) + 0.5f) / 8.f) / 64.f}) *
+                            (1.f / 64.f);
+            const RGB got = px(x, y);
+            worst =
+                std::max({worst, double(std::fabs(got.r - want.r)),
+                          double(std::fabs(got.g - want.g)), double(std::fabs(got.b - want.b))});
+        }
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.01);
 }

@@ -257,6 +257,16 @@ void Bsdf::scale(float w) {
     }
 }
 
+Bsdf Bsdf::with_texture(uint8_t lobes, const RGB& t) const {
+    Bsdf b = *this;
+    for (int i = 0; i < n_; ++i) {
+        if (!(lobes & (1u << i))) continue;
+        b.lobes_[std::size_t(i)].color *= t;
+        b.weight_[std::size_t(i)] = sampling_weight(b.lobes_[std::size_t(i)]);
+    }
+    return b;
+}
+
 float Bsdf::weight_sum(uint8_t only) const {
     float sum = 0.f;
     for (int i = 0; i < n_; ++i)

@@ -113,6 +113,9 @@ class Bsdf {
     }
     // Scales every lobe's colour (for mixtures).
     void scale(float w);
+    // A copy whose lobes in `lobes` (bit i: lobe i) have their colour multiplied by `t`:
+    // a textured reflectance at one surface point. Sampling weights follow the colours.
+    Bsdf with_texture(uint8_t lobes, const RGB& t) const;
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;

@@ -3,6 +3,7 @@
 // true Lambertian BRDF (c_diffuse * base / pi) so that area lights given in radiance give the
 // same direct light as a physically based renderer; the ambient term and the Phong lobe are
 // the thesis' empirical additions.
+#include <cstdint>
 #include <string>
 
 #include "bsdf.h"
@@ -35,6 +36,11 @@ struct Material {
         return !emission.is_black() && (front_face || emission_two_sided);
     }
     std::string name;  // the XML type, for `foton info`
+    // A texture on the reflectance (into Scene::textures, -1: none): at a hit, the lobes in
+    // `textured_lobes` (bit i: lobe i) and base_color are multiplied by its value there
+    // (their stored colour holds the rest: mix weights, coat transmission).
+    int32_t texture = -1;
+    uint8_t textured_lobes = 0;
 
     // The physically based model the Monte Carlo integrators use (also for the thesis'
     // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,

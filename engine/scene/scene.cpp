@@ -89,6 +89,15 @@ void check_image_size(int width, int height, const std::string& file, int line) 
                              ", at most " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
+const Material& Scene::textured(const Material& m, Point2 uv,
+                                std::optional<Material>& scratch) const {
+    const RGB t = textures[std::size_t(m.texture)].eval(texture_images, uv);
+    Material& out = scratch.emplace(m);
+    out.base_color = m.base_color * t;
+    out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
+    return out;
+}
+
 void Scene::set_resolution(int width, int height) {
     // Keep the view plane's extent: the field of view does not change with resolution.
     const float view_w = film.pixel_size * float(film.width);

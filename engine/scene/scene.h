@@ -2,6 +2,7 @@
 // The scene model: everything the XML file describes, in world space, ready for the
 // accelerators and integrators.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "light.h"
 #include "material.h"
 #include "mesh.h"
+#include "texture.h"
 
 namespace foton {
 
@@ -67,6 +69,8 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<Object> objects;
+    std::vector<Texture> textures;
+    std::vector<TextureImage> texture_images;  // decoded once, shared by textures
     AccelType accel = AccelType::Bvh;
     float grid_density = 0.5f;  // cells per triangle of the mesh grids
     Camera camera;
@@ -82,6 +86,14 @@ struct Scene {
 
     // The material of geometry `geom` (a hit's geom id).
     const Material& material_of(uint32_t geom) const { return materials[objects[geom].material]; }
+    // The material at a surface point of uv coordinates `uv`: material_of(geom) itself, or,
+    // when it is textured, a copy in `scratch` with the texture's value applied.
+    // (An optional: untextured hits, the common case, construct nothing.)
+    const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {
+        const Material& m = material_of(geom);
+        return m.texture < 0 ? m : textured(m, uv, scratch);
+    }
+    const Material& textured(const Material& m, Point2 uv, std::optional<Material>& scratch) const;
     std::size_t num_triangles() const;
     Bounds3 bounds() const;
     Bounds3 object_bounds(uint32_t geom) const;

@@ -49,6 +49,7 @@ struct TextureDesc {
     std::string type;  // "constant", "scale"
     RGB value{1.f};    // constant textures (and products of constants)
     bool is_float = false;
+    int32_t scene_texture = -1;  // imagemap, checkerboard: into Scene::textures
 };
 
 class Importer {
@@ -88,6 +89,11 @@ class Importer {
                  const std::string& type, const ParamList& p);
     RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
                     const std::string& what);
+    // The same, where a varying texture may stand: its Scene::textures index, or -1.
+    RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                    const std::string& what, int32_t& texture);
+    void image_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    std::map<std::string, uint32_t> images_;  // file -> Scene::texture_images
     float float_value(const ParamList& p, const std::string& name, float fallback);
     uint32_t scene_material(const GraphicsState& gs);
 

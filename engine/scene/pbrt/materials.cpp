@@ -1,9 +1,24 @@
 // Material, MakeNamedMaterial and Texture: pbrt-v4's materials as foton BSDFs.
 #include <cmath>
+#include <filesystem>
 
 #include "importer.h"
 
 namespace foton::pbrt {
+
+RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                          const std::string& what, int32_t& texture) {
+    texture = -1;
+    const std::string tex = p.texture(name);
+    if (!tex.empty()) {
+        const auto it = textures_.find(tex);
+        if (it != textures_.end() && it->second.scene_texture >= 0 && !it->second.is_float) {
+            texture = it->second.scene_texture;
+            return RGB{1.f};
+        }
+    }
+    return reflectance(p, name, fallback, what);
+}
 
 RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
                           const std::string& what) {
@@ -11,8 +26,11 @@ RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallb
     const std::string tex = p.texture(name);
     if (!tex.empty()) {
         const auto it = textures_.find(tex);
-        if (it == textures_.end())
-            throw InputError(p.file, p.find(name)->line, "unknown texture '" + tex + "'");
+        if (it == textures_.end() || it->second.is_float)
+            throw InputError(p.file, p.find(name)->line, "unknown spectrum texture '" + tex + "'");
+        if (it->second.scene_texture >= 0)
+            throw InputError(p.file, p.find(name)->line,
+                             what + ": a varying texture on '" + name + "' is not supported");
         c = it->second.value;
     } else if (const auto v = p.color(name, false)) {
         c = *v;
@@ -74,12 +92,58 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
             s = it->second.value.r;
         }
         tex.value = tex.value * s;
+    } else if ((type == "imagemap" || type == "checkerboard") && !tex.is_float) {
+        Texture st;
+        if (type == "imagemap") {
+            image_texture(t, p, tex);
+            st.kind = TextureKind::Image;
+            st.image = images_[p.text("filename", "")];
+            st.scale = RGB{p.real("scale", 1.f)};
+            if (p.boolean("invert", false)) fail(t, "inverted image textures are not supported");
+        } else {
+            if (p.integer("dimension", 2) != 2) fail(t, "only 2D checkerboards are supported");
+            st.kind = TextureKind::Checkerboard;
+            st.value = value("tex1", RGB{1.f});
+            st.other = value("tex2", RGB{0.f});
+        }
+        const std::string mapping = p.text("mapping", "uv");
+        if (mapping != "uv") fail(t, "texture mapping '" + mapping + "' is not supported (uv)");
+        st.su = p.real("uscale", 1.f);
+        st.sv = p.real("vscale", 1.f);
+        st.du = p.real("udelta", 0.f);
+        st.dv = p.real("vdelta", 0.f);
+        scene_.textures.push_back(st);
+        tex.scene_texture = int32_t(scene_.textures.size() - 1);
     } else {
-        fail(t, "texture type '" + type + "' is not supported yet (constant, scale)");
+        fail(t, "texture type '" + type + "' is not supported (constant, scale, and spectrum " +
+                    "imagemap and checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
     count("Texture " + type);
+}
+
+void Importer::image_texture(const Token& t, const ParamList& p, TextureDesc&) {
+    const std::string rel = p.text("filename", "");
+    if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
+    const std::string wrap = p.text("wrap", "repeat");
+    if (wrap != "repeat") fail(t, "texture wrap '" + wrap + "' is not supported (repeat)");
+    const std::string filter = p.text("filter", "bilinear");
+    if (filter != "bilinear")
+        warn(file(), t.line, "texture filter '" + filter + "': foton filters bilinearly");
+    p.real("maxanisotropy", 8.f);
+    const std::string enc = p.text("encoding", "sRGB");
+    if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
+    if (images_.count(rel)) return;
+    const std::filesystem::path path = std::filesystem::path(rel).is_absolute()
+                                           ? std::filesystem::path(rel)
+                                           : std::filesystem::path(base_) / rel;
+    try {
+        scene_.texture_images.push_back(load_texture_image(path.string(), enc == "linear"));
+    } catch (const InputError& e) {
+        fail(t, std::string("texture '") + rel + "': " + e.what());
+    }
+    images_[rel] = uint32_t(scene_.texture_images.size() - 1);
 }
 
 namespace {
@@ -121,7 +185,8 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         return std::clamp(a, 0.002f, 2.f);
     };
     if (type == "diffuse") {
-        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what);
+        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
+        if (m.texture >= 0) m.textured_lobes = 1;
         if (!r.is_black()) m.bsdf.add(Lobe::lambert(r));
         m.base_color = r;
         m.c_diffuse = 1.f;
@@ -171,7 +236,8 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         // Documented approximation: a dielectric coat's reflection over a Lambertian base
         // that receives what the coat lets through (1 - the coat's mean Fresnel reflectance);
         // pbrt-v4 simulates the layer's inner bounces stochastically.
-        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what);
+        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
+        if (m.texture >= 0) m.textured_lobes = 1;
         const float eta = p.real("eta", 1.5f);
         if (!(eta > 1.f)) fail(t, what + ": eta must be above 1");
         bool smooth = true;
@@ -207,7 +273,14 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             if (it == named_materials_.end())
                 fail(t, "unknown named material '" + q->strings[std::size_t(i)] + "'");
             const float w = i == 0 ? 1.f - amount : amount;
-            Bsdf b = materials_[it->second].bsdf;
+            const Material& sub = materials_[it->second];
+            if (sub.texture >= 0) {
+                if (m.texture >= 0 && m.texture != sub.texture)
+                    fail(t, "a mix of two differently textured materials is not supported");
+                m.texture = sub.texture;
+                m.textured_lobes |= uint8_t(sub.textured_lobes << m.bsdf.size());
+            }
+            Bsdf b = sub.bsdf;
             b.scale(w);
             for (int l = 0; l < b.size(); ++l)
                 if (!m.bsdf.add(b.lobe(l)))

@@ -62,7 +62,8 @@ std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuf
                 }
                 const Vec3 d = b.rays.direction(i);
                 const SurfacePoint sp = surface_at(scene, b.rays, b.hits, i);
-                const Material& m = scene.material_of(geom);
+                std::optional<Material> scratch;
+                const Material& m = scene.material_at(geom, sp.uv, scratch);
                 if (m.bsdf.empty()) continue;
                 // The non-delta lobes by the caller, the delta ones followed below: both
                 // parts are taken whole, so neither is reweighted.

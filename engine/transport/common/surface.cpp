@@ -1,5 +1,8 @@
 #include "surface.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace foton {
 
 namespace {
@@ -12,6 +15,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
                         const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
     const Object& obj = scene.objects[geom];
+    const bool textured = scene.materials[obj.material].texture >= 0;
     Vec3 n_geom, n_shade;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
@@ -28,11 +32,29 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             const float len = length(ns);
             if (len > 0.f) n_shade = ns / len;
         }
+        if (textured) {
+            const uint32_t* ix = &m.indices[3 * prim];
+            if (m.uvs.empty()) {
+                // pbrt's default parametrisation of a triangle: (0, 0), (1, 0), (1, 1).
+                sp.uv = {u + v, v};
+            } else {
+                const float w = 1.f - u - v;
+                sp.uv = {
+                    m.uvs[2 * ix[0]] * w + m.uvs[2 * ix[1]] * u + m.uvs[2 * ix[2]] * v,
+                    m.uvs[2 * ix[0] + 1] * w + m.uvs[2 * ix[1] + 1] * u + m.uvs[2 * ix[2] + 1] * v};
+            }
+        }
     } else {
         const Sphere& s = scene.spheres[obj.index];
         sp.p = origin + dir * t;
         n_geom = (sp.p - s.center) / s.radius;
         n_shade = n_geom;
+        if (textured) {
+            // pbrt's sphere: u = phi / 2 pi around z, v = 1 - theta / pi (1 at the top, +z).
+            float phi = std::atan2(n_geom.y, n_geom.x);
+            if (phi < 0.f) phi += 2.f * kPi;
+            sp.uv = {phi / (2.f * kPi), 1.f - std::acos(std::clamp(n_geom.z, -1.f, 1.f)) / kPi};
+        }
     }
     sp.front_face = dot(n_geom, dir) < 0.f;
     if (!sp.front_face) {

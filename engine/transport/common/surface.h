@@ -13,6 +13,7 @@ struct SurfacePoint {
     Vec3 ns;          // shading normal (interpolated for smooth meshes), same side as ng
     bool front_face;  // the ray hit the side the geometry's own normal points to
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
+    Point2 uv;        // texture coordinates (computed only where the material is textured)
 };
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,

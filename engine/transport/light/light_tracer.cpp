@@ -89,7 +89,8 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const uint64_t path = first + slot;
             const Vec3 d = ws.rays.direction(i);
             const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-            const Material& m = scene_.material_of(geom);
+            std::optional<Material> scratch;
+            const Material& m = scene_.material_at(geom, sp.uv, scratch);
             if (m.bsdf.empty() || vertex > rs.max_depth) continue;
             RGB& beta = ws.beta[slot];
             const warp::Frame frame(sp.ns);

@@ -100,7 +100,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         }
         const Vec3 d = ws.rays.direction(i);
         const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-        const Material& m = scene_.material_of(geom);
+        std::optional<Material> scratch;
+        const Material& m = scene_.material_at(geom, sp.uv, scratch);
         ws.path_length[slot] += ws.hits.t[i];
 
         // Emission found by this ray, weighted against having sampled it as a light.

@@ -300,7 +300,8 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const Vec3 d = ws.rays.direction(i);
                 ws.path_length[slot] += ws.hits.t[i];
                 const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
-                const Material& m = scene_.material_of(geom);
+                std::optional<Material> scratch;
+                const Material& m = scene_.material_at(geom, sp.uv, scratch);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
                 if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;

@@ -73,7 +73,8 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const uint64_t i = first + slot;
                 const Vec3 d = ws.rays.direction(r);
                 const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
-                const Material& m = scene_.material_of(geom);
+                std::optional<Material> scratch;
+                const Material& m = scene_.material_at(geom, sp.uv, scratch);
                 if (m.bsdf.empty()) continue;
                 RGB& power = ws.power[slot];
                 if (m.bsdf.has_non_delta()) {

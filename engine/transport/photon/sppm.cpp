@@ -30,6 +30,7 @@ struct PixelState {
     Vec3 wo;  // local
     bool front = true;
     uint32_t material = 0;
+    Point2 uv;  // the material's texture coordinates there
     RGB beta;
     // Progressive statistics.
     RGB direct;  // summed over passes (PPM: of its one camera pass)
@@ -71,7 +72,8 @@ class ProgressivePhotons {
             }
             const SurfacePoint sp = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
             const uint32_t mi = scene_.objects[h.geom].material;
-            const Material& m = scene_.materials[mi];
+            std::optional<Material> scratch;
+            const Material& m = scene_.material_at(h.geom, sp.uv, scratch);
             if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
             if (m.bsdf.empty()) return;
             const warp::Frame frame(sp.ns);
@@ -103,6 +105,7 @@ class ProgressivePhotons {
             px.wo = wo;
             px.front = sp.front_face;
             px.material = mi;
+            px.uv = sp.uv;
             px.beta = beta;
             if (!lights_.empty()) {
                 float pick;
@@ -131,7 +134,9 @@ class ProgressivePhotons {
     // Gathers this pass's photons within the visible point's radius and updates it.
     void gather(const PhotonMap& photons, float alpha, PixelState& px) const {
         if (!px.valid) return;
-        const Material& m = scene_.materials[px.material];
+        const Material& base = scene_.materials[px.material];
+        std::optional<Material> scratch;
+        const Material& m = base.texture < 0 ? base : scene_.textured(base, px.uv, scratch);
         const BsdfContext ctx{px.front, Transport::Radiance};
         RGB phi;
         uint32_t count = 0;

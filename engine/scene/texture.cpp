@@ -1,0 +1,118 @@
+#include "texture.h"
+
+#include <stb/stb_image.h>
+#include <cmath>
+#include <filesystem>
+
+#include "engine/core/error.h"
+#include "engine/core/input_file.h"
+#include "engine/film/image_io.h"
+
+namespace foton {
+
+namespace {
+
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+int wrap(int i, int n) {
+    const int m = i % n;
+    return m < 0 ? m + n : m;
+}
+
+}  // namespace
+
+RGB TextureImage::bilinear(Point2 uv) const {
+    // Texel centres at half-integers; v runs up the image.
+    const float x = uv.x * float(width) - 0.5f, y = (1.f - uv.y) * float(height) - 0.5f;
+    const float fx = std::floor(x), fy = std::floor(y);
+    if (!std::isfinite(fx) || !std::isfinite(fy)) return texels[0];
+    const float tx = x - fx, ty = y - fy;
+    // Wrap in double: a huge uv must not overflow the int conversion.
+    const int x0 = int(std::fmod(double(fx), double(width))),
+              y0 = int(std::fmod(double(fy), double(height)));
+    const int xa = wrap(x0, width), xb = wrap(x0 + 1, width);
+    const int ya = wrap(y0, height), yb = wrap(y0 + 1, height);
+    auto at = [&](int i, int j) {
+        return texels[std::size_t(j) * std::size_t(width) + std::size_t(i)];
+    };
+    return (at(xa, ya) * (1.f - tx) + at(xb, ya) * tx) * (1.f - ty) +
+           (at(xa, yb) * (1.f - tx) + at(xb, yb) * tx) * ty;
+}
+
+RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
+    const Point2 st{su * uv.x + du, sv * uv.y + dv};
+    switch (kind) {
+        case TextureKind::Constant:
+            return value * scale;
+        case TextureKind::Image:
+            return images[image].bilinear(st) * scale;
+        case TextureKind::Checkerboard: {
+            const bool even = (int64_t(std::floor(st.x)) + int64_t(std::floor(st.y))) % 2 == 0;
+            return (even ? value : other) * scale;
+        }
+    }
+    return value;
+}
+
+TextureImage load_texture_image(const std::string& path, bool linear) {
+    const std::string problem = input_file_problem(path, kMaxMeshFileBytes);
+    if (!problem.empty()) throw InputError(path, 0, "cannot read texture: " + problem);
+    TextureImage img;
+    img.path = path;
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    if (ext == ".exr") {
+        const Film f = read_exr(path);
+        img.width = f.width;
+        img.height = f.height;
+        img.texels = f.pixels;
+    } else {
+        int w = 0, h = 0, c = 0;
+        if (!stbi_info(path.c_str(), &w, &h, &c))
+            throw InputError(path, 0,
+                             std::string("not a readable image (EXR, HDR, PNG, JPEG, BMP, TGA): ") +
+                                 stbi_failure_reason());
+        if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > (uint64_t(1) << 28))
+            throw InputError(
+                path, 0,
+                "texture size " + std::to_string(w) + "x" + std::to_string(h) + " is out of range");
+        img.width = w;
+        img.height = h;
+        img.texels.resize(std::size_t(w) * std::size_t(h));
+        auto store = [&](auto* data, float unit, bool encoded) {
+            if (!data)
+                throw InputError(path, 0,
+                                 std::string("cannot decode image: ") + stbi_failure_reason());
+            if (w != img.width || h != img.height) {
+                stbi_image_free(data);
+                throw InputError(path, 0, "the image changed while it was read");
+            }
+            for (std::size_t i = 0; i < img.texels.size(); ++i) {
+                float v[3];
+                for (int k = 0; k < 3; ++k) {
+                    v[k] = float(data[3 * i + std::size_t(k)]) / unit;
+                    if (encoded && !linear) v[k] = srgb_to_linear(v[k]);
+                }
+                img.texels[i] = {v[0], v[1], v[2]};
+            }
+            stbi_image_free(data);
+        };
+        // Radiance HDR files are linear; 8- and 16-bit files are sRGB encoded.
+        if (stbi_is_hdr(path.c_str()))
+            store(stbi_loadf(path.c_str(), &w, &h, &c, 3), 1.f, false);
+        else if (stbi_is_16_bit(path.c_str()))
+            store(stbi_load_16(path.c_str(), &w, &h, &c, 3), 65535.f, true);
+        else
+            store(stbi_load(path.c_str(), &w, &h, &c, 3), 255.f, true);
+    }
+    for (const RGB& t : img.texels)
+        if (!std::isfinite(t.r) || !std::isfinite(t.g) || !std::isfinite(t.b) || t.r < 0.f ||
+            t.g < 0.f || t.b < 0.f)
+            throw InputError(path, 0, "texture holds negative, NaN or infinite values");
+    if (img.texels.empty()) throw InputError(path, 0, "empty texture");
+    return img;
+}
+
+}  // namespace foton

@@ -1,0 +1,41 @@
+#pragma once
+// Textures on reflectances: constant, image (bilinear, repeating) and checkerboard, each
+// evaluated at a surface's (u, v). Images are decoded once into linear float RGB and shared
+// by every texture that names the same file (Scene::texture_images). Lookups are plain
+// bilinear filtering with no MIP-mapping: deterministic, the same for every thread count.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+
+namespace foton {
+
+struct TextureImage {
+    std::string path;
+    int width = 0, height = 0;
+    std::vector<RGB> texels;  // row 0 is the image's top
+    // Bilinear lookup at (u, v), repeating; v = 0 is the image's bottom (pbrt's and glTF's
+    // convention after its flip, OBJ's).
+    RGB bilinear(Point2 uv) const;
+};
+
+enum class TextureKind : uint8_t { Constant, Image, Checkerboard };
+
+struct Texture {
+    TextureKind kind = TextureKind::Constant;
+    RGB value{1.f};                                // Constant; Checkerboard's first colour
+    RGB other{0.f};                                // Checkerboard's second colour
+    uint32_t image = 0;                            // Image: into Scene::texture_images
+    float su = 1.f, sv = 1.f, du = 0.f, dv = 0.f;  // uv' = (su u + du, sv v + dv)
+    RGB scale{1.f};                                // multiplies the result
+
+    RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
+};
+
+// Decodes an EXR, HDR, PNG, JPEG, BMP or TGA file into linear RGB (8-bit files are sRGB
+// encoded unless `linear`). Throws InputError naming the file.
+TextureImage load_texture_image(const std::string& path, bool linear = false);
+
+}  // namespace foton
