@@ -49,6 +49,15 @@ void TriangleMesh::transform(const Affine& xf) {
             std::swap(indices[3 * t + 1], indices[3 * t + 2]);
 }
 
+bool Sphere::transform(const Affine& xf) {
+    const float sx = length(xf.vector({1, 0, 0})), sy = length(xf.vector({0, 1, 0})),
+                sz = length(xf.vector({0, 0, 1}));
+    if (std::fabs(sx - sy) > 1e-5f * sx || std::fabs(sx - sz) > 1e-5f * sx) return false;
+    center = xf.point(center);
+    radius *= sx;
+    return true;
+}
+
 bool intersect_sphere(const Sphere& s, const Vec3& o, const Vec3& d, float tmin, float tmax,
                       float& t) {
     const Vec3 f = o - s.center;

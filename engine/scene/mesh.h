@@ -42,6 +42,8 @@ struct TriangleMesh {
 struct Sphere {
     Vec3 center;
     float radius = 1.f;
+    // Places the sphere under `xf`; false (unchanged) when xf does not scale uniformly.
+    bool transform(const Affine& xf);
     Bounds3 bounds() const {
         Bounds3 b;
         b.extend(center - Vec3{radius, radius, radius});

@@ -10,8 +10,8 @@
 
 namespace foton {
 
-Scene load_pbrt_scene(const std::string& path, const RendererOverrides& overrides = {});
-// Same, from text in memory; Include paths and meshes resolve against `base_dir`.
+// A pbrt-v4 scene from text in memory (load_scene reads .pbrt files into it); Include paths
+// and meshes resolve against `base_dir`.
 Scene parse_pbrt_scene(const std::string& text, const std::string& name,
                        const std::string& base_dir, const RendererOverrides& overrides = {});
 

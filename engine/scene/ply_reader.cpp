@@ -66,6 +66,14 @@ struct Element {
 
 enum class Format { Ascii, Little, Big };
 
+// A scalar of type T from its bytes in native order.
+template <class T>
+double as(const unsigned char* raw) {
+    T v;
+    std::memcpy(&v, raw, sizeof v);
+    return double(v);
+}
+
 class Reader {
   public:
     Reader(const std::string& bytes, const std::string& name) : b_(bytes), name_(name) {}
@@ -81,6 +89,12 @@ class Reader {
     }
     void header();
     double value(Scalar t);
+    // A list property's length, read and checked.
+    uint32_t list_length(const Property& p) {
+        const double n = value(p.count_type);
+        if (!(n >= 0.0 && n <= 1e6)) fail_at("bad list length");
+        return uint32_t(n);
+    }
     std::string_view ascii_token();
 
     const std::string& b_;
@@ -198,39 +212,21 @@ double Reader::value(Scalar t) {
     pos_ += n;
     switch (t) {
         case Scalar::I8:
-            return double(int8_t(raw[0]));
+            return as<int8_t>(raw);
         case Scalar::U8:
-            return double(raw[0]);
-        case Scalar::I16: {
-            int16_t v;
-            std::memcpy(&v, raw, 2);
-            return v;
-        }
-        case Scalar::U16: {
-            uint16_t v;
-            std::memcpy(&v, raw, 2);
-            return v;
-        }
-        case Scalar::I32: {
-            int32_t v;
-            std::memcpy(&v, raw, 4);
-            return v;
-        }
-        case Scalar::U32: {
-            uint32_t v;
-            std::memcpy(&v, raw, 4);
-            return v;
-        }
-        case Scalar::F32: {
-            float v;
-            std::memcpy(&v, raw, 4);
-            return v;
-        }
-        case Scalar::F64: {
-            double v;
-            std::memcpy(&v, raw, 8);
-            return v;
-        }
+            return as<uint8_t>(raw);
+        case Scalar::I16:
+            return as<int16_t>(raw);
+        case Scalar::U16:
+            return as<uint16_t>(raw);
+        case Scalar::I32:
+            return as<int32_t>(raw);
+        case Scalar::U32:
+            return as<uint32_t>(raw);
+        case Scalar::F32:
+            return as<float>(raw);
+        case Scalar::F64:
+            return as<double>(raw);
     }
     return 0.0;
 }
@@ -268,10 +264,11 @@ TriangleMesh Reader::run() {
                     if (e.props[i].list) fail_at("list properties on vertices are not supported");
                     row[i] = value(e.props[i].type);
                 }
-                for (int k = 0; k < 3; ++k) m.positions.push_back(float(row[std::size_t(slot[k])]));
                 for (int k = 0; k < 3; ++k) {
-                    if (!std::isfinite(m.positions[m.positions.size() - 1 - std::size_t(k)]))
+                    const float x = float(row[std::size_t(slot[k])]);
+                    if (!std::isfinite(x))
                         fail_at("vertex " + std::to_string(v) + " is not finite");
+                    m.positions.push_back(x);
                 }
                 if (normals)
                     for (int k = 3; k < 6; ++k)
@@ -294,10 +291,9 @@ TriangleMesh Reader::run() {
                         value(p.type);
                         continue;
                     }
-                    const double n = value(p.count_type);
-                    if (!(n >= 0.0 && n <= 1e6)) fail_at("bad list length");
+                    const uint32_t n = list_length(p);
                     poly.clear();
-                    for (int k = 0; k < int(n); ++k) {
+                    for (uint32_t k = 0; k < n; ++k) {
                         const double idx = value(p.type);
                         if (int(i) != slot) continue;
                         if (!(idx >= 0.0 && idx < 4294967295.0) || idx != std::floor(idx))
@@ -315,9 +311,8 @@ TriangleMesh Reader::run() {
             // Other elements (edges, materials...) are read past.
             for (uint64_t r = 0; r < e.count; ++r)
                 for (const Property& p : e.props) {
-                    const double n = p.list ? value(p.count_type) : 1.0;
-                    if (!(n >= 0.0 && n <= 1e6)) fail_at("bad list length");
-                    for (int k = 0; k < int(n); ++k) value(p.type);
+                    const uint32_t n = p.list ? list_length(p) : 1;
+                    for (uint32_t k = 0; k < n; ++k) value(p.type);
                 }
         }
     }

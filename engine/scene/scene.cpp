@@ -89,6 +89,27 @@ void check_image_size(int width, int height, const std::string& file, int line) 
                              ", at most " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
+uint32_t Scene::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
+    Object o;
+    o.kind = ObjectKind::Mesh;
+    o.index = uint32_t(meshes.size());
+    o.material = material;
+    o.smooth = smooth && !mesh.normals.empty();
+    meshes.push_back(std::move(mesh));
+    objects.push_back(o);
+    return uint32_t(objects.size() - 1);
+}
+
+uint32_t Scene::add_sphere(const Sphere& sphere, uint32_t material) {
+    Object o;
+    o.kind = ObjectKind::Sphere;
+    o.index = uint32_t(spheres.size());
+    o.material = material;
+    spheres.push_back(sphere);
+    objects.push_back(o);
+    return uint32_t(objects.size() - 1);
+}
+
 const Material& Scene::textured(const Material& m, Point2 uv,
                                 std::optional<Material>& scratch) const {
     const RGB t = textures[std::size_t(m.texture)].eval(texture_images, uv);

@@ -84,14 +84,23 @@ struct Scene {
     std::vector<std::string> imported;
     std::vector<std::string> warnings;
 
+    // Adds a geometry with its material; returns its geometry id. A mesh is smooth-shaded
+    // when `smooth` and it has vertex normals.
+    uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
+    uint32_t add_sphere(const Sphere& sphere, uint32_t material);
+
     // The material of geometry `geom` (a hit's geom id).
     const Material& material_of(uint32_t geom) const { return materials[objects[geom].material]; }
-    // The material at a surface point of uv coordinates `uv`: material_of(geom) itself, or,
-    // when it is textured, a copy in `scratch` with the texture's value applied.
-    // (An optional: untextured hits, the common case, construct nothing.)
-    const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {
-        const Material& m = material_of(geom);
+    // Material `m` at a surface point of uv coordinates `uv`: m itself, or, when it is
+    // textured, a copy in `scratch` with the texture's value applied. (An optional:
+    // untextured hits, the common case, construct nothing.)
+    const Material& material_at(const Material& m, Point2 uv,
+                                std::optional<Material>& scratch) const {
         return m.texture < 0 ? m : textured(m, uv, scratch);
+    }
+    // The same for the material of geometry `geom`.
+    const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {
+        return material_at(material_of(geom), uv, scratch);
     }
     const Material& textured(const Material& m, Point2 uv, std::optional<Material>& scratch) const;
     std::size_t num_triangles() const;

@@ -13,8 +13,6 @@ namespace foton {
 // the command line's --set. They are checked like the file's own attributes.
 using RendererOverrides = std::vector<std::pair<std::string, std::string>>;
 
-// An XML scene file.
-Scene load_xml_scene(const std::string& path, const RendererOverrides& overrides = {});
 // A scene file of any supported format, chosen by its extension: .pbrt is pbrt-v4's, any
 // other is foton's XML.
 Scene load_scene(const std::string& path, const RendererOverrides& overrides = {});

@@ -49,30 +49,28 @@ void Importer::include(const Token& t) {
     const Token name = expect_string(t, "a file name");
     if (files_.size() >= std::size_t(kMaxIncludeDepth))
         fail(t, "includes nest more than " + std::to_string(kMaxIncludeDepth) + " deep");
-    const std::string rel(name.text);
-    const std::filesystem::path path = std::filesystem::path(rel).is_absolute()
-                                           ? std::filesystem::path(rel)
-                                           : std::filesystem::path(base_) / rel;
-    const std::string problem = input_file_problem(path.string(), kMaxSceneFileBytes);
-    if (!problem.empty())
-        fail(t, std::string(t.text) + " '" + rel +
-                    "': " + (problem == "not found" ? "file not found" : problem) +
-                    " (looked for " + path.string() + ")");
-    if (path.extension() == ".gz") fail(t, "compressed scene files (.gz) are not supported");
+    const std::string path =
+        input_path(t, std::string(t.text), std::string(name.text), kMaxSceneFileBytes);
+    if (std::filesystem::path(path).extension() == ".gz")
+        fail(t, "compressed scene files (.gz) are not supported");
     count(std::string(t.text));
-    files_.push_back(std::make_unique<Tokenizer>(
-        read_input_file(path.string(), kMaxSceneFileBytes, "scene file"), path.string()));
+    files_.push_back(
+        std::make_unique<Tokenizer>(read_input_file(path, kMaxSceneFileBytes, "scene file"), path));
+}
+
+std::string Importer::input_path(const Token& t, const std::string& what, const std::string& rel,
+                                 uint64_t max_bytes) {
+    // An absolute `rel` replaces the base in operator/.
+    const std::string path = (std::filesystem::path(base_) / rel).string();
+    const std::string problem = input_file_problem(path, max_bytes);
+    if (!problem.empty())
+        fail(t, what + " '" + rel + "': " + (problem == "not found" ? "file not found" : problem) +
+                    " (looked for " + path + ")");
+    return path;
 }
 
 void Importer::apply(const Affine& xf, bool replace) {
-    if (!transform_start_) {
-        // Only the shutter's end moves: foton renders the start (no motion blur).
-        if (warnings_.empty() || warnings_.back().find("motion blur") == std::string::npos)
-            warn(file(), 0,
-                 "ActiveTransform EndTime: motion blur is not supported, the "
-                 "start transform is rendered");
-        return;
-    }
+    if (!transform_start_) return;  // only the shutter's end moves: foton renders the start
     gs_.ctm = replace ? xf : gs_.ctm * xf;
 }
 
@@ -181,14 +179,13 @@ void Importer::directive(const Token& t) {
         apply(it->second, true);
     } else if (d == "ActiveTransform") {
         const Token w = next();
-        if (w.text == "StartTime") {
+        if (w.text == "StartTime" || w.text == "All") {
             transform_start_ = true;
-            transform_end_ = false;
         } else if (w.text == "EndTime") {
             transform_start_ = false;
-            transform_end_ = true;
-        } else if (w.text == "All") {
-            transform_start_ = transform_end_ = true;
+            warn(file(), t.line,
+                 "ActiveTransform EndTime: motion blur is not supported, the transforms that "
+                 "follow are ignored until StartTime or All (the start transform is rendered)");
         } else {
             fail(t, "ActiveTransform takes StartTime, EndTime or All");
         }
@@ -259,8 +256,6 @@ void Importer::directive(const Token& t) {
         defining_ = std::string(expect_string(t, "a name").text);
         if (prototypes_.count(defining_)) fail(t, "object '" + defining_ + "' defined twice");
         proto_ = &prototypes_[defining_];
-        proto_->file = file();
-        proto_->line = t.line;
         stack_.push_back(gs_);
         stack_kind_.push_back('a');
     } else if (d == "ObjectEnd") {
@@ -293,7 +288,6 @@ Scene Importer::run() {
     finish_camera();
     for (const auto& [key, value] : overrides_) renderer_.set(key, value, "--set", 0);
     scene_.renderer = std::move(renderer_);
-    scene_.accel = AccelType::Bvh;
     scene_.warnings = std::move(warnings_);
     for (const auto& [what, n] : imported_)
         scene_.imported.push_back(what + (n > 1 ? " x" + std::to_string(n) : ""));
@@ -307,12 +301,6 @@ namespace foton {
 Scene parse_pbrt_scene(const std::string& text, const std::string& name,
                        const std::string& base_dir, const RendererOverrides& overrides) {
     return pbrt::Importer(name, text, base_dir, overrides).run();
-}
-
-Scene load_pbrt_scene(const std::string& path, const RendererOverrides& overrides) {
-    const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
-    const std::string base = std::filesystem::path(path).parent_path().string();
-    return parse_pbrt_scene(text, path, base.empty() ? "." : base, overrides);
 }
 
 }  // namespace foton

@@ -33,18 +33,6 @@ struct GraphicsState {
     AreaLightDesc area;
 };
 
-// The geometry of an ObjectBegin/ObjectEnd block, in world space at its definition:
-// each ObjectInstance places a copy under the instance's transform.
-struct Prototype {
-    std::vector<TriangleMesh> meshes;
-    std::vector<uint32_t> mesh_materials;  // scene material indices
-    std::vector<bool> mesh_smooth;
-    std::vector<Sphere> spheres;
-    std::vector<uint32_t> sphere_materials;
-    int line = 0;
-    std::string file;
-};
-
 struct TextureDesc {
     std::string type;  // "constant", "scale"
     RGB value{1.f};    // constant textures (and products of constants)
@@ -66,6 +54,10 @@ class Importer {
     ParamList read_params();
     void directive(const Token& t);
     void include(const Token& t);
+    // A file the scene names (`what` 'rel'), resolved against the main file's directory and
+    // checked as a readable input file; an error at t otherwise.
+    std::string input_path(const Token& t, const std::string& what, const std::string& rel,
+                           uint64_t max_bytes);
     void apply(const Affine& xf, bool replace = false);
     [[noreturn]] void fail(const Token& t, const std::string& what) const {
         throw InputError(file(), t.line, what);
@@ -92,7 +84,12 @@ class Importer {
     // The same, where a varying texture may stand: its Scene::textures index, or -1.
     RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
                     const std::string& what, int32_t& texture);
-    void image_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // The Scene::texture_images index of an imagemap's file, decoded once per file.
+    uint32_t image_texture(const Token& t, const ParamList& p);
+    // The texture bound to parameter `name` ("texture reflectance" "t"), nullptr when the
+    // parameter is not texture-valued; an error when no texture of that kind is defined.
+    const TextureDesc* texture_ref(const ParamList& p, const std::string& name,
+                                   bool is_float) const;
     std::map<std::string, uint32_t> images_;  // file -> Scene::texture_images
     float float_value(const ParamList& p, const std::string& name, float fallback);
     uint32_t scene_material(const GraphicsState& gs);
@@ -103,8 +100,8 @@ class Importer {
 
     // shapes.cpp
     void shape(const Token& t, const std::string& type, const ParamList& p);
-    void add_mesh(TriangleMesh mesh, bool smooth, const Token& t);
-    void add_sphere(const Sphere& s, const Token& t);
+    // Where shapes go: the scene, or the object definition being read.
+    Scene& target() { return proto_ ? *proto_ : scene_; }
     void object_instance(const Token& t, const std::string& name);
 
     std::vector<std::unique_ptr<Tokenizer>> files_;
@@ -118,7 +115,7 @@ class Importer {
     std::vector<char> stack_kind_;  // 'a' AttributeBegin, 't' TransformBegin
     std::map<std::string, Affine> coordinate_systems_;
     bool in_world_ = false;
-    bool transform_start_ = true, transform_end_ = true;  // ActiveTransform
+    bool transform_start_ = true;  // ActiveTransform: transforms change the start time
 
     std::vector<Material> materials_;
     std::map<std::string, uint32_t> named_materials_;
@@ -126,9 +123,11 @@ class Importer {
     std::map<std::pair<uint32_t, int>, uint32_t> scene_materials_;
     int area_lights_ = 0;
 
-    std::map<std::string, Prototype> prototypes_;
+    // The geometry of each ObjectBegin/ObjectEnd block, in world space at its definition
+    // (with scene material indices): each ObjectInstance places a copy under its transform.
+    std::map<std::string, Scene> prototypes_;
     std::string defining_;  // the ObjectBegin block being read ("" outside)
-    Prototype* proto_ = nullptr;
+    Scene* proto_ = nullptr;
 
     // The camera, read when it appears and placed once the film's resolution is known.
     Affine camera_from_world_;

@@ -15,25 +15,31 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
         const float v = p.real(key, -1.f);
         return v > 0.f ? v / k_e : 1.f;
     };
+    // A point parameter (the first of its values), or `fallback`.
+    auto point = [&](const char* key, Vec3 fallback) {
+        const std::vector<Vec3> v = p.triples(key);
+        return v.empty() ? fallback : v[0];
+    };
+    // Spot and distant lights: from "from" towards "to", in world space.
+    auto axis = [&]() {
+        const Vec3 d = point("to", {0, 0, 1}) - point("from", {0, 0, 0});
+        if (length_squared(d) == 0.f) fail(t, what + ": from and to coincide");
+        return normalize(gs_.ctm.vector(d));
+    };
     if (type == "point") {
         const auto i = p.color("I", true);
         PointLight l;
-        l.position =
-            gs_.ctm.point(p.triples("from").empty() ? Vec3{0, 0, 0} : p.triples("from")[0]);
+        l.position = gs_.ctm.point(point("from", {0, 0, 0}));
         l.intensity = (i ? *i : RGB{1.f}) * scale * photometric("power", 4.f * kPi);
         scene_.lights.points.push_back(l);
     } else if (type == "spot") {
         const auto i = p.color("I", true);
-        const std::vector<Vec3> from = p.triples("from"), to = p.triples("to");
-        const Vec3 f = from.empty() ? Vec3{0, 0, 0} : from[0];
-        const Vec3 d = (to.empty() ? Vec3{0, 0, 1} : to[0]) - f;
-        if (length_squared(d) == 0.f) fail(t, what + ": from and to coincide");
         const float cone = p.real("coneangle", 30.f), delta = p.real("conedeltaangle", 5.f);
         if (!(cone > 0.f && cone <= 180.f) || delta < 0.f)
             fail(t, what + ": coneangle must be in (0, 180] and conedeltaangle not negative");
         SpotLight l;
-        l.position = gs_.ctm.point(f);
-        l.direction = normalize(gs_.ctm.vector(d));
+        l.position = gs_.ctm.point(point("from", {0, 0, 0}));
+        l.direction = axis();
         l.cos_outer = std::cos(cone * kPi / 180.f);
         l.cos_inner = std::cos(std::max(cone - delta, 0.f) * kPi / 180.f);
         const float k_e = 2.f * kPi * ((1.f - l.cos_inner) + 0.5f * (l.cos_inner - l.cos_outer));
@@ -41,12 +47,8 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
         scene_.lights.spots.push_back(l);
     } else if (type == "distant") {
         const auto radiance = p.color("L", true);
-        const std::vector<Vec3> from = p.triples("from"), to = p.triples("to");
-        const Vec3 d =
-            (to.empty() ? Vec3{0, 0, 1} : to[0]) - (from.empty() ? Vec3{0, 0, 0} : from[0]);
-        if (length_squared(d) == 0.f) fail(t, what + ": from and to coincide");
         DirectionalLight l;
-        l.direction = normalize(gs_.ctm.vector(d));
+        l.direction = axis();
         l.radiance = (radiance ? *radiance : RGB{1.f}) * scale * photometric("illuminance", 1.f);
         scene_.lights.directionals.push_back(l);
     } else if (type == "infinite") {

@@ -1,37 +1,39 @@
 // Material, MakeNamedMaterial and Texture: pbrt-v4's materials as foton BSDFs.
 #include <cmath>
-#include <filesystem>
 
+#include "engine/core/input_file.h"
+#include "engine/scene/metals.h"
 #include "importer.h"
 
 namespace foton::pbrt {
 
+const TextureDesc* Importer::texture_ref(const ParamList& p, const std::string& name,
+                                         bool is_float) const {
+    const std::string ref = p.texture(name);
+    if (ref.empty()) return nullptr;
+    const auto it = textures_.find(ref);
+    if (it == textures_.end() || it->second.is_float != is_float)
+        throw InputError(
+            p.file, p.find(name)->line,
+            std::string("unknown ") + (is_float ? "float" : "spectrum") + " texture '" + ref + "'");
+    return &it->second;
+}
+
 RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
                           const std::string& what, int32_t& texture) {
-    texture = -1;
-    const std::string tex = p.texture(name);
-    if (!tex.empty()) {
-        const auto it = textures_.find(tex);
-        if (it != textures_.end() && it->second.scene_texture >= 0 && !it->second.is_float) {
-            texture = it->second.scene_texture;
-            return RGB{1.f};
-        }
-    }
-    return reflectance(p, name, fallback, what);
+    const TextureDesc* tx = texture_ref(p, name, false);
+    texture = tx ? tx->scene_texture : -1;
+    return texture >= 0 ? RGB{1.f} : reflectance(p, name, fallback, what);
 }
 
 RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
                           const std::string& what) {
     RGB c = fallback;
-    const std::string tex = p.texture(name);
-    if (!tex.empty()) {
-        const auto it = textures_.find(tex);
-        if (it == textures_.end() || it->second.is_float)
-            throw InputError(p.file, p.find(name)->line, "unknown spectrum texture '" + tex + "'");
-        if (it->second.scene_texture >= 0)
+    if (const TextureDesc* tx = texture_ref(p, name, false)) {
+        if (tx->scene_texture >= 0)
             throw InputError(p.file, p.find(name)->line,
                              what + ": a varying texture on '" + name + "' is not supported");
-        c = it->second.value;
+        c = tx->value;
     } else if (const auto v = p.color(name, false)) {
         c = *v;
     }
@@ -44,12 +46,8 @@ RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallb
 }
 
 float Importer::float_value(const ParamList& p, const std::string& name, float fallback) {
-    const std::string tex = p.texture(name);
-    if (tex.empty()) return p.real(name, fallback);
-    const auto it = textures_.find(tex);
-    if (it == textures_.end() || !it->second.is_float)
-        throw InputError(p.file, p.find(name)->line, "unknown float texture '" + tex + "'");
-    return it->second.value.r;
+    const TextureDesc* tx = texture_ref(p, name, true);
+    return tx ? tx->value.r : p.real(name, fallback);
 }
 
 void Importer::texture(const Token& t, const std::string& name, const std::string& kind,
@@ -59,45 +57,26 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     TextureDesc tex;
     tex.type = type;
     tex.is_float = kind == "float";
+    // A constant operand: a value, or a constant texture of this texture's kind.
     auto value = [&](const std::string& key, RGB fallback) {
-        if (tex.is_float) {
-            const std::string ref = p.texture(key);
-            if (!ref.empty()) {
-                const auto it = textures_.find(ref);
-                if (it == textures_.end() || !it->second.is_float)
-                    fail(t, "unknown float texture '" + ref + "'");
-                return it->second.value;
-            }
-            return RGB{p.real(key, fallback.r)};
+        if (const TextureDesc* tx = texture_ref(p, key, tex.is_float)) {
+            if (tx->scene_texture >= 0)
+                fail(t, "'" + key + "': textures of varying textures are not supported");
+            return tx->value;
         }
-        const std::string ref = p.texture(key);
-        if (!ref.empty()) {
-            const auto it = textures_.find(ref);
-            if (it == textures_.end()) fail(t, "unknown texture '" + ref + "'");
-            return it->second.value;
-        }
+        if (tex.is_float) return RGB{p.real(key, fallback.r)};
         const auto c = p.color(key, false);
         return c ? *c : fallback;
     };
     if (type == "constant") {
         tex.value = value("value", RGB{1.f});
     } else if (type == "scale") {
-        tex.value = value("tex", RGB{1.f});
-        const std::string ref = p.texture("scale");
-        float s = ref.empty() ? p.real("scale", 1.f) : 1.f;
-        if (!ref.empty()) {
-            const auto it = textures_.find(ref);
-            if (it == textures_.end() || !it->second.is_float)
-                fail(t, "unknown float texture '" + ref + "'");
-            s = it->second.value.r;
-        }
-        tex.value = tex.value * s;
+        tex.value = value("tex", RGB{1.f}) * float_value(p, "scale", 1.f);
     } else if ((type == "imagemap" || type == "checkerboard") && !tex.is_float) {
         Texture st;
         if (type == "imagemap") {
-            image_texture(t, p, tex);
             st.kind = TextureKind::Image;
-            st.image = images_[p.text("filename", "")];
+            st.image = image_texture(t, p);
             st.scale = RGB{p.real("scale", 1.f)};
             if (p.boolean("invert", false)) fail(t, "inverted image textures are not supported");
         } else {
@@ -123,7 +102,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     count("Texture " + type);
 }
 
-void Importer::image_texture(const Token& t, const ParamList& p, TextureDesc&) {
+uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
     const std::string rel = p.text("filename", "");
     if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
     const std::string wrap = p.text("wrap", "repeat");
@@ -134,16 +113,14 @@ void Importer::image_texture(const Token& t, const ParamList& p, TextureDesc&) {
     p.real("maxanisotropy", 8.f);
     const std::string enc = p.text("encoding", "sRGB");
     if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
-    if (images_.count(rel)) return;
-    const std::filesystem::path path = std::filesystem::path(rel).is_absolute()
-                                           ? std::filesystem::path(rel)
-                                           : std::filesystem::path(base_) / rel;
+    if (const auto it = images_.find(rel); it != images_.end()) return it->second;
+    const std::string path = input_path(t, "texture", rel, kMaxMeshFileBytes);
     try {
-        scene_.texture_images.push_back(load_texture_image(path.string(), enc == "linear"));
+        scene_.texture_images.push_back(load_texture_image(path, enc == "linear"));
     } catch (const InputError& e) {
         fail(t, std::string("texture '") + rel + "': " + e.what());
     }
-    images_[rel] = uint32_t(scene_.texture_images.size() - 1);
+    return images_[rel] = uint32_t(scene_.texture_images.size() - 1);
 }
 
 namespace {
@@ -192,20 +169,15 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         m.c_diffuse = 1.f;
     } else if (type == "conductor") {
         Fresnel f;
-        f.kind = FresnelKind::Conductor;
         if (p.has("reflectance")) {
-            // pbrt-v4's reading of a reflectance: eta = 1 and k from the normal-incidence value.
-            const RGB r = reflectance(p, "reflectance", RGB{1.f}, what);
-            auto kk = [](float x) {
-                x = std::min(x, 0.9999f);
-                return 2.f * std::sqrt(x / (1.f - x));
-            };
-            f.eta = RGB{1.f};
-            f.k = {kk(r.r), kk(r.g), kk(r.b)};
+            f = conductor_from_reflectance(reflectance(p, "reflectance", RGB{1.f}, what));
         } else {
+            // pbrt-v4's default conductor is copper.
+            const Metal& cu = metals()[2];
             const auto eta = p.color("eta", false), k = p.color("k", false);
-            f.eta = eta ? *eta : RGB{0.200f, 0.924f, 1.102f};  // metal-Cu-eta, pbrt's default
-            f.k = k ? *k : RGB{3.912f, 2.452f, 2.142f};
+            f.kind = FresnelKind::Conductor;
+            f.eta = eta ? *eta : cu.eta;
+            f.k = k ? *k : cu.k;
             if (!(f.eta.r > 0.f && f.eta.g > 0.f && f.eta.b > 0.f))
                 fail(t, what + ": eta must be positive");
         }

@@ -85,7 +85,7 @@ void Importer::sampler(const Token& t, const std::string& type, const ParamList&
         warn(file(), t.line,
              "Sampler \"" + type + "\" is not available: foton's jittered sampler is used");
         renderer_.set("sampler", "jittered", file(), t.line);
-        for (const char* ignored : {"randomization", "seed"}) p.has(ignored);
+        p.has("randomization");  // a setting of the sampler replaced above
     } else {
         fail(t, "unknown sampler '" + type + "'");
     }
@@ -184,8 +184,6 @@ void Importer::finish_camera() {
     c.target = eye + forward;
     c.up = up;
     c.d = 1.f;
-    c.width = width_;
-    c.height = height_;
     // pbrt's screen window spans [-1, 1] on the image's shorter side, at the distance where
     // it covers the field of view (perspective) or in scene units (orthographic).
     const float scale = camera_type_ == "perspective" ? std::tan(0.5f * fov_ * kPi / 180.f) : 1.f;
@@ -201,19 +199,15 @@ void Importer::finish_camera() {
     }
     c.lens_radius = lens_radius_;
     c.focal_distance = focal_distance_;
-    c.exposure = 1.f;
-    c.mirror = false;
     c.setup();
     // pbrt's camera space is left-handed; a transform may mirror it again.
     if (dot(c.u, right) < 0.f) {
         c.mirror = true;
         c.setup();
     }
-    FilmSettings& f = scene_.film;
-    f.width = f.full_width = width_;
-    f.height = f.full_height = height_;
-    f.pixel_size = c.pixel_size;
-    f.gamma = 2.2f;
+    // set_resolution keeps the view plane's width: give it the width it is measured in.
+    scene_.film.width = width_;
+    scene_.film.pixel_size = c.pixel_size;
     scene_.set_resolution(width_, height_);
     if (crop_) scene_.set_crop((*crop_)[0], (*crop_)[1], (*crop_)[2], (*crop_)[3]);
 }

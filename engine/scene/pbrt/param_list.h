@@ -25,7 +25,6 @@ class ParamList {
   public:
     std::vector<Param> params;
     std::string file;  // where the directive is
-    int line = 0;
 
     const Param* find(const std::string& name) const;
     bool has(const std::string& name) const { return find(name) != nullptr; }

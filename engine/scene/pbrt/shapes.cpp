@@ -42,11 +42,11 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         if (gs_.reverse && (gs_.area.id >= 0 || refracts))
             fail(t, "ReverseOrientation on an emitting or refracting sphere is not supported");
         Sphere s;
-        s.center = {0, 0, 0};
         s.radius = radius;
+        if (!s.transform(gs_.ctm)) fail(t, "a sphere takes only uniform scaling");
         warn_unused(p, what);
         count("Shape " + type);
-        add_sphere(s, t);
+        target().add_sphere(s, scene_material(gs_));
         return;
     }
     TriangleMesh m;
@@ -99,20 +99,14 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         const std::string rel = p.text("filename", "");
         if (rel.empty()) fail(t, what + " needs \"string filename\"");
         if (p.has("displacement")) fail(t, what + ": displacement is not supported");
-        const std::filesystem::path path = std::filesystem::path(rel).is_absolute()
-                                               ? std::filesystem::path(rel)
-                                               : std::filesystem::path(base_) / rel;
-        const std::string problem = input_file_problem(path.string(), kMaxMeshFileBytes);
-        if (!problem.empty())
-            fail(t, (problem == "not found" ? std::string("mesh file not found")
-                                            : "cannot read mesh file (" + problem + ")") +
-                        ": '" + rel + "' (looked for " + path.string() + ")");
-        if (path.extension() == ".gz") fail(t, "compressed PLY files (.ply.gz) are not supported");
-        m = load_ply(path.string());
+        const std::string path = input_path(t, "mesh file", rel, kMaxMeshFileBytes);
+        if (std::filesystem::path(path).extension() == ".gz")
+            fail(t, "compressed PLY files (.ply.gz) are not supported");
+        m = load_ply(path);
         m.name = rel;
         for (std::size_t i = 0; i < m.normals.size(); i += 3)
             normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
-        for (const char* ignored : {"edgelength"}) p.has(ignored);
+        p.has("edgelength");  // only used with displacement, rejected above
     } else {
         fail(t, "unsupported shape '" + type + "' (trianglemesh, plymesh, bilinearmesh, sphere)");
     }
@@ -133,84 +127,25 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
     }
     warn_unused(p, what);
     count("Shape " + type);
-    const bool smooth = !m.normals.empty();
-    add_mesh(std::move(m), smooth, t);
-}
-
-void Importer::add_mesh(TriangleMesh mesh, bool smooth, const Token&) {
-    const uint32_t mat = scene_material(gs_);
-    if (proto_) {
-        proto_->meshes.push_back(std::move(mesh));
-        proto_->mesh_materials.push_back(mat);
-        proto_->mesh_smooth.push_back(smooth);
-        return;
-    }
-    Object o;
-    o.kind = ObjectKind::Mesh;
-    o.index = uint32_t(scene_.meshes.size());
-    o.material = mat;
-    o.smooth = smooth;
-    scene_.meshes.push_back(std::move(mesh));
-    scene_.objects.push_back(o);
-}
-
-namespace {
-
-// A sphere under `xf`, which must scale uniformly.
-bool place_sphere(const Affine& xf, Sphere& s) {
-    const float sx = length(xf.vector({1, 0, 0})), sy = length(xf.vector({0, 1, 0})),
-                sz = length(xf.vector({0, 0, 1}));
-    if (std::fabs(sx - sy) > 1e-5f * sx || std::fabs(sx - sz) > 1e-5f * sx) return false;
-    s.center = xf.point(s.center);
-    s.radius *= sx;
-    return true;
-}
-
-}  // namespace
-
-void Importer::add_sphere(const Sphere& sphere, const Token& t) {
-    Sphere s = sphere;
-    if (!place_sphere(gs_.ctm, s)) fail(t, "a sphere takes only uniform scaling");
-    const uint32_t mat = scene_material(gs_);
-    if (proto_) {
-        proto_->spheres.push_back(s);
-        proto_->sphere_materials.push_back(mat);
-        return;
-    }
-    Object o;
-    o.kind = ObjectKind::Sphere;
-    o.index = uint32_t(scene_.spheres.size());
-    o.material = mat;
-    scene_.spheres.push_back(s);
-    scene_.objects.push_back(o);
+    target().add_mesh(std::move(m), scene_material(gs_), true);
 }
 
 void Importer::object_instance(const Token& t, const std::string& name) {
     if (!defining_.empty()) fail(t, "ObjectInstance inside an object definition");
     const auto it = prototypes_.find(name);
     if (it == prototypes_.end()) fail(t, "unknown object '" + name + "'");
-    const Prototype& pr = it->second;
-    for (std::size_t i = 0; i < pr.meshes.size(); ++i) {
-        TriangleMesh m = pr.meshes[i];
-        m.transform(gs_.ctm);
-        Object o;
-        o.kind = ObjectKind::Mesh;
-        o.index = uint32_t(scene_.meshes.size());
-        o.material = pr.mesh_materials[i];
-        o.smooth = pr.mesh_smooth[i];
-        scene_.meshes.push_back(std::move(m));
-        scene_.objects.push_back(o);
-    }
-    for (std::size_t i = 0; i < pr.spheres.size(); ++i) {
-        Sphere s = pr.spheres[i];
-        if (!place_sphere(gs_.ctm, s))
-            fail(t, "an instance of a sphere takes only uniform scaling");
-        Object o;
-        o.kind = ObjectKind::Sphere;
-        o.index = uint32_t(scene_.spheres.size());
-        o.material = pr.sphere_materials[i];
-        scene_.spheres.push_back(s);
-        scene_.objects.push_back(o);
+    const Scene& pr = it->second;
+    for (const Object& o : pr.objects) {
+        if (o.kind == ObjectKind::Mesh) {
+            TriangleMesh m = pr.meshes[o.index];
+            m.transform(gs_.ctm);
+            scene_.add_mesh(std::move(m), o.material, o.smooth);
+        } else {
+            Sphere s = pr.spheres[o.index];
+            if (!s.transform(gs_.ctm))
+                fail(t, "an instance of a sphere takes only uniform scaling");
+            scene_.add_sphere(s, o.material);
+        }
     }
     count("ObjectInstance (copied into the scene)");
 }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "engine/scene/metals.h"
+
 namespace foton::pbrt {
 
 namespace {
@@ -114,6 +116,11 @@ RGB sampled_spectrum_rgb(const std::vector<float>& pairs, bool illuminant) {
 }
 
 std::optional<RGB> named_spectrum_rgb(const std::string& name) {
+    for (const Metal& m : metals()) {
+        const std::string stem = std::string("metal-") + m.symbol;
+        if (name == stem + "-eta") return m.eta;
+        if (name == stem + "-k") return m.k;
+    }
     for (const Named& n : kNamed)
         if (name == n.name) return n.rgb;
     if (name == "stdillum-D65") return RGB{1.f};
@@ -124,6 +131,7 @@ std::optional<RGB> named_spectrum_rgb(const std::string& name) {
 
 std::string named_spectrum_list() {
     std::string s;
+    for (const Metal& m : metals()) s += std::string("metal-") + m.symbol + "-eta, -k, ";
     for (const Named& n : kNamed) s += std::string(n.name) + ", ";
     return s + "stdillum-D65, stdillum-D50, stdillum-A";
 }

@@ -110,20 +110,9 @@ void Loader::add_area_light(const pugi::xml_node& l) {
                            a.corner + a.edge2};
         for (const Vec3& v : p) quad.positions.insert(quad.positions.end(), {v.x, v.y, v.z});
         quad.indices = {0, 1, 2, 0, 2, 3};
-        a.geometry = add_mesh(std::move(quad), uint32_t(scene_.materials.size() - 1), false);
+        a.geometry = scene_.add_mesh(std::move(quad), uint32_t(scene_.materials.size() - 1), false);
     }
     scene_.lights.areas.push_back(a);
-}
-
-uint32_t Loader::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
-    Object o;
-    o.kind = ObjectKind::Mesh;
-    o.index = uint32_t(scene_.meshes.size());
-    o.material = material;
-    o.smooth = smooth && !mesh.normals.empty();
-    scene_.meshes.push_back(std::move(mesh));
-    scene_.objects.push_back(o);
-    return uint32_t(scene_.objects.size() - 1);
 }
 
 }  // namespace foton::xml

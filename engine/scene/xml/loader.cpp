@@ -1,12 +1,6 @@
 // The document, film, renderer settings and camera; the public entry points.
 #include "loader.h"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
-#include "engine/core/input_file.h"
-
 namespace foton::xml {
 
 Scene Loader::run() {
@@ -135,12 +129,6 @@ namespace foton {
 Scene parse_scene(const std::string& xml, const std::string& name, const std::string& base_dir,
                   const RendererOverrides& overrides) {
     return xml::Loader(xml, name, base_dir, overrides).run();
-}
-
-Scene load_xml_scene(const std::string& path, const RendererOverrides& overrides) {
-    const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
-    const std::string base = std::filesystem::path(path).parent_path().string();
-    return parse_scene(text, path, base.empty() ? "." : base, overrides);
 }
 
 }  // namespace foton

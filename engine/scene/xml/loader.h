@@ -154,7 +154,6 @@ class Loader {
     MicrofacetDistribution distribution(const pugi::xml_node& n, const char* fallback) const;
     Affine parse_transform(const pugi::xml_node& object) const;
     void add_area_light(const pugi::xml_node& n);
-    uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
 
     const std::string& xml_;
     std::string name_, base_;

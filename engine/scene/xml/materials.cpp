@@ -1,6 +1,8 @@
 // <material> and its models, presets and microfacet distributions.
 #include "loader.h"
 
+#include "engine/scene/metals.h"
+
 namespace foton::xml {
 
 uint32_t Loader::parse_material(const pugi::xml_node& object) {
@@ -12,32 +14,21 @@ uint32_t Loader::parse_material(const pugi::xml_node& object) {
     return uint32_t(scene_.materials.size() - 1);
 }
 
-namespace {
-struct ConductorPreset {
-    const char* name;
-    RGB eta, k;
-};
-// Complex indices of refraction of common metals at roughly 650, 550 and 450 nm.
-constexpr ConductorPreset kConductors[] = {
-    {"gold", {0.143f, 0.374f, 1.442f}, {3.983f, 2.385f, 1.603f}},
-    {"silver", {0.155f, 0.117f, 0.138f}, {4.828f, 3.122f, 2.147f}},
-    {"copper", {0.200f, 0.924f, 1.102f}, {3.912f, 2.452f, 2.142f}},
-    {"aluminium", {1.657f, 0.880f, 0.521f}, {9.224f, 6.270f, 4.837f}},
-};
-}  // namespace
-
 Fresnel Loader::conductor_fresnel(const pugi::xml_node& n) const {
     Fresnel f;
     f.kind = FresnelKind::Conductor;
     if (n.attribute("preset")) {
         const std::string p = n.attribute("preset").value();
-        for (const ConductorPreset& c : kConductors)
+        std::string names;
+        for (const Metal& c : metals()) {
             if (p == c.name) {
                 f.eta = c.eta;
                 f.k = c.k;
                 return f;
             }
-        fail(n, "unknown conductor preset '" + p + "' (gold, silver, copper, aluminium)");
+            names += (names.empty() ? "" : ", ") + std::string(c.name);
+        }
+        fail(n, "unknown conductor preset '" + p + "' (" + names + ")");
     }
     if (n.child("eta") || n.child("k")) {
         f.eta = rgb_child(n, "eta", RGB{1.f});
@@ -46,17 +37,9 @@ Fresnel Loader::conductor_fresnel(const pugi::xml_node& n) const {
             fail(n.child("eta"), "conductor eta must be positive");
         return f;
     }
-    // A reflectance r at normal incidence: eta = 1, k = 2 sqrt(r / (1 - r)) gives exactly r
-    // there and 1 at grazing angles (pbrt-v4's reading of a "reflectance" conductor).
     const RGB r = rgb_child(n, "reflectance", RGB{1.f});
-    auto kk = [](float v) {
-        v = std::min(v, 0.9999f);
-        return 2.f * std::sqrt(v / (1.f - v));
-    };
     if (r.max_component() > 1.f) fail(n.child("reflectance"), "reflectance must be in [0, 1]");
-    f.eta = RGB{1.f};
-    f.k = {kk(r.r), kk(r.g), kk(r.b)};
-    return f;
+    return conductor_from_reflectance(r);
 }
 
 // The limits that keep every lobe finite in float (documented in scenes/README.md): a

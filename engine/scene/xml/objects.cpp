@@ -68,7 +68,7 @@ void Loader::parse_objects(const pugi::xml_node& n) {
             if (smooth && !r.has_normals) r.mesh.compute_smooth_normals();
             if (!smooth) r.mesh.normals.clear();
             if (!xf.is_identity()) r.mesh.transform(xf);
-            add_mesh(std::move(r.mesh), mat, smooth);
+            scene_.add_mesh(std::move(r.mesh), mat, smooth);
         } else if (kind == "quad") {
             check(o, {"name"}, {"corner", "edge1", "edge2", "material", "transform"});
             const Vec3 c = xyz_child(o, "corner"), e1 = xyz_child(o, "edge1"),
@@ -81,29 +81,15 @@ void Loader::parse_objects(const pugi::xml_node& n) {
             for (const Vec3& v : p) q.positions.insert(q.positions.end(), {v.x, v.y, v.z});
             q.indices = {0, 1, 2, 0, 2, 3};
             if (!xf.is_identity()) q.transform(xf);
-            add_mesh(std::move(q), parse_material(o), false);
+            scene_.add_mesh(std::move(q), parse_material(o), false);
         } else {
             check(o, {"radius", "name"}, {"center", "material", "transform"});
             Sphere s;
             s.center = xyz_child(o, "center");
             s.radius = number(o, "radius");
             if (!(s.radius > 0.f)) fail(o, "sphere radius must be positive");
-            const Affine xf = parse_transform(o);
-            if (!xf.is_identity()) {
-                const Vec3 ax = xf.vector({1, 0, 0}), ay = xf.vector({0, 1, 0}),
-                           az = xf.vector({0, 0, 1});
-                const float sx = length(ax), sy = length(ay), sz = length(az);
-                if (std::fabs(sx - sy) > 1e-5f * sx || std::fabs(sx - sz) > 1e-5f * sx)
-                    fail(o, "a sphere takes only uniform scaling");
-                s.center = xf.point(s.center);
-                s.radius *= sx;
-            }
-            Object ob;
-            ob.kind = ObjectKind::Sphere;
-            ob.index = uint32_t(scene_.spheres.size());
-            ob.material = parse_material(o);
-            scene_.spheres.push_back(s);
-            scene_.objects.push_back(ob);
+            if (!s.transform(parse_transform(o))) fail(o, "a sphere takes only uniform scaling");
+            scene_.add_sphere(s, parse_material(o));
         }
     }
 }

@@ -134,9 +134,8 @@ class ProgressivePhotons {
     // Gathers this pass's photons within the visible point's radius and updates it.
     void gather(const PhotonMap& photons, float alpha, PixelState& px) const {
         if (!px.valid) return;
-        const Material& base = scene_.materials[px.material];
         std::optional<Material> scratch;
-        const Material& m = base.texture < 0 ? base : scene_.textured(base, px.uv, scratch);
+        const Material& m = scene_.material_at(scene_.materials[px.material], px.uv, scratch);
         const BsdfContext ctx{px.front, Transport::Radiance};
         RGB phi;
         uint32_t count = 0;
