@@ -21,6 +21,8 @@ const char* emitter_name(EmitterType t) {
             return "sphere";
         case EmitterType::Mesh:
             return "mesh";
+        case EmitterType::Environment:
+            return "environment";
     }
     return "?";
 }
@@ -116,6 +118,13 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
         geom_to_emitter_[g] = int(emitters_.size());
         emitters_.push_back(std::move(e));
     }
+    if (scene.environment) {
+        Emitter e;
+        e.type = EmitterType::Environment;
+        e.power = scene.environment->integral() * (kPi * radius_ * radius_);
+        environment_ = int(emitters_.size());
+        emitters_.push_back(e);
+    }
     // Selection by power (luminance); lights of zero power are never chosen.
     float total = 0.f;
     for (const Emitter& e : emitters_) total += std::max(0.f, e.power.luminance());
@@ -190,6 +199,14 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             s.Li = e.value * (f / d2);
             return true;
         }
+        case EmitterType::Environment: {
+            s.wi = scene_->environment->sample(u, s.pdf);
+            if (!(s.pdf > 0.f)) return false;
+            s.dist = kInfinity;
+            s.p_light = p + s.wi * (2.f * radius_);
+            s.Li = scene_->environment->Le(s.wi);
+            return !s.Li.is_black();
+        }
         case EmitterType::Directional:
             s.wi = -e.n;
             s.dist = kInfinity;
@@ -242,9 +259,15 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
     return false;
 }
 
+float LightSet::environment_pdf(const Vec3& wi) const {
+    if (environment_ < 0) return 0.f;
+    return pmf_[std::size_t(environment_)] * scene_->environment->pdf(wi);
+}
+
 float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const {
     const Emitter& e = emitters_[i];
     if (e.is_delta()) return 0.f;
+    if (e.type == EmitterType::Environment) return scene_->environment->pdf(normalize(q - p));
     if (e.type == EmitterType::Sphere && e.solid_angle) {
         const float dc2 = length_squared(e.p - p);
         if (dc2 > e.radius * e.radius * 1.0001f) {
@@ -280,6 +303,22 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             s.pdf_pos = 1.f;
             s.pdf_dir = warp::uniform_cone_pdf(e.cos_outer);
             s.Le = e.value * e.spot_falloff(local.z);
+            return !s.Le.is_black();
+        }
+        case EmitterType::Environment: {
+            // A direction towards the sky by its density; the ray comes from there, through
+            // a disc covering the scene's bounding sphere, upstream of it.
+            float pdf;
+            const Vec3 wi = scene_->environment->sample(u_dir, pdf);
+            if (!(pdf > 0.f)) return false;
+            const warp::Frame fr(-wi);
+            const Point2 d = warp::concentric_disc(u_pos);
+            s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+            s.n = -wi;
+            s.dir = -wi;
+            s.pdf_pos = 1.f / (kPi * radius_ * radius_);
+            s.pdf_dir = pdf;
+            s.Le = scene_->environment->Le(wi);
             return !s.Le.is_black();
         }
         case EmitterType::Directional: {

@@ -18,7 +18,7 @@
 
 namespace foton {
 
-enum class EmitterType : uint8_t { Point, Spot, Directional, Rect, Sphere, Mesh };
+enum class EmitterType : uint8_t { Point, Spot, Directional, Rect, Sphere, Mesh, Environment };
 const char* emitter_name(EmitterType t);
 
 struct Emitter {
@@ -42,6 +42,10 @@ struct Emitter {
     }
     bool is_delta_direction() const { return type == EmitterType::Directional; }
     bool is_delta() const { return is_delta_position() || is_delta_direction(); }
+    // At infinity: no point of it can be joined to the camera, and rays find it by missing.
+    bool is_infinite() const {
+        return type == EmitterType::Directional || type == EmitterType::Environment;
+    }
     float spot_falloff(float cos_theta) const;
 };
 
@@ -94,6 +98,11 @@ class LightSet {
     // Solid-angle density with which sample_li would have produced the point `q` (normal nq
     // on the emitting side) seen from `p`.
     float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const;
+    // The environment's emitter index (-1 without one), and the solid-angle density with
+    // which sample_li picks direction wi on it, the light's selection included: what a
+    // BSDF-sampled ray that leaves the scene along wi is weighed against.
+    int environment() const { return environment_; }
+    float environment_pdf(const Vec3& wi) const;
     // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),
     // direction with u_dir.
     bool sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc, EmissionSample& s) const;
@@ -111,6 +120,7 @@ class LightSet {
     std::vector<Emitter> emitters_;
     std::vector<float> pmf_, cdf_;
     std::vector<int> geom_to_emitter_;
+    int environment_ = -1;
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
 };

@@ -77,6 +77,7 @@ std::size_t Scene::memory_bytes() const {
     std::size_t n = spheres.size() * sizeof(Sphere) + objects.size() * sizeof(Object) +
                     materials.size() * sizeof(Material);
     for (const auto& m : meshes) n += m.memory_bytes();
+    if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
 }
 
@@ -156,6 +157,18 @@ std::string Scene::summary() const {
                   lights.count(), lights.points.size(), lights.directionals.size(),
                   lights.spots.size(), lights.areas.size(), double(ambient.intensity));
     s += buf;
+    if (environment) {
+        const Environment& e = *environment;
+        if (e.mapping() == EnvMapping::Constant)
+            std::snprintf(buf, sizeof buf, "environment constant (%g, %g, %g)\n",
+                          double(e.scale().r), double(e.scale().g), double(e.scale().b));
+        else
+            std::snprintf(buf, sizeof buf, "environment %s %dx%d %s, scale (%g, %g, %g)\n",
+                          env_mapping_name(e.mapping()), e.map().width, e.map().height,
+                          e.map().path.c_str(), double(e.scale().r), double(e.scale().g),
+                          double(e.scale().b));
+        s += buf;
+    }
     std::size_t emitting = 0;
     for (const Object& o : objects) emitting += materials[o.material].emission.is_black() ? 0 : 1;
     if (emitting > 0) {

@@ -11,6 +11,7 @@
 #include "engine/core/params.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
+#include "environment.h"
 #include "light.h"
 #include "material.h"
 #include "mesh.h"
@@ -62,7 +63,11 @@ struct FilmSettings {
 
 struct Scene {
     std::string source;  // the XML file
+    // What a ray that leaves the scene sees: the environment when there is one (an emitter,
+    // sampled like the other lights), else the thesis' background colour (a backdrop: no
+    // light is sampled from it and no photon or light path starts on it).
     RGB background{0.f};
+    std::optional<Environment> environment;
     Ambient ambient;
     Lights lights;
     std::vector<Material> materials;
@@ -101,6 +106,10 @@ struct Scene {
     // The same for the material of geometry `geom`.
     const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {
         return material_at(material_of(geom), uv, scratch);
+    }
+    // Radiance along a ray of direction d that leaves the scene.
+    RGB background_along(const Vec3& d) const {
+        return environment ? environment->Le(d) : background;
     }
     const Material& textured(const Material& m, Point2 uv, std::optional<Material>& scratch) const;
     std::size_t num_triangles() const;

@@ -1,10 +1,12 @@
 // <lights>, and the area lights of emissive quads.
+#include <filesystem>
+
 #include "loader.h"
 
 namespace foton::xml {
 
 void Loader::parse_lights(const pugi::xml_node& n) {
-    check(n, {}, {"point", "directional", "spot", "area"});
+    check(n, {}, {"point", "directional", "spot", "area", "environment"});
     for (const pugi::xml_node& l : n.children()) {
         if (l.type() != pugi::node_element) continue;
         const std::string_view kind = l.name();
@@ -49,9 +51,43 @@ void Loader::parse_lights(const pugi::xml_node& n) {
             s.cos_outer = std::cos(outer * kPi / 180.f);
             s.cos_inner = std::cos(inner * kPi / 180.f);
             scene_.lights.spots.push_back(s);
+        } else if (kind == "environment") {
+            add_environment(l);
         } else {
             add_area_light(l);
         }
+    }
+}
+
+// <environment>: a constant sky (color x intensity), or an image (src) times them, oriented
+// by <up> (the map's top; default +y) and <front> (longitude 0; default +z).
+void Loader::add_environment(const pugi::xml_node& l) {
+    check(l, {"intensity", "src", "mapping"}, {"color", "up", "front"});
+    if (scene_.environment) fail(l, "the scene has more than one <environment>");
+    const RGB scale = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+    const std::string src = l.attribute("src").value();
+    if (src.empty()) {
+        if (l.attribute("mapping") || l.child("up") || l.child("front"))
+            fail(l, "mapping, <up> and <front> orient an image: give src or leave them out");
+        scene_.environment = Environment::constant(scale);
+        return;
+    }
+    const std::string mapping = l.attribute("mapping") ? l.attribute("mapping").value() : "latlong";
+    EnvMapping m;
+    if (mapping == "latlong")
+        m = EnvMapping::LatLong;
+    else if (mapping == "equalarea")
+        m = EnvMapping::EqualArea;
+    else
+        fail(l, "unknown environment mapping '" + mapping + "' (latlong, equalarea)");
+    const Vec3 up = l.child("up") ? direction(l, "up") : Vec3{0, 1, 0};
+    const Vec3 front = l.child("front") ? direction(l, "front") : Vec3{0, 0, 1};
+    if (length_squared(cross(up, front)) < 1e-8f) fail(l, "<front> is parallel to <up>");
+    const std::string path = (std::filesystem::path(base_) / src).string();
+    try {
+        scene_.environment = Environment::image(load_texture_image(path), m, scale, up, front);
+    } catch (const InputError& e) {
+        fail(l, "environment map '" + src + "': " + e.what());
     }
 }
 

@@ -44,6 +44,9 @@ Scene Loader::run() {
     }
     parse_camera(child(root, "camera"));
     if (const auto n = root.child("lights")) parse_lights(n);
+    if (scene_.environment && root.child("background"))
+        fail(root.child("background"),
+             "give a <background> colour or an <environment> light, not both");
     parse_objects(child(root, "objects"));
     bool has_geometry = false;
     for (const Object& o : scene_.objects)

@@ -154,6 +154,7 @@ class Loader {
     MicrofacetDistribution distribution(const pugi::xml_node& n, const char* fallback) const;
     Affine parse_transform(const pugi::xml_node& object) const;
     void add_area_light(const pugi::xml_node& n);
+    void add_environment(const pugi::xml_node& n);
 
     const std::string& xml_;
     std::string name_, base_;

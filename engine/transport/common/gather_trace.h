@@ -4,7 +4,8 @@
 // surface both branches are followed deterministically, up to kGatherSpecularDepth
 // bounces; at every hit with non-delta lobes the caller's `at_hit` says what the ray sees
 // there. Emission is never counted: the diffuse point's direct light comes from its own
-// light sample.
+// light sample. So is the environment (an emitter like the others): only the thesis'
+// background colour, which no light sample finds, is passed to at_miss.
 #include <limits>
 #include <utility>
 #include <vector>
@@ -57,7 +58,7 @@ std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuf
                 if (depth == 0 && first_dist)
                     first_dist[slot] = geom == kNoHit ? kInfinity : b.hits.t[i];
                 if (geom == kNoHit) {
-                    at_miss(slot, w * scene.background);
+                    if (!scene.environment) at_miss(slot, w * scene.background);
                     continue;
                 }
                 const Vec3 d = b.rays.direction(i);

@@ -37,9 +37,10 @@ struct RenderSettings {
     uint32_t max_depth = 8;
     float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
     MisHeuristic mis = MisHeuristic::Power;
-    bool nee = true;             // path: next event estimation (false = BSDF sampling only)
-    uint32_t rr_depth = 3;       // Russian roulette from this many scattering vertices on
-    uint32_t light_samples = 1;  // distributed: shadow rays per light at each hit
+    bool nee = true;        // path: next event estimation (false = BSDF sampling only)
+    uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on
+    uint32_t light_samples =
+        1;  // distributed: shadow rays per light at each hit; raytracer: per environment
     AdaptiveSettings adaptive;
     PhotonSettings photon;
     // photon (final-gather mode): at every diffuse visible point; path: at the first diffuse

@@ -64,7 +64,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             continue;
         const Emitter& em = lights_.emitter(er.light);
         const EmissionSample& es = er.emission;
-        if (!em.is_delta()) {
+        if (!em.is_delta() && !em.is_infinite()) {
             // The emitting point itself, seen by the camera.
             const Vec3 wc = normalize(cam.eye - es.p);
             const float c = dot(es.n, wc);

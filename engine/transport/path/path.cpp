@@ -94,31 +94,35 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         const uint64_t key = ws.keys[slot];
         RGB& beta = ws.beta[slot];
         const uint32_t geom = ws.hits.geom[i];
+        const Vec3 d = ws.rays.direction(i);
+        // Emission found by this ray, weighted against having sampled it as a light (whose
+        // density, selection included, `light_pdf` gives).
+        const bool counts_emission = !(ws.first_depth > 0 && depth == ws.first_depth);
+        auto emission_weight = [&](auto&& light_pdf) {
+            if (depth == 0 || ws.specular_prev[slot] || !nee || distributed_) return 1.f;
+            if (mis == MisHeuristic::None) return 0.f;
+            return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
+        };
         if (geom == kNoHit) {
-            radiance[slot] += beta * scene_.background;
+            if (!scene_.environment)
+                radiance[slot] += beta * scene_.background;
+            else if (counts_emission)
+                radiance[slot] += beta * scene_.environment->Le(d) *
+                                  emission_weight([&] { return lights_.environment_pdf(d); });
             continue;
         }
-        const Vec3 d = ws.rays.direction(i);
         const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
         const Material& m = scene_.material_at(geom, sp.uv, scratch);
         ws.path_length[slot] += ws.hits.t[i];
 
-        // Emission found by this ray, weighted against having sampled it as a light.
-        if (m.emits_towards(sp.front_face) && !(ws.first_depth > 0 && depth == ws.first_depth)) {
-            float w = 1.f;
-            if (depth > 0 && !ws.specular_prev[slot] && nee && !distributed_) {
-                if (mis == MisHeuristic::None) {
-                    w = 0.f;
-                } else {
-                    const int li = lights_.emitter_of(geom);
-                    const float pl =
-                        li < 0 ? 0.f
-                               : lights_.pmf(uint32_t(li)) *
-                                     lights_.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
-                    w = mis_weight_bsdf(mis, ws.pdf_prev[slot], pl);
-                }
-            }
+        if (m.emits_towards(sp.front_face) && counts_emission) {
+            const float w = emission_weight([&] {
+                const int li = lights_.emitter_of(geom);
+                return li < 0 ? 0.f
+                              : lights_.pmf(uint32_t(li)) *
+                                    lights_.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
+            });
             radiance[slot] += beta * m.emission * w;
         }
         if (depth >= rs.max_depth || m.bsdf.empty()) continue;

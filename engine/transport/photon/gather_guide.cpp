@@ -3,20 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace foton {
+#include "engine/core/distribution.h"
 
-namespace {
-// Index of u's interval in a cdf of n + 1 entries (cdf[0] = 0, cdf[n] = 1), skipping
-// empty intervals, and u's position within it.
-int invert(const float* cdf, int n, float u, float& within) {
-    int i = int(std::upper_bound(cdf + 1, cdf + n, u) - (cdf + 1));
-    i = std::min(i, n - 1);
-    while (i > 0 && cdf[i + 1] - cdf[i] <= 0.f) --i;
-    const float width = cdf[i + 1] - cdf[i];
-    within = width > 0.f ? std::clamp((u - cdf[i]) / width, 0.f, 0x1.fffffep-1f) : 0.5f;
-    return i;
-}
-}  // namespace
+namespace foton {
 
 void GatherGuide::clear() {
     weight_.fill(0.f);
@@ -63,8 +52,8 @@ bool GatherGuide::finish(float floor) {
 
 Vec3 GatherGuide::sample(Point2 u, float& pdf) const {
     float fr, fc;
-    const int row = invert(row_cdf_.data(), kRes, u.x, fr);
-    const int col = invert(&col_cdf_[std::size_t(row * (kRes + 1))], kRes, u.y, fc);
+    const int row = invert_cdf(row_cdf_.data(), kRes, u.x, fr);
+    const int col = invert_cdf(&col_cdf_[std::size_t(row * (kRes + 1))], kRes, u.y, fc);
     const float u1 = (float(row) + fr) / kRes;  // sin^2 theta, uniform in the cell
     const float phi = 2.f * kPi * (float(col) + fc) / kRes;
     const float sin_t = std::sqrt(u1), cos_t = std::sqrt(std::max(0.f, 1.f - u1));

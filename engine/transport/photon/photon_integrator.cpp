@@ -294,7 +294,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 RGB& beta = ws.beta[slot];
                 const uint32_t geom = ws.hits.geom[i];
                 if (geom == kNoHit) {
-                    radiance[slot] += beta * scene_.background;
+                    radiance[slot] += beta * scene_.background_along(ws.rays.direction(i));
                     continue;
                 }
                 const Vec3 d = ws.rays.direction(i);

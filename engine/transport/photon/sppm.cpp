@@ -67,7 +67,7 @@ class ProgressivePhotons {
             kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity};
             Hit1 h;
             if (!accel_.intersect1(ray, h, st.trace)) {
-                px.direct += beta * scene_.background;
+                px.direct += beta * scene_.background_along(d);
                 return;
             }
             const SurfacePoint sp = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);

@@ -14,6 +14,9 @@ namespace foton {
 
 namespace {
 
+// The environment's shadow samples take a key of their own beside the area lights' indices.
+constexpr uint64_t kEnvironmentKey = 0xe4f1u << 16;
+
 // Phong's empirical lobe plus the Lambertian term; f times cos is the reflected fraction.
 RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
     RGB f = m.base_color * (m.c_diffuse * kInvPi);
@@ -85,6 +88,19 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
             add(wi, d, al.radiance * (cos_l * al.area * inv_n / d2));
         }
     }
+    // The environment, like an area light, by light_samples shadow rays drawn from its own
+    // density (jittered over the map's square).
+    if (scene_.environment) {
+        const Environment& env = *scene_.environment;
+        const uint32_t n = settings_.light_samples;
+        const uint64_t key = rng::hash(kLightStream, sample_index, depth, kEnvironmentKey);
+        for (uint32_t k = 0; k < n; ++k) {
+            float pdf;
+            const Vec3 wi =
+                env.sample(sample_pattern(SamplerKind::Jittered, k, n, seed_, key), pdf);
+            if (pdf > 0.f) add(wi, kInfinity, env.Le(wi) * (1.f / (float(n) * pdf)));
+        }
+    }
 }
 
 void WhittedIntegrator::shade_generic(const ShadingPoint& v, WhittedWorkspace& ws,
@@ -125,6 +141,8 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
     ws.next_weight.clear();
     const RGB ambient = scene_.ambient.radiance();
     const bool may_continue = depth < settings_.max_depth;
+    // The sample index only keys the sampling of area lights and the environment.
+    const bool has_sampled_lights = !scene_.lights.areas.empty() || scene_.environment;
     const float cutoff = settings_.min_contribution;
     auto spawn = [&](const SurfacePoint& sp, const Vec3& w, const RGB& weight, uint32_t slot) {
         if (!may_continue || weight.max_component() < cutoff) return;
@@ -136,7 +154,7 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
         const RGB& weight = ws.weight[i];
         const uint32_t geom = ws.hits.geom[i];
         if (geom == kNoHit) {
-            radiance[slot] += weight * scene_.background;
+            radiance[slot] += weight * scene_.background_along(ws.rays.direction(i));
             continue;
         }
         const Vec3 d = ws.rays.direction(i);
@@ -150,15 +168,14 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
                 break;
             case MaterialType::Generic:
                 shade_generic(ShadingPoint(sp, m, d, weight, slot, depth,
-                                           scene_.lights.areas.empty() ? 0 : jobs[slot].id),
+                                           has_sampled_lights ? jobs[slot].id : 0),
                               ws, radiance);
                 break;
             case MaterialType::Matte:
             case MaterialType::Phong:
             case MaterialType::Reflective: {
                 radiance[slot] += weight * m.base_color * ambient * m.c_ambient;
-                // The sample index only keys area-light sampling; skip it when there is none.
-                const uint64_t sample = scene_.lights.areas.empty() ? 0 : jobs[slot].id;
+                const uint64_t sample = has_sampled_lights ? jobs[slot].id : 0;
                 direct_light(
                     sp, [&](const Vec3& wi) { return brdf(m, sp.ns, wo, wi); }, weight, slot,
                     sample, depth, ws);
