@@ -238,6 +238,55 @@ TEST_CASE("pbrt-v4: materials, named materials, textures and lights", "[pbrt][fa
     CHECK(s.renderer.text("spp") == "7");
 }
 
+TEST_CASE("pbrt-v4: infinite lights, constant and equal-area image", "[pbrt][env][fast]") {
+    // Constant: L times scale, or scaled to an illuminance (pi L for a constant sky).
+    const Scene c = world("", R"(LightSource "infinite" "rgb L" [0.5 1 2] "float scale" 2)");
+    REQUIRE(c.environment);
+    CHECK(c.environment->mapping() == EnvMapping::Constant);
+    CHECK(c.environment->Le({0, 1, 0}).b == Approx(4.f));
+    const Scene e = world("", R"(LightSource "infinite" "float illuminance" [3.14159265])");
+    CHECK(e.environment->Le({1, 0, 0}).g == Approx(1.f));
+    // An image in the light's frame: pbrt's +z pole, here rotated to world +y. The map is
+    // bright in its upper half (the square's centre is the pole) and dark below.
+    test::TempDir dir;
+    Film map(32, 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const Vec3 w = equal_area_square_to_sphere({(x + 0.5f) / 32.f, (y + 0.5f) / 32.f});
+            map.pixels[std::size_t(y * 32 + x)] = w.z > 0.f ? RGB{2.f} : RGB{0.25f};
+        }
+    write_exr(dir.file("sky.exr"), map);
+    const Scene i = import_text(R"(WorldBegin
+        AttributeBegin Rotate -90 1 0 0
+        LightSource "infinite" "string filename" "sky.exr" "float illuminance" [10]
+        AttributeEnd
+        Shape "sphere")",
+                                dir.path().string());
+    REQUIRE(i.environment);
+    CHECK(i.environment->mapping() == EnvMapping::EqualArea);
+    // Scaled so that a surface facing the pole gets illuminance 10: the upper hemisphere of
+    // radiance 2 x k gives 2 pi k, about (texels straddle the horizon).
+    const float k = i.environment->Le({0, 1, 0}).r / 2.f;
+    CHECK(2.f * kPi * k == Approx(10.f).epsilon(0.05));
+    CHECK(i.environment->Le({0, -1, 0}).r == Approx(0.25f * k));
+    CHECK(i.environment->Le({0, 0, 1}).r > 0.f);
+    const std::string summary = i.summary();
+    CHECK(summary.find("environment equalarea 32x32") != std::string::npos);
+    // A non-square map is not an equal-area map.
+    write_exr(dir.file("wide.exr"), Film(8, 4));
+    try {
+        import_text(
+            "WorldBegin\nLightSource \"infinite\" \"string filename\" \"wide.exr\"\n"
+            "Shape \"sphere\"",
+            dir.path().string());
+        FAIL("a non-square map was accepted");
+    } catch (const InputError& err) {
+        CHECK(std::string(err.what()).find("test.pbrt:2: environment map 'wide.exr'") !=
+              std::string::npos);
+        CHECK(std::string(err.what()).find("must be square") != std::string::npos);
+    }
+}
+
 TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
     const RGB d65 = pbrt::blackbody_rgb(6504.f);
     CHECK(d65.luminance() == Approx(1.f).epsilon(0.02));
@@ -302,13 +351,22 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
         {"Film \"rgb\" \"integer xresolution\" [ 100000 ]\nWorldBegin" + shape, "test.pbrt:1:"},
         {"WorldBegin\nMakeNamedMedium \"fog\"" + shape, "participating media"},
         {"WorldBegin\nMaterial \"dielectric\" \"float roughness\" 0.3" + shape, "rough dielectric"},
-        {"WorldBegin\nLightSource \"infinite\"" + shape, "environment lights"},
+        {"WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"" + shape,
+         "test.pbrt:2: environment map 'sky.exr': file not found"},
+        {"WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1] \"string filename\" \"a.exr\"" +
+             shape,
+         "test.pbrt:2: LightSource \"infinite\": give \"L\" or \"filename\", not both"},
+        {"WorldBegin\nLightSource \"infinite\" \"point3 portal\" [0 0 0 1 0 0 1 1 0 0 1 0]" + shape,
+         "portals are not supported"},
+        {"WorldBegin\nLightSource \"infinite\"\nLightSource \"infinite\"" + shape,
+         "test.pbrt:3: LightSource \"infinite\": the scene has an infinite light already"},
         {"WorldBegin\nShape \"sphere\" \"spectrum reflectance\" \"metal-Zz-eta\"\n"
          "Material \"diffuse\" \"spectrum reflectance\" \"metal-Zz-eta\"" +
              shape,
          "test.pbrt:3: parameter 'spectrum reflectance': unknown named spectrum"},
         {"WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\"\n"
-         "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"c\"" + shape,
+         "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"c\"" +
+             shape,
          "test.pbrt:3: 'tex': textures of varying textures are not supported"},
         {"WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"nope\"" + shape,
          "test.pbrt:2: unknown spectrum texture 'nope'"},

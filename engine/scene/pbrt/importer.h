@@ -96,6 +96,7 @@ class Importer {
 
     // lights.cpp
     void light_source(const Token& t, const std::string& type, const ParamList& p);
+    void infinite_light(const Token& t, const ParamList& p, float scale);
     void area_light(const Token& t, const std::string& type, const ParamList& p);
 
     // shapes.cpp

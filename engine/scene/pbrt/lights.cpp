@@ -3,9 +3,27 @@
 // way pbrt-v4 does for point, spot and distant lights.
 #include <cmath>
 
+#include "engine/core/input_file.h"
 #include "importer.h"
 
 namespace foton::pbrt {
+
+namespace {
+
+// The illuminance an equal-area map gives a surface facing its pole (+z), texel by texel.
+double pole_illuminance(const TextureImage& m) {
+    double e = 0.0;
+    for (int y = 0; y < m.height; ++y)
+        for (int x = 0; x < m.width; ++x) {
+            const Vec3 w = equal_area_square_to_sphere(
+                {(float(x) + 0.5f) / float(m.width), (float(y) + 0.5f) / float(m.height)});
+            const RGB& c = m.texels[std::size_t(y) * std::size_t(m.width) + std::size_t(x)];
+            if (w.z > 0.f) e += double(c.luminance()) * double(w.z);
+        }
+    return e * 4.0 * kPi / (double(m.width) * double(m.height));
+}
+
+}  // namespace
 
 void Importer::light_source(const Token& t, const std::string& type, const ParamList& p) {
     const std::string what = "LightSource \"" + type + "\"";
@@ -52,12 +70,55 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
         l.radiance = (radiance ? *radiance : RGB{1.f}) * scale * photometric("illuminance", 1.f);
         scene_.lights.directionals.push_back(l);
     } else if (type == "infinite") {
-        fail(t, what + ": environment lights are not supported yet");
+        infinite_light(t, p, scale);
     } else {
-        fail(t, "unsupported light '" + type + "' (point, spot, distant)");
+        fail(t, "unsupported light '" + type + "' (point, spot, distant, infinite)");
     }
     warn_unused(p, what);
     count("LightSource " + type);
+}
+
+// pbrt-v4's "infinite" light: a constant L, or an equal-area square image ("filename") in
+// the light's frame (its +z is the square's pole). "illuminance" scales it to that
+// illuminance at a surface facing the light's +z, as pbrt-v4 does.
+void Importer::infinite_light(const Token& t, const ParamList& p, float scale) {
+    const std::string what = "LightSource \"infinite\"";
+    if (scene_.environment) fail(t, what + ": the scene has an infinite light already");
+    if (p.has("portal")) fail(t, what + ": portals are not supported");
+    const auto radiance = p.color("L", true);
+    const std::string rel = p.text("filename", "");
+    if (radiance && !rel.empty()) fail(t, what + ": give \"L\" or \"filename\", not both");
+    const float illuminance = p.real("illuminance", -1.f);
+    const Vec3 up = gs_.ctm.vector({0, 0, 1}), front = gs_.ctm.vector({1, 0, 0});
+    if (!(length_squared(cross(up, front)) > 0.f))
+        fail(t, what + ": the transformation is degenerate");
+    if (rel.empty()) {
+        const RGB L = radiance ? *radiance : RGB{1.f};
+        // A constant sky of radiance L gives illuminance pi L.
+        const float k = illuminance > 0.f ? illuminance / kPi : 1.f;
+        scene_.environment = Environment::constant(L * (scale * k));
+    } else {
+        const std::string path = input_path(t, "environment map", rel, kMaxMeshFileBytes);
+        TextureImage map;
+        try {
+            map = load_texture_image(path);
+        } catch (const InputError& e) {
+            fail(t, "environment map '" + rel + "': " + e.what());
+        }
+        float k = 1.f;
+        if (illuminance > 0.f) {
+            const double e = pole_illuminance(map);
+            if (!(e > 0.0))
+                fail(t, what + ": \"illuminance\" given, but the map's upper half is black");
+            k = float(double(illuminance) / e);
+        }
+        try {
+            scene_.environment = Environment::image(std::move(map), EnvMapping::EqualArea,
+                                                    RGB{scale * k}, up, front);
+        } catch (const InputError& e) {
+            fail(t, "environment map '" + rel + "': " + e.what());
+        }
+    }
 }
 
 void Importer::area_light(const Token& t, const std::string& type, const ParamList& p) {
