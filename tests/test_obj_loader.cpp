@@ -27,11 +27,40 @@ TEST_CASE("OBJ: positions, polygons, normals, negative indices", "[obj][fast]") 
     CHECK(r.mesh.num_vertices() == 4);
     CHECK_FALSE(r.has_normals);
     const ObjLoadResult n = parse_obj(
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf -3/1/1 -2/1/1 -1/1/1\n", "n.obj");
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0.5 0.5\nf 1//1 2//1 3//1\nf -3/1/1 -2/1/1 "
+        "-1/1/1\n",
+        "n.obj");
     CHECK(n.has_normals);
     CHECK(n.mesh.num_triangles() == 2);
     CHECK(n.mesh.normals.size() == n.mesh.positions.size());
     CHECK(n.mesh.vertex_normal(0).z == 1.f);
+}
+
+TEST_CASE("OBJ: texture coordinates, materials by face, mtllib", "[obj][fast]") {
+    // Two quads sharing an edge, with uvs split along it, in two materials.
+    const ObjLoadResult r = parse_obj(
+        "mtllib a b.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0 0\nvt 0 1\n"
+        "usemtl red\nf 1/1 2/2 3/3 4/4\nusemtl blue\nf 2/5 5/2 6/3 3/6\nusemtl red\nf 1/1 2/2 "
+        "4/4\n",
+        "m.obj");
+    REQUIRE(r.libraries.size() == 1);
+    CHECK(r.libraries[0].file == "a b.mtl");
+    CHECK(r.libraries[0].line == 1);
+    REQUIRE(r.material_names == std::vector<std::string>{"red", "blue"});
+    CHECK(r.material_lines == std::vector<int>{14, 16});
+    CHECK(r.triangle_material == std::vector<int32_t>{0, 0, 1, 1, 0});
+    CHECK(r.mesh.uvs.size() == 2 * r.mesh.num_vertices());
+    // Vertices 2 and 3 carry two uvs each: welded into 8 (position, uv) pairs.
+    CHECK(r.mesh.num_vertices() == 8);
+    // Normals from the faces, shared across the uv seam.
+    REQUIRE(r.mesh.normals.size() == r.mesh.positions.size());
+    CHECK_FALSE(r.has_normals);
+    for (uint32_t v = 0; v < r.mesh.num_vertices(); ++v)
+        CHECK(r.mesh.vertex_normal(v).z == Approx(1.f));
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2 2/1 3/1\n", 4, "texture coordinate index 2");
+    expect_error("usemtl\n", 1, "usemtl needs a material name");
+    expect_error("mtllib  \n", 1, "mtllib needs a file name");
 }
 
 TEST_CASE("OBJ: bad input is reported with its line", "[obj][bad-input][fast]") {

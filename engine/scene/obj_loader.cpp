@@ -67,12 +67,16 @@ uint32_t resolve_index(std::string_view tok, std::size_t count, const char* what
 }  // namespace
 
 ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
-    std::vector<float> pos, nrm;
+    ObjLoadResult res;
+    std::vector<float> pos, nrm, tex;
     struct Corner {
-        uint32_t v, n;
+        uint32_t v, t, n;
     };
     std::vector<Corner> corners;  // three per triangle
-    bool all_have_normals = true;
+    std::vector<int32_t> tri_material;
+    bool all_have_normals = true, all_have_uvs = true;
+    int32_t material = -1;
+    std::unordered_map<std::string, int32_t> material_index;
     std::vector<Corner> poly;
 
     int line = 0;
@@ -91,20 +95,31 @@ ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
             // An optional w or vertex colour may follow; ignore it.
         } else if (key == "vn") {
             for (int k = 0; k < 3; ++k) nrm.push_back(parse_float(c.token(), name, line));
+        } else if (key == "vt") {
+            // u and an optional v (and w, unused).
+            tex.push_back(parse_float(c.token(), name, line));
+            const std::string_view v = c.token();
+            tex.push_back(v.empty() ? 0.f : parse_float(v, name, line));
         } else if (key == "f") {
             poly.clear();
             while (!c.at_end()) {
                 const std::string_view tok = c.token();
                 const std::size_t s1 = tok.find('/');
-                Corner cr{0, UINT32_MAX};
+                Corner cr{0, UINT32_MAX, UINT32_MAX};
                 cr.v = resolve_index(tok.substr(0, s1), pos.size() / 3, "vertex", name, line);
                 if (s1 != std::string_view::npos) {
                     const std::size_t s2 = tok.find('/', s1 + 1);
+                    const std::string_view t =
+                        tok.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos
+                                                                        : s2 - s1 - 1);
+                    if (!t.empty())
+                        cr.t = resolve_index(t, tex.size() / 2, "texture coordinate", name, line);
                     if (s2 != std::string_view::npos && s2 + 1 < tok.size())
                         cr.n =
                             resolve_index(tok.substr(s2 + 1), nrm.size() / 3, "normal", name, line);
                 }
                 if (cr.n == UINT32_MAX) all_have_normals = false;
+                if (cr.t == UINT32_MAX) all_have_uvs = false;
                 poly.push_back(cr);
             }
             if (poly.size() < 3)
@@ -113,29 +128,76 @@ ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
                 corners.push_back(poly[0]);
                 corners.push_back(poly[k]);
                 corners.push_back(poly[k + 1]);
+                tri_material.push_back(material);
             }
-        } else if (key == "vt" || key == "vp" || key == "o" || key == "g" || key == "s" ||
-                   key == "usemtl" || key == "mtllib" || key == "l" || key == "p") {
-            // Not used by the renderer.
+        } else if (key == "usemtl") {
+            const std::string mtl(c.token());
+            if (mtl.empty()) fail(name, line, "usemtl needs a material name");
+            auto [it, inserted] =
+                material_index.try_emplace(mtl, int32_t(res.material_names.size()));
+            if (inserted) {
+                res.material_names.push_back(mtl);
+                res.material_lines.push_back(line);
+            }
+            material = it->second;
+        } else if (key == "mtllib") {
+            // File names may hold spaces: the rest of the line.
+            c.skip_space();
+            std::string lib(c.p, c.end);
+            while (!lib.empty() && (lib.back() == ' ' || lib.back() == '\t' || lib.back() == '\r'))
+                lib.pop_back();
+            if (lib.empty()) fail(name, line, "mtllib needs a file name");
+            res.libraries.push_back({lib, line});
+        } else if (key == "vp" || key == "o" || key == "g" || key == "s" || key == "l" ||
+                   key == "p") {
+            // Groups, smoothing groups, lines and points do not change the surfaces.
         } else {
             fail(name, line, "unknown OBJ statement '" + std::string(key) + "'");
         }
     }
     if (corners.empty()) fail(name, 0, "no faces in OBJ file");
 
-    ObjLoadResult res;
     TriangleMesh& m = res.mesh;
     res.has_normals = all_have_normals && !nrm.empty();
-    if (res.has_normals) {
-        // OBJ indexes positions and normals separately; weld each distinct pair once.
-        std::unordered_map<uint64_t, uint32_t> weld;
+    const bool has_uvs = all_have_uvs && !tex.empty();
+    // Without normals in the file, vertex normals are the faces' (as compute_smooth_normals
+    // makes them) taken before uv seams split vertices: a seam must not show in the shading.
+    bool face_normals = false;
+    if (has_uvs && !res.has_normals) {
+        TriangleMesh by_position;
+        by_position.positions = pos;
+        by_position.indices.reserve(corners.size());
+        for (const Corner& cr : corners) by_position.indices.push_back(cr.v);
+        by_position.compute_smooth_normals();
+        nrm = std::move(by_position.normals);
+        for (Corner& cr : corners) cr.n = cr.v;
+        face_normals = true;
+    }
+    const bool weld_normals = res.has_normals || face_normals;
+    if (weld_normals || has_uvs) {
+        // OBJ indexes positions, uvs and normals separately; weld each distinct tuple once.
+        struct Key {
+            uint32_t v, t, n;
+            bool operator==(const Key& o) const { return v == o.v && t == o.t && n == o.n; }
+        };
+        struct Hash {
+            std::size_t operator()(const Key& k) const {
+                return std::size_t(
+                    ((uint64_t(k.v) * 0x9e3779b97f4a7c15ull) ^ k.t) * 0xbf58476d1ce4e5b9ull ^ k.n);
+            }
+        };
+        std::unordered_map<Key, uint32_t, Hash> weld;
         std::vector<uint32_t> remap;
+        remap.reserve(corners.size());
         for (const Corner& cr : corners) {
-            const uint64_t key = (uint64_t(cr.v) << 32) | cr.n;
+            const Key key{cr.v, has_uvs ? cr.t : 0, weld_normals ? cr.n : 0};
             auto [it, inserted] = weld.try_emplace(key, uint32_t(m.positions.size() / 3));
             if (inserted) {
                 for (int k = 0; k < 3; ++k) m.positions.push_back(pos[3 * cr.v + k]);
-                for (int k = 0; k < 3; ++k) m.normals.push_back(nrm[3 * cr.n + k]);
+                if (weld_normals)
+                    for (int k = 0; k < 3; ++k) m.normals.push_back(nrm[3 * cr.n + k]);
+                if (has_uvs)
+                    for (int k = 0; k < 2; ++k) m.uvs.push_back(tex[2 * cr.t + k]);
             }
             remap.push_back(it->second);
         }
@@ -162,6 +224,7 @@ ObjLoadResult parse_obj(const std::string& text, const std::string& name) {
             continue;
         }
         kept.insert(kept.end(), ix, ix + 3);
+        res.triangle_material.push_back(tri_material[t]);
     }
     if (kept.empty()) fail(name, 0, "every face of the OBJ file is degenerate");
     m.indices = std::move(kept);

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -146,7 +147,8 @@ class Loader {
     void parse_camera(const pugi::xml_node& n);
     uint32_t parse_material(const pugi::xml_node& object);
     static constexpr int kMaxMixDepth = 16;
-    int mix_depth_ = 0;  // of the mix being read
+    int mix_depth_ = 0;                       // of the mix being read
+    std::map<std::string, uint32_t> images_;  // image file -> Scene::texture_images
     Material material(const pugi::xml_node& n, bool top);
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
     float roughness(const pugi::xml_node& n) const;

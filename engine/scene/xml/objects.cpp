@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "engine/core/input_file.h"
-#include "engine/scene/obj_loader.h"
+#include "engine/scene/mesh_file.h"
 
 namespace foton::xml {
 
@@ -57,18 +57,59 @@ void Loader::parse_objects(const pugi::xml_node& n) {
                                                 : "cannot read mesh file (" + problem + ")") +
                             ": '" + src + "' (looked for " + path.string() + ")");
             const Affine xf = parse_transform(o);
-            const uint32_t mat = parse_material(o);
-            ObjLoadResult r = load_obj(path.string());
-            if (r.degenerate_skipped > 0)
+            // An object's <material> covers every part of the file; without one, the file's
+            // own materials (OBJ's MTL, glTF's) apply, and a part without one is grey.
+            const bool own = bool(o.child("material"));
+            const uint32_t mat = own ? parse_material(o) : 0;
+            MeshFile file;
+            try {
+                file = load_mesh_file(path.string());
+            } catch (const InputError& e) {
+                // Errors inside the file carry its own name and line; say which object read it.
+                if (e.file() == path.string() && e.line() > 0) throw;
+                fail(o, std::string(e.what()));
+            }
+            if (file.degenerate_skipped > 0)
                 std::fprintf(stderr, "%s:%d: warning: %zu degenerate triangles skipped in %s\n",
-                             name_.c_str(), line_of(o), r.degenerate_skipped, src.c_str());
-            scene_.skipped_degenerate += r.degenerate_skipped;
-            r.mesh.name = o.attribute("name") ? o.attribute("name").value() : src;
+                             name_.c_str(), line_of(o), file.degenerate_skipped, src.c_str());
+            scene_.skipped_degenerate += file.degenerate_skipped;
+            for (const std::string& note : file.notes) scene_.warnings.push_back(note);
+            if (own && !file.materials.empty())
+                scene_.warnings.push_back(name_ + ":" + std::to_string(line_of(o)) + ": the " +
+                                          std::to_string(file.materials.size()) +
+                                          " materials of '" + src +
+                                          "' are replaced by the object's <material>");
+            std::vector<int> materials(file.materials.size(), -1);
+            int grey = -1;
             const bool smooth = boolean(o, "smooth", true);
-            if (smooth && !r.has_normals) r.mesh.compute_smooth_normals();
-            if (!smooth) r.mesh.normals.clear();
-            if (!xf.is_identity()) r.mesh.transform(xf);
-            scene_.add_mesh(std::move(r.mesh), mat, smooth);
+            const std::string name = o.attribute("name") ? o.attribute("name").value() : src;
+            for (MeshPart& part : file.parts) {
+                uint32_t m = mat;
+                if (!own) {
+                    if (part.material >= 0) {
+                        int& slot = materials[std::size_t(part.material)];
+                        if (slot < 0)
+                            slot = int(add_file_material(
+                                scene_, file.materials[std::size_t(part.material)], file, images_));
+                        m = uint32_t(slot);
+                    } else {
+                        if (grey < 0) {
+                            Material g;
+                            g.type = MaterialType::Generic;
+                            g.name = "grey";
+                            g.bsdf.add(Lobe::lambert(RGB{0.5f}));
+                            scene_.materials.push_back(g);
+                            grey = int(scene_.materials.size() - 1);
+                        }
+                        m = uint32_t(grey);
+                    }
+                }
+                part.mesh.name = name;
+                if (smooth && part.mesh.normals.empty()) part.mesh.compute_smooth_normals();
+                if (!smooth) part.mesh.normals.clear();
+                if (!xf.is_identity()) part.mesh.transform(xf);
+                scene_.add_mesh(std::move(part.mesh), m, smooth);
+            }
         } else if (kind == "quad") {
             check(o, {"name"}, {"corner", "edge1", "edge2", "material", "transform"});
             const Vec3 c = xyz_child(o, "corner"), e1 = xyz_child(o, "edge1"),

@@ -1,0 +1,185 @@
+#include "mesh_file.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "engine/core/error.h"
+#include "engine/core/input_file.h"
+#include "metals.h"
+#include "obj_loader.h"
+#include "ply_reader.h"
+#include "scene.h"
+
+namespace foton {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    return ext;
+}
+
+// An OBJ file: its mtllib files read, and its triangles split by material into parts.
+MeshFile load_obj_file(const std::string& path) {
+    ObjLoadResult r = load_obj(path);
+    MeshFile out;
+    out.degenerate_skipped = r.degenerate_skipped;
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    std::map<std::string, FileMaterial> library;
+    for (const ObjLoadResult::Library& lib : r.libraries) {
+        const std::string lib_path = (std::filesystem::path(dir) / lib.file).string();
+        const std::string problem = input_file_problem(lib_path, kMaxMeshFileBytes);
+        if (!problem.empty())
+            throw InputError(path, lib.line,
+                             "mtllib '" + lib.file +
+                                 "': " + (problem == "not found" ? "file not found" : problem) +
+                                 " (looked for " + lib_path + ")");
+        std::map<std::string, FileMaterial> m =
+            parse_mtl(read_input_file(lib_path, kMaxMeshFileBytes, "material file"), lib_path,
+                      std::filesystem::path(lib_path).parent_path().string(), out.notes);
+        library.merge(m);  // the first library to define a name wins
+    }
+    std::vector<int> index(r.material_names.size(), -1);
+    for (std::size_t i = 0; i < r.material_names.size(); ++i) {
+        const auto it = library.find(r.material_names[i]);
+        if (it == library.end()) {
+            if (r.libraries.empty())
+                out.notes.push_back(path + ":" + std::to_string(r.material_lines[i]) +
+                                    ": usemtl '" + r.material_names[i] +
+                                    "' without any mtllib: the object's material is used");
+            else
+                throw InputError(
+                    path, r.material_lines[i],
+                    "usemtl '" + r.material_names[i] + "': no such material in the mtllib files");
+            continue;
+        }
+        index[i] = int(out.materials.size());
+        out.materials.push_back(it->second);
+    }
+    // One part per material in order of first use; triangles keep their order within it.
+    const TriangleMesh& m = r.mesh;
+    std::map<int, std::size_t> part_of;
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const int32_t name = r.triangle_material[t];
+        const int mat = name < 0 ? -1 : index[std::size_t(name)];
+        auto [it, inserted] = part_of.try_emplace(mat, out.parts.size());
+        if (inserted) {
+            MeshPart part;
+            part.material = mat;
+            part.has_normals = !m.normals.empty();
+            part.mesh.name = m.name;
+            out.parts.push_back(std::move(part));
+        }
+        out.parts[it->second].mesh.indices.insert(out.parts[it->second].mesh.indices.end(),
+                                                  &m.indices[3 * t], &m.indices[3 * t] + 3);
+    }
+    // Each part keeps the vertices it uses (all of them when there is only one part).
+    for (MeshPart& part : out.parts) {
+        if (out.parts.size() == 1) {
+            std::vector<uint32_t> idx = std::move(part.mesh.indices);
+            part.mesh = r.mesh;
+            part.mesh.indices = std::move(idx);
+            continue;
+        }
+        std::vector<uint32_t> remap(m.num_vertices(), UINT32_MAX);
+        TriangleMesh& pm = part.mesh;
+        for (uint32_t& v : pm.indices) {
+            if (remap[v] == UINT32_MAX) {
+                remap[v] = uint32_t(pm.positions.size() / 3);
+                pm.positions.insert(pm.positions.end(), &m.positions[3 * v],
+                                    &m.positions[3 * v] + 3);
+                if (!m.normals.empty())
+                    pm.normals.insert(pm.normals.end(), &m.normals[3 * v], &m.normals[3 * v] + 3);
+                if (!m.uvs.empty()) pm.uvs.insert(pm.uvs.end(), &m.uvs[2 * v], &m.uvs[2 * v] + 2);
+            }
+            v = remap[v];
+        }
+    }
+    for (MeshPart& part : out.parts) part.has_normals = r.has_normals || !part.mesh.normals.empty();
+    return out;
+}
+
+}  // namespace
+
+MeshFile load_mesh_file(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".obj") return load_obj_file(path);
+    if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
+    if (ext == ".ply") {
+        MeshFile out;
+        MeshPart part;
+        part.mesh = load_ply(path);
+        part.has_normals = !part.mesh.normals.empty();
+        out.parts.push_back(std::move(part));
+        return out;
+    }
+    throw InputError(path, 0, "unknown mesh format '" + ext + "' (.obj, .ply, .gltf, .glb)");
+}
+
+uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& file,
+                           std::map<std::string, uint32_t>& images) {
+    Material m;
+    m.type = MaterialType::Generic;
+    m.name = f.name.empty() ? "file material" : f.name;
+    m.emission = f.emission;
+    m.ior = f.ior;
+    if (f.glass) {
+        m.bsdf.add(Lobe::dielectric(f.ior, RGB{1.f}, RGB{1.f}));
+        m.base_color = RGB{0.f};
+    } else {
+        // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
+        const float metal = std::clamp(f.metallic, 0.f, 1.f);
+        RGB kd = f.diffuse * (1.f - metal);
+        RGB ks = f.specular;
+        const float total = (kd + ks).max_component();
+        if (total > 1.f) {
+            kd *= 1.f / total;
+            ks *= 1.f / total;
+        }
+        m.base_color = kd;
+        m.bsdf.add(Lobe::lambert(kd));
+        if (!f.diffuse_map.empty()) {
+            uint32_t image;
+            if (const auto it = images.find(f.diffuse_map); it != images.end()) {
+                image = it->second;
+            } else {
+                const auto emb = file.embedded_images.find(f.diffuse_map);
+                scene.texture_images.push_back(emb != file.embedded_images.end()
+                                                   ? emb->second
+                                                   : load_texture_image(f.diffuse_map));
+                image = images[f.diffuse_map] = uint32_t(scene.texture_images.size() - 1);
+            }
+            Texture tx;
+            tx.kind = TextureKind::Image;
+            tx.image = image;
+            tx.su = f.map_su;
+            tx.sv = f.map_sv;
+            tx.du = f.map_du;
+            tx.dv = f.map_dv;
+            scene.textures.push_back(tx);
+            m.texture = int32_t(scene.textures.size() - 1);
+            m.textured_lobes = 1;  // the Lambert lobe, added first
+        }
+        if (f.mirror && !ks.is_black()) {
+            m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
+        } else if (!ks.is_black() && f.exponent > 0.f) {
+            m.bsdf.add(Lobe::phong(ks, f.exponent));
+        }
+        if (metal > 0.f) {
+            // glTF's metal: the base colour as a conductor's normal reflectance, GGX alpha =
+            // roughness^2 rendered as Beckmann (foton's microfacet model) of that alpha.
+            const Fresnel fr = conductor_from_reflectance(f.diffuse);
+            const float alpha = f.roughness * f.roughness;
+            if (alpha < 0.002f)
+                m.bsdf.add(Lobe::mirror(RGB{metal}, fr));
+            else
+                m.bsdf.add(Lobe::microfacet(
+                    RGB{metal}, MicrofacetDistribution::beckmann(std::min(alpha, 2.f)), fr));
+        }
+    }
+    scene.materials.push_back(m);
+    return uint32_t(scene.materials.size() - 1);
+}
+
+}  // namespace foton

@@ -1,0 +1,70 @@
+#pragma once
+// Mesh files with their materials: OBJ (+ MTL), PLY and glTF 2.0 read into one form, so
+// that the XML loader places any of them the same way. A file's materials are described as
+// FileMaterial (what the formats share: a diffuse colour or texture, a Phong highlight, a
+// mirror or glass, glTF's metallic-roughness, emission) and become foton materials through
+// add_file_material. What a file says that foton does not render is kept as a note
+// ("file:line: what"), shown like the pbrt importer's warnings: never silently dropped.
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "engine/core/rgb.h"
+#include "mesh.h"
+#include "texture.h"
+
+namespace foton {
+
+struct Scene;
+
+struct FileMaterial {
+    std::string name;
+    RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
+    std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
+    float map_su = 1.f, map_sv = 1.f, map_du = 0.f, map_dv = 0.f;  // uv scale and offset
+    RGB specular{0.f};  // MTL Ks: a Phong highlight of exponent Ns, or the mirror's colour
+    float exponent = 0.f;
+    float metallic = 0.f, roughness = 1.f;  // glTF metallic-roughness
+    bool mirror = false;                    // MTL illum 3, 5
+    bool glass = false;                     // MTL illum 4, 6, 7, 9
+    float ior = 1.5f;                       // MTL Ni
+    RGB emission{0.f};                      // MTL Ke, glTF emissiveFactor
+};
+
+struct MeshPart {
+    TriangleMesh mesh;
+    int material = -1;         // into MeshFile::materials; -1: the file gives none
+    bool has_normals = false;  // vertex normals came from the file (or its faces, for OBJ with uv)
+};
+
+struct MeshFile {
+    std::vector<MeshPart> parts;
+    std::vector<FileMaterial> materials;
+    // Decoded images of glTF files that embed them (keyed by a name materials use as
+    // diffuse_map); files on disk are decoded by add_file_material.
+    std::map<std::string, TextureImage> embedded_images;
+    std::vector<std::string> notes;
+    std::size_t degenerate_skipped = 0;
+};
+
+// Reads a mesh file by its extension: .obj (with the MTL files it names), .ply, .gltf, .glb.
+// Throws InputError naming the file (and line, where the format has lines).
+MeshFile load_mesh_file(const std::string& path);
+
+// The MTL materials of an OBJ file, by name (relative map paths resolved against the MTL
+// file's directory). Throws InputError at the MTL's file:line.
+std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std::string& name,
+                                              const std::string& base_dir,
+                                              std::vector<std::string>& notes);
+
+// glTF 2.0, .gltf (JSON with its buffers and images) or .glb: every triangle primitive of the
+// default scene's nodes, transformed to world space, one part per primitive.
+MeshFile load_gltf(const std::string& path);
+
+// Adds `m` to the scene's materials (with its texture, images decoded once per file through
+// `images`: path -> Scene::texture_images); returns its index.
+uint32_t add_file_material(Scene& scene, const FileMaterial& m, const MeshFile& file,
+                           std::map<std::string, uint32_t>& images);
+
+}  // namespace foton

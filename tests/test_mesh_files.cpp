@@ -1,0 +1,316 @@
+// Mesh files with their materials, placed by the XML <triangle_mesh src=...>: OBJ with MTL
+// (diffuse colours, image maps, Phong, mirror, glass, emission), glTF 2.0 (node transforms,
+// baseColorFactor and baseColorTexture, metallic-roughness, emission) and PLY. Textured
+// quads render their texture's colours pixel for pixel; bad files are errors at their
+// file and line (or glTF object).
+#include <stb/stb_image_write.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/error.h"
+#include "engine/scene/mesh_file.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+
+// A 2 x 2 PNG: red, green / blue, grey (sRGB 128: linear 0.2158).
+void write_texture(const std::string& path) {
+    const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 128, 128, 128};
+    REQUIRE(stbi_write_png(path.c_str(), 2, 2, 3, px, 6) != 0);
+}
+
+// The scene around a mesh file: the unit square [0, 1]^2 at z = 0 seen from +z by an
+// orthographic camera that it fills, lit head-on by a distant light of irradiance pi, so a
+// Lambertian point's radiance is its albedo.
+void write_scene(const std::string& path, const std::string& mesh) {
+    std::ofstream(path) << R"(<scene>
+  <lights><directional intensity="3.14159265"><direction x="0" y="0" z="-1"/></directional></lights>
+  <objects>)" << mesh << R"(</objects>
+  <film width="64" height="64" size="0.015625"/>
+  <renderer type="path" max_depth="1" sampler="jittered"/>
+  <camera type="orthographic"><eye x="0.5" y="0.5" z="5"/><target x="0.5" y="0.5" z="0"/></camera>
+</scene>)";
+}
+
+// Renders the scene and returns the largest difference between a pixel and `want` averaged
+// over the pixel (8 x 8 points, each given the point of the plane z = 0 it sees).
+double worst_pixel(const std::string& scene_path, const std::function<RGB(float, float)>& want) {
+    TestScene s(load_scene(scene_path));
+    const auto acc = make_intersector(s, s.accel);
+    RenderOptions opt = s.render.run;
+    opt.spp = 16;
+    const Film f = render(s, s.render, *acc, opt).film;
+    double worst = 0.0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            RGB w{0.f};
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) {
+                    Vec3 o, d;
+                    s.camera.generate(float(x) + (float(i) + 0.5f) / 8.f,
+                                      float(y) + (float(j) + 0.5f) / 8.f, o, d);
+                    const Vec3 q = o + d * (-o.z / d.z);
+                    w += want(q.x, q.y) * (1.f / 64.f);
+                }
+            const RGB& got = f.pixels[std::size_t(y) * 64 + std::size_t(x)];
+            worst = std::max({worst, double(std::fabs(got.r - w.r)), double(std::fabs(got.g - w.g)),
+                              double(std::fabs(got.b - w.b))});
+        }
+    return worst;
+}
+
+const Material& material_of_part(const Scene& s, std::size_t i) {
+    return s.material_of(uint32_t(i));
+}
+
+}  // namespace
+
+TEST_CASE("OBJ + MTL: materials by face and a textured half render as the file says",
+          "[obj][texture][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    // Left half [0, 0.5] textured (uv = position), right half flat blue-green.
+    std::ofstream(dir.file("quad.mtl"))
+        << "# made by the test\nnewmtl tex\nKd 1 1 1\nmap_Kd t.png\n"
+        << "Ka 0.1 0.1 0.1\nmap_Bump bump.png\n"
+        << "newmtl flat\nKd 0.2 0.4 0.6\nillum 1\nPr 0.5\n";
+    std::ofstream(dir.file("quad.obj"))
+        << "mtllib quad.mtl\n"
+           "v 0 0 0\nv 0.5 0 0\nv 0.5 1 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\n"
+           "vt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 0 1\nvt 1 0\nvt 1 1\n"
+           "usemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl flat\nf 2/2 5/5 6/6 3/3\n";
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.obj"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.objects.size() == 2);
+    CHECK(material_of_part(s, 0).texture >= 0);
+    CHECK(material_of_part(s, 1).bsdf.lobe(0).color.b == Approx(0.6f));
+    REQUIRE(s.texture_images.size() == 1);
+    // What the file says and foton leaves out is listed, with its line.
+    auto warned = [&](const std::string& text) {
+        for (const std::string& w : s.warnings)
+            if (w.find(text) != std::string::npos) return true;
+        return false;
+    };
+    CHECK(warned("quad.mtl:5: 'Ka' ignored"));
+    CHECK(warned("quad.mtl:6: 'map_Bump' ignored"));
+    CHECK(warned("quad.mtl:10: unknown MTL statement 'Pr' ignored"));
+    const TextureImage& img = s.texture_images[0];
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        return x < 0.5f ? img.bilinear({x, y}) : RGB{0.2f, 0.4f, 0.6f};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.02);
+    // The object's own <material> replaces the file's, and says so.
+    write_scene(dir.file("o.xml"), R"(<triangle_mesh src="quad.obj">
+      <material type="lambert"><reflectance r="0.3" g="0.3" b="0.3"/></material></triangle_mesh>)");
+    const Scene o = load_scene(dir.file("o.xml"));
+    CHECK(o.materials.size() == 1);
+    CHECK(o.warnings.back().find("are replaced by the object's <material>") != std::string::npos);
+}
+
+TEST_CASE("MTL: illumination models become foton's lobes", "[obj][mesh-file][fast]") {
+    std::vector<std::string> notes;
+    const auto m = parse_mtl(
+        "newmtl phong\nKd 0.5 0.5 0.5\nKs 0.3 0.3 0.3\nNs 50\nillum 2\n"
+        "newmtl mirror\nKd 0 0 0\nKs 0.9 0.9 0.9\nillum 3\n"
+        "newmtl glass\nNi 1.33\nillum 7\nd 0.5\n"
+        "newmtl lamp\nKd 0.1 0.1 0.1\nKe 5 4 3\n"
+        "newmtl ghost\nKd 0.5 0.5 0.5\nd 0.3\n",
+        "m.mtl", ".", notes);
+    REQUIRE(m.size() == 5);
+    CHECK(m.at("phong").exponent == 50.f);
+    CHECK(m.at("mirror").mirror);
+    CHECK(m.at("glass").glass);
+    CHECK(m.at("glass").ior == Approx(1.33f));
+    CHECK(m.at("lamp").emission.g == 4.f);
+    bool ghost = false;
+    for (const std::string& n : notes) ghost |= n.find("'ghost': dissolve") != std::string::npos;
+    CHECK(ghost);
+    Scene s;
+    MeshFile none;
+    std::map<std::string, uint32_t> images;
+    const Material phong = s.materials[add_file_material(s, m.at("phong"), none, images)];
+    REQUIRE(phong.bsdf.size() == 2);
+    CHECK(phong.bsdf.lobe(1).type == LobeType::Phong);
+    const Material mirror = s.materials[add_file_material(s, m.at("mirror"), none, images)];
+    CHECK(mirror.bsdf.has_delta());
+    const Material glass = s.materials[add_file_material(s, m.at("glass"), none, images)];
+    CHECK(glass.bsdf.lobe(0).type == LobeType::Dielectric);
+    const Material lamp = s.materials[add_file_material(s, m.at("lamp"), none, images)];
+    CHECK(lamp.emission.r == 5.f);
+    // Bad MTL input, at its line.
+    auto fails = [&](const std::string& text, const std::string& what) {
+        std::vector<std::string> n;
+        try {
+            parse_mtl(text, "bad.mtl", ".", n);
+            FAIL("accepted: " << text);
+        } catch (const InputError& e) {
+            CHECK_THAT(e.what(), Catch::Contains(what));
+        }
+    };
+    fails("Kd 1 1 1\n", "bad.mtl:1: 'Kd' before any newmtl");
+    fails("newmtl a\nKd 1 x 1\n", "bad.mtl:2: malformed number 'x'");
+    fails("newmtl a\nKd 2 2 2\n", "bad.mtl:2: Kd above 1");
+    fails("newmtl a\nillum 2.5\n", "bad.mtl:2: illum must be an integer");
+    fails("newmtl a\nmap_Kd -bm 2 t.png\n", "bad.mtl:2: map_Kd option '-bm'");
+    fails("newmtl a\nNs -3\n", "bad.mtl:2: Ns must be in");
+}
+
+namespace {
+
+// A glTF file: the quad split in two primitives (textured left half, flat right half) under
+// a node translated by (0.25, 0, 0) whose child is scaled by 0.5 in x, so the file's
+// [-0.5, 1.5] x [0, 1] lands on [0, 1]^2.
+void write_gltf(const test::TempDir& dir, const std::string& extra_material = "") {
+    // Positions (2 x 4 vertices), uvs (glTF's v runs down), indices (2 x 6).
+    const float pos[] = {-0.5f, 0, 0, 0.5f, 0, 0, 0.5f, 1, 0, -0.5f, 1, 0,
+                         0.5f,  0, 0, 1.5f, 0, 0, 1.5f, 1, 0, 0.5f,  1, 0};
+    const float uv[] = {0, 1, 0.5f, 1, 0.5f, 0, 0, 0};
+    const uint16_t idx[] = {0, 1, 2, 0, 2, 3, 0, 1, 2, 0, 2, 3};
+    std::ofstream bin(dir.file("quad.bin"), std::ios::binary);
+    bin.write(reinterpret_cast<const char*>(pos), sizeof pos);
+    bin.write(reinterpret_cast<const char*>(uv), sizeof uv);
+    bin.write(reinterpret_cast<const char*>(idx), sizeof idx);
+    bin.close();
+    std::ofstream(dir.file("quad.gltf")) << R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"translation": [0.25, 0, 0], "children": [1]},
+            {"scale": [0.5, 1, 1], "mesh": 0}],
+  "meshes": [{"primitives": [
+    {"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 4, "material": 0},
+    {"attributes": {"POSITION": 1}, "indices": 5, "material": 1}]}],
+  "materials": [
+    {"name": "tex", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}},
+    {"name": "flat", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0},
+     "normalTexture": {"index": 0})" + extra_material +
+                                                R"(}],
+  "textures": [{"source": 0}],
+  "images": [{"uri": "t.png"}],
+  "buffers": [{"uri": "quad.bin", "byteLength": 152}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
+                  {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+                  {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
+  "accessors": [
+    {"bufferView": 0, "byteOffset": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+    {"bufferView": 0, "byteOffset": 48, "componentType": 5126, "count": 4, "type": "VEC3"},
+    {"bufferView": 1, "byteOffset": 0, "componentType": 5126, "count": 4, "type": "VEC2"},
+    {"bufferView": 1, "byteOffset": 0, "componentType": 5126, "count": 4, "type": "VEC2"},
+    {"bufferView": 2, "byteOffset": 0, "componentType": 5123, "count": 6, "type": "SCALAR"},
+    {"bufferView": 2, "byteOffset": 12, "componentType": 5123, "count": 6, "type": "SCALAR"}]
+})";
+}
+
+}  // namespace
+
+TEST_CASE("glTF: node transforms, base colour factors and textures render as the file says",
+          "[gltf][texture][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir);
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.objects.size() == 2);
+    CHECK(s.bounds().lo.x == Approx(0.f));
+    CHECK(s.bounds().hi.x == Approx(1.f));
+    REQUIRE(s.texture_images.size() == 1);
+    bool normal_map_noted = false;
+    for (const std::string& w : s.warnings)
+        normal_map_noted |= w.find("material 1 'flat': normalTexture ignored") != std::string::npos;
+    CHECK(normal_map_noted);
+    const TextureImage& img = s.texture_images[0];
+    // The left primitive's uv: u = 2x over [0, 0.5], v (foton's, up) = y.
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        return x < 0.5f ? img.bilinear({x, y}) : RGB{0.2f, 0.4f, 0.6f};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.02);
+}
+
+TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",
+          "[gltf][mesh-file][fast]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir, R"(}, {"name": "gold", "emissiveFactor": [1, 0.5, 0.25],
+      "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], "metallicFactor": 1, "roughnessFactor": 0.5})");
+    // Point the second primitive at the third material.
+    {
+        std::ifstream in(dir.file("quad.gltf"));
+        std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        t.replace(t.find("\"material\": 1"), 13, "\"material\": 2");
+        std::ofstream(dir.file("quad.gltf")) << t;
+    }
+    const MeshFile f = load_gltf(dir.file("quad.gltf"));
+    REQUIRE(f.parts.size() == 2);
+    REQUIRE(f.materials.size() == 2);
+    Scene s;
+    std::map<std::string, uint32_t> images;
+    const Material gold = s.materials[add_file_material(s, f.materials[1], f, images)];
+    CHECK(gold.emission.g == Approx(0.5f));
+    REQUIRE(gold.bsdf.size() == 2);
+    CHECK(gold.bsdf.lobe(0).color.r == 0.f);  // no diffuse part in a metal
+    CHECK(gold.bsdf.lobe(1).type == LobeType::Microfacet);
+}
+
+TEST_CASE("mesh files: bad input names the file and line or glTF object",
+          "[mesh-file][bad-input]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    auto error_of = [&](const std::string& mesh_xml) -> std::string {
+        write_scene(dir.file("s.xml"), mesh_xml);
+        try {
+            load_scene(dir.file("s.xml"));
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    std::ofstream(dir.file("a.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib none.mtl\nf 1 2 3\n";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="a.obj"/>)"),
+               Catch::Contains("a.obj:4: mtllib 'none.mtl': file not found"));
+    std::ofstream(dir.file("m.mtl")) << "newmtl x\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n";
+    std::ofstream(dir.file("b.obj"))
+        << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl y\nf 1 2 3\n";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="b.obj"/>)"),
+               Catch::Contains("b.obj:5: usemtl 'y': no such material"));
+    std::ofstream(dir.file("c.obj"))
+        << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="c.obj"/>)"), Catch::Contains("missing.png"));
+    // A texture that is not an image.
+    std::ofstream(dir.file("n.mtl")) << "newmtl x\nmap_Kd m.mtl\n";
+    std::ofstream(dir.file("d.obj"))
+        << "mtllib n.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="d.obj"/>)"),
+               Catch::Contains("not a readable image"));
+    std::ofstream(dir.file("e.stl")) << "solid\n";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="e.stl"/>)"),
+               Catch::Contains("s.xml:3: ") && Catch::Contains("unknown mesh format '.stl'"));
+    // glTF: malformed JSON, an accessor past its buffer, an index past its vertices.
+    std::ofstream(dir.file("f.gltf")) << "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [";
+    CHECK_THAT(error_of(R"(<triangle_mesh src="f.gltf"/>)"), Catch::Contains("malformed glTF"));
+    write_gltf(dir);
+    auto edit = [&](const std::string& from, const std::string& to) {
+        std::ifstream in(dir.file("quad.gltf"));
+        std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        REQUIRE(t.find(from) != std::string::npos);
+        t.replace(t.find(from), from.size(), to);
+        std::ofstream(dir.file("g.gltf")) << t;
+    };
+    edit(R"("count": 4, "type": "VEC3"},)", R"("count": 40, "type": "VEC3"},)");
+    CHECK_THAT(
+        error_of(R"(<triangle_mesh src="g.gltf"/>)"),
+        Catch::Contains("mesh 0 primitive 0 POSITION, accessor 0: reads beyond its bufferView"));
+    std::ofstream(dir.file("quad.bin"), std::ios::binary | std::ios::in | std::ios::out)
+        .seekp(128)
+        .write("\x09\x00", 2);
+    CHECK_THAT(error_of(R"(<triangle_mesh src="quad.gltf"/>)"),
+               Catch::Contains("mesh 0 primitive 0: index 9 outside its 4 vertices"));
+}
