@@ -60,8 +60,13 @@ double worst_pixel(const std::string& scene_path, const std::function<RGB(float,
                     w += want(q.x, q.y) * (1.f / 64.f);
                 }
             const RGB& got = f.pixels[std::size_t(y) * 64 + std::size_t(x)];
-            worst = std::max({worst, double(std::fabs(got.r - w.r)), double(std::fabs(got.g - w.g)),
-                              double(std::fabs(got.b - w.b))});
+            const double d =
+                std::max({double(std::fabs(got.r - w.r)), double(std::fabs(got.g - w.g)),
+                          double(std::fabs(got.b - w.b))});
+            if (d > worst)
+                UNSCOPED_INFO("pixel " << x << "," << y << " got " << got.r << " " << got.g << " "
+                                       << got.b << " want " << w.r << " " << w.g << " " << w.b);
+            worst = std::max(worst, d);
         }
     return worst;
 }
@@ -313,4 +318,55 @@ TEST_CASE("mesh files: bad input names the file and line or glTF object",
         .write("\x09\x00", 2);
     CHECK_THAT(error_of(R"(<triangle_mesh src="quad.gltf"/>)"),
                Catch::Contains("mesh 0 primitive 0: index 9 outside its 4 vertices"));
+}
+
+TEST_CASE("XML textures: an image and a checkerboard on diffuse reflectances",
+          "[xml][texture][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    // The left half a PLY quad with uv under a textured Lambert; the right half a quad under
+    // a checkerboard matte, scaled to 4 x 4 cells.
+    std::ofstream(dir.file("left.ply"))
+        << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+           "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+           "property list uchar int vertex_indices\nend_header\n"
+           "0 0 0 0 0\n0.5 0 0 0.5 0\n0.5 1 0 0.5 1\n0 1 0 0 1\n4 0 1 2 3\n";
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="left.ply">
+        <material type="lambert"><texture src="t.png"/></material></triangle_mesh>
+      <triangle_mesh src="left.ply"><transform><translate x="0.5" y="0" z="0"/></transform>
+        <material type="lambert"><reflectance r="1" g="1" b="1"/>
+          <texture type="checkerboard" scale_u="8" scale_v="4"><even r="0.9" g="0.8" b="0.7"/>
+            <odd r="0.1" g="0.2" b="0.3"/></texture></material></triangle_mesh>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.textures.size() == 2);
+    const TextureImage& img = s.texture_images[0];
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        if (x < 0.5f) return img.bilinear({x, y});
+        // uv of the right quad: (x - 0.5, y); 8 x 4 cells over it.
+        const bool even = (int(std::floor((x - 0.5f) * 8.f)) + int(std::floor(y * 4.f))) % 2 == 0;
+        return even ? RGB{0.9f, 0.8f, 0.7f} : RGB{0.1f, 0.2f, 0.3f};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.02);
+    // Bad input at its line.
+    auto error_of = [&](const std::string& material) -> std::string {
+        write_scene(dir.file("b.xml"),
+                    R"(<sphere radius="1"><center x="0" y="0" z="0"/>)" + material + "</sphere>");
+        try {
+            load_scene(dir.file("b.xml"));
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    CHECK_THAT(error_of(R"(<material type="lambert"><texture src="none.png"/></material>)"),
+               Catch::Contains("b.xml:3: texture 'none.png'"));
+    CHECK_THAT(error_of(R"(<material type="conductor"><texture src="t.png"/></material>)"),
+               Catch::Contains("multiplies a diffuse reflectance"));
+    CHECK_THAT(error_of(R"(<material type="lambert"><texture type="wood"/></material>)"),
+               Catch::Contains("unknown texture type 'wood'"));
+    CHECK_THAT(error_of(R"(<material type="mix">
+        <material type="lambert" weight="0.5"><texture src="t.png"/></material>
+        <material type="lambert" weight="0.5"><texture src="t.png"/></material></material>)"),
+               Catch::Contains("a mix takes one textured component"));
 }

@@ -157,6 +157,7 @@ class Loader {
     Affine parse_transform(const pugi::xml_node& object) const;
     void add_area_light(const pugi::xml_node& n);
     void add_environment(const pugi::xml_node& n);
+    int32_t parse_texture(const pugi::xml_node& n);
 
     const std::string& xml_;
     std::string name_, base_;

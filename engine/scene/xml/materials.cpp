@@ -1,4 +1,6 @@
 // <material> and its models, presets and microfacet distributions.
+#include <filesystem>
+
 #include "loader.h"
 
 #include "engine/scene/metals.h"
@@ -86,7 +88,9 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
     const std::string type = n.attribute("type").value();
     m.name = type;
     // Attributes and children every physically based material accepts.
-    const Names common_children = {"emission"};
+    const Names common_children = {"emission", "texture"};
+    // A texture multiplies the diffuse colour, which is then 1 unless given.
+    const RGB diffuse_default{n.child("texture") ? 1.f : 0.5f};
     auto with = [](Names a, Names b) {
         std::vector<const char*> v(a.begin(), a.end());
         v.insert(v.end(), b.begin(), b.end());
@@ -135,7 +139,7 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         m.c_reflective = non_negative(n, "c_reflective", 1.f);
         m.ior = positive(n, "ior", 1.5f);
         m.base_color =
-            rgb_child(n, "base_color", m.type == MaterialType::Glass ? RGB{0.f} : RGB{0.5f});
+            rgb_child(n, "base_color", m.type == MaterialType::Glass ? RGB{0.f} : diffuse_default);
         m.specular_color = rgb_child(n, "specular_color", RGB{0.f});
         m.reflective_color = rgb_child(n, "reflective_color", RGB{1.f});
         m.refraction_color = rgb_child(n, "refraction_color", RGB{1.f});
@@ -155,7 +159,7 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         m.base_color = RGB{0.f};
         if (type == "lambert") {
             check_v(attrs({}), with({"reflectance"}, common_children));
-            const RGB r = rgb_child(n, "reflectance", RGB{0.5f});
+            const RGB r = rgb_child(n, "reflectance", diffuse_default);
             if (r.max_component() > 1.f)
                 fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
             m.bsdf.add(Lobe::lambert(r));
@@ -163,7 +167,7 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
             m.c_diffuse = 1.f;
         } else if (type == "oren_nayar") {
             check_v(attrs({"sigma"}), with({"reflectance"}, common_children));
-            const RGB r = rgb_child(n, "reflectance", RGB{0.5f});
+            const RGB r = rgb_child(n, "reflectance", diffuse_default);
             if (r.max_component() > 1.f)
                 fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
             const float sigma = non_negative(n, "sigma", 0.3f);
@@ -242,6 +246,14 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
                 if (!sub.emission.is_black())
                     fail(c, "put <emission> on the mix, not on its components");
                 sub.bsdf.scale(w);
+                if (sub.texture >= 0) {
+                    if (m.texture >= 0)
+                        fail(c,
+                             "a mix takes one textured component (the texture multiplies its "
+                             "lobes)");
+                    m.texture = sub.texture;
+                    m.textured_lobes = uint8_t(sub.textured_lobes << m.bsdf.size());
+                }
                 for (int i = 0; i < sub.bsdf.size(); ++i)
                     if (!m.bsdf.add(sub.bsdf.lobe(i)))
                         fail(c, "a mix may hold at most " + std::to_string(Bsdf::kMaxLobes) +
@@ -257,6 +269,21 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
                         "dielectric, microfacet, mix)");
         }
     }
+    if (const pugi::xml_node tx = n.child("texture")) {
+        // The diffuse reflectance's texture: the Lambert or Oren-Nayar lobe (the first one the
+        // diffuse types add) and the base colour are multiplied by it.
+        const bool diffuse = type == "matte" || type == "phong" || type == "reflective" ||
+                             type == "lambert" || type == "oren_nayar";
+        if (!diffuse)
+            fail(tx,
+                 "<texture> multiplies a diffuse reflectance: matte, phong, reflective, "
+                 "lambert or oren_nayar (or put it on a mix's component)");
+        if (m.bsdf.empty() || (m.bsdf.lobe(0).type != LobeType::Lambert &&
+                               m.bsdf.lobe(0).type != LobeType::OrenNayar))
+            fail(tx, "<texture> on a material without diffuse reflection (c_diffuse 0)");
+        m.texture = parse_texture(tx);
+        m.textured_lobes = 1;
+    }
     if (const pugi::xml_node e = n.child("emission")) {
         check(e, {"r", "g", "b", "intensity", "sampling", "two_sided"}, {});
         m.emission =
@@ -271,6 +298,49 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
         }
     }
     return m;
+}
+
+// <texture src="image" .../> or <texture type="checkerboard">: into Scene::textures.
+int32_t Loader::parse_texture(const pugi::xml_node& tx) {
+    const std::string kind = tx.attribute("type") ? tx.attribute("type").value() : "image";
+    Texture t;
+    t.su = number(tx, "scale_u", 1.f);
+    t.sv = number(tx, "scale_v", 1.f);
+    t.du = number(tx, "offset_u", 0.f);
+    t.dv = number(tx, "offset_v", 0.f);
+    if (kind == "image") {
+        check(tx, {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v"}, {});
+        const std::string src = tx.attribute("src").value();
+        if (src.empty()) fail(tx, "<texture> needs attribute 'src' (or type=\"checkerboard\")");
+        const std::string enc =
+            tx.attribute("encoding") ? tx.attribute("encoding").value() : "srgb";
+        if (enc != "srgb" && enc != "linear")
+            fail(tx, "unknown texture encoding '" + enc + "' (srgb, linear)");
+        const std::string path = (std::filesystem::path(base_) / src).string();
+        const std::string key = path + (enc == "linear" ? "#linear" : "");
+        t.kind = TextureKind::Image;
+        if (const auto it = images_.find(key); it != images_.end()) {
+            t.image = it->second;
+        } else {
+            try {
+                scene_.texture_images.push_back(load_texture_image(path, enc == "linear"));
+            } catch (const InputError& e) {
+                fail(tx, "texture '" + src + "': " + e.what());
+            }
+            t.image = images_[key] = uint32_t(scene_.texture_images.size() - 1);
+        }
+    } else if (kind == "checkerboard") {
+        check(tx, {"type", "scale_u", "scale_v", "offset_u", "offset_v"}, {"even", "odd"});
+        t.kind = TextureKind::Checkerboard;
+        t.value = rgb_child(tx, "even", RGB{1.f});
+        t.other = rgb_child(tx, "odd", RGB{0.f});
+        if (t.value.max_component() > 1.f || t.other.max_component() > 1.f)
+            fail(tx, "checkerboard colours must be in [0, 1] (they multiply a reflectance)");
+    } else {
+        fail(tx, "unknown texture type '" + kind + "' (image, checkerboard)");
+    }
+    scene_.textures.push_back(t);
+    return int32_t(scene_.textures.size() - 1);
 }
 
 }  // namespace foton::xml
