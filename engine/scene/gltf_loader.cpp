@@ -332,25 +332,34 @@ class GltfReader {
 
 }  // namespace
 
-MeshFile load_gltf(const std::string& path) {
-    const std::string problem = input_file_problem(path, kMaxMeshFileBytes);
-    if (!problem.empty()) throw InputError(path, 0, "cannot read mesh file: " + problem);
+MeshFile parse_gltf(const std::string& bytes, const std::string& name, const std::string& base_dir,
+                    bool binary) {
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower((unsigned char)c));
-    const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    const bool ok =
+        binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                             reinterpret_cast<const unsigned char*>(bytes.data()),
+                                             unsigned(bytes.size()), base_dir)
+               : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                            unsigned(bytes.size()), base_dir);
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-        throw InputError(path, 0,
+        throw InputError(name, 0,
                          "malformed glTF: " + (err.empty() ? std::string("unreadable") : err));
     }
-    GltfReader reader(model, path);
+    GltfReader reader(model, name);
     MeshFile out = reader.run();
-    if (!warn.empty()) out.notes.push_back(path + ": " + warn);
+    if (!warn.empty()) out.notes.push_back(name + ": " + warn);
     return out;
+}
+
+MeshFile load_gltf(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    return parse_gltf(read_input_file(path, kMaxMeshFileBytes, "mesh file"), path,
+                      dir.empty() ? "." : dir, ext == ".glb");
 }
 
 }  // namespace foton

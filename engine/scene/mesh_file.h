@@ -61,6 +61,10 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
 // glTF 2.0, .gltf (JSON with its buffers and images) or .glb: every triangle primitive of the
 // default scene's nodes, transformed to world space, one part per primitive.
 MeshFile load_gltf(const std::string& path);
+// The same from the file's bytes (`binary`: .glb), external buffers and images resolved
+// against base_dir.
+MeshFile parse_gltf(const std::string& bytes, const std::string& name, const std::string& base_dir,
+                    bool binary);
 
 // Adds `m` to the scene's materials (with its texture, images decoded once per file through
 // `images`: path -> Scene::texture_images); returns its index.
