@@ -309,7 +309,7 @@ TEST_CASE("bad environment input is reported at its line", "[env][bad-input]") {
     fails_with(R"(<environment/><environment/>)", "more than one <environment>");
     fails_with(R"(<environment intensity="-1"/>)", "must not be negative");
     fails_with(R"(<environment mapping="cube" src="a.exr"/>)", "unknown environment mapping");
-    fails_with(R"(<environment mapping="latlong"/>)", "give src or leave them out");
+    fails_with(R"(<environment mapping="latlong"/>)", "give src or leave them");
     fails_with(R"(<environment/>)", "not both", R"(<background r="0" g="0" b="0"/>)");
     // A map that is not square for the equal-area mapping, and a black one.
     Film wide(8, 4);
@@ -324,4 +324,37 @@ TEST_CASE("bad environment input is reported at its line", "[env][bad-input]") {
       <front x="1" y="0" z="0"/></environment>)");
     REQUIRE(ok.environment);
     CHECK(ok.environment->Le({0, 0, 1}).r == 2.f);
+}
+
+TEST_CASE("uniform and importance sampling of a map converge to the same image",
+          "[env][integrator]") {
+    // A smooth map (no sun, so uniform sampling converges at this size).
+    test::TempDir dir;
+    Film sky(32, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x)
+            sky.pixels[std::size_t(y * 32 + x)] =
+                RGB{0.2f + 0.05f * float(y), 0.5f, 1.2f - 0.06f * float(y)} * (x < 16 ? 1.f : 0.4f);
+    write_exr(dir.file("sky.exr"), sky);
+    RGB means[2];
+    for (int uniform = 0; uniform < 2; ++uniform) {
+        TestScene s(
+            parse_scene(std::string(R"(<scene><lights><environment src="sky.exr" sampling=")") +
+                            (uniform ? "uniform" : "importance") + R"("/></lights>
+          <objects><sphere radius="1"><center x="0" y="0" z="0"/>
+            <material type="lambert"><reflectance r="0.8" g="0.8" b="0.8"/></material></sphere>
+          </objects><film width="32" height="32"/><renderer type="path" max_depth="4"/>
+          <camera fov="20"><eye x="0" y="0" z="-10"/><target x="0" y="0" z="0"/></camera></scene>)",
+                        "env.xml", dir.path().string()));
+        CHECK(s.environment->uniform_sampling() == (uniform == 1));
+        const auto acc = make_intersector(s, s.accel);
+        RenderOptions opt;
+        opt.spp = 512;
+        means[uniform] = sphere_mean(s, render(s, s.render, *acc, opt).film);
+    }
+    INFO("importance " << means[0].r << " " << means[0].g << " " << means[0].b << ", uniform "
+                       << means[1].r << " " << means[1].g << " " << means[1].b);
+    CHECK(means[1].r == Approx(means[0].r).epsilon(0.01));
+    CHECK(means[1].g == Approx(means[0].g).epsilon(0.01));
+    CHECK(means[1].b == Approx(means[0].b).epsilon(0.01));
 }

@@ -142,7 +142,7 @@ RGB Environment::Le(const Vec3& wi) const {
 }
 
 Vec3 Environment::sample(Point2 u, float& pdf) const {
-    if (mapping_ == EnvMapping::Constant) {
+    if (mapping_ == EnvMapping::Constant || uniform_) {
         pdf = warp::kUniformSpherePdf;
         return warp::uniform_sphere(u);
     }
@@ -159,7 +159,7 @@ Vec3 Environment::sample(Point2 u, float& pdf) const {
 }
 
 float Environment::pdf(const Vec3& wi) const {
-    if (mapping_ == EnvMapping::Constant) return warp::kUniformSpherePdf;
+    if (mapping_ == EnvMapping::Constant || uniform_) return warp::kUniformSpherePdf;
     const Point2 uv = to_map(wi);
     const float pdf_uv = dist_.pdf(uv);
     if (mapping_ == EnvMapping::EqualArea) return pdf_uv / (4.f * kPi);

@@ -35,6 +35,10 @@ class Environment {
                              const Vec3& front);
 
     EnvMapping mapping() const { return mapping_; }
+    // Directions drawn uniformly over the sphere instead of by the map's density: the
+    // baseline that importance sampling is measured against (<environment sampling="uniform">).
+    void set_uniform_sampling(bool uniform) { uniform_ = uniform; }
+    bool uniform_sampling() const { return uniform_; }
     const TextureImage& map() const { return map_; }
     const RGB& scale() const { return scale_; }
 
@@ -59,6 +63,7 @@ class Environment {
     Vec3 ex_{1, 0, 0}, ey_{0, 1, 0}, ez_{0, 0, 1};  // the map's frame in world directions
     Distribution2D dist_;
     RGB integral_{0.f};
+    bool uniform_ = false;
 };
 
 // pbrt-v4's equal-area octahedral mapping between the square [0, 1)^2 and unit directions.

@@ -62,13 +62,15 @@ void Loader::parse_lights(const pugi::xml_node& n) {
 // <environment>: a constant sky (color x intensity), or an image (src) times them, oriented
 // by <up> (the map's top; default +y) and <front> (longitude 0; default +z).
 void Loader::add_environment(const pugi::xml_node& l) {
-    check(l, {"intensity", "src", "mapping"}, {"color", "up", "front"});
+    check(l, {"intensity", "src", "mapping", "sampling"}, {"color", "up", "front"});
     if (scene_.environment) fail(l, "the scene has more than one <environment>");
     const RGB scale = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
     const std::string src = l.attribute("src").value();
     if (src.empty()) {
-        if (l.attribute("mapping") || l.child("up") || l.child("front"))
-            fail(l, "mapping, <up> and <front> orient an image: give src or leave them out");
+        if (l.attribute("mapping") || l.child("up") || l.child("front") || l.attribute("sampling"))
+            fail(l,
+                 "mapping, sampling, <up> and <front> concern an image: give src or leave them "
+                 "out");
         scene_.environment = Environment::constant(scale);
         return;
     }
@@ -89,6 +91,11 @@ void Loader::add_environment(const pugi::xml_node& l) {
     } catch (const InputError& e) {
         fail(l, "environment map '" + src + "': " + e.what());
     }
+    const std::string sampling =
+        l.attribute("sampling") ? l.attribute("sampling").value() : "importance";
+    if (sampling != "importance" && sampling != "uniform")
+        fail(l, "unknown environment sampling '" + sampling + "' (importance, uniform)");
+    scene_.environment->set_uniform_sampling(sampling == "uniform");
 }
 
 void Loader::add_area_light(const pugi::xml_node& l) {
