@@ -349,3 +349,42 @@ TEST_CASE("foton render and info read pbrt-v4 files, bad ones exit 2 with no ima
     CHECK(!std::filesystem::exists(dir.file("bad.exr")));
     CHECK(!std::filesystem::exists(dir.file("bad.png")));
 }
+
+TEST_CASE("bad mesh files, textures and environment maps exit 2 with no image",
+          "[cli][bad-input]") {
+    foton::test::TempDir dir;
+    auto scene_with = [&](const std::string& lights, const std::string& object) {
+        std::ofstream(dir.file("s.xml"))
+            << "<scene>\n<lights>" << lights << "</lights>\n<objects>\n"
+            << object
+            << "\n</objects>\n<film width=\"8\" height=\"8\"/>\n"
+               "<camera><eye x=\"0\" y=\"0\" z=\"-5\"/><target x=\"0\" y=\"0\" z=\"0\"/></camera>\n"
+               "</scene>\n";
+    };
+    auto expect = [&](const std::string& what) {
+        const Run r = run("render " + dir.file("s.xml") + " -q -o " + dir.file("out.exr"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains(what));
+        CHECK_FALSE(std::filesystem::exists(dir.file("out.exr")));
+        CHECK_FALSE(std::filesystem::exists(dir.file("out.png")));
+    };
+    const std::string sphere = R"(<sphere radius="1"><center x="0" y="0" z="0"/>)";
+    std::ofstream(dir.file("bad.gltf")) << "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [";
+    scene_with("", R"(<triangle_mesh src="bad.gltf"/>)");
+    expect("s.xml:4: " + dir.file("bad.gltf") + ": malformed glTF");
+    std::ofstream(dir.file("bad.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n";
+    scene_with("", R"(<triangle_mesh src="bad.ply"/>)");
+    expect("bad.ply:");
+    std::ofstream(dir.file("not-an-image.png")) << "this is text";
+    scene_with("", sphere + R"(<material type="lambert"><texture src="not-an-image.png"/>
+      </material></sphere>)");
+    expect("s.xml:4: texture 'not-an-image.png'");
+    scene_with(R"(<environment src="not-an-image.png"/>)",
+               sphere + "<material type=\"lambert\"/></sphere>");
+    expect("s.xml:2: environment map 'not-an-image.png'");
+    foton::Film wide(6, 4);
+    foton::write_exr(dir.file("wide.exr"), wide);
+    scene_with(R"(<environment src="wide.exr" mapping="equalarea"/>)",
+               sphere + "<material type=\"lambert\"/></sphere>");
+    expect("must be square, not 6x4");
+}
