@@ -1,5 +1,6 @@
 // The foton command line as a user meets it: exit codes, messages, and no half-written
 // images after bad input.
+#include <stb/stb_image.h>
 #include <sys/wait.h>
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <vector>
 
 #include "engine/film/image_io.h"
 #include "test_util.h"
@@ -387,4 +389,35 @@ TEST_CASE("bad mesh files, textures and environment maps exit 2 with no image",
     scene_with(R"(<environment src="wide.exr" mapping="equalarea"/>)",
                sphere + "<material type=\"lambert\"/></sphere>");
     expect("must be square, not 6x4");
+}
+
+TEST_CASE("foton render --preview writes the tone-mapped image as PNG, JPEG or BMP", "[cli]") {
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-box.xml");
+    std::vector<unsigned char> images[3];
+    const char* formats[] = {"png", "jpg", "bmp"};
+    for (int k = 0; k < 3; ++k) {
+        const std::string out = dir.file(std::string("c-") + formats[k] + ".exr");
+        const Run r = run("render " + scene + " --width 24 --height 16 --spp 1 -o " + out +
+                          " --preview " + formats[k]);
+        REQUIRE(r.code == 0);
+        const std::string preview = dir.file(std::string("c-") + formats[k] + "." + formats[k]);
+        CHECK_THAT(r.output, Catch::Contains("wrote " + preview));
+        int w = 0, h = 0, c = 0;
+        unsigned char* px = stbi_load(preview.c_str(), &w, &h, &c, 3);
+        REQUIRE(px);
+        CHECK(w == 24);
+        CHECK(h == 16);
+        images[k].assign(px, px + 24 * 16 * 3);
+        stbi_image_free(px);
+    }
+    // BMP is lossless: the PNG's bytes; JPEG is close to them.
+    CHECK(images[2] == images[0]);
+    double diff = 0.0;
+    for (std::size_t i = 0; i < images[0].size(); ++i)
+        diff += std::abs(int(images[1][i]) - int(images[0][i]));
+    CHECK(diff / double(images[0].size()) < 6.0);
+    CHECK(run("render " + scene + " --width 8 --height 8 --spp 1 -q -o " + dir.file("x.exr") +
+              " --preview tiff")
+              .code == 2);
 }

@@ -175,10 +175,14 @@ int run_render(const RenderArgs& args) {
     if (fs::path(out).extension() != ".exr")
         throw InputError(out, 0,
                          "output must be an .exr file (a .png preview is written beside it)");
+    PreviewFormat preview_format = PreviewFormat::Png;
+    if (!args.preview.empty() && !parse_preview_format(args.preview, preview_format))
+        throw InputError("--preview", 0, "unknown format '" + args.preview + "' (png, jpg, bmp)");
     // Every file the render will write is checked now, before any work.
-    const std::string png = fs::path(out).replace_extension(".png").string();
+    const std::string png =
+        fs::path(out).replace_extension(preview_extension(preview_format)).string();
     check_writable(out, "-o", args.scene);
-    check_writable(png, "-o (its .png preview)", args.scene);
+    check_writable(png, "-o (its preview)", args.scene);
     if (!args.stats_json.empty()) check_writable(args.stats_json, "--stats-json", args.scene);
     if (!args.cache_points.empty()) check_writable(args.cache_points, "--cache-points", args.scene);
     const char* integrator = rs.integrator.c_str();
@@ -285,7 +289,7 @@ int run_render(const RenderArgs& args) {
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
     if (interrupted) attrs.push_back({"foton:interrupted", "true"});
     write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
-    write_png(png, res.film, scene.camera.exposure, scene.film.gamma);
+    write_preview(png, res.film, scene.camera.exposure, scene.film.gamma, preview_format);
     if (!args.cache_points.empty()) {
         std::size_t marked = 0;
         const Film f = mark_cache_points(scene, *accel, res.film, res.cache_points, marked);

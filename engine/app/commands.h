@@ -10,7 +10,8 @@ namespace foton::app {
 
 struct RenderArgs {
     std::string scene;
-    std::string output;  // .exr; empty = out/<scene name>.exr
+    std::string output;   // .exr; empty = out/<scene name>.exr
+    std::string preview;  // the tone-mapped image beside it: png (default), jpg or bmp
     // Numbers as typed: parsed and checked by the settings' integer parser (core/params.h).
     std::optional<std::string> spp, threads, seed;
     std::string accel;  // empty = the scene's <aggregate>

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
     CLI::App* render = app.add_subcommand("render", "render a scene to OpenEXR (+ PNG preview)");
     render->add_option("scene", ra.scene, "scene XML file")->required();
     render->add_option("-o,--output", ra.output, "output .exr (default out/<scene>.exr)");
+    render->add_option("--preview", ra.preview,
+                       "format of the tone-mapped image beside it: png (default), jpg, bmp");
     render->add_option("--spp", ra.spp, "samples per pixel (overrides aa_samples)");
     render->add_option("--threads", ra.threads, "worker threads (0 = all)");
     render->add_option("--seed", ra.seed, "random seed");

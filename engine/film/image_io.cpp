@@ -193,10 +193,51 @@ std::string encode_png(const Film& film, float exposure, float gamma) {
 }
 
 void write_png(const std::string& path, const Film& film, float exposure, float gamma) {
+    write_preview(path, film, exposure, gamma, PreviewFormat::Png);
+}
+
+bool parse_preview_format(const std::string& name, PreviewFormat& out) {
+    if (name == "png")
+        out = PreviewFormat::Png;
+    else if (name == "jpg" || name == "jpeg")
+        out = PreviewFormat::Jpeg;
+    else if (name == "bmp")
+        out = PreviewFormat::Bmp;
+    else
+        return false;
+    return true;
+}
+
+const char* preview_extension(PreviewFormat f) {
+    switch (f) {
+        case PreviewFormat::Png:
+            return ".png";
+        case PreviewFormat::Jpeg:
+            return ".jpg";
+        case PreviewFormat::Bmp:
+            return ".bmp";
+    }
+    return ".png";
+}
+
+void write_preview(const std::string& path, const Film& film, float exposure, float gamma,
+                   PreviewFormat format) {
     const std::vector<unsigned char> px = tone_map(film, exposure, gamma);
     write_atomically(path, [&](const std::string& tmp) {
-        if (!stbi_write_png(tmp.c_str(), film.width, film.height, 3, px.data(), film.width * 3))
-            throw std::runtime_error("cannot write PNG " + tmp);
+        const int w = film.width, h = film.height;
+        int ok = 0;
+        switch (format) {
+            case PreviewFormat::Png:
+                ok = stbi_write_png(tmp.c_str(), w, h, 3, px.data(), w * 3);
+                break;
+            case PreviewFormat::Jpeg:
+                ok = stbi_write_jpg(tmp.c_str(), w, h, 3, px.data(), 95);
+                break;
+            case PreviewFormat::Bmp:
+                ok = stbi_write_bmp(tmp.c_str(), w, h, 3, px.data());
+                break;
+        }
+        if (!ok) throw std::runtime_error("cannot write the preview " + tmp);
     });
 }
 

@@ -40,6 +40,13 @@ Film read_exr(const std::string& path);
 void remove_pending_temp_file() noexcept;
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
+// The same preview as PNG, JPEG (quality 95) or BMP: the formats the ray-tracing thesis'
+// program saved.
+enum class PreviewFormat { Png, Jpeg, Bmp };
+bool parse_preview_format(const std::string& name, PreviewFormat& out);  // png, jpg, jpeg, bmp
+const char* preview_extension(PreviewFormat f);                          // ".png", ".jpg", ".bmp"
+void write_preview(const std::string& path, const Film& film, float exposure, float gamma,
+                   PreviewFormat format);
 // The same preview as PNG file contents, in memory.
 std::string encode_png(const Film& film, float exposure, float gamma);
 // A mask from a PNG of the given size: pixels that are not black count. Throws InputError.
