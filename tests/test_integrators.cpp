@@ -9,6 +9,7 @@
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/common/mis.h"
 #include "engine/transport/driver/render.h"
 #include "test_util.h"
 
@@ -67,6 +68,7 @@ TEST_CASE("white furnace: an emitting closed sphere converges to Le / (1 - a)", 
     const float expect = le / (1.f - a);
     for (const char* r : {R"(<renderer type="path" mis="balance" max_depth="100"/>)",
                           R"(<renderer type="path" mis="power" max_depth="100"/>)",
+                          R"(<renderer type="path" mis="power" mis_beta="3.5" max_depth="100"/>)",
                           R"(<renderer type="path" mis="max" max_depth="100"/>)",
                           R"(<renderer type="path" mis="none" max_depth="100"/>)",
                           R"(<renderer type="path" nee="false" max_depth="100"/>)",
@@ -80,6 +82,38 @@ TEST_CASE("white furnace: an emitting closed sphere converges to Le / (1 - a)", 
     // With max depth 2 the series stops after a^2: Le (1 + a + a^2) for the path tracer.
     const TestScene s = furnace(a, le, R"(<renderer type="path" max_depth="2" rr_depth="100"/>)");
     CHECK(mean(run(s, 64).film).g == Approx(le * (1 + a + a * a)).epsilon(0.01));
+}
+
+TEST_CASE("MIS weights: each pair sums to 1, beta 1 is balance, large beta nears maximum",
+          "[integrator][fast]") {
+    const float pdfs[] = {0.f, 1e-6f, 0.3f, 1.f, 2.5f, 1e3f, 1e7f};
+    for (float beta : {1.f, 2.f, 3.5f, 16.f})
+        for (float a : pdfs)
+            for (float b : pdfs) {
+                if (a == 0.f && b == 0.f) continue;
+                const Mis m{MisHeuristic::Power, beta};
+                const float wa = mis_weight(m, a, b), wb = mis_weight_bsdf(m, b, a);
+                INFO("beta " << beta << " pa " << a << " pb " << b);
+                CHECK(wa + wb == Approx(1.f).epsilon(1e-5));
+                CHECK(wa >= 0.f);
+                if (beta == 1.f)
+                    CHECK(wa == Approx(mis_weight(Mis{MisHeuristic::Balance}, a, b)).epsilon(1e-5));
+            }
+    CHECK(mis_weight(Mis{MisHeuristic::Power, 16.f}, 2.f, 1.f) > 0.9999f);
+    CHECK(mis_weight(Mis{MisHeuristic::Power, 2.f}, 2.f, 1.f) == Approx(0.8f));
+    // mis_beta is a setting of the power heuristic only, in [1, 16].
+    auto settings_of = [](const std::string& renderer) {
+        return render_settings(parse_scene(
+            R"(<scene><objects><sphere radius="1"><center x="0" y="0" z="0"/>
+        <material type="lambert"/></sphere></objects><film width="4" height="4"/>)" +
+                renderer +
+                R"(<camera><eye x="0" y="0" z="-5"/><target x="0" y="0" z="0"/></camera></scene>)",
+            "b.xml", "."));
+    };
+    CHECK(settings_of(R"(<renderer type="path" mis_beta="3"/>)").mis_beta == 3.f);
+    CHECK_THROWS_WITH(settings_of(R"(<renderer type="path" mis="balance" mis_beta="3"/>)"),
+                      Catch::Contains("needs mis=power"));
+    CHECK_THROWS(settings_of(R"(<renderer type="path" mis_beta="0.5"/>)"));
 }
 
 TEST_CASE("light tracer: a spot light over a Lambert plane matches the analytic radiance",

@@ -197,7 +197,11 @@ int run_render(const RenderArgs& args) {
         std::snprintf(secs, sizeof secs, "%.3f", seconds);
         std::string method = integrator;
         if (rs.integrator == "path")
-            method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) : " bsdf-only";
+            method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) +
+                                   (rs.mis == MisHeuristic::Power && rs.mis_beta != 2.f
+                                        ? " beta=" + format_number(rs.mis_beta)
+                                        : std::string())
+                             : " bsdf-only";
         return ImageAttributes{
             {"foton:scene", args.scene},
             {"foton:integrator", method},

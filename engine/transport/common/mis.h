@@ -2,6 +2,8 @@
 // Multiple importance sampling weights for two techniques with one sample each (Veach
 // 1997): the weight of the technique that produced a sample with density pa, when the other
 // would have produced it with density pb.
+#include <cmath>
+
 #include "engine/core/params.h"
 
 namespace foton {
@@ -22,13 +24,25 @@ inline const char* mis_name(MisHeuristic h) {
 
 inline constexpr float kMaxTieTolerance = 1.f + 1e-3f;
 
-inline float mis_weight(MisHeuristic h, float pa, float pb) {
-    switch (h) {
+// A heuristic with its parameter: the power heuristic's exponent beta (Veach's 2 by
+// default; 1 is the balance heuristic, larger values approach the maximum heuristic).
+struct Mis {
+    MisHeuristic heuristic = MisHeuristic::Power;
+    float beta = 2.f;
+};
+
+inline float mis_weight(const Mis& m, float pa, float pb) {
+    switch (m.heuristic) {
         case MisHeuristic::Balance:
             return pa / (pa + pb);
         case MisHeuristic::Power: {
-            const float a = pa * pa, b = pb * pb;  // beta = 2
-            return a / (a + b);
+            if (m.beta == 2.f) {
+                const float a = pa * pa, b = pb * pb;
+                return a / (a + b);
+            }
+            // 1 / (1 + (pb / pa)^beta): no overflow of pa^beta for large densities.
+            if (!(pa > 0.f)) return 0.f;
+            return 1.f / (1.f + std::pow(pb / pa, m.beta));
         }
         case MisHeuristic::Maximum:
             // Ties go to the first technique (callers pass light sampling first). A tie is
@@ -44,9 +58,10 @@ inline float mis_weight(MisHeuristic h, float pa, float pb) {
 }
 
 // The BSDF technique's weight: strict > so that a tie goes to light sampling.
-inline float mis_weight_bsdf(MisHeuristic h, float p_bsdf, float p_light) {
-    if (h == MisHeuristic::Maximum) return p_bsdf > p_light * kMaxTieTolerance ? 1.f : 0.f;
-    return mis_weight(h, p_bsdf, p_light);
+inline float mis_weight_bsdf(const Mis& m, float p_bsdf, float p_light) {
+    if (m.heuristic == MisHeuristic::Maximum)
+        return p_bsdf > p_light * kMaxTieTolerance ? 1.f : 0.f;
+    return mis_weight(m, p_bsdf, p_light);
 }
 
 }  // namespace foton

@@ -37,7 +37,7 @@ struct LightChoice {
 // (pick * pdf), where w is the MIS weight against BSDF sampling under `mis` (None: full
 // weight; delta lights always take full weight). False when the sample adds nothing.
 inline bool sample_light(const LightSet& lights, const LightChoice& c, const ShadingPoint& v,
-                         uint8_t lobes, MisHeuristic mis, float scale, DirectSample& out) {
+                         uint8_t lobes, const Mis& mis, float scale, DirectSample& out) {
     const SurfacePoint& sp = v.sp;
     LightSample ls;
     if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls) || dot(ls.wi, sp.ng) <= 0.f) return false;
@@ -46,7 +46,7 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
     const RGB f = v.m.bsdf.f_restricted(v.wo, wi, ctx, lobes);
     if (f.is_black()) return false;
     const float pl = c.pick * ls.pdf;
-    const bool full = mis == MisHeuristic::None || lights.emitter(c.light).is_delta();
+    const bool full = mis.heuristic == MisHeuristic::None || lights.emitter(c.light).is_delta();
     const float w = full ? 1.f : mis_weight(mis, pl, v.m.bsdf.pdf(v.wo, wi, ctx));
     out.light = c.light;
     out.value = v.weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
@@ -67,7 +67,7 @@ inline bool sample_direct(const LightSet& lights, const ShadingPoint& v, float u
     c.light = lights.select(u_pick, c.pick);
     c.u = u;
     c.uc = uc;
-    return sample_light(lights, c, v, kDiffuse | kGlossy, MisHeuristic::None, 1.f, out);
+    return sample_light(lights, c, v, kDiffuse | kGlossy, Mis{MisHeuristic::None}, 1.f, out);
 }
 
 inline void queue_direct(const DirectSample& ds, uint32_t slot, RayBatch& shadow,

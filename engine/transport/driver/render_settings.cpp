@@ -28,6 +28,9 @@ void parse_sampling(const ParamSet& p, RenderSettings& r) {
 
 void parse_path(const ParamSet& p, RenderSettings& r) {
     r.mis = p.choice("mis", mis_names(), r.mis, "mis heuristic");
+    r.mis_beta = p.real("mis_beta", r.mis_beta, 1.f, 16.f);
+    if (p.has("mis_beta") && r.mis != MisHeuristic::Power)
+        p.fail("mis_beta", "mis_beta is the power heuristic's exponent: it needs mis=power");
     r.nee = p.boolean("nee", r.nee);
     r.rr_depth = uint32_t(p.integer("rr_depth", r.rr_depth, 0, 1000000));
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));

@@ -37,6 +37,7 @@ struct RenderSettings {
     uint32_t max_depth = 8;
     float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
     MisHeuristic mis = MisHeuristic::Power;
+    float mis_beta = 2.f;   // the power heuristic's exponent
     bool nee = true;        // path: next event estimation (false = BSDF sampling only)
     uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on
     uint32_t light_samples =

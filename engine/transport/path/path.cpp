@@ -86,7 +86,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
     ws.shadow.clear();
     ws.shadow_value.clear();
     const bool nee = distributed_ || rs.nee;
-    const MisHeuristic mis = distributed_ ? MisHeuristic::None : rs.mis;
+    const Mis mis = distributed_ ? Mis{MisHeuristic::None} : Mis{rs.mis, rs.mis_beta};
     const RGB ambient = scene_.ambient.radiance();
 
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
@@ -100,7 +100,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         const bool counts_emission = !(ws.first_depth > 0 && depth == ws.first_depth);
         auto emission_weight = [&](auto&& light_pdf) {
             if (depth == 0 || ws.specular_prev[slot] || !nee || distributed_) return 1.f;
-            if (mis == MisHeuristic::None) return 0.f;
+            if (mis.heuristic == MisHeuristic::None) return 0.f;
             return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
         };
         if (geom == kNoHit) {
