@@ -6,9 +6,13 @@
 
 namespace foton {
 
-BruteAccel::BruteAccel(const Scene& scene, bool simd) : scene_(scene), simd_(simd) {
+BruteAccel::BruteAccel(const Scene& scene, bool simd)
+    : scene_(scene),
+      simd_(simd),
+      instances_(scene, simd ? AccelType::BruteSimd : AccelType::Brute, 0) {
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
+        if (o.instance >= 0) continue;  // in the instance layer
         if (o.kind == ObjectKind::Sphere) {
             sphere_objects_.push_back(g);
             continue;
@@ -24,7 +28,7 @@ BruteAccel::BruteAccel(const Scene& scene, bool simd) : scene_(scene), simd_(sim
 }
 
 std::size_t BruteAccel::memory_bytes() const {
-    std::size_t n = 0;
+    std::size_t n = instances_.memory_bytes();
     for (const auto& m : meshes_) n += m.blocks.size() * sizeof(kern::TriangleBlock);
     return n;
 }
@@ -59,6 +63,10 @@ bool BruteAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) con
             hit = Hit1{t, 0.f, 0.f, 0, g};
         }
     }
+    if (!instances_.empty()) {
+        hit.t = th.t;
+        instances_.closest(ray, hit, c);
+    }
     return hit.geom != kNoHit;
 }
 
@@ -77,7 +85,7 @@ bool BruteAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
         if (intersect_sphere(scene_.spheres[scene_.objects[g].index], o, d, ray.tmin, ray.tmax, t))
             return true;
     }
-    return false;
+    return !instances_.empty() && instances_.any(ray, c);
 }
 
 }  // namespace foton

@@ -5,6 +5,7 @@
 // brute force), which give bit-identical hits.
 #include <vector>
 
+#include "instance_layer.h"
 #include "intersector.h"
 #include "kernels/triangle_block.h"
 
@@ -28,6 +29,7 @@ class BruteAccel final : public PerRayIntersector<BruteAccel> {
     bool simd_;
     std::vector<MeshBlocks> meshes_;
     std::vector<uint32_t> sphere_objects_;
+    InstanceLayer instances_;  // BLAS of the same kind
 };
 
 }  // namespace foton

@@ -24,12 +24,14 @@ void add_counts(TraceCounters& c, const kern::BvhCounters& bc) {
 
 }  // namespace
 
-BvhAccel::BvhAccel(const Scene& scene, int threads) : scene_(scene) {
+BvhAccel::BvhAccel(const Scene& scene, int threads)
+    : scene_(scene), instances_(scene, AccelType::Bvh, threads) {
     std::vector<kern::TriangleSource> sources;
     std::vector<kern::PrimRef> sphere_refs;
     uint32_t next = 0;
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
+        if (o.instance >= 0) continue;  // in the instance layer
         if (o.kind == ObjectKind::Mesh) {
             const TriangleMesh& m = scene.meshes[o.index];
             sources.push_back({m.positions.data(), m.indices.data(), m.num_triangles()});
@@ -70,7 +72,7 @@ BvhAccel::BvhAccel(const Scene& scene, int threads) : scene_(scene) {
 
 std::size_t BvhAccel::memory_bytes() const {
     return tris_.memory_bytes() + spheres_.used * sizeof(kern::BinaryNode) +
-           spheres_.prims.size() * sizeof(uint32_t);
+           spheres_.prims.size() * sizeof(uint32_t) + instances_.memory_bytes();
 }
 
 template <class Bound, class Visit>
@@ -146,6 +148,7 @@ bool BvhAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const
     if (tris_.intersect(ray, th, &bc)) hit = mesh_hit(th);
     add_counts(c, bc);
     closest_sphere(ray, hit, c);
+    if (!instances_.empty()) instances_.closest(ray, hit, c);
     return hit.geom != kNoHit;
 }
 
@@ -153,7 +156,7 @@ bool BvhAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
     kern::BvhCounters bc;
     const bool hit = tris_.occluded(ray, &bc);
     add_counts(c, bc);
-    return hit || any_sphere(ray, c);
+    return hit || any_sphere(ray, c) || (!instances_.empty() && instances_.any(ray, c));
 }
 
 namespace {
@@ -192,6 +195,7 @@ void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c)
             h.t = ph.t[l];
             if (ph.id[l] != kern::kInvalidId) h = mesh_hit({ph.t[l], ph.u[l], ph.v[l], ph.id[l]});
             closest_sphere(ray_at(rays, i), h, c);
+            if (!instances_.empty()) instances_.closest(ray_at(rays, i), h, c);
             hits.t[i] = h.t;
             hits.u[i] = h.u;
             hits.v[i] = h.v;
@@ -213,7 +217,8 @@ void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCo
         const uint32_t active = load_packet(rays, first, count, p, tmax);
         const uint32_t blocked = tris_.occluded_packet(p, tmax, active, &bc);
         for (std::size_t l = 0; l < count; ++l)
-            occ[first + l] = ((blocked >> l) & 1u) || any_sphere(ray_at(rays, first + l), c);
+            occ[first + l] = ((blocked >> l) & 1u) || any_sphere(ray_at(rays, first + l), c) ||
+                             (!instances_.empty() && instances_.any(ray_at(rays, first + l), c));
     }
     add_counts(c, bc);
 }

@@ -6,6 +6,7 @@
 // bit, ties included.
 #include <vector>
 
+#include "instance_layer.h"
 #include "intersector.h"
 #include "kernels/bvh_build.h"
 #include "kernels/triangle_bvh.h"
@@ -47,6 +48,7 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     std::vector<uint32_t> first_id_;   // per mesh object in geometry order: its first triangle id
     std::vector<uint32_t> mesh_geom_;  // the geometry id of each of those
     kern::BinaryBvh spheres_;          // over sphere objects; prims are geometry ids
+    InstanceLayer instances_;          // BLAS: wide BVHs of the instanced meshes
 };
 
 }  // namespace foton

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "instance_layer.h"
 #include "kernels/moller_trumbore.h"
 
 namespace foton {
@@ -80,22 +81,44 @@ EmbreeAccel::EmbreeAccel(const Scene& scene, int threads) : scene_(scene) {
     rtcSetDeviceErrorFunction(device_, error_handler, nullptr);
     rtc_scene_ = rtcNewScene(device_);
     rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_HIGH);
+    // A mesh as an Embree triangle geometry.
+    auto triangles = [&](const TriangleMesh& m) {
+        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Embree-owned copies: its buffers need padding for vector loads past the end.
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              m.num_vertices()));
+        std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(float));
+        auto* ix = static_cast<uint32_t*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(uint32_t), m.num_triangles()));
+        std::memcpy(ix, m.indices.data(), m.indices.size() * sizeof(uint32_t));
+        memory_ += m.memory_bytes();
+        return geom;
+    };
+    std::vector<int> child_of_mesh(scene.meshes.size(), -1);
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
         RTCGeometry geom;
-        if (o.kind == ObjectKind::Mesh) {
-            const TriangleMesh& m = scene.meshes[o.index];
-            geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-            // Embree-owned copies: its buffers need padding for vector loads past the end.
-            auto* v = static_cast<float*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                        3 * sizeof(float), m.num_vertices()));
-            std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(float));
-            auto* ix = static_cast<uint32_t*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                        3 * sizeof(uint32_t), m.num_triangles()));
-            std::memcpy(ix, m.indices.data(), m.indices.size() * sizeof(uint32_t));
-            memory_ += m.memory_bytes();
+        if (o.instance >= 0) {
+            int& child = child_of_mesh[o.index];
+            if (child < 0) {
+                RTCScene cs = rtcNewScene(device_);
+                rtcSetSceneBuildQuality(cs, RTC_BUILD_QUALITY_HIGH);
+                RTCGeometry tg = triangles(scene.meshes[o.index]);
+                rtcCommitGeometry(tg);
+                rtcAttachGeometryByID(cs, tg, 0);
+                rtcReleaseGeometry(tg);
+                rtcCommitScene(cs);
+                child = int(child_scenes_.size());
+                child_scenes_.push_back(cs);
+            }
+            geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(geom, child_scenes_[std::size_t(child)]);
+            const Affine& xf = scene.instances[std::size_t(o.instance)].to_world;
+            rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &xf.m[0][0]);
+        } else if (o.kind == ObjectKind::Mesh) {
+            geom = triangles(scene.meshes[o.index]);
         } else {
             geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(geom, 1);
@@ -115,6 +138,7 @@ EmbreeAccel::EmbreeAccel(const Scene& scene, int threads) : scene_(scene) {
 
 EmbreeAccel::~EmbreeAccel() {
     if (rtc_scene_) rtcReleaseScene(rtc_scene_);
+    for (RTCScene cs : child_scenes_) rtcReleaseScene(cs);
     if (device_) rtcReleaseDevice(device_);
 }
 
@@ -138,7 +162,7 @@ bool EmbreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters&) cons
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rtc_scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID};
+    hit = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, geometry_of(rh.hit)};
     reevaluate(ray, hit);
     return true;
 }
@@ -150,8 +174,11 @@ void EmbreeAccel::reevaluate(const kern::Ray1& ray, Hit1& hit) const {
     Vec3 p0, p1, p2;
     m.corners(hit.prim, p0, p1, p2);
     const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    // An instance's triangle is tested in its own space, as the instance layer does.
+    const kern::Ray1 r =
+        o.instance >= 0 ? to_instance_space(scene_.instances[std::size_t(o.instance)], ray) : ray;
     float t, u, v;
-    if (kern::intersect_triangle_scalar(ray, p0.x, p0.y, p0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z,
+    if (kern::intersect_triangle_scalar(r, p0.x, p0.y, p0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z,
                                         kInfinity, t, u, v)) {
         hit.t = t;
         hit.u = u;
@@ -228,7 +255,7 @@ void EmbreeAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters&
             const RTCRayHit& rh = stream[k];
             Hit1 h;  // as closest(): a miss leaves the hit untouched
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                h = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID};
+                h = Hit1{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, geometry_of(rh.hit)};
                 reevaluate(ray_at(rays, i), h);
             }
             hits.t[i] = h.t;

@@ -5,7 +5,11 @@
 // Möller–Trumbore on the triangle Embree found, so that t, u, v (and hence images) agree bit
 // for bit with brute and grid; a benchmark of raw Embree lives in bench/. Batches go through
 // the stream API (rtcIntersect1M / rtcOccluded1M), flagged coherent when the batch is.
+// Instanced meshes are Embree instances of one child scene per shared mesh; their hits are
+// re-evaluated in the instance's space with the ray transformed as the other backends do.
 #include <embree3/rtcore.h>
+
+#include <vector>
 
 #include "intersector.h"
 
@@ -35,7 +39,12 @@ class EmbreeAccel final : public PerRayIntersector<EmbreeAccel> {
     const Scene& scene_;
     RTCDevice device_ = nullptr;
     RTCScene rtc_scene_ = nullptr;
+    std::vector<RTCScene> child_scenes_;  // one per instanced mesh
     std::size_t memory_ = 0;
+    // A hit's geometry id: the instance's when Embree went through one.
+    static uint32_t geometry_of(const RTCHit& h) {
+        return h.instID[0] != RTC_INVALID_GEOMETRY_ID ? h.instID[0] : h.geomID;
+    }
 };
 
 }  // namespace foton

@@ -26,10 +26,11 @@ struct Mailbox {
 thread_local Mailbox t_mailbox;
 }  // namespace
 
-GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params) : scene_(scene) {
+GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
+    : scene_(scene), instances_(scene, AccelType::Grid, 0) {
     grids_.resize(scene.meshes.size());
     for (const Object& o : scene.objects) {
-        if (o.kind != ObjectKind::Mesh) continue;
+        if (o.kind != ObjectKind::Mesh || o.instance >= 0) continue;
         const TriangleMesh& m = scene.meshes[o.index];
         grids_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(), mesh_params);
     }
@@ -47,6 +48,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params) : 
     const uint32_t ncells = top_.num_cells();
     std::vector<std::vector<uint32_t>> cells(ncells);
     for (uint32_t g = 0; g < n; ++g) {
+        if (scene.objects[g].instance >= 0) continue;  // in the instance layer
         int clo[3], chi[3];
         for (int a = 0; a < 3; ++a) {
             clo[a] = top_.cell_of(a, ob[g].lo[a]);
@@ -64,7 +66,8 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params) : 
 }
 
 std::size_t GridAccel::memory_bytes() const {
-    std::size_t n = (cell_begin_.size() + cell_objects_.size()) * sizeof(uint32_t);
+    std::size_t n =
+        (cell_begin_.size() + cell_objects_.size()) * sizeof(uint32_t) + instances_.memory_bytes();
     for (const auto& g : grids_) n += g.memory_bytes();
     return n;
 }
@@ -118,6 +121,7 @@ bool GridAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) cons
         }
         return hit.geom != kNoHit && hit.t <= t_exit;
     });
+    if (!instances_.empty()) instances_.closest(ray, hit, c);
     return hit.geom != kNoHit;
 }
 
@@ -132,7 +136,7 @@ bool GridAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
         }
         return hit;
     });
-    return hit;
+    return hit || (!instances_.empty() && instances_.any(ray, c));
 }
 
 }  // namespace foton

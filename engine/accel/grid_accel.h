@@ -5,6 +5,7 @@
 // a stadium") from collapsing into one cell of a scene-wide grid.
 #include <vector>
 
+#include "instance_layer.h"
 #include "intersector.h"
 #include "kernels/grid_dda.h"
 #include "kernels/uniform_grid.h"
@@ -30,6 +31,7 @@ class GridAccel final : public PerRayIntersector<GridAccel> {
     kern::GridFrame top_;
     std::vector<uint32_t> cell_begin_;  // CSR over top-level cells
     std::vector<uint32_t> cell_objects_;
+    InstanceLayer instances_;  // BLAS: grids of the instanced meshes
 };
 
 }  // namespace foton

@@ -100,9 +100,11 @@ std::string RenderStats::table() const {
         s += buf;
     }
     std::snprintf(buf, sizeof buf,
-                  "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu, bvh nodes %llu\n",
+                  "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu, bvh nodes %llu, "
+                  "instance visits %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-                  (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes);
+                  (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
+                  (unsigned long long)trace.instance_visits);
     s += buf;
     s += "stage        thread-s      items     items/thread-s\n";
     for (int i = 0; i < kNumStages; ++i) {
@@ -139,6 +141,7 @@ std::string RenderStats::json(const std::vector<std::pair<std::string, std::stri
         "  \"rays_per_second\": %.6g,\n  \"samples\": %llu,\n  \"passes\": %u,\n"
         "  \"samples_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
         "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"bvh_nodes\": %llu,\n"
+        "  \"instance_visits\": %llu,\n"
         "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
         "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
         "  \"cache_fill_seconds\": %.6f,\n  \"photon_seconds\": %.6f,\n"
@@ -152,12 +155,13 @@ std::string RenderStats::json(const std::vector<std::pair<std::string, std::stri
         passes, wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
         (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
         (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
-        (unsigned long long)cache_records, (unsigned long long)cache_stored,
-        (unsigned long long)cache.lookups, (unsigned long long)cache.interpolated,
-        (unsigned long long)cache.visibility_rejections, cache_fill_seconds, photon_seconds,
-        (unsigned long long)photons_global, (unsigned long long)photons_caustic,
-        (unsigned long long)shadow_rays_saved, (unsigned long long)cache.candidates,
-        (unsigned long long)cache.used, (unsigned long long)cache.visibility_tests);
+        (unsigned long long)trace.instance_visits, (unsigned long long)cache_records,
+        (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
+        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections,
+        cache_fill_seconds, photon_seconds, (unsigned long long)photons_global,
+        (unsigned long long)photons_caustic, (unsigned long long)shadow_rays_saved,
+        (unsigned long long)cache.candidates, (unsigned long long)cache.used,
+        (unsigned long long)cache.visibility_tests);
     s += buf;
     for (int i = 0; i < kNumStages; ++i) {
         std::snprintf(buf, sizeof buf,

@@ -35,9 +35,11 @@ const char* stage_name(Stage s);
 struct TraceCounters {
     uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
     uint64_t sphere_tests = 0;
-    uint64_t cells = 0;      // grid cells visited (grid backend only)
-    uint64_t bvh_nodes = 0;  // wide BVH nodes visited, N box tests each (bvh backend only)
+    uint64_t cells = 0;            // grid cells visited (grid backend only)
+    uint64_t bvh_nodes = 0;        // wide BVH nodes visited, N box tests each (bvh backend only)
+    uint64_t instance_visits = 0;  // rays taken into an instance's space (its BLAS traced)
     void merge(const TraceCounters& o) {
+        instance_visits += o.instance_visits;
         triangle_tests += o.triangle_tests;
         sphere_tests += o.sphere_tests;
         cells += o.cells;

@@ -107,7 +107,7 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
             e.tri_cdf.reserve(mesh.num_triangles());
             for (uint32_t t = 0; t < mesh.num_triangles(); ++t) {
                 Vec3 p0, p1, p2;
-                mesh.corners(t, p0, p1, p2);
+                scene.world_corners(g, t, p0, p1, p2);
                 acc += 0.5f * length(cross(p1 - p0, p2 - p0));
                 e.tri_cdf.push_back(acc);
             }
@@ -157,13 +157,12 @@ void LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, 
         q = e.p + n * e.radius;
         return;
     }
-    const TriangleMesh& mesh = scene_->meshes[e.mesh];
     const float target = uc * e.area;
     const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
     const uint32_t t = uint32_t(
         std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
     Vec3 p0, p1, p2;
-    mesh.corners(t, p0, p1, p2);
+    scene_->world_corners(e.geom, t, p0, p1, p2);
     const Point2 b = warp::uniform_triangle(u);
     q = p0 * (1.f - b.x - b.y) + p1 * b.x + p2 * b.y;
     n = normalize(cross(p1 - p0, p2 - p0));

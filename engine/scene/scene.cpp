@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include <utility>
+
 #include "engine/core/error.h"
 
 #include <cstdio>
@@ -58,13 +60,52 @@ const char* material_type_name(MaterialType t) {
 
 std::size_t Scene::num_triangles() const {
     std::size_t n = 0;
+    for (const Object& o : objects)
+        if (o.kind == ObjectKind::Mesh) n += meshes[o.index].num_triangles();
+    return n;
+}
+
+std::size_t Scene::num_stored_triangles() const {
+    std::size_t n = 0;
     for (const auto& m : meshes) n += m.num_triangles();
     return n;
 }
 
 Bounds3 Scene::object_bounds(uint32_t geom) const {
     const Object& o = objects[geom];
-    return o.kind == ObjectKind::Mesh ? meshes[o.index].bounds() : spheres[o.index].bounds();
+    if (o.kind == ObjectKind::Sphere) return spheres[o.index].bounds();
+    const Bounds3 b = meshes[o.index].bounds();
+    const Instance* in = instance_of(geom);
+    if (!in) return b;
+    // The placed box's corners (tight for the box, not for the mesh).
+    Bounds3 w;
+    for (int c = 0; c < 8; ++c)
+        w.extend(in->to_world.point(
+            {(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z}));
+    return w;
+}
+
+void Scene::world_corners(uint32_t geom, uint32_t tri, Vec3& p0, Vec3& p1, Vec3& p2) const {
+    meshes[objects[geom].index].corners(tri, p0, p1, p2);
+    if (const Instance* in = instance_of(geom)) {
+        p0 = in->to_world.point(p0);
+        p1 = in->to_world.point(p1);
+        p2 = in->to_world.point(p2);
+        if (in->to_world.determinant() < 0.f) std::swap(p1, p2);
+    }
+}
+
+uint32_t Scene::add_instance(uint32_t mesh, const Affine& to_world, uint32_t material,
+                             bool smooth) {
+    Object o;
+    o.kind = ObjectKind::Mesh;
+    o.index = mesh;
+    o.material = material;
+    o.smooth = smooth && !meshes[mesh].normals.empty();
+    o.instance = int32_t(instances.size());
+    instances.push_back({to_world, to_world.inverse()});
+    objects.push_back(o);
+    return uint32_t(objects.size() - 1);
 }
 
 Bounds3 Scene::bounds() const {
@@ -75,7 +116,7 @@ Bounds3 Scene::bounds() const {
 
 std::size_t Scene::memory_bytes() const {
     std::size_t n = spheres.size() * sizeof(Sphere) + objects.size() * sizeof(Object) +
-                    materials.size() * sizeof(Material);
+                    materials.size() * sizeof(Material) + instances.size() * sizeof(Instance);
     for (const auto& m : meshes) n += m.memory_bytes();
     if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
@@ -152,6 +193,11 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "triangles  %zu (%zu degenerate skipped)\n", num_triangles(),
                   skipped_degenerate);
     s += buf;
+    if (!instances.empty()) {
+        std::snprintf(buf, sizeof buf, "instances  %zu placements sharing %zu stored triangles\n",
+                      instances.size(), num_stored_triangles());
+        s += buf;
+    }
     std::snprintf(buf, sizeof buf,
                   "lights     %zu (point %zu, directional %zu, spot %zu, area %zu), ambient %.3g\n",
                   lights.count(), lights.points.size(), lights.directionals.size(),

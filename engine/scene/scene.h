@@ -34,6 +34,15 @@ struct Object {
     uint32_t index = 0;     // into Scene::meshes or Scene::spheres
     uint32_t material = 0;  // into Scene::materials
     bool smooth = false;    // interpolate vertex normals (meshes)
+    // A mesh placed by a transform (into Scene::instances), -1: none. The mesh is then kept
+    // in its own space and shared by every object that places it: the accelerators build
+    // one structure for it (a BLAS) and trace rays taken into that space.
+    int32_t instance = -1;
+};
+
+// The transform of an instanced object, both ways.
+struct Instance {
+    Affine to_world, to_object;
 };
 
 // The largest image a render makes: a side, and the pixel count (the accumulators hold about
@@ -74,6 +83,7 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<Object> objects;
+    std::vector<Instance> instances;
     std::vector<Texture> textures;
     std::vector<TextureImage> texture_images;  // decoded once, shared by textures
     AccelType accel = AccelType::Bvh;
@@ -93,6 +103,18 @@ struct Scene {
     // when `smooth` and it has vertex normals.
     uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
     uint32_t add_sphere(const Sphere& sphere, uint32_t material);
+    // Places mesh `mesh` (kept in its own space, shared) by `to_world` (not singular), with
+    // its material; returns the geometry id.
+    uint32_t add_instance(uint32_t mesh, const Affine& to_world, uint32_t material, bool smooth);
+    // Corners of triangle `tri` of mesh geometry `geom` in world space, wound so that their
+    // cross product is the outward normal (a mirroring placement swaps two, as
+    // TriangleMesh::transform does).
+    void world_corners(uint32_t geom, uint32_t tri, Vec3& p0, Vec3& p1, Vec3& p2) const;
+    // The instance transform of geometry `geom`, or null for geometry in world space.
+    const Instance* instance_of(uint32_t geom) const {
+        const int32_t i = objects[geom].instance;
+        return i < 0 ? nullptr : &instances[std::size_t(i)];
+    }
 
     // The material of geometry `geom` (a hit's geom id).
     const Material& material_of(uint32_t geom) const { return materials[objects[geom].material]; }
@@ -112,7 +134,8 @@ struct Scene {
         return environment ? environment->Le(d) : background;
     }
     const Material& textured(const Material& m, Point2 uv, std::optional<Material>& scratch) const;
-    std::size_t num_triangles() const;
+    std::size_t num_triangles() const;         // as rendered: an instanced mesh per placement
+    std::size_t num_stored_triangles() const;  // as stored: an instanced mesh once
     Bounds3 bounds() const;
     Bounds3 object_bounds(uint32_t geom) const;
     std::size_t memory_bytes() const;

@@ -19,16 +19,27 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     Vec3 n_geom, n_shade;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
+        const Instance* in = scene.instance_of(geom);
         Vec3 p0, p1, p2;
         m.corners(prim, p0, p1, p2);
-        // Barycentric position is more precise than o + t d far from the origin.
+        // Barycentric position is more precise than o + t d far from the origin (for an
+        // instance, the barycentric point of its own space, placed).
         sp.p = p0 * (1.f - u - v) + p1 * u + p2 * v;
+        if (in) {
+            sp.p = in->to_world.point(sp.p);
+            p0 = in->to_world.point(p0);
+            p1 = in->to_world.point(p1);
+            p2 = in->to_world.point(p2);
+        }
         n_geom = normalize(cross(p1 - p0, p2 - p0));
+        // A mirroring placement turns the winding: the outward normal is the other one.
+        if (in && in->to_world.determinant() < 0.f) n_geom = -n_geom;
         n_shade = n_geom;
         if (obj.smooth) {
             const uint32_t* ix = &m.indices[3 * prim];
-            const Vec3 ns = m.vertex_normal(ix[0]) * (1.f - u - v) + m.vertex_normal(ix[1]) * u +
-                            m.vertex_normal(ix[2]) * v;
+            Vec3 ns = m.vertex_normal(ix[0]) * (1.f - u - v) + m.vertex_normal(ix[1]) * u +
+                      m.vertex_normal(ix[2]) * v;
+            if (in) ns = in->to_world.normal(ns);
             const float len = length(ns);
             if (len > 0.f) n_shade = ns / len;
         }

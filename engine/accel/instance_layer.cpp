@@ -1,0 +1,119 @@
+#include "instance_layer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/bvh_node.h"
+
+namespace foton {
+
+kern::Ray1 to_instance_space(const Instance& in, const kern::Ray1& ray) {
+    const Vec3 o = in.to_object.point({ray.ox, ray.oy, ray.oz});
+    const Vec3 d = in.to_object.vector({ray.dx, ray.dy, ray.dz});
+    return {o.x, o.y, o.z, d.x, d.y, d.z, ray.tmin, ray.tmax};
+}
+
+InstanceLayer::InstanceLayer(const Scene& scene, AccelType blas_type, int threads)
+    : scene_(&scene) {
+    if (scene.instances.empty()) return;
+    blas_of_mesh_.assign(scene.meshes.size(), UINT32_MAX);
+    std::vector<kern::PrimRef> refs;
+    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+        const Object& o = scene.objects[g];
+        if (o.instance < 0) continue;
+        if (blas_of_mesh_[o.index] == UINT32_MAX) {
+            auto proto = std::make_unique<Scene>();
+            proto->meshes.push_back(scene.meshes[o.index]);
+            Object po;
+            po.kind = ObjectKind::Mesh;
+            proto->objects.push_back(po);
+            proto->materials.resize(1);
+            proto->grid_density = scene.grid_density;
+            blas_of_mesh_[o.index] = uint32_t(blas_.size());
+            blas_.push_back(make_intersector(*proto, blas_type, threads));
+            prototypes_.push_back(std::move(proto));
+        }
+        // The world box, padded: the transformed ray's rounding may put a hit just outside.
+        const Bounds3 b = scene.object_bounds(g);
+        const Vec3 e = b.diagonal();
+        const float pad =
+            1e-5f * (std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z),
+                               std::fabs(b.hi.x), std::fabs(b.hi.y), std::fabs(b.hi.z)}) +
+                     std::max({e.x, e.y, e.z}));
+        kern::PrimRef r;
+        for (int a = 0; a < 3; ++a) r.lo[a] = b.lo[a] - pad, r.hi[a] = b.hi[a] + pad;
+        r.id = g;
+        r.pad = 0;
+        refs.push_back(r);
+    }
+    kern::BvhBuildParams p;
+    p.leaf_block = 1;
+    p.max_leaf = 2;
+    tlas_ = kern::build_binary_bvh(refs, p);
+}
+
+std::size_t InstanceLayer::memory_bytes() const {
+    std::size_t n = tlas_.used * sizeof(kern::BinaryNode) + tlas_.prims.size() * sizeof(uint32_t);
+    for (const auto& b : blas_) n += b->memory_bytes();
+    for (const auto& p : prototypes_) n += p->memory_bytes();
+    return n;
+}
+
+namespace {
+
+// Visits the instances whose box the ray enters before bound() until visit(geom) is true.
+template <class Bound, class Visit>
+void walk(const kern::BinaryBvh& tlas, const kern::Ray1& ray, Bound&& bound, Visit&& visit) {
+    if (tlas.empty()) return;
+    const float o[3] = {ray.ox, ray.oy, ray.oz};
+    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
+    uint32_t stack[128];
+    std::size_t sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const kern::BinaryNode& n = tlas.nodes[stack[--sp]];
+        float tnear;
+        if (!kern::slab_test_scalar(n.lo, n.hi, o, inv, ray.tmin, bound(), tnear)) continue;
+        if (!n.leaf()) {
+            stack[sp++] = n.right;
+            stack[sp++] = n.left;
+            continue;
+        }
+        for (uint32_t i = n.first; i < n.first + n.count; ++i)
+            if (visit(tlas.prims[i])) return;
+    }
+}
+
+}  // namespace
+
+void InstanceLayer::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    hit.t = std::min(hit.t, ray.tmax);
+    walk(
+        tlas_, ray, [&] { return hit.t; },
+        [&](uint32_t g) {
+            const Object& o = scene_->objects[g];
+            kern::Ray1 local = to_instance_space(scene_->instances[std::size_t(o.instance)], ray);
+            local.tmax = hit.t;
+            Hit1 h;
+            ++c.instance_visits;
+            if (blas_[blas_of_mesh_[o.index]]->intersect1(local, h, c) && h.t < hit.t)
+                hit = Hit1{h.t, h.u, h.v, h.prim, g};
+            return false;
+        });
+}
+
+bool InstanceLayer::any(const kern::Ray1& ray, TraceCounters& c) const {
+    bool found = false;
+    walk(
+        tlas_, ray, [&] { return ray.tmax; },
+        [&](uint32_t g) {
+            const Object& o = scene_->objects[g];
+            ++c.instance_visits;
+            found = blas_[blas_of_mesh_[o.index]]->occluded1(
+                to_instance_space(scene_->instances[std::size_t(o.instance)], ray), c);
+            return found;
+        });
+    return found;
+}
+
+}  // namespace foton
