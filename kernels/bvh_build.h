@@ -19,6 +19,9 @@
 #include <memory>
 #include <vector>
 
+#include "bvh_node.h"
+#include "ray1.h"
+
 namespace foton::kern {
 
 // One primitive as the builder sees it: its box and the caller's id. 32 bytes, two 16-byte
@@ -66,6 +69,31 @@ struct BinaryBvh {
 // Builds over `refs` (reordered in place). Primitives with an empty or non-finite box must not
 // be passed: the caller skips them (bad geometry builds a valid tree without it).
 BinaryBvh build_binary_bvh(std::vector<PrimRef>& refs, const BvhBuildParams& params);
+
+// Walks a binary tree in front-to-back child order, visiting the primitives of every leaf
+// whose box the ray enters before bound() (read at every node, so a closer hit found by
+// visit prunes the rest) until visit(primitive id) returns true.
+template <class Bound, class Visit>
+void walk_binary_bvh(const BinaryBvh& bvh, const Ray1& ray, Bound&& bound, Visit&& visit) {
+    if (bvh.empty()) return;
+    const float o[3] = {ray.ox, ray.oy, ray.oz};
+    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
+    uint32_t stack[128];
+    std::size_t sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const BinaryNode& n = bvh.nodes[stack[--sp]];
+        float tnear;
+        if (!slab_test_scalar(n.lo, n.hi, o, inv, ray.tmin, bound(), tnear)) continue;
+        if (!n.leaf()) {
+            stack[sp++] = n.right;
+            stack[sp++] = n.left;
+            continue;
+        }
+        for (uint32_t i = n.first; i < n.first + n.count; ++i)
+            if (visit(bvh.prims[i])) return;
+    }
+}
 
 // SAH cost of a binary tree: sum over nodes of area(node) / area(root) times the traversal cost
 // (inner) or the primitives (leaves); the number researchers compare builders by.

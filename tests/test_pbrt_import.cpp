@@ -160,6 +160,33 @@ TEST_CASE("pbrt-v4: transforms, attributes, coordinate systems and instances", "
     CHECK(s.warnings.empty());
 }
 
+TEST_CASE("pbrt-v4: object instances share one mesh, placed by their transforms",
+          "[pbrt][instance][fast]") {
+    const Scene s = import_text(R"(WorldBegin
+        ObjectBegin "tri"
+          Translate 0 0 1
+          Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]
+        ObjectEnd
+        AttributeBegin Translate 5 0 0 ObjectInstance "tri" AttributeEnd
+        AttributeBegin Scale -2 2 2 ObjectInstance "tri" AttributeEnd
+        ObjectInstance "tri"
+        Shape "sphere")");
+    REQUIRE(s.instances.size() == 3);
+    CHECK(s.meshes.size() == 1);
+    CHECK(s.num_triangles() == 3);
+    CHECK(s.num_stored_triangles() == 1);
+    // Definition-time and instance transforms compose, as in pbrt-v4.
+    const Bounds3 a = s.object_bounds(0), b = s.object_bounds(1);
+    CHECK(a.lo.x == Approx(5.f));
+    CHECK(a.lo.z == Approx(1.f));
+    CHECK(b.lo.x == Approx(-2.f));
+    CHECK(b.hi.z == Approx(2.f));
+    // A mirrored placement keeps the outward (winding) normal: world corners are re-wound.
+    Vec3 p0, p1, p2;
+    s.world_corners(1, 0, p0, p1, p2);
+    CHECK(cross(p1 - p0, p2 - p0).z > 0.f);
+}
+
 TEST_CASE("pbrt-v4: emitting side and ReverseOrientation follow pbrt", "[pbrt][fast]") {
     // A quad whose winding faces +y; N, when given, decides the side; ReverseOrientation
     // flips it.

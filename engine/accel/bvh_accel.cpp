@@ -75,32 +75,10 @@ std::size_t BvhAccel::memory_bytes() const {
            spheres_.prims.size() * sizeof(uint32_t) + instances_.memory_bytes();
 }
 
-template <class Bound, class Visit>
-void BvhAccel::walk_spheres(const kern::Ray1& ray, Bound&& bound, Visit&& visit) const {
-    if (spheres_.empty()) return;
-    const float o[3] = {ray.ox, ray.oy, ray.oz};
-    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
-    uint32_t stack[128];
-    std::size_t sp = 0;
-    stack[sp++] = 0;
-    while (sp) {
-        const kern::BinaryNode& n = spheres_.nodes[stack[--sp]];
-        float tnear;
-        if (!kern::slab_test_scalar(n.lo, n.hi, o, inv, ray.tmin, bound(), tnear)) continue;
-        if (!n.leaf()) {
-            stack[sp++] = n.right;
-            stack[sp++] = n.left;
-            continue;
-        }
-        for (uint32_t i = n.first; i < n.first + n.count; ++i)
-            if (visit(spheres_.prims[i])) return;
-    }
-}
-
 void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
-    walk_spheres(
-        ray, [&] { return hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale; },
+    kern::walk_binary_bvh(
+        spheres_, ray, [&] { return hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale; },
         [&](uint32_t g) {
             // A tie with a sphere of a larger id is won; with a triangle, lost.
             const bool tie_wins =
@@ -121,8 +99,8 @@ void BvhAccel::closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c
 bool BvhAccel::any_sphere(const kern::Ray1& ray, TraceCounters& c) const {
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
     bool hit = false;
-    walk_spheres(
-        ray, [&] { return ray.tmax; },
+    kern::walk_binary_bvh(
+        spheres_, ray, [&] { return ray.tmax; },
         [&](uint32_t g) {
             float t;
             ++c.sphere_tests;

@@ -36,10 +36,6 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     // spheres; a triangle at the same t keeps the hit, as in brute force).
     void closest_sphere(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any_sphere(const kern::Ray1& ray, TraceCounters& c) const;
-    // Visits the spheres in leaves whose box the ray enters before bound() (read at every
-    // node, so a closer hit prunes the rest) until visit(geometry id) returns true.
-    template <class Bound, class Visit>
-    void walk_spheres(const kern::Ray1& ray, Bound&& bound, Visit&& visit) const;
     // The mesh hit of a triangle id of the tree.
     Hit1 mesh_hit(const kern::TriHit& th) const;
 

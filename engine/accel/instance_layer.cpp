@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernels/bvh_node.h"
-
 namespace foton {
 
 kern::Ray1 to_instance_space(const Instance& in, const kern::Ray1& ray) {
@@ -59,36 +57,9 @@ std::size_t InstanceLayer::memory_bytes() const {
     return n;
 }
 
-namespace {
-
-// Visits the instances whose box the ray enters before bound() until visit(geom) is true.
-template <class Bound, class Visit>
-void walk(const kern::BinaryBvh& tlas, const kern::Ray1& ray, Bound&& bound, Visit&& visit) {
-    if (tlas.empty()) return;
-    const float o[3] = {ray.ox, ray.oy, ray.oz};
-    const float inv[3] = {1.f / ray.dx, 1.f / ray.dy, 1.f / ray.dz};
-    uint32_t stack[128];
-    std::size_t sp = 0;
-    stack[sp++] = 0;
-    while (sp) {
-        const kern::BinaryNode& n = tlas.nodes[stack[--sp]];
-        float tnear;
-        if (!kern::slab_test_scalar(n.lo, n.hi, o, inv, ray.tmin, bound(), tnear)) continue;
-        if (!n.leaf()) {
-            stack[sp++] = n.right;
-            stack[sp++] = n.left;
-            continue;
-        }
-        for (uint32_t i = n.first; i < n.first + n.count; ++i)
-            if (visit(tlas.prims[i])) return;
-    }
-}
-
-}  // namespace
-
 void InstanceLayer::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
     hit.t = std::min(hit.t, ray.tmax);
-    walk(
+    kern::walk_binary_bvh(
         tlas_, ray, [&] { return hit.t; },
         [&](uint32_t g) {
             const Object& o = scene_->objects[g];
@@ -104,7 +75,7 @@ void InstanceLayer::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) 
 
 bool InstanceLayer::any(const kern::Ray1& ray, TraceCounters& c) const {
     bool found = false;
-    walk(
+    kern::walk_binary_bvh(
         tlas_, ray, [&] { return ray.tmax; },
         [&](uint32_t g) {
             const Object& o = scene_->objects[g];

@@ -127,6 +127,8 @@ class Importer {
     // The geometry of each ObjectBegin/ObjectEnd block, in world space at its definition
     // (with scene material indices): each ObjectInstance places a copy under its transform.
     std::map<std::string, Scene> prototypes_;
+    // Per prototype, the Scene::meshes index of each of its meshes once instanced (shared).
+    std::map<std::string, std::vector<uint32_t>> instance_meshes_;
     std::string defining_;  // the ObjectBegin block being read ("" outside)
     Scene* proto_ = nullptr;
 

@@ -1,6 +1,7 @@
 // Shape and ObjectInstance: triangle and bilinear meshes, PLY meshes and spheres, placed in
 // world space with pbrt-v4's orientation rules (the side an area light emits from and a
-// dielectric's outside). Object instances are copies of their prototype's geometry.
+// dielectric's outside). Object instances share their prototype's meshes (placed by the
+// instance's transform, one acceleration structure each); their spheres are copied.
 #include <cmath>
 #include <filesystem>
 
@@ -135,11 +136,18 @@ void Importer::object_instance(const Token& t, const std::string& name) {
     const auto it = prototypes_.find(name);
     if (it == prototypes_.end()) fail(t, "unknown object '" + name + "'");
     const Scene& pr = it->second;
+    if (!(std::fabs(gs_.ctm.determinant()) > 0.f))
+        fail(t, "ObjectInstance: the transform is singular");
+    // The prototype's meshes enter the scene once, at the first instance.
+    auto [shared, first] = instance_meshes_.try_emplace(name);
+    if (first)
+        for (const TriangleMesh& m : pr.meshes) {
+            shared->second.push_back(uint32_t(scene_.meshes.size()));
+            scene_.meshes.push_back(m);
+        }
     for (const Object& o : pr.objects) {
         if (o.kind == ObjectKind::Mesh) {
-            TriangleMesh m = pr.meshes[o.index];
-            m.transform(gs_.ctm);
-            scene_.add_mesh(std::move(m), o.material, o.smooth);
+            scene_.add_instance(shared->second[o.index], gs_.ctm, o.material, o.smooth);
         } else {
             Sphere s = pr.spheres[o.index];
             if (!s.transform(gs_.ctm))
@@ -147,7 +155,7 @@ void Importer::object_instance(const Token& t, const std::string& name) {
             scene_.add_sphere(s, o.material);
         }
     }
-    count("ObjectInstance (copied into the scene)");
+    count("ObjectInstance");
 }
 
 }  // namespace foton::pbrt

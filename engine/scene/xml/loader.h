@@ -15,6 +15,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/params.h"
+#include "engine/scene/mesh_file.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/xml_loader.h"
 
@@ -149,6 +150,17 @@ class Loader {
     static constexpr int kMaxMixDepth = 16;
     int mix_depth_ = 0;                       // of the mix being read
     std::map<std::string, uint32_t> images_;  // image file -> Scene::texture_images
+    // A mesh file as read, the foton materials made of its materials, and (when instanced)
+    // the Scene::meshes index of each part.
+    struct LoadedMeshFile {
+        MeshFile file;
+        std::vector<int> materials;
+        int grey = -1;
+        std::vector<uint32_t> meshes;
+    };
+    std::map<std::string, LoadedMeshFile> mesh_files_;  // by path
+    void place_mesh_file(const pugi::xml_node& o, const std::string& src, const std::string& path,
+                         const Affine& xf, bool instanced);
     Material material(const pugi::xml_node& n, bool top);
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
     float roughness(const pugi::xml_node& n) const;

@@ -40,8 +40,89 @@ Affine Loader::parse_transform(const pugi::xml_node& object) const {
     return xf;
 }
 
+// A mesh file's parts under an object's placement. A file placed more than once is stored
+// once, in its own space, and each placement is an instance of its meshes (one acceleration
+// structure for all); a file placed once is moved into world space as before.
+void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
+                             const std::string& path, const Affine& xf, bool instanced) {
+    // An object's <material> covers every part of the file; without one, the file's own
+    // materials (OBJ's MTL, glTF's) apply, and a part without one is grey.
+    const bool own = bool(o.child("material"));
+    const uint32_t mat = own ? parse_material(o) : 0;
+    const bool smooth = boolean(o, "smooth", true);
+    if (instanced && !(std::fabs(xf.determinant()) > 0.f))
+        fail(o, "the transform is singular (a file placed more than once is instanced)");
+    auto [it, first] = mesh_files_.try_emplace(path);
+    LoadedMeshFile& lf = it->second;
+    if (first || !instanced) {
+        lf = LoadedMeshFile{};
+        try {
+            lf.file = load_mesh_file(path);
+        } catch (const InputError& e) {
+            // Errors inside the file carry its own name and line; say which object read it.
+            if (e.file() == path && e.line() > 0) throw;
+            fail(o, std::string(e.what()));
+        }
+        if (lf.file.degenerate_skipped > 0)
+            std::fprintf(stderr, "%s:%d: warning: %zu degenerate triangles skipped in %s\n",
+                         name_.c_str(), line_of(o), lf.file.degenerate_skipped, src.c_str());
+        scene_.skipped_degenerate += lf.file.degenerate_skipped;
+        for (const std::string& note : lf.file.notes) scene_.warnings.push_back(note);
+        lf.materials.assign(lf.file.materials.size(), -1);
+    }
+    if (own && !lf.file.materials.empty())
+        scene_.warnings.push_back(name_ + ":" + std::to_string(line_of(o)) + ": the " +
+                                  std::to_string(lf.file.materials.size()) + " materials of '" +
+                                  src + "' are replaced by the object's <material>");
+    const std::string name = o.attribute("name") ? o.attribute("name").value() : src;
+    for (std::size_t k = 0; k < lf.file.parts.size(); ++k) {
+        MeshPart& part = lf.file.parts[k];
+        uint32_t m = mat;
+        if (!own) {
+            if (part.material >= 0) {
+                int& slot = lf.materials[std::size_t(part.material)];
+                if (slot < 0)
+                    slot = int(add_file_material(
+                        scene_, lf.file.materials[std::size_t(part.material)], lf.file, images_));
+                m = uint32_t(slot);
+            } else {
+                if (lf.grey < 0) {
+                    Material g;
+                    g.type = MaterialType::Generic;
+                    g.name = "grey";
+                    g.bsdf.add(Lobe::lambert(RGB{0.5f}));
+                    scene_.materials.push_back(g);
+                    lf.grey = int(scene_.materials.size() - 1);
+                }
+                m = uint32_t(lf.grey);
+            }
+        }
+        if (instanced) {
+            if (lf.meshes.size() <= k) {
+                // Stored once with normals (a placement may still shade flat).
+                part.mesh.name = name;
+                if (part.mesh.normals.empty()) part.mesh.compute_smooth_normals();
+                lf.meshes.push_back(uint32_t(scene_.meshes.size()));
+                scene_.meshes.push_back(std::move(part.mesh));
+            }
+            scene_.add_instance(lf.meshes[k], xf, m, smooth);
+            continue;
+        }
+        part.mesh.name = name;
+        if (smooth && part.mesh.normals.empty()) part.mesh.compute_smooth_normals();
+        if (!smooth) part.mesh.normals.clear();
+        if (!xf.is_identity()) part.mesh.transform(xf);
+        scene_.add_mesh(std::move(part.mesh), m, smooth);
+    }
+}
+
 void Loader::parse_objects(const pugi::xml_node& n) {
     check(n, {}, {"triangle_mesh", "sphere", "quad"});
+    // How often each mesh file is placed: more than once, and its placements are instances.
+    std::map<std::string, int> placements;
+    for (const pugi::xml_node& o : n.children("triangle_mesh"))
+        if (const char* src = o.attribute("src").value(); *src)
+            ++placements[(std::filesystem::path(base_) / src).string()];
     for (const pugi::xml_node& o : n.children()) {
         if (o.type() != pugi::node_element) continue;
         const std::string_view kind = o.name();
@@ -57,59 +138,7 @@ void Loader::parse_objects(const pugi::xml_node& n) {
                                                 : "cannot read mesh file (" + problem + ")") +
                             ": '" + src + "' (looked for " + path.string() + ")");
             const Affine xf = parse_transform(o);
-            // An object's <material> covers every part of the file; without one, the file's
-            // own materials (OBJ's MTL, glTF's) apply, and a part without one is grey.
-            const bool own = bool(o.child("material"));
-            const uint32_t mat = own ? parse_material(o) : 0;
-            MeshFile file;
-            try {
-                file = load_mesh_file(path.string());
-            } catch (const InputError& e) {
-                // Errors inside the file carry its own name and line; say which object read it.
-                if (e.file() == path.string() && e.line() > 0) throw;
-                fail(o, std::string(e.what()));
-            }
-            if (file.degenerate_skipped > 0)
-                std::fprintf(stderr, "%s:%d: warning: %zu degenerate triangles skipped in %s\n",
-                             name_.c_str(), line_of(o), file.degenerate_skipped, src.c_str());
-            scene_.skipped_degenerate += file.degenerate_skipped;
-            for (const std::string& note : file.notes) scene_.warnings.push_back(note);
-            if (own && !file.materials.empty())
-                scene_.warnings.push_back(name_ + ":" + std::to_string(line_of(o)) + ": the " +
-                                          std::to_string(file.materials.size()) +
-                                          " materials of '" + src +
-                                          "' are replaced by the object's <material>");
-            std::vector<int> materials(file.materials.size(), -1);
-            int grey = -1;
-            const bool smooth = boolean(o, "smooth", true);
-            const std::string name = o.attribute("name") ? o.attribute("name").value() : src;
-            for (MeshPart& part : file.parts) {
-                uint32_t m = mat;
-                if (!own) {
-                    if (part.material >= 0) {
-                        int& slot = materials[std::size_t(part.material)];
-                        if (slot < 0)
-                            slot = int(add_file_material(
-                                scene_, file.materials[std::size_t(part.material)], file, images_));
-                        m = uint32_t(slot);
-                    } else {
-                        if (grey < 0) {
-                            Material g;
-                            g.type = MaterialType::Generic;
-                            g.name = "grey";
-                            g.bsdf.add(Lobe::lambert(RGB{0.5f}));
-                            scene_.materials.push_back(g);
-                            grey = int(scene_.materials.size() - 1);
-                        }
-                        m = uint32_t(grey);
-                    }
-                }
-                part.mesh.name = name;
-                if (smooth && part.mesh.normals.empty()) part.mesh.compute_smooth_normals();
-                if (!smooth) part.mesh.normals.clear();
-                if (!xf.is_identity()) part.mesh.transform(xf);
-                scene_.add_mesh(std::move(part.mesh), m, smooth);
-            }
+            place_mesh_file(o, src, path.string(), xf, placements[path.string()] > 1);
         } else if (kind == "quad") {
             check(o, {"name"}, {"corner", "edge1", "edge2", "material", "transform"});
             const Vec3 c = xyz_child(o, "corner"), e1 = xyz_child(o, "edge1"),
