@@ -379,3 +379,34 @@ TEST_CASE("a pass of many samples runs in pieces with the same image", "[integra
         CHECK(pieces.stats.samples == whole.stats.samples);
     }
 }
+
+TEST_CASE("emissive objects light Whitted renders as next event estimation does", "[integrator]") {
+    // A Lambert floor and box lit only by an emissive sphere and an emissive quad: the
+    // raytracer's direct light (no ambient, one bounce) equals the path tracer's direct light.
+    const std::string scene_text = R"(<scene><objects>
+      <quad><corner x="-3" y="0" z="-3"/><edge1 x="0" y="0" z="6"/><edge2 x="6" y="0" z="0"/>
+        <material type="lambert"><reflectance r="0.7" g="0.6" b="0.5"/></material></quad>
+      <quad><corner x="-1" y="0" z="1"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="1.5" z="0"/>
+        <material type="lambert"><reflectance r="0.3" g="0.6" b="0.3"/></material></quad>
+      <sphere radius="0.4"><center x="0.8" y="1.4" z="-0.3"/>
+        <material type="lambert"><reflectance r="0" g="0" b="0"/><emission r="6" g="5" b="4"/></material></sphere>
+      <quad><corner x="-2" y="2.5" z="-1"/><edge1 x="0" y="0" z="1"/><edge2 x="1" y="0" z="0"/>
+        <material type="lambert"><reflectance r="0" g="0" b="0"/><emission r="2" g="2" b="3"/></material></quad>
+    </objects><film width="32" height="24"/>RENDERER
+    <camera fov="50"><eye x="0" y="3" z="-5"/><target x="0" y="0.3" z="0"/></camera></scene>)";
+    auto render_with = [&](const std::string& renderer) {
+        std::string t = scene_text;
+        t.replace(t.find("RENDERER"), 8, renderer);
+        return run(TestScene(parse_scene(t, "emit.xml", ".")), 256);
+    };
+    const RenderResult whitted =
+        render_with(R"(<renderer type="raytracer" max_depth="0" light_samples="4"/>)");
+    const RenderResult path = render_with(R"(<renderer type="path" max_depth="1"/>)");
+    const RGB w = mean(whitted.film), p = mean(path.film);
+    INFO("raytracer " << w.r << " " << w.g << " " << w.b << ", path " << p.r << " " << p.g << " "
+                      << p.b);
+    CHECK(w.r == Approx(p.r).epsilon(0.01));
+    CHECK(w.g == Approx(p.g).epsilon(0.01));
+    CHECK(w.b == Approx(p.b).epsilon(0.01));
+    CHECK(w.r > 0.05f);
+}

@@ -14,8 +14,10 @@ namespace foton {
 
 namespace {
 
-// The environment's shadow samples take a key of their own beside the area lights' indices.
+// The environment's and emissive objects' shadow samples take keys of their own beside the
+// area lights' indices.
 constexpr uint64_t kEnvironmentKey = 0xe4f1u << 16;
+constexpr uint64_t kEmitterKey = 0xe417u << 16;
 
 // Phong's empirical lobe plus the Lambertian term; f times cos is the reflected fraction.
 RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
@@ -32,7 +34,13 @@ RGB brdf(const Material& m, const Vec3& ns, const Vec3& wo, const Vec3& wi) {
 
 WhittedIntegrator::WhittedIntegrator(const Scene& scene, const RenderSettings& settings,
                                      const Intersector& accel, uint64_t seed)
-    : scene_(scene), settings_(settings), accel_(accel), seed_(seed) {}
+    : scene_(scene), settings_(settings), accel_(accel), seed_(seed), lights_(scene) {
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        const EmitterType t = lights_.emitter(i).type;
+        if (t == EmitterType::Sphere || t == EmitterType::Mesh) emissive_.push_back(i);
+    }
+    sampled_lights_ = !scene.lights.areas.empty() || !emissive_.empty() || scene.environment;
+}
 
 void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const {
     const std::size_t n = jobs.size();
@@ -88,8 +96,19 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
             add(wi, d, al.radiance * (cos_l * al.area * inv_n / d2));
         }
     }
-    // The environment, like an area light, by light_samples shadow rays drawn from its own
-    // density (jittered over the map's square).
+    // Emissive objects and the environment, like area lights, by light_samples shadow rays,
+    // drawn from next event estimation's densities (jittered over the unit square).
+    for (uint32_t e : emissive_) {
+        const uint32_t n = settings_.light_samples;
+        const uint64_t key = rng::hash(kLightStream, sample_index, depth, kEmitterKey + e);
+        for (uint32_t k = 0; k < n; ++k) {
+            LightSample ls;
+            if (lights_.sample_li(e, sp.p, sample_pattern(SamplerKind::Jittered, k, n, seed_, key),
+                                  rng::uniform(seed_, key, k, 2), ls) &&
+                ls.pdf > 0.f)
+                add(ls.wi, ls.dist, ls.Li * (1.f / (float(n) * ls.pdf)));
+        }
+    }
     if (scene_.environment) {
         const Environment& env = *scene_.environment;
         const uint32_t n = settings_.light_samples;
@@ -141,8 +160,8 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
     ws.next_weight.clear();
     const RGB ambient = scene_.ambient.radiance();
     const bool may_continue = depth < settings_.max_depth;
-    // The sample index only keys the sampling of area lights and the environment.
-    const bool has_sampled_lights = !scene_.lights.areas.empty() || scene_.environment;
+    // The sample index only keys the sampling of area lights, emitters and the environment.
+    const bool has_sampled_lights = sampled_lights_;
     const float cutoff = settings_.min_contribution;
     auto spawn = [&](const SurfacePoint& sp, const Vec3& w, const RGB& weight, uint32_t slot) {
         if (!may_continue || weight.max_component() < cutoff) return;

@@ -8,6 +8,7 @@
 #include "engine/core/aligned.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
+#include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/shading_point.h"
 #include "engine/transport/common/surface.h"
@@ -38,7 +39,8 @@ class WhittedIntegrator : public CameraIntegrator {
     void generate(const std::vector<SampleJob>& jobs, WhittedWorkspace& ws) const;
     void shade(uint32_t depth, const std::vector<SampleJob>& jobs, WhittedWorkspace& ws,
                std::vector<RGB>& radiance) const;
-    // Queues a shadow ray per light sample, carrying weight * brdf(wi) * incident * cos.
+    // Queues a shadow ray per light sample, carrying weight * brdf(wi) * incident * cos: the
+    // thesis' point, directional, spot and area lights, emissive objects, the environment.
     template <class Brdf>
     void direct_light(const SurfacePoint& sp, const Brdf& brdf, const RGB& weight, uint32_t slot,
                       uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws) const;
@@ -53,6 +55,11 @@ class WhittedIntegrator : public CameraIntegrator {
     const RenderSettings& settings_;
     const Intersector& accel_;
     uint64_t seed_;
+    // Emissive objects (spheres and meshes with <emission>) light surfaces as area lights
+    // do: `light_samples` shadow rays each, drawn as next event estimation draws them.
+    LightSet lights_;
+    std::vector<uint32_t> emissive_;  // their indices in lights_
+    bool sampled_lights_ = false;     // area lights, emissive objects or an environment
 };
 
 // The table entry (driver/integrators.h): the tile driver over this integrator.
