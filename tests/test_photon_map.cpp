@@ -329,6 +329,21 @@ TEST_CASE("shadow photons decide most shadow rays without changing the image", "
     INFO("rmse " << e.rmse << " means " << e.mean_a.g << " " << e.mean_b.g);
     CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.01));
     CHECK(e.rmse < 0.01);
+    // The thesis' estimate in penumbrae: the lit fraction of the nearest photons replaces the
+    // ray there, so more rays are saved, at a bias the photons bound.
+    s.render.photon.shadow_estimate = true;
+    const RenderResult est = render(s, s.render, *acc, opt);
+    INFO("estimate saved " << est.stats.shadow_rays_saved << " of "
+                           << est.stats.shadow_rays + est.stats.shadow_rays_saved);
+    CHECK(est.stats.shadow_rays + est.stats.shadow_rays_saved == decisions);
+    CHECK(est.stats.shadow_rays_saved > shadow.stats.shadow_rays_saved);
+    const ImageError ee = compare_images(est.film, plain.film);
+    INFO("estimate rmse " << ee.rmse << " means " << ee.mean_a.g << " " << ee.mean_b.g);
+    CHECK(ee.mean_a.g == Approx(ee.mean_b.g).epsilon(0.02));
+    // It needs the shadow map.
+    TestScene bad = photon_box("cornell-diffuse.xml", 8);
+    bad.renderer.set("shadow_visibility", "estimate", "test", 0);
+    CHECK_THROWS_WITH(render_settings(bad), Catch::Contains("needs shadow_photons=true"));
 }
 
 TEST_CASE("the photon-guided gather density matches its sampler (chi-square)", "[photon][guide]") {

@@ -78,8 +78,10 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
         return;
     const uint32_t li = ds.light;
     // Shadow photons: among the nearest photons of this light, only direct ones mean lit,
-    // only shadow ones mean dark; a mix (a penumbra) needs the ray.
+    // only shadow ones mean dark; a mix (a penumbra) needs the ray, or, estimated, is lit by
+    // the fraction of direct photons.
     int verdict = -1;
+    float visibility = 1.f;
     if (!maps_.shadow.empty()) {
         const PhotonMap& lit_map = maps_.direct.empty() ? maps_.global : maps_.direct;
         const float r = 0.5f * maps_.global_params.max_radius;
@@ -93,10 +95,14 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
         });
         if (lit > 0 && dark == 0) verdict = 1;
         if (dark > 0 && lit == 0) verdict = 0;
+        if (lit > 0 && dark > 0 && settings_.photon.shadow_estimate) {
+            verdict = 1;
+            visibility = float(lit) / float(lit + dark);
+        }
     }
     if (verdict >= 0) {
         ++ws.saved;
-        if (verdict == 1) radiance[slot] += ds.value;
+        if (verdict == 1) radiance[slot] += ds.value * visibility;
         return;
     }
     queue_direct(ds, slot, ws.shadow, ws.shadow_value);

@@ -36,6 +36,14 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
     s.cone_k = p.real("cone_k", s.cone_k, 1.f);
     s.gather_rays = uint32_t(p.integer("gather_rays", s.gather_rays, 0, 1000000));
     s.shadow_photons = p.boolean("shadow_photons", s.shadow_photons);
+    if (p.has("shadow_visibility")) {
+        const std::string v = p.text("shadow_visibility");
+        if (v != "rays" && v != "estimate")
+            p.fail("shadow_visibility", "shadow_visibility is rays or estimate, not '" + v + "'");
+        s.shadow_estimate = v == "estimate";
+        if (s.shadow_estimate && !s.shadow_photons)
+            p.fail("shadow_visibility", "shadow_visibility=estimate needs shadow_photons=true");
+    }
     s.split_direct = p.boolean("split_direct", s.split_direct);
     s.guided_gather = p.boolean("guided_gather", s.guided_gather);
     s.guide_photons = uint32_t(p.integer("guide_photons", s.guide_photons, 1, 4096));

@@ -33,6 +33,10 @@ struct PhotonSettings {
     // Shadow photons (Jensen 1995): a shadow map decides next event estimation's visibility
     // where the nearest photons agree (only direct ones: lit; only shadow ones: dark).
     bool shadow_photons = false;
+    // In a penumbra (both kinds near), shadow_visibility="estimate" takes the visibility from
+    // the photons instead of the ray (the thesis' 6.6): the lit fraction n_n / (n_n + n_s)
+    // of the nearest direct (n_n) and shadow (n_s) photons. Biased; saves every ray.
+    bool shadow_estimate = false;
     // Split the global map into a direct map (first-hit photons) and an indirect map: direct
     // visualisation then takes direct light from next event estimation (ray traced) and only
     // the indirect light from the photons.
