@@ -1,8 +1,11 @@
 // The four pixel sample patterns: structure, and uniformity by a chi-square test.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <set>
+#include <vector>
 
 #include "engine/core/sampler.h"
+#include "engine/core/sobol.h"
 
 using namespace foton;
 
@@ -79,4 +82,62 @@ TEST_CASE("regular and Hammersley patterns are deterministic", "[sampler][fast]"
     }
     CHECK(xs.size() == n);
     CHECK(ys.size() == n);
+}
+
+TEST_CASE("scrambled Sobol': every pair of every pixel is a (0, m, 2)-net", "[sampler][fast]") {
+    // 2^m points of a pair: each elementary interval of area 2^-m (2^a by 2^(m-a) cells)
+    // holds exactly one, whatever the scramble, permutation, key or pair.
+    for (uint32_t m : {2u, 4u, 6u, 8u}) {
+        const uint32_t n = 1u << m;
+        for (uint64_t key : {1ull, 77ull, 123456789ull})
+            for (uint32_t pair : {0u, 1u, 5u, 30u}) {
+                std::vector<Point2> pts;
+                for (uint32_t i = 0; i < n; ++i) pts.push_back(sobol::sample2(i, n, 3, key, pair));
+                for (uint32_t a = 0; a <= m; ++a) {
+                    const uint32_t cx = 1u << a, cy = 1u << (m - a);
+                    std::vector<int> count(n, 0);
+                    for (const Point2& p : pts) {
+                        REQUIRE(p.x >= 0.f);
+                        REQUIRE(p.x < 1.f);
+                        REQUIRE(p.y >= 0.f);
+                        REQUIRE(p.y < 1.f);
+                        ++count[uint32_t(p.y * float(cy)) * cx + uint32_t(p.x * float(cx))];
+                    }
+                    for (int c : count) REQUIRE(c == 1);
+                }
+                // sample1 gives the same coordinates.
+                CHECK(sobol::sample1(3 % n, n, 3, key, pair, 1) == pts[3 % n].y);
+            }
+    }
+}
+
+TEST_CASE("scrambled Sobol': permutations are bijections, pairs are uncorrelated",
+          "[sampler][fast]") {
+    for (uint32_t n : {1u, 2u, 3u, 7u, 64u, 100u, 1000u}) {
+        std::set<uint32_t> seen;
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t p = sobol::permute(i, n, 42 + n);
+            REQUIRE(p < n);
+            seen.insert(p);
+        }
+        CHECK(seen.size() == n);
+    }
+    // Over many pixels, pair 1's x and pair 2's x of the same sample are uncorrelated, and
+    // each is uniform on average.
+    const int pixels = 4000;
+    const uint32_t n = 16;
+    double sx = 0, sy = 0, sxy = 0, sxx = 0, syy = 0;
+    for (int k = 0; k < pixels; ++k)
+        for (uint32_t i = 0; i < n; ++i) {
+            const double x = sobol::sample1(i, n, 9, uint64_t(k), 1, 0);
+            const double y = sobol::sample1(i, n, 9, uint64_t(k), 2, 0);
+            sx += x, sy += y, sxy += x * y, sxx += x * x, syy += y * y;
+        }
+    const double N = double(pixels) * n;
+    const double cov = sxy / N - (sx / N) * (sy / N);
+    const double corr =
+        cov / std::sqrt((sxx / N - (sx / N) * (sx / N)) * (syy / N - (sy / N) * (sy / N)));
+    INFO("correlation " << corr << ", means " << sx / N << " " << sy / N);
+    CHECK(std::fabs(corr) < 0.02);
+    CHECK(sx / N == Approx(0.5).epsilon(0.01));
 }

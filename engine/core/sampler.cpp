@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "rng.h"
+#include "sobol.h"
 
 namespace foton {
 
@@ -10,7 +11,8 @@ const EnumTable<SamplerKind>& sampler_names() {
     static const EnumTable<SamplerKind> t{{{"regular", SamplerKind::Regular},
                                            {"random", SamplerKind::Random},
                                            {"jittered", SamplerKind::Jittered},
-                                           {"hammersley", SamplerKind::Hammersley}}};
+                                           {"hammersley", SamplerKind::Hammersley},
+                                           {"sobol", SamplerKind::Sobol}}};
     return t;
 }
 
@@ -56,6 +58,8 @@ Point2 sample_pattern(SamplerKind kind, uint32_t i, uint32_t n, uint64_t seed, u
             }
             return {(float(cx) + jx) / float(cols), (float(cy) + jy) / float(rows)};
         }
+        case SamplerKind::Sobol:
+            return sobol::sample2(i, n, seed, key, 0);
         case SamplerKind::Hammersley: {
             // Centred Hammersley: shifted by half a stratum so that n = 1 is the pixel centre.
             const float x = (float(i) + 0.5f) / float(n);

@@ -1,5 +1,7 @@
 #pragma once
-// 2D sample patterns of the first thesis: regular, random, jittered and Hammersley. A
+// 2D sample patterns of the first thesis: regular, random, jittered and Hammersley, and
+// Owen-scrambled Sobol' (sobol.h), which the path tracer also draws its paths' dimensions
+// from. A
 // pattern of n points over the unit square; point i is a pure function of (kind, i, n,
 // seed, key), so any subset of a pixel's samples can be generated independently.
 #include <cstdint>
@@ -10,7 +12,7 @@
 
 namespace foton {
 
-enum class SamplerKind { Regular, Random, Jittered, Hammersley };
+enum class SamplerKind { Regular, Random, Jittered, Hammersley, Sobol };
 
 struct Point2 {
     float x = 0.f, y = 0.f;

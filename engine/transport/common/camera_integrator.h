@@ -34,11 +34,15 @@ enum RandomStream : uint64_t {
     kLensStream = 5,
 };
 
+// What keys a pixel's pattern in a round (and, with the Sobol' sampler, every dimension
+// pair of its paths).
+inline uint64_t pixel_pattern_key(const Scene& scene, const SampleJob& j) {
+    return rng::hash(kPixelStream, scene.film.pixel_id(j.x, j.y), j.pat_round, 0);
+}
+
 inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const SampleJob& j,
                            uint64_t seed) {
-    const uint64_t pixel = scene.film.pixel_id(j.x, j.y);
-    return sample_pattern(sampler, j.pat_i, j.pat_n, seed,
-                          rng::hash(kPixelStream, pixel, j.pat_round, 0));
+    return sample_pattern(sampler, j.pat_i, j.pat_n, seed, pixel_pattern_key(scene, j));
 }
 
 // Appends the camera rays of `jobs` to `rays` (slot = job index): the pixel position from

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/core/sobol.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/next_event.h"
@@ -32,8 +33,18 @@ PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& setting
       seed_(seed),
       distributed_(distributed) {}
 
-float PathIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
-    return rng::uniform(seed_, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
+float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
+                           uint32_t k) const {
+    const PathWorkspace::QmcSlot& q = ws.qmc[slot];
+    if (q.n == 0)
+        return rng::uniform(seed_, kPathStream, ws.keys[slot],
+                            uint64_t(depth) * kDimsPerBounce + k);
+    // Sobol' pairs per bounce: light position (1, 2), BSDF direction (5, 6), then the 1D
+    // choices paired up (light choice with the mesh's triangle, lobe with roulette). Pair 0
+    // is the pixel position.
+    static constexpr uint8_t kPair[kDimsPerBounce] = {2, 0, 0, 2, 3, 1, 1, 3};
+    static constexpr uint8_t kCoord[kDimsPerBounce] = {0, 0, 1, 1, 0, 0, 1, 1};
+    return sobol::sample1(q.i, q.n, seed_, q.key, 1 + depth * 4 + kPair[k], kCoord[k]);
 }
 
 bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
@@ -52,9 +63,10 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
         if (rng::uniform(seed_, kChoiceStream, key, depth) < p_delta) {
             const BsdfContext ctx{sp.front_face, Transport::Radiance};
             BsdfSample bs;
-            if (!m.bsdf.sample(wo, rand(key, depth, kDimBsdf),
-                               {rand(key, depth, kDimBsdf + 1), rand(key, depth, kDimBsdf + 2)},
-                               ctx, bs, kSpecular))
+            if (!m.bsdf.sample(
+                    wo, rand(ws, slot, depth, kDimBsdf),
+                    {rand(ws, slot, depth, kDimBsdf + 1), rand(ws, slot, depth, kDimBsdf + 2)}, ctx,
+                    bs, kSpecular))
                 return true;
             const Vec3 wi = frame.to_world(bs.wi);
             const float side = dot(wi, sp.ng);
@@ -70,9 +82,9 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // No BSDF sample leaves this vertex, so the light sample is the only estimator of its
     // direct light and takes full weight.
     DirectSample ds;
-    if (sample_direct(lights_, vertex(), rand(key, depth, kDimLightSelect),
-                      {rand(key, depth, kDimLight), rand(key, depth, kDimLight + 1)},
-                      rand(key, depth, kDimLight + 2), ds))
+    if (sample_direct(lights_, vertex(), rand(ws, slot, depth, kDimLightSelect),
+                      {rand(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 1)},
+                      rand(ws, slot, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
     if (!rho.is_black())
         cache_->queue_lookup(sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
@@ -163,18 +175,20 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                 }
             } else {
                 float pick;
-                const uint32_t li = lights_.select(rand(key, depth, kDimLightSelect), pick);
-                estimate(li, pick, {rand(key, depth, kDimLight), rand(key, depth, kDimLight + 1)},
-                         rand(key, depth, kDimLight + 2), 1.f);
+                const uint32_t li = lights_.select(rand(ws, slot, depth, kDimLightSelect), pick);
+                estimate(li, pick,
+                         {rand(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 1)},
+                         rand(ws, slot, depth, kDimLight + 2), 1.f);
             }
         }
 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
         const uint8_t only = distributed_ ? uint8_t(kGlossy | kSpecular) : uint8_t(0xff);
-        if (!m.bsdf.sample(wo, rand(key, depth, kDimBsdf),
-                           {rand(key, depth, kDimBsdf + 1), rand(key, depth, kDimBsdf + 2)}, ctx,
-                           bs, only))
+        if (!m.bsdf.sample(
+                wo, rand(ws, slot, depth, kDimBsdf),
+                {rand(ws, slot, depth, kDimBsdf + 1), rand(ws, slot, depth, kDimBsdf + 2)}, ctx, bs,
+                only))
             continue;
         const Vec3 wi = frame.to_world(bs.wi);
         // A direction on the wrong side of the true surface would leak light through it.
@@ -185,7 +199,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         // Russian roulette: survive with the path's weight, capped at 1, and reweight.
         if (depth + 1 >= rs.rr_depth) {
             const float q = std::min(1.f, beta.max_component());
-            if (rand(key, depth, kDimRoulette) >= q) continue;
+            if (rand(ws, slot, depth, kDimRoulette) >= q) continue;
             beta *= 1.f / q;
         }
         ws.pdf_prev[slot] = bs.pdf;
@@ -232,6 +246,10 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.path_length.assign(n, 0.f);
     ws.keys.resize(n);
     for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
+    ws.qmc.assign(n, {});
+    if (settings_.sampler == SamplerKind::Sobol)
+        for (std::size_t i = 0; i < n; ++i)
+            ws.qmc[i] = {pixel_pattern_key(scene_, jobs[i]), jobs[i].pat_i, jobs[i].pat_n};
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();
@@ -249,6 +267,7 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     StageClock clock;
     ws.keys = keys;
     const std::size_t n = radiance.size();
+    ws.qmc.assign(n, {});
     ws.beta.assign(n, RGB{1.f});
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 0);

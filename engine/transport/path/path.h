@@ -37,10 +37,17 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<RGB> shadow_value;
     // Per-path state, indexed by the job slot.
     std::vector<RGB> beta;
-    std::vector<float> pdf_prev;          // solid-angle pdf of the BSDF sample that made the ray
-    std::vector<uint8_t> specular_prev;   // ... and whether it came from a delta lobe
-    std::vector<Vec3> p_prev;             // where that ray started
-    std::vector<uint64_t> keys;           // what keys the path's random numbers
+    std::vector<float> pdf_prev;         // solid-angle pdf of the BSDF sample that made the ray
+    std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
+    std::vector<Vec3> p_prev;            // where that ray started
+    std::vector<uint64_t> keys;          // what keys the path's random numbers
+    // With sampler="sobol": each path's pixel key and its point (i of n) in the pass's
+    // scrambled Sobol' set; n = 0: the counter-based random numbers of `keys`.
+    struct QmcSlot {
+        uint64_t key = 0;
+        uint32_t i = 0, n = 0;
+    };
+    std::vector<QmcSlot> qmc;
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)
     std::vector<float> path_length;       // from the camera (the cache's pixel footprint)
     uint32_t first_depth = 0;  // > 0: paths started at a scattering vertex (radiance_along)
@@ -72,7 +79,8 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
                       const Vec3& d, uint32_t slot, PathWorkspace& ws) const;
     void run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist, RenderStats& stats,
              StageClock& clock) const;
-    float rand(uint64_t key, uint32_t depth, uint32_t k) const;
+    // The path's number k of bounce `depth` (see path.cpp's dimensions).
+    float rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
     const RenderSettings& settings_;
