@@ -92,7 +92,11 @@ TEST_CASE("scrambled Sobol': every pair of every pixel is a (0, m, 2)-net", "[sa
         for (uint64_t key : {1ull, 77ull, 123456789ull})
             for (uint32_t pair : {0u, 1u, 5u, 30u}) {
                 std::vector<Point2> pts;
-                for (uint32_t i = 0; i < n; ++i) pts.push_back(sobol::sample2(i, n, 3, key, pair));
+                for (uint32_t i = 0; i < n; ++i) {
+                    Point2 p;
+                    sobol::sample2(i, n, 3, key, pair, p.x, p.y);
+                    pts.push_back(p);
+                }
                 for (uint32_t a = 0; a <= m; ++a) {
                     const uint32_t cx = 1u << a, cy = 1u << (m - a);
                     std::vector<int> count(n, 0);

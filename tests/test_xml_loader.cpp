@@ -142,7 +142,7 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input][fas
     SECTION("unknown attribute values") {
         expect_error(scene_xml("\n<aggregate type=\"kdtree\"/>"), 5,
                      "unknown aggregate type 'kdtree'");
-        expect_error(scene_xml("\n<renderer sampler=\"sobol\"/>"), 5, "unknown sampler 'sobol'");
+        expect_error(scene_xml("\n<renderer sampler=\"owen\"/>"), 5, "unknown sampler 'owen'");
         expect_error(scene_xml("\n<renderer type=\"magic\"/>"), 5, "unknown renderer type");
         expect_error(std::string("<scene>") + kFilmCamera +
                          "\n<objects><sphere radius=\"1\"><center x=\"0\" y=\"0\" z=\"0\"/>"

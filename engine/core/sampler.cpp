@@ -58,8 +58,11 @@ Point2 sample_pattern(SamplerKind kind, uint32_t i, uint32_t n, uint64_t seed, u
             }
             return {(float(cx) + jx) / float(cols), (float(cy) + jy) / float(rows)};
         }
-        case SamplerKind::Sobol:
-            return sobol::sample2(i, n, seed, key, 0);
+        case SamplerKind::Sobol: {
+            Point2 p;
+            sobol::sample2(i, n, seed, key, 0, p.x, p.y);
+            return p;
+        }
         case SamplerKind::Hammersley: {
             // Centred Hammersley: shifted by half a stratum so that n = 1 is the pixel centre.
             const float x = (float(i) + 0.5f) / float(n);

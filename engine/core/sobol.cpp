@@ -66,10 +66,12 @@ float to_float(uint32_t v) {
 }
 }  // namespace
 
-Point2 sample2(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair) {
+void sample2(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair, float& x,
+             float& y) {
     const uint64_t k = pair_key(seed, key, pair);
     const uint32_t j = permute(i, n, k);
-    return {to_float(owen_scramble(dim0(j), k + 1)), to_float(owen_scramble(dim1(j), k + 2))};
+    x = to_float(owen_scramble(dim0(j), k + 1));
+    y = to_float(owen_scramble(dim1(j), k + 2));
 }
 
 float sample1(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair, int coord) {

@@ -8,8 +8,6 @@
 // images do not depend on the thread count.
 #include <cstdint>
 
-#include "sampler.h"
-
 namespace foton::sobol {
 
 // Sobol's first two dimensions at index i, as 32-bit fractions: the bit-reversed index and
@@ -26,8 +24,9 @@ uint32_t owen_scramble(uint32_t v, uint64_t seed);
 uint32_t permute(uint32_t i, uint32_t n, uint64_t seed);
 
 // Point i of an n-point scrambled (0, 2)-net in [0, 1)^2 keyed by `key`, for pair `pair`
-// (pairs are permuted and scrambled independently).
-Point2 sample2(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair);
+// (pairs are permuted and scrambled independently): (x, y).
+void sample2(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair, float& x,
+             float& y);
 // One coordinate (0 or 1) of the same point.
 float sample1(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair, int coord);
 
