@@ -1,5 +1,7 @@
 #include "bvh_accel.h"
 
+#include "object_box.h"
+
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
@@ -40,18 +42,7 @@ BvhAccel::BvhAccel(const Scene& scene, int threads)
             next += uint32_t(m.num_triangles());
             continue;
         }
-        // Padded: the sphere test's rounding may put a hit just outside the exact box.
-        const Bounds3 b = scene.object_bounds(g);
-        const Vec3 e = b.diagonal();
-        const float pad =
-            1e-5f * (std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z),
-                               std::fabs(b.hi.x), std::fabs(b.hi.y), std::fabs(b.hi.z)}) +
-                     std::max({e.x, e.y, e.z}));
-        kern::PrimRef r;
-        for (int a = 0; a < 3; ++a) r.lo[a] = b.lo[a] - pad, r.hi[a] = b.hi[a] + pad;
-        r.id = g;
-        r.pad = 0;
-        sphere_refs.push_back(r);
+        sphere_refs.push_back(padded_object_ref(scene, g));
     }
     auto build = [&] {
         auto p = kern::TriangleBvh::default_params();

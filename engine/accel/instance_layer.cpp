@@ -1,5 +1,7 @@
 #include "instance_layer.h"
 
+#include "object_box.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -31,18 +33,7 @@ InstanceLayer::InstanceLayer(const Scene& scene, AccelType blas_type, int thread
             blas_.push_back(make_intersector(*proto, blas_type, threads));
             prototypes_.push_back(std::move(proto));
         }
-        // The world box, padded: the transformed ray's rounding may put a hit just outside.
-        const Bounds3 b = scene.object_bounds(g);
-        const Vec3 e = b.diagonal();
-        const float pad =
-            1e-5f * (std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z),
-                               std::fabs(b.hi.x), std::fabs(b.hi.y), std::fabs(b.hi.z)}) +
-                     std::max({e.x, e.y, e.z}));
-        kern::PrimRef r;
-        for (int a = 0; a < 3; ++a) r.lo[a] = b.lo[a] - pad, r.hi[a] = b.hi[a] + pad;
-        r.id = g;
-        r.pad = 0;
-        refs.push_back(r);
+        refs.push_back(padded_object_ref(scene, g));
     }
     kern::BvhBuildParams p;
     p.leaf_block = 1;

@@ -1,5 +1,6 @@
 #include "input_file.h"
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -34,6 +35,12 @@ std::string read_input_file(const std::string& path, uint64_t max_bytes, const c
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) throw InputError(path, 0, std::string("error reading ") + what);
     return text;
+}
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    return ext;
 }
 
 }  // namespace foton

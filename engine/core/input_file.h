@@ -15,4 +15,7 @@ std::string read_input_file(const std::string& path, uint64_t max_bytes, const c
 // Why `path` cannot be read as an input file ("" when it can).
 std::string input_file_problem(const std::string& path, uint64_t max_bytes);
 
+// The file name's extension, lower case, with its dot (".obj"); empty when there is none.
+std::string lower_extension(const std::string& path);
+
 }  // namespace foton

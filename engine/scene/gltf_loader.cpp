@@ -16,10 +16,6 @@ namespace foton {
 
 namespace {
 
-float srgb_decode(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
 class GltfReader {
   public:
     GltfReader(const tinygltf::Model& model, std::string path)
@@ -272,7 +268,7 @@ class GltfReader {
                 const std::size_t o = (i * std::size_t(im.component) + std::size_t(k)) * bytes;
                 uint16_t v = im.image[o];
                 if (bytes == 2) std::memcpy(&v, &im.image[o], 2);
-                c[k] = srgb_decode(float(v) / unit);
+                c[k] = srgb_to_linear(float(v) / unit);
             }
             // Grey (and grey + alpha) images repeat their one channel.
             if (im.component < 3) c[1] = c[2] = c[0];
@@ -355,8 +351,7 @@ MeshFile parse_gltf(const std::string& bytes, const std::string& name, const std
 }
 
 MeshFile load_gltf(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    const std::string ext = lower_extension(path);
     const std::string dir = std::filesystem::path(path).parent_path().string();
     return parse_gltf(read_input_file(path, kMaxMeshFileBytes, "mesh file"), path,
                       dir.empty() ? "." : dir, ext == ".glb");

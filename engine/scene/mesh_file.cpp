@@ -14,12 +14,6 @@ namespace foton {
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower((unsigned char)c));
-    return ext;
-}
-
 // An OBJ file: its mtllib files read, and its triangles split by material into parts.
 MeshFile load_obj_file(const std::string& path) {
     ObjLoadResult r = load_obj(path);

@@ -12,16 +12,16 @@ namespace foton {
 
 namespace {
 
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
 int wrap(int i, int n) {
     const int m = i % n;
     return m < 0 ? m + n : m;
 }
 
 }  // namespace
+
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 
 RGB TextureImage::bilinear(Point2 uv) const {
     // Texel centres at half-integers; v runs up the image.
@@ -61,8 +61,7 @@ TextureImage load_texture_image(const std::string& path, bool linear) {
     if (!problem.empty()) throw InputError(path, 0, "cannot read texture: " + problem);
     TextureImage img;
     img.path = path;
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower((unsigned char)c));
+    const std::string ext = lower_extension(path);
     if (ext == ".exr") {
         const Film f = read_exr(path);
         img.width = f.width;

@@ -34,6 +34,9 @@ struct Texture {
     RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
 };
 
+// The sRGB transfer function's inverse: an encoded value in [0, 1] to linear.
+float srgb_to_linear(float c);
+
 // Decodes an EXR, HDR, PNG, JPEG, BMP or TGA file into linear RGB (8-bit files are sRGB
 // encoded unless `linear`). Throws InputError naming the file.
 TextureImage load_texture_image(const std::string& path, bool linear = false);

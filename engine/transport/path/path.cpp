@@ -47,6 +47,16 @@ float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t dept
     return sobol::sample1(q.i, q.n, seed_, q.key, 1 + depth * 4 + kPair[k], kCoord[k]);
 }
 
+Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
+                             uint32_t k) const {
+    const PathWorkspace::QmcSlot& q = ws.qmc[slot];
+    if (q.n == 0) return {rand(ws, slot, depth, k), rand(ws, slot, depth, k + 1)};
+    // Light position (1, 2) and BSDF direction (5, 6) are pairs 0 and 1 of the bounce.
+    Point2 p;
+    sobol::sample2(q.i, q.n, seed_, q.key, 1 + depth * 4 + (k == kDimLight ? 0 : 1), p.x, p.y);
+    return p;
+}
+
 bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
                                   const Vec3& d, uint32_t slot, PathWorkspace& ws) const {
     RGB rho;
@@ -63,10 +73,8 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
         if (rng::uniform(seed_, kChoiceStream, key, depth) < p_delta) {
             const BsdfContext ctx{sp.front_face, Transport::Radiance};
             BsdfSample bs;
-            if (!m.bsdf.sample(
-                    wo, rand(ws, slot, depth, kDimBsdf),
-                    {rand(ws, slot, depth, kDimBsdf + 1), rand(ws, slot, depth, kDimBsdf + 2)}, ctx,
-                    bs, kSpecular))
+            if (!m.bsdf.sample(wo, rand(ws, slot, depth, kDimBsdf),
+                               rand2(ws, slot, depth, kDimBsdf + 1), ctx, bs, kSpecular))
                 return true;
             const Vec3 wi = frame.to_world(bs.wi);
             const float side = dot(wi, sp.ng);
@@ -83,8 +91,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // direct light and takes full weight.
     DirectSample ds;
     if (sample_direct(lights_, vertex(), rand(ws, slot, depth, kDimLightSelect),
-                      {rand(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 1)},
-                      rand(ws, slot, depth, kDimLight + 2), ds))
+                      rand2(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
     if (!rho.is_black())
         cache_->queue_lookup(sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
@@ -176,8 +183,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             } else {
                 float pick;
                 const uint32_t li = lights_.select(rand(ws, slot, depth, kDimLightSelect), pick);
-                estimate(li, pick,
-                         {rand(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 1)},
+                estimate(li, pick, rand2(ws, slot, depth, kDimLight),
                          rand(ws, slot, depth, kDimLight + 2), 1.f);
             }
         }
@@ -185,10 +191,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
         const uint8_t only = distributed_ ? uint8_t(kGlossy | kSpecular) : uint8_t(0xff);
-        if (!m.bsdf.sample(
-                wo, rand(ws, slot, depth, kDimBsdf),
-                {rand(ws, slot, depth, kDimBsdf + 1), rand(ws, slot, depth, kDimBsdf + 2)}, ctx, bs,
-                only))
+        if (!m.bsdf.sample(wo, rand(ws, slot, depth, kDimBsdf),
+                           rand2(ws, slot, depth, kDimBsdf + 1), ctx, bs, only))
             continue;
         const Vec3 wi = frame.to_world(bs.wi);
         // A direction on the wrong side of the true surface would leak light through it.

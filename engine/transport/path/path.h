@@ -81,6 +81,8 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
              StageClock& clock) const;
     // The path's number k of bounce `depth` (see path.cpp's dimensions).
     float rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth, uint32_t k) const;
+    // Numbers k and k + 1 together (the light position, the BSDF direction): one Sobol' pair.
+    Point2 rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth, uint32_t k) const;
 
     const Scene& scene_;
     const RenderSettings& settings_;
