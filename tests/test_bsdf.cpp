@@ -227,9 +227,11 @@ TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs im
                 ++reflected;
                 CHECK(s.f.r * std::fabs(s.wi.z) / s.pdf == Approx(1.f));
             } else {
-                // Radiance crossing into glass is compressed by (1 / 1.5)^2 ...
+                // Radiance crossing into glass is compressed by (1 / 1.5)^2, which the sample
+                // reports (eta) so that Russian roulette can undo it ...
                 CHECK(s.f.r * std::fabs(s.wi.z) / s.pdf == Approx(1.f / 2.25f));
                 CHECK(s.wi.z < 0.f);
+                CHECK(s.eta == Approx(1.5f));
             }
         }
         const double sigma = std::sqrt(F * (1 - F) / n);
@@ -244,6 +246,13 @@ TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs im
     REQUIRE(lobe_sample(glass, direction(50.f, 0.f), 0.999f, {}, {false}, s));
     CHECK((s.flags & kReflection));
     CHECK(s.pdf == 1.f);
+    CHECK(s.eta == 1.f);
+    // Leaving the glass: the inverse index, and the radiance expands by 1.5^2 again.
+    BsdfSample out;
+    REQUIRE(lobe_sample(glass, direction(20.f, 0.f), 0.999f, {}, {false}, out));
+    CHECK((out.flags & kTransmission));
+    CHECK(out.eta == Approx(1.f / 1.5f));
+    CHECK(out.f.r * std::fabs(out.wi.z) / out.pdf * out.eta * out.eta == Approx(1.f));
     // Both branches for the Whitted tracer: weights F and (1 - F) / eta^2.
     Bsdf b;
     b.add(glass);

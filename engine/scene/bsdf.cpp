@@ -234,6 +234,7 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             s.f = l.transmit * ((1.f - F) * scale / std::fabs(t.z));
             s.pdf = 1.f - F;
             s.flags = kSpecular | kTransmission;
+            s.eta = eta_t / eta_i;
             return true;
         }
     }

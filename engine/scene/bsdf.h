@@ -79,6 +79,9 @@ struct BsdfSample {
     RGB f;
     float pdf = 0.f;
     uint8_t flags = 0;
+    // A refraction's relative index eta_t / eta_i (1 otherwise): radiance through it is
+    // scaled by 1 / eta^2, which Russian roulette must not mistake for absorption.
+    float eta = 1.f;
     bool is_delta() const { return (flags & kSpecular) != 0; }
 };
 

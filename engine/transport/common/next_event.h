@@ -11,6 +11,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/scene/material.h"
 #include "engine/transport/common/surface.h"
+#include "guide_mixture.h"
 #include "mis.h"
 #include "shading_point.h"
 
@@ -35,9 +36,11 @@ struct LightChoice {
 // Next event estimation, the one version every integrator uses: a sample of the chosen
 // light lighting the `lobes` of v's BSDF, carrying v.weight * f * Li * |cos| * w * scale /
 // (pick * pdf), where w is the MIS weight against BSDF sampling under `mis` (None: full
-// weight; delta lights always take full weight). False when the sample adds nothing.
+// weight; delta lights always take full weight). A guided vertex's BSDF strategy is the
+// mixture `strategy`, whose density the weight uses. False when the sample adds nothing.
 inline bool sample_light(const LightSet& lights, const LightChoice& c, const ShadingPoint& v,
-                         uint8_t lobes, const Mis& mis, float scale, DirectSample& out) {
+                         uint8_t lobes, const Mis& mis, float scale, DirectSample& out,
+                         const GuideMixture& strategy = {}) {
     const SurfacePoint& sp = v.sp;
     LightSample ls;
     if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls) || dot(ls.wi, sp.ng) <= 0.f) return false;
@@ -47,7 +50,8 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
     if (f.is_black()) return false;
     const float pl = c.pick * ls.pdf;
     const bool full = mis.heuristic == MisHeuristic::None || lights.emitter(c.light).is_delta();
-    const float w = full ? 1.f : mis_weight(mis, pl, v.m.bsdf.pdf(v.wo, wi, ctx));
+    const float w =
+        full ? 1.f : mis_weight(mis, pl, strategy.pdf(v.m.bsdf.pdf(v.wo, wi, ctx), ls.wi));
     out.light = c.light;
     out.value = v.weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
     if (out.value.is_black()) return false;

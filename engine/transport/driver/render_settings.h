@@ -11,10 +11,14 @@
 #include "engine/core/sampler.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/irradiance_cache/cache_settings.h"
+#include "engine/transport/path/path_guide_settings.h"
 #include "engine/transport/photon/photon_settings.h"
 #include "render_options.h"
 
 namespace foton {
+
+// rr_depth that no path reaches: Russian roulette off.
+inline constexpr uint32_t kNoRoulette = 1000000;
 
 struct AdaptiveSettings {
     bool enabled = false;
@@ -39,10 +43,12 @@ struct RenderSettings {
     MisHeuristic mis = MisHeuristic::Power;
     float mis_beta = 2.f;   // the power heuristic's exponent
     bool nee = true;        // path: next event estimation (false = BSDF sampling only)
-    uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on
+    uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on (guided
+                            // paths: kNoRoulette unless given)
     uint32_t light_samples =
         1;  // distributed: shadow rays per light at each hit; raytracer: per environment
     AdaptiveSettings adaptive;
+    PathGuideSettings guide;  // path: photon-guided directions at diffuse vertices
     PhotonSettings photon;
     // photon (final-gather mode): at every diffuse visible point; path: at the first diffuse
     // vertex of each camera path (after specular ones only).

@@ -11,6 +11,7 @@
 #include "engine/transport/common/wavefront.h"
 #include "engine/transport/driver/camera_driver.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
+#include "path_guide.h"
 
 namespace foton {
 
@@ -80,6 +81,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
             const float side = dot(wi, sp.ng);
             if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return true;
             beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+            ws.eta_scale[slot] *= bs.eta * bs.eta;
             ws.specular_prev[slot] = 1;
             ws.p_prev[slot] = sp.p;
             ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
@@ -101,6 +103,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
 
 void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
     const RenderSettings& rs = settings_;
+    const bool guided = guide_ && !guide_->empty() && !distributed_;
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
@@ -158,6 +161,13 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             radiance[slot] += beta * amb * ambient;
         }
 
+        // A guided vertex's BSDF strategy is a mixture with its nearest guide point's density.
+        GuideMixture strategy;
+        if (guided && guidable(m.bsdf)) {
+            const int bin = guide_->find(sp.p, sp.ng);
+            if (bin >= 0) strategy = guide_->mixture(bin, rs.guide.fraction);
+        }
+
         // Next event estimation.
         if (nee && m.bsdf.has_non_delta() && !lights_.empty()) {
             auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
@@ -166,7 +176,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                                           ? uint8_t(kDiffuse)
                                           : uint8_t(kDiffuse | kGlossy);
                 DirectSample ds;
-                if (sample_light(lights_, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds))
+                if (sample_light(lights_, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
+                                 strategy))
                     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
             };
             if (distributed_) {
@@ -191,18 +202,29 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
         const uint8_t only = distributed_ ? uint8_t(kGlossy | kSpecular) : uint8_t(0xff);
-        if (!m.bsdf.sample(wo, rand(ws, slot, depth, kDimBsdf),
-                           rand2(ws, slot, depth, kDimBsdf + 1), ctx, bs, only))
+        const float u_lobe = rand(ws, slot, depth, kDimBsdf);
+        const Point2 u_dir = rand2(ws, slot, depth, kDimBsdf + 1);
+        float bsdf_pdf = 0.f;
+        if (strategy.active()
+                ? !sample_mixture(m.bsdf, wo, frame, ctx, strategy, u_lobe, u_dir, bs, bsdf_pdf)
+                : !m.bsdf.sample(wo, u_lobe, u_dir, ctx, bs, only))
             continue;
         const Vec3 wi = frame.to_world(bs.wi);
         // A direction on the wrong side of the true surface would leak light through it.
         const float side = dot(wi, sp.ng);
         if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+        // What roulette weighs: the throughput as BSDF sampling would carry it. A guided
+        // direction's weight is low exactly because light is likely to come from there; a
+        // roulette on it would kill the paths the guide sent towards the light.
         beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+        const RGB rr_beta = strategy.active() && bsdf_pdf > 0.f ? beta * (bs.pdf / bsdf_pdf) : beta;
         if (beta.is_black()) continue;
-        // Russian roulette: survive with the path's weight, capped at 1, and reweight.
+        ws.eta_scale[slot] *= bs.eta * bs.eta;
+        // Russian roulette: survive with the path's weight, capped at 1, and reweight. Inside
+        // glass beta is 1/eta^2 of the carried throughput, and the path leaves with it back;
+        // deciding on beta alone would kill paths through glass (caustics) 2.25x too often.
         if (depth + 1 >= rs.rr_depth) {
-            const float q = std::min(1.f, beta.max_component());
+            const float q = std::min(1.f, rr_beta.max_component() * ws.eta_scale[slot]);
             if (rand(ws, slot, depth, kDimRoulette) >= q) continue;
             beta *= 1.f / q;
         }
@@ -243,6 +265,7 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     const std::size_t n = jobs.size();
     radiance.assign(n, RGB{0.f});
     ws.beta.assign(n, RGB{1.f});
+    ws.eta_scale.assign(n, 1.f);
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 1);
     ws.chain_specular.assign(n, 1);
@@ -273,6 +296,7 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     const std::size_t n = radiance.size();
     ws.qmc.assign(n, {});
     ws.beta.assign(n, RGB{1.f});
+    ws.eta_scale.assign(n, 1.f);
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 0);
     ws.chain_specular.assign(n, 0);  // the cache is not consulted again on the way
@@ -287,6 +311,8 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene);
     PathIntegrator integrator(scene, settings, accel, lights, opt.seed, false);
+    if (settings.guide.enabled)
+        return render_guided_path(scene, settings, accel, lights, integrator, opt);
     if (settings.indirect != IndirectMode::IrradianceCache)
         return render_camera(scene, settings, integrator, opt);
     StageGraph graph;

@@ -37,6 +37,9 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<RGB> shadow_value;
     // Per-path state, indexed by the job slot.
     std::vector<RGB> beta;
+    // The product of eta^2 over the refractions so far: beta times it is the path's
+    // throughput without the radiance scaling of crossing into and out of dielectrics.
+    std::vector<float> eta_scale;
     std::vector<float> pdf_prev;         // solid-angle pdf of the BSDF sample that made the ray
     std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
     std::vector<Vec3> p_prev;            // where that ray started
@@ -66,6 +69,8 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
                      std::vector<RGB>& radiance, RenderStats& stats) const override;
     // Indirect light at the first diffuse vertex from this cache (path only).
     void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
+    // Diffuse vertices draw their next direction from this photon guide's mixture (path only).
+    void set_guide(const class PathGuide* guide) { guide_ = guide; }
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
     // rays); see RadianceAlongRays.
     void radiance_along(const RayBatch& rays, const std::vector<uint64_t>& keys,
@@ -91,12 +96,18 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     uint64_t seed_;
     bool distributed_;
     const CacheEvaluator* cache_ = nullptr;
+    const PathGuide* guide_ = nullptr;
 };
 
 // The table entries (driver/integrators.h): the tile driver over path tracing (with the
 // irradiance cache when the settings ask for it) or Cook's distributed ray tracing.
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& options);
+// Path tracing guided by a photon pre-pass (path_guide.h): the guide's stages, then the
+// camera pass as render_path's (guided_render.cpp).
+RenderResult render_guided_path(const Scene& scene, const RenderSettings& settings,
+                                const Intersector& accel, const LightSet& lights,
+                                PathIntegrator& integrator, const RenderOptions& options);
 RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
                                 const Intersector& accel, const RenderOptions& options);
 

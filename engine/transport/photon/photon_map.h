@@ -35,7 +35,14 @@ struct EstimateParams {
 // over the disc with its 1 / (pi r^2), which is why it darkened the thesis' images).
 float filter_weight(const EstimateParams& p, float d, float r);
 
-enum PhotonFlags : uint8_t { kPhotonCaustic = 1, kPhotonDirect = 2, kPhotonShadow = 4 };
+// kPhotonViaSpecular: the photon's last bounce was off a delta lobe (a mirror or glass), the
+// light next event estimation cannot sample; every caustic photon has it.
+enum PhotonFlags : uint8_t {
+    kPhotonCaustic = 1,
+    kPhotonDirect = 2,
+    kPhotonShadow = 4,
+    kPhotonViaSpecular = 8
+};
 
 class PhotonMap {
   public:

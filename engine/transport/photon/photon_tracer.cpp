@@ -37,6 +37,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
     ws.rays.clear();
     ws.power.assign(count, RGB{0.f});
     ws.specular_only.assign(count, 1);
+    ws.last_specular.assign(count, 0);
     ws.light.assign(count, 0);
     // The direction sample of photon i is point i of a Hammersley set over the pass, shifted
     // by one random offset per pass (Cranley–Patterson), so directions are stratified.
@@ -80,7 +81,8 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 if (m.bsdf.has_non_delta()) {
                     const bool caustic = ws.specular_only[slot] && depth > 0;
                     const uint8_t flags =
-                        uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0));
+                        uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0) |
+                                (depth > 0 && ws.last_specular[slot] ? kPhotonViaSpecular : 0));
                     if (s.kind == PhotonMapKind::Global || caustic)
                         out.push(sp.p, power, -d, sp.ng, flags, ws.light[slot]);
                 }
@@ -126,6 +128,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 if (!(q > 0.f) || rand(s.pass, i, dim + 3) >= q) continue;
                 if (!s.unscaled_roulette) power *= w * (1.f / q);
                 if (!bs.is_delta()) ws.specular_only[slot] = 0;
+                ws.last_specular[slot] = uint8_t(bs.is_delta());
                 ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             }
         },

@@ -47,6 +47,7 @@ struct PhotonWorkspace {
     HitBatch hits;
     std::vector<RGB> power;
     std::vector<uint8_t> specular_only;  // path so far: light followed by delta bounces only
+    std::vector<uint8_t> last_specular;  // its last bounce was off a delta lobe
     std::vector<uint16_t> light;         // emitter of each photon
 };
 

@@ -1,0 +1,58 @@
+#include <tbb/task_arena.h>
+
+#include "engine/core/error.h"
+#include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/driver/stage_graph.h"
+#include "engine/transport/photon/photon_tracer.h"
+#include "path.h"
+#include "path_guide.h"
+
+namespace foton {
+
+RenderResult render_guided_path(const Scene& scene, const RenderSettings& settings,
+                                const Intersector& accel, const LightSet& lights,
+                                PathIntegrator& integrator, const RenderOptions& render_opt) {
+    // The camera passes' times (and a time budget) count the guide's pre-pass too.
+    RenderOptions opt = render_opt;
+    if (!opt.start) opt.start = RenderStart::now();
+    if (lights.empty()) throw InputError(scene.source, 0, "guided paths need a light");
+    const PathGuideSettings& gs = settings.guide;
+    const PhotonTracer tracer(scene, accel, lights, opt.seed);
+
+    PhotonMap photons;
+    PathGuide guide;
+    RenderStats stats;
+    StageGraph graph;
+    graph.set_progress(opt.progress);
+    const uint32_t trace = graph.add("photons-guide", [&]() -> uint64_t {
+        PhotonPassSettings s;
+        s.kind = PhotonMapKind::Global;
+        s.emitted = gs.emitted;
+        s.max_depth = settings.max_depth;
+        const ProgressTask task(graph.progress(), "photons-guide", s.emitted);
+        photons = tracer.run(s, stats, nullptr, &task);
+        return s.emitted;
+    });
+    const uint32_t build = graph.add("build-guide", [&]() -> uint64_t {
+        StageClock c;
+        // Next event estimation finds the lights; without it the direct photons guide too.
+        const uint8_t flags = uint8_t(kPhotonViaSpecular | (settings.nee ? 0 : kPhotonDirect));
+        guide.build(photons, flags, scene.bounds(), gs);
+        stats.add(Stage::Precompute, guide.size(), c);
+        return guide.size();
+    });
+    graph.edge(trace, build);
+    {
+        tbb::task_arena arena(resolve_threads(opt.threads));
+        graph.run(arena);
+    }
+    integrator.set_guide(&guide);
+    RenderResult result = render_camera(scene, settings, integrator, opt, graph, graph.sinks());
+    integrator.set_guide(nullptr);
+    result.stats.graph = graph.report();
+    result.stats.merge(stats);
+    result.stats.photons_global = photons.size();
+    return result;
+}
+
+}  // namespace foton
