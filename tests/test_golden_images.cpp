@@ -162,6 +162,10 @@ TEST_CASE("golden image hashes: cornell-box", "[golden]") {
 TEST_CASE("golden image hashes: cornell-caustics", "[golden]") {
     check_scene("cornell-caustics");
 }
+TEST_CASE("golden image hashes: cornell-empty", "[golden]") {
+    check_scene("cornell-empty");
+}
+
 TEST_CASE("golden image hashes: cornell-diffuse", "[golden]") {
     check_scene("cornell-diffuse");
 }

@@ -5,6 +5,8 @@ namespace foton {
 namespace {
 
 constexpr uint64_t kMaxCount = 100000000;
+const EnumTable<Lighting> kLighting{
+    {{"all", Lighting::All}, {"direct", Lighting::Direct}, {"indirect", Lighting::Indirect}}};
 
 void parse_sampling(const ParamSet& p, RenderSettings& r) {
     r.integrator = p.text("type", r.integrator);
@@ -65,6 +67,15 @@ RenderSettings parse_render_settings(const ParamSet& params) {
     parse_photon_settings(params, r.photon);
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide(params, r);
+    r.lighting = params.choice("lighting", kLighting, r.lighting);
+    if (r.lighting != Lighting::All) {
+        if (r.integrator != "path" && r.integrator != "photon")
+            params.fail("lighting", "lighting=direct|indirect needs type=\"path\" or \"photon\"");
+        if (r.indirect == IndirectMode::IrradianceCache)
+            params.fail("lighting",
+                        "lighting=direct|indirect and indirect=\"irradiance_cache\" "
+                        "do not combine");
+    }
     if (r.guide.enabled && r.indirect == IndirectMode::IrradianceCache)
         params.fail("guided", "guided paths and indirect=\"irradiance_cache\" do not combine");
     params.reject_unused();

@@ -17,6 +17,18 @@
 
 namespace foton {
 
+// Which light a camera integrator adds up (the photon thesis' chapter 7 renders direct and
+// indirect light apart), classified at the first non-specular vertex seen through the camera's
+// specular chain: direct light arrives there straight from an emitter (a light sample, or a
+// BSDF ray that hits it), indirect light after any bounce, caustics included, as the photon
+// maps count it (direct photons are first hits). Emitters seen directly or through mirrors
+// count as direct. k is 0 before that vertex, 1 for light straight to it, 2 for the rest.
+enum class Lighting : uint8_t { All, Direct, Indirect };
+// Whether light reached after k non-specular vertices counts.
+inline bool counts(Lighting l, uint32_t k) {
+    return l == Lighting::All || (l == Lighting::Direct ? k <= 1 : k >= 2);
+}
+
 // rr_depth that no path reaches: Russian roulette off.
 inline constexpr uint32_t kNoRoulette = 1000000;
 
@@ -48,7 +60,8 @@ struct RenderSettings {
     uint32_t light_samples =
         1;  // distributed: shadow rays per light at each hit; raytracer: per environment
     AdaptiveSettings adaptive;
-    PathGuideSettings guide;  // path: photon-guided directions at diffuse vertices
+    Lighting lighting = Lighting::All;  // path and photon: all, direct or indirect light only
+    PathGuideSettings guide;            // path: photon-guided directions at diffuse vertices
     PhotonSettings photon;
     // photon (final-gather mode): at every diffuse visible point; path: at the first diffuse
     // vertex of each camera path (after specular ones only).

@@ -125,7 +125,10 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             if (mis.heuristic == MisHeuristic::None) return 0.f;
             return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
         };
+        // lighting=direct|indirect: light reached after this many non-specular vertices.
+        const bool counts_light = counts(rs.lighting, ws.nondelta[slot]);
         if (geom == kNoHit) {
+            if (!counts_light) continue;
             if (!scene_.environment)
                 radiance[slot] += beta * scene_.background;
             else if (counts_emission)
@@ -138,7 +141,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         const Material& m = scene_.material_at(geom, sp.uv, scratch);
         ws.path_length[slot] += ws.hits.t[i];
 
-        if (m.emits_towards(sp.front_face) && counts_emission) {
+        if (m.emits_towards(sp.front_face) && counts_emission && counts_light) {
             const float w = emission_weight([&] {
                 const int li = lights_.emitter_of(geom);
                 return li < 0 ? 0.f
@@ -148,6 +151,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             radiance[slot] += beta * m.emission * w;
         }
         if (depth >= rs.max_depth || m.bsdf.empty()) continue;
+        // Direct light only: once a second non-specular vertex is behind, nothing counts.
+        if (rs.lighting == Lighting::Direct && ws.nondelta[slot] >= 2) continue;
         if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws)) continue;
 
         const ShadingPoint v(sp, m, d, beta, slot, depth, key);
@@ -169,7 +174,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         }
 
         // Next event estimation.
-        if (nee && m.bsdf.has_non_delta() && !lights_.empty()) {
+        if (nee && m.bsdf.has_non_delta() && !lights_.empty() &&
+            counts(rs.lighting, ws.nondelta[slot] + 1u)) {
             auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
                 // The distributed tracer's glossy lobes see area lights by being sampled.
                 const uint8_t lobes = distributed_ && !lights_.emitter(li).is_delta()
@@ -230,6 +236,10 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         }
         ws.pdf_prev[slot] = bs.pdf;
         ws.specular_prev[slot] = bs.is_delta();
+        // A specular bounce after the first non-specular vertex makes what it finds a
+        // caustic there: indirect light, as the photon maps count it.
+        if (!bs.is_delta() || ws.nondelta[slot] == 1)
+            ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
         ws.chain_specular[slot] &= uint8_t(bs.is_delta());
         ws.p_prev[slot] = sp.p;
         ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
@@ -269,6 +279,7 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 1);
     ws.chain_specular.assign(n, 1);
+    ws.nondelta.assign(n, 0);
     ws.p_prev.assign(n, Vec3{});
     ws.path_length.assign(n, 0.f);
     ws.keys.resize(n);
@@ -300,6 +311,7 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     ws.pdf_prev.assign(n, 0.f);
     ws.specular_prev.assign(n, 0);
     ws.chain_specular.assign(n, 0);  // the cache is not consulted again on the way
+    ws.nondelta.assign(n, 1);        // the rays leave a scattering vertex
     ws.p_prev.assign(n, Vec3{});
     ws.path_length.assign(n, 0.f);
     ws.first_depth = 1;

@@ -52,8 +52,11 @@ struct PathWorkspace : IntegratorWorkspace {
     };
     std::vector<QmcSlot> qmc;
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)
-    std::vector<float> path_length;       // from the camera (the cache's pixel footprint)
-    uint32_t first_depth = 0;  // > 0: paths started at a scattering vertex (radiance_along)
+    // The path's class for lighting=direct|indirect: 0 before its first non-specular vertex,
+    // 1 just after it, 2 once a second vertex (of any kind) follows it.
+    std::vector<uint8_t> nondelta;
+    std::vector<float> path_length;  // from the camera (the cache's pixel footprint)
+    uint32_t first_depth = 0;        // > 0: paths started at a scattering vertex (radiance_along)
     CacheWorkspace cache;
     CacheWorkspace* cache_workspace() override { return &cache; }
 };

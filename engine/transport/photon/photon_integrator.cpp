@@ -42,19 +42,26 @@ void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspac
     const RGB& weight = v.weight;
     const uint32_t slot = v.slot;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    // lighting=direct|indirect (the thesis' chapter 7): the visible point's direct light is
+    // its light sample, or the direct photons (render_photon leaves the global map with the
+    // photons of the chosen kind when it is not split); the rest is indirect.
+    const bool direct = settings_.lighting != Lighting::Indirect;
+    const bool indirect = settings_.lighting != Lighting::Direct;
     if (ps.mode == PhotonMode::DirectVisualisation) {
         // The global map seen directly; when split it holds the indirect light only and the
         // direct light is ray traced (the thesis' comparison of the two).
-        radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
-                                                         wo, ctx, maps_.global_params);
-        if (ps.split_direct) direct_light(v, ws, radiance);
+        if (indirect || !ps.split_direct)
+            radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n,
+                                                             m.bsdf, wo, ctx, maps_.global_params);
+        if (ps.split_direct && direct) direct_light(v, ws, radiance);
         return;
     }
+    if (direct) direct_light(v, ws, radiance);
+    if (!indirect) return;
     // Caustics: L S+ D paths, from their own map.
     if (!maps_.caustic.empty())
         radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
                                                           wo, ctx, maps_.caustic_params);
-    direct_light(v, ws, radiance);
     // The cache holds irradiance: it serves surfaces whose non-delta part is Lambertian.
     RGB rho;
     if (cache_ && m.bsdf.lambert_albedo(rho)) {
@@ -300,7 +307,8 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 RGB& beta = ws.beta[slot];
                 const uint32_t geom = ws.hits.geom[i];
                 if (geom == kNoHit) {
-                    radiance[slot] += beta * scene_.background_along(ws.rays.direction(i));
+                    if (settings_.lighting != Lighting::Indirect)
+                        radiance[slot] += beta * scene_.background_along(ws.rays.direction(i));
                     continue;
                 }
                 const Vec3 d = ws.rays.direction(i);
@@ -310,7 +318,8 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const Material& m = scene_.material_at(geom, sp.uv, scratch);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
-                if (m.emits_towards(sp.front_face)) radiance[slot] += beta * m.emission;
+                if (m.emits_towards(sp.front_face) && settings_.lighting != Lighting::Indirect)
+                    radiance[slot] += beta * m.emission;
                 if (m.bsdf.empty()) continue;
                 const float p_delta = m.bsdf.selection_probability(kSpecular);
                 if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {

@@ -69,7 +69,14 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         s.shadow_photons = ps.shadow_photons;
         const ProgressTask task(graph.progress(), "photons-global", s.emitted);
         if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow, &task);
-        if (ps.split_direct) maps.direct = maps.global.extract(kPhotonDirect);
+        if (ps.split_direct) {
+            maps.direct = maps.global.extract(kPhotonDirect);
+        } else if (ps.mode == PhotonMode::DirectVisualisation &&
+                   settings.lighting != Lighting::All) {
+            // Seen directly, the map is the light: keep the photons of the kind asked for.
+            PhotonMap direct = maps.global.extract(kPhotonDirect);
+            if (settings.lighting == Lighting::Direct) maps.global = std::move(direct);
+        }
         return s.emitted;
     });
     const uint32_t trace_caustic = graph.add("photons-caustic", [&]() -> uint64_t {
