@@ -42,3 +42,21 @@ TEST_CASE("image metrics", "[image][fast]") {
     CHECK(compare_images(a, b, &mask).rmse == 0.0);
     CHECK(compare_images(a, a).rmse == 0.0);
 }
+
+TEST_CASE("the exclusion mask grows by its margin, clipped at the image's edge", "[image][fast]") {
+    // A 5 x 4 image with one excluded pixel at (1, 1) and one at (4, 3).
+    std::vector<uint8_t> m(20, 1);
+    m[1 * 5 + 1] = 0;
+    m[3 * 5 + 4] = 0;
+    const std::vector<uint8_t> g = grow_exclusion(m, 5, 4, 1);
+    const char* expect =
+        "000.."
+        "000.."
+        "00000"
+        "...00";
+    for (int i = 0; i < 20; ++i) {
+        INFO("pixel " << i);
+        CHECK(g[std::size_t(i)] == (expect[i] == '.' ? 1 : 0));
+    }
+    CHECK(grow_exclusion(m, 5, 4, 0) == m);
+}

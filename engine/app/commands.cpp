@@ -371,7 +371,9 @@ int run_compare(const CompareArgs& args) {
         std::printf("reference downsampled %dx to %dx%d\n", factor, b.width, b.height);
     }
     std::vector<uint8_t> mask(a.pixels.size(), 1);
-    if (args.exclude_above) mask = luminance_mask(b, *args.exclude_above);
+    if (args.exclude_above)
+        mask = grow_exclusion(luminance_mask(b, *args.exclude_above), b.width, b.height,
+                              args.exclude_margin);
     if (!args.mask_png.empty()) {
         const std::vector<uint8_t> m = read_png_mask(args.mask_png, a.width, a.height);
         for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = mask[i] && m[i];

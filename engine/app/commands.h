@@ -49,6 +49,7 @@ struct CompareArgs {
     std::string diff_png;  // optional false-colour difference image
     float diff_scale = 0.1f;
     std::optional<float> exclude_above;  // leave out pixels brighter than this in b
+    int exclude_margin = 0;              // ... and those within this many pixels of them
     std::string mask_png;                // count only pixels that are non-black in this PNG
 };
 int run_compare(const CompareArgs& args);

@@ -92,6 +92,11 @@ int main(int argc, char** argv) {
     compare->add_option("--diff-scale", ca.diff_scale, "error that maps to white (default 0.1)");
     compare->add_option("--exclude-above", ca.exclude_above,
                         "leave out pixels whose luminance in b is above this (e.g. 2: the light)");
+    compare
+        ->add_option("--exclude-margin", ca.exclude_margin,
+                     "with --exclude-above: also leave out pixels this close to those "
+                     "(a light's partly covered edge)")
+        ->check(CLI::Range(0, 64));
     compare->add_option("--mask", ca.mask_png, "PNG: count only its non-black pixels");
 
     app::ServeArgs sa;

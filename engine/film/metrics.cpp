@@ -74,4 +74,17 @@ std::vector<uint8_t> luminance_mask(const Film& ref, float max_luminance) {
     return m;
 }
 
+std::vector<uint8_t> grow_exclusion(const std::vector<uint8_t>& mask, int width, int height,
+                                    int margin) {
+    std::vector<uint8_t> out = mask;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            if (mask[std::size_t(y) * std::size_t(width) + std::size_t(x)]) continue;
+            for (int dy = std::max(0, y - margin); dy <= std::min(height - 1, y + margin); ++dy)
+                for (int dx = std::max(0, x - margin); dx <= std::min(width - 1, x + margin); ++dx)
+                    out[std::size_t(dy) * std::size_t(width) + std::size_t(dx)] = 0;
+        }
+    return out;
+}
+
 }  // namespace foton

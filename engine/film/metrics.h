@@ -32,5 +32,10 @@ Film fit_reference(Film ref, int width, int height, const std::string& path);
 // Mask of the pixels whose luminance in `ref` is at most `max_luminance` (e.g. to leave the
 // directly seen light out of an error figure).
 std::vector<uint8_t> luminance_mask(const Film& ref, float max_luminance);
+// Also leaves out every pixel within `margin` pixels (Chebyshev distance) of one the mask
+// leaves out: a light's partly covered edge pixels are dimmer than the cut, yet at low spp
+// they are all or nothing, and would dominate the error of the rest.
+std::vector<uint8_t> grow_exclusion(const std::vector<uint8_t>& mask, int width, int height,
+                                    int margin);
 
 }  // namespace foton
