@@ -259,35 +259,43 @@ TEST_CASE("path and light tracing are bit-identical for any thread count",
         CHECK(compare_images(one.film, five.film).max_abs == 0.0);
         CHECK(compare_images(one.film, run(s, 4, 2, 10).film).max_abs > 0.0);
     }
-    // The Sobol' sampler too: its points are pure functions of pixel, pass and pair.
-    TestScene q = cornell(32, "path");
-    q.render.sampler = SamplerKind::Sobol;
-    CHECK(compare_images(run(q, 4, 1, 9).film, run(q, 4, 2, 9).film).max_abs == 0.0);
+    // The Sobol' and Halton samplers too: their points are pure functions of pixel, pass
+    // and dimension.
+    for (SamplerKind k : {SamplerKind::Sobol, SamplerKind::Halton}) {
+        TestScene q = cornell(32, "path");
+        q.render.sampler = k;
+        CHECK(compare_images(run(q, 4, 1, 9).film, run(q, 4, 2, 9).film).max_abs == 0.0);
+    }
 }
 
-TEST_CASE("the Sobol' sampler converges to the same image with less error",
+TEST_CASE("the Sobol' and Halton samplers converge to the same image with less error",
           "[integrator][sampler]") {
     // The white furnace with every dimension drawn from the sampler.
-    const TestScene f =
-        furnace(0.6f, 0.5f, R"(<renderer type="path" sampler="sobol" max_depth="100"/>)");
-    CHECK(mean(run(f, 256).film).g == Approx(0.5f / 0.4f).epsilon(0.01));
+    for (const char* r : {R"(<renderer type="path" sampler="sobol" max_depth="100"/>)",
+                          R"(<renderer type="path" sampler="halton" max_depth="100"/>)"}) {
+        INFO(r);
+        CHECK(mean(run(furnace(0.6f, 0.5f, r), 256).film).g == Approx(0.5f / 0.4f).epsilon(0.01));
+    }
     // The diffuse box against pbrt-v4's reference: same mean, smaller error than jittered.
     const Film ref =
         downsample(read_exr(test::shared_path("refs/cornell_diffuse_path_512spp.exr")), 8);
     const std::vector<uint8_t> mask = luminance_mask(ref, 2.f);
-    double rmse[2];
-    RGB means[2];
-    for (int k = 0; k < 2; ++k) {
+    const SamplerKind kinds[3] = {SamplerKind::Jittered, SamplerKind::Sobol, SamplerKind::Halton};
+    double rmse[3];
+    RGB means[3];
+    for (int k = 0; k < 3; ++k) {
         TestScene s = cornell(64, "path");
-        s.render.sampler = k ? SamplerKind::Sobol : SamplerKind::Jittered;
+        s.render.sampler = kinds[k];
         const Film img = run(s, 64, 0, 3).film;
         means[k] = mean(img);
         rmse[k] = compare_images(img, ref, &mask).rmse;
     }
-    INFO("rmse jittered " << rmse[0] << ", sobol " << rmse[1] << "; means " << means[0].g << " "
-                          << means[1].g);
+    INFO("rmse jittered " << rmse[0] << ", sobol " << rmse[1] << ", halton " << rmse[2]
+                          << "; means " << means[0].g << " " << means[1].g << " " << means[2].g);
     CHECK(means[1].g == Approx(means[0].g).epsilon(0.01));
+    CHECK(means[2].g == Approx(means[0].g).epsilon(0.01));
     CHECK(rmse[1] < rmse[0]);
+    CHECK(rmse[2] < rmse[0]);
 }
 
 TEST_CASE("adaptive sampling spends samples where the error is", "[integrator][adaptive]") {

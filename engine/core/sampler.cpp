@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "halton.h"
 #include "rng.h"
 #include "sobol.h"
 
@@ -12,7 +13,8 @@ const EnumTable<SamplerKind>& sampler_names() {
                                            {"random", SamplerKind::Random},
                                            {"jittered", SamplerKind::Jittered},
                                            {"hammersley", SamplerKind::Hammersley},
-                                           {"sobol", SamplerKind::Sobol}}};
+                                           {"sobol", SamplerKind::Sobol},
+                                           {"halton", SamplerKind::Halton}}};
     return t;
 }
 
@@ -63,6 +65,8 @@ Point2 sample_pattern(SamplerKind kind, uint32_t i, uint32_t n, uint64_t seed, u
             sobol::sample2(i, n, seed, key, 0, p.x, p.y);
             return p;
         }
+        case SamplerKind::Halton:
+            return {halton::sample(i, seed, key, 0), halton::sample(i, seed, key, 1)};
         case SamplerKind::Hammersley: {
             // Centred Hammersley: shifted by half a stratum so that n = 1 is the pixel centre.
             const float x = (float(i) + 0.5f) / float(n);

@@ -1,9 +1,9 @@
 #pragma once
 // 2D sample patterns of the first thesis: regular, random, jittered and Hammersley, and
-// Owen-scrambled Sobol' (sobol.h), which the path tracer also draws its paths' dimensions
-// from. A
-// pattern of n points over the unit square; point i is a pure function of (kind, i, n,
-// seed, key), so any subset of a pixel's samples can be generated independently.
+// Owen-scrambled Sobol' (sobol.h) and randomised Halton (halton.h), which the path tracer
+// also draws its paths' dimensions from. A pattern of n points over the unit square; point i is a
+// pure function of (kind, i, n, seed, key), so any subset of a pixel's samples can be generated
+// independently.
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -12,7 +12,7 @@
 
 namespace foton {
 
-enum class SamplerKind { Regular, Random, Jittered, Hammersley, Sobol };
+enum class SamplerKind { Regular, Random, Jittered, Hammersley, Sobol, Halton };
 
 struct Point2 {
     float x = 0.f, y = 0.f;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/core/halton.h"
 #include "engine/core/sobol.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/mis.h"
@@ -40,6 +41,9 @@ float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t dept
     if (q.n == 0)
         return rng::uniform(seed_, kPathStream, ws.keys[slot],
                             uint64_t(depth) * kDimsPerBounce + k);
+    // Halton: the path's dimensions follow the pixel's two, one prime base each.
+    if (settings_.sampler == SamplerKind::Halton)
+        return halton::sample(q.i, seed_, q.key, 2 + depth * kDimsPerBounce + k);
     // Sobol' pairs per bounce: light position (1, 2), BSDF direction (5, 6), then the 1D
     // choices paired up (light choice with the mesh's triangle, lobe with roulette). Pair 0
     // is the pixel position.
@@ -51,7 +55,8 @@ float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t dept
 Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                              uint32_t k) const {
     const PathWorkspace::QmcSlot& q = ws.qmc[slot];
-    if (q.n == 0) return {rand(ws, slot, depth, k), rand(ws, slot, depth, k + 1)};
+    if (q.n == 0 || settings_.sampler == SamplerKind::Halton)
+        return {rand(ws, slot, depth, k), rand(ws, slot, depth, k + 1)};
     // Light position (1, 2) and BSDF direction (5, 6) are pairs 0 and 1 of the bounce.
     Point2 p;
     sobol::sample2(q.i, q.n, seed_, q.key, 1 + depth * 4 + (k == kDimLight ? 0 : 1), p.x, p.y);
@@ -285,7 +290,7 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.keys.resize(n);
     for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
     ws.qmc.assign(n, {});
-    if (settings_.sampler == SamplerKind::Sobol)
+    if (settings_.sampler == SamplerKind::Sobol || settings_.sampler == SamplerKind::Halton)
         for (std::size_t i = 0; i < n; ++i)
             ws.qmc[i] = {pixel_pattern_key(scene_, jobs[i]), jobs[i].pat_i, jobs[i].pat_n};
     ws.first_depth = 0;

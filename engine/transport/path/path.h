@@ -44,8 +44,8 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
     std::vector<Vec3> p_prev;            // where that ray started
     std::vector<uint64_t> keys;          // what keys the path's random numbers
-    // With sampler="sobol": each path's pixel key and its point (i of n) in the pass's
-    // scrambled Sobol' set; n = 0: the counter-based random numbers of `keys`.
+    // With sampler="sobol" or "halton": each path's pixel key and its point (i of n) in the pass's
+    // scrambled set; n = 0: the counter-based random numbers of `keys`.
     struct QmcSlot {
         uint64_t key = 0;
         uint32_t i = 0, n = 0;
