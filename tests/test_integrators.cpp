@@ -18,12 +18,7 @@ using namespace foton;
 namespace {
 
 RenderResult run(const TestScene& scene, uint32_t spp, int threads = 0, uint64_t seed = 1) {
-    const auto acc = make_intersector(scene, scene.accel);
-    RenderOptions opt;
-    opt.spp = spp;
-    opt.threads = threads;
-    opt.seed = seed;
-    return render(scene, scene.render, *acc, opt);
+    return render_test(scene, spp, threads, seed);
 }
 
 RGB mean(const Film& f, const std::vector<uint8_t>* mask = nullptr) {

@@ -4,8 +4,10 @@
 #include <random>
 #include <string>
 
+#include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/driver/integrators.h"
+#include "engine/transport/driver/render.h"
 
 namespace foton {
 // A scene with its renderer settings typed, for tests that adjust them
@@ -14,6 +16,17 @@ struct TestScene : Scene {
     RenderSettings render;
     TestScene(Scene scene) : Scene(std::move(scene)), render(render_settings(*this)) {}
 };
+
+// Renders `scene` with its own settings: spp samples per pixel, `threads` (0 = all), `seed`.
+inline RenderResult render_test(const TestScene& scene, uint32_t spp, int threads = 0,
+                                uint64_t seed = 1) {
+    const auto acc = make_intersector(scene, scene.accel);
+    RenderOptions opt;
+    opt.spp = spp;
+    opt.threads = threads;
+    opt.seed = seed;
+    return render(scene, scene.render, *acc, opt);
+}
 }  // namespace foton
 
 namespace foton::test {
