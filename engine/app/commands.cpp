@@ -176,8 +176,10 @@ int run_render(const RenderArgs& args) {
         throw InputError(out, 0,
                          "output must be an .exr file (a .png preview is written beside it)");
     PreviewFormat preview_format = PreviewFormat::Png;
-    if (!args.preview.empty() && !parse_preview_format(args.preview, preview_format))
-        throw InputError("--preview", 0, "unknown format '" + args.preview + "' (png, jpg, bmp)");
+    if (!args.preview.empty() && !preview_formats().parse(args.preview, preview_format))
+        throw InputError(
+            "--preview", 0,
+            "unknown format '" + args.preview + "' (" + preview_formats().list() + ")");
     // Every file the render will write is checked now, before any work.
     const std::string png =
         fs::path(out).replace_extension(preview_extension(preview_format)).string();

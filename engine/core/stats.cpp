@@ -28,6 +28,8 @@ const char* stage_name(Stage s) {
             return "balance";
         case Stage::Precompute:
             return "irradiance";
+        case Stage::GuideBins:
+            return "guide-bins";
         case Stage::FinalGather:
             return "final-gather";
         case Stage::PhotonEstimate:

@@ -22,6 +22,7 @@ enum class Stage {
     PhotonStore,
     Balance,
     Precompute,
+    GuideBins,  // photon-guided paths: binning the guide's photons into histograms
     FinalGather,
     PhotonEstimate,
     CacheRecords,

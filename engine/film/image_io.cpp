@@ -196,28 +196,16 @@ void write_png(const std::string& path, const Film& film, float exposure, float 
     write_preview(path, film, exposure, gamma, PreviewFormat::Png);
 }
 
-bool parse_preview_format(const std::string& name, PreviewFormat& out) {
-    if (name == "png")
-        out = PreviewFormat::Png;
-    else if (name == "jpg" || name == "jpeg")
-        out = PreviewFormat::Jpeg;
-    else if (name == "bmp")
-        out = PreviewFormat::Bmp;
-    else
-        return false;
-    return true;
+const EnumTable<PreviewFormat>& preview_formats() {
+    static const EnumTable<PreviewFormat> t{{{"png", PreviewFormat::Png},
+                                             {"jpg", PreviewFormat::Jpeg},
+                                             {"jpeg", PreviewFormat::Jpeg},
+                                             {"bmp", PreviewFormat::Bmp}}};
+    return t;
 }
 
-const char* preview_extension(PreviewFormat f) {
-    switch (f) {
-        case PreviewFormat::Png:
-            return ".png";
-        case PreviewFormat::Jpeg:
-            return ".jpg";
-        case PreviewFormat::Bmp:
-            return ".bmp";
-    }
-    return ".png";
+std::string preview_extension(PreviewFormat f) {
+    return std::string(".") + preview_formats().name(f);
 }
 
 void write_preview(const std::string& path, const Film& film, float exposure, float gamma,

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/params.h"
 #include "film.h"
 
 namespace foton {
@@ -43,8 +44,9 @@ void write_png(const std::string& path, const Film& film, float exposure, float 
 // The same preview as PNG, JPEG (quality 95) or BMP: the formats the ray-tracing thesis'
 // program saved.
 enum class PreviewFormat { Png, Jpeg, Bmp };
-bool parse_preview_format(const std::string& name, PreviewFormat& out);  // png, jpg, jpeg, bmp
-const char* preview_extension(PreviewFormat f);                          // ".png", ".jpg", ".bmp"
+// png, jpg (alias jpeg), bmp: each format's first name is its file extension.
+const EnumTable<PreviewFormat>& preview_formats();
+std::string preview_extension(PreviewFormat f);  // ".png", ".jpg", ".bmp"
 void write_preview(const std::string& path, const Film& film, float exposure, float gamma,
                    PreviewFormat format);
 // The same preview as PNG file contents, in memory.

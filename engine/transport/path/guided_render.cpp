@@ -38,7 +38,7 @@ RenderResult render_guided_path(const Scene& scene, const RenderSettings& settin
         // Next event estimation finds the lights; without it the direct photons guide too.
         const uint8_t flags = uint8_t(kPhotonViaSpecular | (settings.nee ? 0 : kPhotonDirect));
         guide.build(photons, flags, scene.bounds(), gs);
-        stats.add(Stage::Precompute, guide.size(), c);
+        stats.add(Stage::GuideBins, photons.size(), c);
         return guide.size();
     });
     graph.edge(trace, build);

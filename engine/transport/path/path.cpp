@@ -171,7 +171,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             radiance[slot] += beta * amb * ambient;
         }
 
-        // A guided vertex's BSDF strategy is a mixture with its nearest guide point's density.
+        // A guided vertex's BSDF strategy is a mixture with its bin's direction histogram.
         GuideMixture strategy;
         if (guided && guidable(m.bsdf)) {
             const int bin = guide_->find(sp.p, sp.ng);
