@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/film/image_io.h"
+#include "engine/film/metrics.h"
 #include "test_util.h"
 
 namespace {
@@ -137,6 +138,34 @@ TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare
     CHECK(run("compare " + dir.file("a.exr") + " " + ref + " --mask " +
               foton::test::source_path("scenes/previews/bunny.png"))
               .code == 2);
+    // --lowpass: one line per filter width; width 1 is the RMSE itself, wider ones less.
+    const Run lp = run("compare " + dir.file("a.exr") + " " + ref + " --lowpass 1,4");
+    CHECK(lp.code == 0);
+    const auto value = [](const std::string& out, const std::string& key) {
+        const auto at = out.find(key);
+        REQUIRE(at != std::string::npos);
+        return std::stod(out.substr(at + key.size()));
+    };
+    CHECK(value(lp.output, "lowpass_rmse 1 ") == Approx(value(lp.output, "rmse ")).epsilon(1e-5));
+    CHECK(value(lp.output, "lowpass_rmse 4 ") < 0.5 * value(lp.output, "rmse "));
+    CHECK(run("compare " + dir.file("a.exr") + " " + ref + " --lowpass 0").code != 0);
+}
+
+TEST_CASE("foton render --sampler is the renderer's sampler setting", "[cli]") {
+    foton::test::TempDir dir;
+    const std::string cornell = foton::test::source_path("scenes/cornell-diffuse.xml");
+    const std::string common = " --width 16 --height 16 --spp 4 --integrator path -q -o ";
+    REQUIRE(run("render " + cornell + " --sampler zsobol" + common + dir.file("a.exr")).code == 0);
+    REQUIRE(run("render " + cornell + " --set sampler=zsobol" + common + dir.file("b.exr")).code ==
+            0);
+    REQUIRE(run("render " + cornell + common + dir.file("c.exr")).code == 0);
+    const foton::Film a = foton::read_exr(dir.file("a.exr"));
+    CHECK(foton::compare_images(a, foton::read_exr(dir.file("b.exr"))).max_abs == 0.0);
+    CHECK(foton::compare_images(a, foton::read_exr(dir.file("c.exr"))).max_abs > 0.0);
+    const Run bad = run("render " + cornell + " --sampler blue" + common + dir.file("d.exr"));
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.output, Catch::Contains("--sampler"));
+    CHECK_THAT(bad.output, Catch::Contains("zsobol"));
 }
 
 TEST_CASE("foton render --set overrides renderer attributes and checks them", "[cli]") {

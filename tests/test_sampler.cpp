@@ -1,5 +1,6 @@
 // The four pixel sample patterns: structure, and uniformity by a chi-square test.
 #include <algorithm>
+#include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <set>
@@ -8,6 +9,7 @@
 #include "engine/core/halton.h"
 #include "engine/core/sampler.h"
 #include "engine/core/sobol.h"
+#include "engine/core/zsobol.h"
 
 using namespace foton;
 
@@ -206,4 +208,156 @@ TEST_CASE("randomised Halton: radical inverses, stratified in every base, scramb
     for (uint32_t i = 1; i < 29; ++i)
         plain += double(halton::radical_inverse(i, 29)) * double(halton::radical_inverse(i, 31));
     CHECK(plain / 28 > 0.3);  // E[xy] = 0.25 for independent uniforms; lockstep gives ~1/3
+}
+
+namespace {
+// Every elementary interval of area 1 / pts.size() (a power of two) holds exactly one point.
+bool is_02_net(const std::vector<Point2>& pts) {
+    const uint32_t n = uint32_t(pts.size());
+    const uint32_t m = uint32_t(std::countr_zero(n));
+    for (uint32_t a = 0; a <= m; ++a) {
+        const uint32_t cx = 1u << a, cy = 1u << (m - a);
+        std::vector<int> count(n, 0);
+        for (const Point2& p : pts) {
+            if (!(p.x >= 0.f && p.x < 1.f && p.y >= 0.f && p.y < 1.f)) return false;
+            ++count[uint32_t(p.y * float(cy)) * cx + uint32_t(p.x * float(cx))];
+        }
+        for (int c : count)
+            if (c != 1) return false;
+    }
+    return true;
+}
+
+Point2 zsample(uint32_t x, uint32_t y, uint32_t res, uint32_t i, uint32_t n, uint64_t seed,
+               uint32_t pair) {
+    Point2 p;
+    zsobol::sample2(zsobol::index_of(x, y, res, res, i, n, seed, 0), pair, p.x, p.y);
+    return p;
+}
+}  // namespace
+
+TEST_CASE("zsobol: Morton order, and its digit permutations map aligned blocks to blocks",
+          "[sampler][fast]") {
+    // Sobol's second dimension by byte tables equals its definition, a column per index bit.
+    for (uint32_t i : {0u, 1u, 2u, 3u, 255u, 256u, 0x12345u, 0xdeadbeefu, 0xffffffffu}) {
+        uint32_t v = 1u << 31, want = 0;
+        for (uint32_t b = i; b; b >>= 1, v ^= v >> 1)
+            if (b & 1u) want ^= v;
+        CHECK(sobol::dim1(i) == want);
+    }
+    CHECK(zsobol::morton2(0, 0) == 0);
+    CHECK(zsobol::morton2(1, 0) == 1);
+    CHECK(zsobol::morton2(0, 1) == 2);
+    CHECK(zsobol::morton2(3, 5) == 0b100111);
+    CHECK(zsobol::morton2(0xffffffffu, 0) == 0x5555555555555555ull);
+    // Bijective on [0, 2^bits) for even and odd bit counts, and every aligned block of 4^k
+    // indices (2^k for the lone bit) lands on an aligned block of the same size.
+    for (uint32_t bits : {1u, 4u, 5u, 8u, 9u}) {
+        for (uint32_t pair : {0u, 3u, 17u}) {
+            std::vector<uint64_t> image(std::size_t(1) << bits);
+            std::set<uint64_t> seen;
+            for (uint64_t v = 0; v < image.size(); ++v) {
+                zsobol::Index s;
+                s.index = v;
+                s.bits = bits;
+                s.key = 99;
+                image[v] = zsobol::permuted_index(s, pair);
+                REQUIRE(image[v] < image.size());
+                seen.insert(image[v]);
+            }
+            CHECK(seen.size() == image.size());
+            for (uint32_t block = (bits & 1u) ? 2u : 4u; block <= image.size(); block *= 4)
+                for (uint64_t b0 = 0; b0 < image.size(); b0 += block)
+                    for (uint64_t v = b0; v < b0 + block; ++v)
+                        REQUIRE(image[v] / block == image[b0] / block);
+        }
+    }
+}
+
+TEST_CASE("zsobol: each pixel's samples, and each aligned block of pixels', form a (0, m, 2)-net",
+          "[sampler][fast]") {
+    const uint32_t res = 16;
+    for (uint32_t n : {1u, 2u, 4u, 8u, 16u})
+        for (uint32_t pair : {0u, 1u, 6u, 29u})
+            for (uint32_t block : {1u, 2u, 4u}) {
+                INFO("spp " << n << ", pair " << pair << ", block " << block);
+                // Points in each pixel's own square: the block's pixels together are one net
+                // of block^2 * n points, each pixel's alone a net of n.
+                for (uint32_t by = 0; by < res; by += block)
+                    for (uint32_t bx = 0; bx < res; bx += block) {
+                        std::vector<Point2> pts;
+                        for (uint32_t y = by; y < by + block; ++y)
+                            for (uint32_t x = bx; x < bx + block; ++x)
+                                for (uint32_t i = 0; i < n; ++i)
+                                    pts.push_back(zsample(x, y, res, i, n, 4, pair));
+                        REQUIRE(is_02_net(pts));
+                    }
+            }
+    // A pixel of a non-power-of-two count takes the first n of the next power's net.
+    std::vector<Point2> six;
+    for (uint32_t i = 0; i < 8; ++i) six.push_back(zsample(3, 5, res, i, 6, 4, 2));
+    CHECK(is_02_net(six));
+    // Every pass is its own randomisation.
+    Point2 a, b;
+    zsobol::sample2(zsobol::index_of(3, 5, res, res, 0, 4, 4, 0), 1, a.x, a.y);
+    zsobol::sample2(zsobol::index_of(3, 5, res, res, 0, 4, 4, 1), 1, b.x, b.y);
+    CHECK((a.x != b.x || a.y != b.y));
+}
+
+TEST_CASE("zsobol: pairs are uncorrelated and uniform, and neighbours' errors cancel",
+          "[sampler][fast]") {
+    const uint32_t res = 64;
+    double sx = 0, sy = 0, sxy = 0, sxx = 0, syy = 0;
+    double N = 0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x)
+            for (uint32_t i = 0; i < 4; ++i) {
+                zsobol::Index s = zsobol::index_of(x, y, res, res, i, 4, 21, 0);
+                const double u = zsobol::sample1(s, 1, 0), v = zsobol::sample1(s, 2, 0);
+                sx += u, sy += v, sxy += u * v, sxx += u * u, syy += v * v, N += 1;
+            }
+    const double corr = (sxy / N - sx / N * sy / N) /
+                        std::sqrt((sxx / N - sx / N * sx / N) * (syy / N - sy / N * sy / N));
+    INFO("correlation " << corr);
+    CHECK(std::fabs(corr) < 0.03);
+    CHECK(sx / N == Approx(0.5).epsilon(0.01));
+    CHECK(sy / N == Approx(0.5).epsilon(0.01));
+
+    // Blue noise: every pixel estimates the same smooth integral from its samples. With
+    // padded Sobol' the pixels' errors are independent, so a 2 x 2 block's summed error has
+    // 4x a pixel's variance; in Z-order the block's samples are one net and its errors cancel.
+    auto f = [](float u, float v) { return std::sin(5.f * u + 1.f) * std::exp(v) + u * v * v; };
+    const double exact = (std::cos(1.0) - std::cos(6.0)) / 5.0 * (std::exp(1.0) - 1.0) + 1.0 / 6.0;
+    for (uint32_t pair : {0u, 9u})
+        for (uint32_t spp : {1u, 4u}) {
+            double var_pixel[2] = {0, 0}, var_block[2] = {0, 0};
+            for (int zorder = 0; zorder < 2; ++zorder)
+                for (uint32_t by = 0; by < res; by += 2)
+                    for (uint32_t bx = 0; bx < res; bx += 2) {
+                        double block = 0;
+                        for (uint32_t y = by; y < by + 2; ++y)
+                            for (uint32_t x = bx; x < bx + 2; ++x) {
+                                double est = 0;
+                                for (uint32_t i = 0; i < spp; ++i) {
+                                    Point2 p;
+                                    if (zorder)
+                                        p = zsample(x, y, res, i, spp, 8, pair);
+                                    else
+                                        sobol::sample2(i, spp, 8, y * res + x, pair, p.x, p.y);
+                                    est += f(p.x, p.y) / spp;
+                                }
+                                var_pixel[zorder] += (est - exact) * (est - exact);
+                                block += est - exact;
+                            }
+                        var_block[zorder] += block * block;
+                    }
+            // Sums over the image: a block's variance over its pixels' (the 4 per block).
+            const double sobol_ratio = var_block[0] / var_pixel[0];
+            const double z_ratio = var_block[1] / var_pixel[1];
+            INFO("pair " << pair << ", spp " << spp << ": block / 4 pixels' variance, sobol "
+                         << sobol_ratio << ", zsobol " << z_ratio);
+            CHECK(sobol_ratio > 0.7);
+            CHECK(sobol_ratio < 1.3);
+            CHECK(z_ratio < 0.3 * sobol_ratio);
+        }
 }

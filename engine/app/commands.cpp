@@ -128,6 +128,7 @@ int run_render(const RenderArgs& args) {
     };
     if (!args.integrator.empty()) flag("type", args.integrator, "--integrator");
     if (!args.mis.empty()) flag("mis", args.mis, "--mis");
+    if (!args.sampler.empty()) flag("sampler", args.sampler, "--sampler");
     if (args.nee) flag("nee", *args.nee ? "true" : "false", "--nee");
     if (args.max_depth) flag("max_depth", std::to_string(*args.max_depth), "--max-depth");
     if (args.rr_depth) flag("rr_depth", std::to_string(*args.rr_depth), "--rr-depth");
@@ -385,6 +386,8 @@ int run_compare(const CompareArgs& args) {
                 e.relative_mse, e.mae, e.max_abs, e.pixels);
     std::printf("mean_a %.6g %.6g %.6g\nmean_b %.6g %.6g %.6g\n", e.mean_a.r, e.mean_a.g,
                 e.mean_a.b, e.mean_b.r, e.mean_b.g, e.mean_b.b);
+    for (int n : args.lowpass)
+        std::printf("lowpass_rmse %d %.6g\n", n, lowpass_rmse(a, b, mask, n));
     if (!args.diff_png.empty()) write_difference_png(args.diff_png, a, b, args.diff_scale);
     return 0;
 }

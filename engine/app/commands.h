@@ -20,6 +20,7 @@ struct RenderArgs {
     std::vector<int> pixel_bounds;  // x0,x1,y0,y1 in pixels
     std::string integrator;         // empty = the scene's <renderer type>
     std::string mis;
+    std::string sampler;  // --sampler: the renderer's sampler
     std::optional<bool> nee;
     std::optional<uint32_t> max_depth, rr_depth;
     std::optional<float> time;          // seconds of progressive passes
@@ -51,6 +52,7 @@ struct CompareArgs {
     std::optional<float> exclude_above;  // leave out pixels brighter than this in b
     int exclude_margin = 0;              // ... and those within this many pixels of them
     std::string mask_png;                // count only pixels that are non-black in this PNG
+    std::vector<int> lowpass;            // also the RMSE after these n x n box filters
 };
 int run_compare(const CompareArgs& args);
 

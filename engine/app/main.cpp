@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "
                        "filter=gauss); repeatable");
+    render->add_option("--sampler", ra.sampler,
+                       "regular | random | jittered | hammersley | sobol | halton | zsobol");
     render->add_option("--mis", ra.mis, "path: balance | power | max | none (NEE without MIS)");
     render->add_option("--nee", ra.nee, "path: next event estimation (false = BSDF sampling only)");
     render->add_option("--max-depth", ra.max_depth,
@@ -98,6 +100,12 @@ int main(int argc, char** argv) {
                      "(a light's partly covered edge)")
         ->check(CLI::Range(0, 64));
     compare->add_option("--mask", ca.mask_png, "PNG: count only its non-black pixels");
+    compare
+        ->add_option("--lowpass", ca.lowpass,
+                     "also the RMSE after an N x N box filter of the error (N,...: the noise "
+                     "left when neighbours are averaged; blue-noise samplers lower it)")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 64));
 
     app::ServeArgs sa;
     CLI::App* serve = app.add_subcommand(

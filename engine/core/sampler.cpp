@@ -14,7 +14,8 @@ const EnumTable<SamplerKind>& sampler_names() {
                                            {"jittered", SamplerKind::Jittered},
                                            {"hammersley", SamplerKind::Hammersley},
                                            {"sobol", SamplerKind::Sobol},
-                                           {"halton", SamplerKind::Halton}}};
+                                           {"halton", SamplerKind::Halton},
+                                           {"zsobol", SamplerKind::ZSobol}}};
     return t;
 }
 
@@ -60,7 +61,8 @@ Point2 sample_pattern(SamplerKind kind, uint32_t i, uint32_t n, uint64_t seed, u
             }
             return {(float(cx) + jx) / float(cols), (float(cy) + jy) / float(rows)};
         }
-        case SamplerKind::Sobol: {
+        case SamplerKind::Sobol:
+        case SamplerKind::ZSobol: {
             Point2 p;
             sobol::sample2(i, n, seed, key, 0, p.x, p.y);
             return p;

@@ -15,12 +15,34 @@ uint32_t dim0(uint32_t i) {
     return ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
 }
 
+namespace {
+// Column k of the second dimension's generator matrix: v_0 = 1 << 31, v_k = v_{k-1} ^
+// (v_{k-1} >> 1). The product with an index is the xor of the columns of its set bits; the
+// tables hold those xors for each byte of the index, so a long index (zsobol's, 20-30 bits)
+// costs four lookups instead of a loop over its bits.
+struct Dim1Tables {
+    uint32_t t[4][256] = {};
+};
+constexpr Dim1Tables make_dim1_tables() {
+    Dim1Tables d;
+    uint32_t column[32] = {};
+    uint32_t v = 1u << 31;
+    for (int k = 0; k < 32; ++k, v ^= v >> 1) column[k] = v;
+    for (int b = 0; b < 4; ++b)
+        for (uint32_t x = 0; x < 256; ++x) {
+            uint32_t out = 0;
+            for (int k = 0; k < 8; ++k)
+                if (x >> k & 1u) out ^= column[8 * b + k];
+            d.t[b][x] = out;
+        }
+    return d;
+}
+constexpr Dim1Tables kDim1 = make_dim1_tables();
+}  // namespace
+
 uint32_t dim1(uint32_t i) {
-    // Column k of the generator matrix: v_0 = 1 << 31, v_k = v_{k-1} ^ (v_{k-1} >> 1).
-    uint32_t v = 1u << 31, out = 0;
-    for (; i; i >>= 1, v ^= v >> 1)
-        if (i & 1u) out ^= v;
-    return out;
+    return kDim1.t[0][i & 0xffu] ^ kDim1.t[1][(i >> 8) & 0xffu] ^ kDim1.t[2][(i >> 16) & 0xffu] ^
+           kDim1.t[3][i >> 24];
 }
 
 uint32_t owen_scramble(uint32_t v, uint64_t seed) {

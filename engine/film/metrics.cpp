@@ -87,4 +87,44 @@ std::vector<uint8_t> grow_exclusion(const std::vector<uint8_t>& mask, int width,
     return out;
 }
 
+double lowpass_rmse(const Film& a, const Film& b, const std::vector<uint8_t>& mask, int n) {
+    if (a.width != b.width || a.height != b.height || mask.size() != a.pixels.size())
+        throw std::invalid_argument("images differ in size");
+    if (n < 1) throw std::invalid_argument("filter width below 1");
+    const int w = a.width, h = a.height;
+    // Summed-area tables of the difference and of the mask's holes: each window in O(1).
+    const std::size_t stride = std::size_t(w) + 1;
+    std::vector<double> sat(stride * std::size_t(h + 1) * 3, 0.0);
+    std::vector<uint32_t> holes(stride * std::size_t(h + 1), 0);
+    auto at = [&](int x, int y) { return std::size_t(y) * stride + std::size_t(x); };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            const RGB d = a.pixels[p] - b.pixels[p];
+            const double dv[3] = {d.r, d.g, d.b};
+            for (int c = 0; c < 3; ++c)
+                sat[at(x + 1, y + 1) * 3 + c] = dv[c] + sat[at(x, y + 1) * 3 + c] +
+                                                sat[at(x + 1, y) * 3 + c] - sat[at(x, y) * 3 + c];
+            holes[at(x + 1, y + 1)] =
+                uint32_t(!mask[p]) + holes[at(x, y + 1)] + holes[at(x + 1, y)] - holes[at(x, y)];
+        }
+    double se = 0.0;
+    std::size_t windows = 0;
+    const double inv = 1.0 / (double(n) * double(n));
+    for (int y = 0; y + n <= h; ++y)
+        for (int x = 0; x + n <= w; ++x) {
+            if (holes[at(x + n, y + n)] + holes[at(x, y)] !=
+                holes[at(x, y + n)] + holes[at(x + n, y)])
+                continue;
+            ++windows;
+            for (int c = 0; c < 3; ++c) {
+                const double m = (sat[at(x + n, y + n) * 3 + c] - sat[at(x, y + n) * 3 + c] -
+                                  sat[at(x + n, y) * 3 + c] + sat[at(x, y) * 3 + c]) *
+                                 inv;
+                se += m * m;
+            }
+        }
+    return windows ? std::sqrt(se / (3.0 * double(windows))) : 0.0;
+}
+
 }  // namespace foton

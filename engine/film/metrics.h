@@ -38,4 +38,10 @@ std::vector<uint8_t> luminance_mask(const Film& ref, float max_luminance);
 std::vector<uint8_t> grow_exclusion(const std::vector<uint8_t>& mask, int width, int height,
                                     int margin);
 
+// RMSE of the error after an n x n box filter (every window, sliding, that lies wholly in the
+// mask): the noise that is left when neighbouring pixels are averaged, as the eye does from a
+// distance. Samplers that make neighbours' errors cancel (blue noise, sampler="zsobol") lower
+// it more than the plain RMSE; n = 1 is the RMSE.
+double lowpass_rmse(const Film& a, const Film& b, const std::vector<uint8_t>& mask, int n);
+
 }  // namespace foton

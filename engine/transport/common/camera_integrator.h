@@ -12,6 +12,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/sampler.h"
 #include "engine/core/stats.h"
+#include "engine/core/zsobol.h"
 #include "engine/scene/scene.h"
 
 namespace foton {
@@ -40,8 +41,21 @@ inline uint64_t pixel_pattern_key(const Scene& scene, const SampleJob& j) {
     return rng::hash(kPixelStream, scene.film.pixel_id(j.x, j.y), j.pat_round, 0);
 }
 
+// With sampler="zsobol": the sample's index in the image-wide sequence, from its pixel's place
+// in the full image.
+inline zsobol::Index zsobol_index(const Scene& scene, const SampleJob& j, uint64_t seed) {
+    const FilmSettings& f = scene.film;
+    return zsobol::index_of(j.x + uint32_t(f.x0), j.y + uint32_t(f.y0), uint32_t(f.full_width),
+                            uint32_t(f.full_height), j.pat_i, j.pat_n, seed, j.pat_round);
+}
+
 inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const SampleJob& j,
                            uint64_t seed) {
+    if (sampler == SamplerKind::ZSobol) {
+        Point2 p;
+        zsobol::sample2(zsobol_index(scene, j, seed), 0, p.x, p.y);
+        return p;
+    }
     return sample_pattern(sampler, j.pat_i, j.pat_n, seed, pixel_pattern_key(scene, j));
 }
 

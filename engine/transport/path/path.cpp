@@ -5,6 +5,7 @@
 #include "engine/core/halton.h"
 #include "engine/core/sobol.h"
 #include "engine/core/warp.h"
+#include "engine/core/zsobol.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
@@ -49,7 +50,9 @@ float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t dept
     // is the pixel position.
     static constexpr uint8_t kPair[kDimsPerBounce] = {2, 0, 0, 2, 3, 1, 1, 3};
     static constexpr uint8_t kCoord[kDimsPerBounce] = {0, 0, 1, 1, 0, 0, 1, 1};
-    return sobol::sample1(q.i, q.n, seed_, q.key, 1 + depth * 4 + kPair[k], kCoord[k]);
+    const uint32_t pair = 1 + depth * 4 + kPair[k];
+    if (settings_.sampler == SamplerKind::ZSobol) return zsobol::sample1(q.z, pair, kCoord[k]);
+    return sobol::sample1(q.i, q.n, seed_, q.key, pair, kCoord[k]);
 }
 
 Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
@@ -59,7 +62,11 @@ Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t de
         return {rand(ws, slot, depth, k), rand(ws, slot, depth, k + 1)};
     // Light position (1, 2) and BSDF direction (5, 6) are pairs 0 and 1 of the bounce.
     Point2 p;
-    sobol::sample2(q.i, q.n, seed_, q.key, 1 + depth * 4 + (k == kDimLight ? 0 : 1), p.x, p.y);
+    const uint32_t pair = 1 + depth * 4 + (k == kDimLight ? 0 : 1);
+    if (settings_.sampler == SamplerKind::ZSobol)
+        zsobol::sample2(q.z, pair, p.x, p.y);
+    else
+        sobol::sample2(q.i, q.n, seed_, q.key, pair, p.x, p.y);
     return p;
 }
 
@@ -292,7 +299,10 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.qmc.assign(n, {});
     if (settings_.sampler == SamplerKind::Sobol || settings_.sampler == SamplerKind::Halton)
         for (std::size_t i = 0; i < n; ++i)
-            ws.qmc[i] = {pixel_pattern_key(scene_, jobs[i]), jobs[i].pat_i, jobs[i].pat_n};
+            ws.qmc[i] = {pixel_pattern_key(scene_, jobs[i]), jobs[i].pat_i, jobs[i].pat_n, {}};
+    else if (settings_.sampler == SamplerKind::ZSobol)
+        for (std::size_t i = 0; i < n; ++i)
+            ws.qmc[i] = {0, jobs[i].pat_i, jobs[i].pat_n, zsobol_index(scene_, jobs[i], seed_)};
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();

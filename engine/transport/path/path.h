@@ -45,10 +45,12 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<Vec3> p_prev;            // where that ray started
     std::vector<uint64_t> keys;          // what keys the path's random numbers
     // With sampler="sobol" or "halton": each path's pixel key and its point (i of n) in the pass's
-    // scrambled set; n = 0: the counter-based random numbers of `keys`.
+    // scrambled set; with "zsobol" its index in the image-wide sequence; n = 0: the
+    // counter-based random numbers of `keys`.
     struct QmcSlot {
         uint64_t key = 0;
         uint32_t i = 0, n = 0;
+        zsobol::Index z;
     };
     std::vector<QmcSlot> qmc;
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)

@@ -1,0 +1,121 @@
+#include "zsobol.h"
+
+#include <bit>
+
+#include "rng.h"
+#include "sobol.h"
+
+namespace foton::zsobol {
+
+namespace {
+
+// The 24 permutations of {0, 1, 2, 3}, two bits per entry (entry d at bits 2d, 2d + 1).
+constexpr auto kPermutations = [] {
+    struct Table {
+        uint8_t p[24] = {};
+    } t;
+    int k = 0;
+    for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+            for (int c = 0; c < 4; ++c) {
+                const int d = 6 - a - b - c;
+                if (a == b || a == c || b == c || d < 0 || d > 3 || d == a || d == b || d == c)
+                    continue;
+                t.p[k++] = uint8_t(a | (b << 2) | (c << 4) | (d << 6));
+            }
+    return t;
+}();
+static_assert(kPermutations.p[23] != 0, "all 24 permutations of four digits");
+
+uint32_t ceil_log2(uint32_t n) {
+    return n <= 1 ? 0u : uint32_t(std::bit_width(n - 1));
+}
+
+uint64_t pair_key(const Index& s, uint32_t pair) {
+    return rng::mix64(s.key + 0x2505u * (uint64_t(pair) + 1));
+}
+
+float to_float(uint32_t v) {
+    return float(v >> 8) * (1.f / 16777216.f);
+}
+
+}  // namespace
+
+uint64_t morton2(uint32_t x, uint32_t y) {
+    auto spread = [](uint64_t v) {
+        v &= 0xffffffffull;
+        v = (v | (v << 16)) & 0x0000ffff0000ffffull;
+        v = (v | (v << 8)) & 0x00ff00ff00ff00ffull;
+        v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0full;
+        v = (v | (v << 2)) & 0x3333333333333333ull;
+        return (v | (v << 1)) & 0x5555555555555555ull;
+    };
+    return spread(x) | (spread(y) << 1);
+}
+
+Index index_of(uint32_t x, uint32_t y, uint32_t width, uint32_t height, uint32_t i, uint32_t n,
+               uint64_t seed, uint64_t pass) {
+    const uint32_t side = ceil_log2(width > height ? width : height);
+    const uint32_t log2n = ceil_log2(n);
+    Index s;
+    s.index = (morton2(x, y) << log2n) | i;
+    s.bits = 2 * side + log2n;
+    s.key = rng::hash(seed, 0x7a50b01u, pass, 0);
+    return s;
+}
+
+namespace {
+
+// The index's digits permuted, for the pair keyed by `pk`. One multiply and a fold per digit
+// choose its permutation from the digits above it: the loop's iterations are independent, so
+// they overlap in the pipeline.
+uint64_t permute_digits(const Index& s, uint64_t pk) {
+    uint64_t out = 0;
+    // With an odd bit count the lowest bit stands alone: a base-2 digit, flipped or not.
+    const uint32_t lone = s.bits & 1u;
+    for (int shift = int(s.bits) - 2; shift >= int(lone); shift -= 2) {
+        // The digits above plus the digit's position: equal prefixes at different depths differ.
+        const uint64_t above = s.index >> (shift + 2);
+        uint64_t h =
+            (above ^ (pk + uint64_t(shift) * 0x9e3779b97f4a7c15ull)) * 0xbf58476d1ce4e5b9ull;
+        h ^= h >> 29;
+        const uint32_t perm = kPermutations.p[(uint64_t(uint32_t(h >> 32)) * 24u) >> 32];
+        const uint32_t digit = uint32_t(s.index >> shift) & 3u;
+        out |= uint64_t((perm >> (2 * digit)) & 3u) << shift;
+    }
+    if (lone) {
+        const uint64_t h = ((s.index >> 1) ^ pk) * 0x94d049bb133111ebull;
+        out |= (s.index & 1u) ^ (h >> 63);
+    }
+    return out;
+}
+
+// The pair's permuted index and its Owen scramble key.
+uint64_t scrambled(const Index& s, uint32_t pair, uint64_t& key) {
+    const uint64_t pk = pair_key(s, pair);
+    const uint64_t j = permute_digits(s, pk);
+    key = j >> 32 ? rng::mix64(pk ^ (j >> 32)) : pk;
+    return j;
+}
+
+}  // namespace
+
+uint64_t permuted_index(const Index& s, uint32_t pair) {
+    return permute_digits(s, pair_key(s, pair));
+}
+
+void sample2(const Index& s, uint32_t pair, float& x, float& y) {
+    uint64_t k;
+    const uint32_t j = uint32_t(scrambled(s, pair, k));
+    x = to_float(sobol::owen_scramble(sobol::dim0(j), k + 1));
+    y = to_float(sobol::owen_scramble(sobol::dim1(j), k + 2));
+}
+
+float sample1(const Index& s, uint32_t pair, int coord) {
+    uint64_t k;
+    const uint32_t j = uint32_t(scrambled(s, pair, k));
+    return coord == 0 ? to_float(sobol::owen_scramble(sobol::dim0(j), k + 1))
+                      : to_float(sobol::owen_scramble(sobol::dim1(j), k + 2));
+}
+
+}  // namespace foton::zsobol
