@@ -234,6 +234,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                     s.wi = w;
                     s.dist = ds;
                     s.p_light = p + w * ds;
+                    s.n_light = normalize(s.p_light - e.p);
                     s.pdf = warp::uniform_cone_pdf(cos_max);
                     s.Li = e.value;
                     return s.pdf > 0.f && ds > 0.f;
@@ -250,6 +251,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             if (e.two_sided) cos_l = std::fabs(cos_l);
             if (cos_l <= 0.f) return false;  // one-sided: its back faces p
             s.p_light = q;
+            s.n_light = dot(nq, s.wi) < 0.f ? nq : -nq;
             s.pdf = d2 / (cos_l * e.area);
             s.Li = e.value;
             return true;
@@ -360,6 +362,40 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
         }
     }
     return false;
+}
+
+void LightSet::pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_pos,
+                      float& pdf_dir) const {
+    const Emitter& e = emitters_[i];
+    pdf_pos = 1.f;
+    pdf_dir = 0.f;
+    switch (e.type) {
+        case EmitterType::Point:
+            pdf_dir = warp::kUniformSpherePdf;
+            return;
+        case EmitterType::Spot:
+            pdf_dir = dot(dir, e.n) >= e.cos_outer ? warp::uniform_cone_pdf(e.cos_outer) : 0.f;
+            return;
+        case EmitterType::Environment:
+            pdf_pos = 1.f / (kPi * radius_ * radius_);
+            pdf_dir = scene_->environment->pdf(-dir);
+            return;
+        case EmitterType::Directional:
+            pdf_pos = 1.f / (kPi * radius_ * radius_);
+            pdf_dir = 1.f;
+            return;
+        case EmitterType::Rect:
+        case EmitterType::Sphere:
+        case EmitterType::Mesh: {
+            pdf_pos = 1.f / e.area;
+            const float c = dot(nq, dir);
+            if (e.two_sided)
+                pdf_dir = 0.5f * std::fabs(c) * kInvPi;
+            else
+                pdf_dir = c > 0.f ? c * kInvPi : 0.f;
+            return;
+        }
+    }
 }
 
 }  // namespace foton

@@ -56,6 +56,7 @@ struct LightSample {
     RGB Li;            // incident radiance (intensity / d^2 for delta lights)
     float pdf = 0.f;   // solid angle density (1 for delta lights); selection not included
     Vec3 p_light;      // the sampled point on the light
+    Vec3 n_light;      // its surface normal, facing p (area kinds; zero otherwise)
 };
 
 // An emitted ray.
@@ -106,6 +107,14 @@ class LightSet {
     // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),
     // direction with u_dir.
     bool sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc, EmissionSample& s) const;
+    // The densities with which sample_le would emit from point q (normal nq, on the emitting
+    // side for area kinds) in direction `dir`: area density of the position (1 for delta
+    // positions; the disc's for light from infinity) and solid-angle density of the
+    // direction (1 for directional). For an environment q is ignored and `dir` is the
+    // direction the light travels. What bidirectional MIS weighs a light vertex by.
+    void pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_pos, float& pdf_dir) const;
+    // The scene's bounding sphere (what light from infinity is emitted across).
+    float scene_radius() const { return radius_; }
     // The start of a light path or photon: an emitter chosen by power with u_select, its
     // emitted ray, the ray's origin pushed off an emitting surface, and the path throughput
     // Le |cos| / (pmf pdf_pos pdf_dir). False when the sample carries no light.

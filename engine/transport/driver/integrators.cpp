@@ -1,5 +1,6 @@
 #include "integrators.h"
 
+#include "engine/transport/bidir/vcm_render.h"
 #include "engine/transport/light/light_render.h"
 #include "engine/transport/path/path.h"
 #include "engine/transport/photon/photon_render.h"
@@ -18,6 +19,9 @@ const std::vector<IntegratorInfo>& integrators() {
         {"photon", {}, true, true, render_photon},
         {"sppm", {}, false, false, render_sppm},
         {"ppm", {}, false, false, render_ppm},
+        {"bdpt", {}, false, false, render_bdpt},
+        {"bpm", {}, false, false, render_bpm},
+        {"vcm", {}, false, false, render_vcm},
     };
     return table;
 }

@@ -1,5 +1,7 @@
 #include "render_settings.h"
 
+#include <cstdio>
+
 namespace foton {
 
 namespace {
@@ -58,6 +60,30 @@ void parse_path_guide(const ParamSet& p, RenderSettings& r) {
     if (!p.has("rr_depth")) r.rr_depth = kNoRoulette;
 }
 
+void parse_bidir(const ParamSet& p, RenderSettings& r) {
+    const bool bidir = r.integrator == "bdpt" || r.integrator == "bpm" || r.integrator == "vcm";
+    if (bidir && r.mis != MisHeuristic::Balance && r.mis != MisHeuristic::Power)
+        p.fail("mis",
+               "bdpt, bpm and vcm weigh by the balance or power heuristic (mis=balance "
+               "or mis=power)");
+    if (!p.has("strategy")) return;
+    const std::string v = p.text("strategy");
+    if (r.integrator != "bdpt") p.fail("strategy", "strategy=\"s,t\" needs type=\"bdpt\"");
+    unsigned s = 0, t = 0;
+    char tail = 0;
+    if (v != "all") {
+        if (std::sscanf(v.c_str(), "%u,%u%c", &s, &t, &tail) != 2 || t < 1 || s + t < 2 ||
+            s > 1000 || t > 1000)
+            p.fail("strategy",
+                   "strategy is \"all\" or \"s,t\": s >= 0 light vertices and t "
+                   ">= 1 camera vertices (e.g. \"1,2\": next event estimation at "
+                   "the first hit), not '" +
+                       v + "'");
+        r.bidir.only_s = int(s);
+        r.bidir.only_t = int(t);
+    }
+}
+
 }  // namespace
 
 RenderSettings parse_render_settings(const ParamSet& params) {
@@ -67,6 +93,7 @@ RenderSettings parse_render_settings(const ParamSet& params) {
     parse_photon_settings(params, r.photon);
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide(params, r);
+    parse_bidir(params, r);
     r.lighting = params.choice("lighting", kLighting, r.lighting);
     if (r.lighting != Lighting::All) {
         if (r.integrator != "path" && r.integrator != "photon")

@@ -43,6 +43,13 @@ struct AdaptiveSettings {
     bool unbiased = false;
 };
 
+// bdpt, bpm and vcm (transport/bidir): `strategy="s,t"` keeps only the strategy with s light
+// and t camera vertices, at full weight (a debug switch: each strategy alone converges to its
+// share of the image); the default, all strategies, weighted.
+struct BidirSettings {
+    int only_s = -1, only_t = -1;
+};
+
 struct RenderSettings {
     std::string integrator = "raytracer";  // a name in integrators()
     // The run's own settings as the file gives them (spp, num_threads, seed, time): the
@@ -67,6 +74,7 @@ struct RenderSettings {
     // vertex of each camera path (after specular ones only).
     IndirectMode indirect = IndirectMode::FinalGather;
     CacheSettings cache;
+    BidirSettings bidir;
 };
 
 // Every group's keys, then rejects keys nobody read. The integrator's name is checked

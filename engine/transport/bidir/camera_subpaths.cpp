@@ -1,0 +1,271 @@
+#include "camera_subpaths.h"
+
+#include <cmath>
+
+#include "engine/core/rng.h"
+#include "engine/core/warp.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
+
+namespace foton {
+
+namespace {
+// Random dimensions per bounce: light choice, light position (2), mesh triangle, BSDF lobe
+// and direction (2); the pixel position and lens come from the renderer's sampler.
+constexpr uint32_t kDimsPerBounce = 8, kDimSelect = 0, kDimLight = 1, kDimTriangle = 3,
+                   kDimBsdf = 4;
+
+// A light-path vertex's BSDF, rebuilt where a connection needs it.
+struct LightVertexBsdf {
+    std::optional<Material> scratch;
+    const Material& m;
+    warp::Frame frame;
+    Vec3 wo;
+    LightVertexBsdf(const Scene& scene, const LightVertices& v, std::size_t i)
+        : m(scene.material_at(v.geom[i], v.uv[i], scratch)), frame(v.ns[i]) {
+        wo = frame.to_local(v.wo[i]);
+    }
+};
+}  // namespace
+
+void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uint32_t first,
+                           uint32_t count, CameraSubpathWorkspace& ws, std::vector<RGB>& radiance,
+                           RenderStats& stats) {
+    const Scene& scene = c.scene;
+    const Camera& cam = scene.camera;
+    const VcmWeights& W = c.weights;
+    const LightVertices& lv = store.vertices;
+    const float n_paths = float(c.light_paths);
+    const uint32_t width = uint32_t(scene.film.width);
+    StageClock clock;
+    auto rand = [&](uint32_t slot, uint32_t depth, uint32_t k) {
+        return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + first + slot,
+                            uint64_t(depth) * kDimsPerBounce + k);
+    };
+
+    radiance.assign(count, RGB{0.f});
+    ws.beta.assign(count, RGB{1.f});
+    ws.mis.assign(count, {});
+    ws.p_prev.assign(count, Vec3{});
+    ws.specular.assign(count, 1);
+    ws.rays.clear();
+    {
+        std::vector<SampleJob> jobs(count);
+        const uint64_t npix = scene.film.full_pixels();
+        for (uint32_t k = 0; k < count; ++k) {
+            const uint32_t pixel = first + k;
+            SampleJob& j = jobs[k];
+            j.x = pixel % width;
+            j.y = pixel / width;
+            j.pat_round = uint32_t(c.iteration);
+            j.id = c.iteration * npix + scene.film.pixel_id(j.x, j.y);
+        }
+        generate_camera_rays(scene, c.settings.sampler, jobs, c.seed, ws.rays);
+        for (uint32_t k = 0; k < count; ++k) {
+            const float cos_cam = dot(ws.rays.direction(k), cam.w);
+            // Per pixel sample, the pinhole's solid-angle density is its importance at unit
+            // distance; the light paths (N of them) would have found the point N times.
+            ws.mis[k].dvcm = W.mis(n_paths / cam.importance(cos_cam, 1.f));
+        }
+    }
+    stats.camera_rays += count;
+    stats.add(Stage::Generate, count, clock);
+    const RGB background = scene.background;
+
+    run_wavefront(
+        c.accel, ws.rays, ws.next, ws.hits, 0, c.max_segments, stats, clock,
+        [&](uint32_t depth) {
+            ws.shadow.clear();
+            ws.shadow_value.clear();
+            const uint32_t len = depth + 1;  // segments from the camera to this vertex
+            const int t = int(len) + 1;      // camera vertices of a strategy ending here
+            for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+                const uint32_t slot = ws.rays.id[i];
+                const uint32_t geom = ws.hits.geom[i];
+                const Vec3 d = ws.rays.direction(i);
+                RGB& beta = ws.beta[slot];
+                SubpathMis& m = ws.mis[slot];
+                if (geom == kNoHit) {
+                    if (!scene.environment) {
+                        radiance[slot] += beta * background * W.strategy(0, t, 1.f);
+                        continue;
+                    }
+                    float w = 1.f;
+                    if (!W.connect) {
+                        if (!ws.specular[slot]) continue;
+                    } else if (len > 1) {
+                        const uint32_t li = uint32_t(c.lights.environment());
+                        float pdf_pos, pdf_dir;
+                        c.lights.pdf_le(li, {}, -d, pdf_pos, pdf_dir);
+                        const float emit = c.lights.pmf(li) * pdf_pos * pdf_dir;
+                        w = 1.f / (1.f + W.mis(c.lights.environment_pdf(d)) * m.dvcm +
+                                   W.mis(emit) * m.dvc);
+                    }
+                    radiance[slot] += beta * scene.environment->Le(d) * W.strategy(0, t, w);
+                    continue;
+                }
+                const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);
+                std::optional<Material> scratch;
+                const Material& mat = scene.material_at(geom, sp.uv, scratch);
+                const float cos_in = std::fabs(dot(d, sp.ng));
+                if (cos_in == 0.f) continue;
+                const float t_hit = ws.hits.t[i];
+                m.arrive(t_hit * t_hit, cos_in, W);
+
+                // s = 0: the light this ray found.
+                if (mat.emits_towards(sp.front_face)) {
+                    const int li = c.lights.emitter_of(geom);
+                    float w = 1.f;
+                    if (!W.connect) {
+                        if (!ws.specular[slot]) w = 0.f;  // merging finds it
+                    } else if (len > 1 && li >= 0) {
+                        const float pick = c.lights.pmf(uint32_t(li));
+                        const float direct =
+                            pick * c.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng) *
+                            cos_in / (t_hit * t_hit);
+                        float pdf_pos, pdf_dir;
+                        c.lights.pdf_le(uint32_t(li), sp.ng, -d, pdf_pos, pdf_dir);
+                        w = 1.f / (1.f + W.mis(direct) * m.dvcm +
+                                   W.mis(pick * pdf_pos * pdf_dir) * m.dvc);
+                    }
+                    radiance[slot] += beta * mat.emission * W.strategy(0, t, w);
+                }
+                if (len >= c.max_segments || mat.bsdf.empty()) continue;
+
+                const warp::Frame frame(sp.ns);
+                const Vec3 wo = frame.to_local(-d);
+                const BsdfContext ctx{sp.front_face, Transport::Radiance};
+                const BsdfContext ictx{sp.front_face, Transport::Importance};
+                if (mat.bsdf.has_non_delta()) {
+                    // s = 1: a light sample.
+                    if (W.connect && !c.lights.empty()) {
+                        float pick;
+                        const uint32_t li = c.lights.select(rand(slot, depth, kDimSelect), pick);
+                        LightSample ls;
+                        if (c.lights.sample_li(
+                                li, sp.p,
+                                {rand(slot, depth, kDimLight), rand(slot, depth, kDimLight + 1)},
+                                rand(slot, depth, kDimTriangle), ls) &&
+                            dot(ls.wi, sp.ng) > 0.f) {
+                            const Vec3 wi = frame.to_local(ls.wi);
+                            const RGB f = mat.bsdf.f(wo, wi, ctx);
+                            if (!f.is_black()) {
+                                const Emitter& em = c.lights.emitter(li);
+                                const float direct = pick * ls.pdf;
+                                float pdf_pos, pdf_dir;
+                                c.lights.pdf_le(li, ls.n_light, -ls.wi, pdf_pos, pdf_dir);
+                                const float emit = pick * pdf_pos * pdf_dir;
+                                const float cos_light = em.is_delta() || em.is_infinite()
+                                                            ? 1.f
+                                                            : std::fabs(dot(ls.n_light, ls.wi));
+                                const float w_light =
+                                    em.is_delta() ? 0.f : W.mis(mat.bsdf.pdf(wo, wi, ctx) / direct);
+                                const float w_camera =
+                                    W.mis(emit * dot(ls.wi, sp.ng) / (direct * cos_light)) *
+                                    (W.vm_weight + m.dvcm +
+                                     m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx)));
+                                const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
+                                const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w / direct);
+                                if (!value.is_black()) {
+                                    ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f,
+                                                   std::isinf(ls.dist)
+                                                       ? kInfinity
+                                                       : ls.dist * (1.f - 1e-4f) - sp.epsilon,
+                                                   slot);
+                                    ws.shadow_value.push_back(value);
+                                }
+                            }
+                        }
+                    }
+                    // s >= 2: connections to the pixel's light path.
+                    const uint32_t path = first + slot;
+                    if (W.connect)
+                        for (uint32_t j = store.first[path]; j < store.first[path + 1]; ++j) {
+                            if (lv.length[j] + len + 1 > c.max_segments) break;
+                            const Vec3 to = lv.position(j) - sp.p;
+                            const float dist2 = length_squared(to);
+                            if (!(dist2 > 0.f)) continue;
+                            const float dist = std::sqrt(dist2);
+                            const Vec3 dir = to / dist;
+                            const float cos_c = dot(dir, sp.ng), cos_l = -dot(dir, lv.ng[j]);
+                            if (cos_c <= 0.f || cos_l <= 0.f) continue;
+                            const Vec3 dc = frame.to_local(dir);
+                            const RGB fc = mat.bsdf.f(wo, dc, ctx);
+                            if (fc.is_black()) continue;
+                            const LightVertexBsdf lb(scene, lv, j);
+                            const Vec3 dl = lb.frame.to_local(-dir);
+                            const BsdfContext lctx{lv.front[j] != 0, Transport::Importance};
+                            const BsdfContext lrctx{lv.front[j] != 0, Transport::Radiance};
+                            const RGB fl = lb.m.bsdf.f(lb.wo, dl, lctx);
+                            if (fl.is_black()) continue;
+                            const float cam_pdf_a = mat.bsdf.pdf(wo, dc, ctx) * cos_l / dist2;
+                            const float light_pdf_a =
+                                lb.m.bsdf.pdf(lb.wo, dl, lctx) * cos_c / dist2;
+                            const float w_light =
+                                W.mis(cam_pdf_a) *
+                                (W.vm_weight + lv.dvcm[j] +
+                                 lv.dvc[j] * W.mis(lb.m.bsdf.pdf(dl, lb.wo, lrctx)));
+                            const float w_camera =
+                                W.mis(light_pdf_a) *
+                                (W.vm_weight + m.dvcm + m.dvc * W.mis(mat.bsdf.pdf(dc, wo, ictx)));
+                            const float w = W.strategy(int(lv.length[j]) + 1, t,
+                                                       1.f / (w_light + 1.f + w_camera));
+                            const RGB value = beta * fc * lv.beta[j] * fl *
+                                              (std::fabs(dc.z) * lv.adj[j] * cos_l * w / dist2);
+                            if (value.is_black()) continue;
+                            ws.shadow.push(offset_origin(sp, dir), dir, 0.f,
+                                           dist * (1.f - 1e-4f) - 2.f * sp.epsilon, slot);
+                            ws.shadow_value.push_back(value);
+                        }
+                    // Merges with every light vertex within the radius.
+                    if (W.merge) {
+                        RGB sum{0.f};
+                        store.grid.query(lv, sp.p, [&](uint32_t j) {
+                            if (lv.length[j] + len > c.max_segments) return;
+                            const Vec3 wl = frame.to_local(lv.wo[j]);
+                            const RGB f = mat.bsdf.f(wo, wl, ctx);
+                            if (f.is_black()) return;
+                            const float w_light = lv.dvcm[j] * W.vc_weight +
+                                                  lv.dvm[j] * W.mis(mat.bsdf.pdf(wo, wl, ctx));
+                            const float w_camera =
+                                m.dvcm * W.vc_weight + m.dvm * W.mis(mat.bsdf.pdf(wl, wo, ictx));
+                            sum += f * lv.beta[j] * (1.f / (w_light + 1.f + w_camera));
+                        });
+                        radiance[slot] += beta * sum * W.vm_norm;
+                    }
+                }
+
+                // Onwards by sampling the BSDF.
+                BsdfSample bs;
+                if (!mat.bsdf.sample(
+                        wo, rand(slot, depth, kDimBsdf),
+                        {rand(slot, depth, kDimBsdf + 1), rand(slot, depth, kDimBsdf + 2)}, ctx,
+                        bs))
+                    continue;
+                const Vec3 wi = frame.to_world(bs.wi);
+                const float side = dot(wi, sp.ng);
+                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
+                beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+                if (beta.is_black()) continue;
+                if (bs.is_delta()) {
+                    m.scatter_delta(std::fabs(side), W);
+                } else {
+                    m.scatter(std::fabs(side), bs.pdf, mat.bsdf.pdf(bs.wi, wo, ictx), W);
+                    ws.specular[slot] = 0;
+                }
+                ws.p_prev[slot] = sp.p;
+                ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+            }
+        },
+        [&](uint32_t) {
+            if (ws.shadow.empty()) return;
+            c.accel.occluded(ws.shadow, ws.occluded, stats.trace);
+            for (std::size_t i = 0; i < ws.shadow.size(); ++i)
+                if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
+            stats.shadow_rays += ws.shadow.size();
+            stats.add(Stage::Occlusion, ws.shadow.size(), clock);
+        });
+}
+
+}  // namespace foton

@@ -1,0 +1,47 @@
+#pragma once
+// The light subpaths' vertices of one iteration, structure of arrays: what connections and
+// merges read. A vertex is stored where the light path met a BSDF with a non-delta lobe
+// (a connection or merge through a delta lobe has zero density). Paths are numbered; the
+// vertices of path k are [first[k], first[k + 1]) in order from the light.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+
+namespace foton {
+
+struct LightVertices {
+    std::vector<float> px, py, pz;      // position
+    std::vector<Vec3> ng, ns;           // geometric and shading normal, facing the arriving ray
+    std::vector<Vec3> wo;               // towards the previous vertex (where the light came from)
+    std::vector<RGB> beta;              // the light subpath's throughput arriving here
+    std::vector<float> adj;             // |wo.ns| / |wo.ng|: the adjoint shading-normal factor
+    std::vector<float> dvcm, dvc, dvm;  // the MIS sums (vcm_mis.h)
+    std::vector<uint16_t> length;       // segments from the light (1: the first hit)
+    std::vector<uint8_t> front;         // the ray arrived on the geometry's front side
+    std::vector<uint32_t> geom;         // what was hit: the material
+    std::vector<Point2> uv;             // its texture coordinates
+    std::vector<uint32_t> path;         // the light path's number within the iteration
+
+    std::size_t size() const { return px.size(); }
+    Vec3 position(std::size_t i) const { return {px[i], py[i], pz[i]}; }
+    void clear() { resize(0); }
+    void resize(std::size_t n) {
+        px.resize(n), py.resize(n), pz.resize(n), ng.resize(n), ns.resize(n), wo.resize(n);
+        beta.resize(n), adj.resize(n), dvcm.resize(n), dvc.resize(n), dvm.resize(n);
+        length.resize(n), front.resize(n), geom.resize(n), uv.resize(n), path.resize(n);
+    }
+    // Appends vertex i of `o`.
+    void push(const LightVertices& o, std::size_t i) {
+        px.push_back(o.px[i]), py.push_back(o.py[i]), pz.push_back(o.pz[i]);
+        ng.push_back(o.ng[i]), ns.push_back(o.ns[i]), wo.push_back(o.wo[i]);
+        beta.push_back(o.beta[i]), adj.push_back(o.adj[i]);
+        dvcm.push_back(o.dvcm[i]), dvc.push_back(o.dvc[i]), dvm.push_back(o.dvm[i]);
+        length.push_back(o.length[i]), front.push_back(o.front[i]), geom.push_back(o.geom[i]);
+        uv.push_back(o.uv[i]), path.push_back(o.path[i]);
+    }
+};
+
+}  // namespace foton

@@ -1,0 +1,31 @@
+#pragma once
+// What the stages of a bidirectional iteration share: the scene and its lights, the settings,
+// and the iteration's constants (number of light paths, merge radius, MIS weights).
+#include <cstdint>
+
+#include "engine/accel/intersector.h"
+#include "engine/scene/light_set.h"
+#include "engine/transport/driver/render_settings.h"
+#include "vcm_mis.h"
+
+namespace foton {
+
+// The random streams of the bidirectional integrators.
+inline constexpr uint64_t kBidirLightStream = 0xb1d1;
+inline constexpr uint64_t kBidirCameraStream = 0xb1d2;
+
+struct VcmContext {
+    const Scene& scene;
+    const RenderSettings& settings;
+    const Intersector& accel;
+    const LightSet& lights;
+    uint64_t seed = 0;
+    uint32_t max_segments = 9;  // max_depth scattering vertices + 1
+    // Per iteration.
+    uint64_t iteration = 0;
+    uint32_t light_paths = 0;  // N: one per pixel of the film
+    float radius = 0.f;        // merge radius
+    VcmWeights weights;
+};
+
+}  // namespace foton

@@ -1,0 +1,176 @@
+#include "vcm_render.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "camera_subpaths.h"
+#include "engine/core/error.h"
+#include "engine/transport/driver/pass_control.h"
+#include "engine/transport/driver/stage_graph.h"
+#include "light_subpaths.h"
+
+namespace foton {
+
+namespace {
+
+enum class BidirMode { Bdpt, Bpm, Vcm };
+
+RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettings& settings,
+                          const Intersector& accel, const RenderOptions& opt) {
+    const char* name = mode == BidirMode::Bdpt ? "bdpt" : mode == BidirMode::Bpm ? "bpm" : "vcm";
+    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
+        throw InputError(scene.source, 0,
+                         std::string(name) +
+                             " needs a pinhole perspective camera (no lens_radius): light "
+                             "subpaths are joined to the eye");
+    const LightSet lights(scene);
+    if (lights.empty()) throw InputError(scene.source, 0, std::string(name) + " needs a light");
+
+    const uint32_t pixels = uint32_t(scene.film.width) * uint32_t(scene.film.height);
+    VcmContext ctx{scene, settings, accel, lights, opt.seed, 9, 0, 0, 0.f, VcmWeights{}};
+    ctx.max_segments = settings.max_depth + 1;
+    ctx.light_paths = pixels;
+    ctx.weights.connect = mode != BidirMode::Bpm;
+    ctx.weights.merge = mode != BidirMode::Bdpt;
+    ctx.weights.beta = settings.mis == MisHeuristic::Balance ? 1.f : settings.mis_beta;
+    ctx.weights.only_s = settings.bidir.only_s;
+    ctx.weights.only_t = settings.bidir.only_t;
+    const float radius0 = settings.photon.initial_radius > 0.f ? settings.photon.initial_radius
+                                                               : 0.005f * lights.scene_radius();
+    const float alpha = settings.photon.alpha;
+
+    const int threads = resolve_threads(opt.threads);
+    constexpr uint32_t kLightChunk = 4096, kCameraChunk = 2048;
+    const std::size_t light_chunks = (pixels + kLightChunk - 1) / kLightChunk;
+    const std::size_t camera_chunks = (pixels + kCameraChunk - 1) / kCameraChunk;
+    std::vector<LightVertices> chunk_vertices(light_chunks);
+    std::vector<std::vector<Splat>> splats(light_chunks);
+    std::vector<RGB> sum(pixels, RGB{0.f});
+    LightPathStore store;
+    tbb::enumerable_thread_specific<LightSubpathWorkspace> light_ws;
+    tbb::enumerable_thread_specific<CameraSubpathWorkspace> camera_ws;
+    tbb::enumerable_thread_specific<RenderStats> stats;
+    PassControl control(opt);
+    const ProgressTask task = control.task(name, uint64_t(opt.spp) * camera_chunks);
+    uint64_t iterations = 0;
+
+    StageGraph graph;
+    graph.set_progress(opt.progress);
+    const uint32_t light = graph.add("light-paths", [&]() -> uint64_t {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, light_chunks, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              LightSubpathWorkspace& ws = light_ws.local();
+                              RenderStats& st = stats.local();
+                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                                  const uint32_t first = uint32_t(k) * kLightChunk;
+                                  const uint32_t n = std::min(kLightChunk, pixels - first);
+                                  chunk_vertices[k].clear();
+                                  splats[k].clear();
+                                  trace_light_subpaths(ctx, first, n, ws, chunk_vertices[k],
+                                                       splats[k], st);
+                              }
+                          });
+        return pixels;
+    });
+    const uint32_t vertices = graph.add("light-vertices", [&]() -> uint64_t {
+        StageClock clock;
+        LightVertices& v = store.vertices;
+        v.clear();
+        for (const LightVertices& c : chunk_vertices)
+            for (std::size_t i = 0; i < c.size(); ++i) v.push(c, i);
+        store.first.assign(pixels + 1, 0);
+        for (std::size_t i = 0; i < v.size(); ++i) ++store.first[v.path[i] + 1];
+        for (uint32_t k = 0; k < pixels; ++k) store.first[k + 1] += store.first[k];
+        if (ctx.weights.merge) store.grid.build(v, ctx.radius);
+        stats.local().add(Stage::PhotonStore, v.size(), clock);
+        return v.size();
+    });
+    const uint32_t camera = graph.add("camera-paths", [&]() -> uint64_t {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, camera_chunks, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              CameraSubpathWorkspace& ws = camera_ws.local();
+                              RenderStats& st = stats.local();
+                              std::vector<RGB> radiance;
+                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                                  const uint32_t first = uint32_t(k) * kCameraChunk;
+                                  const uint32_t n = std::min(kCameraChunk, pixels - first);
+                                  trace_camera_subpaths(ctx, store, first, n, ws, radiance, st);
+                                  for (uint32_t i = 0; i < n; ++i) sum[first + i] += radiance[i];
+                                  st.samples += n;
+                                  task.advance();
+                              }
+                          });
+        return pixels;
+    });
+    const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
+        StageClock clock;
+        std::size_t count = 0;
+        for (const std::vector<Splat>& list : splats) {
+            for (const Splat& s : list) sum[s.pixel] += s.value;
+            count += list.size();
+        }
+        stats.local().add(Stage::Accumulate, count, clock);
+        return count;
+    });
+    graph.edge(light, vertices);
+    graph.edge(vertices, camera);
+    graph.edge(light, splat);
+    graph.edge(camera, splat);  // both add to `sum`
+
+    auto image = [&] {
+        Film f(scene.film.width, scene.film.height);
+        const float inv = iterations ? float(1.0 / double(iterations)) : 0.f;
+        for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
+        return f;
+    };
+    tbb::task_arena arena(threads);
+    uint32_t passes = 0;
+    do {
+        for (uint32_t s = 0; s < opt.spp; ++s) {
+            // The radius of iteration i (from 1): r0 i^((alpha - 1) / 2), so its area shrinks
+            // as i^(alpha - 1) (Knaus and Zwicker's progressive photon mapping).
+            ctx.iteration = iterations;
+            ctx.radius = radius0 * std::pow(float(iterations + 1), 0.5f * (alpha - 1.f));
+            const float eta = kPi * ctx.radius * ctx.radius * float(pixels);
+            VcmWeights& w = ctx.weights;
+            w.vm_weight = w.merge ? w.mis(eta) : 0.f;
+            w.vc_weight = w.connect ? w.mis(1.f / eta) : 0.f;
+            w.vm_norm = w.merge ? 1.f / eta : 0.f;
+            graph.run(arena);
+            ++iterations;
+        }
+        ++passes;
+    } while (control.another(passes, image, [&] { return double(iterations); }));
+
+    RenderResult result;
+    result.stats.wall_seconds = control.elapsed();
+    for (const RenderStats& s : stats) result.stats.merge(s);
+    result.stats.threads = threads;
+    result.stats.passes = passes;
+    result.stats.graph = graph.report();
+    result.film = image();
+    result.samples_per_pixel.assign(sum.size(), uint32_t(iterations));
+    return result;
+}
+
+}  // namespace
+
+RenderResult render_bdpt(const Scene& scene, const RenderSettings& settings,
+                         const Intersector& accel, const RenderOptions& opt) {
+    return render_bidir(BidirMode::Bdpt, scene, settings, accel, opt);
+}
+RenderResult render_bpm(const Scene& scene, const RenderSettings& settings,
+                        const Intersector& accel, const RenderOptions& opt) {
+    return render_bidir(BidirMode::Bpm, scene, settings, accel, opt);
+}
+RenderResult render_vcm(const Scene& scene, const RenderSettings& settings,
+                        const Intersector& accel, const RenderOptions& opt) {
+    return render_bidir(BidirMode::Vcm, scene, settings, accel, opt);
+}
+
+}  // namespace foton
