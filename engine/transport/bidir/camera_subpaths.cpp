@@ -58,7 +58,9 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
             SampleJob& j = jobs[k];
             j.x = pixel % width;
             j.y = pixel / width;
-            j.pat_round = uint32_t(c.iteration);
+            j.pat_i = c.pass_sample;
+            j.pat_n = c.pass_samples;
+            j.pat_round = c.pass;
             j.id = c.iteration * npix + scene.film.pixel_id(j.x, j.y);
         }
         generate_camera_rays(scene, c.settings.sampler, jobs, c.seed, ws.rays);

@@ -23,6 +23,9 @@ struct VcmContext {
     uint32_t max_segments = 9;  // max_depth scattering vertices + 1
     // Per iteration.
     uint64_t iteration = 0;
+    // The iteration's place in its pass (sample i of n): the pixel positions of a pass's
+    // iterations are one pattern of the renderer's sampler, stratified across iterations.
+    uint32_t pass = 0, pass_sample = 0, pass_samples = 1;
     uint32_t light_paths = 0;  // N: one per pixel of the film
     float radius = 0.f;        // merge radius
     VcmWeights weights;

@@ -32,7 +32,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     if (lights.empty()) throw InputError(scene.source, 0, std::string(name) + " needs a light");
 
     const uint32_t pixels = uint32_t(scene.film.width) * uint32_t(scene.film.height);
-    VcmContext ctx{scene, settings, accel, lights, opt.seed, 9, 0, 0, 0.f, VcmWeights{}};
+    VcmContext ctx{scene, settings, accel, lights, opt.seed, 9, 0, 0, 0, 1, 0, 0.f, VcmWeights{}};
     ctx.max_segments = settings.max_depth + 1;
     ctx.light_paths = pixels;
     ctx.weights.connect = mode != BidirMode::Bpm;
@@ -135,6 +135,9 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
             // The radius of iteration i (from 1): r0 i^((alpha - 1) / 2), so its area shrinks
             // as i^(alpha - 1) (Knaus and Zwicker's progressive photon mapping).
             ctx.iteration = iterations;
+            ctx.pass = passes;
+            ctx.pass_sample = s;
+            ctx.pass_samples = opt.spp;
             ctx.radius = radius0 * std::pow(float(iterations + 1), 0.5f * (alpha - 1.f));
             const float eta = kPi * ctx.radius * ctx.radius * float(pixels);
             VcmWeights& w = ctx.weights;
