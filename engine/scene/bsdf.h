@@ -114,6 +114,11 @@ class Bsdf {
         const float all = weight_sum(0xff);
         return all > 0.f ? weight_sum(only) / all : 0.f;
     }
+    // A direction-independent estimate of the albedo: the largest channel of the lobes'
+    // summed tints (a dielectric's larger of reflection and transmission), at most 1. What
+    // the bidirectional integrators continue a subpath with (Russian roulette whose
+    // probability depends on the vertex alone, so both subpaths' MIS sums can include it).
+    float continuation() const;
     // Scales every lobe's colour (for mixtures).
     void scale(float w);
     // A copy whose lobes in `lobes` (bit i: lobe i) have their colour multiplied by `t`:

@@ -12,9 +12,9 @@ namespace foton {
 
 namespace {
 // Random dimensions per bounce: light choice, light position (2), mesh triangle, BSDF lobe
-// and direction (2); the pixel position and lens come from the renderer's sampler.
+// and direction (2), Russian roulette; the pixel position comes from the renderer's sampler.
 constexpr uint32_t kDimsPerBounce = 8, kDimSelect = 0, kDimLight = 1, kDimTriangle = 3,
-                   kDimBsdf = 4;
+                   kDimBsdf = 4, kDimRoulette = 7;
 
 // A light-path vertex's BSDF, rebuilt where a connection needs it.
 struct LightVertexBsdf {
@@ -139,6 +139,9 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 const Vec3 wo = frame.to_local(-d);
                 const BsdfContext ctx{sp.front_face, Transport::Radiance};
                 const BsdfContext ictx{sp.front_face, Transport::Importance};
+                // The vertex's continuation probability (Russian roulette) is part of every
+                // density of sampling a direction here, either way.
+                const float q = mat.bsdf.continuation();
                 if (mat.bsdf.has_non_delta()) {
                     // s = 1: a light sample.
                     if (W.connect && !c.lights.empty()) {
@@ -162,11 +165,12 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                                             ? 1.f
                                                             : std::fabs(dot(ls.n_light, ls.wi));
                                 const float w_light =
-                                    em.is_delta() ? 0.f : W.mis(mat.bsdf.pdf(wo, wi, ctx) / direct);
+                                    em.is_delta() ? 0.f
+                                                  : W.mis(mat.bsdf.pdf(wo, wi, ctx) * q / direct);
                                 const float w_camera =
                                     W.mis(emit * dot(ls.wi, sp.ng) / (direct * cos_light)) *
                                     (W.vm_weight + m.dvcm +
-                                     m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx)));
+                                     m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx) * q));
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
                                 const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w / direct);
                                 if (!value.is_black()) {
@@ -201,16 +205,17 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const BsdfContext lrctx{lv.front[j] != 0, Transport::Radiance};
                             const RGB fl = lb.m.bsdf.f(lb.wo, dl, lctx);
                             if (fl.is_black()) continue;
-                            const float cam_pdf_a = mat.bsdf.pdf(wo, dc, ctx) * cos_l / dist2;
+                            const float ql = lb.m.bsdf.continuation();
+                            const float cam_pdf_a = mat.bsdf.pdf(wo, dc, ctx) * q * cos_l / dist2;
                             const float light_pdf_a =
-                                lb.m.bsdf.pdf(lb.wo, dl, lctx) * cos_c / dist2;
+                                lb.m.bsdf.pdf(lb.wo, dl, lctx) * ql * cos_c / dist2;
                             const float w_light =
                                 W.mis(cam_pdf_a) *
                                 (W.vm_weight + lv.dvcm[j] +
-                                 lv.dvc[j] * W.mis(lb.m.bsdf.pdf(dl, lb.wo, lrctx)));
-                            const float w_camera =
-                                W.mis(light_pdf_a) *
-                                (W.vm_weight + m.dvcm + m.dvc * W.mis(mat.bsdf.pdf(dc, wo, ictx)));
+                                 lv.dvc[j] * W.mis(lb.m.bsdf.pdf(dl, lb.wo, lrctx) * ql));
+                            const float w_camera = W.mis(light_pdf_a) *
+                                                   (W.vm_weight + m.dvcm +
+                                                    m.dvc * W.mis(mat.bsdf.pdf(dc, wo, ictx) * q));
                             const float w = W.strategy(int(lv.length[j]) + 1, t,
                                                        1.f / (w_light + 1.f + w_camera));
                             const RGB value = beta * fc * lv.beta[j] * fl *
@@ -229,9 +234,9 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const RGB f = mat.bsdf.f(wo, wl, ctx);
                             if (f.is_black()) return;
                             const float w_light = lv.dvcm[j] * W.vc_weight +
-                                                  lv.dvm[j] * W.mis(mat.bsdf.pdf(wo, wl, ctx));
-                            const float w_camera =
-                                m.dvcm * W.vc_weight + m.dvm * W.mis(mat.bsdf.pdf(wl, wo, ictx));
+                                                  lv.dvm[j] * W.mis(mat.bsdf.pdf(wo, wl, ctx) * q);
+                            const float w_camera = m.dvcm * W.vc_weight +
+                                                   m.dvm * W.mis(mat.bsdf.pdf(wl, wo, ictx) * q);
                             sum += f * lv.beta[j] * (1.f / (w_light + 1.f + w_camera));
                         });
                         radiance[slot] += beta * sum * W.vm_norm;
@@ -239,6 +244,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 }
 
                 // Onwards by sampling the BSDF.
+                if (rand(slot, depth, kDimRoulette) >= q) continue;
                 BsdfSample bs;
                 if (!mat.bsdf.sample(
                         wo, rand(slot, depth, kDimBsdf),
@@ -248,12 +254,12 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 const Vec3 wi = frame.to_world(bs.wi);
                 const float side = dot(wi, sp.ng);
                 if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
-                beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+                beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * q));
                 if (beta.is_black()) continue;
                 if (bs.is_delta()) {
                     m.scatter_delta(std::fabs(side), W);
                 } else {
-                    m.scatter(std::fabs(side), bs.pdf, mat.bsdf.pdf(bs.wi, wo, ictx), W);
+                    m.scatter(std::fabs(side), bs.pdf * q, mat.bsdf.pdf(bs.wi, wo, ictx) * q, W);
                     ws.specular[slot] = 0;
                 }
                 ws.p_prev[slot] = sp.p;

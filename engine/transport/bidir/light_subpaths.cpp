@@ -12,7 +12,7 @@ namespace foton {
 
 namespace {
 // Random dimensions: light choice, position (2), direction (2), triangle; then per bounce
-// the BSDF lobe and direction (2).
+// the BSDF lobe and direction (2) and Russian roulette.
 constexpr uint32_t kDimSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5, kDimBounce = 8,
                    kDimsPerBounce = 4;
 }  // namespace
@@ -137,7 +137,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                     if (!f.is_black() && cos_cam > 0.f && dot(wc, sp.ng) > 0.f) {
                         // The camera's density of this point per pixel sample, in area measure.
                         const float cam_pdf_a = cam.importance(cos_cam, 1.f) * cos_sc / dist2;
-                        const float rev = mat.bsdf.pdf(wcl, wo, rctx);
+                        const float rev = mat.bsdf.pdf(wcl, wo, rctx) * mat.bsdf.continuation();
                         const float w_light = W.mis(cam_pdf_a / n_paths) *
                                               (W.vm_weight + m.dvcm + m.dvc * W.mis(rev));
                         const float w = W.strategy(int(len) + 1, 1, 1.f / (1.f + w_light));
@@ -158,6 +158,10 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             }
             if (len >= max_length) continue;
             const uint32_t dim = kDimBounce + depth * kDimsPerBounce;
+            // Russian roulette by the vertex's albedo estimate: part of both directions'
+            // densities here, so the MIS sums see it.
+            const float q = mat.bsdf.continuation();
+            if (rand(slot, dim + 3) >= q) continue;
             BsdfSample bs;
             if (!mat.bsdf.sample(wo, rand(slot, dim), {rand(slot, dim + 1), rand(slot, dim + 2)},
                                  ctx, bs))
@@ -166,12 +170,12 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             const float side = dot(wi, sp.ng);
             if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
             const float cos_out = std::fabs(side);
-            beta *= bs.f * (adj * cos_out / bs.pdf);
+            beta *= bs.f * (adj * cos_out / (bs.pdf * q));
             if (beta.is_black()) continue;
             if (bs.is_delta())
                 m.scatter_delta(cos_out, W);
             else
-                m.scatter(cos_out, bs.pdf, mat.bsdf.pdf(bs.wi, wo, rctx), W);
+                m.scatter(cos_out, bs.pdf * q, mat.bsdf.pdf(bs.wi, wo, rctx) * q, W);
             ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
         }
     });

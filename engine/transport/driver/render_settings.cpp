@@ -66,6 +66,11 @@ void parse_bidir(const ParamSet& p, RenderSettings& r) {
         p.fail("mis",
                "bdpt, bpm and vcm weigh by the balance or power heuristic (mis=balance "
                "or mis=power)");
+    // Roulette by depth would differ between the two subpaths' view of a vertex.
+    if (bidir && p.has("rr_depth"))
+        p.fail("rr_depth", "bdpt, bpm and vcm continue a subpath with the vertex's albedo "
+                           "estimate at every vertex (MIS needs a rule that does not depend on "
+                           "depth): rr_depth does not apply");
     if (!p.has("strategy")) return;
     const std::string v = p.text("strategy");
     if (r.integrator != "bdpt") p.fail("strategy", "strategy=\"s,t\" needs type=\"bdpt\"");
