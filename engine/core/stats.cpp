@@ -30,6 +30,8 @@ const char* stage_name(Stage s) {
             return "irradiance";
         case Stage::GuideBins:
             return "guide-bins";
+        case Stage::LightVertices:
+            return "light-vertices";
         case Stage::FinalGather:
             return "final-gather";
         case Stage::PhotonEstimate:

@@ -22,7 +22,8 @@ enum class Stage {
     PhotonStore,
     Balance,
     Precompute,
-    GuideBins,  // photon-guided paths: binning the guide's photons into histograms
+    GuideBins,      // photon-guided paths: binning the guide's photons into histograms
+    LightVertices,  // bdpt/bpm/vcm: the light subpaths' vertices gathered, the merge grid built
     FinalGather,
     PhotonEstimate,
     CacheRecords,

@@ -3,6 +3,7 @@
 // merges read. A vertex is stored where the light path met a BSDF with a non-delta lobe
 // (a connection or merge through a delta lobe has zero density). Paths are numbered; the
 // vertices of path k are [first[k], first[k + 1]) in order from the light.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,16 @@ struct LightVertices {
         px.resize(n), py.resize(n), pz.resize(n), ng.resize(n), ns.resize(n), wo.resize(n);
         beta.resize(n), adj.resize(n), dvcm.resize(n), dvc.resize(n), dvm.resize(n);
         length.resize(n), front.resize(n), geom.resize(n), uv.resize(n), path.resize(n);
+    }
+    // Copies all of `o` to positions [at, at + o.size()) (resized before).
+    void copy_from(const LightVertices& o, std::size_t at) {
+        auto put = [&](const auto& src, auto& dst) {
+            std::copy(src.begin(), src.end(), dst.begin() + std::ptrdiff_t(at));
+        };
+        put(o.px, px), put(o.py, py), put(o.pz, pz), put(o.ng, ng), put(o.ns, ns), put(o.wo, wo);
+        put(o.beta, beta), put(o.adj, adj), put(o.dvcm, dvcm), put(o.dvc, dvc), put(o.dvm, dvm);
+        put(o.length, length), put(o.front, front), put(o.geom, geom), put(o.uv, uv);
+        put(o.path, path);
     }
     // Appends vertex i of `o`.
     void push(const LightVertices& o, std::size_t i) {

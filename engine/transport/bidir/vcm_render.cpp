@@ -79,15 +79,26 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     });
     const uint32_t vertices = graph.add("light-vertices", [&]() -> uint64_t {
         StageClock clock;
+        // The chunks' vertices, in chunk order, copied in parallel; then where each path
+        // begins (a chunk's paths are consecutive, each chunk's vertices path by path).
         LightVertices& v = store.vertices;
-        v.clear();
-        for (const LightVertices& c : chunk_vertices)
-            for (std::size_t i = 0; i < c.size(); ++i) v.push(c, i);
+        std::vector<std::size_t> at(light_chunks + 1, 0);
+        for (std::size_t k = 0; k < light_chunks; ++k) at[k + 1] = at[k] + chunk_vertices[k].size();
+        v.resize(at[light_chunks]);
         store.first.assign(pixels + 1, 0);
-        for (std::size_t i = 0; i < v.size(); ++i) ++store.first[v.path[i] + 1];
-        for (uint32_t k = 0; k < pixels; ++k) store.first[k + 1] += store.first[k];
+        tbb::parallel_for(std::size_t(0), light_chunks, [&](std::size_t k) {
+            const LightVertices& c = chunk_vertices[k];
+            v.copy_from(c, at[k]);
+            const uint32_t p0 = uint32_t(k) * kLightChunk, p1 = std::min(p0 + kLightChunk, pixels);
+            std::size_t i = 0;
+            for (uint32_t p = p0; p < p1; ++p) {
+                store.first[p] = uint32_t(at[k] + i);
+                while (i < c.size() && c.path[i] == p) ++i;
+            }
+        });
+        store.first[pixels] = uint32_t(v.size());
         if (ctx.weights.merge) store.grid.build(v, ctx.radius);
-        stats.local().add(Stage::PhotonStore, v.size(), clock);
+        stats.local().add(Stage::LightVertices, v.size(), clock);
         return v.size();
     });
     const uint32_t camera = graph.add("camera-paths", [&]() -> uint64_t {
