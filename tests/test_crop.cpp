@@ -26,7 +26,9 @@ TEST_CASE("a crop window's pixels equal the full render's, bit for bit", "[crop]
                          Case{"scenes/cornell-box.xml", "raytracer", false},
                          Case{"scenes/cornell-caustics.xml", "light", false},
                          Case{"scenes/cornell-caustics.xml", "photon", false},
-                         Case{"scenes/cornell-caustics.xml", "sppm", false}}) {
+                         Case{"scenes/cornell-caustics.xml", "sppm", false},
+                         Case{"scenes/cornell-caustics.xml", "bdpt", false},
+                         Case{"scenes/cornell-caustics.xml", "vcm", false}}) {
         INFO(c.scene << " " << c.type << (c.adaptive ? " adaptive " : " ")
                      << sampler_name(c.sampler));
         TestScene full = load_scene(test::source_path(c.scene));

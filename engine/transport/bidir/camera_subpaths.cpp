@@ -40,11 +40,12 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     const uint32_t width = uint32_t(scene.film.width);
     StageClock clock;
     auto rand = [&](uint32_t slot, uint32_t depth, uint32_t k) {
-        return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + first + slot,
+        return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + ws.path[slot],
                             uint64_t(depth) * kDimsPerBounce + k);
     };
 
     radiance.assign(count, RGB{0.f});
+    ws.path.resize(count);
     ws.beta.assign(count, RGB{1.f});
     ws.mis.assign(count, {});
     ws.p_prev.assign(count, Vec3{});
@@ -58,6 +59,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
             SampleJob& j = jobs[k];
             j.x = pixel % width;
             j.y = pixel / width;
+            ws.path[k] = uint32_t(scene.film.pixel_id(j.x, j.y));
             j.pat_i = c.pass_sample;
             j.pat_n = c.pass_samples;
             j.pat_round = c.pass;
@@ -158,6 +160,11 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             if (!f.is_black()) {
                                 const Emitter& em = c.lights.emitter(li);
                                 const float direct = pick * ls.pdf;
+                                // A point or spot light's sample has density 1 in its delta
+                                // measure; in solid angle, as the other strategies' densities
+                                // are converted, it is d^2 (and Li carries the 1 / d^2).
+                                const float direct_w =
+                                    em.is_delta_position() ? direct * ls.dist * ls.dist : direct;
                                 float pdf_pos, pdf_dir;
                                 c.lights.pdf_le(li, ls.n_light, -ls.wi, pdf_pos, pdf_dir);
                                 const float emit = pick * pdf_pos * pdf_dir;
@@ -168,7 +175,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                     em.is_delta() ? 0.f
                                                   : W.mis(mat.bsdf.pdf(wo, wi, ctx) * q / direct);
                                 const float w_camera =
-                                    W.mis(emit * dot(ls.wi, sp.ng) / (direct * cos_light)) *
+                                    W.mis(emit * dot(ls.wi, sp.ng) / (direct_w * cos_light)) *
                                     (W.vm_weight + m.dvcm +
                                      m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx) * q));
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
@@ -185,7 +192,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                         }
                     }
                     // s >= 2: connections to the pixel's light path.
-                    const uint32_t path = first + slot;
+                    const uint32_t path = ws.path[slot];
                     if (W.connect)
                         for (uint32_t j = store.first[path]; j < store.first[path + 1]; ++j) {
                             if (lv.length[j] + len + 1 > c.max_segments) break;

@@ -23,6 +23,7 @@ struct CameraSubpathWorkspace {
     std::vector<SubpathMis> mis;
     std::vector<Vec3> p_prev;
     std::vector<uint8_t> specular;  // every vertex so far was sampled from a delta lobe
+    std::vector<uint32_t> path;     // the pixel's light path: its index in the full image
 };
 
 // The light vertices of the iteration and where each path's begin.

@@ -31,10 +31,17 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, std::string(name) + " needs a light");
 
+    // One light path per pixel of the whole image, also for a crop window: a camera path
+    // meets the light path of its pixel's place in the image, so a crop renders exactly the
+    // full render's pixels (as the light tracer traces the whole image's paths).
     const uint32_t pixels = uint32_t(scene.film.width) * uint32_t(scene.film.height);
+    const uint64_t full = scene.film.full_pixels();
+    if (full > uint64_t(1) << 31)
+        throw InputError(scene.source, 0, std::string(name) + ": at most 2^31 pixels");
+    const uint32_t paths = uint32_t(full);
     VcmContext ctx{scene, settings, accel, lights, opt.seed, 9, 0, 0, 0, 1, 0, 0.f, VcmWeights{}};
     ctx.max_segments = settings.max_depth + 1;
-    ctx.light_paths = pixels;
+    ctx.light_paths = paths;
     ctx.weights.connect = mode != BidirMode::Bpm;
     ctx.weights.merge = mode != BidirMode::Bdpt;
     ctx.weights.beta = settings.mis == MisHeuristic::Balance ? 1.f : settings.mis_beta;
@@ -46,7 +53,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
 
     const int threads = resolve_threads(opt.threads);
     constexpr uint32_t kLightChunk = 4096, kCameraChunk = 2048;
-    const std::size_t light_chunks = (pixels + kLightChunk - 1) / kLightChunk;
+    const std::size_t light_chunks = (paths + kLightChunk - 1) / kLightChunk;
     const std::size_t camera_chunks = (pixels + kCameraChunk - 1) / kCameraChunk;
     std::vector<LightVertices> chunk_vertices(light_chunks);
     std::vector<std::vector<Splat>> splats(light_chunks);
@@ -68,14 +75,14 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                               RenderStats& st = stats.local();
                               for (std::size_t k = r.begin(); k != r.end(); ++k) {
                                   const uint32_t first = uint32_t(k) * kLightChunk;
-                                  const uint32_t n = std::min(kLightChunk, pixels - first);
+                                  const uint32_t n = std::min(kLightChunk, paths - first);
                                   chunk_vertices[k].clear();
                                   splats[k].clear();
                                   trace_light_subpaths(ctx, first, n, ws, chunk_vertices[k],
                                                        splats[k], st);
                               }
                           });
-        return pixels;
+        return paths;
     });
     const uint32_t vertices = graph.add("light-vertices", [&]() -> uint64_t {
         StageClock clock;
@@ -85,18 +92,18 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
         std::vector<std::size_t> at(light_chunks + 1, 0);
         for (std::size_t k = 0; k < light_chunks; ++k) at[k + 1] = at[k] + chunk_vertices[k].size();
         v.resize(at[light_chunks]);
-        store.first.assign(pixels + 1, 0);
+        store.first.assign(std::size_t(paths) + 1, 0);
         tbb::parallel_for(std::size_t(0), light_chunks, [&](std::size_t k) {
             const LightVertices& c = chunk_vertices[k];
             v.copy_from(c, at[k]);
-            const uint32_t p0 = uint32_t(k) * kLightChunk, p1 = std::min(p0 + kLightChunk, pixels);
+            const uint32_t p0 = uint32_t(k) * kLightChunk, p1 = std::min(p0 + kLightChunk, paths);
             std::size_t i = 0;
             for (uint32_t p = p0; p < p1; ++p) {
                 store.first[p] = uint32_t(at[k] + i);
                 while (i < c.size() && c.path[i] == p) ++i;
             }
         });
-        store.first[pixels] = uint32_t(v.size());
+        store.first[paths] = uint32_t(v.size());
         if (ctx.weights.merge) store.grid.build(v, ctx.radius);
         stats.local().add(Stage::LightVertices, v.size(), clock);
         return v.size();
@@ -150,7 +157,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
             ctx.pass_sample = s;
             ctx.pass_samples = opt.spp;
             ctx.radius = radius0 * std::pow(float(iterations + 1), 0.5f * (alpha - 1.f));
-            const float eta = kPi * ctx.radius * ctx.radius * float(pixels);
+            const float eta = kPi * ctx.radius * ctx.radius * float(paths);
             VcmWeights& w = ctx.weights;
             w.vm_weight = w.merge ? w.mis(eta) : 0.f;
             w.vc_weight = w.connect ? w.mis(1.f / eta) : 0.f;
