@@ -31,9 +31,22 @@ void Camera::generate(float fx, float fy, Point2 lens, Vec3& origin, Vec3& dir) 
     if (lens_radius <= 0.f || type != CameraType::Perspective) return;
     // Every ray through the lens meets the pinhole ray on the plane in focus.
     const Vec3 focus = origin + dir * (focal_distance / dot(dir, w));
-    const Point2 l = warp::concentric_disc(lens);
-    origin = eye + u * (l.x * lens_radius) + v * (l.y * lens_radius);
+    origin = lens_point(lens);
     dir = normalize(focus - origin);
+}
+
+Vec3 Camera::lens_point(Point2 lens) const {
+    if (lens_radius <= 0.f || type != CameraType::Perspective) return eye;
+    const Point2 l = warp::concentric_disc(lens);
+    return eye + u * (l.x * lens_radius) + v * (l.y * lens_radius);
+}
+
+bool Camera::project_through(const Vec3& l, const Vec3& p, float& fx, float& fy) const {
+    if (lens_radius <= 0.f) return project(p, fx, fy);
+    const Vec3 dir = p - l;
+    const float along = dot(dir, w);
+    if (along <= 0.f) return false;
+    return project(l + dir * (focal_distance / along), fx, fy);
 }
 
 bool Camera::project(const Vec3& p, float& fx, float& fy) const {

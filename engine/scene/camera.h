@@ -49,6 +49,11 @@ struct Camera {
     // Image position (pixels) of a world point seen by the pinhole; false when it is behind
     // the eye or off the film (outside the crop window).
     bool project(const Vec3& p, float& fx, float& fy) const;
+    // The same for the ray from lens point `l` (on the thin lens) through p: the image position
+    // of the point where it crosses the plane in focus (for the pinhole, l = eye, project()).
+    bool project_through(const Vec3& l, const Vec3& p, float& fx, float& fy) const;
+    // A point on the lens for `u` uniform in the unit square (the eye for a pinhole).
+    Vec3 lens_point(Point2 u) const;
     // Importance of the pinhole for a box-filtered pixel towards a point at distance `dist`
     // with cos_theta between the view axis and the ray: the pixel's measurement is the mean
     // radiance over its area on the view plane, which in terms of the surface seen is

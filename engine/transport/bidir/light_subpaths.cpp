@@ -12,9 +12,10 @@ namespace foton {
 
 namespace {
 // Random dimensions: light choice, position (2), direction (2), triangle; then per bounce
-// the BSDF lobe and direction (2) and Russian roulette.
+// the BSDF lobe and direction (2), Russian roulette and the lens point of the join to the
+// camera (2).
 constexpr uint32_t kDimSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5, kDimBounce = 8,
-                   kDimsPerBounce = 4;
+                   kDimsPerBounce = 6;
 }  // namespace
 
 void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
@@ -124,10 +125,15 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                 v.length.push_back(len), v.front.push_back(sp.front_face);
                 v.geom.push_back(geom), v.uv.push_back(sp.uv), v.path.push_back(first + slot);
 
-                // t = 1: the vertex joined to the pinhole.
+                // t = 1: the vertex joined to the camera: the pinhole, or a point of the thin
+                // lens (whose importance, per unit lens area, makes the same weight: the
+                // lens' cosine and area cancel against its sampling density).
+                const Vec3 lens =
+                    cam.lens_point({rand(slot, kDimBounce + depth * kDimsPerBounce + 4),
+                                    rand(slot, kDimBounce + depth * kDimsPerBounce + 5)});
                 float fx, fy;
-                if (W.connect && cam.project(sp.p, fx, fy)) {
-                    const Vec3 to = cam.eye - sp.p;
+                if (W.connect && cam.project_through(lens, sp.p, fx, fy)) {
+                    const Vec3 to = lens - sp.p;
                     const float dist2 = length_squared(to), dist = std::sqrt(dist2);
                     const Vec3 wc = to / dist;
                     const float cos_cam = -dot(wc, cam.w);
@@ -148,8 +154,8 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                                 uint32_t(std::min(int(fy) - cam.y0, cam.film_h() - 1)) *
                                     uint32_t(cam.film_w()) +
                                 uint32_t(std::min(int(fx) - cam.x0, cam.film_w() - 1));
-                            ws.shadow.push(offset_origin(sp, wc), wc, 0.f,
-                                           length(cam.eye - sp.p) * (1.f - 1e-4f), slot);
+                            ws.shadow.push(offset_origin(sp, wc), wc, 0.f, dist * (1.f - 1e-4f),
+                                           slot);
                             ws.shadow_value.push_back(value);
                             ws.shadow_pixel.push_back(pixel);
                         }

@@ -23,11 +23,12 @@ enum class BidirMode { Bdpt, Bpm, Vcm };
 RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettings& settings,
                           const Intersector& accel, const RenderOptions& opt) {
     const char* name = mode == BidirMode::Bdpt ? "bdpt" : mode == BidirMode::Bpm ? "bpm" : "vcm";
-    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
+    if (scene.camera.type != CameraType::Perspective)
         throw InputError(scene.source, 0,
                          std::string(name) +
-                             " needs a pinhole perspective camera (no lens_radius): light "
-                             "subpaths are joined to the eye");
+                             " needs a perspective camera (a pinhole or a thin lens): light "
+                             "subpaths are joined to the camera, and an orthographic camera "
+                             "sees along one direction only");
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, std::string(name) + " needs a light");
 
