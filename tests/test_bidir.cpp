@@ -136,6 +136,13 @@ TEST_CASE("bdpt and vcm: white furnace, thread-count identity, settings", "[bidi
         const Film one = render_test(s, 2, 1, 3).film, two = render_test(s, 2, 2, 3).film;
         CHECK(compare_images(one, two).max_abs == 0.0);
         CHECK(compare_images(one, render_test(s, 2, 2, 4).film).max_abs > 0.0);
+        if (std::string(type) == "vcm") {
+            // The kd-tree finds the same merges as the grid (in another order).
+            s.render.bidir.merge_index = MergeIndex::KdTree;
+            const Film kd = render_test(s, 2, 2, 3).film;
+            CHECK(compare_images(kd, one).max_abs < 1e-4);
+            CHECK(compare_images(kd, render_test(s, 2, 1, 3).film).max_abs == 0.0);
+        }
     }
 
     auto settings_of = [](const std::string& renderer, const char* camera = "") {
@@ -156,6 +163,12 @@ TEST_CASE("bdpt and vcm: white furnace, thread-count identity, settings", "[bidi
                       Catch::Contains("t >= 1"));
     CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" strategy="1,2"/>)"),
                       Catch::Contains("needs type=\"bdpt\""));
+    CHECK(settings_of(R"(<renderer type="vcm" merge_index="kdtree"/>)").bidir.merge_index ==
+          MergeIndex::KdTree);
+    CHECK_THROWS_WITH(settings_of(R"(<renderer type="bdpt" merge_index="kdtree"/>)"),
+                      Catch::Contains("needs type=\"bpm\" or \"vcm\""));
+    CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" rr_depth="3"/>)"),
+                      Catch::Contains("rr_depth does not apply"));
     CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" mis="max"/>)"),
                       Catch::Contains("balance or power"));
     // Light subpaths are joined to the eye: an orthographic camera cannot take them.

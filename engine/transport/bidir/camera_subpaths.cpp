@@ -235,7 +235,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                     // Merges with every light vertex within the radius.
                     if (W.merge) {
                         RGB sum{0.f};
-                        store.grid.query(lv, sp.p, [&](uint32_t j) {
+                        store.merge_candidates(sp.p, [&](uint32_t j) {
                             if (lv.length[j] + len > c.max_segments) return;
                             const Vec3 wl = frame.to_local(lv.wo[j]);
                             const RGB f = mat.bsdf.f(wo, wl, ctx);

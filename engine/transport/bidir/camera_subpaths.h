@@ -9,6 +9,7 @@
 
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
+#include "kernels/point_kdtree.h"
 #include "light_vertices.h"
 #include "vcm_context.h"
 #include "vertex_grid.h"
@@ -30,7 +31,19 @@ struct CameraSubpathWorkspace {
 struct LightPathStore {
     LightVertices vertices;
     std::vector<uint32_t> first;  // path k: [first[k], first[k + 1])
-    VertexGrid grid;              // for merging
+    // The merge index: the grid, or the kd-tree kernel (merge_index=kdtree).
+    bool use_kdtree = false;
+    VertexGrid grid;
+    kern::PointKdTree kdtree;
+    float radius = 0.f;
+
+    // Calls visit(i) for every light vertex i within the merge radius of p.
+    template <class Visit>
+    void merge_candidates(const Vec3& p, Visit&& visit) const {
+        if (!use_kdtree) return grid.query(vertices, p, visit);
+        const float q[3] = {p.x, p.y, p.z};
+        kdtree.for_each_in_radius(q, radius * radius, [&](uint32_t i, float) { visit(i); });
+    }
 };
 
 // Traces the camera subpaths of film pixels [first, first + count) (row-major) and writes

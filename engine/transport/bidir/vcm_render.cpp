@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "camera_subpaths.h"
@@ -60,6 +61,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     std::vector<std::vector<Splat>> splats(light_chunks);
     std::vector<RGB> sum(pixels, RGB{0.f});
     LightPathStore store;
+    store.use_kdtree = settings.bidir.merge_index == MergeIndex::KdTree;
     tbb::enumerable_thread_specific<LightSubpathWorkspace> light_ws;
     tbb::enumerable_thread_specific<CameraSubpathWorkspace> camera_ws;
     tbb::enumerable_thread_specific<RenderStats> stats;
@@ -105,7 +107,17 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
             }
         });
         store.first[paths] = uint32_t(v.size());
-        if (ctx.weights.merge) store.grid.build(v, ctx.radius);
+        if (ctx.weights.merge) {
+            store.radius = ctx.radius;
+            if (store.use_kdtree)
+                store.kdtree.build(
+                    v.px.data(), v.py.data(), v.pz.data(), v.size(),
+                    [](const std::function<void()>& a, const std::function<void()>& b) {
+                        tbb::parallel_invoke(a, b);
+                    });
+            else
+                store.grid.build(v, ctx.radius);
+        }
         stats.local().add(Stage::LightVertices, v.size(), clock);
         return v.size();
     });

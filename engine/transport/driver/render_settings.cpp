@@ -68,9 +68,15 @@ void parse_bidir(const ParamSet& p, RenderSettings& r) {
                "or mis=power)");
     // Roulette by depth would differ between the two subpaths' view of a vertex.
     if (bidir && p.has("rr_depth"))
-        p.fail("rr_depth", "bdpt, bpm and vcm continue a subpath with the vertex's albedo "
-                           "estimate at every vertex (MIS needs a rule that does not depend on "
-                           "depth): rr_depth does not apply");
+        p.fail("rr_depth",
+               "bdpt, bpm and vcm continue a subpath with the vertex's albedo "
+               "estimate at every vertex (MIS needs a rule that does not depend on "
+               "depth): rr_depth does not apply");
+    static const EnumTable<MergeIndex> kMergeIndex{
+        {{"grid", MergeIndex::Grid}, {"kdtree", MergeIndex::KdTree}}};
+    r.bidir.merge_index = p.choice("merge_index", kMergeIndex, r.bidir.merge_index);
+    if (p.has("merge_index") && r.integrator != "bpm" && r.integrator != "vcm")
+        p.fail("merge_index", "merge_index needs type=\"bpm\" or \"vcm\"");
     if (!p.has("strategy")) return;
     const std::string v = p.text("strategy");
     if (r.integrator != "bdpt") p.fail("strategy", "strategy=\"s,t\" needs type=\"bdpt\"");

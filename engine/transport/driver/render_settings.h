@@ -46,8 +46,12 @@ struct AdaptiveSettings {
 // bdpt, bpm and vcm (transport/bidir): `strategy="s,t"` keeps only the strategy with s light
 // and t camera vertices, at full weight (a debug switch: each strategy alone converges to its
 // share of the image); the default, all strategies, weighted.
+// `merge_index="grid|kdtree"` (bpm, vcm): the light vertices' index for merging, a hashed
+// grid of cells 2r wide (default) or the photon map's kd-tree kernel.
+enum class MergeIndex : uint8_t { Grid, KdTree };
 struct BidirSettings {
     int only_s = -1, only_t = -1;
+    MergeIndex merge_index = MergeIndex::Grid;
 };
 
 struct RenderSettings {
