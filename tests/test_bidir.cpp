@@ -51,6 +51,22 @@ void check_means(const RGB& a, const RGB& b, double tolerance) {
     CHECK(a.b == Approx(b.b).epsilon(tolerance));
 }
 
+// Renders `path` (a path-traced scene) with path_spp samples, then with bdpt and vcm for
+// `iterations`: channel means and block x block blocks within the tolerances.
+void check_against_path(const TestScene& path, uint32_t path_spp, uint32_t iterations,
+                        double mean_tolerance, int block, double block_tolerance) {
+    const Film ref = render_test(path, path_spp, 0, 11).film;
+    for (const char* type : {"bdpt", "vcm"}) {
+        INFO(type);
+        TestScene s = path;
+        s.render.integrator = type;
+        const Film img = render_test(s, iterations, 0, 12).film;
+        const ImageError e = compare_images(img, ref);
+        check_means(e.mean_a, e.mean_b, mean_tolerance);
+        check_blocks(img, ref, block, block_tolerance);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("bdpt, vcm and bpm agree with pbrt-v4 on the diffuse and caustics boxes",
@@ -211,17 +227,8 @@ TEST_CASE("bdpt and vcm take every kind of light and BSDF the path tracer does",
     TestScene path = parse_scene(xml, "lights.xml", ".");
     // The path tracer is the noisier one here (the small emitting sphere reached by BSDF
     // samples): two 16,384 spp renders of an 8 x 8 block differ by RMSE 0.057 per pixel.
-    const Film ref = render_test(path, 4096, 0, 11).film;
-    for (const char* type : {"bdpt", "vcm"}) {
-        INFO(type);
-        TestScene s = path;
-        s.render.integrator = type;
-        const Film img = render_test(s, 256, 0, 12).film;
-        const ImageError e = compare_images(img, ref);
-        // Measured: means within 0.6 %, 8 x 8 blocks within 4 % (the reference's noise).
-        check_means(e.mean_a, e.mean_b, 0.01);
-        check_blocks(img, ref, 8, 0.06);
-    }
+    // Measured: means within 0.6 %, 8 x 8 blocks within 4 % (the reference's noise).
+    check_against_path(path, 4096, 256, 0.01, 8, 0.06);
 }
 
 TEST_CASE("bdpt and vcm through the thin lens: the materials scene as the path tracer sees it",
@@ -233,15 +240,6 @@ TEST_CASE("bdpt and vcm through the thin lens: the materials scene as the path t
     path.set_resolution(48, 32);
     path.render.integrator = "path";
     REQUIRE(path.camera.lens_radius > 0.f);
-    const Film ref = render_test(path, 1024, 0, 21).film;
-    for (const char* type : {"bdpt", "vcm"}) {
-        INFO(type);
-        TestScene s = path;
-        s.render.integrator = type;
-        const Film img = render_test(s, 128, 0, 22).film;
-        const ImageError e = compare_images(img, ref);
-        // Measured at 96 x 64, 256 iterations: means within 0.4 %.
-        check_means(e.mean_a, e.mean_b, 0.015);
-        check_blocks(img, ref, 16, 0.05);
-    }
+    // Measured at 96 x 64, 256 iterations: means within 0.4 %.
+    check_against_path(path, 1024, 128, 0.015, 16, 0.05);
 }

@@ -9,6 +9,7 @@
 
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
+#include "engine/transport/common/wavefront.h"
 #include "kernels/point_kdtree.h"
 #include "light_vertices.h"
 #include "vcm_context.h"
@@ -16,11 +17,7 @@
 
 namespace foton {
 
-struct CameraSubpathWorkspace {
-    RayBatch rays, next, shadow;
-    HitBatch hits;
-    std::vector<uint8_t> occluded;
-    std::vector<RGB> beta, shadow_value;
+struct CameraSubpathWorkspace : WavefrontBuffers {
     std::vector<SubpathMis> mis;
     std::vector<Vec3> p_prev;
     std::vector<uint8_t> specular;  // every vertex so far was sampled from a delta lobe

@@ -15,12 +15,7 @@
 
 namespace foton {
 
-struct LightSubpathWorkspace {
-    RayBatch rays, next, shadow;
-    HitBatch hits;
-    std::vector<uint8_t> occluded;
-    std::vector<RGB> beta, shadow_value;
-    std::vector<uint32_t> shadow_pixel;
+struct LightSubpathWorkspace : LightTracerWorkspace {
     std::vector<SubpathMis> mis;
     std::vector<uint16_t> length;
     std::vector<float> emit_pdf, pick;  // the emission's density, the light's selection

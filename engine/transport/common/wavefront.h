@@ -6,12 +6,24 @@
 #include <cstdint>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
+#include "engine/core/rgb.h"
 #include "engine/core/stats.h"
 
 namespace foton {
+
+// The buffers of a wavefront that tests shadow rays in batches: the live rays and the next
+// bounce's, their hits, the shadow rays with the value each adds if unoccluded, and the
+// paths' throughputs. Each tracer's workspace extends it with its own per-path state.
+struct WavefrontBuffers {
+    RayBatch rays, next, shadow;
+    HitBatch hits;
+    std::vector<uint8_t> occluded;
+    std::vector<RGB> beta, shadow_value;
+};
 
 struct WavefrontStages {
     Stage intersect = Stage::Intersect;

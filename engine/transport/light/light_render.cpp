@@ -63,11 +63,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
-        std::size_t count = 0;
-        for (const std::vector<Splat>& list : splats) {
-            for (const Splat& s : list) sum[s.pixel] += s.value;
-            count += list.size();
-        }
+        const std::size_t count = add_splats(splats, sum);
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });

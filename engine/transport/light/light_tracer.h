@@ -15,6 +15,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/wavefront.h"
 #include "engine/transport/driver/render_settings.h"
 
 namespace foton {
@@ -24,12 +25,20 @@ struct Splat {
     RGB value;
 };
 
-struct LightTracerWorkspace {
-    RayBatch rays, next, shadow;
-    HitBatch hits;
-    std::vector<uint8_t> occluded;
-    std::vector<RGB> beta, shadow_value;
-    std::vector<uint32_t> shadow_pixel;
+// Adds the chunks' splats to the film sums in chunk order (so the sums do not depend on which
+// thread traced which chunk); returns how many there were.
+inline std::size_t add_splats(const std::vector<std::vector<Splat>>& chunks,
+                              std::vector<RGB>& sum) {
+    std::size_t count = 0;
+    for (const std::vector<Splat>& list : chunks) {
+        for (const Splat& s : list) sum[s.pixel] += s.value;
+        count += list.size();
+    }
+    return count;
+}
+
+struct LightTracerWorkspace : WavefrontBuffers {
+    std::vector<uint32_t> shadow_pixel;  // the film pixel each shadow ray's splat lands on
 };
 
 class LightTracer {
