@@ -38,8 +38,10 @@ int main(int argc, char** argv) {
                      "x0,x1,y0,y1: render only pixels [x0,x1) x [y0,y1) (like pbrt's "
                      "--pixelbounds)")
         ->delimiter(',');
-    render->add_option("--integrator", ra.integrator,
-                       "raytracer | path | light | distributed | photon | sppm | ppm");
+    render->add_option(
+        "--integrator", ra.integrator,
+        "raytracer | path | light | distributed | photon | sppm | ppm | bdpt | bpm | "
+        "vcm");
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "
                        "filter=gauss); repeatable");
