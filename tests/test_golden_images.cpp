@@ -62,6 +62,10 @@ const std::vector<Config>& configs() {
         {"sppm-passes", with({{"type", "sppm"}}, no_cache), 3},
         {"ppm", with({{"type", "ppm"}}, no_cache)},
         {"ppm-passes", with({{"type", "ppm"}}, no_cache), 3},
+        {"bdpt", with({{"type", "bdpt"}}, no_cache)},
+        {"bpm", with({{"type", "bpm"}}, no_cache)},
+        {"vcm", with({{"type", "vcm"}}, no_cache)},
+        {"vcm-passes", with({{"type", "vcm"}}, no_cache), 3},
     };
     return list;
 }
@@ -165,6 +169,9 @@ TEST_CASE("golden image hashes: cornell-caustics", "[golden]") {
 TEST_CASE("golden image hashes: cornell-empty", "[golden]") {
     check_scene("cornell-empty");
 }
+TEST_CASE("golden image hashes: cornell-glass-caustic", "[golden]") {
+    check_scene("cornell-glass-caustic");
+}
 
 TEST_CASE("golden image hashes: cornell-diffuse", "[golden]") {
     check_scene("cornell-diffuse");
@@ -189,4 +196,7 @@ TEST_CASE("golden image hashes: mis-plates", "[golden]") {
 }
 TEST_CASE("golden image hashes: torus-knot", "[golden]") {
     check_scene("torus-knot");
+}
+TEST_CASE("golden image hashes: smallvcm-box", "[golden]") {
+    check_scene("smallvcm-box");
 }
