@@ -2,6 +2,7 @@
 // Pinhole perspective and orthographic cameras of the first thesis: a view plane of
 // width x height pixels of edge `pixel_size`, at distance d in front of the eye (perspective),
 // with the orthonormal basis u (right), v (up), w (forward) built from eye, target and up.
+#include <algorithm>
 #include <array>
 
 #include "engine/core/math.h"
@@ -52,6 +53,13 @@ struct Camera {
     // The same for the ray from lens point `l` (on the thin lens) through p: the image position
     // of the point where it crosses the plane in focus (for the pinhole, l = eye, project()).
     bool project_through(const Vec3& l, const Vec3& p, float& fx, float& fy) const;
+    // The film's row-major pixel index of an image position project() accepted: the image
+    // pixel less the crop window's corner.
+    uint32_t film_pixel(float fx, float fy) const {
+        const int x = std::min(int(fx) - x0, film_w() - 1),
+                  y = std::min(int(fy) - y0, film_h() - 1);
+        return uint32_t(y) * uint32_t(film_w()) + uint32_t(x);
+    }
     // A point on the lens for `u` uniform in the unit square (the eye for a pinhole).
     Vec3 lens_point(Point2 u) const;
     // Importance of the pinhole for a box-filtered pixel towards a point at distance `dist`

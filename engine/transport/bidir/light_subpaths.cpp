@@ -115,6 +115,9 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             const float adj = std::fabs(wo.z) / cos_in;
             const BsdfContext ctx{sp.front_face, Transport::Importance};
             const BsdfContext rctx{sp.front_face, Transport::Radiance};
+            // The vertex's continuation probability (Russian roulette), in both directions'
+            // densities here.
+            const float q = mat.bsdf.continuation();
 
             if (mat.bsdf.has_non_delta()) {
                 LightVertices& v = ws.local;
@@ -128,9 +131,11 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                 // t = 1: the vertex joined to the camera: the pinhole, or a point of the thin
                 // lens (whose importance, per unit lens area, makes the same weight: the
                 // lens' cosine and area cancel against its sampling density).
+                const uint32_t lens_dim = kDimBounce + depth * kDimsPerBounce + 4;
                 const Vec3 lens =
-                    cam.lens_point({rand(slot, kDimBounce + depth * kDimsPerBounce + 4),
-                                    rand(slot, kDimBounce + depth * kDimsPerBounce + 5)});
+                    cam.lens_radius > 0.f
+                        ? cam.lens_point({rand(slot, lens_dim), rand(slot, lens_dim + 1)})
+                        : cam.eye;
                 float fx, fy;
                 if (W.connect && cam.project_through(lens, sp.p, fx, fy)) {
                     const Vec3 to = lens - sp.p;
@@ -140,33 +145,26 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                     const float cos_sc = dot(wc, sp.ng);
                     const Vec3 wcl = frame.to_local(wc);
                     const RGB f = mat.bsdf.f(wo, wcl, ctx);
-                    if (!f.is_black() && cos_cam > 0.f && dot(wc, sp.ng) > 0.f) {
+                    if (!f.is_black() && cos_cam > 0.f && cos_sc > 0.f) {
                         // The camera's density of this point per pixel sample, in area measure.
                         const float cam_pdf_a = cam.importance(cos_cam, 1.f) * cos_sc / dist2;
-                        const float rev = mat.bsdf.pdf(wcl, wo, rctx) * mat.bsdf.continuation();
+                        const float rev = mat.bsdf.pdf(wcl, wo, rctx) * q;
                         const float w_light = W.mis(cam_pdf_a / n_paths) *
                                               (W.vm_weight + m.dvcm + m.dvc * W.mis(rev));
                         const float w = W.strategy(int(len) + 1, 1, 1.f / (1.f + w_light));
                         const RGB value =
                             beta * f * (adj * cos_sc * cam.importance(cos_cam, dist) * w / n_paths);
                         if (!value.is_black()) {
-                            const uint32_t pixel =
-                                uint32_t(std::min(int(fy) - cam.y0, cam.film_h() - 1)) *
-                                    uint32_t(cam.film_w()) +
-                                uint32_t(std::min(int(fx) - cam.x0, cam.film_w() - 1));
                             ws.shadow.push(offset_origin(sp, wc), wc, 0.f, dist * (1.f - 1e-4f),
                                            slot);
                             ws.shadow_value.push_back(value);
-                            ws.shadow_pixel.push_back(pixel);
+                            ws.shadow_pixel.push_back(cam.film_pixel(fx, fy));
                         }
                     }
                 }
             }
             if (len >= max_length) continue;
             const uint32_t dim = kDimBounce + depth * kDimsPerBounce;
-            // Russian roulette by the vertex's albedo estimate: part of both directions'
-            // densities here, so the MIS sums see it.
-            const float q = mat.bsdf.continuation();
             if (rand(slot, dim + 3) >= q) continue;
             BsdfSample bs;
             if (!mat.bsdf.sample(wo, rand(slot, dim), {rand(slot, dim + 1), rand(slot, dim + 2)},

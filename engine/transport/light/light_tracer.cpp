@@ -46,10 +46,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         const float cos_cam = -dot(wc, cam.w);
         const RGB v = value * cam.importance(cos_cam, dist);
         if (v.is_black()) return;
-        // The film's pixel: the image pixel less the crop window's corner.
-        const uint32_t pixel =
-            uint32_t(std::min(int(fy) - cam.y0, cam.film_h() - 1)) * uint32_t(cam.film_w()) +
-            uint32_t(std::min(int(fx) - cam.x0, cam.film_w() - 1));
+        const uint32_t pixel = cam.film_pixel(fx, fy);
         ws.shadow.push(o, wc, 0.f, length(cam.eye - o) * (1.f - 1e-4f), slot);
         ws.shadow_value.push_back(v);
         ws.shadow_pixel.push_back(pixel);
