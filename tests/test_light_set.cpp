@@ -1,13 +1,16 @@
 // The light sources as the Monte Carlo integrators see them: chi-square tests of the
 // direction sampling for next event estimation (rectangle, sphere by area and by solid angle,
 // emissive mesh) against pdf_li, of the emitted directions (point, spot, rectangle, two-sided)
-// against their pdfs, the emitted flux of every kind against its power, and selection by power.
+// against their pdfs, the emitted flux of every kind against its power, selection by power,
+// and shadow rays that their own light never blocks.
 #include <catch2/catch.hpp>
 
 #include "chi_square.h"
 #include "engine/core/rng.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/common/surface.h"
+#include "test_util.h"
 
 using namespace foton;
 
@@ -248,4 +251,80 @@ TEST_CASE("emitted flux equals each light's power, and lights are chosen by powe
         CHECK(ls.pmf(uint32_t(i)) == Approx(p).epsilon(1e-5));
         CHECK(double(picks[i]) / n == Approx(p).margin(5 * std::sqrt(p * (1 - p) / n) + 1e-6));
     }
+}
+
+TEST_CASE("a light never shadows the point on it that a shadow ray was sampled towards",
+          "[light]") {
+    // Near a sphere light's silhouette the shadow ray meets the sphere at a distance that
+    // rounding moves by about sqrt(2 r offset): stopping a little short of the sampled point
+    // did not stop it from entering the sphere first (a quarter of the samples under a sphere
+    // were lost so). Every sample of every area light, from near and grazing points.
+    const Scene scene = light_scene();
+    const LightSet ls(scene);
+    const auto accel = make_intersector(scene, AccelType::Bvh);
+    const Vec3 points[] = {
+        {0.3f, 0.f, -0.2f}, {2.f, 0.f, 1.f}, {-4.9f, 0.f, 4.9f}, {4.9f, 0.f, -4.9f}};
+    TraceCounters counters;
+    for (std::size_t li = 0; li < ls.size(); ++li) {
+        const Emitter& e = ls.emitter(li);
+        if (e.is_delta() || e.type == EmitterType::Environment) continue;
+        for (const Vec3& p : points) {
+            SurfacePoint sp;
+            sp.p = p;
+            sp.ng = sp.ns = {0.f, 1.f, 0.f};
+            sp.front_face = true;
+            sp.epsilon = offset_epsilon(p, 8.f);
+            int self = 0, n = 0;
+            for (int i = 0; i < 20000; ++i) {
+                LightSample s;
+                if (!ls.sample_li(
+                        uint32_t(li), p,
+                        {rng::uniform(9, li, uint64_t(i), 0), rng::uniform(9, li, uint64_t(i), 1)},
+                        rng::uniform(9, li, uint64_t(i), 2), s) ||
+                    s.wi.y <= 0.f)
+                    continue;
+                ++n;
+                const ShadowRay r = shadow_ray_to(sp, s);
+                Hit1 hit;
+                if (accel->intersect1({r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y,
+                                       r.dir.z, 0.f, r.tmax},
+                                      hit, counters) &&
+                    hit.geom == e.geom)
+                    ++self;
+            }
+            INFO(emitter_name(e.type) << " from (" << p.x << ", " << p.z << "): " << self << " of "
+                                      << n << " shadow rays met the light itself");
+            CHECK(n > 1000);
+            CHECK(self == 0);
+        }
+    }
+}
+
+TEST_CASE("next event estimation under a sphere light gives the analytic radiance", "[light]") {
+    // A Lambert floor of albedo 0.5 under a sphere of radiance 1, radius 1, centre 2 above
+    // it: directly beneath, E = pi L (r / d)^2, so the floor's radiance is 0.5 / 4. Seen through
+    // a 0.5 degree camera (the irradiance varies by 0.1 % over its footprint), by sampling
+    // the sphere's cone and its area, with and without MIS.
+    for (const char* sampling : {"solid_angle", "area"})
+        for (const char* mis : {"none", "power"}) {
+            TestScene s = parse_scene(std::string(R"(<scene><objects>
+                <quad><corner x="-20" y="0" z="-20"/><edge1 x="0" y="0" z="40"/>
+                  <edge2 x="40" y="0" z="0"/><material type="lambert"><reflectance r="0.5"
+                  g="0.5" b="0.5"/></material></quad>
+                <sphere radius="1"><center x="0" y="2" z="0"/><material type="lambert">
+                  <reflectance r="0" g="0" b="0"/><emission r="1" g="1" b="1" sampling=")") +
+                                          sampling + R"("/></material></sphere></objects>
+                <film width="4" height="4"/><renderer type="path" max_depth="1" mis=")" +
+                                          mis + R"("/>
+                <camera fov="0.5"><eye x="0" y="6" z="-8"/><target x="0" y="0" z="0"/></camera>
+                </scene>)",
+                                      "under.xml", ".");
+            // Area sampling is the noisier (measured: within 0.5 % at 16384 spp).
+            const bool area = std::string(sampling) == "area";
+            const Film img = render_test(s, area ? 16384 : 1024).film;
+            RGB sum{0.f};
+            for (const RGB& p : img.pixels) sum += p;
+            INFO(sampling << " sampling, mis " << mis);
+            CHECK(sum.g / 16.f == Approx(0.125f).epsilon(area ? 0.01 : 0.005));
+        }
 }

@@ -208,22 +208,32 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                 const float dc2 = length_squared(e.p - p);
                 // From inside (two-sided emission) only area sampling applies.
                 if (dc2 > e.radius * e.radius * 1.0001f) {
-                    // Uniform in the cone the sphere subtends, then the near intersection.
+                    // Uniform in the cone the sphere subtends. The point is placed on the
+                    // sphere by its angle at the centre (as pbrt-v4 does), not by
+                    // intersecting the sampled ray: at the silhouette that intersection's
+                    // rounding leaves it well off the sphere. 1 - cos is taken as
+                    // sin^2 / (1 + cos), which keeps small cones exact.
                     const float dc = std::sqrt(dc2);
                     const Vec3 wc = (e.p - p) / dc;
                     const float sin2_max = e.radius * e.radius / dc2;
-                    const float cos_max = std::sqrt(std::max(0.f, 1.f - sin2_max));
+                    const float one_minus_cos =
+                        sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max)));
+                    const float v = u.x * one_minus_cos;
+                    const float cos_t = 1.f - v, sin2_t = v * (2.f - v);
+                    const float cos_a = sin2_t / std::sqrt(sin2_max) +
+                                        cos_t * std::sqrt(std::max(0.f, 1.f - sin2_t / sin2_max));
+                    const float sin_a = std::sqrt(std::max(0.f, 1.f - cos_a * cos_a));
+                    const float phi = 2.f * kPi * u.y;
                     const warp::Frame fr(wc);
-                    const Vec3 w = fr.to_world(warp::uniform_cone(u, cos_max));
-                    const float ct = std::min(1.f, dot(w, wc));
-                    const float st2 = std::max(0.f, 1.f - ct * ct);
-                    const float ds =
-                        dc * ct - std::sqrt(std::max(0.f, e.radius * e.radius - dc2 * st2));
-                    s.wi = w;
+                    const Vec3 n =
+                        fr.to_world({sin_a * std::cos(phi), sin_a * std::sin(phi), -cos_a});
+                    s.p_light = e.p + n * e.radius;
+                    const Vec3 to = s.p_light - p;
+                    const float ds = length(to);
+                    s.wi = to / ds;
                     s.dist = ds;
-                    s.p_light = p + w * ds;
-                    s.n_light = normalize(s.p_light - e.p);
-                    s.pdf = warp::uniform_cone_pdf(cos_max);
+                    s.n_light = n;
+                    s.pdf = 1.f / (2.f * kPi * one_minus_cos);
                     s.Li = e.value;
                     return s.pdf > 0.f && ds > 0.f;
                 }
@@ -260,8 +270,8 @@ float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq)
     if (e.type == EmitterType::Sphere && e.solid_angle) {
         const float dc2 = length_squared(e.p - p);
         if (dc2 > e.radius * e.radius * 1.0001f) {
-            const float cos_max = std::sqrt(std::max(0.f, 1.f - e.radius * e.radius / dc2));
-            return warp::uniform_cone_pdf(cos_max);
+            const float sin2_max = e.radius * e.radius / dc2;
+            return 1.f / (2.f * kPi * sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max))));
         }
     }
     const Vec3 to = q - p;

@@ -181,11 +181,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
                                 const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w / direct);
                                 if (!value.is_black()) {
-                                    ws.shadow.push(offset_origin(sp, ls.wi), ls.wi, 0.f,
-                                                   std::isinf(ls.dist)
-                                                       ? kInfinity
-                                                       : ls.dist * (1.f - 1e-4f) - sp.epsilon,
-                                                   slot);
+                                    const ShadowRay r = shadow_ray_to(sp, ls);
+                                    ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
                                     ws.shadow_value.push_back(value);
                                 }
                             }
@@ -228,8 +225,10 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const RGB value = beta * fc * lv.beta[j] * fl *
                                               (std::fabs(dc.z) * lv.adj[j] * cos_l * w / dist2);
                             if (value.is_black()) continue;
-                            ws.shadow.push(offset_origin(sp, dir), dir, 0.f,
-                                           dist * (1.f - 1e-4f) - 2.f * sp.epsilon, slot);
+                            const Vec3 q = lv.position(j);
+                            const ShadowRay r =
+                                shadow_ray_to(sp, q, lv.ng[j], offset_epsilon(q, dist));
+                            ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
                             ws.shadow_value.push_back(value);
                         }
                     // Merges with every light vertex within the radius.

@@ -55,9 +55,10 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
     out.light = c.light;
     out.value = v.weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
     if (out.value.is_black()) return false;
-    out.origin = offset_origin(sp, ls.wi);
-    out.dir = ls.wi;
-    out.tmax = std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+    const ShadowRay ray = shadow_ray_to(sp, ls);
+    out.origin = ray.origin;
+    out.dir = ray.dir;
+    out.tmax = ray.tmax;
     return true;
 }
 

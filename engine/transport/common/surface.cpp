@@ -5,12 +5,6 @@
 
 namespace foton {
 
-namespace {
-// Relative size of the offset: a few float ulps of the larger of the hit's coordinates and
-// its distance along the ray, so it scales with the scene and with the distance.
-constexpr float kRelativeEpsilon = 2e-5f;
-}  // namespace
-
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
@@ -76,7 +70,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     if (dot(n_shade, dir) >= 0.f) n_shade = n_geom;
     sp.ng = n_geom;
     sp.ns = n_shade;
-    sp.epsilon = kRelativeEpsilon * (max_abs_component(sp.p) + t);
+    sp.epsilon = offset_epsilon(sp.p, t);
     return sp;
 }
 

@@ -1,8 +1,12 @@
 #pragma once
 // The differential geometry at a hit, derived on demand from a HitBatch entry: position,
-// geometric and shading normals (both facing the incoming ray), and the ray offset scale.
+// geometric and shading normals (both facing the incoming ray), and the ray offset scale;
+// the shadow rays that leave it.
+#include <cmath>
+
 #include "engine/core/math.h"
 #include "engine/core/ray_batch.h"
+#include "engine/scene/light_set.h"
 #include "engine/scene/scene.h"
 
 namespace foton {
@@ -15,6 +19,13 @@ struct SurfacePoint {
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
     Point2 uv;        // texture coordinates (computed only where the material is textured)
 };
+
+// Offset for rays leaving point p, found at distance t along a ray: a few float ulps of the
+// larger of its coordinates and that distance, so it scales with the scene and the distance.
+inline float offset_epsilon(const Vec3& p, float t) {
+    constexpr float kRelative = 2e-5f;
+    return kRelative * (max_abs_component(p) + t);
+}
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir);
@@ -30,6 +41,35 @@ inline SurfacePoint surface_at(const Scene& scene, const RayBatch& rays, const H
 // geometric normal, to the side `w` goes.
 inline Vec3 offset_origin(const SurfacePoint& sp, const Vec3& w) {
     return dot(w, sp.ng) >= 0.f ? sp.p + sp.ng * sp.epsilon : sp.p - sp.ng * sp.epsilon;
+}
+
+// A shadow ray: visible when nothing lies on it before tmax.
+struct ShadowRay {
+    Vec3 origin, dir;
+    float tmax;
+};
+
+// The shadow ray from `sp` to point q on another surface (normal nq, either orientation;
+// zero for a point on no surface: a point light, the camera), offset by eps_q there. Both
+// ends are pushed off their surfaces to the side the other end lies on, and the ray joins the
+// pushed ends. Then neither surface can block it by rounding: a convex emitter lies behind
+// its tangent plane at q, and the segment in front of it. Stopping short along the unpushed
+// direction does not do: near a sphere light's silhouette the origin's offset alone moves
+// where the ray enters the sphere by about sqrt(2 r offset), far more than any margin (a
+// quarter of the direct light under a sphere was lost so).
+inline ShadowRay shadow_ray_to(const SurfacePoint& sp, const Vec3& q, const Vec3& nq, float eps_q) {
+    const Vec3 o = offset_origin(sp, q - sp.p);
+    const Vec3 end = q + (dot(nq, o - q) >= 0.f ? nq : -nq) * eps_q;
+    const Vec3 d = end - o;
+    const float len = length(d);
+    return {o, len > 0.f ? d / len : d, len * (1.f - 1e-4f)};
+}
+
+// The same towards a light sample: to its point, or along its direction when the light is
+// at infinity (environment, directional).
+inline ShadowRay shadow_ray_to(const SurfacePoint& sp, const LightSample& ls) {
+    if (std::isinf(ls.dist)) return {offset_origin(sp, ls.wi), ls.wi, kInfinity};
+    return shadow_ray_to(sp, ls.p_light, ls.n_light, offset_epsilon(ls.p_light, ls.dist));
 }
 
 }  // namespace foton

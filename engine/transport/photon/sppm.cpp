@@ -117,12 +117,11 @@ class ProgressivePhotons {
                     const Vec3 wi = frame.to_local(ls.wi);
                     const RGB f = m.bsdf.f(wo, wi, ctx);
                     if (!f.is_black()) {
-                        const Vec3 so = offset_origin(sp, ls.wi);
-                        const float tmax =
-                            std::isinf(ls.dist) ? kInfinity : ls.dist * (1.f - 1e-4f) - sp.epsilon;
+                        const ShadowRay r = shadow_ray_to(sp, ls);
                         ++st.shadow_rays;
-                        if (!accel_.occluded1(
-                                {so.x, so.y, so.z, ls.wi.x, ls.wi.y, ls.wi.z, 0.f, tmax}, st.trace))
+                        if (!accel_.occluded1({r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y,
+                                               r.dir.z, 0.f, r.tmax},
+                                              st.trace))
                             px.direct += beta * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
                     }
                 }

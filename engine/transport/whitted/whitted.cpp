@@ -54,18 +54,21 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
                                      uint32_t slot, uint64_t sample_index, uint32_t depth,
                                      WhittedWorkspace& ws) const {
     const Lights& L = scene_.lights;
-    // Queues a shadow ray towards direction wi (unit) over distance `dist`, carrying the
-    // contribution it makes if nothing blocks it.
-    auto add = [&](const Vec3& wi, float dist, const RGB& incident) {
+    // Queues shadow ray r towards direction wi (unit), carrying the contribution it makes if
+    // nothing blocks it.
+    auto add_ray = [&](const ShadowRay& r, const Vec3& wi, const RGB& incident) {
         const float cos_s = dot(sp.ns, wi);
         if (cos_s <= 0.f || dot(sp.ng, wi) <= 0.f) return;
         const RGB value = weight * brdf(wi) * incident * cos_s;
         if (value.is_black()) return;
-        const Vec3 o = offset_origin(sp, wi);
-        // Stop short of the light so that its own geometry (area lights) does not block it.
-        const float tmax = std::isinf(dist) ? kInfinity : dist * (1.f - 1e-4f) - sp.epsilon;
-        ws.shadow.push(o, wi, 0.f, tmax, slot);
+        ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
         ws.shadow_value.push_back(value);
+    };
+    // The same towards a light at distance `dist` that is a point, a direction or a point on
+    // a rectangle: stopping short of it is enough (a plane meets the ray only at its end).
+    auto add = [&](const Vec3& wi, float dist, const RGB& incident) {
+        const float tmax = std::isinf(dist) ? kInfinity : dist * (1.f - 1e-4f) - sp.epsilon;
+        add_ray({offset_origin(sp, wi), wi, tmax}, wi, incident);
     };
     for (const PointLight& pl : L.points) {
         const Vec3 to = pl.position - sp.p;
@@ -106,7 +109,7 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
             if (lights_.sample_li(e, sp.p, sample_pattern(SamplerKind::Jittered, k, n, seed_, key),
                                   rng::uniform(seed_, key, k, 2), ls) &&
                 ls.pdf > 0.f)
-                add(ls.wi, ls.dist, ls.Li * (1.f / (float(n) * ls.pdf)));
+                add_ray(shadow_ray_to(sp, ls), ls.wi, ls.Li * (1.f / (float(n) * ls.pdf)));
         }
     }
     if (scene_.environment) {
