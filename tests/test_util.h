@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by the tests: paths to the project and to ../shared, temporary files.
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -40,6 +41,15 @@ inline constexpr int kSanitizedStride = 1;
 #endif
 inline constexpr int scaled(int n) {
     return n / kSanitizedStride > 0 ? n / kSanitizedStride : 1;
+}
+
+// How much more work than the default the statistical tests that read it should do:
+// FOTON_TEST_EFFORT=16 renders 16x the samples (a quarter of the noise) for a thorough run
+// outside CI; 1 when unset.
+inline uint32_t effort() {
+    const char* e = std::getenv("FOTON_TEST_EFFORT");
+    const long n = e ? std::strtol(e, nullptr, 10) : 1;
+    return n >= 1 && n <= 1 << 16 ? uint32_t(n) : 1u;
 }
 
 inline std::string source_path(const std::string& rel) {
