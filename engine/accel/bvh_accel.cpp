@@ -1,5 +1,6 @@
 #include "bvh_accel.h"
 
+#include "engine/core/thread_pinning.h"
 #include "object_box.h"
 
 #include <tbb/parallel_invoke.h>
@@ -55,6 +56,7 @@ BvhAccel::BvhAccel(const Scene& scene, int threads)
     };
     if (threads > 0) {
         tbb::task_arena arena(threads);
+        const ArenaPinning pinning(arena);
         arena.execute(build);
     } else {
         build();

@@ -14,6 +14,7 @@
 #include "build_info.h"
 #include "convergence_log.h"
 #include "engine/accel/intersector.h"
+#include "engine/core/cpu_topology.h"
 #include "engine/core/error.h"
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
@@ -23,6 +24,7 @@
 #include "interrupt.h"
 #include "json_text.h"
 #include "kernels/simd.h"
+#include "output_paths.h"
 #include "progress_line.h"
 #include "tev_display.h"
 
@@ -44,19 +46,6 @@ std::string format_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
-}
-
-// The CPU model, from /proc/cpuinfo ("unknown" elsewhere).
-std::string cpu_model() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos)
-                return line.substr(line.find_first_not_of(' ', colon + 1));
-        }
-    return "unknown";
 }
 
 // The image with every directly visible first-level cache record drawn as a white pixel (the
@@ -83,23 +72,6 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
         ++marked;
     }
     return f;
-}
-
-// A file we are about to write later: its directory must exist (or be creatable) and be
-// writable, and it must not be a directory. Checked before the render, not after it.
-// `input` (the scene) must not be overwritten.
-void check_writable(const std::string& path, const char* what, const std::string& input = "") {
-    const fs::path p(path);
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) throw InputError(what, 0, "'" + path + "' is a directory");
-    if (!input.empty() && fs::exists(p, ec) && fs::equivalent(p, input, ec))
-        throw InputError(what, 0, "'" + path + "' is the scene file itself");
-    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    fs::create_directories(dir, ec);
-    if (ec || access(dir.c_str(), W_OK) != 0)
-        throw InputError(what, 0,
-                         "cannot write '" + path + "' (" +
-                             (ec ? ec.message() : std::string("directory not writable")) + ")");
 }
 
 }  // namespace
@@ -324,7 +296,7 @@ int run_render(const RenderArgs& args) {
             {"spp_mean", format_number(spp_mean)},
             {"seed", std::to_string(opt.seed)},
             {"threads_requested", std::to_string(opt.threads)},
-            {"cpu", json_string(cpu_model())},
+            {"cpu", json_string(cpu_topology().model)},
             {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
             {"simd", json_string(std::string(simd::Arch::name()))},
             {"simd_width", std::to_string(simd::kWidth)},

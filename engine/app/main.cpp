@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "engine/core/error.h"
+#include "scale_study.h"
 #include "serve.h"
 
 int main(int argc, char** argv) {
@@ -110,6 +111,30 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 64));
 
     app::ServeArgs sa;
+    app::ScaleArgs sc;
+    CLI::App* scale = app.add_subcommand(
+        "scale", "a scaling study: render at several thread counts, report speed-up per stage");
+    scale->add_option("scene", sc.scene, "scene XML file")->required();
+    scale->add_option("--threads", sc.threads,
+                      "thread counts, increasing: 1,2,4,... (default and \"all\": powers of "
+                      "two and every hardware thread)");
+    scale->add_option("--integrator", sc.integrator, "as for render");
+    scale->add_option("--set", sc.set, "key=value: set a <renderer> attribute; repeatable");
+    scale->add_option("--spp", sc.spp, "samples per pixel (per pass with --passes or --time)");
+    scale->add_option("--passes", sc.passes, "progressive passes (SPPM/PPM: photon passes)");
+    scale->add_option("--time", sc.time,
+                      "seconds of progressive passes per run: scaling by throughput");
+    scale->add_option("--repeats", sc.repeats, "runs per thread count (median, min, max; 3)");
+    scale->add_flag("--weak", sc.weak,
+                    "weak scaling: the work (--passes if given, else spp) grows with the threads");
+    scale->add_flag("--pin", sc.pin, "pin each thread to a CPU, physical cores first");
+    scale->add_option("--accel", sc.accel, "brute | brute-simd | grid | bvh | embree");
+    scale->add_option("--width", sc.width, "image width in pixels");
+    scale->add_option("--height", sc.height, "image height in pixels");
+    scale->add_option("--seed", sc.seed, "random seed");
+    scale->add_option("-o,--output", sc.json, "the study as JSON (default out/<scene>-scale.json)");
+    scale->add_option("--plot", sc.plot, "SVG plot of speed-up and efficiency (default beside it)");
+
     CLI::App* serve = app.add_subcommand(
         "serve", "a local web page to open scenes, render, watch and save (one render at a time)");
     serve->add_option("--port", sa.port, "TCP port (0: any free one, printed); default 8080");
@@ -121,6 +146,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         for (int i = 0; i < argc; ++i) ra.command_line += (i ? " " : "") + std::string(argv[i]);
+        sc.command_line = ra.command_line;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForVersion& e) {
@@ -134,6 +160,7 @@ int main(int argc, char** argv) {
         if (*info) return app::run_info(info_scene);
         if (*compare) return app::run_compare(ca);
         if (*serve) return app::run_serve(sa);
+        if (*scale) return app::run_scale(sc);
     } catch (const InputError& e) {
         std::fprintf(stderr, "%s\n", e.what());
         return kExitBadInput;

@@ -179,9 +179,9 @@ std::string RenderStats::json(const std::vector<std::pair<std::string, std::stri
         const GraphStats::Node& n = graph.nodes[i];
         std::snprintf(buf, sizeof buf,
                       "%s\n      {\"name\": \"%s\", \"busy_seconds\": %.6f, \"items\": %llu, "
-                      "\"runs\": %llu}",
+                      "\"runs\": %llu, \"time\": \"%s\"}",
                       i ? "," : "", n.name.c_str(), n.busy_seconds, (unsigned long long)n.items,
-                      (unsigned long long)n.runs);
+                      (unsigned long long)n.runs, n.thread_time ? "thread" : "wall");
         s += buf;
     }
     s += "\n    ],\n    \"edges\": [";

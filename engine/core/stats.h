@@ -90,6 +90,9 @@ struct GraphStats {
         double busy_seconds = 0.0;
         uint64_t items = 0;
         uint64_t runs = 0;  // times the node ran (once per pass, or per tile)
+        // busy_seconds is thread time (a tile node, summed over the threads running it)
+        // rather than wall time (a node that runs once per pass, parallel inside).
+        bool thread_time = false;
     };
     std::vector<Node> nodes;
     std::vector<std::pair<uint32_t, uint32_t>> edges;  // from, to (indices into nodes)

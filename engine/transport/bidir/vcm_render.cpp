@@ -11,6 +11,7 @@
 
 #include "camera_subpaths.h"
 #include "engine/core/error.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/transport/driver/pass_control.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "light_subpaths.h"
@@ -156,6 +157,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
         return f;
     };
     tbb::task_arena arena(threads);
+    const ArenaPinning pinning(arena);
     uint32_t passes = 0;
     do {
         for (uint32_t s = 0; s < opt.spp; ++s) {

@@ -11,6 +11,7 @@
 #include <tbb/flow_graph.h>
 #include <tbb/task_arena.h>
 
+#include "engine/core/thread_pinning.h"
 #include "pass_control.h"
 
 namespace foton {
@@ -322,6 +323,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                          uint64_t(tiles.size()) * pieces);
         progress_task = &task;
         tbb::task_arena arena(threads);
+        const ArenaPinning pinning(arena);
         do {
             arena.execute([&] { run_pass(passes); });
             ++passes;

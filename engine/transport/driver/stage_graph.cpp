@@ -78,7 +78,7 @@ GraphStats StageGraph::report() const {
     GraphStats r;
     for (const Node& n : nodes_)
         r.nodes.push_back(
-            {n.name, double(n.nanoseconds.load()) * 1e-9, n.items.load(), n.runs.load()});
+            {n.name, double(n.nanoseconds.load()) * 1e-9, n.items.load(), n.runs.load(), !n.body});
     r.edges = edges_;
     return r;
 }

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "engine/core/thread_pinning.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 
 namespace foton {
@@ -30,6 +31,7 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::task_arena arena(threads);
+    const ArenaPinning pinning(arena);
     // A pass as two graph nodes: the pass's pixels traced in parallel chunks against the
     // frozen caches, then the chunks' new records inserted in chunk order.
     std::vector<SampleJob> jobs;

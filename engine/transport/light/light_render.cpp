@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/driver/pass_control.h"
 #include "engine/transport/driver/stage_graph.h"
@@ -69,6 +70,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     });
     graph.edge(trace, splat);
     tbb::task_arena arena(threads);
+    const ArenaPinning pinning(arena);
     do {
         graph.run(arena);
         ++passes;

@@ -1,6 +1,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/transport/driver/camera_driver.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
@@ -44,6 +45,7 @@ RenderResult render_guided_path(const Scene& scene, const RenderSettings& settin
     graph.edge(trace, build);
     {
         tbb::task_arena arena(resolve_threads(opt.threads));
+        const ArenaPinning pinning(arena);
         graph.run(arena);
     }
     integrator.set_guide(&guide);

@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/driver/camera_driver.h"
 #include "engine/transport/driver/stage_graph.h"
@@ -126,6 +127,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     graph.edge(balance_global, precompute);
     {
         tbb::task_arena arena(threads);
+        const ArenaPinning pinning(arena);
         graph.run(arena);
     }
     const double photon_seconds = photon_clock.lap();

@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
@@ -184,6 +185,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
     tbb::task_arena arena(threads);
+    const ArenaPinning pinning(arena);
     RenderStats stats;
     tbb::enumerable_thread_specific<RenderStats> local;
     auto image = [&](uint32_t passes) {

@@ -1,0 +1,27 @@
+#include "output_paths.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "engine/core/error.h"
+
+namespace foton::app {
+
+namespace fs = std::filesystem;
+
+void check_writable(const std::string& path, const char* what, const std::string& input) {
+    const fs::path p(path);
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) throw InputError(what, 0, "'" + path + "' is a directory");
+    if (!input.empty() && fs::exists(p, ec) && fs::equivalent(p, input, ec))
+        throw InputError(what, 0, "'" + path + "' is the scene file itself");
+    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    fs::create_directories(dir, ec);
+    if (ec || access(dir.c_str(), W_OK) != 0)
+        throw InputError(what, 0,
+                         "cannot write '" + path + "' (" +
+                             (ec ? ec.message() : std::string("directory not writable")) + ")");
+}
+
+}  // namespace foton::app

@@ -1,0 +1,237 @@
+#include "scale_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "build_info.h"
+#include "json_text.h"
+#include "kernels/simd.h"
+
+namespace foton::app {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+std::string hex(uint64_t h) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+    return buf;
+}
+
+// Text inside SVG: the markup characters escaped.
+std::string xml_text(const std::string& t) {
+    std::string o;
+    for (const char c : t) {
+        if (c == '&')
+            o += "&amp;";
+        else if (c == '<')
+            o += "&lt;";
+        else if (c == '>')
+            o += "&gt;";
+        else
+            o += c;
+    }
+    return o;
+}
+
+const char* mode(const ScaleStudy& s) {
+    return s.args.time ? "throughput" : s.args.weak ? "weak" : "strong";
+}
+
+}  // namespace
+
+std::string scale_markdown(const ScaleStudy& s) {
+    std::string md = "## " + s.args.scene + ": " + s.integrator + ", " + mode(s) + " scaling, " +
+                     std::to_string(s.width) + " x " + std::to_string(s.height) + ", median of " +
+                     std::to_string(s.args.repeats) + (s.args.pin ? ", pinned" : "") +
+                     "\n\n| threads | wall s | min | max | speed-up | efficiency | Karp-Flatt | "
+                     "samples/s |\n|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const ScalePoint& p : s.points)
+        md += "| " + std::to_string(p.threads) + " | " + fmt("%.3f", p.wall_median) + " | " +
+              fmt("%.3f", p.wall_min) + " | " + fmt("%.3f", p.wall_max) + " | " +
+              fmt("%.2f", p.speedup) + " | " + fmt("%.2f", p.efficiency) + " | " +
+              (p.threads > s.points.front().threads ? fmt("%.3f", p.karp_flatt) : "-") + " | " +
+              fmt("%.4g", p.rate) + " |\n";
+    if (!s.points.empty() && !s.points.front().stage_efficiency.empty()) {
+        md += "\nPer stage: efficiency (thread-seconds of the first count over these";
+        md += s.args.weak ? ", per unit of work)" : ")";
+        md += "\n\n| stage |";
+        std::string rule = "|---|";
+        for (const ScalePoint& p : s.points) {
+            md.append(" ").append(std::to_string(p.threads)).append(" |");
+            rule += "---:|";
+        }
+        md += " thread-s at " + std::to_string(s.points.back().threads) + " |\n" + rule + "---:|\n";
+        const ScalePoint& last = s.points.back();
+        for (std::size_t i = 0; i < s.points.front().stage_efficiency.size(); ++i) {
+            const std::string& name = s.points.front().stage_efficiency[i].first;
+            md += "| " + name + " |";
+            for (const ScalePoint& p : s.points) {
+                double e = 0.0;
+                for (const auto& [n, v] : p.stage_efficiency)
+                    if (n == name) e = v;
+                md.append(" ").append(fmt("%.2f", e)).append(" |");
+            }
+            double ts = 0.0;
+            for (const auto& [n, v] : last.stage_thread_seconds)
+                if (n == name) ts = v;
+            md.append(" ").append(fmt("%.3f", ts)).append(" |\n");
+        }
+        if (!s.worst_stage.empty())
+            md += "\nScales worst at " + std::to_string(last.threads) +
+                  " threads: " + s.worst_stage + "\n";
+    }
+    if (s.images_identical)
+        md += std::string("\nImages across thread counts: ") +
+              (*s.images_identical ? "bit-identical" : "DIFFERENT") + "\n";
+    return md;
+}
+
+std::string scale_json(const ScaleStudy& s, const CpuTopology& m) {
+    std::string j = "{\n  \"schema\": \"foton-scale\",\n  \"schema_version\": 1,\n";
+    j += "  \"machine\": {\"cpu\": " + json_string(m.model) +
+         ", \"sockets\": " + std::to_string(m.sockets) + ", \"cores\": " + std::to_string(m.cores) +
+         ", \"logical_cpus\": " + std::to_string(m.logical) +
+         ", \"threads_per_core\": " + std::to_string(m.threads_per_core) +
+         ", \"numa_nodes\": " + std::to_string(m.numa_nodes) +
+         ", \"simd\": " + json_string(simd::Arch::name()) +
+         ", \"simd_width\": " + std::to_string(simd::kWidth) + "},\n";
+    j += "  \"build\": {\"version\": " + json_string(FOTON_VERSION) +
+         ", \"git_commit\": " + json_string(git_commit()) + "},\n";
+    j += "  \"scene\": {\"path\": " + json_string(s.args.scene) +
+         ", \"fnv1a\": " + json_string(hex(s.scene_hash)) + "},\n";
+    j += "  \"settings\": {\"integrator\": " + json_string(s.integrator) +
+         ", \"renderer\": " + json_string(s.settings) +
+         ", \"accelerator\": " + json_string(s.accel) + ", \"width\": " + std::to_string(s.width) +
+         ", \"height\": " + std::to_string(s.height) + ", \"mode\": " + json_string(mode(s)) +
+         ", \"time\": " + (s.args.time ? fmt("%g", *s.args.time) : "null") +
+         ", \"repeats\": " + std::to_string(s.args.repeats) +
+         ", \"pinned\": " + (s.args.pin ? "true" : "false") +
+         ", \"command_line\": " + json_string(s.args.command_line) + "},\n";
+    j += "  \"images_identical\": " +
+         std::string(s.images_identical ? (*s.images_identical ? "true" : "false") : "null") +
+         ",\n";
+    j += "  \"worst_stage\": " + (s.worst_stage.empty() ? "null" : json_string(s.worst_stage)) +
+         ",\n";
+    auto stages = [](const std::vector<std::pair<std::string, double>>& v) {
+        std::string o = "{";
+        for (std::size_t i = 0; i < v.size(); ++i)
+            o += (i ? ", " : "") + json_string(v[i].first) + ": " + fmt("%.6g", v[i].second);
+        return o + "}";
+    };
+    j += "  \"points\": [";
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+        const ScalePoint& p = s.points[i];
+        j += std::string(i ? "," : "") + "\n    {\"threads\": " + std::to_string(p.threads) +
+             ", \"wall_median\": " + fmt("%.6g", p.wall_median) +
+             ", \"wall_min\": " + fmt("%.6g", p.wall_min) +
+             ", \"wall_max\": " + fmt("%.6g", p.wall_max) +
+             ", \"samples_per_second\": " + fmt("%.6g", p.rate) +
+             ", \"speedup\": " + fmt("%.6g", p.speedup) +
+             ", \"efficiency\": " + fmt("%.6g", p.efficiency) +
+             ", \"karp_flatt\": " + fmt("%.6g", p.karp_flatt) +
+             ",\n     \"stage_thread_seconds\": " + stages(p.stage_thread_seconds) +
+             ",\n     \"stage_efficiency\": " + stages(p.stage_efficiency) + "}";
+    }
+    j += "\n  ],\n  \"runs\": [";
+    for (std::size_t i = 0; i < s.runs.size(); ++i) {
+        const ScaleRun& r = s.runs[i];
+        j += std::string(i ? "," : "") + "\n    {\"threads\": " + std::to_string(r.threads) +
+             ", \"repeat\": " + std::to_string(r.repeat) +
+             ", \"wall_seconds\": " + fmt("%.6g", r.wall_seconds) +
+             ", \"build_seconds\": " + fmt("%.6g", r.build_seconds) +
+             ", \"samples\": " + std::to_string(r.samples) +
+             ", \"passes\": " + std::to_string(r.passes) +
+             ", \"image_fnv1a\": " + json_string(hex(r.image_hash)) +
+             ",\n     \"stage_thread_seconds\": " + stages(r.stage_thread_seconds) + "}";
+    }
+    return j + "\n  ]\n}\n";
+}
+
+std::string scale_svg(const ScaleStudy& s) {
+    // Two panels: speed-up against threads (with the ideal line), and efficiency (overall,
+    // bold, and per stage).
+    const double W = 1080, H = 380, pw = 360, ph = 270, top = 50, left[2] = {70, 520};
+    const int nmax = s.points.empty() ? 1 : s.points.back().threads;
+    const int nmin = s.points.empty() ? 1 : s.points.front().threads;
+    double smax = nmax;
+    for (const ScalePoint& p : s.points) smax = std::max(smax, p.speedup);
+    double emax = 1.0;
+    for (const ScalePoint& p : s.points)
+        for (const auto& [n, e] : p.stage_efficiency) emax = std::max(emax, std::min(e, 2.0));
+    auto X = [&](int panel, double n) {
+        return left[panel] + (nmax > nmin ? (n - nmin) / double(nmax - nmin) : 0.5) * pw;
+    };
+    auto Y = [&](double v, double vmax) { return top + ph - std::min(v, vmax) / vmax * ph; };
+    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%g", W) +
+                      "\" height=\"" + fmt("%g", H) +
+                      "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" "
+                      "height=\"100%\" fill=\"white\"/>\n";
+    svg += "<text x=\"" + fmt("%g", W / 2) +
+           "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" + xml_text(s.args.scene) + ": " +
+           s.integrator + ", " + mode(s) + " scaling</text>\n";
+    const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                             "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+    for (int panel = 0; panel < 2; ++panel) {
+        const double vmax = panel == 0 ? smax : emax;
+        svg += "<rect x=\"" + fmt("%g", left[panel]) + "\" y=\"" + fmt("%g", top) + "\" width=\"" +
+               fmt("%g", pw) + "\" height=\"" + fmt("%g", ph) +
+               "\" fill=\"none\" stroke=\"black\"/>\n";
+        for (const ScalePoint& p : s.points)
+            svg += "<text x=\"" + fmt("%.1f", X(panel, p.threads)) + "\" y=\"" +
+                   fmt("%g", top + ph + 16) + "\" text-anchor=\"middle\">" +
+                   std::to_string(p.threads) + "</text>\n";
+        for (int k = 0; k <= 4; ++k) {
+            const double v = vmax * k / 4;
+            svg += "<text x=\"" + fmt("%g", left[panel] - 6) + "\" y=\"" +
+                   fmt("%.1f", Y(v, vmax) + 4) + "\" text-anchor=\"end\">" + fmt("%.3g", v) +
+                   "</text>\n<line x1=\"" + fmt("%g", left[panel]) + "\" x2=\"" +
+                   fmt("%g", left[panel] + pw) + "\" y1=\"" + fmt("%.1f", Y(v, vmax)) + "\" y2=\"" +
+                   fmt("%.1f", Y(v, vmax)) + "\" stroke=\"#ddd\"/>\n";
+        }
+        svg += "<text x=\"" + fmt("%g", left[panel] + pw / 2) + "\" y=\"" +
+               fmt("%g", top + ph + 34) + "\" text-anchor=\"middle\">threads</text>\n<text x=\"" +
+               fmt("%g", left[panel]) + "\" y=\"" + fmt("%g", top - 8) + "\">" +
+               (panel == 0 ? "speed-up" : "parallel efficiency") + "</text>\n";
+        auto polyline = [&](const std::vector<std::pair<double, double>>& pts, const char* color,
+                            double width, const char* dash) {
+            std::string line = "<polyline fill=\"none\" stroke=\"" + std::string(color) +
+                               "\" stroke-width=\"" + fmt("%g", width) + "\"" +
+                               (dash[0] ? std::string(" stroke-dasharray=\"") + dash + "\"" : "") +
+                               " points=\"";
+            for (const auto& [n, v] : pts)
+                line += fmt("%.1f", X(panel, n)) + "," + fmt("%.1f", Y(v, vmax)) + " ";
+            return line + "\"/>\n";
+        };
+        std::vector<std::pair<double, double>> ideal, measured;
+        for (const ScalePoint& p : s.points) {
+            ideal.push_back({double(p.threads), panel == 0 ? double(p.threads) : 1.0});
+            measured.push_back({double(p.threads), panel == 0 ? p.speedup : p.efficiency});
+        }
+        svg += polyline(ideal, "#999", 1.5, "6,4");
+        svg += polyline(measured, "black", 2.5, "");
+        if (panel == 1 && !s.points.empty()) {
+            const auto& names = s.points.front().stage_efficiency;
+            for (std::size_t i = 0; i < names.size(); ++i) {
+                std::vector<std::pair<double, double>> pts;
+                for (const ScalePoint& p : s.points)
+                    for (const auto& [n, e] : p.stage_efficiency)
+                        if (n == names[i].first) pts.push_back({double(p.threads), e});
+                const char* c = palette[i % 10];
+                svg += polyline(pts, c, 1.2, "");
+                svg += "<text x=\"" + fmt("%g", left[1] + pw + 8) + "\" y=\"" +
+                       fmt("%g", top + 12 + 14 * double(i)) + "\" fill=\"" + c + "\">" +
+                       xml_text(names[i].first) + "</text>\n";
+            }
+        }
+    }
+    return svg + "</svg>\n";
+}
+
+}  // namespace foton::app

@@ -1,0 +1,173 @@
+#include "scale_study.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/cpu_topology.h"
+#include "engine/core/error.h"
+#include "engine/core/params.h"
+#include "engine/core/thread_pinning.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "image_flags.h"
+#include "output_paths.h"
+#include "scale_report.h"
+
+namespace foton::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+uint64_t fnv1a(const void* data, std::size_t n, uint64_t h = 1469598103934665603ull) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+// Thread-seconds per graph node, or per stage when the render has no graph.
+std::vector<std::pair<std::string, double>> stage_times(const RenderStats& st, int threads) {
+    std::vector<std::pair<std::string, double>> out;
+    for (const GraphStats::Node& n : st.graph.nodes)
+        out.push_back({n.name, n.thread_time ? n.busy_seconds : n.busy_seconds * threads});
+    if (out.empty())
+        for (int i = 0; i < kNumStages; ++i)
+            if (st.stage_seconds[i] > 0.0)
+                out.push_back({stage_name(Stage(i)), st.stage_seconds[i]});
+    return out;
+}
+
+}  // namespace
+
+int run_scale(const ScaleArgs& args) {
+    if (args.repeats < 1 || args.repeats > 1000)
+        throw InputError("--repeats", 0, "must be from 1 to 1000");
+    if (args.time && args.weak)
+        throw InputError("--weak", 0, "needs fixed work (--spp or --passes), not --time");
+    if (args.time && !(*args.time > 0.f)) throw InputError("--time", 0, "must be positive");
+    RendererOverrides overrides;
+    for (const std::string& kv : args.set) {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InputError("--set", 0, "expected key=value, got '" + kv + "'");
+        overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    }
+    Scene scene = load_scene(args.scene, overrides);
+    if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
+        throw InputError(
+            "--accel", 0,
+            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, bvh, embree)");
+    apply_image_flags({args.width, args.height, {}, {}}, scene);
+    if (!args.integrator.empty()) scene.renderer.set("type", args.integrator, "--integrator", 0);
+    if (args.seed) scene.renderer.set("seed", *args.seed, "--seed", 0);
+    if (args.spp) scene.renderer.set("spp", *args.spp, "--spp", 0);
+    const RenderSettings rs = render_settings(scene);
+    if (rs.adaptive.enabled)
+        throw InputError(args.scene, 0, "adaptive sampling does not make a scaling study");
+    uint32_t passes = 0;
+    if (args.passes)
+        passes = uint32_t(integer_or_fail(*args.passes, 1, 1u << 30, "--passes", 0, "the value"));
+
+    const CpuTopology topo = cpu_topology();
+    const std::vector<int> counts = thread_counts(args.threads, topo.logical);
+    if (args.weak)
+        for (const int n : counts)
+            if (n % counts.front() != 0)
+                throw InputError("--weak", 0,
+                                 "every thread count must be a multiple of the first (the work "
+                                 "grows by their ratio)");
+    std::string json = args.json;
+    if (json.empty())
+        json = (fs::path("out") / fs::path(args.scene).stem()).string() + "-scale.json";
+    std::string plot = args.plot;
+    if (plot.empty()) plot = fs::path(json).replace_extension(".svg").string();
+    check_writable(json, "-o", args.scene);
+    check_writable(plot, "--plot", args.scene);
+
+    ScaleStudy study;
+    study.args = args;
+    study.integrator = rs.integrator;
+    study.accel = accel_name(scene.accel);
+    study.width = scene.film.width;
+    study.height = scene.film.height;
+    for (const std::string& key : scene.renderer.read_keys())
+        if (scene.renderer.has(key))
+            study.settings +=
+                (study.settings.empty() ? "" : " ") + key + "=" + scene.renderer.text(key);
+    {
+        std::ifstream in(args.scene, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        study.scene_hash = fnv1a(bytes.data(), bytes.size());
+    }
+    set_thread_pinning(args.pin);
+    for (const int n : counts)
+        for (uint32_t rep = 0; rep < args.repeats; ++rep) {
+            RenderOptions opt = rs.run;
+            opt.threads = n;
+            // As `foton render`: progressive passes are one sample per pixel unless --spp.
+            if ((args.time || passes) && !args.spp) opt.spp = 1;
+            if (args.time) opt.time_limit = *args.time;
+            opt.max_passes = passes;
+            if (args.weak) {
+                const uint32_t scale = uint32_t(n / counts.front());
+                if (passes)
+                    opt.max_passes *= scale;
+                else
+                    opt.spp *= scale;
+            }
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto accel = make_intersector(scene, scene.accel, n);
+            const double build =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const RenderResult res = render(scene, rs, *accel, opt);
+            ScaleRun r;
+            r.threads = n;
+            r.repeat = rep;
+            r.wall_seconds = res.stats.wall_seconds;
+            r.build_seconds = build;
+            r.samples = res.stats.samples;
+            r.passes = res.stats.passes;
+            r.image_hash = fnv1a(res.film.pixels.data(), res.film.pixels.size() * sizeof(RGB));
+            r.stage_thread_seconds = stage_times(res.stats, n);
+            study.runs.push_back(r);
+            std::fprintf(stderr, "foton scale: %d threads, run %u of %u: %.3f s\n", n, rep + 1,
+                         args.repeats, r.wall_seconds);
+        }
+    set_thread_pinning(false);
+    if (!args.time && !args.weak) {
+        bool same = true;
+        for (const ScaleRun& r : study.runs)
+            same = same && r.image_hash == study.runs.front().image_hash;
+        study.images_identical = same;
+    }
+    summarise(study);
+
+    std::fputs(scale_markdown(study).c_str(), stdout);
+    {
+        std::ofstream out(json);
+        out << scale_json(study, topo);
+        if (!out) throw InputError(json, 0, "cannot write the study");
+    }
+    {
+        std::ofstream out(plot);
+        out << scale_svg(study);
+        if (!out) throw InputError(plot, 0, "cannot write the plot");
+    }
+    std::printf("\nwrote %s\nwrote %s\n", json.c_str(), plot.c_str());
+    if (study.images_identical == false) {
+        std::fprintf(stderr,
+                     "foton scale: the images differ between thread counts (they must not: "
+                     "this is a bug)\n");
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace foton::app

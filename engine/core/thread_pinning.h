@@ -1,0 +1,31 @@
+#pragma once
+// Thread pinning for scaling studies (`foton scale --pin`). While pinning is on, every thread
+// that enters an arena with an ArenaPinning runs on one CPU: the thread in arena slot i on
+// cpu_topology().cpu_order[i] (physical cores first, socket by socket), and it gets its own
+// affinity back when it leaves. Off by default: the operating system places the threads.
+#include <vector>
+
+#include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
+
+namespace foton {
+
+// Process-wide, like OMP_PROC_BIND: set before rendering.
+void set_thread_pinning(bool on);
+bool thread_pinning();
+
+class ArenaPinning : public tbb::task_scheduler_observer {
+  public:
+    explicit ArenaPinning(tbb::task_arena& arena);
+    ~ArenaPinning() override;
+    ArenaPinning(const ArenaPinning&) = delete;
+    ArenaPinning& operator=(const ArenaPinning&) = delete;
+
+    void on_scheduler_entry(bool worker) override;
+    void on_scheduler_exit(bool worker) override;
+
+  private:
+    std::vector<int> order_;
+};
+
+}  // namespace foton
