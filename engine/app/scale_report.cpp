@@ -165,8 +165,23 @@ std::string scale_svg(const ScaleStudy& s) {
     double emax = 1.0;
     for (const ScalePoint& p : s.points)
         for (const auto& [n, e] : p.stage_efficiency) emax = std::max(emax, std::min(e, 2.0));
+    // Round axis tops and a step of 1, 2, 2.5 or 5 times a power of ten, four or five ticks.
+    auto step_for = [](double top_value) {
+        const double raw = top_value / 4, mag = std::pow(10.0, std::floor(std::log10(raw)));
+        for (const double m : {1.0, 2.0, 2.5, 5.0})
+            if (m * mag >= raw) return m * mag;
+        return 10 * mag;
+    };
+    const double step[2] = {step_for(smax), step_for(emax)};
+    const double vtop[2] = {std::ceil(smax / step[0] - 1e-9) * step[0],
+                            std::ceil(emax / step[1] - 1e-9) * step[1]};
+    // Thread counts from 1 to 64 read best on a log2 axis once they span a factor of 8.
+    const bool log_x = nmax >= 8 * nmin;
     auto X = [&](int panel, double n) {
-        return left[panel] + (nmax > nmin ? (n - nmin) / double(nmax - nmin) : 0.5) * pw;
+        const double f = nmax == nmin ? 0.5
+                         : log_x      ? std::log2(n / nmin) / std::log2(double(nmax) / nmin)
+                                      : (n - nmin) / double(nmax - nmin);
+        return left[panel] + f * pw;
     };
     auto Y = [&](double v, double vmax) { return top + ph - std::min(v, vmax) / vmax * ph; };
     std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%g", W) +
@@ -179,7 +194,7 @@ std::string scale_svg(const ScaleStudy& s) {
     const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
                              "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
     for (int panel = 0; panel < 2; ++panel) {
-        const double vmax = panel == 0 ? smax : emax;
+        const double vmax = vtop[panel];
         svg += "<rect x=\"" + fmt("%g", left[panel]) + "\" y=\"" + fmt("%g", top) + "\" width=\"" +
                fmt("%g", pw) + "\" height=\"" + fmt("%g", ph) +
                "\" fill=\"none\" stroke=\"black\"/>\n";
@@ -187,17 +202,17 @@ std::string scale_svg(const ScaleStudy& s) {
             svg += "<text x=\"" + fmt("%.1f", X(panel, p.threads)) + "\" y=\"" +
                    fmt("%g", top + ph + 16) + "\" text-anchor=\"middle\">" +
                    std::to_string(p.threads) + "</text>\n";
-        for (int k = 0; k <= 4; ++k) {
-            const double v = vmax * k / 4;
+        for (double v = 0.0; v <= vmax + 1e-9; v += step[panel]) {
             svg += "<text x=\"" + fmt("%g", left[panel] - 6) + "\" y=\"" +
-                   fmt("%.1f", Y(v, vmax) + 4) + "\" text-anchor=\"end\">" + fmt("%.3g", v) +
+                   fmt("%.1f", Y(v, vmax) + 4) + "\" text-anchor=\"end\">" + fmt("%g", v) +
                    "</text>\n<line x1=\"" + fmt("%g", left[panel]) + "\" x2=\"" +
                    fmt("%g", left[panel] + pw) + "\" y1=\"" + fmt("%.1f", Y(v, vmax)) + "\" y2=\"" +
                    fmt("%.1f", Y(v, vmax)) + "\" stroke=\"#ddd\"/>\n";
         }
         svg += "<text x=\"" + fmt("%g", left[panel] + pw / 2) + "\" y=\"" +
-               fmt("%g", top + ph + 34) + "\" text-anchor=\"middle\">threads</text>\n<text x=\"" +
-               fmt("%g", left[panel]) + "\" y=\"" + fmt("%g", top - 8) + "\">" +
+               fmt("%g", top + ph + 34) + "\" text-anchor=\"middle\">threads" +
+               (log_x ? " (log scale)" : "") + "</text>\n<text x=\"" + fmt("%g", left[panel]) +
+               "\" y=\"" + fmt("%g", top - 8) + "\">" +
                (panel == 0 ? "speed-up" : "parallel efficiency") + "</text>\n";
         auto polyline = [&](const std::vector<std::pair<double, double>>& pts, const char* color,
                             double width, const char* dash) {
@@ -216,6 +231,9 @@ std::string scale_svg(const ScaleStudy& s) {
         }
         svg += polyline(ideal, "#999", 1.5, "6,4");
         svg += polyline(measured, "black", 2.5, "");
+        if (panel == 0)
+            svg += "<text x=\"" + fmt("%g", left[0] + 10) + "\" y=\"" + fmt("%g", top + 18) +
+                   "\">measured (bold), ideal (dashed)</text>\n";
         if (panel == 1 && !s.points.empty()) {
             const auto& names = s.points.front().stage_efficiency;
             for (std::size_t i = 0; i < names.size(); ++i) {
