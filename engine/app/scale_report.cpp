@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include <embree3/rtcore_config.h>
+#include <tbb/version.h>
+
 #include "build_info.h"
 #include "json_text.h"
 #include "kernels/simd.h"
@@ -38,6 +41,14 @@ std::string xml_text(const std::string& t) {
             o += c;
     }
     return o;
+}
+
+const char* compiler() {
+#ifdef __clang__
+    return "clang " __clang_version__;
+#else
+    return "gcc " __VERSION__;
+#endif
 }
 
 const char* mode(const ScaleStudy& s) {
@@ -103,7 +114,10 @@ std::string scale_json(const ScaleStudy& s, const CpuTopology& m) {
          ", \"simd\": " + json_string(simd::Arch::name()) +
          ", \"simd_width\": " + std::to_string(simd::kWidth) + "},\n";
     j += "  \"build\": {\"version\": " + json_string(FOTON_VERSION) +
-         ", \"git_commit\": " + json_string(git_commit()) + "},\n";
+         ", \"git_commit\": " + json_string(git_commit()) +
+         ", \"compiler\": " + json_string(compiler()) +
+         ", \"onetbb\": " + json_string(TBB_VERSION_STRING) +
+         ", \"embree\": " + json_string(RTC_VERSION_STRING) + "},\n";
     j += "  \"scene\": {\"path\": " + json_string(s.args.scene) +
          ", \"fnv1a\": " + json_string(hex(s.scene_hash)) + "},\n";
     j += "  \"settings\": {\"integrator\": " + json_string(s.integrator) +
