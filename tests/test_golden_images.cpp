@@ -13,6 +13,7 @@
 
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
+#include "engine/core/hash.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
 #include "test_util.h"
@@ -68,15 +69,6 @@ const std::vector<Config>& configs() {
         {"vcm-passes", with({{"type", "vcm"}}, no_cache), 3},
     };
     return list;
-}
-
-uint64_t fnv1a(const void* data, std::size_t bytes, uint64_t h = 1469598103934665603ull) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) {
-        h ^= p[i];
-        h *= 1099511628211ull;
-    }
-    return h;
 }
 
 // The hash of the image, or "error" when the configuration does not apply to the scene

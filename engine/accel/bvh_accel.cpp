@@ -55,8 +55,7 @@ BvhAccel::BvhAccel(const Scene& scene, int threads)
         spheres_ = kern::build_binary_bvh(sphere_refs, sp);
     };
     if (threads > 0) {
-        tbb::task_arena arena(threads);
-        const ArenaPinning pinning(arena);
+        PinnedArena arena(threads);
         arena.execute(build);
     } else {
         build();

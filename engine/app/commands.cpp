@@ -26,6 +26,7 @@
 #include "kernels/simd.h"
 #include "output_paths.h"
 #include "progress_line.h"
+#include "scene_flags.h"
 #include "tev_display.h"
 
 namespace foton::app {
@@ -77,21 +78,11 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
 }  // namespace
 
 int run_render(const RenderArgs& args) {
-    RendererOverrides overrides;
-    for (const std::string& kv : args.set) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0)
-            throw InputError("--set", 0, "expected key=value, got '" + kv + "'");
-        overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-    }
-    Scene scene = load_scene(args.scene, overrides);
+    Scene scene = load_scene(args.scene, parse_set_flags(args.set));
     if (!args.quiet)
         for (const std::string& w : scene.warnings)
             std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
-    if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
-        throw InputError(
-            "--accel", 0,
-            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, bvh, embree)");
+    apply_accel_flag(args.accel, scene);
     apply_image_flags({args.width, args.height, args.crop, args.pixel_bounds}, scene);
     // The flags that are renderer settings join the file's and --set's in the scene's set:
     // checked by the same rules, reported under their own name, recorded with the others.
@@ -161,12 +152,7 @@ int run_render(const RenderArgs& args) {
     if (!args.stats_json.empty()) check_writable(args.stats_json, "--stats-json", args.scene);
     if (!args.cache_points.empty()) check_writable(args.cache_points, "--cache-points", args.scene);
     const char* integrator = rs.integrator.c_str();
-    // Every renderer setting as the run used it, the file's and --set's alike.
-    std::string settings_text;
-    for (const std::string& key : scene.renderer.read_keys()) {
-        if (!scene.renderer.has(key)) continue;
-        settings_text += (settings_text.empty() ? "" : " ") + key + "=" + scene.renderer.text(key);
-    }
+    const std::string settings = settings_text(scene);
     auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
         char secs[32];
         std::snprintf(secs, sizeof secs, "%.3f", seconds);
@@ -190,7 +176,7 @@ int run_render(const RenderArgs& args) {
             {"foton:version", FOTON_VERSION},
             {"foton:gitCommit", git_commit()},
             {"foton:commandLine", args.command_line},
-            {"foton:settings", settings_text},
+            {"foton:settings", settings},
         };
     };
     // pbrt-v4's standard attributes: time, samples, the camera's matrices.

@@ -12,6 +12,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/cpu_topology.h"
 #include "engine/core/error.h"
+#include "engine/core/hash.h"
 #include "engine/core/params.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/xml_loader.h"
@@ -19,18 +20,13 @@
 #include "image_flags.h"
 #include "output_paths.h"
 #include "scale_report.h"
+#include "scene_flags.h"
 
 namespace foton::app {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-uint64_t fnv1a(const void* data, std::size_t n, uint64_t h = 1469598103934665603ull) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-    return h;
-}
 
 // Thread-seconds per graph node, or per stage when the render has no graph.
 std::vector<std::pair<std::string, double>> stage_times(const RenderStats& st, int threads) {
@@ -52,18 +48,8 @@ int run_scale(const ScaleArgs& args) {
     if (args.time && args.weak)
         throw InputError("--weak", 0, "needs fixed work (--spp or --passes), not --time");
     if (args.time && !(*args.time > 0.f)) throw InputError("--time", 0, "must be positive");
-    RendererOverrides overrides;
-    for (const std::string& kv : args.set) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0)
-            throw InputError("--set", 0, "expected key=value, got '" + kv + "'");
-        overrides.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-    }
-    Scene scene = load_scene(args.scene, overrides);
-    if (!args.accel.empty() && !parse_accel(args.accel, scene.accel))
-        throw InputError(
-            "--accel", 0,
-            "unknown accelerator '" + args.accel + "' (brute, brute-simd, grid, bvh, embree)");
+    Scene scene = load_scene(args.scene, parse_set_flags(args.set));
+    apply_accel_flag(args.accel, scene);
     apply_image_flags({args.width, args.height, {}, {}}, scene);
     if (!args.integrator.empty()) scene.renderer.set("type", args.integrator, "--integrator", 0);
     if (args.seed) scene.renderer.set("seed", *args.seed, "--seed", 0);
@@ -97,10 +83,7 @@ int run_scale(const ScaleArgs& args) {
     study.accel = accel_name(scene.accel);
     study.width = scene.film.width;
     study.height = scene.film.height;
-    for (const std::string& key : scene.renderer.read_keys())
-        if (scene.renderer.has(key))
-            study.settings +=
-                (study.settings.empty() ? "" : " ") + key + "=" + scene.renderer.text(key);
+    study.settings = settings_text(scene);
     {
         std::ifstream in(args.scene, std::ios::binary);
         const std::string bytes((std::istreambuf_iterator<char>(in)), {});

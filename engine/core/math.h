@@ -79,6 +79,13 @@ inline Vec3 vmax(const Vec3& a, const Vec3& b) {
 inline float max_abs_component(const Vec3& a) {
     return std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)});
 }
+// Offset for rays leaving point p, found at distance t along a ray (0 for a sampled point):
+// a few float ulps of the larger of its coordinates and that distance, so it scales with the
+// scene and the distance.
+inline float offset_epsilon(const Vec3& p, float t) {
+    constexpr float kRelative = 2e-5f;
+    return kRelative * (max_abs_component(p) + t);
+}
 inline bool is_finite(const Vec3& a) {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }

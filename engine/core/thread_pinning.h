@@ -1,6 +1,6 @@
 #pragma once
 // Thread pinning for scaling studies (`foton scale --pin`). While pinning is on, every thread
-// that enters an arena with an ArenaPinning runs on one CPU: the thread in arena slot i on
+// that enters a PinnedArena runs on one CPU: the thread in arena slot i on
 // cpu_topology().cpu_order[i] (physical cores first, socket by socket), and it gets its own
 // affinity back when it leaves. Off by default: the operating system places the threads.
 #include <vector>
@@ -26,6 +26,16 @@ class ArenaPinning : public tbb::task_scheduler_observer {
 
   private:
     std::vector<int> order_;
+};
+
+// A task arena whose threads are pinned while pinning is on: what every render's and build's
+// arena is, so that no stage escapes --pin.
+class PinnedArena : public tbb::task_arena {
+  public:
+    explicit PinnedArena(int threads) : tbb::task_arena(threads), pinning_(*this) {}
+
+  private:
+    ArenaPinning pinning_;
 };
 
 }  // namespace foton

@@ -18,7 +18,7 @@ bool LightSet::sample_ray(float u_select, Point2 u_pos, Point2 u_dir, float uc,
     const bool area = !emitters_[r.light].is_delta();
     const float cos_e = area ? std::fabs(dot(es.n, es.dir)) : 1.f;
     r.beta = es.Le * (cos_e / (r.pmf * es.pdf_pos * es.pdf_dir));
-    r.origin = area ? es.p + es.n * (2e-5f * max_abs_component(es.p)) : es.p;
+    r.origin = area ? es.p + es.n * offset_epsilon(es.p, 0.f) : es.p;
     return true;
 }
 

@@ -7,6 +7,14 @@
 
 namespace foton {
 
+namespace {
+// 1 - cos(theta_max) of the cone a sphere subtends, from sin^2(theta_max) = r^2 / d^2, as
+// sin^2 / (1 + cos): exact for small cones, where 1 - cos cancels. Sampling and pdf_li share it.
+float cone_one_minus_cos(float sin2_max) {
+    return sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max)));
+}
+}  // namespace
+
 const char* emitter_name(EmitterType t) {
     switch (t) {
         case EmitterType::Point:
@@ -211,13 +219,11 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                     // Uniform in the cone the sphere subtends. The point is placed on the
                     // sphere by its angle at the centre (as pbrt-v4 does), not by
                     // intersecting the sampled ray: at the silhouette that intersection's
-                    // rounding leaves it well off the sphere. 1 - cos is taken as
-                    // sin^2 / (1 + cos), which keeps small cones exact.
+                    // rounding leaves it well off the sphere.
                     const float dc = std::sqrt(dc2);
                     const Vec3 wc = (e.p - p) / dc;
                     const float sin2_max = e.radius * e.radius / dc2;
-                    const float one_minus_cos =
-                        sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max)));
+                    const float one_minus_cos = cone_one_minus_cos(sin2_max);
                     const float v = u.x * one_minus_cos;
                     const float cos_t = 1.f - v, sin2_t = v * (2.f - v);
                     const float cos_a = sin2_t / std::sqrt(sin2_max) +
@@ -270,8 +276,7 @@ float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq)
     if (e.type == EmitterType::Sphere && e.solid_angle) {
         const float dc2 = length_squared(e.p - p);
         if (dc2 > e.radius * e.radius * 1.0001f) {
-            const float sin2_max = e.radius * e.radius / dc2;
-            return 1.f / (2.f * kPi * sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max))));
+            return 1.f / (2.f * kPi * cone_one_minus_cos(e.radius * e.radius / dc2));
         }
     }
     const Vec3 to = q - p;

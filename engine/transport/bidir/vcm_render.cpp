@@ -156,8 +156,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
         for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
         return f;
     };
-    tbb::task_arena arena(threads);
-    const ArenaPinning pinning(arena);
+    PinnedArena arena(threads);
     uint32_t passes = 0;
     do {
         for (uint32_t s = 0; s < opt.spp; ++s) {

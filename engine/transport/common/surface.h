@@ -20,13 +20,6 @@ struct SurfacePoint {
     Point2 uv;        // texture coordinates (computed only where the material is textured)
 };
 
-// Offset for rays leaving point p, found at distance t along a ray: a few float ulps of the
-// larger of its coordinates and that distance, so it scales with the scene and the distance.
-inline float offset_epsilon(const Vec3& p, float t) {
-    constexpr float kRelative = 2e-5f;
-    return kRelative * (max_abs_component(p) + t);
-}
-
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir);
 

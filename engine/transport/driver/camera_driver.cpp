@@ -322,8 +322,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
             control.task(adaptive ? "adaptive-sampling" : integrator.phase_name(0),
                          uint64_t(tiles.size()) * pieces);
         progress_task = &task;
-        tbb::task_arena arena(threads);
-        const ArenaPinning pinning(arena);
+        PinnedArena arena(threads);
         do {
             arena.execute([&] { run_pass(passes); });
             ++passes;

@@ -30,8 +30,7 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
         RenderStats stats;
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
-    tbb::task_arena arena(threads);
-    const ArenaPinning pinning(arena);
+    PinnedArena arena(threads);
     // A pass as two graph nodes: the pass's pixels traced in parallel chunks against the
     // frozen caches, then the chunks' new records inserted in chunk order.
     std::vector<SampleJob> jobs;

@@ -69,8 +69,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
         return count;
     });
     graph.edge(trace, splat);
-    tbb::task_arena arena(threads);
-    const ArenaPinning pinning(arena);
+    PinnedArena arena(threads);
     do {
         graph.run(arena);
         ++passes;

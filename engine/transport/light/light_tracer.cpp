@@ -66,7 +66,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const Vec3 wc = normalize(cam.eye - es.p);
             const float c = dot(es.n, wc);
             const float cos_l = em.two_sided ? std::fabs(c) : c;
-            const float eps = 2e-5f * max_abs_component(es.p);
+            const float eps = offset_epsilon(es.p, 0.f);
             if (cos_l > 0.f)
                 connect(es.p, es.p + es.n * (c > 0.f ? eps : -eps),
                         es.Le * (cos_l / (er.pmf * es.pdf_pos)), k);

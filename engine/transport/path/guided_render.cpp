@@ -44,8 +44,7 @@ RenderResult render_guided_path(const Scene& scene, const RenderSettings& settin
     });
     graph.edge(trace, build);
     {
-        tbb::task_arena arena(resolve_threads(opt.threads));
-        const ArenaPinning pinning(arena);
+        PinnedArena arena(resolve_threads(opt.threads));
         graph.run(arena);
     }
     integrator.set_guide(&guide);

@@ -126,8 +126,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     graph.edge(trace_caustic, balance_caustic);
     graph.edge(balance_global, precompute);
     {
-        tbb::task_arena arena(threads);
-        const ArenaPinning pinning(arena);
+        PinnedArena arena(threads);
         graph.run(arena);
     }
     const double photon_seconds = photon_clock.lap();

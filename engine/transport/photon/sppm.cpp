@@ -184,8 +184,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const ProgressivePhotons pm(scene, settings, accel, lights, opt.seed);
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
-    tbb::task_arena arena(threads);
-    const ArenaPinning pinning(arena);
+    PinnedArena arena(threads);
     RenderStats stats;
     tbb::enumerable_thread_specific<RenderStats> local;
     auto image = [&](uint32_t passes) {
