@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace foton {
+class Cluster;
+}
+
 namespace foton::app {
 
 struct RenderArgs {
@@ -42,7 +46,8 @@ struct RenderArgs {
     std::string command_line;  // as typed, for the image's metadata
 };
 
-int run_render(const RenderArgs& args);
+// Across the MPI ranks of `cluster` (null: this process alone) when it has several.
+int run_render(const RenderArgs& args, const Cluster* cluster = nullptr);
 int run_info(const std::string& scene);
 
 struct CompareArgs {

@@ -1,11 +1,14 @@
 // foton: the command line. Subcommands render, info and compare.
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
 #include "engine/core/error.h"
+#include "mpi_cluster.h"
 #include "scale_study.h"
 #include "serve.h"
 
@@ -84,6 +87,10 @@ int main(int argc, char** argv) {
                        "HOST:PORT: stream the image after every pass to the tev viewer listening "
                        "there (start it with `tev --hostname 127.0.0.1:14158`)");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
+    bool use_mpi = false;
+    render->add_flag("--mpi", use_mpi,
+                     "split the render across MPI ranks (automatic under mpirun/mpiexec/srun); "
+                     "rank 0 writes the image, the same as one process's");
 
     std::string info_scene;
     CLI::App* info = app.add_subcommand("info", "print a scene summary");
@@ -155,18 +162,24 @@ int main(int argc, char** argv) {
         app.exit(e);
         return kExitBadInput;
     }
+    // Outlives the handlers below: MPI ends after the last message.
+    std::optional<app::MpiRuntime> mpi;
     try {
-        if (*render) return app::run_render(ra);
+        if (*render && (use_mpi || app::launched_by_mpi())) mpi.emplace();
+        if (*render) return app::run_render(ra, mpi ? &mpi->cluster() : nullptr);
         if (*info) return app::run_info(info_scene);
         if (*compare) return app::run_compare(ca);
         if (*serve) return app::run_serve(sa);
         if (*scale) return app::run_scale(sc);
-    } catch (const InputError& e) {
-        std::fprintf(stderr, "%s\n", e.what());
+    } catch (const app::OtherRankFailed& e) {
+        // Another MPI rank failed before the render: rank 0 says why.
+        if (mpi && mpi->cluster().root()) std::fprintf(stderr, "%s\n", e.what());
         return kExitBadInput;
+    } catch (const InputError& e) {
+        return app::report_error(e.what(), kExitBadInput, true, mpi ? &*mpi : nullptr);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "foton: internal error: %s\n", e.what());
-        return kExitInternal;
+        return app::report_error(std::string("foton: internal error: ") + e.what(), kExitInternal,
+                                 false, mpi ? &*mpi : nullptr);
     }
     return kExitInternal;
 }

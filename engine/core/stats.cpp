@@ -47,18 +47,7 @@ const char* stage_name(Stage s) {
 }
 
 void RenderStats::merge(const RenderStats& o) {
-    camera_rays += o.camera_rays;
-    secondary_rays += o.secondary_rays;
-    shadow_rays += o.shadow_rays;
-    samples += o.samples;
-    shadow_rays_saved += o.shadow_rays_saved;
-    cache_records += o.cache_records;
-    cache.merge(o.cache);
-    trace.merge(o.trace);
-    for (int i = 0; i < kNumStages; ++i) {
-        stage_seconds[i] += o.stage_seconds[i];
-        stage_items[i] += o.stage_items[i];
-    }
+    for_each_summed(*this, o, [](auto& a, const auto& b) { a += b; });
 }
 
 std::string RenderStats::table() const {

@@ -124,6 +124,32 @@ struct RenderStats {
         stage_seconds[int(s)] += clock.lap();
     }
     void merge(const RenderStats& o);
+    // Calls f(a.x, b.x) for every counter merge() sums: one list for merging and for
+    // moving a rank's counters to rank 0 (stats_wire.h).
+    template <class A, class B, class F>
+    static void for_each_summed(A& a, B& b, F&& f) {
+        f(a.camera_rays, b.camera_rays);
+        f(a.secondary_rays, b.secondary_rays);
+        f(a.shadow_rays, b.shadow_rays);
+        f(a.samples, b.samples);
+        f(a.shadow_rays_saved, b.shadow_rays_saved);
+        f(a.cache_records, b.cache_records);
+        f(a.cache.lookups, b.cache.lookups);
+        f(a.cache.interpolated, b.cache.interpolated);
+        f(a.cache.candidates, b.cache.candidates);
+        f(a.cache.used, b.cache.used);
+        f(a.cache.visibility_tests, b.cache.visibility_tests);
+        f(a.cache.visibility_rejections, b.cache.visibility_rejections);
+        f(a.trace.triangle_tests, b.trace.triangle_tests);
+        f(a.trace.sphere_tests, b.trace.sphere_tests);
+        f(a.trace.cells, b.trace.cells);
+        f(a.trace.bvh_nodes, b.trace.bvh_nodes);
+        f(a.trace.instance_visits, b.trace.instance_visits);
+        for (int i = 0; i < kNumStages; ++i) {
+            f(a.stage_seconds[i], b.stage_seconds[i]);
+            f(a.stage_items[i], b.stage_items[i]);
+        }
+    }
     uint64_t total_rays() const { return camera_rays + secondary_rays + shadow_rays; }
     std::string table() const;  // human-readable, for --stats
     // For --stats-json; `run` are the run's own fields (key, JSON value), written first.

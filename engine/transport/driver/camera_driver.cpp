@@ -13,6 +13,7 @@
 
 #include "engine/core/thread_pinning.h"
 #include "pass_control.h"
+#include "pixel_owners.h"
 
 namespace foton {
 
@@ -213,7 +214,25 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                            StageGraph& graph, const std::vector<uint32_t>& after) {
     RenderResult result;
     Accumulator acc(scene.film.width, scene.film.height);
-    const std::vector<Tile> tiles = make_tiles(scene.film.width, scene.film.height, opt.tile_size);
+    // Across MPI ranks the tiles are dealt out in turn (tile i to rank i mod N); each rank
+    // renders its own, and rank 0 gathers their pixels when the image is needed.
+    const Cluster& cluster = cluster_or_solo(opt.cluster);
+    const std::vector<Tile> all_tiles =
+        make_tiles(scene.film.width, scene.film.height, opt.tile_size);
+    std::vector<Tile> tiles;
+    PixelOwners owner(acc.sum.size());
+    for (std::size_t i = 0; i < all_tiles.size(); ++i) {
+        const Tile& t = all_tiles[i];
+        const int r = int(i % std::size_t(cluster.size()));
+        if (r == cluster.rank()) tiles.push_back(t);
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x)
+                owner[std::size_t(y) * std::size_t(scene.film.width) + std::size_t(x)] = r;
+    }
+    auto gather = [&] {
+        gather_to_root(cluster, owner, acc.sum);
+        gather_to_root(cluster, owner, acc.count);
+    };
     const CameraDriver driver(scene, settings.adaptive, integrator, opt);
     const int threads = resolve_threads(opt.threads);
     const bool adaptive = settings.adaptive.enabled;
@@ -327,8 +346,14 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
             arena.execute([&] { run_pass(passes); });
             ++passes;
         } while (control.another(
-            passes, [&] { return acc.film(); }, [&] { return mean_count(acc.count); }, adaptive));
+            passes,
+            [&] {
+                gather();
+                return acc.film();
+            },
+            [&] { return mean_count(acc.count); }, adaptive));
     }
+    gather();
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);
     result.stats.threads = threads;

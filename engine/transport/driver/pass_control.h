@@ -37,8 +37,12 @@ class PassControl {
     // image so far and `spp` its mean samples per pixel; both are called only when an
     // observer needs them. `stop` ends the render here whatever the options say (an
     // adaptive render's single pass).
+    // Across MPI ranks rank 0 decides (its clock, its observers) and tells the others, so
+    // all run the same passes; `image` then runs on every rank (it may gather the image to
+    // rank 0) and `spp` on rank 0 after it; the observers run on rank 0 only.
     bool another(uint32_t passes, const std::function<Film()>& image,
                  const std::function<double()>& spp, bool stop = false) {
+        const Cluster& cluster = cluster_or_solo(opt_.cluster);
         const double t = elapsed();
         bool more = !stop && !(opt_.cancel && opt_.cancel->load());
         if (opt_.max_passes > 0 && passes >= opt_.max_passes)
@@ -47,28 +51,37 @@ class PassControl {
             more = more && t < double(opt_.time_limit);
         else
             more = more && opt_.max_passes > 0;
+        uint32_t due = 0;  // snapshots whose time has come
+        while (next_snapshot_ + due < opt_.snapshot_times.size() &&
+               t >= opt_.snapshot_times[next_snapshot_ + due])
+            ++due;
+        struct Decision {
+            uint8_t more, observe;
+            uint32_t due;
+        } d{uint8_t(more), uint8_t((due > 0 && opt_.on_snapshot) || opt_.on_pass), due};
+        if (cluster.distributed()) {
+            Bytes b;
+            pack_value(b, d);
+            cluster.broadcast(b);
+            d = Unpacker(b).value<Decision>();
+        }
         const double wall0 = wall(), cpu0 = cpu();
-        bool observed = false;
         Film film;
-        while (next_snapshot_ < opt_.snapshot_times.size() &&
-               t >= opt_.snapshot_times[next_snapshot_]) {
-            if (opt_.on_snapshot) {
-                if (!observed) film = image();
-                observed = true;
-                opt_.on_snapshot(film, opt_.snapshot_times[next_snapshot_], t, passes, spp());
-            }
-            ++next_snapshot_;
+        if (d.observe) film = image();
+        if (cluster.root()) {
+            for (uint32_t i = 0; i < d.due; ++i)
+                if (opt_.on_snapshot)
+                    opt_.on_snapshot(film, opt_.snapshot_times[next_snapshot_ + i], t, passes,
+                                     spp());
+            if (opt_.on_pass)
+                opt_.on_pass(film, PassReport{passes, t, cpu_elapsed(), spp(), !d.more});
         }
-        if (opt_.on_pass) {
-            if (!observed) film = image();
-            observed = true;
-            opt_.on_pass(film, PassReport{passes, t, cpu_elapsed(), spp(), !more});
-        }
-        if (observed) {
+        next_snapshot_ += d.due;
+        if (d.observe) {
             observer_seconds_ += wall() - wall0;
             observer_cpu_seconds_ += cpu() - cpu0;
         }
-        return more;
+        return d.more;
     }
 
   private:

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/core/cluster.h"
 #include "engine/core/math.h"
 #include "engine/core/progress.h"
 #include "engine/core/stats.h"
@@ -60,6 +61,9 @@ struct RenderOptions {
     std::optional<RenderStart> start;
     // When set, the render stops after the pass in flight (a stop button, a signal).
     const std::atomic<bool>* cancel = nullptr;
+    // The MPI ranks this render is split across (null: this process alone). Each rank
+    // renders its share; rank 0 ends with the image, the same bit for bit as one process's.
+    const Cluster* cluster = nullptr;
 };
 
 struct RenderResult {

@@ -20,7 +20,8 @@ constexpr std::size_t kChunk = 64;  // pixels per job of a pass
 uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
                                std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
                                RenderStats& stats, StageGraph& graph,
-                               const std::vector<uint32_t>& after) {
+                               const std::vector<uint32_t>& after, const Cluster* cluster) {
+    const Cluster& ranks = cluster_or_solo(cluster);
     const int w = scene.film.width, h = scene.film.height;
     const uint64_t npix = uint64_t(w) * uint64_t(h);
     std::vector<uint8_t> visited(npix, 0);
@@ -34,13 +35,18 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
     // A pass as two graph nodes: the pass's pixels traced in parallel chunks against the
     // frozen caches, then the chunks' new records inserted in chunk order.
     std::vector<SampleJob> jobs;
-    std::vector<std::vector<std::vector<IrradianceRecord>>> found;  // [chunk][level]
+    using ChunkRecords = std::vector<std::vector<IrradianceRecord>>;  // [level]
+    std::vector<ChunkRecords> found;                                  // [chunk]
+    // Across MPI ranks each traces a contiguous share of a pass's chunks; the new records
+    // of all are exchanged, and every rank inserts them in rank order, which is chunk order.
+    Share mine;
     const uint32_t records = graph.add("cache-fill-records", [&]() -> uint64_t {
         const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
         found.assign(chunks, {});
-        const ProgressTask task(graph.progress(), "cache-fill-records", chunks);
+        mine = share_of(chunks, ranks);
+        const ProgressTask task(graph.progress(), "cache-fill-records", mine.size());
         tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, chunks, 1),
+            tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
             [&](const tbb::blocked_range<std::size_t>& r) {
                 Scratch& s = scratch.local();
                 if (!s.ws) s.ws = integrator.make_workspace();
@@ -57,15 +63,33 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
                     task.advance();
                 }
             });
-        return jobs.size();
+        return std::min(jobs.size(), mine.end * kChunk) - mine.begin * kChunk;
     });
     const uint32_t insert = graph.add("cache-fill-insert", [&]() -> uint64_t {
         uint64_t n = 0;
-        for (const auto& chunk : found)
+        auto insert_chunk = [&](const ChunkRecords& chunk) {
             for (std::size_t l = 0; l < chunk.size(); ++l) {
                 for (const IrradianceRecord& rec : chunk[l]) caches[l].insert(rec);
                 n += chunk[l].size();
             }
+        };
+        if (!ranks.distributed()) {
+            for (const ChunkRecords& chunk : found) insert_chunk(chunk);
+            return n;
+        }
+        Bytes packed;
+        for (std::size_t c = mine.begin; c < mine.end; ++c) {
+            pack_value(packed, uint64_t(found[c].size()));
+            for (const std::vector<IrradianceRecord>& level : found[c]) pack(packed, level);
+        }
+        for (const Bytes& part : ranks.all_gather(packed)) {
+            Unpacker in(part);
+            while (!in.done()) {
+                ChunkRecords chunk(in.value<uint64_t>());
+                for (std::vector<IrradianceRecord>& level : chunk) in.append(level);
+                insert_chunk(chunk);
+            }
+        }
         return n;
     });
     graph.edge(records, insert);

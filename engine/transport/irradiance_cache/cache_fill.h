@@ -11,6 +11,7 @@
 // statistics as records per pixel.
 #include <functional>
 
+#include "engine/core/cluster.h"
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/common/camera_integrator.h"
@@ -23,10 +24,12 @@ namespace foton {
 // `spp` is the image pass's samples per pixel: the fill traces sample 0 of pass 0 of every
 // pixel, the very sample the image pass will trace first.
 // Each pass runs as the graph's nodes cache-fill-records -> cache-fill-insert (after the
-// nodes `after`); returns the last, for the camera pass to follow.
+// nodes `after`); returns the last, for the camera pass to follow. Across the MPI ranks of
+// `cluster` the passes are split and every rank ends with the same caches.
 uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
                                std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
                                RenderStats& stats, StageGraph& graph,
-                               const std::vector<uint32_t>& after);
+                               const std::vector<uint32_t>& after,
+                               const Cluster* cluster = nullptr);
 
 }  // namespace foton

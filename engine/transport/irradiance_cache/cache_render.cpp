@@ -41,8 +41,9 @@ RenderResult render_with_cache(const Scene& scene, const RenderSettings& setting
     attach(&evaluator);
     RenderStats fill_stats;
     StageClock fill_clock;
-    const uint32_t fill = fill_irradiance_cache(
-        scene, integrator, caches, opt.spp, resolve_threads(opt.threads), fill_stats, graph, after);
+    const uint32_t fill =
+        fill_irradiance_cache(scene, integrator, caches, opt.spp, resolve_threads(opt.threads),
+                              fill_stats, graph, after, opt.cluster);
     const double fill_seconds = fill_clock.lap();
     std::size_t stored = 0;
     for (const IrradianceCache& c : caches) stored += c.size();

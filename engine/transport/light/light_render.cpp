@@ -28,12 +28,16 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     const uint64_t per_pass = scene.film.full_pixels() * uint64_t(opt.spp);
     constexpr uint32_t kChunk = 4096;
     const std::size_t chunks = std::size_t((per_pass + kChunk - 1) / kChunk);
+    // Across MPI ranks each traces a contiguous share of every pass's chunks; rank 0 adds
+    // the splats of all in rank order, which is chunk order.
+    const Cluster& cluster = cluster_or_solo(opt.cluster);
+    const Share mine = share_of(chunks, cluster);
     std::vector<RGB> sum(std::size_t(scene.film.width) * scene.film.height);
     std::vector<std::vector<Splat>> splats(chunks);
     tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> stats;
     PassControl control(opt);
-    const ProgressTask task = control.task("light-paths", chunks);
+    const ProgressTask task = control.task("light-paths", mine.size());
     uint32_t passes = 0;
     auto image = [&] {
         Film f(scene.film.width, scene.film.height);
@@ -47,7 +51,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     graph.set_progress(opt.progress);
     const uint32_t trace = graph.add("light-paths", [&]() -> uint64_t {
         const uint64_t base = uint64_t(passes) * per_pass;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               LightTracerWorkspace& ws = workspaces.local();
                               RenderStats& st = stats.local();
@@ -60,11 +64,25 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
                                   task.advance();
                               }
                           });
-        return per_pass;
+        return uint64_t(std::min<uint64_t>(per_pass, mine.end * kChunk) - mine.begin * kChunk);
     });
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
-        const std::size_t count = add_splats(splats, sum);
+        std::size_t count = 0;
+        if (cluster.distributed()) {
+            Bytes packed;
+            for (std::size_t c = mine.begin; c < mine.end; ++c)
+                pack(packed, splats[c].data(), splats[c].size());
+            const std::vector<Bytes> parts = cluster.gather(packed);
+            std::vector<std::vector<Splat>> by_rank(parts.size());
+            for (std::size_t r = 0; r < parts.size(); ++r) {
+                by_rank[r].resize(parts[r].size() / sizeof(Splat));
+                Unpacker(parts[r]).read(by_rank[r].data(), by_rank[r].size());
+            }
+            count = add_splats(by_rank, sum);
+        } else {
+            count = add_splats(splats, sum);
+        }
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });

@@ -31,7 +31,7 @@ RenderResult render_guided_path(const Scene& scene, const RenderSettings& settin
         s.emitted = gs.emitted;
         s.max_depth = settings.max_depth;
         const ProgressTask task(graph.progress(), "photons-guide", s.emitted);
-        photons = tracer.run(s, stats, nullptr, &task);
+        photons = tracer.run(s, stats, nullptr, &task, opt.cluster);
         return s.emitted;
     });
     const uint32_t build = graph.add("build-guide", [&]() -> uint64_t {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/core/aligned.h"
+#include "engine/core/cluster.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/bsdf.h"
@@ -55,6 +56,10 @@ class PhotonMap {
               uint8_t flags, uint16_t light = 0);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
+    // The photons as bytes for another MPI rank (before build), and their appending there:
+    // unpack_append(pack()) is append().
+    void pack(Bytes& out) const;
+    void unpack_append(Unpacker& in);
     // Moves the photons with any of `flag`'s bits into the returned map, in order (before
     // build).
     PhotonMap extract(uint8_t flag);

@@ -69,7 +69,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         PhotonPassSettings s = pass_settings(PhotonMapKind::Global, ps.global_photons, 0);
         s.shadow_photons = ps.shadow_photons;
         const ProgressTask task(graph.progress(), "photons-global", s.emitted);
-        if (s.emitted > 0) maps.global = tracer.run(s, global_stats, &maps.shadow, &task);
+        if (s.emitted > 0)
+            maps.global = tracer.run(s, global_stats, &maps.shadow, &task, opt.cluster);
         if (ps.split_direct) {
             maps.direct = maps.global.extract(kPhotonDirect);
         } else if (ps.mode == PhotonMode::DirectVisualisation &&
@@ -85,7 +86,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         // The direct-visualisation mode reads the global map only.
         if (s.emitted == 0 || ps.mode != PhotonMode::FinalGather) return 0;
         const ProgressTask task(graph.progress(), "photons-caustic", s.emitted);
-        maps.caustic = tracer.run(s, caustic_stats, nullptr, &task);
+        maps.caustic = tracer.run(s, caustic_stats, nullptr, &task, opt.cluster);
         return s.emitted;
     });
     const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
@@ -122,6 +123,9 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
         return maps.caustic.size();
     });
+    // Across MPI ranks the two passes' map exchanges are collectives, which every rank
+    // must run in the same order: the passes then follow each other.
+    if (opt.cluster && opt.cluster->distributed()) graph.edge(trace_global, trace_caustic);
     graph.edge(trace_global, balance_global);
     graph.edge(trace_caustic, balance_caustic);
     graph.edge(balance_global, precompute);

@@ -136,13 +136,15 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
 }
 
 PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow,
-                            const ProgressTask* task) const {
+                            const ProgressTask* task, const Cluster* cluster) const {
     const std::size_t chunks = std::size_t((s.emitted + kChunk - 1) / kChunk);
+    const Cluster& ranks = cluster_or_solo(cluster);
+    const Share mine = share_of(chunks, ranks);
     std::vector<PhotonMap> parts(chunks), shadow_parts(shadow ? chunks : 0);
     tbb::enumerable_thread_specific<PhotonWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> st;
     tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, chunks, 1),
+        tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
         [&](const tbb::blocked_range<std::size_t>& r) {
             PhotonWorkspace& ws = workspaces.local();
             RenderStats& local = st.local();
@@ -159,8 +161,22 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, Pho
     PhotonMap map;
     map.reserve(total);
     for (const PhotonMap& p : parts) map.append(p);
+    PhotonMap shadows;
     if (shadow)
-        for (const PhotonMap& p : shadow_parts) shadow->append(p);
+        for (const PhotonMap& p : shadow_parts) shadows.append(p);
+    if (ranks.distributed()) {
+        Bytes packed;
+        map.pack(packed);
+        shadows.pack(packed);
+        map = PhotonMap();
+        shadows = PhotonMap();
+        for (const Bytes& b : ranks.all_gather(packed)) {
+            Unpacker in(b);
+            map.unpack_append(in);
+            shadows.unpack_append(in);
+        }
+    }
+    if (shadow) shadow->append(shadows);
     for (const RenderStats& l : st) stats.merge(l);
     stats.add(Stage::PhotonStore, total, clock);
     return map;

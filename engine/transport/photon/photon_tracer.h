@@ -60,8 +60,10 @@ class PhotonTracer {
                PhotonMap& out, PhotonMap* shadow, RenderStats& stats) const;
     // The whole pass on the calling arena's threads, chunks concatenated in order; shadow
     // photons (s.shadow_photons) go to `shadow`; `task` counts the photons emitted.
+    // Across the MPI ranks of `cluster`, each traces a contiguous share of the chunks and
+    // every rank gets the whole map, the shares concatenated in rank order (chunk order).
     PhotonMap run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow = nullptr,
-                  const ProgressTask* task = nullptr) const;
+                  const ProgressTask* task = nullptr, const Cluster* cluster = nullptr) const;
 
   private:
     float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;

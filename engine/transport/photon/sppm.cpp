@@ -1,5 +1,6 @@
 #include "sppm.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -16,6 +17,7 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/driver/pass_control.h"
+#include "engine/transport/driver/pixel_owners.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
 
@@ -187,6 +189,10 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     PinnedArena arena(threads);
     RenderStats stats;
     tbb::enumerable_thread_specific<RenderStats> local;
+    // Across MPI ranks the image rows are dealt out in turn; every rank traces a share of
+    // each pass's photons and gathers from the whole map (photon_tracer.h) for its rows.
+    const Cluster& cluster = cluster_or_solo(opt.cluster);
+    const PixelOwners owner = owners_by_row(w, h, cluster.size());
     auto image = [&](uint32_t passes) {
         Film f(w, h);
         // A pass's photons carry its light's flux divided by the photons of the pass, so tau
@@ -199,6 +205,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                 l += p.tau * float(1.0 / (double(passes) * kPi * double(p.radius) * p.radius));
             f.pixels[i] = l;
         }
+        gather_to_root(cluster, owner, f.pixels);
         return f;
     };
     // Passes: max_passes, else opt.spp of them, or as many as fit in the time limit.
@@ -217,16 +224,21 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const uint32_t visible = graph.add("visible-points", [&]() -> uint64_t {
         if (!stochastic && pass > 0) return 0;
         StageClock clock;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::size_t(h)),
+        // This rank's rows: y = rank, rank + N, ...
+        const std::size_t ranks = std::size_t(cluster.size()), rank = std::size_t(cluster.rank());
+        const std::size_t rows = (std::size_t(h) + ranks - 1 - rank) / ranks;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               RenderStats& st = local.local();
-                              for (std::size_t y = r.begin(); y != r.end(); ++y)
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  const std::size_t y = rank + i * ranks;
                                   for (int x = 0; x < w; ++x)
                                       pm.camera_pass(pass, uint32_t(x), uint32_t(y),
                                                      pixels[y * std::size_t(w) + x], st);
+                              }
                           });
-        local.local().add(Stage::Shade, npix, clock);
-        return npix;
+        local.local().add(Stage::Shade, rows * std::size_t(w), clock);
+        return rows * std::size_t(w);
     });
     const uint32_t trace = graph.add("photons", [&]() -> uint64_t {
         PhotonPassSettings s;
@@ -235,7 +247,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         s.max_depth = settings.max_depth;
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = 1000 + pass;
-        photons = tracer.run(s, local.local());
+        photons = tracer.run(s, local.local(), nullptr, nullptr, opt.cluster);
         return per_pass;
     });
     const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
@@ -251,12 +263,15 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i != r.end(); ++i)
-                                  pm.gather(photons, ps.alpha, pixels[i]);
+                                  if (owner[i] == cluster.rank())
+                                      pm.gather(photons, ps.alpha, pixels[i]);
                           });
+        const std::size_t gathered =
+            std::size_t(std::count(owner.begin(), owner.end(), int32_t(cluster.rank())));
         RenderStats& st = local.local();
-        st.add(Stage::FinalGather, npix, clock);
-        st.samples += npix;
-        return npix;
+        st.add(Stage::FinalGather, gathered, clock);
+        st.samples += gathered;
+        return gathered;
     });
     graph.edge(trace, balance);
     graph.edge(visible, gather);

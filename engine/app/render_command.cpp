@@ -1,0 +1,367 @@
+// `foton render`: a scene to an OpenEXR image and its preview, in one process or split
+// across MPI ranks (rank 0 writes; see mpi_cluster.h for how errors end every rank).
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <unistd.h>
+
+#include "build_info.h"
+#include "commands.h"
+#include "convergence_log.h"
+#include "engine/accel/intersector.h"
+#include "engine/core/cpu_topology.h"
+#include "engine/core/error.h"
+#include "engine/core/stats_wire.h"
+#include "engine/film/image_io.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/render.h"
+#include "image_flags.h"
+#include "interrupt.h"
+#include "json_text.h"
+#include "kernels/simd.h"
+#include "mpi_cluster.h"
+#include "output_paths.h"
+#include "progress_line.h"
+#include "scene_flags.h"
+#include "tev_display.h"
+
+namespace foton::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The shortest text that reads back as exactly v.
+std::string exact_text(float v) {
+    char buf[32];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
+}
+
+// Shortest decimal form (%.6g): 16, 24.5.
+std::string format_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+// The image with every directly visible first-level cache record drawn as a white pixel (the
+// thesis' figure of computed vs interpolated points). Records seen only through a mirror or
+// glass are behind it, hence hidden.
+Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film& film,
+                       const std::vector<Vec3>& points, std::size_t& marked) {
+    Film f = film;
+    TraceCounters counters;
+    marked = 0;
+    for (const Vec3& p : points) {
+        float fx, fy;
+        if (!scene.camera.project(p, fx, fy)) continue;
+        Vec3 o, d;
+        scene.camera.generate(fx, fy, o, d);
+        const Vec3 to = p - o;
+        const float dist = length(to);
+        const Vec3 u = to * (1.f / dist);
+        if (accel.occluded1({o.x, o.y, o.z, u.x, u.y, u.z, 0.f, dist * (1.f - 1e-3f)}, counters))
+            continue;
+        const int x = std::min(int(fx) - scene.film.x0, film.width - 1);
+        const int y = std::min(int(fy) - scene.film.y0, film.height - 1);
+        f.pixels[std::size_t(y) * film.width + x] = RGB{1e4f};
+        ++marked;
+    }
+    return f;
+}
+
+// Rank 0 gets every rank's counters (merged into `stats`) and each rank's own statistics, as
+// a JSON list; "" in one process. Collective.
+std::string gather_rank_stats(const Cluster& ranks, RenderStats& stats) {
+    if (!ranks.distributed()) return {};
+    const std::string own_text =
+        stats.json({{"rank", std::to_string(ranks.rank())},
+                    {"mpi_bytes_moved", std::to_string(ranks.bytes_moved())}});
+    Bytes mine;
+    pack_counters(mine, stats);
+    pack(mine, std::vector<char>(own_text.begin(), own_text.end()));
+    const std::vector<Bytes> parts = ranks.gather(mine);
+    std::string list;
+    for (std::size_t r = 0; r < parts.size(); ++r) {
+        Unpacker in(parts[r]);
+        const RenderStats counters = unpack_counters(in);
+        if (r > 0) stats.merge(counters);
+        std::vector<char> text;
+        in.append(text);
+        list.append(r ? ", " : "[");
+        list.append(text.begin(), text.end());
+    }
+    return list + "]";
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& args, const Cluster* cluster) {
+    // Across MPI ranks every rank loads and checks the same input; rank 0 alone writes
+    // files, shows progress and feeds the observers (the render gathers the image to it).
+    const Cluster& ranks = cluster_or_solo(cluster);
+    const bool root = ranks.root();
+    Scene scene = load_scene(args.scene, parse_set_flags(args.set));
+    if (!args.quiet && root)
+        for (const std::string& w : scene.warnings)
+            std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
+    apply_accel_flag(args.accel, scene);
+    apply_image_flags({args.width, args.height, args.crop, args.pixel_bounds}, scene);
+    // The flags that are renderer settings join the file's and --set's in the scene's set:
+    // checked by the same rules, reported under their own name, recorded with the others.
+    auto flag = [&](const char* key, const std::string& value, const char* name) {
+        scene.renderer.set(key, value, name, 0);
+    };
+    if (!args.integrator.empty()) flag("type", args.integrator, "--integrator");
+    if (!args.mis.empty()) flag("mis", args.mis, "--mis");
+    if (!args.sampler.empty()) flag("sampler", args.sampler, "--sampler");
+    if (args.nee) flag("nee", *args.nee ? "true" : "false", "--nee");
+    if (args.max_depth) flag("max_depth", std::to_string(*args.max_depth), "--max-depth");
+    if (args.rr_depth) flag("rr_depth", std::to_string(*args.rr_depth), "--rr-depth");
+    if (args.light_samples)
+        flag("light_samples", std::to_string(*args.light_samples), "--light-samples");
+    if (args.adaptive) {
+        flag("adaptive", "true", "--adaptive");
+        flag("adaptive_threshold", exact_text(*args.adaptive), "--adaptive");
+    }
+    if (args.adaptive_max)
+        flag("adaptive_max_spp", std::to_string(*args.adaptive_max), "--adaptive-max");
+    if (args.adaptive_unbiased) flag("adaptive_unbiased", "true", "--adaptive-unbiased");
+    // Numbers are parsed by the settings' one integer parser, whatever wrote them.
+    if (args.seed) flag("seed", *args.seed, "--seed");
+    if (args.threads) flag("num_threads", *args.threads, "--threads");
+    RenderSettings rs = render_settings(scene);
+    // --spp: the samples per pixel (per pass), or under adaptive sampling the pilot.
+    if (args.spp) flag(rs.adaptive.enabled ? "adaptive_pilot" : "spp", *args.spp, "--spp");
+    rs = render_settings(scene);
+    RenderOptions opt = rs.run;
+    opt.time_limit = args.time.value_or(opt.time_limit);
+    if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
+    if (args.passes)
+        opt.max_passes =
+            uint32_t(integer_or_fail(*args.passes, 1, 1u << 30, "--passes", 0, "the value"));
+    const bool progressive = opt.time_limit > 0.f || args.passes;
+    if (progressive && rs.adaptive.enabled)
+        throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
+                         "progressive passes and adaptive sampling do not mix");
+    // Progressive passes are one sample per pixel each unless --spp sets the pass size.
+    if (progressive && !args.spp) opt.spp = 1;
+    opt.snapshot_times = args.snapshots;
+    if (!opt.snapshot_times.empty() && !progressive)
+        throw InputError("--snapshots", 0,
+                         "needs --time or --passes (snapshots are taken between the passes of "
+                         "a progressive render)");
+    // Progress goes to stderr when it is a terminal, never into a file or a pipe.
+    Progress progress;
+    opt.progress = &progress;
+    std::unique_ptr<ProgressLine> line;
+    if (!args.quiet && root && isatty(fileno(stderr)))
+        line = std::make_unique<ProgressLine>(progress);
+
+    std::string out = args.output;
+    if (out.empty()) out = (fs::path("out") / fs::path(args.scene).stem()).string() + ".exr";
+    if (fs::path(out).extension() != ".exr")
+        throw InputError(out, 0,
+                         "output must be an .exr file (a .png preview is written beside it)");
+    PreviewFormat preview_format = PreviewFormat::Png;
+    if (!args.preview.empty() && !preview_formats().parse(args.preview, preview_format))
+        throw InputError(
+            "--preview", 0,
+            "unknown format '" + args.preview + "' (" + preview_formats().list() + ")");
+    // Every file the render will write is checked now, before any work.
+    const std::string png =
+        fs::path(out).replace_extension(preview_extension(preview_format)).string();
+    if (root) {
+        check_writable(out, "-o", args.scene);
+        check_writable(png, "-o (its preview)", args.scene);
+        if (!args.stats_json.empty()) check_writable(args.stats_json, "--stats-json", args.scene);
+        if (!args.cache_points.empty())
+            check_writable(args.cache_points, "--cache-points", args.scene);
+    }
+    const char* integrator = rs.integrator.c_str();
+    const std::string settings = settings_text(scene);
+    auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%.3f", seconds);
+        std::string method = integrator;
+        if (rs.integrator == "path")
+            method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) +
+                                   (rs.mis == MisHeuristic::Power && rs.mis_beta != 2.f
+                                        ? " beta=" + format_number(rs.mis_beta)
+                                        : std::string())
+                             : " bsdf-only";
+        return ImageAttributes{
+            {"foton:scene", args.scene},
+            {"foton:integrator", method},
+            // What a pixel's value averages: the mean over pixels for adaptive sampling,
+            // the passes for SPPM, spp x passes otherwise.
+            {"foton:samples", format_number(spp)},
+            {"foton:passes", std::to_string(passes)},
+            {"foton:seed", std::to_string(opt.seed)},
+            {"foton:renderSeconds", secs},
+            {"foton:accel", accel_name},
+            {"foton:version", FOTON_VERSION},
+            {"foton:gitCommit", git_commit()},
+            {"foton:commandLine", args.command_line},
+            {"foton:settings", settings},
+        };
+    };
+    // pbrt-v4's standard attributes: time, samples, the camera's matrices.
+    auto exr_info = [&](double seconds, double spp) {
+        ExrRenderInfo info{float(seconds), int(std::lround(spp)), {}, {}, 0, 0, 0, 0};
+        info.world_to_camera = scene.camera.world_to_camera();
+        info.world_to_ndc = scene.camera.world_to_ndc();
+        // A crop is the data window of the full image's display window.
+        info.x0 = scene.film.x0;
+        info.y0 = scene.film.y0;
+        info.display_width = scene.film.full_width;
+        info.display_height = scene.film.full_height;
+        return info;
+    };
+    if (!opt.snapshot_times.empty()) {
+        // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
+        opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes,
+                              double spp) {
+            char suffix[48];
+            std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
+            write_exr(fs::path(out).replace_extension("").string() + suffix, f,
+                      attributes(seconds, passes, spp, accel_name(scene.accel)),
+                      exr_info(seconds, spp));
+        };
+    }
+
+    // Observers of every pass: convergence against a reference.
+    std::unique_ptr<ConvergenceLog> convergence;
+    std::string convergence_csv = args.convergence_csv;
+    if (!args.reference.empty()) {
+        if (root)
+            convergence =
+                std::make_unique<ConvergenceLog>(args.reference, scene.film, args.exclude_above);
+        if (convergence_csv.empty())
+            convergence_csv = fs::path(out).replace_extension(".convergence.csv").string();
+        if (root) check_writable(convergence_csv, "--convergence", args.scene);
+    } else if (args.exclude_above || !args.convergence_csv.empty()) {
+        throw InputError(args.exclude_above ? "--exclude-above" : "--convergence", 0,
+                         "needs --reference");
+    }
+    // And the live preview.
+    std::unique_ptr<TevDisplay> display;
+    if (!args.display.empty() && root)
+        display = std::make_unique<TevDisplay>(args.display, fs::path(out).filename().string(),
+                                               scene.film.width, scene.film.height);
+    // Only when something observes: the image of every pass costs a gather across ranks.
+    if (convergence || display)
+        opt.on_pass = [&](const Film& film, const PassReport& pass) {
+            if (convergence) convergence->record(film, pass);
+            if (display) display->show(film);
+        };
+
+    if (!args.cache_points.empty() && rs.indirect != IndirectMode::IrradianceCache)
+        throw InputError("--cache-points", 0, "needs indirect=irradiance_cache");
+    const auto t0 = std::chrono::steady_clock::now();
+    // The accelerator's own pool (Embree's) gets the same bound as the render's.
+    std::unique_ptr<Intersector> accel;
+    {
+        const ProgressTask task(&progress, "build-accelerator", 0);
+        accel = make_intersector(scene, scene.accel, resolve_threads(opt.threads));
+    }
+    const double build =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Every rank is ready (or all stop here): the render's collectives begin.
+    check_in(ranks);
+    set_rank_phase(RankPhase::Collective);
+    if (ranks.distributed()) opt.cluster = &ranks;
+    // Ctrl-C from here on stops the render and keeps what it made.
+    InterruptGuard interrupt;
+    opt.cancel = &InterruptGuard::requested();
+    RenderResult res = render(scene, rs, *accel, opt);
+    const bool interrupted = InterruptGuard::requested().load();
+    line.reset();
+    display.reset();  // the last pass's image reaches the viewer
+    res.stats.build_seconds = build;
+    const std::string rank_stats = gather_rank_stats(ranks, res.stats);
+    set_rank_phase(RankPhase::Local);
+    if (!root) return interrupted ? kExitInterrupted : 0;
+
+    double spp_mean = 0.0;
+    for (uint32_t c : res.samples_per_pixel) spp_mean += c;
+    if (!res.samples_per_pixel.empty()) spp_mean /= double(res.samples_per_pixel.size());
+    ImageAttributes attrs =
+        attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
+    attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
+    if (ranks.distributed()) attrs.push_back({"foton:mpiRanks", std::to_string(ranks.size())});
+    if (interrupted) attrs.push_back({"foton:interrupted", "true"});
+    write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
+    write_preview(png, res.film, scene.camera.exposure, scene.film.gamma, preview_format);
+    if (!args.cache_points.empty()) {
+        std::size_t marked = 0;
+        const Film f = mark_cache_points(scene, *accel, res.film, res.cache_points, marked);
+        write_png(args.cache_points, f, scene.camera.exposure, scene.film.gamma);
+        if (!args.quiet)
+            std::printf("wrote %s (%zu of %zu records directly visible)\n",
+                        args.cache_points.c_str(), marked, res.cache_points.size());
+    }
+    if (convergence) {
+        std::ofstream csv(convergence_csv);
+        csv << convergence->csv();
+        if (!csv) throw InputError(convergence_csv, 0, "cannot write the convergence CSV");
+    }
+    if (!args.stats_json.empty()) {
+        std::ofstream js(args.stats_json);
+        if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
+        std::vector<std::pair<std::string, std::string>> run = {
+            {"version", json_string(FOTON_VERSION)},
+            {"git_commit", json_string(git_commit())},
+            {"scene", json_string(args.scene)},
+            {"integrator", json_string(rs.integrator)},
+            {"accelerator", json_string(accel->name())},
+            {"width", std::to_string(scene.film.width)},
+            {"height", std::to_string(scene.film.height)},
+            {"spp_mean", format_number(spp_mean)},
+            {"seed", std::to_string(opt.seed)},
+            {"threads_requested", std::to_string(opt.threads)},
+            {"cpu", json_string(cpu_topology().model)},
+            {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
+            {"simd", json_string(std::string(simd::Arch::name()))},
+            {"simd_width", std::to_string(simd::kWidth)},
+            {"mpi_ranks", std::to_string(ranks.size())},
+        };
+        // Across ranks: the counters above are every rank's summed, times are rank 0's,
+        // and each rank's own statistics follow.
+        if (ranks.distributed()) run.push_back({"ranks", rank_stats});
+        if (convergence) {
+            run.push_back({"reference", json_string(args.reference)});
+            run.push_back({"convergence", convergence->json()});
+        }
+        js << res.stats.json(run);
+    }
+    if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
+    if (!args.quiet)
+        std::printf(
+            "rendered %s with %s (%dx%d, %.4g spp in %u passes, %s, %d threads%s) in %.3f s\n"
+            "wrote %s\nwrote %s\n",
+            args.scene.c_str(), integrator, scene.film.width, scene.film.height,
+            double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
+            res.stats.passes, accel->name(), res.stats.threads,
+            ranks.distributed() ? (" x " + std::to_string(ranks.size()) + " MPI ranks").c_str()
+                                : "",
+            res.stats.wall_seconds, out.c_str(), png.c_str());
+    if (convergence && !args.quiet) std::printf("wrote %s\n", convergence_csv.c_str());
+    if (interrupted) {
+        std::fprintf(stderr,
+                     "foton: interrupted after %u passes (%.4g spp on average): the image "
+                     "so far was written\n",
+                     res.stats.passes, spp_mean);
+        return kExitInterrupted;
+    }
+    return 0;
+}
+
+}  // namespace foton::app

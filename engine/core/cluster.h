@@ -1,0 +1,124 @@
+#pragma once
+// The processes one render runs across (MPI ranks, issue 16), and the few collective
+// operations the renderers need to split their work and still make the image of one process
+// bit for bit: every rank traces a fixed share of the work (tiles, photon chunks, light-path
+// chunks, cache-fill chunks); results that feed further work are exchanged in rank order,
+// which is the single process's chunk order, and the image is gathered to rank 0.
+//
+// The engine sees only this interface; the app starts MPI and provides the implementation
+// (app/mpi_cluster.cpp). A single process is a cluster of one, whose collectives copy.
+// Every collective must be called by every rank in the same order, one at a time.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace foton {
+
+using Bytes = std::vector<std::byte>;
+
+class Cluster {
+  public:
+    virtual ~Cluster() = default;
+    virtual int rank() const = 0;
+    virtual int size() const = 0;
+    bool root() const { return rank() == 0; }
+    bool distributed() const { return size() > 1; }
+    // Every rank's bytes, one entry per rank in rank order, on every rank (MPI_Allgatherv).
+    virtual std::vector<Bytes> all_gather(const Bytes& mine) const = 0;
+    // The same on rank 0 only; the other ranks get an empty list (MPI_Gatherv).
+    virtual std::vector<Bytes> gather(const Bytes& mine) const = 0;
+    // Rank 0's bytes on every rank (MPI_Bcast); `data` has the same size everywhere.
+    virtual void broadcast(Bytes& data) const = 0;
+    // Bytes this process has sent and received in collectives so far (the communication
+    // model's measurements).
+    virtual uint64_t bytes_moved() const = 0;
+
+    // The first of the ranks' errors ("" = none), on every rank: a failure on one rank
+    // (a file only that node cannot read) ends every rank instead of leaving them waiting.
+    std::string first_error(const std::string& mine) const;
+};
+
+// The cluster of one: this process alone.
+class SoloCluster final : public Cluster {
+  public:
+    int rank() const override { return 0; }
+    int size() const override { return 1; }
+    std::vector<Bytes> all_gather(const Bytes& mine) const override { return {mine}; }
+    std::vector<Bytes> gather(const Bytes& mine) const override { return {mine}; }
+    void broadcast(Bytes&) const override {}
+    uint64_t bytes_moved() const override { return 0; }
+};
+
+// The cluster a render runs on: the one given, else this process alone.
+const Cluster& cluster_or_solo(const Cluster* c);
+
+// Rank `rank`'s share of n items: the contiguous range [begin, end), ranks in order, sizes
+// differing by at most one. Contiguous shares keep rank order equal to item order.
+struct Share {
+    uint64_t begin = 0, end = 0;
+    uint64_t size() const { return end - begin; }
+};
+inline Share share_of(uint64_t n, int rank, int ranks) {
+    return {n * uint64_t(rank) / uint64_t(ranks), n * uint64_t(rank + 1) / uint64_t(ranks)};
+}
+inline Share share_of(uint64_t n, const Cluster& c) {
+    return share_of(n, c.rank(), c.size());
+}
+
+// Packing trivially copyable values into the byte strings the collectives move.
+template <class T>
+void pack(Bytes& out, const T* data, std::size_t n) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const std::size_t at = out.size();
+    out.resize(at + n * sizeof(T));
+    if (n) std::memcpy(out.data() + at, data, n * sizeof(T));
+}
+template <class T, class A>
+void pack(Bytes& out, const std::vector<T, A>& v) {
+    const uint64_t n = v.size();
+    pack(out, &n, 1);
+    pack(out, v.data(), v.size());
+}
+template <class T>
+void pack_value(Bytes& out, const T& v) {
+    pack(out, &v, 1);
+}
+
+// Reads back what pack() wrote, in the same order.
+class Unpacker {
+  public:
+    explicit Unpacker(const Bytes& b) : b_(b) {}
+    template <class T>
+    void read(T* data, std::size_t n) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        check(n * sizeof(T));
+        if (n) std::memcpy(data, b_.data() + at_, n * sizeof(T));
+        at_ += n * sizeof(T);
+    }
+    template <class T>
+    T value() {
+        T v;
+        read(&v, 1);
+        return v;
+    }
+    // Appends a packed vector to `v`.
+    template <class T, class A>
+    void append(std::vector<T, A>& v) {
+        const uint64_t n = value<uint64_t>();
+        check(n * sizeof(T));
+        const std::size_t old = v.size();
+        v.resize(old + n);
+        read(v.data() + old, n);
+    }
+    bool done() const { return at_ == b_.size(); }
+
+  private:
+    void check(std::size_t n) const;
+    const Bytes& b_;
+    std::size_t at_ = 0;
+};
+
+}  // namespace foton

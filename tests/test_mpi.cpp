@@ -1,0 +1,188 @@
+// One render across MPI ranks (issue 16): `mpirun -np N foton render` makes the image of one
+// process bit for bit, for every integrator that splits its work; --time stops every rank
+// after the same passes; statistics come per rank and merged; bad input on any rank ends all
+// of them with the message once and exit code 2.
+#include <sys/wait.h>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "engine/film/image_io.h"
+#include "test_util.h"
+
+using namespace foton;
+
+#ifdef FOTON_HAVE_MPI
+
+namespace {
+
+struct Run {
+    int code = -1;
+    std::string err;
+};
+
+// Runs a shell command; its stderr comes back.
+Run shell(const std::string& cmd, const test::TempDir& dir) {
+    const std::string err = dir.file("stderr.txt");
+    const int status = std::system((cmd + " > /dev/null 2> " + err).c_str());
+    std::ifstream in(err);
+    Run r;
+    r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+// mpirun as CI runs it: as root, on a machine with fewer cores than ranks, banners off.
+std::string mpirun(int ranks) {
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    return "mpirun -q --oversubscribe --bind-to none -np " + std::to_string(ranks) + " ";
+}
+
+bool same_bits(const Film& a, const Film& b) {
+    return a.width == b.width && a.height == b.height &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(RGB)) == 0;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+        ++n;
+    return n;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string foton = std::string(FOTON_BINARY) + " render ";
+    struct Case {
+        const char* name;
+        const char* scene;
+        const char* flags;
+    };
+    const Case cases[] = {
+        {"path", "scenes/cornell-box.xml", "--integrator path --spp 3"},
+        {"raytracer", "scenes/cornell-mirror.xml", "--integrator raytracer --spp 2"},
+        {"light", "scenes/cornell-box.xml", "--integrator light --spp 2"},
+        {"photon-fg", "scenes/cornell-caustics.xml",
+         "--integrator photon --spp 1 --set mode=final_gather --set global_photons=20000 --set "
+         "caustic_photons=5000"},
+        {"sppm", "scenes/cornell-caustics.xml",
+         "--integrator sppm --passes 3 --set photons_per_pass=8000"},
+        {"cache", "scenes/cornell-diffuse.xml",
+         "--integrator path --set indirect=irradiance_cache --spp 1"},
+        {"photon-cache", "scenes/cornell-diffuse.xml",
+         "--integrator photon --set indirect=irradiance_cache --set global_photons=20000 --spp 1"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name << ": " << c.flags);
+        const std::string args = test::source_path(c.scene) + " " + c.flags +
+                                 " --width 40 --height 32 -q -o " + dir.file(c.name);
+        REQUIRE(shell(foton + args + "-1.exr --threads 2", dir).code == 0);
+        const Film one = read_exr(dir.file(c.name) + "-1.exr");
+        for (const int ranks : {2, 3}) {
+            INFO(ranks << " ranks");
+            const Run r = shell(mpirun(ranks) + foton + args + "-n.exr --threads 1", dir);
+            INFO(r.err);
+            REQUIRE(r.code == 0);
+            CHECK(same_bits(read_exr(dir.file(c.name) + "-n.exr"), one));
+        }
+    }
+}
+
+TEST_CASE(
+    "mpirun with --time: every rank runs the same passes and statistics come per rank and merged",
+    "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string foton = std::string(FOTON_BINARY) + " render ";
+    const std::string args = test::source_path("scenes/cornell-box.xml") +
+                             " --integrator path --width 32 --height 24 -q --threads 1";
+    const std::string json = dir.file("stats.json");
+    REQUIRE(shell(mpirun(2) + foton + args + " --time 0.4 -o " + dir.file("timed.exr") +
+                      " --stats-json " + json,
+                  dir)
+                .code == 0);
+    const std::string j = slurp(json);
+    CHECK_THAT(j, Catch::Contains("\"mpi_ranks\": 2"));
+    CHECK_THAT(j, Catch::Contains("\"rank\": 0"));
+    CHECK_THAT(j, Catch::Contains("\"rank\": 1"));
+    // Each rank's record (in the "ranks" list), then the merged one: all with the same
+    // passes.
+    std::vector<long> passes, samples;
+    for (std::size_t at = j.find("\"passes\": "); at != std::string::npos;
+         at = j.find("\"passes\": ", at + 1))
+        passes.push_back(std::strtol(j.c_str() + at + 10, nullptr, 10));
+    for (std::size_t at = j.find("\"samples\": "); at != std::string::npos;
+         at = j.find("\"samples\": ", at + 1))
+        samples.push_back(std::strtol(j.c_str() + at + 11, nullptr, 10));
+    REQUIRE(passes.size() == 3);
+    CHECK(passes[0] >= 1);
+    CHECK(passes[1] == passes[0]);
+    CHECK(passes[2] == passes[0]);
+    REQUIRE(samples.size() == 3);
+    CHECK(samples[2] == samples[0] + samples[1]);
+    CHECK(samples[2] == 32L * 24L * passes[0]);
+    // And the image is one process's after those passes.
+    REQUIRE(shell(foton + args + " --passes " + std::to_string(passes[0]) + " -o " +
+                      dir.file("one.exr"),
+                  dir)
+                .code == 0);
+    CHECK(same_bits(read_exr(dir.file("timed.exr")), read_exr(dir.file("one.exr"))));
+}
+
+TEST_CASE("mpirun: bad input on every rank or on one ends all with the message shown once",
+          "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string foton = std::string(FOTON_BINARY) + " render ";
+    const std::string bad = dir.file("bad.xml");
+    std::ofstream(bad) << "<scene>\n  <film width=\"-4\" height=\"8\"/>\n</scene>\n";
+    const std::string out = dir.file("never.exr");
+    SECTION("every rank") {
+        const Run r = shell(mpirun(3) + foton + bad + " -q -o " + out, dir);
+        CHECK(r.code == 2);
+        CHECK(count(r.err, bad + ":2:") == 1);
+    }
+    SECTION("only rank 1: the others wait for nothing") {
+        const std::string good = test::source_path("scenes/cornell-box.xml");
+        const Run r = shell(mpirun(3) + "sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then exec " +
+                                foton + bad + " -q -o " + out + "; else exec " + foton + good +
+                                " --width 8 --height 8 -q -o " + out + "; fi'",
+                            dir);
+        CHECK(r.code == 2);
+        CHECK(count(r.err, bad + ":2:") == 1);
+        CHECK_THAT(r.err, Catch::Contains("(on MPI rank 1)"));
+    }
+    SECTION("an integrator that does not split across ranks") {
+        const Run r = shell(mpirun(2) + foton + test::source_path("scenes/cornell-box.xml") +
+                                " --integrator vcm --width 8 --height 8 -q -o " + out,
+                            dir);
+        CHECK(r.code == 2);
+        CHECK(count(r.err, "does not split across MPI ranks") == 1);
+    }
+    std::FILE* f = std::fopen(out.c_str(), "rb");
+    CHECK(f == nullptr);
+    if (f) std::fclose(f);
+}
+
+#else
+
+TEST_CASE("a build without MPI says so when mpirun starts it", "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string cmd = "OMPI_COMM_WORLD_SIZE=2 " + std::string(FOTON_BINARY) + " render " +
+                            test::source_path("scenes/cornell-box.xml") + " -q -o " +
+                            dir.file("x.exr") + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 2);
+}
+
+#endif
