@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -83,42 +85,48 @@ class MpiCluster final : public Cluster {
     int rank() const override { return rank_; }
     int size() const override { return size_; }
     uint64_t bytes_moved() const override { return moved_.load(); }
+    double collective_seconds() const override { return double(nanoseconds_.load()) * 1e-9; }
 
-    std::vector<Bytes> all_gather(const Bytes& mine) const override {
-        const std::vector<uint64_t> sizes = sizes_of(mine);
-        std::vector<Bytes> all(static_cast<std::size_t>(size_));
+    std::vector<uint64_t> all_sizes(uint64_t mine) const override {
+        const Timer timer(nanoseconds_);
+        std::vector<uint64_t> sizes(static_cast<std::size_t>(size_));
+        check(MPI_Allgather(&mine, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
+              "MPI_Allgather");
+        return sizes;
+    }
+
+    void all_gather_into(const void* mine, const std::vector<uint64_t>& sizes,
+                         void* out) const override {
+        const Timer timer(nanoseconds_);
+        std::byte* dst = static_cast<std::byte*>(out);
         uint64_t total = 0;
-        for (int r = 0; r < size_; ++r) {
-            all[std::size_t(r)].resize(sizes[std::size_t(r)]);
-            total += sizes[std::size_t(r)];
+        std::vector<uint64_t> at(sizes.size());
+        for (std::size_t r = 0; r < sizes.size(); ++r) {
+            at[r] = total;
+            total += sizes[r];
         }
+        const uint64_t own = sizes[std::size_t(rank_)];
         if (total <= uint64_t(INT_MAX)) {
-            std::vector<int> counts(static_cast<std::size_t>(size_)),
-                displs(static_cast<std::size_t>(size_));
-            Bytes flat(total);
-            for (int r = 0, at = 0; r < size_; ++r) {
-                counts[std::size_t(r)] = int(sizes[std::size_t(r)]);
-                displs[std::size_t(r)] = at;
-                at += counts[std::size_t(r)];
+            std::vector<int> counts(sizes.size()), displs(sizes.size());
+            for (std::size_t r = 0; r < sizes.size(); ++r) {
+                counts[r] = int(sizes[r]);
+                displs[r] = int(at[r]);
             }
-            check(MPI_Allgatherv(mine.data(), int(mine.size()), MPI_BYTE, flat.data(),
-                                 counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD),
+            check(MPI_Allgatherv(mine, int(own), MPI_BYTE, dst, counts.data(), displs.data(),
+                                 MPI_BYTE, MPI_COMM_WORLD),
                   "MPI_Allgatherv");
-            for (int r = 0; r < size_; ++r)
-                std::copy(flat.begin() + displs[std::size_t(r)],
-                          flat.begin() + displs[std::size_t(r)] + counts[std::size_t(r)],
-                          all[std::size_t(r)].begin());
         } else {
             // Beyond 2 GB in all: each rank's part broadcast by it, in pieces.
-            all[std::size_t(rank_)] = mine;
-            for (int r = 0; r < size_; ++r) bcast(all[std::size_t(r)], r);
+            if (own) std::memcpy(dst + at[std::size_t(rank_)], mine, own);
+            for (int r = 0; r < size_; ++r)
+                bcast(dst + at[std::size_t(r)], sizes[std::size_t(r)], r);
         }
-        moved_ += mine.size() * uint64_t(size_ - 1) + (total - mine.size());
-        return all;
+        moved_ += own * uint64_t(size_ - 1) + (total - own);
     }
 
     std::vector<Bytes> gather(const Bytes& mine) const override {
-        const std::vector<uint64_t> sizes = sizes_of(mine);
+        const std::vector<uint64_t> sizes = all_sizes(mine.size());
+        const Timer timer(nanoseconds_);
         std::vector<Bytes> all;
         if (rank_ == 0) {
             all.resize(static_cast<std::size_t>(size_));
@@ -143,27 +151,33 @@ class MpiCluster final : public Cluster {
     }
 
     void broadcast(Bytes& data) const override {
-        bcast(data, 0);
+        const Timer timer(nanoseconds_);
+        bcast(data.data(), data.size(), 0);
         moved_ += data.size() * (rank_ == 0 ? uint64_t(size_ - 1) : 1);
     }
 
   private:
-    std::vector<uint64_t> sizes_of(const Bytes& mine) const {
-        std::vector<uint64_t> sizes(static_cast<std::size_t>(size_));
-        const uint64_t n = mine.size();
-        check(MPI_Allgather(&n, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
-              "MPI_Allgather");
-        return sizes;
-    }
-    void bcast(Bytes& b, int root) const {
-        for (uint64_t at = 0; at < b.size(); at += kPiece)
-            check(MPI_Bcast(b.data() + at, int(std::min<uint64_t>(kPiece, b.size() - at)), MPI_BYTE,
-                            root, MPI_COMM_WORLD),
+    void bcast(std::byte* b, uint64_t n, int root) const {
+        for (uint64_t at = 0; at < n; at += kPiece)
+            check(MPI_Bcast(b + at, int(std::min<uint64_t>(kPiece, n - at)), MPI_BYTE, root,
+                            MPI_COMM_WORLD),
                   "MPI_Bcast");
     }
 
+    // Adds the wall time of its scope to a counter.
+    struct Timer {
+        std::atomic<uint64_t>& total;
+        std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+        explicit Timer(std::atomic<uint64_t>& t) : total(t) {}
+        ~Timer() {
+            total += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                  std::chrono::steady_clock::now() - start)
+                                  .count());
+        }
+    };
+
     int rank_ = 0, size_ = 1;
-    mutable std::atomic<uint64_t> moved_{0};
+    mutable std::atomic<uint64_t> moved_{0}, nanoseconds_{0};
 };
 
 }  // namespace

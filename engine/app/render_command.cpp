@@ -83,7 +83,8 @@ std::string gather_rank_stats(const Cluster& ranks, RenderStats& stats) {
     if (!ranks.distributed()) return {};
     const std::string own_text =
         stats.json({{"rank", std::to_string(ranks.rank())},
-                    {"mpi_bytes_moved", std::to_string(ranks.bytes_moved())}});
+                    {"mpi_bytes_moved", std::to_string(ranks.bytes_moved())},
+                    {"mpi_collective_seconds", format_number(ranks.collective_seconds())}});
     Bytes mine;
     pack_counters(mine, stats);
     pack(mine, std::vector<char>(own_text.begin(), own_text.end()));

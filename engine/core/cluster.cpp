@@ -18,6 +18,22 @@ std::string Cluster::first_error(const std::string& mine) const {
     return {};
 }
 
+std::vector<Bytes> Cluster::all_gather(const Bytes& mine) const {
+    const std::vector<uint64_t> sizes = all_sizes(mine.size());
+    uint64_t total = 0;
+    for (uint64_t n : sizes) total += n;
+    Bytes flat(total);
+    all_gather_into(mine.data(), sizes, flat.data());
+    std::vector<Bytes> parts;
+    uint64_t at = 0;
+    for (uint64_t n : sizes) {
+        parts.emplace_back(flat.begin() + std::ptrdiff_t(at),
+                           flat.begin() + std::ptrdiff_t(at + n));
+        at += n;
+    }
+    return parts;
+}
+
 const Cluster& cluster_or_solo(const Cluster* c) {
     static const SoloCluster solo;
     return c ? *c : solo;

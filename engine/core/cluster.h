@@ -26,8 +26,26 @@ class Cluster {
     virtual int size() const = 0;
     bool root() const { return rank() == 0; }
     bool distributed() const { return size() > 1; }
-    // Every rank's bytes, one entry per rank in rank order, on every rank (MPI_Allgatherv).
-    virtual std::vector<Bytes> all_gather(const Bytes& mine) const = 0;
+    // Every rank's size, in rank order, on every rank (MPI_Allgather).
+    virtual std::vector<uint64_t> all_sizes(uint64_t mine) const = 0;
+    // Every rank's bytes (`sizes` from all_sizes) concatenated in rank order into `out`, on
+    // every rank (MPI_Allgatherv): straight into their destination, no copy on the way.
+    virtual void all_gather_into(const void* mine, const std::vector<uint64_t>& sizes,
+                                 void* out) const = 0;
+    // The same for small messages: one entry per rank.
+    std::vector<Bytes> all_gather(const Bytes& mine) const;
+    // Replaces v, on every rank, by every rank's v concatenated in rank order.
+    template <class T, class A>
+    void all_gather_concat(std::vector<T, A>& v) const {
+        static_assert(std::is_trivially_copyable_v<T>);
+        if (!distributed()) return;
+        const std::vector<uint64_t> sizes = all_sizes(v.size() * sizeof(T));
+        uint64_t total = 0;
+        for (uint64_t s : sizes) total += s;
+        std::vector<T, A> all(total / sizeof(T));
+        all_gather_into(v.data(), sizes, all.data());
+        v.swap(all);
+    }
     // The same on rank 0 only; the other ranks get an empty list (MPI_Gatherv).
     virtual std::vector<Bytes> gather(const Bytes& mine) const = 0;
     // Rank 0's bytes on every rank (MPI_Bcast); `data` has the same size everywhere.
@@ -35,6 +53,9 @@ class Cluster {
     // Bytes this process has sent and received in collectives so far (the communication
     // model's measurements).
     virtual uint64_t bytes_moved() const = 0;
+    // Wall seconds this process has spent inside collectives (moving data, and waiting for
+    // the ranks that came later).
+    virtual double collective_seconds() const = 0;
 
     // The first of the ranks' errors ("" = none), on every rank: a failure on one rank
     // (a file only that node cannot read) ends every rank instead of leaving them waiting.
@@ -46,10 +67,15 @@ class SoloCluster final : public Cluster {
   public:
     int rank() const override { return 0; }
     int size() const override { return 1; }
-    std::vector<Bytes> all_gather(const Bytes& mine) const override { return {mine}; }
+    std::vector<uint64_t> all_sizes(uint64_t mine) const override { return {mine}; }
+    void all_gather_into(const void* mine, const std::vector<uint64_t>& sizes,
+                         void* out) const override {
+        if (sizes[0]) std::memcpy(out, mine, sizes[0]);
+    }
     std::vector<Bytes> gather(const Bytes& mine) const override { return {mine}; }
     void broadcast(Bytes&) const override {}
     uint64_t bytes_moved() const override { return 0; }
+    double collective_seconds() const override { return 0.0; }
 };
 
 // The cluster a render runs on: the one given, else this process alone.

@@ -167,7 +167,7 @@ Vec3 PhotonMap::normal(std::size_t i) const {
 }
 
 void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& params,
-                                      const ParallelFor& parallel_for) {
+                                      const ParallelFor& parallel_for, const Cluster* cluster) {
     const std::size_t m = stride == 0 ? 0 : (size() + stride - 1) / stride;
     irr_x_.resize(m);
     irr_y_.resize(m);
@@ -210,10 +210,21 @@ void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& par
             irr_e_[j] = irradiance_of(n, params, kept, idx, d2, r);
         }
     };
+    // Across MPI ranks each estimates a share of the points; all get every estimate.
+    const Cluster& ranks = cluster_or_solo(cluster);
+    const Share mine = share_of(m, ranks);
     if (parallel_for)
-        parallel_for(m, body);
+        parallel_for(mine.size(),
+                     [&](std::size_t b, std::size_t e) { body(mine.begin + b, mine.begin + e); });
     else
-        body(0, m);
+        body(mine.begin, mine.end);
+    if (ranks.distributed()) {
+        Bytes part;
+        for (std::size_t t = mine.begin; t < mine.end; ++t) foton::pack(part, &irr_e_[order[t]], 1);
+        std::size_t t = 0;
+        for (const Bytes& b : ranks.all_gather(part))
+            for (Unpacker in(b); !in.done(); ++t) in.read(&irr_e_[order[t]], 1);
+    }
     irr_tree_.build(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
 }
 

@@ -56,10 +56,9 @@ class PhotonMap {
               uint8_t flags, uint16_t light = 0);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
-    // The photons as bytes for another MPI rank (before build), and their appending there:
-    // unpack_append(pack()) is append().
-    void pack(Bytes& out) const;
-    void unpack_append(Unpacker& in);
+    // Replaces the photons, on every MPI rank of `cluster`, by every rank's in rank order
+    // (before build). Collective.
+    void all_gather(const Cluster& cluster);
     // Moves the photons with any of `flag`'s bits into the returned map, in order (before
     // build).
     PhotonMap extract(uint8_t flag);
@@ -126,11 +125,12 @@ class PhotonMap {
     }
 
     // Christensen's precomputed irradiance: E at every `stride`-th photon (with its normal),
-    // computed in parallel by `parallel_for(n, body(begin, end))`, kept in its own kd-tree.
+    // computed in parallel by `parallel_for(n, body(begin, end))`, kept in its own kd-tree;
+    // across the MPI ranks of `cluster`, each computes a share and all get every value.
     using ParallelFor =
         std::function<void(std::size_t, const std::function<void(std::size_t, std::size_t)>&)>;
     void precompute_irradiance(uint32_t stride, const EstimateParams& params,
-                               const ParallelFor& parallel_for);
+                               const ParallelFor& parallel_for, const Cluster* cluster = nullptr);
     bool has_precomputed() const { return !irr_e_.empty(); }
     std::size_t precomputed_size() const { return irr_e_.size(); }
     // The precomputed irradiance nearest to p among those within max_radius whose normal is

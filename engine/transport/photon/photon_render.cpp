@@ -110,9 +110,9 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
                                   task.advance(r.size());
                               });
         };
-        maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+        maps.global.precompute_irradiance(ps.irradiance_stride, gp, parallel_for, opt.cluster);
         if (!maps.direct.empty())
-            maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for);
+            maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for, opt.cluster);
         const uint64_t n = maps.global.precomputed_size() + maps.direct.precomputed_size();
         global_stats.add(Stage::Precompute, n, c);
         return n;
@@ -123,9 +123,12 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
         return maps.caustic.size();
     });
-    // Across MPI ranks the two passes' map exchanges are collectives, which every rank
-    // must run in the same order: the passes then follow each other.
-    if (opt.cluster && opt.cluster->distributed()) graph.edge(trace_global, trace_caustic);
+    // Across MPI ranks the map exchanges (and the precomputed irradiance's) are collectives,
+    // which every rank must run in the same order: those nodes then follow each other.
+    if (opt.cluster && opt.cluster->distributed()) {
+        graph.edge(trace_global, trace_caustic);
+        graph.edge(trace_caustic, precompute);
+    }
     graph.edge(trace_global, balance_global);
     graph.edge(trace_caustic, balance_caustic);
     graph.edge(balance_global, precompute);

@@ -165,16 +165,8 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, Pho
     if (shadow)
         for (const PhotonMap& p : shadow_parts) shadows.append(p);
     if (ranks.distributed()) {
-        Bytes packed;
-        map.pack(packed);
-        shadows.pack(packed);
-        map = PhotonMap();
-        shadows = PhotonMap();
-        for (const Bytes& b : ranks.all_gather(packed)) {
-            Unpacker in(b);
-            map.unpack_append(in);
-            shadows.unpack_append(in);
-        }
+        map.all_gather(ranks);
+        if (shadow) shadows.all_gather(ranks);
     }
     if (shadow) shadow->append(shadows);
     for (const RenderStats& l : st) stats.merge(l);
