@@ -1,6 +1,7 @@
 #include "light_render.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -70,16 +71,22 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
         StageClock clock;
         std::size_t count = 0;
         if (cluster.distributed()) {
+            std::size_t mine_count = 0;
+            for (std::size_t c = mine.begin; c < mine.end; ++c) mine_count += splats[c].size();
             Bytes packed;
+            packed.reserve(mine_count * sizeof(Splat));
             for (std::size_t c = mine.begin; c < mine.end; ++c)
                 pack(packed, splats[c].data(), splats[c].size());
-            const std::vector<Bytes> parts = cluster.gather(packed);
-            std::vector<std::vector<Splat>> by_rank(parts.size());
-            for (std::size_t r = 0; r < parts.size(); ++r) {
-                by_rank[r].resize(parts[r].size() / sizeof(Splat));
-                Unpacker(parts[r]).read(by_rank[r].data(), by_rank[r].size());
+            // Rank 0 adds them straight from the messages, in rank order (= chunk order).
+            for (const Bytes& part : cluster.gather(packed)) {
+                const std::size_t n = part.size() / sizeof(Splat);
+                for (std::size_t i = 0; i < n; ++i) {
+                    Splat sp;
+                    std::memcpy(&sp, part.data() + i * sizeof(Splat), sizeof sp);
+                    sum[sp.pixel] += sp.value;
+                }
+                count += n;
             }
-            count = add_splats(by_rank, sum);
         } else {
             count = add_splats(splats, sum);
         }
