@@ -1,6 +1,7 @@
 #include "cache_fill.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -37,24 +38,28 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
     std::vector<SampleJob> jobs;
     using ChunkRecords = std::vector<std::vector<IrradianceRecord>>;  // [level]
     std::vector<ChunkRecords> found;                                  // [chunk]
-    // Across MPI ranks each traces a contiguous share of a pass's chunks; the new records
-    // of all are exchanged, and every rank inserts them in rank order, which is chunk order.
-    Share mine;
+    // Across MPI ranks the chunks are dealt out in turn (chunk c to rank c mod N: the image's
+    // top and bottom need very different numbers of new records); the new records of all
+    // are exchanged, and every rank inserts them in chunk order.
+    const std::size_t ranks_n = std::size_t(ranks.size()), rank = std::size_t(ranks.rank());
+    auto mine = [&](std::size_t chunks) { return (chunks + ranks_n - 1 - rank) / ranks_n; };
     const uint32_t records = graph.add("cache-fill-records", [&]() -> uint64_t {
         const std::size_t chunks = (jobs.size() + kChunk - 1) / kChunk;
         found.assign(chunks, {});
-        mine = share_of(chunks, ranks);
-        const ProgressTask task(graph.progress(), "cache-fill-records", mine.size());
+        const ProgressTask task(graph.progress(), "cache-fill-records", mine(chunks));
+        std::atomic<uint64_t> traced{0};
         tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
+            tbb::blocked_range<std::size_t>(0, mine(chunks), 1),
             [&](const tbb::blocked_range<std::size_t>& r) {
                 Scratch& s = scratch.local();
                 if (!s.ws) s.ws = integrator.make_workspace();
-                for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                    const std::size_t c = rank + k * ranks_n;
                     const std::vector<SampleJob> part(
                         jobs.begin() + std::ptrdiff_t(c * kChunk),
                         jobs.begin() + std::ptrdiff_t(std::min(jobs.size(), (c + 1) * kChunk)));
                     integrator.trace(part, *s.ws, s.out, s.stats);
+                    traced += part.size();
                     for (CacheLevelWork& l : s.ws->cache_workspace()->levels) {
                         found[c].emplace_back();
                         for (std::size_t i = 0; i < l.found->size(); ++i)
@@ -63,7 +68,7 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
                     task.advance();
                 }
             });
-        return std::min(jobs.size(), mine.end * kChunk) - mine.begin * kChunk;
+        return traced.load();
     });
     const uint32_t insert = graph.add("cache-fill-insert", [&]() -> uint64_t {
         uint64_t n = 0;
@@ -78,17 +83,17 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
             return n;
         }
         Bytes packed;
-        for (std::size_t c = mine.begin; c < mine.end; ++c) {
+        for (std::size_t c = rank; c < found.size(); c += ranks_n) {
             pack_value(packed, uint64_t(found[c].size()));
             for (const std::vector<IrradianceRecord>& level : found[c]) pack(packed, level);
         }
-        for (const Bytes& part : ranks.all_gather(packed)) {
-            Unpacker in(part);
-            while (!in.done()) {
-                ChunkRecords chunk(in.value<uint64_t>());
-                for (std::vector<IrradianceRecord>& level : chunk) in.append(level);
-                insert_chunk(chunk);
-            }
+        const std::vector<Bytes> parts = ranks.all_gather(packed);
+        std::vector<Unpacker> from(parts.begin(), parts.end());
+        for (std::size_t c = 0; c < found.size(); ++c) {
+            Unpacker& in = from[c % ranks_n];
+            ChunkRecords chunk(in.value<uint64_t>());
+            for (std::vector<IrradianceRecord>& level : chunk) in.append(level);
+            insert_chunk(chunk);
         }
         return n;
     });
