@@ -270,7 +270,10 @@ void EmbreeAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters&
 void EmbreeAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCounters&) const {
     occ.resize(rays.size());
     thread_local std::vector<RTCRay> stream;
-    RTCIntersectContext ctx = batch_context(rays.coherent);
+    // Debian's Embree 3.13 never returns from a coherent rtcOccluded1M over a scene with
+    // instances on an AVX-512 Sapphire Rapids machine (seen 2026-11-26; the incoherent
+    // stream and coherent rtcIntersect1M return). Such scenes' shadow batches go incoherent.
+    RTCIntersectContext ctx = batch_context(rays.coherent && child_scenes_.empty());
     for (std::size_t first = 0; first < rays.size(); first += kStream) {
         const std::size_t n = std::min(kStream, rays.size() - first);
         stream.resize(n);
