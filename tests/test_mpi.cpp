@@ -82,6 +82,12 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
          "--integrator path --set indirect=irradiance_cache --spp 1"},
         {"photon-cache", "scenes/cornell-diffuse.xml",
          "--integrator photon --set indirect=irradiance_cache --set global_photons=20000 --spp 1"},
+        // Light paths of the whole image for a crop window, and a thin lens (materials).
+        {"bdpt", "scenes/cornell-caustics.xml", "--integrator bdpt --spp 2 --crop 0.1,0.9,0,0.7"},
+        {"bpm", "scenes/cornell-caustics.xml", "--integrator bpm --spp 2"},
+        {"vcm", "scenes/materials.xml", "--integrator vcm --spp 2"},
+        {"vcm-kdtree", "scenes/cornell-caustics.xml",
+         "--integrator vcm --spp 2 --set merge_index=kdtree"},
     };
     for (const Case& c : cases) {
         INFO(c.name << ": " << c.flags);
@@ -161,12 +167,13 @@ TEST_CASE("mpirun: bad input on every rank or on one ends all with the message s
         CHECK(count(r.err, bad + ":2:") == 1);
         CHECK_THAT(r.err, Catch::Contains("(on MPI rank 1)"));
     }
-    SECTION("an integrator that does not split across ranks") {
-        const Run r = shell(mpirun(2) + foton + test::source_path("scenes/cornell-box.xml") +
-                                " --integrator vcm --width 8 --height 8 -q -o " + out,
-                            dir);
+    SECTION("a setting the renderer rejects, found by every rank alike") {
+        const Run r =
+            shell(mpirun(2) + foton + test::source_path("scenes/cornell-box.xml") +
+                      " --integrator vcm --set rr_depth=3 --width 8 --height 8 -q -o " + out,
+                  dir);
         CHECK(r.code == 2);
-        CHECK(count(r.err, "does not split across MPI ranks") == 1);
+        CHECK(count(r.err, "rr_depth does not apply") == 1);
     }
     std::FILE* f = std::fopen(out.c_str(), "rb");
     CHECK(f == nullptr);

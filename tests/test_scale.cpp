@@ -4,12 +4,14 @@
 #include <sys/wait.h>
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
 #include "engine/app/scale_metrics.h"
 #include "engine/core/cpu_topology.h"
 #include "engine/core/error.h"
+#include "engine/film/image_io.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -148,4 +150,19 @@ TEST_CASE("foton scale: table, JSON, plot, and identical images at every thread 
                 " --threads 2,1") == 2);
     CHECK(shell(foton + " scale " + test::source_path("scenes/cornell-diffuse.xml") +
                 " --weak --time 1") == 2);
+}
+
+TEST_CASE("foton render --pin: the same image, and the statistics say it was pinned",
+          "[scale][cli]") {
+    test::TempDir dir;
+    const std::string render = std::string(FOTON_BINARY) + " render " +
+                               test::source_path("scenes/cornell-box.xml") +
+                               " --integrator path --spp 2 --width 32 --height 24 -q --threads 2";
+    REQUIRE(shell(render + " -o " + dir.file("free.exr")) == 0);
+    REQUIRE(shell(render + " --pin -o " + dir.file("pinned.exr") + " --stats-json " +
+                  dir.file("pinned.json")) == 0);
+    const Film a = read_exr(dir.file("free.exr")), b = read_exr(dir.file("pinned.exr"));
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    CHECK(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(RGB)) == 0);
+    CHECK_THAT(slurp(dir.file("pinned.json")), Catch::Contains("\"pinned\": true"));
 }

@@ -43,6 +43,7 @@ struct RenderArgs {
     std::string convergence_csv;         // where the curve goes (default: beside the output)
     std::string display;                 // HOST:PORT of a tev to stream each pass to
     bool quiet = false;
+    bool pin = false;          // pin each thread to a CPU of the process's affinity mask
     std::string command_line;  // as typed, for the image's metadata
 };
 

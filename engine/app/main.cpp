@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
                        "HOST:PORT: stream the image after every pass to the tev viewer listening "
                        "there (start it with `tev --hostname 127.0.0.1:14158`)");
     render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
+    render->add_flag("--pin", ra.pin,
+                     "pin each thread to one CPU of those the process may use (physical cores "
+                     "first): with mpirun --bind-to socket, a rank's threads stay on its socket");
     bool use_mpi = false;
     render->add_flag("--mpi", use_mpi,
                      "split the render across MPI ranks (automatic under mpirun/mpiexec/srun); "

@@ -18,6 +18,7 @@
 #include "engine/core/cpu_topology.h"
 #include "engine/core/error.h"
 #include "engine/core/stats_wire.h"
+#include "engine/core/thread_pinning.h"
 #include "engine/film/image_io.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/driver/render.h"
@@ -77,12 +78,20 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
     return f;
 }
 
+// Where this rank runs: a multi-node run's statistics say which node was slow.
+std::string host_name() {
+    char name[256] = {};
+    if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+    return name;
+}
+
 // Rank 0 gets every rank's counters (merged into `stats`) and each rank's own statistics, as
 // a JSON list; "" in one process. Collective.
 std::string gather_rank_stats(const Cluster& ranks, RenderStats& stats) {
     if (!ranks.distributed()) return {};
     const std::string own_text =
         stats.json({{"rank", std::to_string(ranks.rank())},
+                    {"host", json_string(host_name())},
                     {"mpi_bytes_moved", std::to_string(ranks.bytes_moved())},
                     {"mpi_collective_seconds", format_number(ranks.collective_seconds())}});
     Bytes mine;
@@ -109,6 +118,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // files, shows progress and feeds the observers (the render gathers the image to it).
     const Cluster& ranks = cluster_or_solo(cluster);
     const bool root = ranks.root();
+    // Every arena the render and the accelerator's build make is pinned (PinnedArena).
+    set_thread_pinning(args.pin);
     Scene scene = load_scene(args.scene, parse_set_flags(args.set));
     if (!args.quiet && root)
         for (const std::string& w : scene.warnings)
@@ -333,6 +344,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
             {"simd", json_string(std::string(simd::Arch::name()))},
             {"simd_width", std::to_string(simd::kWidth)},
             {"mpi_ranks", std::to_string(ranks.size())},
+            {"pinned", args.pin ? "true" : "false"},
         };
         // Across ranks: the counters above are every rank's summed, times are rank 0's,
         // and each rank's own statistics follow.

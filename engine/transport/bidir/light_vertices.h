@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/core/cluster.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
@@ -43,6 +44,16 @@ struct LightVertices {
         put(o.beta, beta), put(o.adj, adj), put(o.dvcm, dvcm), put(o.dvc, dvc), put(o.dvm, dvm);
         put(o.length, length), put(o.front, front), put(o.geom, geom), put(o.uv, uv);
         put(o.path, path);
+    }
+    // Replaces these vertices, on every MPI rank, by every rank's in rank order: the whole
+    // iteration's when each rank traced a contiguous share of the light paths. Collective.
+    void all_gather(const Cluster& c) {
+        c.all_gather_concat(px), c.all_gather_concat(py), c.all_gather_concat(pz);
+        c.all_gather_concat(ng), c.all_gather_concat(ns), c.all_gather_concat(wo);
+        c.all_gather_concat(beta), c.all_gather_concat(adj);
+        c.all_gather_concat(dvcm), c.all_gather_concat(dvc), c.all_gather_concat(dvm);
+        c.all_gather_concat(length), c.all_gather_concat(front), c.all_gather_concat(geom);
+        c.all_gather_concat(uv), c.all_gather_concat(path);
     }
     // Appends vertex i of `o`.
     void push(const LightVertices& o, std::size_t i) {

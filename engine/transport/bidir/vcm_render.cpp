@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -13,6 +14,7 @@
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/transport/driver/pass_control.h"
+#include "engine/transport/driver/pixel_owners.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "light_subpaths.h"
 
@@ -58,6 +60,22 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     constexpr uint32_t kLightChunk = 4096, kCameraChunk = 2048;
     const std::size_t light_chunks = (paths + kLightChunk - 1) / kLightChunk;
     const std::size_t camera_chunks = (pixels + kCameraChunk - 1) / kCameraChunk;
+    // Across MPI ranks each traces a contiguous share of the light paths, and every rank gets
+    // all their vertices (rank order is chunk order). Camera chunks are dealt out in turn;
+    // a rank's pixel sums hold its own pixels only, and every rank adds the splats that land
+    // on its pixels in chunk order, as one process adds them to each pixel.
+    const Cluster& cluster = cluster_or_solo(opt.cluster);
+    const Share light_mine = share_of(light_chunks, cluster);
+    std::vector<std::size_t> camera_mine;
+    for (std::size_t k = std::size_t(cluster.rank()); k < camera_chunks;
+         k += std::size_t(cluster.size()))
+        camera_mine.push_back(k);
+    PixelOwners owner;
+    if (cluster.distributed()) {
+        owner.resize(pixels);
+        for (uint32_t p = 0; p < pixels; ++p)
+            owner[p] = int32_t((p / kCameraChunk) % uint32_t(cluster.size()));
+    }
     std::vector<LightVertices> chunk_vertices(light_chunks);
     std::vector<std::vector<Splat>> splats(light_chunks);
     std::vector<RGB> sum(pixels, RGB{0.f});
@@ -67,13 +85,13 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     tbb::enumerable_thread_specific<CameraSubpathWorkspace> camera_ws;
     tbb::enumerable_thread_specific<RenderStats> stats;
     PassControl control(opt);
-    const ProgressTask task = control.task(name, uint64_t(opt.spp) * camera_chunks);
+    const ProgressTask task = control.task(name, uint64_t(opt.spp) * camera_mine.size());
     uint64_t iterations = 0;
 
     StageGraph graph;
     graph.set_progress(opt.progress);
     const uint32_t light = graph.add("light-paths", [&]() -> uint64_t {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, light_chunks, 1),
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(light_mine.begin, light_mine.end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               LightSubpathWorkspace& ws = light_ws.local();
                               RenderStats& st = stats.local();
@@ -86,25 +104,31 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                                                        splats[k], st);
                               }
                           });
-        return paths;
+        return std::min<uint64_t>(paths, light_mine.end * kLightChunk) -
+               light_mine.begin * kLightChunk;
     });
     const uint32_t vertices = graph.add("light-vertices", [&]() -> uint64_t {
         StageClock clock;
-        // The chunks' vertices, in chunk order, copied in parallel; then where each path
-        // begins (a chunk's paths are consecutive, each chunk's vertices path by path).
+        // This rank's chunks' vertices, in chunk order, copied in parallel (and every
+        // rank's, across ranks); then where each path begins: the vertices are in path order.
         LightVertices& v = store.vertices;
-        std::vector<std::size_t> at(light_chunks + 1, 0);
-        for (std::size_t k = 0; k < light_chunks; ++k) at[k + 1] = at[k] + chunk_vertices[k].size();
-        v.resize(at[light_chunks]);
+        const std::size_t mine = light_mine.size();
+        std::vector<std::size_t> at(mine + 1, 0);
+        for (std::size_t k = 0; k < mine; ++k)
+            at[k + 1] = at[k] + chunk_vertices[light_mine.begin + k].size();
+        v.resize(at[mine]);
+        tbb::parallel_for(std::size_t(0), mine, [&](std::size_t k) {
+            v.copy_from(chunk_vertices[light_mine.begin + k], at[k]);
+        });
+        if (cluster.distributed()) v.all_gather(cluster);
         store.first.assign(std::size_t(paths) + 1, 0);
         tbb::parallel_for(std::size_t(0), light_chunks, [&](std::size_t k) {
-            const LightVertices& c = chunk_vertices[k];
-            v.copy_from(c, at[k]);
             const uint32_t p0 = uint32_t(k) * kLightChunk, p1 = std::min(p0 + kLightChunk, paths);
-            std::size_t i = 0;
+            std::size_t i =
+                std::size_t(std::lower_bound(v.path.begin(), v.path.end(), p0) - v.path.begin());
             for (uint32_t p = p0; p < p1; ++p) {
-                store.first[p] = uint32_t(at[k] + i);
-                while (i < c.size() && c.path[i] == p) ++i;
+                store.first[p] = uint32_t(i);
+                while (i < v.size() && v.path[i] == p) ++i;
             }
         });
         store.first[paths] = uint32_t(v.size());
@@ -123,12 +147,13 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
         return v.size();
     });
     const uint32_t camera = graph.add("camera-paths", [&]() -> uint64_t {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, camera_chunks, 1),
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, camera_mine.size(), 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               CameraSubpathWorkspace& ws = camera_ws.local();
                               RenderStats& st = stats.local();
                               std::vector<RGB> radiance;
-                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                              for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                                  const std::size_t k = camera_mine[j];
                                   const uint32_t first = uint32_t(k) * kCameraChunk;
                                   const uint32_t n = std::min(kCameraChunk, pixels - first);
                                   trace_camera_subpaths(ctx, store, first, n, ws, radiance, st);
@@ -137,11 +162,30 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                                   task.advance();
                               }
                           });
-        return pixels;
+        uint64_t traced = 0;
+        for (const std::size_t k : camera_mine)
+            traced += std::min(kCameraChunk, pixels - uint32_t(k) * kCameraChunk);
+        return traced;
     });
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
-        const std::size_t count = add_splats(splats, sum);
+        std::size_t count = 0;
+        if (cluster.distributed()) {
+            Bytes packed;
+            for (std::size_t k = light_mine.begin; k < light_mine.end; ++k)
+                pack(packed, splats[k].data(), splats[k].size());
+            const int me = cluster.rank();
+            for (const Bytes& part : cluster.all_gather(packed)) {
+                const std::size_t n = part.size() / sizeof(Splat);
+                for (std::size_t i = 0; i < n; ++i) {
+                    Splat sp;
+                    std::memcpy(&sp, part.data() + i * sizeof(Splat), sizeof sp);
+                    if (owner[sp.pixel] == me) sum[sp.pixel] += sp.value, ++count;
+                }
+            }
+        } else {
+            count = add_splats(splats, sum);
+        }
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });
@@ -150,10 +194,13 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     graph.edge(light, splat);
     graph.edge(camera, splat);  // both add to `sum`
 
+    // Collective across ranks: the image is whole on rank 0.
     auto image = [&] {
         Film f(scene.film.width, scene.film.height);
         const float inv = iterations ? float(1.0 / double(iterations)) : 0.f;
-        for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
+        std::vector<RGB> all = sum;
+        gather_to_root(cluster, owner, all);
+        for (std::size_t i = 0; i < all.size(); ++i) f.pixels[i] = all[i] * inv;
         return f;
     };
     PinnedArena arena(threads);

@@ -10,20 +10,19 @@
 namespace foton {
 
 const std::vector<IntegratorInfo>& integrators() {
-    //                          name  aliases  camera  cache  mpi  render
+    // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
+    //                          name  aliases  camera  cache  render
     static const std::vector<IntegratorInfo> table = {
-        {"raytracer", {"whitted"}, true, false, true, render_whitted},
-        {"path", {}, true, true, true, render_path},
-        {"distributed", {}, true, false, true, render_distributed},
-        {"light", {}, false, false, true, render_light},
-        {"photon", {}, true, true, true, render_photon},
-        {"sppm", {}, false, false, true, render_sppm},
-        {"ppm", {}, false, false, true, render_ppm},
-        // The bidirectional family's light subpaths feed every pixel's connections and
-        // merges: splitting them across ranks is not built yet.
-        {"bdpt", {}, false, false, false, render_bdpt},
-        {"bpm", {}, false, false, false, render_bpm},
-        {"vcm", {}, false, false, false, render_vcm},
+        {"raytracer", {"whitted"}, true, false, render_whitted},
+        {"path", {}, true, true, render_path},
+        {"distributed", {}, true, false, render_distributed},
+        {"light", {}, false, false, render_light},
+        {"photon", {}, true, true, render_photon},
+        {"sppm", {}, false, false, render_sppm},
+        {"ppm", {}, false, false, render_ppm},
+        {"bdpt", {}, false, false, render_bdpt},
+        {"bpm", {}, false, false, render_bpm},
+        {"vcm", {}, false, false, render_vcm},
     };
     return table;
 }

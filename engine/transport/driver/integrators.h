@@ -19,8 +19,6 @@ struct IntegratorInfo {
     bool camera = true;
     // Takes indirect="irradiance_cache".
     bool irradiance_cache = false;
-    // Splits its work across MPI ranks (RenderOptions::cluster).
-    bool mpi = false;
     RenderResult (*render)(const Scene& scene, const RenderSettings& settings,
                            const Intersector& accel, const RenderOptions& options) = nullptr;
 };

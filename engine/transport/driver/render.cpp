@@ -27,14 +27,6 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
         throw InputError(
             scene.source, 0,
             "unknown renderer type '" + settings.integrator + "' (" + integrator_list() + ")");
-    if (opt.cluster && opt.cluster->distributed() && !info->mpi) {
-        std::string which;
-        for (const IntegratorInfo& i : integrators())
-            if (i.mpi) which += std::string(which.empty() ? "" : ", ") + i.name;
-        throw InputError("renderer", 0,
-                         "type=\"" + settings.integrator +
-                             "\" does not split across MPI ranks yet (these do: " + which + ")");
-    }
     if (settings.adaptive.enabled && !info->camera)
         throw InputError("renderer", 0,
                          "adaptive sampling applies to camera integrators, not type=\"" +
