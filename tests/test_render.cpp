@@ -242,6 +242,14 @@ TEST_CASE("every integrator reports its stage graph, and photon mapping's runs t
     CHECK(has_edge(photon.graph, "balance-caustic", "camera-gather"));
     CHECK(has_edge(photon.graph, "camera-gather", "final-gather"));
     CHECK(has_edge(photon.graph, "final-gather", "accumulate"));
+    // The passes that run side by side time their chunks: their time is thread time.
+    CHECK(photon.graph.nodes[index(photon.graph, "photons-global")].thread_time);
+    CHECK(photon.graph.nodes[index(photon.graph, "photons-caustic")].thread_time);
+    CHECK(photon.graph.nodes[index(photon.graph, "balance-global")].thread_time);
+    const RenderStats sppm = graph_of("sppm", "final_gather");
+    CHECK(sppm.graph.nodes[index(sppm.graph, "visible-points")].thread_time);
+    CHECK(sppm.graph.nodes[index(sppm.graph, "photons")].thread_time);
+    CHECK_FALSE(sppm.graph.nodes[index(sppm.graph, "gather")].thread_time);
     // Every tile went through both camera nodes.
     CHECK(photon.graph.nodes[index(photon.graph, "camera-gather")].items == 16 * 12);
     CHECK(photon.graph.nodes[index(photon.graph, "final-gather")].items == 16 * 12);

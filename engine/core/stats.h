@@ -82,16 +82,18 @@ class StageClock {
 
 // The render's stage graph as it ran (driver/stage_graph.h): its nodes, the time their bodies
 // ran summed over all runs, the items they processed, and the dependencies between them. A
-// node that runs once per pass parallelises inside, so its time is wall time; a tile node
-// runs on many threads at once (one run per tile), so its time is thread time.
+// node that runs once per pass parallelises inside, so its time is wall time, unless it
+// timed its parallel chunks (the passes that run side by side do): then, like a tile node's
+// (one run per tile, on many threads at once), its time is thread time.
 struct GraphStats {
     struct Node {
         std::string name;
         double busy_seconds = 0.0;
         uint64_t items = 0;
         uint64_t runs = 0;  // times the node ran (once per pass, or per tile)
-        // busy_seconds is thread time (a tile node, summed over the threads running it)
-        // rather than wall time (a node that runs once per pass, parallel inside).
+        // busy_seconds is thread time (a tile node, or a pass node that timed its chunks:
+        // summed over the threads running it) rather than wall time (a node that runs once
+        // per pass, parallel inside).
         bool thread_time = false;
     };
     std::vector<Node> nodes;

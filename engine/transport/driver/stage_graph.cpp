@@ -4,6 +4,7 @@
 #include <memory>
 
 #include <tbb/flow_graph.h>
+#include <tbb/parallel_invoke.h>
 
 namespace foton {
 
@@ -48,6 +49,7 @@ void StageGraph::run(tbb::task_arena& arena, const std::vector<uint32_t>& which)
             flow[i] = std::make_unique<tbb::flow::continue_node<Msg>>(g, [this, i](const Msg&) {
                 const ProgressTask task(progress_, nodes_[i].name, 0);
                 NodeTimer timer(*this, i);
+                const ThreadClock clock(&nodes_[i].busy);
                 timer.items = nodes_[i].body();
             });
         }
@@ -74,11 +76,29 @@ std::vector<uint32_t> StageGraph::sinks() const {
     return out;
 }
 
+ParallelInvoke timed_parallel_invoke(BusyTime* busy) {
+    return [busy](const std::function<void()>& a, const std::function<void()>& b) {
+        tbb::parallel_invoke(
+            [&] {
+                const ThreadClock clock(busy);
+                a();
+            },
+            [&] {
+                const ThreadClock clock(busy);
+                b();
+            });
+    };
+}
+
 GraphStats StageGraph::report() const {
     GraphStats r;
-    for (const Node& n : nodes_)
+    for (const Node& n : nodes_) {
+        const bool chunks_timed = n.body && n.busy.chunks_timed.load();
+        const double seconds =
+            chunks_timed ? n.busy.seconds() : double(n.nanoseconds.load()) * 1e-9;
         r.nodes.push_back(
-            {n.name, double(n.nanoseconds.load()) * 1e-9, n.items.load(), n.runs.load(), !n.body});
+            {n.name, seconds, n.items.load(), n.runs.load(), !n.body || chunks_timed});
+    }
     r.edges = edges_;
     return r;
 }

@@ -5,6 +5,10 @@
 // are run by a tile pipeline of their own (camera_driver.h: tiles stream through camera
 // gather, final gather and accumulation) and report to the same graph, after the nodes they
 // depend on have finished. Every node's busy time and items go to --stats and --stats-json.
+//
+// An add()ed node's time is its wall time, unless its parallel loops time their chunks with
+// a ThreadClock on ThreadClock::for_chunks() (read in the body, on its thread): then it is the
+// node's exact thread time, which nodes that run side by side need (thread_clock.h).
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -16,6 +20,7 @@
 
 #include "engine/core/progress.h"
 #include "engine/core/stats.h"
+#include "engine/core/thread_clock.h"
 
 namespace foton {
 
@@ -50,11 +55,18 @@ class StageGraph {
         std::string name;
         Body body;  // empty for declared nodes
         std::atomic<uint64_t> nanoseconds{0}, items{0}, runs{0};
+        BusyTime busy;  // the body's thread and its timed chunks
     };
     std::deque<Node> nodes_;  // deque: atomics do not move
     std::vector<std::pair<uint32_t, uint32_t>> edges_;
     Progress* progress_ = nullptr;
 };
+
+// tbb::parallel_invoke whose halves charge `busy` (a node body's ThreadClock::for_chunks()): for
+// a recursive build, such as a photon map's balance, inside a node that runs beside others.
+using ParallelInvoke =
+    std::function<void(const std::function<void()>&, const std::function<void()>&)>;
+ParallelInvoke timed_parallel_invoke(BusyTime* busy);
 
 // Times a node's work on one thread and records it on destruction.
 class NodeTimer {

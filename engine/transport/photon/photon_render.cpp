@@ -4,7 +4,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
@@ -49,10 +48,6 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
 
     RenderStats photon_stats, global_stats, caustic_stats;
     const int threads = resolve_threads(opt.threads);
-    const kern::PointKdTree::ParallelInvoke par = [](const std::function<void()>& a,
-                                                     const std::function<void()>& b) {
-        tbb::parallel_invoke(a, b);
-    };
     StageClock photon_clock;
     StageGraph graph;
     graph.set_progress(opt.progress);
@@ -91,6 +86,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
         StageClock c;
+        const ParallelInvoke par = timed_parallel_invoke(ThreadClock::for_chunks());
         maps.global.build(par);
         maps.direct.build(par);
         maps.shadow.build(par);
@@ -101,11 +97,13 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     const uint32_t precompute = graph.add("precompute-irradiance", [&]() -> uint64_t {
         if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return 0;
         StageClock c;
+        BusyTime* const busy = ThreadClock::for_chunks();
         const auto parallel_for = [&](std::size_t n,
                                       const std::function<void(std::size_t, std::size_t)>& body) {
             const ProgressTask task(graph.progress(), "precompute-irradiance", n);
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
                               [&](const tbb::blocked_range<std::size_t>& r) {
+                                  const ThreadClock clock(busy);
                                   body(r.begin(), r.end());
                                   task.advance(r.size());
                               });
@@ -119,7 +117,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t balance_caustic = graph.add("balance-caustic", [&]() -> uint64_t {
         StageClock c;
-        maps.caustic.build(par);
+        maps.caustic.build(timed_parallel_invoke(ThreadClock::for_chunks()));
         caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
         return maps.caustic.size();
     });

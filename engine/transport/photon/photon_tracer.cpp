@@ -6,6 +6,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/thread_clock.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
@@ -143,9 +144,12 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, Pho
     std::vector<PhotonMap> parts(chunks), shadow_parts(shadow ? chunks : 0);
     tbb::enumerable_thread_specific<PhotonWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> st;
+    // The chunks' thread time goes to the graph node that runs this pass (thread_clock.h).
+    BusyTime* const busy = ThreadClock::for_chunks();
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
         [&](const tbb::blocked_range<std::size_t>& r) {
+            const ThreadClock clock(busy);
             PhotonWorkspace& ws = workspaces.local();
             RenderStats& local = st.local();
             for (std::size_t c = r.begin(); c != r.end(); ++c) {

@@ -7,7 +7,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.h"
@@ -227,8 +226,10 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         // This rank's rows: y = rank, rank + N, ...
         const std::size_t ranks = std::size_t(cluster.size()), rank = std::size_t(cluster.rank());
         const std::size_t rows = (std::size_t(h) + ranks - 1 - rank) / ranks;
+        BusyTime* const busy = ThreadClock::for_chunks();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows),
                           [&](const tbb::blocked_range<std::size_t>& r) {
+                              const ThreadClock clock(busy);
                               RenderStats& st = local.local();
                               for (std::size_t i = r.begin(); i != r.end(); ++i) {
                                   const std::size_t y = rank + i * ranks;
@@ -252,9 +253,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     });
     const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
         StageClock clock;
-        photons.build([](const std::function<void()>& a, const std::function<void()>& b) {
-            tbb::parallel_invoke(a, b);
-        });
+        photons.build(timed_parallel_invoke(ThreadClock::for_chunks()));
         local.local().add(Stage::Balance, photons.size(), clock);
         return photons.size();
     });
