@@ -121,6 +121,7 @@ TEST_CASE(
     CHECK_THAT(j, Catch::Contains("\"mpi_ranks\": 2"));
     CHECK_THAT(j, Catch::Contains("\"rank\": 0"));
     CHECK_THAT(j, Catch::Contains("\"rank\": 1"));
+    CHECK(count(j, "\"host\": \"") == 2);  // each rank says where it ran
     // Each rank's record (in the "ranks" list), then the merged one: all with the same
     // passes.
     std::vector<long> passes, samples;

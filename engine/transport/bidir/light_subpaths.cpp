@@ -76,7 +76,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
         ws.infinite[k] = em.is_infinite();
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
     }
-    stats.samples += count;
+    // Not counted as samples: those are the camera subpaths' (one per pixel and iteration).
     stats.add(Stage::Generate, count, clock);
 
     const uint32_t max_length = c.max_segments - 1;  // a vertex needs a camera vertex after it
