@@ -1,7 +1,6 @@
 #include "point_kdtree.h"
 
 #include <algorithm>
-#include <memory>
 #include <utility>
 #include <vector>
 
@@ -20,18 +19,6 @@ struct BuildPoint {
 // the larger one held 2 threads to 1.5x.
 constexpr std::size_t kParallelGrain = 1u << 12;
 
-// Runs body(lo, hi) over [begin, end) in halves through `parallel` down to kParallelGrain
-// points (one call when `parallel` is empty). Each point is touched once by one call, so the
-// result does not depend on how the halves were scheduled.
-template <class Body>
-void for_halves(const PointKdTree::ParallelInvoke& parallel, std::size_t begin, std::size_t end,
-                const Body& body) {
-    if (!parallel || end - begin <= kParallelGrain) return body(begin, end);
-    const std::size_t mid = begin + (end - begin) / 2;
-    parallel([&] { for_halves(parallel, begin, mid, body); },
-             [&] { for_halves(parallel, mid, end, body); });
-}
-
 struct Builder {
     BuildPoint* pts;
     KdNode* nodes;
@@ -46,31 +33,14 @@ struct Builder {
         return h;
     }
 
-    // The bounds of pts[lo, hi), in halves on large ranges (min and max do not depend on the
-    // order they are taken in).
-    void bounds(std::size_t lo, std::size_t hi, float bmin[3], float bmax[3]) const {
-        if (*parallel && hi - lo > kParallelGrain) {
-            const std::size_t mid = lo + (hi - lo) / 2;
-            float lmin[3], lmax[3], rmin[3], rmax[3];
-            (*parallel)([&] { bounds(lo, mid, lmin, lmax); }, [&] { bounds(mid, hi, rmin, rmax); });
-            for (int a = 0; a < 3; ++a) {
-                bmin[a] = std::min(lmin[a], rmin[a]);
-                bmax[a] = std::max(lmax[a], rmax[a]);
-            }
-            return;
-        }
-        for (int a = 0; a < 3; ++a) bmin[a] = kInf, bmax[a] = -kInf;
+    void build(uint32_t node, std::size_t lo, std::size_t hi) const {
+        if (node >= leaves) return;
+        float bmin[3] = {kInf, kInf, kInf}, bmax[3] = {-kInf, -kInf, -kInf};
         for (std::size_t i = lo; i < hi; ++i)
             for (int a = 0; a < 3; ++a) {
                 bmin[a] = std::min(bmin[a], pts[i].p[a]);
                 bmax[a] = std::max(bmax[a], pts[i].p[a]);
             }
-    }
-
-    void build(uint32_t node, std::size_t lo, std::size_t hi) const {
-        if (node >= leaves) return;
-        float bmin[3], bmax[3];
-        bounds(lo, hi, bmin, bmax);
         uint32_t axis = 0;
         for (uint32_t a = 1; a < 3; ++a)
             if (bmax[a] - bmin[a] > bmax[axis] - bmin[axis]) axis = a;
@@ -155,15 +125,10 @@ void PointKdTree::build(const float* x, const float* y, const float* z, std::siz
     first_deep_ = 1;
     while (2 * first_deep_ <= 2 * leaves_ - 1) first_deep_ *= 2;
 
-    // The points are copied in and out in halves too: once the subtrees are built in
-    // parallel, a copy over all of them on one thread is the build's serial part. Not
-    // value-initialised: the halves write (and first touch) every point.
-    const std::unique_ptr<BuildPoint[]> pts(new BuildPoint[n]);
-    for_halves(parallel, 0, n, [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t i = lo; i < hi; ++i) pts[i] = BuildPoint{{x[i], y[i], z[i]}, uint32_t(i)};
-    });
+    std::vector<BuildPoint> pts(n);
+    for (std::size_t i = 0; i < n; ++i) pts[i] = BuildPoint{{x[i], y[i], z[i]}, uint32_t(i)};
     nodes_.assign(leaves_, KdNode{0.f, 0});
-    const Builder builder{pts.get(), nodes_.data(), leaves_, first_deep_, &parallel};
+    const Builder builder{pts.data(), nodes_.data(), leaves_, first_deep_, &parallel};
     builder.build(1, 0, n);
 
     const std::size_t slots = std::size_t(leaves_) * kKdBucket;
@@ -171,14 +136,12 @@ void PointKdTree::build(const float* x, const float* y, const float* z, std::siz
     y_.assign(slots, kInf);
     z_.assign(slots, kInf);
     index_.assign(slots, kInvalidId);
-    for_halves(parallel, 0, n, [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t s = lo; s < hi; ++s) {
-            x_[s] = pts[s].p[0];
-            y_[s] = pts[s].p[1];
-            z_[s] = pts[s].p[2];
-            index_[s] = pts[s].index;
-        }
-    });
+    for (std::size_t s = 0; s < n; ++s) {
+        x_[s] = pts[s].p[0];
+        y_[s] = pts[s].p[1];
+        z_[s] = pts[s].p[2];
+        index_[s] = pts[s].index;
+    }
 }
 
 std::size_t PointKdTree::memory_bytes() const {

@@ -60,8 +60,6 @@ TEST_CASE("thread clocks charge their time exclusively, innermost first", "[thre
     CHECK(inner.nanoseconds == 2 + 1 + 2);  // 103-105, 111-112, 112-114
     CHECK(other.nanoseconds == 6);          // 105-111
     CHECK(outer.nanoseconds + inner.nanoseconds + other.nanoseconds == 121 - 100);
-    CHECK(outer.clocks == 1);
-    CHECK(inner.clocks == 2);
 }
 
 TEST_CASE("pass nodes that time their chunks report thread time, the others wall time",

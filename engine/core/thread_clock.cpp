@@ -27,7 +27,6 @@ ThreadClock::ThreadClock(BusyTime* sink) : sink_(sink) {
     outer_ = t_innermost;
     if (outer_) outer_->sink_->nanoseconds.fetch_add(t - outer_->since_, std::memory_order_relaxed);
     t_innermost = this;
-    sink_->clocks.fetch_add(1, std::memory_order_relaxed);
     since_ = t;
 }
 

@@ -16,7 +16,6 @@ namespace foton {
 
 struct BusyTime {
     std::atomic<uint64_t> nanoseconds{0};
-    std::atomic<uint64_t> clocks{0};  // clocks that charged it
     // Handed to parallel chunks (ThreadClock::for_chunks): it holds all the stage's thread
     // time, not only its own thread's.
     std::atomic<bool> chunks_timed{false};

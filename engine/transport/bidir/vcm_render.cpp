@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -175,14 +174,11 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
             for (std::size_t k = light_mine.begin; k < light_mine.end; ++k)
                 pack(packed, splats[k].data(), splats[k].size());
             const int me = cluster.rank();
-            for (const Bytes& part : cluster.all_gather(packed)) {
-                const std::size_t n = part.size() / sizeof(Splat);
-                for (std::size_t i = 0; i < n; ++i) {
-                    Splat sp;
-                    std::memcpy(&sp, part.data() + i * sizeof(Splat), sizeof sp);
+            for (const Bytes& part : cluster.all_gather(packed))
+                for (Unpacker in(part); !in.done();) {
+                    const Splat sp = in.value<Splat>();
                     if (owner[sp.pixel] == me) sum[sp.pixel] += sp.value, ++count;
                 }
-            }
         } else {
             count = add_splats(splats, sum);
         }

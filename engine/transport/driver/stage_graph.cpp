@@ -4,7 +4,6 @@
 #include <memory>
 
 #include <tbb/flow_graph.h>
-#include <tbb/parallel_invoke.h>
 
 namespace foton {
 
@@ -74,20 +73,6 @@ std::vector<uint32_t> StageGraph::sinks() const {
         if (!has_succ) out.push_back(i);
     }
     return out;
-}
-
-ParallelInvoke timed_parallel_invoke(BusyTime* busy) {
-    return [busy](const std::function<void()>& a, const std::function<void()>& b) {
-        tbb::parallel_invoke(
-            [&] {
-                const ThreadClock clock(busy);
-                a();
-            },
-            [&] {
-                const ThreadClock clock(busy);
-                b();
-            });
-    };
 }
 
 GraphStats StageGraph::report() const {

@@ -62,12 +62,6 @@ class StageGraph {
     Progress* progress_ = nullptr;
 };
 
-// tbb::parallel_invoke whose halves charge `busy` (a node body's ThreadClock::for_chunks()): for
-// a recursive build, such as a photon map's balance, inside a node that runs beside others.
-using ParallelInvoke =
-    std::function<void(const std::function<void()>&, const std::function<void()>&)>;
-ParallelInvoke timed_parallel_invoke(BusyTime* busy);
-
 // Times a node's work on one thread and records it on destruction.
 class NodeTimer {
   public:

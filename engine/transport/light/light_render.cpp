@@ -1,7 +1,6 @@
 #include "light_render.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -78,15 +77,11 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
             for (std::size_t c = mine.begin; c < mine.end; ++c)
                 pack(packed, splats[c].data(), splats[c].size());
             // Rank 0 adds them straight from the messages, in rank order (= chunk order).
-            for (const Bytes& part : cluster.gather(packed)) {
-                const std::size_t n = part.size() / sizeof(Splat);
-                for (std::size_t i = 0; i < n; ++i) {
-                    Splat sp;
-                    std::memcpy(&sp, part.data() + i * sizeof(Splat), sizeof sp);
+            for (const Bytes& part : cluster.gather(packed))
+                for (Unpacker in(part); !in.done(); ++count) {
+                    const Splat sp = in.value<Splat>();
                     sum[sp.pixel] += sp.value;
                 }
-                count += n;
-            }
         } else {
             count = add_splats(splats, sum);
         }
