@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <tbb/parallel_invoke.h>
+
 namespace foton {
 
 namespace {
@@ -50,6 +52,21 @@ BusyTime* ThreadClock::for_chunks() {
 
 void ThreadClock::set_source(Source s) {
     g_source = s ? s : steady_ns;
+}
+
+std::function<void(const std::function<void()>&, const std::function<void()>&)>
+timed_parallel_invoke(BusyTime* busy) {
+    return [busy](const std::function<void()>& a, const std::function<void()>& b) {
+        tbb::parallel_invoke(
+            [&] {
+                const ThreadClock clock(busy);
+                a();
+            },
+            [&] {
+                const ThreadClock clock(busy);
+                b();
+            });
+    };
 }
 
 }  // namespace foton

@@ -11,6 +11,7 @@
 // waiting for its loops) plus its chunks, wherever they ran.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 
 namespace foton {
 
@@ -45,5 +46,11 @@ class ThreadClock {
     ThreadClock* outer_ = nullptr;
     uint64_t since_ = 0;  // when it last started or resumed
 };
+
+// tbb::parallel_invoke whose two jobs charge `busy` (a graph node body's for_chunks(), or
+// null): for a recursive build inside a node that runs beside others, such as a photon map's
+// balance. Its type is the kernels' ParallelInvoke (point_kdtree.h, bvh_build.h).
+std::function<void(const std::function<void()>&, const std::function<void()>&)>
+timed_parallel_invoke(BusyTime* busy);
 
 }  // namespace foton

@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include <tbb/parallel_invoke.h>
-
 namespace foton {
 
 namespace {
@@ -271,20 +269,6 @@ void PhotonMap::lookup_irradiance_batch(IrradianceQueries& q, std::vector<RGB>& 
         found[i] = best >= 0;
         if (best >= 0) e[i] = irr_e_[std::size_t(best)];
     }
-}
-
-kern::PointKdTree::ParallelInvoke timed_parallel_invoke(BusyTime* busy) {
-    return [busy](const std::function<void()>& a, const std::function<void()>& b) {
-        tbb::parallel_invoke(
-            [&] {
-                const ThreadClock clock(busy);
-                a();
-            },
-            [&] {
-                const ThreadClock clock(busy);
-                b();
-            });
-    };
 }
 
 void PhotonMap::build(const kern::PointKdTree::ParallelInvoke& parallel) {

@@ -14,7 +14,6 @@
 #include "engine/core/cluster.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
-#include "engine/core/thread_clock.h"
 #include "engine/scene/bsdf.h"
 #include "engine/transport/photon/photon_settings.h"
 #include "kernels/point_kdtree.h"
@@ -63,7 +62,8 @@ class PhotonMap {
     // Moves the photons with any of `flag`'s bits into the returned map, in order (before
     // build).
     PhotonMap extract(uint8_t flag);
-    // Balances the kd-tree; `parallel` runs two jobs (timed_parallel_invoke in the engine).
+    // Balances the kd-tree; `parallel` runs two jobs (timed_parallel_invoke in the engine:
+    // core/thread_clock.h).
     void build(const kern::PointKdTree::ParallelInvoke& parallel = {});
 
     std::size_t size() const { return x_.size(); }
@@ -192,10 +192,5 @@ class PhotonMap {
     std::vector<RGB> irr_e_;
     kern::PointKdTree irr_tree_;
 };
-
-// tbb::parallel_invoke whose halves charge `busy` (a graph node body's
-// ThreadClock::for_chunks(), or null): the balance's time inside a node that runs beside
-// others (core/thread_clock.h).
-kern::PointKdTree::ParallelInvoke timed_parallel_invoke(BusyTime* busy);
 
 }  // namespace foton
