@@ -295,6 +295,57 @@ void BM_BvhPacket(benchmark::State& state, std::string scene, std::string set, b
     state.counters["tris/ray"] = double(blocks) * double(kern::TriangleBvh::kLeafWidth) / traced;
 }
 
+// The stream form: each chunk of kChunk rays (the size Embree's streams get) in one call,
+// from SoA columns as the engine's RayBatch holds them.
+struct RayColumns {
+    std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax, t, u, v;
+    std::vector<uint32_t> id;
+    std::vector<uint8_t> occluded;
+    explicit RayColumns(const std::vector<Ray1>& r) {
+        const std::size_t n = r.size();
+        for (auto* c : {&ox, &oy, &oz, &dx, &dy, &dz, &tmin, &tmax, &t, &u, &v}) c->resize(n);
+        id.resize(n);
+        occluded.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
+            dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
+            tmin[i] = r[i].tmin, tmax[i] = r[i].tmax;
+        }
+    }
+    kern::RayStream rays(std::size_t b, std::size_t e) const {
+        return {&ox[b], &oy[b], &oz[b], &dx[b], &dy[b], &dz[b], &tmin[b], &tmax[b], e - b};
+    }
+    kern::HitStream hits(std::size_t b) { return {&t[b], &u[b], &v[b], &id[b]}; }
+};
+
+void BM_BvhStream(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool occl = set == "shadow";
+    RayColumns cols(rays);
+    HitCount hits;
+    std::atomic<uint64_t> nodes{0}, blocks{0};
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            kern::BvhCounters c;
+            if (occl) {
+                d.bvh.occluded_stream(cols.rays(b, e), &cols.occluded[b], &c);
+                for (std::size_t i = b; i < e; ++i) h += cols.occluded[i];
+            } else {
+                d.bvh.intersect_stream(cols.rays(b, e), cols.hits(b), &c);
+                for (std::size_t i = b; i < e; ++i) h += cols.id[i] != kern::kInvalidId;
+            }
+            hits.add(h);
+            nodes.fetch_add(c.nodes, std::memory_order_relaxed);
+            blocks.fetch_add(c.blocks, std::memory_order_relaxed);
+        });
+    report(state, rays.size(), hits.n);
+    const double traced = double(rays.size()) * double(state.iterations());
+    state.counters["nodes/ray"] = double(nodes) / traced;
+    state.counters["tris/ray"] = double(blocks) * double(kern::TriangleBvh::kLeafWidth) / traced;
+}
+
 template <class Bvh, Bvh SceneData::*member>
 void BM_Bvh(benchmark::State& state, std::string scene, std::string set, bool par) {
     SceneData& d = scene_data(scene);
@@ -534,7 +585,7 @@ const bool registered = [] {
     using Fn = void (*)(benchmark::State&, std::string, std::string, bool);
     // The BVH shapes run on every ray set: the engine's and the width study's.
     const std::pair<const char*, Fn> bvh_shapes[] = {
-        {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>},
+        {"bvh", BM_Bvh<kern::TriangleBvh, &SceneData::bvh>}, {"bvh_stream", BM_BvhStream},
         {"bvh4x4", BM_Bvh<Bvh4x4, &SceneData::bvh4x4>},
 #if defined(__AVX__)
         {"bvh8x4", BM_Bvh<Bvh8x4, &SceneData::bvh8x4>},

@@ -15,6 +15,7 @@ struct BoxRay {
     V ox, oy, oz, ix, iy, iz, fx, fy, fz, tmin;  // i: 1 / d for near planes; f: scaled, far
     uint32_t near_x, near_y, near_z, far_x, far_y, far_z;  // float offsets into Node::bounds
 
+    BoxRay() = default;
     explicit BoxRay(const Ray1& r) {
         const float inv[3] = {1.f / r.dx, 1.f / r.dy, 1.f / r.dz};
         ox = V(r.ox), oy = V(r.oy), oz = V(r.oz);
@@ -31,7 +32,8 @@ struct BoxRay {
 
     // Lanes whose box the ray enters within [tmin, tcur]; their entry distances in `tn`. The
     // chains keep a non-NaN value innermost, so a NaN slab (see bvh_node.h) drops out.
-    uint32_t test(const WideNode<N>& node, float tcur, V& tn) const {
+    // Always inlined: GCC kept it out of line, a call per node.
+    [[gnu::always_inline]] uint32_t test(const WideNode<N>& node, float tcur, V& tn) const {
         const float* b = &node.bounds[0][0];
         const V tnx = (V::load_aligned(b + near_x) - ox) * ix;
         const V tny = (V::load_aligned(b + near_y) - oy) * iy;
@@ -56,6 +58,7 @@ template <std::size_t M>
 struct LeafRay {
     using V = simd::FloatW<M>;
     V ox, oy, oz, dx, dy, dz, tmin;
+    LeafRay() = default;
     explicit LeafRay(const Ray1& r)
         : ox(r.ox), oy(r.oy), oz(r.oz), dx(r.dx), dy(r.dy), dz(r.dz), tmin(r.tmin) {}
 };

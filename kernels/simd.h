@@ -76,16 +76,48 @@ inline constexpr std::size_t kHalfWidth = 8;
 inline constexpr std::size_t kHalfWidth = 4;
 #endif
 
-// Lane-wise minimum / maximum as selects: GCC 12 warns (-Wmaybe-uninitialized) inside its own
-// AVX-512 min/max intrinsics, which xsimd::min/max use. Not NaN-symmetric: a NaN in `a`
-// yields `b`.
-template <class V>
-inline V vmin(const V& a, const V& b) {
-    return xsimd::select(a < b, a, b);
+// Lane-wise minimum / maximum: the x86 min/max instructions, which are exactly
+// select(a < b, a, b) and select(a > b, a, b): a NaN in either operand, or equal operands, yield
+// `b`. The kernels rely on that asymmetry (a NaN slab drops out of a box test when the non-NaN
+// value is `b`). Not xsimd::min/max: GCC 12 warns (-Wmaybe-uninitialized) inside its own AVX-512
+// forms of those, and a select compiles to a compare and a blend, twice the instructions.
+namespace detail {
+#if defined(__AVX512F__)
+// The masked forms: GCC 12's plain _mm512_min_ps passes an undefined source it then warns about.
+inline __m512 min_reg(__m512 a, __m512 b) {
+    return _mm512_mask_min_ps(b, __mmask16(0xffff), a, b);
 }
-template <class V>
-inline V vmax(const V& a, const V& b) {
-    return xsimd::select(a > b, a, b);
+inline __m512 max_reg(__m512 a, __m512 b) {
+    return _mm512_mask_max_ps(b, __mmask16(0xffff), a, b);
+}
+#endif
+#if defined(__AVX__)
+inline __m256 min_reg(__m256 a, __m256 b) {
+    return _mm256_min_ps(a, b);
+}
+inline __m256 max_reg(__m256 a, __m256 b) {
+    return _mm256_max_ps(a, b);
+}
+#endif
+inline __m128 min_reg(__m128 a, __m128 b) {
+    return _mm_min_ps(a, b);
+}
+inline __m128 max_reg(__m128 a, __m128 b) {
+    return _mm_max_ps(a, b);
+}
+}  // namespace detail
+
+template <class A>
+inline xsimd::batch<float, A> vmin(const xsimd::batch<float, A>& a,
+                                   const xsimd::batch<float, A>& b) {
+    using R = typename xsimd::batch<float, A>::register_type;
+    return xsimd::batch<float, A>(detail::min_reg(static_cast<R>(a), static_cast<R>(b)));
+}
+template <class A>
+inline xsimd::batch<float, A> vmax(const xsimd::batch<float, A>& a,
+                                   const xsimd::batch<float, A>& b) {
+    using R = typename xsimd::batch<float, A>::register_type;
+    return xsimd::batch<float, A>(detail::max_reg(static_cast<R>(a), static_cast<R>(b)));
 }
 
 // Horizontal minimum / maximum (xsimd 8.1 has neither).

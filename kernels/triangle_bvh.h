@@ -22,6 +22,7 @@
 #include "bvh_node.h"
 #include "moller_trumbore.h"
 #include "ray1.h"
+#include "ray_stream.h"
 #include "simd.h"
 #include "triangle_block.h"
 
@@ -81,6 +82,14 @@ class TriangleBvhT {
     uint32_t occluded_packet(const RayPacket& p, const float* tmax, uint32_t active,
                              BvhCounters* counters = nullptr) const;
 
+    // Stream forms for incoherent batches (bvh_stream.h): many rays in flight at once, each
+    // getting exactly what the single-ray form gives it. Closest hit: out's record i is what
+    // intersect(ray i, TriHit{}) leaves in its hit. Any hit: occluded[i] = 1 or 0.
+    void intersect_stream(const RayStream& rays, const HitStream& out,
+                          BvhCounters* counters = nullptr) const;
+    void occluded_stream(const RayStream& rays, uint8_t* occluded,
+                         BvhCounters* counters = nullptr) const;
+
     // The scalar twin (needs keep_twin): binary tree, scalar slab and triangle tests.
     bool intersect_scalar(const Ray1& r, TriHit& hit) const;
     bool occluded_scalar(const Ray1& r) const;
@@ -116,4 +125,5 @@ using TriangleBvh = TriangleBvhT<simd::kHalfWidth, simd::kHalfWidth>;
 }  // namespace foton::kern
 
 #include "bvh_packet.h"
+#include "bvh_stream.h"
 #include "bvh_traverse.h"

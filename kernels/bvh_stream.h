@@ -1,0 +1,263 @@
+#pragma once
+// Stream traversal of TriangleBvhT (included by triangle_bvh.h): a whole batch of incoherent
+// rays (diffuse bounces, shadow rays, photons, final-gather rays) in one call.
+//
+// Why: on incoherent rays the single-ray kernel waits on memory. Each step loads a node or a
+// leaf that the previous step chose, so the loads form one dependent chain. On the dragon about
+// 60 % of the samples sit on the first load of a node or leaf block (docs/kernels.md). Packets
+// and frustum tests do not help: the rays share no path. What does help is memory-level
+// parallelism. The kernel keeps kStreamSlots rays in flight and steps them in turn, one node or
+// leaf each. A step ends by choosing the ray's next node and prefetching it. By the time the
+// other rays have taken their steps and this ray comes round again, the node is usually in
+// cache. (This is the "asynchronous memory access chaining" of database hash probes, Kocberber
+// et al. 2015, applied to BVH traversal.)
+//
+// Each ray takes exactly the steps of its single-ray traversal (closest_from / any_from): the
+// same node tests, the same order, the same culling. So every ray gets exactly the hit that
+// intersect() / occluded() return for it, and the same counters. The tests hold it to that.
+#include "bvh_traverse.h"
+#include "ray_stream.h"
+
+namespace foton::kern {
+
+namespace bvh_detail {
+
+// Rays in flight. A step costs roughly 50-100 cycles of arithmetic, so 8 slots give a prefetch
+// about 400-700 cycles to land (the width study in docs/kernels.md compares 4, 8 and 16).
+inline constexpr std::size_t kStreamSlots = 8;
+
+inline void prefetch_bytes(const void* p, std::size_t bytes) {
+    const char* c = static_cast<const char*>(p);
+    for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(c + o);
+}
+
+// The memory a reference's step will read: a node, or a leaf's blocks (at most two: the default
+// build makes leaves of up to 2M triangles; longer leaves stream in behind the first two).
+template <std::size_t N, std::size_t M>
+inline void prefetch_ref(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, uint32_t ref) {
+    if (!bvh_is_leaf(ref)) {
+        prefetch_bytes(nodes + ref, sizeof(WideNode<N>));
+        return;
+    }
+    const uint32_t n = bvh_leaf_blocks(ref) < 2 ? bvh_leaf_blocks(ref) : 2;
+    prefetch_bytes(blocks + bvh_leaf_first(ref), n * sizeof(TriangleBlockT<M>));
+}
+
+// One ray between two steps. The box and leaf forms of the ray are those of the single-ray
+// kernel, built once when the ray enters its slot.
+template <std::size_t N, std::size_t M>
+struct StreamSlot {
+    BoxRay<N> box;
+    LeafRay<M> leaf;
+    TriHit hit;
+    float tcull = 0.f;   // closest hit: the cull distance; any hit: tmax
+    uint32_t ref = 0;    // the node or leaf of the next step
+    uint32_t sp = 0;     // entries on this slot's stack
+    uint32_t index = 0;  // the ray's index in the stream
+};
+
+struct StreamCounts {
+    uint64_t nodes = 0, leaves = 0, blocks = 0;
+};
+
+// Pushes the children in `mask` (entry distances tn) and returns the nearest, leaving the
+// others on the stack far to near: the single-ray kernel's order.
+template <std::size_t N>
+inline uint32_t order_children(const WideNode<N>& node, uint32_t mask, const float* tn,
+                               StackEntry* stack, uint32_t& sp) {
+    const uint32_t c0 = uint32_t(__builtin_ctz(mask));
+    mask &= mask - 1;
+    if (mask == 0) return node.child[c0];
+    const uint32_t c1 = uint32_t(__builtin_ctz(mask));
+    mask &= mask - 1;
+    if (mask == 0) {
+        if (tn[c0] <= tn[c1]) {
+            stack[sp++] = {node.child[c1], tn[c1]};
+            return node.child[c0];
+        }
+        stack[sp++] = {node.child[c0], tn[c0]};
+        return node.child[c1];
+    }
+    const uint32_t first = sp;
+    stack[sp++] = {node.child[c0], tn[c0]};
+    stack[sp++] = {node.child[c1], tn[c1]};
+    do {
+        const uint32_t c = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        stack[sp++] = {node.child[c], tn[c]};
+    } while (mask);
+    for (uint32_t i = first + 1; i < sp; ++i) {
+        const StackEntry e = stack[i];
+        uint32_t j = i;
+        for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
+        stack[j] = e;
+    }
+    return stack[--sp].ref;
+}
+
+// One step of a closest-hit traversal: the node or leaf at s.ref. Chooses and prefetches the
+// next one; returns false when the ray is done.
+template <std::size_t N, std::size_t M>
+inline bool closest_step(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks,
+                         StreamSlot<N, M>& s, StackEntry* stack, StreamCounts& c) {
+    using V = simd::FloatW<N>;
+    if (!bvh_is_leaf(s.ref)) {
+        const WideNode<N>& node = nodes[s.ref];
+        ++c.nodes;
+        V tnv;
+        const uint32_t mask = s.box.test(node, s.tcull, tnv);
+        if (mask != 0) {
+            alignas(64) float tn[N];
+            tnv.store_aligned(tn);
+            s.ref = order_children(node, mask, tn, stack, s.sp);
+            prefetch_ref(nodes, blocks, s.ref);
+            return true;
+        }
+    } else {
+        ++c.leaves;
+        c.blocks += bvh_leaf_blocks(s.ref);
+        if (leaf_closest<M>(s.leaf, blocks + bvh_leaf_first(s.ref), bvh_leaf_blocks(s.ref), s.hit))
+            s.tcull = s.hit.t * kBvhCullScale;
+    }
+    while (s.sp != 0) {
+        const StackEntry& e = stack[--s.sp];
+        if (e.t <= s.tcull) {
+            s.ref = e.ref;
+            prefetch_ref(nodes, blocks, s.ref);
+            return true;
+        }
+    }
+    return false;
+}
+
+// One step of an any-hit traversal; returns false when the ray is done (s.hit.id is then 0
+// for occluded, kInvalidId for not).
+template <std::size_t N, std::size_t M>
+inline bool any_step(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, StreamSlot<N, M>& s,
+                     uint32_t* stack, StreamCounts& c) {
+    using V = simd::FloatW<N>;
+    if (!bvh_is_leaf(s.ref)) {
+        const WideNode<N>& node = nodes[s.ref];
+        ++c.nodes;
+        V tnv;
+        uint32_t mask = s.box.test(node, s.tcull, tnv);
+        if (mask != 0) {
+            s.ref = node.child[__builtin_ctz(mask)];
+            for (mask &= mask - 1; mask; mask &= mask - 1) {
+                const uint32_t child = node.child[__builtin_ctz(mask)];
+                stack[s.sp++] = child;
+            }
+            prefetch_ref(nodes, blocks, s.ref);
+            return true;
+        }
+    } else {
+        ++c.leaves;
+        c.blocks += bvh_leaf_blocks(s.ref);
+        if (leaf_any<M>(s.leaf, blocks + bvh_leaf_first(s.ref), bvh_leaf_blocks(s.ref), s.tcull)) {
+            s.hit.id = 0;
+            return false;
+        }
+    }
+    if (s.sp == 0) return false;
+    s.ref = stack[--s.sp];
+    prefetch_ref(nodes, blocks, s.ref);
+    return true;
+}
+
+// Runs `step` over the stream with kStreamSlots rays in flight: `begin(slot, i)` puts ray i in
+// a slot (false: the ray needs no traversal and was answered), `finish(slot)` answers a ray
+// that is done.
+template <class Slot, class Begin, class Step, class Finish>
+inline void run_stream(std::size_t count, Slot* slots, Begin&& begin, Step&& step,
+                       Finish&& finish) {
+    uint32_t live[kStreamSlots];
+    std::size_t n_live = 0, next = 0;
+    auto refill = [&](uint32_t k) {
+        while (next < count)
+            if (begin(slots[k], next++)) return true;
+        return false;
+    };
+    for (uint32_t k = 0; k < kStreamSlots; ++k)
+        if (refill(k)) live[n_live++] = k;
+    while (n_live != 0) {
+        for (std::size_t j = 0; j < n_live;) {
+            const uint32_t k = live[j];
+            if (step(k)) {
+                ++j;
+                continue;
+            }
+            finish(slots[k]);
+            if (refill(k)) {
+                ++j;
+                continue;
+            }
+            live[j] = live[--n_live];
+        }
+    }
+}
+
+}  // namespace bvh_detail
+
+template <std::size_t N, std::size_t M>
+void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream& out,
+                                          BvhCounters* counters) const {
+    using namespace bvh_detail;
+    using Slot = StreamSlot<N, M>;
+    Slot slots[kStreamSlots];
+    StackEntry stacks[kStreamSlots][kStackSize];
+    StreamCounts c;
+    auto begin = [&](Slot& s, std::size_t i) {
+        const Ray1 r = rays.ray(i);
+        TriHit h;
+        if (root_ == kBvhEmpty || unusable(r)) {
+            out.set(i, h);
+            return false;
+        }
+        if (r.tmax < h.t) h.t = r.tmax;
+        s.box = BoxRay<N>(r);
+        s.leaf = LeafRay<M>(r);
+        s.hit = h;
+        s.tcull = h.t;
+        s.ref = root_;
+        s.sp = 0;
+        s.index = uint32_t(i);
+        return true;
+    };
+    auto step = [&](uint32_t k) {
+        return closest_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
+    };
+    auto finish = [&](const Slot& s) { out.set(s.index, s.hit); };
+    run_stream(rays.count, slots, begin, step, finish);
+    add_counts(counters, c.nodes, c.leaves, c.blocks);
+}
+
+template <std::size_t N, std::size_t M>
+void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occluded,
+                                         BvhCounters* counters) const {
+    using namespace bvh_detail;
+    using Slot = StreamSlot<N, M>;
+    Slot slots[kStreamSlots];
+    uint32_t stacks[kStreamSlots][kStackSize];
+    StreamCounts c;
+    auto begin = [&](Slot& s, std::size_t i) {
+        const Ray1 r = rays.ray(i);
+        occluded[i] = 0;
+        if (root_ == kBvhEmpty || unusable(r)) return false;
+        s.box = BoxRay<N>(r);
+        s.leaf = LeafRay<M>(r);
+        s.hit.id = kInvalidId;
+        s.tcull = r.tmax;
+        s.ref = root_;
+        s.sp = 0;
+        s.index = uint32_t(i);
+        return true;
+    };
+    auto step = [&](uint32_t k) {
+        return any_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
+    };
+    auto finish = [&](const Slot& s) { occluded[s.index] = s.hit.id != kInvalidId; };
+    run_stream(rays.count, slots, begin, step, finish);
+    add_counts(counters, c.nodes, c.leaves, c.blocks);
+}
+
+}  // namespace foton::kern
