@@ -15,6 +15,8 @@
 // Each ray takes exactly the steps of its single-ray traversal (closest_from / any_from): the
 // same node tests, the same order, the same culling. So every ray gets exactly the hit that
 // intersect() / occluded() return for it, and the same counters. The tests hold it to that.
+#include <vector>
+
 #include "bvh_traverse.h"
 #include "ray_stream.h"
 
@@ -164,17 +166,68 @@ inline bool any_step(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, 
     return true;
 }
 
+// 10 bits of x spread to every third bit.
+inline uint32_t spread_bits3(uint32_t x) {
+    x &= 0x3ffu;
+    x = (x | (x << 16)) & 0x030000ffu;
+    x = (x | (x << 8)) & 0x0300f00fu;
+    x = (x | (x << 4)) & 0x030c30c3u;
+    x = (x | (x << 2)) & 0x09249249u;
+    return x;
+}
+
+// The order in which a reordered stream takes its rays: by direction octant, then by the
+// Morton code of the origin in the tree's bounds (9 bits per axis), so that the rays in flight
+// together start close and head the same way, and take similar paths through the tree. An LSD
+// radix sort of (key, index) pairs on the key's 30 bits: linear in the batch, a few per cent
+// of tracing it. `order` receives the ray indices.
+inline void stream_order(const RayStream& rays, const float lo[3], const float hi[3],
+                         std::vector<uint64_t>& keys, std::vector<uint64_t>& tmp,
+                         std::vector<uint32_t>& order) {
+    const std::size_t n = rays.count;
+    keys.resize(n);
+    tmp.resize(n);
+    float scale[3];
+    for (int a = 0; a < 3; ++a) scale[a] = hi[a] > lo[a] ? 511.99f / (hi[a] - lo[a]) : 0.f;
+    for (std::size_t i = 0; i < n; ++i) {
+        auto cell = [&](float v, int a) {
+            const float c = (v - lo[a]) * scale[a];
+            return uint32_t(c > 0.f ? (c < 511.f ? c : 511.f) : 0.f);  // NaN -> 0
+        };
+        const uint32_t morton = spread_bits3(cell(rays.ox[i], 0)) |
+                                (spread_bits3(cell(rays.oy[i], 1)) << 1) |
+                                (spread_bits3(cell(rays.oz[i], 2)) << 2);
+        const uint32_t octant = uint32_t(std::signbit(rays.dx[i])) |
+                                uint32_t(std::signbit(rays.dy[i])) << 1 |
+                                uint32_t(std::signbit(rays.dz[i])) << 2;
+        keys[i] = (uint64_t(octant << 27 | morton) << 32) | i;
+    }
+    for (int shift = 32; shift < 62; shift += 8) {
+        uint32_t count[257] = {};
+        for (std::size_t i = 0; i < n; ++i) ++count[((keys[i] >> shift) & 255u) + 1];
+        for (int d = 0; d < 256; ++d) count[d + 1] += count[d];
+        for (std::size_t i = 0; i < n; ++i) tmp[count[(keys[i] >> shift) & 255u]++] = keys[i];
+        keys.swap(tmp);
+    }
+    order.resize(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = uint32_t(keys[i]);
+}
+
 // Runs `step` over the stream with kStreamSlots rays in flight: `begin(slot, i)` puts ray i in
 // a slot (false: the ray needs no traversal and was answered), `finish(slot)` answers a ray
 // that is done.
+// `order` (may be null) lists the rays in the order to take them.
 template <class Slot, class Begin, class Step, class Finish>
-inline void run_stream(std::size_t count, Slot* slots, Begin&& begin, Step&& step,
-                       Finish&& finish) {
+inline void run_stream(std::size_t count, const uint32_t* order, Slot* slots, Begin&& begin,
+                       Step&& step, Finish&& finish) {
     uint32_t live[kStreamSlots];
     std::size_t n_live = 0, next = 0;
     auto refill = [&](uint32_t k) {
-        while (next < count)
-            if (begin(slots[k], next++)) return true;
+        while (next < count) {
+            const std::size_t i = order ? order[next] : next;
+            ++next;
+            if (begin(slots[k], i)) return true;
+        }
         return false;
     };
     for (uint32_t k = 0; k < kStreamSlots; ++k)
@@ -199,9 +252,19 @@ inline void run_stream(std::size_t count, Slot* slots, Begin&& begin, Step&& ste
 }  // namespace bvh_detail
 
 template <std::size_t N, std::size_t M>
+const uint32_t* TriangleBvhT<N, M>::stream_order_of(const RayStream& rays) const {
+    // Per thread, so that a stream call allocates nothing once warm.
+    thread_local std::vector<uint64_t> keys, tmp;
+    thread_local std::vector<uint32_t> order;
+    bvh_detail::stream_order(rays, bounds_lo_, bounds_hi_, keys, tmp, order);
+    return order.data();
+}
+
+template <std::size_t N, std::size_t M>
 void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream& out,
-                                          BvhCounters* counters) const {
+                                          BvhCounters* counters, bool reorder) const {
     using namespace bvh_detail;
+    const uint32_t* order = reorder ? stream_order_of(rays) : nullptr;
     using Slot = StreamSlot<N, M>;
     Slot slots[kStreamSlots];
     StackEntry stacks[kStreamSlots][kStackSize];
@@ -227,14 +290,15 @@ void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream
         return closest_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
     };
     auto finish = [&](const Slot& s) { out.set(s.index, s.hit); };
-    run_stream(rays.count, slots, begin, step, finish);
+    run_stream(rays.count, order, slots, begin, step, finish);
     add_counts(counters, c.nodes, c.leaves, c.blocks);
 }
 
 template <std::size_t N, std::size_t M>
 void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occluded,
-                                         BvhCounters* counters) const {
+                                         BvhCounters* counters, bool reorder) const {
     using namespace bvh_detail;
+    const uint32_t* order = reorder ? stream_order_of(rays) : nullptr;
     using Slot = StreamSlot<N, M>;
     Slot slots[kStreamSlots];
     uint32_t stacks[kStreamSlots][kStackSize];
@@ -256,7 +320,7 @@ void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occlude
         return any_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
     };
     auto finish = [&](const Slot& s) { occluded[s.index] = s.hit.id != kInvalidId; };
-    run_stream(rays.count, slots, begin, step, finish);
+    run_stream(rays.count, order, slots, begin, step, finish);
     add_counts(counters, c.nodes, c.leaves, c.blocks);
 }
 

@@ -157,6 +157,7 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     root_ = (wide.nodes[0].size() == 1 && wide.nodes[0][0].leaf) ? nodes_[0].child[0] : 0;
     {
         const BinaryNode& r = bin.nodes[0];
+        for (int a = 0; a < 3; ++a) bounds_lo_[a] = r.lo[a], bounds_hi_[a] = r.hi[a];
         const float d[3] = {r.hi[0] - r.lo[0], r.hi[1] - r.lo[1], r.hi[2] - r.lo[2]};
         packet_span_ =
             std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * bvh_detail::kPacketOriginSpan;

@@ -84,11 +84,12 @@ class TriangleBvhT {
 
     // Stream forms for incoherent batches (bvh_stream.h): many rays in flight at once, each
     // getting exactly what the single-ray form gives it. Closest hit: out's record i is what
-    // intersect(ray i, TriHit{}) leaves in its hit. Any hit: occluded[i] = 1 or 0.
+    // intersect(ray i, TriHit{}) leaves in its hit. Any hit: occluded[i] = 1 or 0. `reorder`
+    // takes the rays in octant and origin order instead of as given (same results).
     void intersect_stream(const RayStream& rays, const HitStream& out,
-                          BvhCounters* counters = nullptr) const;
-    void occluded_stream(const RayStream& rays, uint8_t* occluded,
-                         BvhCounters* counters = nullptr) const;
+                          BvhCounters* counters = nullptr, bool reorder = false) const;
+    void occluded_stream(const RayStream& rays, uint8_t* occluded, BvhCounters* counters = nullptr,
+                         bool reorder = false) const;
 
     // The scalar twin (needs keep_twin): binary tree, scalar slab and triangle tests.
     bool intersect_scalar(const Ray1& r, TriHit& hit) const;
@@ -106,11 +107,14 @@ class TriangleBvhT {
     // traversal hands rays that leave its packet to these.
     bool closest_from(uint32_t start, const Ray1& r, TriHit& hit, BvhCounters* counters) const;
     bool any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const;
+    // The reordered stream's ray order (bvh_stream.h), in a per-thread buffer.
+    const uint32_t* stream_order_of(const RayStream& rays) const;
 
     std::vector<Node> nodes_;
     std::vector<Block> blocks_;
     uint32_t root_ = kBvhEmpty;
     float packet_span_ = 0.f;  // largest origin spread of a packet (bvh_packet.h)
+    float bounds_lo_[3] = {0.f, 0.f, 0.f}, bounds_hi_[3] = {0.f, 0.f, 0.f};  // the root's box
     TriangleBvhStats stats_;
     // Scalar twin: the binary tree and the triangles' corners by id.
     BinaryBvh twin_;

@@ -27,8 +27,10 @@ void add_counts(TraceCounters& c, const kern::BvhCounters& bc) {
 
 }  // namespace
 
-BvhAccel::BvhAccel(const Scene& scene, int threads)
-    : scene_(scene), instances_(scene, AccelType::Bvh, threads) {
+BvhAccel::BvhAccel(const Scene& scene, int threads, std::size_t stream_min_bytes)
+    : scene_(scene),
+      instances_(scene, AccelType::Bvh, threads),
+      stream_min_bytes_(stream_min_bytes) {
     std::vector<kern::TriangleSource> sources;
     std::vector<kern::PrimRef> sphere_refs;
     uint32_t next = 0;
@@ -148,7 +150,43 @@ uint32_t load_packet(const RayBatch& rays, std::size_t first, std::size_t count,
 
 }  // namespace
 
+namespace {
+
+kern::RayStream stream_of(const RayBatch& rays) {
+    return {rays.ox.data(), rays.oy.data(),   rays.oz.data(),   rays.dx.data(), rays.dy.data(),
+            rays.dz.data(), rays.tmin.data(), rays.tmax.data(), rays.size()};
+}
+
+}  // namespace
+
+bool BvhAccel::use_stream(const RayBatch& rays) const {
+    return !rays.coherent && tris_.memory_bytes() >= stream_min_bytes_;
+}
+
 void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
+    if (use_stream(rays)) {
+        // The stream writes each ray's triangle hit (t, u, v, id) into the hit columns; then
+        // every ray finishes as closest() does: mesh hit, spheres, instances.
+        hits.resize(rays.size());
+        kern::BvhCounters bc;
+        tris_.intersect_stream(
+            stream_of(rays), {hits.t.data(), hits.u.data(), hits.v.data(), hits.prim.data()}, &bc);
+        add_counts(c, bc);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            Hit1 h;
+            h.t = std::min(rays.tmax[i], h.t);
+            if (hits.prim[i] != kern::kInvalidId)
+                h = mesh_hit({hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
+            closest_sphere(ray_at(rays, i), h, c);
+            if (!instances_.empty()) instances_.closest(ray_at(rays, i), h, c);
+            hits.t[i] = h.t;
+            hits.u[i] = h.u;
+            hits.v[i] = h.v;
+            hits.prim[i] = h.prim;
+            hits.geom[i] = h.geom;
+        }
+        return;
+    }
     if (!rays.coherent) return PerRayIntersector<BvhAccel>::intersect(rays, hits, c);
     hits.resize(rays.size());
     kern::BvhCounters bc;
@@ -177,6 +215,17 @@ void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c)
 }
 
 void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCounters& c) const {
+    if (use_stream(rays)) {
+        occ.resize(rays.size());
+        kern::BvhCounters bc;
+        tris_.occluded_stream(stream_of(rays), occ.data(), &bc);
+        add_counts(c, bc);
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            if (!occ[i])
+                occ[i] = any_sphere(ray_at(rays, i), c) ||
+                         (!instances_.empty() && instances_.any(ray_at(rays, i), c));
+        return;
+    }
     if (!rays.coherent) return PerRayIntersector<BvhAccel>::occluded(rays, occ, c);
     occ.resize(rays.size());
     kern::BvhCounters bc;
