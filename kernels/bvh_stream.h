@@ -62,41 +62,6 @@ struct StreamCounts {
     uint64_t nodes = 0, leaves = 0, blocks = 0;
 };
 
-// Pushes the children in `mask` (entry distances tn) and returns the nearest, leaving the
-// others on the stack far to near: the single-ray kernel's order.
-template <std::size_t N>
-inline uint32_t order_children(const WideNode<N>& node, uint32_t mask, const float* tn,
-                               StackEntry* stack, uint32_t& sp) {
-    const uint32_t c0 = uint32_t(__builtin_ctz(mask));
-    mask &= mask - 1;
-    if (mask == 0) return node.child[c0];
-    const uint32_t c1 = uint32_t(__builtin_ctz(mask));
-    mask &= mask - 1;
-    if (mask == 0) {
-        if (tn[c0] <= tn[c1]) {
-            stack[sp++] = {node.child[c1], tn[c1]};
-            return node.child[c0];
-        }
-        stack[sp++] = {node.child[c0], tn[c0]};
-        return node.child[c1];
-    }
-    const uint32_t first = sp;
-    stack[sp++] = {node.child[c0], tn[c0]};
-    stack[sp++] = {node.child[c1], tn[c1]};
-    do {
-        const uint32_t c = uint32_t(__builtin_ctz(mask));
-        mask &= mask - 1;
-        stack[sp++] = {node.child[c], tn[c]};
-    } while (mask);
-    for (uint32_t i = first + 1; i < sp; ++i) {
-        const StackEntry e = stack[i];
-        uint32_t j = i;
-        for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
-        stack[j] = e;
-    }
-    return stack[--sp].ref;
-}
-
 // One step of a closest-hit traversal: the node or leaf at s.ref. Chooses and prefetches the
 // next one; returns false when the ray is done.
 template <std::size_t N, std::size_t M>

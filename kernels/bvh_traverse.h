@@ -82,6 +82,41 @@ struct StackEntry {
 // The stack holds at most N - 1 entries per level; build depth is bounded (bvh_build.cpp).
 inline constexpr std::size_t kStackSize = 1024;
 
+// Pushes the children in `mask` (entry distances tn) and returns the nearest, leaving the
+// others on the stack far to near: the single-ray kernel's order.
+template <std::size_t N>
+inline uint32_t order_children(const WideNode<N>& node, uint32_t mask, const float* tn,
+                               StackEntry* stack, uint32_t& sp) {
+    const uint32_t c0 = uint32_t(__builtin_ctz(mask));
+    mask &= mask - 1;
+    if (mask == 0) return node.child[c0];
+    const uint32_t c1 = uint32_t(__builtin_ctz(mask));
+    mask &= mask - 1;
+    if (mask == 0) {
+        if (tn[c0] <= tn[c1]) {
+            stack[sp++] = {node.child[c1], tn[c1]};
+            return node.child[c0];
+        }
+        stack[sp++] = {node.child[c0], tn[c0]};
+        return node.child[c1];
+    }
+    const uint32_t first = sp;
+    stack[sp++] = {node.child[c0], tn[c0]};
+    stack[sp++] = {node.child[c1], tn[c1]};
+    do {
+        const uint32_t c = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        stack[sp++] = {node.child[c], tn[c]};
+    } while (mask);
+    for (uint32_t i = first + 1; i < sp; ++i) {
+        const StackEntry e = stack[i];
+        uint32_t j = i;
+        for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
+        stack[j] = e;
+    }
+    return stack[--sp].ref;
+}
+
 // Closest hit among a leaf's blocks; the least (t, id) wins, as in brute force by id.
 template <std::size_t M>
 inline bool leaf_closest(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, uint32_t count,
@@ -144,7 +179,7 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
     const BoxRay<N> br(r);
     const LeafRay<M> lr(r);
     StackEntry stack[kStackSize];
-    std::size_t sp = 0;
+    uint32_t sp = 0;
     uint32_t ref = start;
     bool found = false;
     float tcull = hit.valid() ? hit.t * kBvhCullScale : hit.t;
@@ -159,40 +194,7 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
             if (mask == 0) goto pop;
             alignas(64) float tn[N];
             tnv.store_aligned(tn);
-            const uint32_t c0 = uint32_t(__builtin_ctz(mask));
-            mask &= mask - 1;
-            if (mask == 0) {
-                ref = node.child[c0];
-                continue;
-            }
-            const uint32_t c1 = uint32_t(__builtin_ctz(mask));
-            mask &= mask - 1;
-            if (mask == 0) {
-                if (tn[c0] <= tn[c1]) {
-                    stack[sp++] = {node.child[c1], tn[c1]};
-                    ref = node.child[c0];
-                } else {
-                    stack[sp++] = {node.child[c0], tn[c0]};
-                    ref = node.child[c1];
-                }
-                continue;
-            }
-            // Three or more: push all, sort them far to near, enter the nearest.
-            const std::size_t first = sp;
-            stack[sp++] = {node.child[c0], tn[c0]};
-            stack[sp++] = {node.child[c1], tn[c1]};
-            do {
-                const uint32_t c = uint32_t(__builtin_ctz(mask));
-                mask &= mask - 1;
-                stack[sp++] = {node.child[c], tn[c]};
-            } while (mask);
-            for (std::size_t i = first + 1; i < sp; ++i) {
-                const StackEntry e = stack[i];
-                std::size_t j = i;
-                for (; j > first && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
-                stack[j] = e;
-            }
-            ref = stack[--sp].ref;
+            ref = order_children(node, mask, tn, stack, sp);
         }
         // Leaf.
         ++n_leaves;
