@@ -34,7 +34,7 @@ inline void prefetch_bytes(const void* p, std::size_t bytes) {
 }
 
 // The memory a reference's step will read: a node, or a leaf's blocks (at most two: the default
-// build makes leaves of up to 2M triangles; longer leaves stream in behind the first two).
+// build makes leaves of one block; longer leaves stream in behind the first two).
 template <std::size_t N, std::size_t M>
 inline void prefetch_ref(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, uint32_t ref) {
     if (!bvh_is_leaf(ref)) {

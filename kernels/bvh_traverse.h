@@ -84,9 +84,11 @@ inline constexpr std::size_t kStackSize = 1024;
 
 // Pushes the children in `mask` (entry distances tn) and returns the nearest, leaving the
 // others on the stack far to near: the single-ray kernel's order.
+// Always inlined: out of line, GCC spilled and reloaded the ray's registers around every call.
 template <std::size_t N>
-inline uint32_t order_children(const WideNode<N>& node, uint32_t mask, const float* tn,
-                               StackEntry* stack, uint32_t& sp) {
+[[gnu::always_inline]] inline uint32_t order_children(const WideNode<N>& node, uint32_t mask,
+                                                      const float* tn, StackEntry* stack,
+                                                      uint32_t& sp) {
     const uint32_t c0 = uint32_t(__builtin_ctz(mask));
     mask &= mask - 1;
     if (mask == 0) return node.child[c0];

@@ -53,7 +53,7 @@ class TriangleBvhT {
     using Node = WideNode<N>;
     using Block = TriangleBlockT<M>;
 
-    // Default build parameters for this shape: leaves of up to two blocks.
+    // Default build parameters for this shape: leaves of one block.
     static BvhBuildParams default_params();
 
     // Builds over the triangles of all sources; a triangle's id is its index in the
