@@ -105,20 +105,21 @@ std::vector<TraceForm> our_forms(const kern::TriangleBvh& bvh, const std::vector
                      return h;
                  }});
     auto cols = std::make_shared<RayColumns>(rays);
-    for (const bool reorder : {false, true})
-        f.push_back(
-            {reorder ? "bvh_stream_sorted" : "bvh_stream", true,
-             [&bvh, cols, occlusion, reorder](std::size_t b, std::size_t e) {
-                 std::size_t h = 0;
-                 if (occlusion) {
-                     bvh.occluded_stream(cols->rays(b, e), &cols->occluded[b], nullptr, reorder);
-                     for (std::size_t i = b; i < e; ++i) h += cols->occluded[i];
-                 } else {
-                     bvh.intersect_stream(cols->rays(b, e), cols->hits(b), nullptr, reorder);
-                     for (std::size_t i = b; i < e; ++i) h += cols->id[i] != kern::kInvalidId;
-                 }
-                 return h;
-             }});
+    for (const auto mode : {kern::StreamMode::Interleaved, kern::StreamMode::SortedPackets})
+        f.push_back({mode == kern::StreamMode::Interleaved ? "bvh_stream" : "bvh_sorted_packets",
+                     true, [&bvh, cols, occlusion, mode](std::size_t b, std::size_t e) {
+                         std::size_t h = 0;
+                         if (occlusion) {
+                             bvh.occluded_stream(cols->rays(b, e), &cols->occluded[b], nullptr,
+                                                 mode);
+                             for (std::size_t i = b; i < e; ++i) h += cols->occluded[i];
+                         } else {
+                             bvh.intersect_stream(cols->rays(b, e), cols->hits(b), nullptr, mode);
+                             for (std::size_t i = b; i < e; ++i)
+                                 h += cols->id[i] != kern::kInvalidId;
+                         }
+                         return h;
+                     }});
     if (!coherent) return f;
     // Packets of W consecutive rays (a 4x4 pixel square of the Morton-ordered camera rays).
     struct Packets {

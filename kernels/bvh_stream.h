@@ -141,9 +141,9 @@ inline uint32_t spread_bits3(uint32_t x) {
     return x;
 }
 
-// The order in which a reordered stream takes its rays: by direction octant, then by the
-// Morton code of the origin in the tree's bounds (9 bits per axis), so that the rays in flight
-// together start close and head the same way, and take similar paths through the tree. An LSD
+// The order of a sorted stream: by direction octant, then by the Morton code of the origin in
+// the tree's bounds (9 bits per axis), so that consecutive rays start close and head the same
+// way, and a packet of them takes one path through the tree. An LSD
 // radix sort of (key, index) pairs on the key's 30 bits: linear in the batch, a few per cent
 // of tracing it. `order` receives the ray indices.
 inline void stream_order(const RayStream& rays, const float lo[3], const float hi[3],
@@ -181,18 +181,14 @@ inline void stream_order(const RayStream& rays, const float lo[3], const float h
 // Runs `step` over the stream with kStreamSlots rays in flight: `begin(slot, i)` puts ray i in
 // a slot (false: the ray needs no traversal and was answered), `finish(slot)` answers a ray
 // that is done.
-// `order` (may be null) lists the rays in the order to take them.
 template <class Slot, class Begin, class Step, class Finish>
-inline void run_stream(std::size_t count, const uint32_t* order, Slot* slots, Begin&& begin,
-                       Step&& step, Finish&& finish) {
+inline void run_stream(std::size_t count, Slot* slots, Begin&& begin, Step&& step,
+                       Finish&& finish) {
     uint32_t live[kStreamSlots];
     std::size_t n_live = 0, next = 0;
     auto refill = [&](uint32_t k) {
-        while (next < count) {
-            const std::size_t i = order ? order[next] : next;
-            ++next;
-            if (begin(slots[k], i)) return true;
-        }
+        while (next < count)
+            if (begin(slots[k], next++)) return true;
         return false;
     };
     for (uint32_t k = 0; k < kStreamSlots; ++k)
@@ -227,9 +223,9 @@ const uint32_t* TriangleBvhT<N, M>::stream_order_of(const RayStream& rays) const
 
 template <std::size_t N, std::size_t M>
 void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream& out,
-                                          BvhCounters* counters, bool reorder) const {
+                                          BvhCounters* counters, StreamMode mode) const {
     using namespace bvh_detail;
-    const uint32_t* order = reorder ? stream_order_of(rays) : nullptr;
+    if (mode == StreamMode::SortedPackets) return intersect_sorted_packets(rays, out, counters);
     using Slot = StreamSlot<N, M>;
     Slot slots[kStreamSlots];
     StackEntry stacks[kStreamSlots][kStackSize];
@@ -255,15 +251,15 @@ void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream
         return closest_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
     };
     auto finish = [&](const Slot& s) { out.set(s.index, s.hit); };
-    run_stream(rays.count, order, slots, begin, step, finish);
+    run_stream(rays.count, slots, begin, step, finish);
     add_counts(counters, c.nodes, c.leaves, c.blocks);
 }
 
 template <std::size_t N, std::size_t M>
 void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occluded,
-                                         BvhCounters* counters, bool reorder) const {
+                                         BvhCounters* counters, StreamMode mode) const {
     using namespace bvh_detail;
-    const uint32_t* order = reorder ? stream_order_of(rays) : nullptr;
+    if (mode == StreamMode::SortedPackets) return occluded_sorted_packets(rays, occluded, counters);
     using Slot = StreamSlot<N, M>;
     Slot slots[kStreamSlots];
     uint32_t stacks[kStreamSlots][kStackSize];
@@ -285,8 +281,69 @@ void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occlude
         return any_step<N, M>(nodes_.data(), blocks_.data(), slots[k], stacks[k], c);
     };
     auto finish = [&](const Slot& s) { occluded[s.index] = s.hit.id != kInvalidId; };
-    run_stream(rays.count, order, slots, begin, step, finish);
+    run_stream(rays.count, slots, begin, step, finish);
     add_counts(counters, c.nodes, c.leaves, c.blocks);
+}
+
+// Sorted packets: W consecutive rays of the sorted order per packet. The packet kernels give
+// every ray exactly its single-ray answer, including the rays that leave the packet.
+template <std::size_t N, std::size_t M>
+void TriangleBvhT<N, M>::intersect_sorted_packets(const RayStream& rays, const HitStream& out,
+                                                  BvhCounters* counters) const {
+    using namespace bvh_detail;
+    if (root_ == kBvhEmpty) {
+        for (std::size_t i = 0; i < rays.count; ++i) out.set(i, TriHit{});
+        return;
+    }
+    const uint32_t* order = stream_order_of(rays);
+    constexpr std::size_t W = kBlockWidth;
+    for (std::size_t first = 0; first < rays.count; first += W) {
+        const std::size_t n = std::min(W, rays.count - first);
+        RayPacket p;
+        PacketHits h;
+        uint32_t active = 0;
+        for (std::size_t l = 0; l < W; ++l) {
+            const Ray1 r = rays.ray(order[first + std::min(l, n - 1)]);
+            p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
+            p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
+            // As intersect(): an unusable ray keeps TriHit{}, a usable one starts at tmax.
+            const bool use = l < n && !unusable(r);
+            h.t[l] = use && r.tmax < kInf ? r.tmax : kInf;
+            h.u[l] = h.v[l] = 0.f;
+            h.id[l] = kInvalidId;
+            active |= uint32_t(use) << l;
+        }
+        intersect_packet(p, active, h, counters);
+        for (std::size_t l = 0; l < n; ++l)
+            out.set(order[first + l], TriHit{h.t[l], h.u[l], h.v[l], h.id[l]});
+    }
+}
+
+template <std::size_t N, std::size_t M>
+void TriangleBvhT<N, M>::occluded_sorted_packets(const RayStream& rays, uint8_t* occluded,
+                                                 BvhCounters* counters) const {
+    using namespace bvh_detail;
+    if (root_ == kBvhEmpty) {
+        for (std::size_t i = 0; i < rays.count; ++i) occluded[i] = 0;
+        return;
+    }
+    const uint32_t* order = stream_order_of(rays);
+    constexpr std::size_t W = kBlockWidth;
+    for (std::size_t first = 0; first < rays.count; first += W) {
+        const std::size_t n = std::min(W, rays.count - first);
+        RayPacket p;
+        alignas(64) float tmax[W];
+        uint32_t active = 0;
+        for (std::size_t l = 0; l < W; ++l) {
+            const Ray1 r = rays.ray(order[first + std::min(l, n - 1)]);
+            p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
+            p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
+            tmax[l] = r.tmax;
+            active |= uint32_t(l < n && !unusable(r)) << l;
+        }
+        const uint32_t blocked = occluded_packet(p, tmax, active, counters);
+        for (std::size_t l = 0; l < n; ++l) occluded[order[first + l]] = (blocked >> l) & 1u;
+    }
 }
 
 }  // namespace foton::kern

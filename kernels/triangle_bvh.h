@@ -45,6 +45,17 @@ struct TriangleBvhStats {
     double fill = 0.0;        // used lanes / lanes of the leaf blocks
 };
 
+// How a stream form traces a batch (bvh_stream.h).
+enum class StreamMode : uint8_t {
+    // As given, kStreamSlots single rays in flight with their next nodes prefetched: for
+    // batches without coherence on trees larger than the caches.
+    Interleaved,
+    // Ordered by direction octant and origin, then W consecutive rays of that order as one
+    // packet (bvh_packet.h): for batches with coherence the given order hides, such as the
+    // shadow rays of an image tile to several lights.
+    SortedPackets,
+};
+
 template <std::size_t N, std::size_t M>
 class TriangleBvhT {
   public:
@@ -82,14 +93,14 @@ class TriangleBvhT {
     uint32_t occluded_packet(const RayPacket& p, const float* tmax, uint32_t active,
                              BvhCounters* counters = nullptr) const;
 
-    // Stream forms for incoherent batches (bvh_stream.h): many rays in flight at once, each
-    // getting exactly what the single-ray form gives it. Closest hit: out's record i is what
-    // intersect(ray i, TriHit{}) leaves in its hit. Any hit: occluded[i] = 1 or 0. `reorder`
-    // takes the rays in octant and origin order instead of as given (same results).
+    // Stream forms for whole batches (bvh_stream.h), each ray getting exactly what the single-ray
+    // form gives it. Closest hit: out's record i is what intersect(ray i, TriHit{}) leaves in
+    // its hit. Any hit: occluded[i] = 1 or 0. `mode` says how the batch is traced.
     void intersect_stream(const RayStream& rays, const HitStream& out,
-                          BvhCounters* counters = nullptr, bool reorder = false) const;
+                          BvhCounters* counters = nullptr,
+                          StreamMode mode = StreamMode::Interleaved) const;
     void occluded_stream(const RayStream& rays, uint8_t* occluded, BvhCounters* counters = nullptr,
-                         bool reorder = false) const;
+                         StreamMode mode = StreamMode::Interleaved) const;
 
     // The scalar twin (needs keep_twin): binary tree, scalar slab and triangle tests.
     bool intersect_scalar(const Ray1& r, TriHit& hit) const;
@@ -107,8 +118,12 @@ class TriangleBvhT {
     // traversal hands rays that leave its packet to these.
     bool closest_from(uint32_t start, const Ray1& r, TriHit& hit, BvhCounters* counters) const;
     bool any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const;
-    // The reordered stream's ray order (bvh_stream.h), in a per-thread buffer.
+    // The sorted stream's ray order (bvh_stream.h), in a per-thread buffer.
     const uint32_t* stream_order_of(const RayStream& rays) const;
+    void intersect_sorted_packets(const RayStream& rays, const HitStream& out,
+                                  BvhCounters* counters) const;
+    void occluded_sorted_packets(const RayStream& rays, uint8_t* occluded,
+                                 BvhCounters* counters) const;
 
     std::vector<Node> nodes_;
     std::vector<Block> blocks_;

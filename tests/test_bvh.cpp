@@ -98,27 +98,6 @@ std::vector<Ray1> edge_case_rays(const TriangleMesh& m, std::size_t count, uint3
     return rays;
 }
 
-// Möller–Trumbore is unstable for a ray almost in a triangle's plane: det is tiny and t can
-// come out far from where the ray meets the triangle. Brute force reports such a hit wherever
-// it lands; a BVH may rightly cull it, since the point is outside the triangle's box. Such
-// rays (within 0.1 degree of the hit triangle's plane, or hit outside its box) are not
-// compared; they are counted, and must be rare.
-bool geometric_hit(const TriangleMesh& m, const Ray1& r, const TriHit& h) {
-    Vec3 p0, p1, p2;
-    m.corners(h.id, p0, p1, p2);
-    const Vec3 n = cross(p1 - p0, p2 - p0), d{r.dx, r.dy, r.dz};
-    if (std::fabs(dot(n, d)) < 2e-3f * length(n) * length(d)) return false;
-    Bounds3 b;
-    b.extend(p0);
-    b.extend(p1);
-    b.extend(p2);
-    const Vec3 p{r.ox + h.t * r.dx, r.oy + h.t * r.dy, r.oz + h.t * r.dz};
-    const float tol = 1e-3f * length(b.diagonal()) + 1e-5f * length(p);
-    for (int a = 0; a < 3; ++a)
-        if (p[a] < b.lo[a] - tol || p[a] > b.hi[a] + tol) return false;
-    return true;
-}
-
 // Checks every ray; returns the number of hits.
 template <class Bvh>
 std::size_t check_rays(const Bvh& bvh, const test::BruteOracle& brute, const TriangleMesh& mesh,
@@ -130,7 +109,7 @@ std::size_t check_rays(const Bvh& bvh, const test::BruteOracle& brute, const Tri
                            << r.dx << " " << r.dy << " " << r.dz << " tmax " << r.tmax);
         TriHit hb, hv;
         const bool b = brute_closest(brute, r, hb);
-        if (b && !geometric_hit(mesh, r, hb)) {
+        if (b && !test::geometric_hit(mesh, r, hb)) {
             ++unstable;
             continue;
         }
@@ -330,7 +309,7 @@ void check_packets(const Bvh& bvh, const test::BruteOracle& brute, const Triangl
                 continue;
             }
             TriHit s, b;
-            if (brute.closest(r, b) && !geometric_hit(mesh, r, b)) continue;
+            if (brute.closest(r, b) && !test::geometric_hit(mesh, r, b)) continue;
             const bool hit = bvh.intersect(r, s, &single_counts);
             REQUIRE((h.id[i] != kInvalidId) == hit);
             REQUIRE(bool((occ >> i) & 1u) == bvh.occluded(r));

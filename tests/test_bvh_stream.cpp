@@ -1,6 +1,7 @@
 // The BVH's stream forms (kernels/bvh_stream.h): every ray of a stream gets exactly what the
-// single-ray form gives it (t, u, v, id bit for bit; occlusion), whatever the order the stream
-// takes its rays in, and the traversal counters are the same (every ray takes the same steps).
+// single-ray form gives it (t, u, v, id bit for bit; occlusion). The interleaved mode also has
+// the same traversal counters (every ray takes the same steps); sorted packets may differ where
+// a hit is numerically unstable, as packets and brute force may (test_bvh.cpp).
 // The single-ray form equals brute force (test_bvh.cpp), so the streams do too.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <random>
 
 #include "bench/ray_sets.h"
+#include "brute_oracle.h"
 #include "kernels/triangle_bvh.h"
 
 using namespace foton;
@@ -42,28 +44,45 @@ bool same_float(float a, float b) {
     return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-void check_stream(const TriangleBvh& bvh, const std::vector<Ray1>& rays, bool reorder) {
-    INFO("reorder " << reorder << ", " << rays.size() << " rays");
+void check_stream(const TriangleBvh& bvh, const TriangleMesh& mesh, const std::vector<Ray1>& rays,
+                  StreamMode mode) {
+    INFO("mode " << int(mode) << ", " << rays.size() << " rays");
     Columns c(rays);
     BvhCounters stream_closest, stream_any, single_closest, single_any;
-    bvh.intersect_stream(c.stream(), c.hits(), &stream_closest, reorder);
-    bvh.occluded_stream(c.stream(), c.occ.data(), &stream_any, reorder);
-    std::size_t hits = 0;
+    bvh.intersect_stream(c.stream(), c.hits(), &stream_closest, mode);
+    bvh.occluded_stream(c.stream(), c.occ.data(), &stream_any, mode);
+    std::size_t hits = 0, unstable = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         INFO("ray " << i);
+        REQUIRE(c.occ[i] == uint8_t(bvh.occluded(rays[i], &single_any)));
         TriHit s;
         hits += bvh.intersect(rays[i], s, &single_closest);
+        if (mode == StreamMode::SortedPackets) {
+            // A packet tests triangles a single ray has culled, so where the single ray's or
+            // the packet's hit is numerically unstable (test::geometric_hit) they may differ,
+            // as they may against brute force (test_bvh.cpp). Occlusion is exact.
+            const TriHit p{c.t[i], c.u[i], c.v[i], c.id[i]};
+            if ((s.valid() && !test::geometric_hit(mesh, rays[i], s)) ||
+                (p.valid() && !test::geometric_hit(mesh, rays[i], p))) {
+                ++unstable;
+                continue;
+            }
+        }
         REQUIRE(c.id[i] == s.id);
         REQUIRE(same_float(c.t[i], s.t));
         REQUIRE(same_float(c.u[i], s.u));
         REQUIRE(same_float(c.v[i], s.v));
-        REQUIRE(c.occ[i] == uint8_t(bvh.occluded(rays[i], &single_any)));
     }
-    CHECK(stream_closest.nodes == single_closest.nodes);
-    CHECK(stream_closest.leaves == single_closest.leaves);
-    CHECK(stream_closest.blocks == single_closest.blocks);
-    CHECK(stream_any.nodes == single_any.nodes);
-    CHECK(stream_any.blocks == single_any.blocks);
+    if (mode == StreamMode::Interleaved) {
+        // Every ray takes its single-ray steps.
+        CHECK(unstable == 0);
+        CHECK(stream_closest.nodes == single_closest.nodes);
+        CHECK(stream_closest.leaves == single_closest.leaves);
+        CHECK(stream_closest.blocks == single_closest.blocks);
+        CHECK(stream_any.nodes == single_any.nodes);
+        CHECK(stream_any.blocks == single_any.blocks);
+    }
+    CHECK(double(unstable) <= 0.01 * double(rays.size()) + 1.0);
     if (rays.size() > 100) CHECK(hits > 0);
 }
 
@@ -107,7 +126,7 @@ std::vector<Ray1> awkward_rays(const TriangleMesh& m, std::size_t count) {
 
 }  // namespace
 
-TEST_CASE("bvh streams equal single rays, ray for ray, in either order", "[kernel][bvh]") {
+TEST_CASE("bvh streams equal single rays, ray for ray, in either mode", "[kernel][bvh]") {
     for (const char* name : {"bunny", "teapot", "cornell", "stadium", "dragon"}) {
         INFO(name);
         const bool big = std::string(name) == "dragon";
@@ -116,11 +135,11 @@ TEST_CASE("bvh streams equal single rays, ray for ray, in either order", "[kerne
         TriangleBvh bvh;
         bvh.build(scene.mesh.positions.data(), scene.mesh.indices.data(),
                   scene.mesh.num_triangles(), TriangleBvh::default_params());
-        for (const bool reorder : {false, true}) {
-            check_stream(bvh, sets.primary, reorder);
-            check_stream(bvh, sets.diffuse, reorder);
-            check_stream(bvh, sets.shadow, reorder);
-            check_stream(bvh, awkward_rays(scene.mesh, 600), reorder);
+        for (const auto mode : {StreamMode::Interleaved, StreamMode::SortedPackets}) {
+            check_stream(bvh, scene.mesh, sets.primary, mode);
+            check_stream(bvh, scene.mesh, sets.diffuse, mode);
+            check_stream(bvh, scene.mesh, sets.shadow, mode);
+            check_stream(bvh, scene.mesh, awkward_rays(scene.mesh, 600), mode);
         }
     }
 }
@@ -134,15 +153,16 @@ TEST_CASE("bvh streams of any length, and over an empty tree", "[kernel][bvh]") 
     // Fewer rays than slots in flight, exactly as many, one more, none.
     for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(8),
                           std::size_t(9), std::size_t(64)})
-        for (const bool reorder : {false, true})
-            check_stream(bvh,
+        for (const auto mode : {StreamMode::Interleaved, StreamMode::SortedPackets})
+            check_stream(bvh, scene.mesh,
                          std::vector<Ray1>(sets.diffuse.begin(), sets.diffuse.begin() + long(n)),
-                         reorder);
+                         mode);
     // A tree without triangles: every ray misses, records as the single-ray form leaves them.
     TriangleBvh empty;
     const float p[9] = {0, 0, 0, 1, 0, 0, 2, 0, 0};  // zero area: left out
     const uint32_t ix[3] = {0, 1, 2};
     empty.build(p, ix, 1, TriangleBvh::default_params());
     REQUIRE(empty.empty());
-    check_stream(empty, sets.diffuse, false);
+    for (const auto mode : {StreamMode::Interleaved, StreamMode::SortedPackets})
+        check_stream(empty, scene.mesh, sets.diffuse, mode);
 }

@@ -218,7 +218,7 @@ void BvhAccel::occluded(const RayBatch& rays, std::vector<uint8_t>& occ, TraceCo
     if (use_stream(rays)) {
         occ.resize(rays.size());
         kern::BvhCounters bc;
-        tris_.occluded_stream(stream_of(rays), occ.data(), &bc);
+        tris_.occluded_stream(stream_of(rays), occ.data(), &bc, kern::StreamMode::SortedPackets);
         add_counts(c, bc);
         for (std::size_t i = 0; i < rays.size(); ++i)
             if (!occ[i])

@@ -15,11 +15,13 @@ namespace foton {
 
 class BvhAccel final : public PerRayIntersector<BvhAccel> {
   public:
-    // Incoherent batches go through the stream kernel when the triangle tree is larger than
-    // this. Measured with bench/compare_embree (docs/kernels.md): the stream's prefetching pays
-    // where nodes miss the caches (the dragon's 47 MB tree: 1.2x on diffuse rays, 1.05x on
-    // shadow rays); on a tree the caches hold (the bunny's 3.7 MB) it gained 4 % on diffuse
-    // rays and lost 6 % on shadow rays.
+    // Incoherent batches go through the stream kernels when the triangle tree is larger than
+    // this; below it, ray by ray. Measured with bench/compare_embree and foton render --stats
+    // (docs/kernels.md): the interleaved stream's prefetching pays where nodes miss the caches
+    // (the dragon's 52 MB tree: 1.2x on diffuse rays) and costs up to 30 % on trees the caches
+    // hold; shadow batches of an image tile, ordered by octant and origin, go through the
+    // packet kernel (the dragon's occlusion stage: 1.1x over the interleaved stream; on the
+    // Cornell box's one-leaf tree packets were 1.5x slower than single rays).
     static constexpr std::size_t kStreamMinBytes = std::size_t(8) << 20;
 
     // `threads` bounds the parallel build (0: all hardware threads); `stream_min_bytes` is the
@@ -32,8 +34,9 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     bool any(const kern::Ray1& ray, TraceCounters& c) const;
 
     // A coherent batch (camera rays) goes through the packet traversal, W rays at a time; an
-    // incoherent one through the stream traversal when the tree is larger than the caches
-    // (use_stream), else ray by ray. All give every ray exactly its single-ray hit.
+    // incoherent one through a stream form when the tree is larger than the caches (use_stream:
+    // interleaved for closest hits, sorted packets for occlusion), else ray by ray. All give
+    // every ray its single-ray answer.
     void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override;
     void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
                   TraceCounters& c) const override;
