@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "bench/ray_sets.h"
+#include "bench/trace_forms.h"
 #include "kernels/triangle_bvh.h"
 #include "kernels/uniform_grid.h"
 
@@ -297,32 +298,11 @@ void BM_BvhPacket(benchmark::State& state, std::string scene, std::string set, b
 
 // The stream form: each chunk of kChunk rays (the size Embree's streams get) in one call,
 // from SoA columns as the engine's RayBatch holds them.
-struct RayColumns {
-    std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax, t, u, v;
-    std::vector<uint32_t> id;
-    std::vector<uint8_t> occluded;
-    explicit RayColumns(const std::vector<Ray1>& r) {
-        const std::size_t n = r.size();
-        for (auto* c : {&ox, &oy, &oz, &dx, &dy, &dz, &tmin, &tmax, &t, &u, &v}) c->resize(n);
-        id.resize(n);
-        occluded.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
-            dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
-            tmin[i] = r[i].tmin, tmax[i] = r[i].tmax;
-        }
-    }
-    kern::RayStream rays(std::size_t b, std::size_t e) const {
-        return {&ox[b], &oy[b], &oz[b], &dx[b], &dy[b], &dz[b], &tmin[b], &tmax[b], e - b};
-    }
-    kern::HitStream hits(std::size_t b) { return {&t[b], &u[b], &v[b], &id[b]}; }
-};
-
 void BM_BvhStream(benchmark::State& state, std::string scene, std::string set, bool par) {
     SceneData& d = scene_data(scene);
     const auto& rays = ray_set(d, set);
     const bool occl = set == "shadow";
-    RayColumns cols(rays);
+    bench::RayColumns cols(rays);
     HitCount hits;
     std::atomic<uint64_t> nodes{0}, blocks{0};
     for (auto _ : state)
@@ -486,37 +466,11 @@ void BM_Embree1M(benchmark::State& state, std::string scene, std::string set, bo
 }
 
 // rtcIntersectNp: SoA columns, the layout of our RayBatch, passed without a copy.
-struct SoaRays {
-    std::vector<float> ox, oy, oz, dx, dy, dz, tnear, tfar, time;
-    std::vector<unsigned> mask, id, flags;
-    std::vector<float> ngx, ngy, ngz, u, v;
-    std::vector<unsigned> prim, geom, inst;
-    explicit SoaRays(const std::vector<Ray1>& r) {
-        const std::size_t n = r.size();
-        for (auto* c :
-             {&ox, &oy, &oz, &dx, &dy, &dz, &tnear, &tfar, &time, &ngx, &ngy, &ngz, &u, &v})
-            c->resize(n);
-        for (auto* c : {&mask, &id, &flags, &prim, &geom, &inst}) c->resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
-            dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
-            tnear[i] = r[i].tmin, time[i] = 0.f, mask[i] = 0xffffffffu, id[i] = 0, flags[i] = 0;
-        }
-    }
-    RTCRayHitNp view(std::size_t b) {
-        RTCRayHitNp p;
-        p.ray = {&ox[b], &oy[b],   &oz[b],   &tnear[b], &dx[b], &dy[b],
-                 &dz[b], &time[b], &tfar[b], &mask[b],  &id[b], &flags[b]};
-        p.hit = {&ngx[b], &ngy[b], &ngz[b], &u[b], &v[b], &prim[b], &geom[b], {&inst[b]}};
-        return p;
-    }
-};
-
 void BM_EmbreeNp(benchmark::State& state, std::string scene, std::string set, bool par) {
     SceneData& d = scene_data(scene);
     const auto& rays = ray_set(d, set);
     const bool coherent = set == "primary";
-    SoaRays soa(rays);
+    bench::EmbreeColumns soa(rays);
     HitCount hits;
     for (auto _ : state)
         for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
@@ -529,7 +483,7 @@ void BM_EmbreeNp(benchmark::State& state, std::string scene, std::string set, bo
                 soa.geom[i] = RTC_INVALID_GEOMETRY_ID;
                 soa.inst[i] = RTC_INVALID_GEOMETRY_ID;
             }
-            RTCRayHitNp view = soa.view(b);
+            RTCRayHitNp view = soa.rayhit(b);
             rtcIntersectNp(d.rtc, &ctx, &view, unsigned(e - b));
             std::size_t h = 0;
             for (std::size_t i = b; i < e; ++i) h += soa.geom[i] != RTC_INVALID_GEOMETRY_ID;

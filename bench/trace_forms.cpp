@@ -32,6 +32,30 @@ kern::HitStream RayColumns::hits(std::size_t b) {
 // Rays per packet of our packet form.
 constexpr std::size_t W = kern::kBlockWidth;
 
+EmbreeColumns::EmbreeColumns(const std::vector<Ray1>& r) {
+    const std::size_t n = r.size();
+    for (auto* c : {&ox, &oy, &oz, &dx, &dy, &dz, &tnear, &tfar, &time, &ngx, &ngy, &ngz, &u, &v})
+        c->resize(n);
+    for (auto* c : {&mask, &id, &flags, &prim, &geom, &inst}) c->resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
+        dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
+        tnear[i] = r[i].tmin, tfar[i] = r[i].tmax, time[i] = 0.f, mask[i] = 0xffffffffu;
+    }
+}
+
+RTCRayNp EmbreeColumns::ray(std::size_t b) {
+    return {&ox[b], &oy[b],   &oz[b],   &tnear[b], &dx[b], &dy[b],
+            &dz[b], &time[b], &tfar[b], &mask[b],  &id[b], &flags[b]};
+}
+
+RTCRayHitNp EmbreeColumns::rayhit(std::size_t b) {
+    RTCRayHitNp p;
+    p.ray = ray(b);
+    p.hit = {&ngx[b], &ngy[b], &ngz[b], &u[b], &v[b], &prim[b], &geom[b], {&inst[b]}};
+    return p;
+}
+
 const char* quality_name(EmbreeQuality q) {
     return q == EmbreeQuality::High ? "high" : "medium";
 }
@@ -234,34 +258,6 @@ TraceForm packet_form(const std::string& prefix, RTCScene scene, const std::vect
             }};
 }
 
-// SoA columns for rtcIntersectNp / rtcOccludedNp, passed without a copy.
-struct SoaRays {
-    std::vector<float> ox, oy, oz, dx, dy, dz, tnear, tfar, time, ngx, ngy, ngz, u, v;
-    std::vector<unsigned> mask, id, flags, prim, geom, inst;
-    explicit SoaRays(const std::vector<Ray1>& r) {
-        const std::size_t n = r.size();
-        for (auto* c :
-             {&ox, &oy, &oz, &dx, &dy, &dz, &tnear, &tfar, &time, &ngx, &ngy, &ngz, &u, &v})
-            c->resize(n);
-        for (auto* c : {&mask, &id, &flags, &prim, &geom, &inst}) c->resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            ox[i] = r[i].ox, oy[i] = r[i].oy, oz[i] = r[i].oz;
-            dx[i] = r[i].dx, dy[i] = r[i].dy, dz[i] = r[i].dz;
-            tnear[i] = r[i].tmin, time[i] = 0.f, mask[i] = 0xffffffffu;
-        }
-    }
-    RTCRayNp ray(std::size_t b) {
-        return {&ox[b], &oy[b],   &oz[b],   &tnear[b], &dx[b], &dy[b],
-                &dz[b], &time[b], &tfar[b], &mask[b],  &id[b], &flags[b]};
-    }
-    RTCRayHitNp rayhit(std::size_t b) {
-        RTCRayHitNp p;
-        p.ray = ray(b);
-        p.hit = {&ngx[b], &ngy[b], &ngz[b], &u[b], &v[b], &prim[b], &geom[b], {&inst[b]}};
-        return p;
-    }
-};
-
 }  // namespace
 
 std::vector<TraceForm> embree_forms(RTCScene scene, EmbreeQuality q, const std::vector<Ray1>& rays,
@@ -315,13 +311,13 @@ std::vector<TraceForm> embree_forms(RTCScene scene, EmbreeQuality q, const std::
                      }
                      return h;
                  }});
-    auto soa = std::make_shared<SoaRays>(rays);
+    auto soa = std::make_shared<EmbreeColumns>(rays);
     f.push_back({prefix + (occlusion ? "rtcOccludedNp" : "rtcIntersectNp"), false,
                  [scene, &rays, soa, occlusion, flag](std::size_t b, std::size_t e) {
                      RTCIntersectContext ctx;
                      rtcInitIntersectContext(&ctx);
                      ctx.flags = flag;
-                     SoaRays& s = *soa;
+                     EmbreeColumns& s = *soa;
                      for (std::size_t i = b; i < e; ++i) {
                          s.tfar[i] = rays[i].tmax;
                          s.geom[i] = RTC_INVALID_GEOMETRY_ID;

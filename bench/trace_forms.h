@@ -28,6 +28,16 @@ struct RayColumns {
     kern::HitStream hits(std::size_t begin);
 };
 
+// The same rays as the SoA columns of Embree's rtcIntersectNp / rtcOccludedNp, with room for
+// the hits; views of them pass without a copy.
+struct EmbreeColumns {
+    std::vector<float> ox, oy, oz, dx, dy, dz, tnear, tfar, time, ngx, ngy, ngz, u, v;
+    std::vector<unsigned> mask, id, flags, prim, geom, inst;
+    explicit EmbreeColumns(const std::vector<kern::Ray1>& rays);
+    RTCRayNp ray(std::size_t begin);
+    RTCRayHitNp rayhit(std::size_t begin);
+};
+
 // Embree's build quality: RTC_BUILD_QUALITY_MEDIUM (its default) or HIGH (spatial splits; what
 // the engine's embree backend uses).
 enum class EmbreeQuality { Medium, High };

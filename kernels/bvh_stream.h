@@ -285,6 +285,25 @@ void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occlude
     add_counts(counters, c.nodes, c.leaves, c.blocks);
 }
 
+namespace bvh_detail {
+
+// Rays order[0 .. n) of a sorted stream as one packet (lanes past n repeat the last ray) with
+// their tmax; returns the lanes to trace: those within n whose ray is usable.
+inline uint32_t load_sorted_packet(const RayStream& rays, const uint32_t* order, std::size_t n,
+                                   RayPacket& p, float* tmax) {
+    uint32_t active = 0;
+    for (std::size_t l = 0; l < kBlockWidth; ++l) {
+        const Ray1 r = rays.ray(order[std::min(l, n - 1)]);
+        p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
+        p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
+        tmax[l] = r.tmax;
+        active |= uint32_t(l < n && !unusable(r)) << l;
+    }
+    return active;
+}
+
+}  // namespace bvh_detail
+
 // Sorted packets: W consecutive rays of the sorted order per packet. The packet kernels give
 // every ray exactly its single-ray answer, including the rays that leave the packet.
 template <std::size_t N, std::size_t M>
@@ -301,17 +320,12 @@ void TriangleBvhT<N, M>::intersect_sorted_packets(const RayStream& rays, const H
         const std::size_t n = std::min(W, rays.count - first);
         RayPacket p;
         PacketHits h;
-        uint32_t active = 0;
+        const uint32_t active = load_sorted_packet(rays, order + first, n, p, h.t);
+        // As intersect(): an unusable ray keeps TriHit{}, a usable one starts at its tmax.
         for (std::size_t l = 0; l < W; ++l) {
-            const Ray1 r = rays.ray(order[first + std::min(l, n - 1)]);
-            p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
-            p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
-            // As intersect(): an unusable ray keeps TriHit{}, a usable one starts at tmax.
-            const bool use = l < n && !unusable(r);
-            h.t[l] = use && r.tmax < kInf ? r.tmax : kInf;
+            if (!((active >> l) & 1u)) h.t[l] = kInf;
             h.u[l] = h.v[l] = 0.f;
             h.id[l] = kInvalidId;
-            active |= uint32_t(use) << l;
         }
         intersect_packet(p, active, h, counters);
         for (std::size_t l = 0; l < n; ++l)
@@ -333,14 +347,7 @@ void TriangleBvhT<N, M>::occluded_sorted_packets(const RayStream& rays, uint8_t*
         const std::size_t n = std::min(W, rays.count - first);
         RayPacket p;
         alignas(64) float tmax[W];
-        uint32_t active = 0;
-        for (std::size_t l = 0; l < W; ++l) {
-            const Ray1 r = rays.ray(order[first + std::min(l, n - 1)]);
-            p.ox[l] = r.ox, p.oy[l] = r.oy, p.oz[l] = r.oz;
-            p.dx[l] = r.dx, p.dy[l] = r.dy, p.dz[l] = r.dz, p.tmin[l] = r.tmin;
-            tmax[l] = r.tmax;
-            active |= uint32_t(l < n && !unusable(r)) << l;
-        }
+        const uint32_t active = load_sorted_packet(rays, order + first, n, p, tmax);
         const uint32_t blocked = occluded_packet(p, tmax, active, counters);
         for (std::size_t l = 0; l < n; ++l) occluded[order[first + l]] = (blocked >> l) & 1u;
     }

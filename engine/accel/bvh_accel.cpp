@@ -159,6 +159,20 @@ kern::RayStream stream_of(const RayBatch& rays) {
 
 }  // namespace
 
+void BvhAccel::finish_hit(const RayBatch& rays, std::size_t i, const kern::TriHit& th,
+                          HitBatch& hits, TraceCounters& c) const {
+    Hit1 h;
+    h.t = std::min(rays.tmax[i], h.t);
+    if (th.valid()) h = mesh_hit(th);
+    closest_sphere(ray_at(rays, i), h, c);
+    if (!instances_.empty()) instances_.closest(ray_at(rays, i), h, c);
+    hits.t[i] = h.t;
+    hits.u[i] = h.u;
+    hits.v[i] = h.v;
+    hits.prim[i] = h.prim;
+    hits.geom[i] = h.geom;
+}
+
 bool BvhAccel::use_stream(const RayBatch& rays) const {
     return !rays.coherent && tris_.memory_bytes() >= stream_min_bytes_;
 }
@@ -172,19 +186,8 @@ void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c)
         tris_.intersect_stream(
             stream_of(rays), {hits.t.data(), hits.u.data(), hits.v.data(), hits.prim.data()}, &bc);
         add_counts(c, bc);
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            Hit1 h;
-            h.t = std::min(rays.tmax[i], h.t);
-            if (hits.prim[i] != kern::kInvalidId)
-                h = mesh_hit({hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
-            closest_sphere(ray_at(rays, i), h, c);
-            if (!instances_.empty()) instances_.closest(ray_at(rays, i), h, c);
-            hits.t[i] = h.t;
-            hits.u[i] = h.u;
-            hits.v[i] = h.v;
-            hits.prim[i] = h.prim;
-            hits.geom[i] = h.geom;
-        }
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            finish_hit(rays, i, {hits.t[i], hits.u[i], hits.v[i], hits.prim[i]}, hits, c);
         return;
     }
     if (!rays.coherent) return PerRayIntersector<BvhAccel>::intersect(rays, hits, c);
@@ -197,19 +200,8 @@ void BvhAccel::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c)
         const uint32_t active = load_packet(rays, first, count, p, ph.t);
         for (std::size_t l = 0; l < kW; ++l) ph.u[l] = ph.v[l] = 0.f, ph.id[l] = kern::kInvalidId;
         tris_.intersect_packet(p, active, ph, &bc);
-        for (std::size_t l = 0; l < count; ++l) {
-            const std::size_t i = first + l;
-            Hit1 h;
-            h.t = ph.t[l];
-            if (ph.id[l] != kern::kInvalidId) h = mesh_hit({ph.t[l], ph.u[l], ph.v[l], ph.id[l]});
-            closest_sphere(ray_at(rays, i), h, c);
-            if (!instances_.empty()) instances_.closest(ray_at(rays, i), h, c);
-            hits.t[i] = h.t;
-            hits.u[i] = h.u;
-            hits.v[i] = h.v;
-            hits.prim[i] = h.prim;
-            hits.geom[i] = h.geom;
-        }
+        for (std::size_t l = 0; l < count; ++l)
+            finish_hit(rays, first + l, {ph.t[l], ph.u[l], ph.v[l], ph.id[l]}, hits, c);
     }
     add_counts(c, bc);
 }

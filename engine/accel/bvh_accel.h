@@ -51,6 +51,10 @@ class BvhAccel final : public PerRayIntersector<BvhAccel> {
     bool any_sphere(const kern::Ray1& ray, TraceCounters& c) const;
     // The mesh hit of a triangle id of the tree.
     Hit1 mesh_hit(const kern::TriHit& th) const;
+    // Ray i of a batch finished from its triangle hit (valid or not) as closest() finishes a
+    // ray: the mesh hit, then spheres and instances; written to hits[i].
+    void finish_hit(const RayBatch& rays, std::size_t i, const kern::TriHit& th, HitBatch& hits,
+                    TraceCounters& c) const;
 
     const Scene& scene_;
     kern::TriangleBvh tris_;
