@@ -12,11 +12,11 @@
 // Every form resets each ray's tmax and hit before it is traced, inside the timed loop.
 // Names: traversal/<scene>/<set>/<method>/threads:<n>; bench/report makes the ratio tables.
 #include <benchmark/benchmark.h>
-#include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <map>
@@ -74,29 +74,9 @@ struct SceneData {
 #if defined(__AVX512BW__)
     Bvh16x4 bvh16x4;
 #endif
-    RTCDevice device = nullptr;
-    RTCScene rtc = nullptr;
-    ~SceneData() {
-        if (rtc) rtcReleaseScene(rtc);
-        if (device) rtcReleaseDevice(device);
-    }
+    std::unique_ptr<bench::EmbreeDevice> device;  // declared first: outlives the scene
+    bench::EmbreeScene rtc;                       // Embree's default (medium) build
 };
-
-RTCScene embree_scene(RTCDevice device, const TriangleMesh& mesh) {
-    RTCScene scene = rtcNewScene(device);
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.num_vertices()));
-    std::copy(mesh.positions.begin(), mesh.positions.end(), v);
-    auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.num_triangles()));
-    std::copy(mesh.indices.begin(), mesh.indices.end(), ix);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(scene);
-    return scene;
-}
 
 SceneData& scene_data(const std::string& name) {
     static std::map<std::string, std::unique_ptr<SceneData>> all;
@@ -120,8 +100,8 @@ SceneData& scene_data(const std::string& name) {
 #if defined(__AVX512BW__)
     d->bvh16x4 = build_bvh<Bvh16x4>(m, true);
 #endif
-    d->device = rtcNewDevice(nullptr);
-    d->rtc = embree_scene(d->device, m);
+    d->device = std::make_unique<bench::EmbreeDevice>(0);
+    d->rtc = bench::EmbreeScene(d->device->device, m, bench::EmbreeQuality::Medium);
     return *(all[name] = std::move(d));
 }
 
@@ -147,6 +127,15 @@ void report(benchmark::State& state, std::size_t rays, std::size_t hits) {
     state.counters["rays/s"] =
         benchmark::Counter(double(rays), benchmark::Counter::kIsIterationInvariantRate);
     state.counters["hit%"] = 100.0 * double(hits) / double(rays) / double(state.iterations());
+}
+
+// report() and the BVH's work per ray: nodes tested and triangle lanes (blocks x leaf width).
+void report_bvh(benchmark::State& state, std::size_t rays, std::size_t hits, uint64_t nodes,
+                uint64_t blocks, std::size_t leaf_width) {
+    report(state, rays, hits);
+    const double traced = double(rays) * double(state.iterations());
+    state.counters["nodes/ray"] = double(nodes) / traced;
+    state.counters["tris/ray"] = double(blocks) * double(leaf_width) / traced;
 }
 
 // Counts hits across threads.
@@ -243,10 +232,7 @@ void BM_BvhImpl(benchmark::State& state, const Bvh& bvh, const std::vector<Ray1>
             nodes.fetch_add(c.nodes, std::memory_order_relaxed);
             blocks.fetch_add(c.blocks, std::memory_order_relaxed);
         });
-    report(state, rays.size(), hits.n);
-    const double traced = double(rays.size()) * double(state.iterations());
-    state.counters["nodes/ray"] = double(nodes) / traced;
-    state.counters["tris/ray"] = double(blocks) * double(Bvh::kLeafWidth) / traced;
+    report_bvh(state, rays.size(), hits.n, nodes, blocks, Bvh::kLeafWidth);
 }
 
 // The packet form: W consecutive rays per packet (a 4x4 pixel square of primary rays on
@@ -290,10 +276,7 @@ void BM_BvhPacket(benchmark::State& state, std::string scene, std::string set, b
             nodes.fetch_add(c.nodes, std::memory_order_relaxed);
             blocks.fetch_add(c.blocks, std::memory_order_relaxed);
         });
-    report(state, rays.size(), hits.n);
-    const double traced = double(rays.size()) * double(state.iterations());
-    state.counters["nodes/ray"] = double(nodes) / traced;
-    state.counters["tris/ray"] = double(blocks) * double(kern::TriangleBvh::kLeafWidth) / traced;
+    report_bvh(state, rays.size(), hits.n, nodes, blocks, kern::TriangleBvh::kLeafWidth);
 }
 
 // The stream form: each chunk of kChunk rays (the size Embree's streams get) in one call,
@@ -320,10 +303,7 @@ void BM_BvhStream(benchmark::State& state, std::string scene, std::string set, b
             nodes.fetch_add(c.nodes, std::memory_order_relaxed);
             blocks.fetch_add(c.blocks, std::memory_order_relaxed);
         });
-    report(state, rays.size(), hits.n);
-    const double traced = double(rays.size()) * double(state.iterations());
-    state.counters["nodes/ray"] = double(nodes) / traced;
-    state.counters["tris/ray"] = double(blocks) * double(kern::TriangleBvh::kLeafWidth) / traced;
+    report_bvh(state, rays.size(), hits.n, nodes, blocks, kern::TriangleBvh::kLeafWidth);
 }
 
 template <class Bvh, Bvh SceneData::*member>
@@ -334,161 +314,27 @@ void BM_Bvh(benchmark::State& state, std::string scene, std::string set, bool pa
 
 // ---- Embree ---------------------------------------------------------------------------
 
-void BM_Embree1(benchmark::State& state, std::string scene, std::string set, bool par) {
+// Embree's forms (bench/trace_forms.h: rtcIntersect1 / rtcOccluded1, packets of 8 and 16,
+// the 1M and Np streams) on the scene's medium-quality BVH, by the form's name suffix.
+constexpr const char* kEmbreeForms[] = {"1", "8", "16", "1M", "Np"};
+
+template <int Form>
+void BM_Embree(benchmark::State& state, std::string scene, std::string set, bool par) {
     SceneData& d = scene_data(scene);
     const auto& rays = ray_set(d, set);
     const bool occl = set == "shadow";
+    const auto forms = bench::embree_forms(d.rtc.scene, bench::EmbreeQuality::Medium, rays, occl,
+                                           set == "primary");
+    const std::string name =
+        std::string(occl ? "rtcOccluded" : "rtcIntersect") + kEmbreeForms[Form];
+    const auto form = std::find_if(forms.begin(), forms.end(), [&](const bench::TraceForm& f) {
+        return f.name.size() >= name.size() &&
+               f.name.compare(f.name.size() - name.size(), name.size(), name) == 0;
+    });
     HitCount hits;
     for (auto _ : state)
-        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            std::size_t h = 0;
-            for (std::size_t i = b; i < e; ++i) {
-                const Ray1& r = rays[i];
-                RTCRayHit rh;
-                rh.ray = {r.ox, r.oy, r.oz,   r.tmin,      r.dx, r.dy,
-                          r.dz, 0.f,  r.tmax, 0xffffffffu, 0,    0};
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                if (occl) {
-                    rtcOccluded1(d.rtc, &ctx, &rh.ray);
-                    h += rh.ray.tfar == -kern::kInf;
-                } else {
-                    rtcIntersect1(d.rtc, &ctx, &rh);
-                    h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                }
-            }
-            hits.add(h);
-        });
-    report(state, rays.size(), hits.n);
-}
-
-template <int K>
-struct EmbreePacket;
-template <>
-struct EmbreePacket<8> {
-    using RayHit = RTCRayHit8;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit8* rh) {
-        rtcIntersect8(valid, s, c, rh);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay8* r) {
-        rtcOccluded8(valid, s, c, r);
-    }
-};
-template <>
-struct EmbreePacket<16> {
-    using RayHit = RTCRayHit16;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit16* rh) {
-        rtcIntersect16(valid, s, c, rh);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay16* r) {
-        rtcOccluded16(valid, s, c, r);
-    }
-};
-
-// Packets of K consecutive rays (coherent for the Morton-ordered primary set).
-template <int K>
-void BM_EmbreePacket(benchmark::State& state, std::string scene, std::string set, bool par) {
-    using P = EmbreePacket<K>;
-    SceneData& d = scene_data(scene);
-    const auto& rays = ray_set(d, set);
-    const bool occl = set == "shadow";
-    std::vector<typename P::RayHit> packets((rays.size() + K - 1) / K);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        auto& p = packets[i / K];
-        const int l = int(i % K);
-        const Ray1& r = rays[i];
-        p.ray.org_x[l] = r.ox, p.ray.org_y[l] = r.oy, p.ray.org_z[l] = r.oz;
-        p.ray.dir_x[l] = r.dx, p.ray.dir_y[l] = r.dy, p.ray.dir_z[l] = r.dz;
-        p.ray.tnear[l] = r.tmin, p.ray.time[l] = 0.f, p.ray.mask[l] = 0xffffffffu;
-        p.ray.id[l] = 0, p.ray.flags[l] = 0;
-    }
-    HitCount hits;
-    for (auto _ : state)
-        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            alignas(64) int valid[K];
-            std::size_t h = 0;
-            for (std::size_t i = b; i < e; i += K) {
-                auto& p = packets[i / K];
-                for (int l = 0; l < K; ++l) {
-                    valid[l] = i + l < e ? -1 : 0;
-                    p.ray.tfar[l] = i + l < e ? rays[i + l].tmax : 0.f;
-                    p.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
-                    p.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
-                }
-                if (occl) {
-                    P::occluded(valid, d.rtc, &ctx, &p.ray);
-                    for (int l = 0; l < K; ++l) h += valid[l] && p.ray.tfar[l] == -kern::kInf;
-                } else {
-                    P::intersect(valid, d.rtc, &ctx, &p);
-                    for (int l = 0; l < K; ++l)
-                        h += valid[l] && p.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
-                }
-            }
-            hits.add(h);
-        });
-    report(state, rays.size(), hits.n);
-}
-
-// rtcIntersect1M: an AoS stream of RTCRayHit per chunk.
-void BM_Embree1M(benchmark::State& state, std::string scene, std::string set, bool par) {
-    SceneData& d = scene_data(scene);
-    const auto& rays = ray_set(d, set);
-    const bool coherent = set == "primary";
-    std::vector<RTCRayHit> stream(rays.size());
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const Ray1& r = rays[i];
-        stream[i].ray = {r.ox, r.oy, r.oz,   r.tmin,      r.dx, r.dy,
-                         r.dz, 0.f,  r.tmax, 0xffffffffu, 0,    0};
-    }
-    HitCount hits;
-    for (auto _ : state)
-        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
-                                 : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-            for (std::size_t i = b; i < e; ++i) {
-                stream[i].ray.tfar = rays[i].tmax;
-                stream[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                stream[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            }
-            rtcIntersect1M(d.rtc, &ctx, &stream[b], unsigned(e - b), sizeof(RTCRayHit));
-            std::size_t h = 0;
-            for (std::size_t i = b; i < e; ++i)
-                h += stream[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
-            hits.add(h);
-        });
-    report(state, rays.size(), hits.n);
-}
-
-// rtcIntersectNp: SoA columns, the layout of our RayBatch, passed without a copy.
-void BM_EmbreeNp(benchmark::State& state, std::string scene, std::string set, bool par) {
-    SceneData& d = scene_data(scene);
-    const auto& rays = ray_set(d, set);
-    const bool coherent = set == "primary";
-    bench::EmbreeColumns soa(rays);
-    HitCount hits;
-    for (auto _ : state)
-        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
-                                 : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-            for (std::size_t i = b; i < e; ++i) {
-                soa.tfar[i] = rays[i].tmax;
-                soa.geom[i] = RTC_INVALID_GEOMETRY_ID;
-                soa.inst[i] = RTC_INVALID_GEOMETRY_ID;
-            }
-            RTCRayHitNp view = soa.rayhit(b);
-            rtcIntersectNp(d.rtc, &ctx, &view, unsigned(e - b));
-            std::size_t h = 0;
-            for (std::size_t i = b; i < e; ++i) h += soa.geom[i] != RTC_INVALID_GEOMETRY_ID;
-            hits.add(h);
-        });
+        for_chunks(rays.size(), kChunk, par,
+                   [&](std::size_t b, std::size_t e) { hits.add(form->run(b, e)); });
     report(state, rays.size(), hits.n);
 }
 
@@ -525,12 +371,11 @@ void BM_BuildBvh(benchmark::State& state, std::string scene, bool parallel) {
 
 void BM_BuildEmbree(benchmark::State& state, std::string scene, bool one_thread) {
     const TriangleMesh& m = scene_data(scene).scene.mesh;
-    RTCDevice dev = rtcNewDevice(one_thread ? "threads=1" : nullptr);
+    const bench::EmbreeDevice dev(one_thread ? 1 : 0);
     for (auto _ : state) {
-        RTCScene s = embree_scene(dev, m);
-        rtcReleaseScene(s);
+        const bench::EmbreeScene s(dev.device, m, bench::EmbreeQuality::Medium);
+        benchmark::DoNotOptimize(s.scene);
     }
-    rtcReleaseDevice(dev);
     state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -551,17 +396,17 @@ const bool registered = [] {
     const std::pair<const char*, Fn> intersect[] = {
         {"grid", BM_Grid},
         {"grid_mailbox", BM_GridMailbox},
-        {"embree_rtcIntersect1", BM_Embree1},
-        {"embree_rtcIntersect8", BM_EmbreePacket<8>},
-        {"embree_rtcIntersect16", BM_EmbreePacket<16>},
-        {"embree_rtcIntersect1M", BM_Embree1M},
-        {"embree_rtcIntersectNp", BM_EmbreeNp},
+        {"embree_rtcIntersect1", BM_Embree<0>},
+        {"embree_rtcIntersect8", BM_Embree<1>},
+        {"embree_rtcIntersect16", BM_Embree<2>},
+        {"embree_rtcIntersect1M", BM_Embree<3>},
+        {"embree_rtcIntersectNp", BM_Embree<4>},
     };
     const std::pair<const char*, Fn> occlusion[] = {
         {"grid", BM_Grid},
-        {"embree_rtcOccluded1", BM_Embree1},
-        {"embree_rtcOccluded8", BM_EmbreePacket<8>},
-        {"embree_rtcOccluded16", BM_EmbreePacket<16>},
+        {"embree_rtcOccluded1", BM_Embree<0>},
+        {"embree_rtcOccluded8", BM_Embree<1>},
+        {"embree_rtcOccluded16", BM_Embree<2>},
     };
     auto add = [](const std::string& name, auto&&... args) {
         benchmark::RegisterBenchmark(name.c_str(), args...)

@@ -56,6 +56,16 @@ struct StreamSlot {
     uint32_t ref = 0;    // the node or leaf of the next step
     uint32_t sp = 0;     // entries on this slot's stack
     uint32_t index = 0;  // the ray's index in the stream
+
+    // Ray r (index i of the stream) starts at the root with an empty stack; the caller sets
+    // hit and tcull, which differ between closest and any hit.
+    void start(const Ray1& r, uint32_t root, std::size_t i) {
+        box = BoxRay<N>(r);
+        leaf = LeafRay<M>(r);
+        ref = root;
+        sp = 0;
+        index = uint32_t(i);
+    }
 };
 
 struct StreamCounts {
@@ -238,13 +248,9 @@ void TriangleBvhT<N, M>::intersect_stream(const RayStream& rays, const HitStream
             return false;
         }
         if (r.tmax < h.t) h.t = r.tmax;
-        s.box = BoxRay<N>(r);
-        s.leaf = LeafRay<M>(r);
+        s.start(r, root_, i);
         s.hit = h;
         s.tcull = h.t;
-        s.ref = root_;
-        s.sp = 0;
-        s.index = uint32_t(i);
         return true;
     };
     auto step = [&](uint32_t k) {
@@ -268,13 +274,9 @@ void TriangleBvhT<N, M>::occluded_stream(const RayStream& rays, uint8_t* occlude
         const Ray1 r = rays.ray(i);
         occluded[i] = 0;
         if (root_ == kBvhEmpty || unusable(r)) return false;
-        s.box = BoxRay<N>(r);
-        s.leaf = LeafRay<M>(r);
+        s.start(r, root_, i);
         s.hit.id = kInvalidId;
         s.tcull = r.tmax;
-        s.ref = root_;
-        s.sp = 0;
-        s.index = uint32_t(i);
         return true;
     };
     auto step = [&](uint32_t k) {
