@@ -109,6 +109,25 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     stats_.sah_wide = sah_cost(wide);
     stats_.depth = wide.depth;
 
+    // Leaves gather their triangles' corners from the meshes in leaf order, a random walk
+    // through the index and vertex arrays that waited on every load (a third of the packing's
+    // samples). Prefetching the indices of the triangle 16 places ahead and the corners of the
+    // one 8 ahead (whose indices are in cache by then) overlaps those misses.
+    auto prefetch_ahead = [&](std::size_t j) {
+        if (j + 16 < bin.prims.size()) {
+            const uint32_t id = bin.prims[j + 16];
+            const std::size_t s =
+                std::size_t(std::upper_bound(first_id.begin(), first_id.end(), std::size_t(id)) -
+                            first_id.begin()) -
+                1;
+            __builtin_prefetch(sources[s].indices + 3 * (id - first_id[s]));
+        }
+        if (j + 8 < bin.prims.size()) {
+            const float* p[3];
+            corners(bin.prims[j + 8], p);
+            for (int c = 0; c < 3; ++c) __builtin_prefetch(p[c]);
+        }
+    };
     // Pack: nodes in the wide tree's order, each leaf's triangles into consecutive blocks.
     nodes_.resize(wide.nodes.size());
     std::size_t num_blocks = 0;
@@ -146,7 +165,9 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
                 Block& blk = blocks_.emplace_back();
                 blk.clear();
                 for (std::size_t lane = 0; lane < M && b * M + lane < k.count; ++lane) {
-                    const uint32_t tid = bin.prims[k.index + b * M + lane];
+                    const std::size_t j = k.index + b * M + lane;
+                    prefetch_ahead(j);
+                    const uint32_t tid = bin.prims[j];
                     const float* p[3];
                     corners(tid, p);
                     blk.set(lane, p[0], p[1], p[2], tid);
