@@ -22,6 +22,8 @@ constexpr uint32_t kMaxBins = 64;
 constexpr uint32_t kMaxSahDepth = 64;
 // Nodes at least this large bin their halves in parallel.
 constexpr std::size_t kParallelBinning = 1u << 16;
+// Nodes at least this large bin into two sets of bins (Builder::bin_range).
+constexpr std::size_t kSplitBinning = 64;
 
 // Lane 3 of a PrimRef half holds the id or padding, whose bits read as a float are mostly
 // denormals; arithmetic on denormals takes a slow microcode path on many CPUs (it made the
@@ -161,7 +163,24 @@ struct Builder {
             out.merge(right, bn.bins);
             return;
         }
-        for (std::size_t i = begin; i < end; ++i) add(bn, refs[i], out);
+        // Neighbouring primitives (close in space after partitioning) often fall into the
+        // same bin, and each extends that bin's box in memory, so the read-modify-writes
+        // chain through store forwarding. Even and odd primitives go to two bin sets, merged
+        // after: half the chain, and the same bins (min, max and counts do not care about
+        // order).
+        if (end - begin < kSplitBinning) {
+            for (std::size_t i = begin; i < end; ++i) add(bn, refs[i], out);
+            return;
+        }
+        Bins odd;
+        odd.clear(bn.bins);
+        std::size_t i = begin;
+        for (; i + 1 < end; i += 2) {
+            add(bn, refs[i], out);
+            add(bn, refs[i + 1], odd);
+        }
+        if (i < end) add(bn, refs[i], out);
+        out.merge(odd, bn.bins);
     }
 
     static void add(const Binner& bn, const PrimRef& r, Bins& out) {
