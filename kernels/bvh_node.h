@@ -3,6 +3,7 @@
 // SIMD slab test (N lanes) tests them all; a child reference is an inner node's index or a leaf
 // (a run of SIMD triangle blocks). Empty child slots have inverted, infinite boxes that every
 // ray misses, so the test needs no mask.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -84,6 +85,18 @@ inline bool slab_test_scalar(const float lo[3], const float hi[3], const float o
     }
     tnear = tn;
     return tn <= tf;
+}
+
+// Widens a box by about 8 ulps of its largest coordinate. Möller–Trumbore works in floats, and
+// a ray whose direction has a component far below an ulp of the origin (1e-20 next to 0.1, say)
+// stays on its starting plane in that arithmetic: it "hits" a triangle of a box that the exact
+// slab test says it left at t = 0. The pad keeps the box test at least as generous as the
+// triangle test, so the BVH finds what brute force finds.
+inline void pad_box(float lo[3], float hi[3]) {
+    float m = 0.f;
+    for (int a = 0; a < 3; ++a) m = std::max({m, std::fabs(lo[a]), std::fabs(hi[a])});
+    const float pad = m * 0x1p-20f;
+    for (int a = 0; a < 3; ++a) lo[a] -= pad, hi[a] += pad;
 }
 
 // Zero direction components are kept: 1 / d is then +-inf, a slab the ray lies in gives

@@ -22,18 +22,6 @@ bool degenerate(const float* p0, const float* p1, const float* p2) {
     return c[0] == 0.f && c[1] == 0.f && c[2] == 0.f;
 }
 
-// Widens a box by about 8 ulps of its largest coordinate. Möller–Trumbore works in floats, and
-// a ray whose direction has a component far below an ulp of the origin (1e-20 next to 0.1, say)
-// stays on its starting plane in that arithmetic: it "hits" a triangle of a box that the exact
-// slab test says it left at t = 0. The pad keeps the box test at least as generous as the
-// triangle test, so the BVH finds what brute force finds.
-void pad_box(float lo[3], float hi[3]) {
-    float m = 0.f;
-    for (int a = 0; a < 3; ++a) m = std::max({m, std::fabs(lo[a]), std::fabs(hi[a])});
-    const float pad = m * 0x1p-20f;
-    for (int a = 0; a < 3; ++a) lo[a] -= pad, hi[a] += pad;
-}
-
 }  // namespace
 
 template <std::size_t N, std::size_t M>
@@ -61,20 +49,10 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     twin_ = {};
     twin_tri_.clear();
 
-    // Ids are positions in the concatenation of the sources; first_id[s] is the first of s.
-    std::vector<std::size_t> first_id(num_sources + 1, 0);
-    for (std::size_t s = 0; s < num_sources; ++s) first_id[s + 1] = first_id[s] + sources[s].count;
-    const std::size_t total = first_id[num_sources];
+    const SourceIds ids(sources, num_sources);
+    const std::size_t total = ids.total();
     if (total > std::size_t(0xfffffffe)) throw std::length_error("BVH: too many triangles");
-    auto corners = [&](uint32_t id, const float* p[3]) {
-        const std::size_t s =
-            std::size_t(std::upper_bound(first_id.begin(), first_id.end(), std::size_t(id)) -
-                        first_id.begin()) -
-            1;
-        const TriangleSource& src = sources[s];
-        const uint32_t* ix = src.indices + 3 * (id - first_id[s]);
-        for (int k = 0; k < 3; ++k) p[k] = src.positions + 3 * std::size_t(ix[k]);
-    };
+    auto corners = [&](uint32_t id, const float* p[3]) { ids.corners(id, p); };
     std::vector<PrimRef> refs;
     refs.reserve(total);
     for (std::size_t s = 0; s < num_sources; ++s) {
@@ -93,7 +71,7 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
                 r.lo[a] = std::min({p[0][a], p[1][a], p[2][a]});
                 r.hi[a] = std::max({p[0][a], p[1][a], p[2][a]});
             }
-            r.id = uint32_t(first_id[s] + t);
+            r.id = uint32_t(ids.first_of(s) + t);
             r.pad = 0;
             refs.push_back(r);
         }
@@ -114,14 +92,7 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
     // samples). Prefetching the indices of the triangle 16 places ahead and the corners of the
     // one 8 ahead (whose indices are in cache by then) overlaps those misses.
     auto prefetch_ahead = [&](std::size_t j) {
-        if (j + 16 < bin.prims.size()) {
-            const uint32_t id = bin.prims[j + 16];
-            const std::size_t s =
-                std::size_t(std::upper_bound(first_id.begin(), first_id.end(), std::size_t(id)) -
-                            first_id.begin()) -
-                1;
-            __builtin_prefetch(sources[s].indices + 3 * (id - first_id[s]));
-        }
+        if (j + 16 < bin.prims.size()) __builtin_prefetch(ids.indices(bin.prims[j + 16]));
         if (j + 8 < bin.prims.size()) {
             const float* p[3];
             corners(bin.prims[j + 8], p);

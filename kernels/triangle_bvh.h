@@ -25,15 +25,9 @@
 #include "ray_stream.h"
 #include "simd.h"
 #include "triangle_block.h"
+#include "triangle_source.h"
 
 namespace foton::kern {
-
-// One triangle mesh of the input: xyz vertex positions, three indices per triangle.
-struct TriangleSource {
-    const float* positions = nullptr;
-    const uint32_t* indices = nullptr;
-    std::size_t count = 0;
-};
 
 struct TriangleBvhStats {
     std::size_t triangles = 0;  // in the tree
@@ -77,6 +71,14 @@ class TriangleBvhT {
         const TriangleSource s{positions, indices, count};
         build(&s, 1, params, keep_twin);
     }
+
+    // Moves the tree to new vertex positions with its topology kept (bvh_refit.cpp): the
+    // sources must hold as many triangles as the build's (std::invalid_argument otherwise), in
+    // the same order. Leaf triangles are re-packed and every box is recomputed bottom up, so
+    // hits stay exact; the tree's quality falls as the geometry moves away from what it was
+    // built for. Triangles the build left out stay out; a triangle moved to a non-finite or
+    // degenerate position cannot be hit until it moves back. The scalar twin follows.
+    void refit(const TriangleSource* sources, std::size_t num_sources);
 
     // Closest hit with r.tmin < t < min(r.tmax, hit.t), ties to the smaller id; updates `hit`.
     bool intersect(const Ray1& r, TriHit& hit, BvhCounters* counters = nullptr) const;
