@@ -1,20 +1,26 @@
 #pragma once
 // Stream traversal of TriangleBvhT (included by triangle_bvh.h): a whole batch of incoherent
-// rays (diffuse bounces, shadow rays, photons, final-gather rays) in one call.
+// rays (diffuse bounces, shadow rays, photons, final-gather rays) in one call, in one of two
+// modes (StreamMode, triangle_bvh.h).
 //
-// Why: on incoherent rays the single-ray kernel waits on memory. Each step loads a node or a
-// leaf that the previous step chose, so the loads form one dependent chain. On the dragon about
-// 60 % of the samples sit on the first load of a node or leaf block (docs/kernels.md). Packets
-// and frustum tests do not help: the rays share no path. What does help is memory-level
-// parallelism. The kernel keeps kStreamSlots rays in flight and steps them in turn, one node or
-// leaf each. A step ends by choosing the ray's next node and prefetching it. By the time the
-// other rays have taken their steps and this ray comes round again, the node is usually in
-// cache. (This is the "asynchronous memory access chaining" of database hash probes, Kocberber
-// et al. 2015, applied to BVH traversal.)
+// Interleaved. On incoherent rays the single-ray kernel waits on memory: each step loads a
+// node or a leaf that the previous step chose, so the loads form one dependent chain (on the
+// bunny the first load of a node and of a leaf block each hold 12 % of the kernel's samples,
+// docs/kernels.md). What helps is memory-level parallelism. The kernel keeps kStreamSlots rays
+// in flight and steps them in turn, one node or leaf each. A step ends by choosing the ray's
+// next node and prefetching it. By the time the other rays have taken their steps and this ray
+// comes round again, the node is usually in cache. (This is the "asynchronous memory access
+// chaining" of database hash probes, Kocberber et al. 2015, applied to BVH traversal.) Each
+// ray takes exactly the steps of its single-ray traversal (closest_from / any_from): the same
+// node tests, the same order, the same culling. So every ray gets exactly the hit that
+// intersect() / occluded() return for it, and the same counters.
 //
-// Each ray takes exactly the steps of its single-ray traversal (closest_from / any_from): the
-// same node tests, the same order, the same culling. So every ray gets exactly the hit that
-// intersect() / occluded() return for it, and the same counters. The tests hold it to that.
+// Sorted packets. Rays ordered by direction octant and origin, then W consecutive rays of that
+// order traced by the packet kernel (bvh_packet.h), which gives every ray its single-ray
+// answer. For batches whose coherence the given order hides (the shadow rays of an image tile
+// to several lights); on rays from random points of a whole mesh it does not pay.
+//
+// The tests hold both modes to the single-ray forms (tests/test_bvh_stream.cpp).
 #include <vector>
 
 #include "bvh_traverse.h"
@@ -24,8 +30,8 @@ namespace foton::kern {
 
 namespace bvh_detail {
 
-// Rays in flight. A step costs roughly 50-100 cycles of arithmetic, so 8 slots give a prefetch
-// about 400-700 cycles to land (the width study in docs/kernels.md compares 4, 8 and 16).
+// Rays in flight. 4, 8 and 16 were measured (bunny and dragon, diffuse and shadow rays, two
+// alternating runs; docs/kernels.md): none was consistently faster within the noise, so 8.
 inline constexpr std::size_t kStreamSlots = 8;
 
 inline void prefetch_bytes(const void* p, std::size_t bytes) {
