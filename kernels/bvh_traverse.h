@@ -8,12 +8,14 @@ namespace foton::kern {
 namespace bvh_detail {
 
 // A ray prepared for box tests: origin and reciprocal direction broadcast to N lanes, and the
-// row offsets of the near and far planes per axis.
+// row offsets of the near planes per axis. A far row is its near row with bit N flipped (rows
+// 2a and 2a + 1 hold axis a's low and high planes), so three offsets serve six loads: fewer
+// registers live across the walk, which GCC otherwise spills (docs/kernels.md).
 template <std::size_t N>
 struct BoxRay {
     using V = simd::FloatW<N>;
     V ox, oy, oz, ix, iy, iz, fx, fy, fz, tmin;  // i: 1 / d for near planes; f: scaled, far
-    uint32_t near_x, near_y, near_z, far_x, far_y, far_z;  // float offsets into Node::bounds
+    uint32_t near_x, near_y, near_z;             // float offsets into Node::bounds
 
     BoxRay() = default;
     explicit BoxRay(const Ray1& r) {
@@ -23,12 +25,13 @@ struct BoxRay {
         fx = V(inv[0] * kBvhFarScale), fy = V(inv[1] * kBvhFarScale), fz = V(inv[2] * kBvhFarScale);
         tmin = V(r.tmin);
         near_x = uint32_t((0 + std::signbit(inv[0])) * N);
-        far_x = uint32_t((1 - std::signbit(inv[0])) * N);
         near_y = uint32_t((2 + std::signbit(inv[1])) * N);
-        far_y = uint32_t((3 - std::signbit(inv[1])) * N);
         near_z = uint32_t((4 + std::signbit(inv[2])) * N);
-        far_z = uint32_t((5 - std::signbit(inv[2])) * N);
     }
+    static constexpr uint32_t far_of(uint32_t near) { return near ^ uint32_t(N); }
+    uint32_t far_x() const { return far_of(near_x); }
+    uint32_t far_y() const { return far_of(near_y); }
+    uint32_t far_z() const { return far_of(near_z); }
 
     // Lanes whose box the ray enters within [tmin, tcur]; their entry distances in `tn`. The
     // chains keep a non-NaN value innermost, so a NaN slab (see bvh_node.h) drops out.
@@ -38,9 +41,9 @@ struct BoxRay {
         const V tnx = (V::load_aligned(b + near_x) - ox) * ix;
         const V tny = (V::load_aligned(b + near_y) - oy) * iy;
         const V tnz = (V::load_aligned(b + near_z) - oz) * iz;
-        const V tfx = (V::load_aligned(b + far_x) - ox) * fx;
-        const V tfy = (V::load_aligned(b + far_y) - oy) * fy;
-        const V tfz = (V::load_aligned(b + far_z) - oz) * fz;
+        const V tfx = (V::load_aligned(b + far_x()) - ox) * fx;
+        const V tfy = (V::load_aligned(b + far_y()) - oy) * fy;
+        const V tfz = (V::load_aligned(b + far_z()) - oz) * fz;
         tn = simd::vmax(tnx, simd::vmax(tny, simd::vmax(tnz, tmin)));
         const V tf = simd::vmin(tfx, simd::vmin(tfy, simd::vmin(tfz, V(tcur))));
         return simd::movemask(tn <= tf);
@@ -164,19 +167,12 @@ inline bool leaf_any(const LeafRay<M>& lr, const TriangleBlockT<M>* blocks, uint
     return false;
 }
 
-}  // namespace bvh_detail
-
-template <std::size_t N, std::size_t M>
-bool TriangleBvhT<N, M>::intersect(const Ray1& r, TriHit& hit, BvhCounters* counters) const {
-    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
-    if (r.tmax < hit.t) hit.t = r.tmax;
-    return closest_from(root_, r, hit, counters);
-}
-
-template <std::size_t N, std::size_t M>
-bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit,
-                                      BvhCounters* counters) const {
-    using namespace bvh_detail;
+// The single-ray walks over a tree's arrays. Free functions of plain pointers, so that no
+// store to the hit or the stack can alias the tree's base pointers (members of `this` were
+// reloaded at every node); kCount false compiles the statistics out, three registers fewer.
+template <bool kCount, std::size_t N, std::size_t M>
+bool closest_walk(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, uint32_t start,
+                  const Ray1& r, TriHit& hit, BvhCounters* counters) {
     using V = simd::FloatW<N>;
     const BoxRay<N> br(r);
     const LeafRay<M> lr(r);
@@ -189,8 +185,8 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
     for (;;) {
         // Descend until a leaf.
         while (!bvh_is_leaf(ref)) {
-            const Node& node = nodes_[ref];
-            ++n_nodes;
+            const WideNode<N>& node = nodes[ref];
+            if constexpr (kCount) ++n_nodes;
             V tnv;
             uint32_t mask = br.test(node, tcull, tnv);
             if (mask == 0) goto pop;
@@ -199,9 +195,11 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
             ref = order_children(node, mask, tn, stack, sp);
         }
         // Leaf.
-        ++n_leaves;
-        n_blocks += bvh_leaf_blocks(ref);
-        if (leaf_closest<M>(lr, &blocks_[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), hit)) {
+        if constexpr (kCount) {
+            ++n_leaves;
+            n_blocks += bvh_leaf_blocks(ref);
+        }
+        if (leaf_closest<M>(lr, &blocks[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), hit)) {
             found = true;
             tcull = hit.t * kBvhCullScale;
         }
@@ -216,19 +214,13 @@ bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit
         }
     }
 done:
-    add_counts(counters, n_nodes, n_leaves, n_blocks);
+    if constexpr (kCount) add_counts(counters, n_nodes, n_leaves, n_blocks);
     return found;
 }
 
-template <std::size_t N, std::size_t M>
-bool TriangleBvhT<N, M>::occluded(const Ray1& r, BvhCounters* counters) const {
-    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
-    return any_from(root_, r, counters);
-}
-
-template <std::size_t N, std::size_t M>
-bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const {
-    using namespace bvh_detail;
+template <bool kCount, std::size_t N, std::size_t M>
+bool any_walk(const WideNode<N>* nodes, const TriangleBlockT<M>* blocks, uint32_t start,
+              const Ray1& r, BvhCounters* counters) {
     using V = simd::FloatW<N>;
     const BoxRay<N> br(r);
     const LeafRay<M> lr(r);
@@ -239,8 +231,8 @@ bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* co
     uint64_t n_nodes = 0, n_leaves = 0, n_blocks = 0;
     for (;;) {
         while (!bvh_is_leaf(ref)) {
-            const Node& node = nodes_[ref];
-            ++n_nodes;
+            const WideNode<N>& node = nodes[ref];
+            if constexpr (kCount) ++n_nodes;
             V tnv;
             uint32_t mask = br.test(node, r.tmax, tnv);
             if (mask == 0) goto pop;
@@ -248,9 +240,11 @@ bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* co
             for (mask &= mask - 1; mask; mask &= mask - 1)
                 stack[sp++] = node.child[__builtin_ctz(mask)];
         }
-        ++n_leaves;
-        n_blocks += bvh_leaf_blocks(ref);
-        if (leaf_any<M>(lr, &blocks_[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), r.tmax)) {
+        if constexpr (kCount) {
+            ++n_leaves;
+            n_blocks += bvh_leaf_blocks(ref);
+        }
+        if (leaf_any<M>(lr, &blocks[bvh_leaf_first(ref)], bvh_leaf_blocks(ref), r.tmax)) {
             hit = true;
             break;
         }
@@ -258,8 +252,39 @@ bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* co
         if (sp == 0) break;
         ref = stack[--sp];
     }
-    add_counts(counters, n_nodes, n_leaves, n_blocks);
+    if constexpr (kCount) add_counts(counters, n_nodes, n_leaves, n_blocks);
     return hit;
+}
+
+}  // namespace bvh_detail
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::intersect(const Ray1& r, TriHit& hit, BvhCounters* counters) const {
+    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
+    if (r.tmax < hit.t) hit.t = r.tmax;
+    return closest_from(root_, r, hit, counters);
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::closest_from(uint32_t start, const Ray1& r, TriHit& hit,
+                                      BvhCounters* counters) const {
+    if (counters)
+        return bvh_detail::closest_walk<true>(nodes_.data(), blocks_.data(), start, r, hit,
+                                              counters);
+    return bvh_detail::closest_walk<false>(nodes_.data(), blocks_.data(), start, r, hit, nullptr);
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::occluded(const Ray1& r, BvhCounters* counters) const {
+    if (root_ == kBvhEmpty || bvh_detail::unusable(r)) return false;
+    return any_from(root_, r, counters);
+}
+
+template <std::size_t N, std::size_t M>
+bool TriangleBvhT<N, M>::any_from(uint32_t start, const Ray1& r, BvhCounters* counters) const {
+    if (counters)
+        return bvh_detail::any_walk<true>(nodes_.data(), blocks_.data(), start, r, counters);
+    return bvh_detail::any_walk<false>(nodes_.data(), blocks_.data(), start, r, nullptr);
 }
 
 }  // namespace foton::kern
