@@ -19,121 +19,18 @@
 #include "engine/transport/driver/pixel_owners.h"
 #include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/photon/sppm_visible.h"
 
 namespace foton {
 
 namespace {
 
-struct PixelState {
-    // The visible point of the current pass.
-    bool valid = false;
-    Vec3 p, ng;
-    warp::Frame frame;
-    Vec3 wo;  // local
-    bool front = true;
-    uint32_t material = 0;
-    Point2 uv;  // the material's texture coordinates there
-    RGB beta;
-    // Progressive statistics.
-    RGB direct;  // summed over passes (PPM: of its one camera pass)
-    float radius = 0.f;
-    double n = 0.0;
-    RGB tau;
-};
-
-constexpr uint64_t kSppmStream = 32;
-
 class ProgressivePhotons {
   public:
-    ProgressivePhotons(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                       const LightSet& lights, uint64_t seed)
-        : scene_(scene), settings_(settings), accel_(accel), lights_(lights), seed_(seed) {}
-
-    float rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
-        return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
-    }
-
-    // One camera sample per pixel through specular chains to its visible point; emission
-    // found on the way and one NEE sample at the visible point go to `direct`.
-    void camera_pass(uint64_t pass, uint32_t x, uint32_t y, PixelState& px, RenderStats& st) const {
-        const uint64_t pixel = scene_.film.pixel_id(x, y);
-        const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
-        Vec3 o, d;
-        scene_.camera.generate(float(int(x) + scene_.film.x0) + j.x,
-                               float(int(y) + scene_.film.y0) + j.y,
-                               {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
-        ++st.camera_rays;
-        RGB beta{1.f};
-        px.valid = false;
-        for (uint32_t depth = 0; depth <= settings_.max_depth; ++depth) {
-            kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity};
-            Hit1 h;
-            if (!accel_.intersect1(ray, h, st.trace)) {
-                px.direct += beta * scene_.background_along(d);
-                return;
-            }
-            const SurfacePoint sp = surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
-            const uint32_t mi = scene_.objects[h.geom].material;
-            std::optional<Material> scratch;
-            const Material& m = scene_.material_at(h.geom, sp.uv, scratch);
-            if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
-            if (m.bsdf.empty()) return;
-            const warp::Frame frame(sp.ns);
-            const Vec3 wo = frame.to_local(-d);
-            const BsdfContext ctx{sp.front_face, Transport::Radiance};
-            const uint32_t dim = 8 + depth * 8;
-            const float p_delta = m.bsdf.selection_probability(kSpecular);
-            if (m.bsdf.has_delta() && rand(pass, pixel, dim) < p_delta) {
-                BsdfSample bs;
-                if (!m.bsdf.sample(wo, rand(pass, pixel, dim + 1),
-                                   {rand(pass, pixel, dim + 2), rand(pass, pixel, dim + 3)}, ctx,
-                                   bs, kSpecular))
-                    return;
-                const Vec3 wi = frame.to_world(bs.wi);
-                const float side = dot(wi, sp.ng);
-                if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
-                beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
-                o = offset_origin(sp, wi);
-                d = wi;
-                ++st.secondary_rays;
-                continue;
-            }
-            if (m.bsdf.has_delta()) beta *= 1.f / (1.f - p_delta);
-            // The visible point.
-            px.valid = true;
-            px.p = sp.p;
-            px.ng = sp.ng;
-            px.frame = frame;
-            px.wo = wo;
-            px.front = sp.front_face;
-            px.material = mi;
-            px.uv = sp.uv;
-            px.beta = beta;
-            if (!lights_.empty()) {
-                float pick;
-                const uint32_t li = lights_.select(rand(pass, pixel, 4), pick);
-                LightSample ls;
-                if (lights_.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
-                                      rand(pass, pixel, 7), ls) &&
-                    dot(ls.wi, sp.ng) > 0.f) {
-                    const Vec3 wi = frame.to_local(ls.wi);
-                    const RGB f = m.bsdf.f(wo, wi, ctx);
-                    if (!f.is_black()) {
-                        const ShadowRay r = shadow_ray_to(sp, ls);
-                        ++st.shadow_rays;
-                        if (!accel_.occluded1({r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y,
-                                               r.dir.z, 0.f, r.tmax},
-                                              st.trace))
-                            px.direct += beta * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf));
-                    }
-                }
-            }
-            return;
-        }
-    }
+    explicit ProgressivePhotons(const Scene& scene) : scene_(scene) {}
 
     // Gathers this pass's photons within the visible point's radius and updates it.
-    void gather(const PhotonMap& photons, float alpha, PixelState& px) const {
+    void gather(const PhotonMap& photons, float alpha, SppmPixel& px) const {
         if (!px.valid) return;
         std::optional<Material> scratch;
         const Material& m = scene_.material_at(scene_.materials[px.material], px.uv, scratch);
@@ -158,10 +55,6 @@ class ProgressivePhotons {
 
   private:
     const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
-    uint64_t seed_;
 };
 
 }  // namespace
@@ -180,9 +73,11 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     // A pass's photons default to the full image's pixel count, crop window or not.
     const uint64_t per_pass =
         ps.photons_per_pass > 0 ? ps.photons_per_pass : scene.film.full_pixels();
-    std::vector<PixelState> pixels(npix);
-    for (PixelState& p : pixels) p.radius = radius0;
-    const ProgressivePhotons pm(scene, settings, accel, lights, opt.seed);
+    std::vector<SppmPixel> pixels(npix);
+    for (SppmPixel& p : pixels) p.radius = radius0;
+    const ProgressivePhotons pm(scene);
+    const VisiblePoints visible_points(scene, settings, accel, lights, opt.seed);
+    tbb::enumerable_thread_specific<VisibleRowWork> row_work;
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
     PinnedArena arena(threads);
@@ -197,7 +92,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         // A pass's photons carry its light's flux divided by the photons of the pass, so tau
         // is averaged over passes.
         for (std::size_t i = 0; i < npix; ++i) {
-            const PixelState& p = pixels[i];
+            const SppmPixel& p = pixels[i];
             // PPM's visible points, and so their direct light, come from the first pass only.
             RGB l = p.direct * (1.f / float(stochastic ? passes : 1));
             if (p.radius > 0.f)
@@ -231,11 +126,11 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               const ThreadClock clock(busy);
                               RenderStats& st = local.local();
+                              VisibleRowWork& work = row_work.local();
                               for (std::size_t i = r.begin(); i != r.end(); ++i) {
                                   const std::size_t y = rank + i * ranks;
-                                  for (int x = 0; x < w; ++x)
-                                      pm.camera_pass(pass, uint32_t(x), uint32_t(y),
-                                                     pixels[y * std::size_t(w) + x], st);
+                                  visible_points.trace_row(pass, uint32_t(y),
+                                                           &pixels[y * std::size_t(w)], work, st);
                               }
                           });
         local.local().add(Stage::Shade, rows * std::size_t(w), clock);

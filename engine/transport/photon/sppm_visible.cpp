@@ -1,0 +1,116 @@
+#include "sppm_visible.h"
+
+#include <cmath>
+#include <optional>
+
+#include "engine/core/rng.h"
+#include "engine/transport/common/surface.h"
+
+namespace foton {
+
+namespace {
+constexpr uint64_t kSppmStream = 32;
+}  // namespace
+
+float VisiblePoints::rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
+    return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
+}
+
+void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, VisibleRowWork& work,
+                              RenderStats& stats) const {
+    const uint32_t w = uint32_t(scene_.film.width);
+    work.rays.clear();
+    work.shadow.clear();
+    work.shadow_add.clear();
+    work.beta.assign(w, RGB{1.f});
+    for (uint32_t x = 0; x < w; ++x) {
+        const uint64_t pixel = scene_.film.pixel_id(x, y);
+        const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
+        Vec3 o, d;
+        scene_.camera.generate(float(int(x) + scene_.film.x0) + j.x,
+                               float(int(y) + scene_.film.y0) + j.y,
+                               {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
+        row[x].valid = false;
+        work.rays.push(o, d, 0.f, kInfinity, x);
+    }
+    stats.camera_rays += w;
+    // Camera rays in pixel order: the backends may trace them as packets.
+    work.rays.coherent = true;
+    for (uint32_t depth = 0; depth <= settings_.max_depth && !work.rays.empty(); ++depth) {
+        accel_.intersect(work.rays, work.hits, stats.trace);
+        work.next.clear();
+        for (std::size_t r = 0; r < work.rays.size(); ++r)
+            shade(pass, y, depth, r, row, work, stats);
+        std::swap(work.rays, work.next);
+    }
+    if (work.shadow.empty()) return;
+    accel_.occluded(work.shadow, work.occluded, stats.trace);
+    for (std::size_t i = 0; i < work.shadow.size(); ++i)
+        if (!work.occluded[i]) row[work.shadow.id[i]].direct += work.shadow_add[i];
+}
+
+void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t r, SppmPixel* row,
+                          VisibleRowWork& work, RenderStats& stats) const {
+    const uint32_t x = work.rays.id[r];
+    const uint64_t pixel = scene_.film.pixel_id(x, y);
+    SppmPixel& px = row[x];
+    RGB& beta = work.beta[x];
+    const Vec3 d = work.rays.direction(r);
+    if (work.hits.geom[r] == kNoHit) {
+        px.direct += beta * scene_.background_along(d);
+        return;
+    }
+    const SurfacePoint sp = surface_at(scene_, work.rays, work.hits, r);
+    const uint32_t mi = scene_.objects[work.hits.geom[r]].material;
+    std::optional<Material> scratch;
+    const Material& m = scene_.material_at(work.hits.geom[r], sp.uv, scratch);
+    if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
+    if (m.bsdf.empty()) return;
+    const warp::Frame frame(sp.ns);
+    const Vec3 wo = frame.to_local(-d);
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+    const uint32_t dim = 8 + depth * 8;
+    const float p_delta = m.bsdf.selection_probability(kSpecular);
+    if (m.bsdf.has_delta() && rand(pass, pixel, dim) < p_delta) {
+        BsdfSample bs;
+        if (!m.bsdf.sample(wo, rand(pass, pixel, dim + 1),
+                           {rand(pass, pixel, dim + 2), rand(pass, pixel, dim + 3)}, ctx, bs,
+                           kSpecular))
+            return;
+        const Vec3 wi = frame.to_world(bs.wi);
+        const float side = dot(wi, sp.ng);
+        if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
+        beta *= bs.f * (std::fabs(bs.wi.z) / (bs.pdf * p_delta));
+        work.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, x);
+        ++stats.secondary_rays;
+        return;
+    }
+    if (m.bsdf.has_delta()) beta *= 1.f / (1.f - p_delta);
+    // The visible point.
+    px.valid = true;
+    px.p = sp.p;
+    px.ng = sp.ng;
+    px.frame = frame;
+    px.wo = wo;
+    px.front = sp.front_face;
+    px.material = mi;
+    px.uv = sp.uv;
+    px.beta = beta;
+    if (lights_.empty()) return;
+    float pick;
+    const uint32_t li = lights_.select(rand(pass, pixel, 4), pick);
+    LightSample ls;
+    if (!lights_.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
+                           rand(pass, pixel, 7), ls) ||
+        !(dot(ls.wi, sp.ng) > 0.f))
+        return;
+    const Vec3 wi = frame.to_local(ls.wi);
+    const RGB f = m.bsdf.f(wo, wi, ctx);
+    if (f.is_black()) return;
+    const ShadowRay s = shadow_ray_to(sp, ls);
+    ++stats.shadow_rays;
+    work.shadow.push(s.origin, s.dir, 0.f, s.tmax, x);
+    work.shadow_add.push_back(beta * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf)));
+}
+
+}  // namespace foton
