@@ -1,5 +1,6 @@
 #include "photon_tracer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -17,6 +18,8 @@ namespace foton {
 namespace {
 constexpr uint64_t kPhotonStream = 16;
 constexpr uint32_t kChunk = 4096;
+// Surfaces a shadow photon's line is followed through beyond its first hit.
+constexpr int kShadowCrossings = 8;
 // Random dimensions: light choice, position (2), triangle, direction shift (2); then per
 // bounce the BSDF lobe and direction (3) and Russian roulette.
 constexpr uint32_t kDimLight = 0, kDimPos = 1, kDimTriangle = 3, kDimFirstBounce = 8,
@@ -36,6 +39,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                          RenderStats& stats) const {
     StageClock clock;
     ws.rays.clear();
+    ws.shadow.clear();
     ws.power.assign(count, RGB{0.f});
     ws.specular_only.assign(count, 1);
     ws.last_specular.assign(count, 0);
@@ -90,20 +94,10 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 if (depth == 0 && shadow && s.shadow_photons) {
                     // The photon's line beyond its first hit: every further surface is in shadow
                     // of this light there.
-                    Vec3 o = offset_origin(sp, d);
-                    for (int crossing = 0; crossing < 8; ++crossing) {
-                        Hit1 h;
-                        if (!accel_.intersect1({o.x, o.y, o.z, d.x, d.y, d.z, 0.f, kInfinity}, h,
-                                               stats.trace))
-                            break;
-                        const SurfacePoint q =
-                            surface_at(scene_, h.geom, h.prim, h.t, h.u, h.v, o, d);
-                        const Material& mq = scene_.material_of(h.geom);
-                        if (mq.bsdf.has_non_delta())
-                            shadow->push(q.p, power * -1.f, -d, q.ng, kPhotonShadow,
-                                         ws.light[slot]);
-                        o = offset_origin(q, d);
-                    }
+                    ws.shadow.rays.push(offset_origin(sp, d), d, 0.f, kInfinity,
+                                        uint32_t(ws.shadow.power.size()));
+                    ws.shadow.power.push_back(power);
+                    ws.shadow.light.push_back(ws.light[slot]);
                 }
                 const warp::Frame frame(sp.ns);
                 const Vec3 wl = -d;
@@ -132,8 +126,35 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 ws.last_specular[slot] = uint8_t(bs.is_delta());
                 ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             }
+            if (depth == 0 && !ws.shadow.rays.empty())
+                trace_shadow_lines(ws.shadow, *shadow, stats);
         },
         [](uint32_t) {}, stages);
+}
+
+void PhotonTracer::trace_shadow_lines(ShadowLineWork& w, PhotonMap& shadow,
+                                      RenderStats& stats) const {
+    for (int crossing = 0; crossing < kShadowCrossings && !w.rays.empty(); ++crossing) {
+        accel_.intersect(w.rays, w.hits, stats.trace);
+        w.next.clear();
+        for (std::size_t r = 0; r < w.rays.size(); ++r) {
+            if (w.hits.geom[r] == kNoHit) continue;
+            const SurfacePoint q = surface_at(scene_, w.rays, w.hits, r);
+            const Vec3 d = w.rays.direction(r);
+            if (scene_.material_of(w.hits.geom[r]).bsdf.has_non_delta())
+                w.found.push_back({w.rays.id[r], q.p, q.ng, d});
+            w.next.push(offset_origin(q, d), d, 0.f, kInfinity, w.rays.id[r]);
+        }
+        std::swap(w.rays, w.next);
+    }
+    // Found crossing by crossing; stored line by line, each line's in crossing order.
+    std::stable_sort(w.found.begin(), w.found.end(),
+                     [](const ShadowLineWork::Crossing& a, const ShadowLineWork::Crossing& b) {
+                         return a.line < b.line;
+                     });
+    for (const ShadowLineWork::Crossing& c : w.found)
+        shadow.push(c.p, w.power[c.line] * -1.f, -c.dir, c.ng, kPhotonShadow, w.light[c.line]);
+    w.clear();
 }
 
 PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow,

@@ -42,7 +42,27 @@ struct PhotonPassSettings {
     bool shadow_photons = false;
 };
 
+// Shadow photons' lines (Jensen 1995), traced as a batch after the first hits of a chunk.
+struct ShadowLineWork {
+    struct Crossing {
+        uint32_t line;
+        Vec3 p, ng, dir;
+    };
+    RayBatch rays, next;
+    HitBatch hits;
+    std::vector<RGB> power;       // per line: the photon's power at its first hit
+    std::vector<uint16_t> light;  // per line: its emitter
+    std::vector<Crossing> found;  // the surfaces the lines cross that take photons
+    void clear() {
+        rays.clear();
+        power.clear();
+        light.clear();
+        found.clear();
+    }
+};
+
 struct PhotonWorkspace {
+    ShadowLineWork shadow;
     RayBatch rays, next;
     HitBatch hits;
     std::vector<RGB> power;
@@ -67,6 +87,10 @@ class PhotonTracer {
 
   private:
     float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;
+    // Follows every queued line through up to kShadowCrossings further surfaces and stores a
+    // shadow photon at each that takes photons, line after line as a photon-by-photon walk
+    // would (so the map, and the image, do not depend on the batching).
+    void trace_shadow_lines(ShadowLineWork& w, PhotonMap& shadow, RenderStats& stats) const;
 
     const Scene& scene_;
     const Intersector& accel_;
