@@ -86,7 +86,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
         StageClock c;
-        const kern::PointKdTree::ParallelInvoke par = timed_parallel_invoke(ThreadClock::for_chunks());
+        const kern::PointKdTree::ParallelInvoke par =
+            timed_parallel_invoke(ThreadClock::for_chunks());
         maps.global.build(par);
         maps.direct.build(par);
         maps.shadow.build(par);
