@@ -59,6 +59,17 @@ const std::vector<Config>& configs() {
                    small_photons),
               no_cache)},
         {"photon-cache", with(with({{"type", "photon"}}, small_photons), small_cache)},
+        // A cache per bounce, three deep: the next level's lookups and their visibility rays.
+        {"photon-cache-levels",
+         with(with({{"type", "photon"}, {"cache_secondary", "cache"}, {"cache_levels", "3"}},
+                   small_photons),
+              {{"indirect", "irradiance_cache"}, {"cache_samples", "16"}})},
+        // Shadow photons deciding the shadow rays they can (Jensen 1995).
+        {"photon-shadow", with(with({{"type", "photon"},
+                                     {"shadow_photons", "true"},
+                                     {"shadow_visibility", "estimate"}},
+                                    small_photons),
+                               no_cache)},
         {"sppm", with({{"type", "sppm"}}, no_cache)},
         {"sppm-passes", with({{"type", "sppm"}}, no_cache), 3},
         {"ppm", with({{"type", "ppm"}}, no_cache)},
