@@ -78,18 +78,6 @@ bool CacheEvaluator::visibility_ray(const SurfacePoint& sp, const IrradianceReco
     return true;
 }
 
-bool CacheEvaluator::visible(const SurfacePoint& sp, const IrradianceRecord& r,
-                             CacheWorkspace& ws) const {
-    kern::Ray1 ray;
-    if (!visibility_ray(sp, r, ray)) return true;
-    ++ws.lookup.visibility_tests;
-    if (accel_.occluded1(ray, ws.trace)) {
-        ++ws.lookup.visibility_rejections;
-        return false;
-    }
-    return true;
-}
-
 void CacheEvaluator::queue_pending(const SurfacePoint& sp, const warp::Frame& frame,
                                    const RGB& weight, uint32_t slot, uint64_t key,
                                    float path_length, CacheLevelWork& work) const {
@@ -109,7 +97,12 @@ void CacheEvaluator::queue_pending(const SurfacePoint& sp, const warp::Frame& fr
 void CacheEvaluator::queue_lookup(const SurfacePoint& sp, const warp::Frame& frame,
                                   const RGB& weight, uint32_t slot, uint64_t key, float path_length,
                                   CacheWorkspace& ws) const {
-    CacheLookupBatch& b = ws.batch;
+    enqueue(0, sp, frame, weight, slot, key, path_length, ws.batch, ws);
+}
+
+void CacheEvaluator::enqueue(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame,
+                             const RGB& weight, uint32_t slot, uint64_t key, float path_length,
+                             CacheLookupBatch& b, CacheWorkspace& ws) const {
     CacheLookupBatch::Query q;
     q.sp = sp;
     q.sp.ns = frame.n;
@@ -122,14 +115,14 @@ void CacheEvaluator::queue_lookup(const SurfacePoint& sp, const warp::Frame& fra
     q.first = uint32_t(b.record.size());
     // The candidates in the order interpolate() takes them: the frozen cache's, then the
     // records this batch computed so far.
-    caches_[0]->candidates(sp.p, frame.n, b.record, ws.lookup);
+    const IrradianceCache& found = *ws.levels[level].found;
+    caches_[level]->candidates(sp.p, frame.n, b.record, ws.lookup);
     q.frozen = uint32_t(b.record.size()) - q.first;
-    ws.levels[0].found->candidates(sp.p, frame.n, b.record, ws.lookup);
+    found.candidates(sp.p, frame.n, b.record, ws.lookup);
     q.count = uint32_t(b.record.size()) - q.first;
     for (uint32_t c = q.first; c < q.first + q.count; ++c) {
-        const IrradianceRecord& r = c < q.first + q.frozen
-                                        ? caches_[0]->record(b.record[c])
-                                        : ws.levels[0].found->record(b.record[c]);
+        const IrradianceRecord& r = c < q.first + q.frozen ? caches_[level]->record(b.record[c])
+                                                           : found.record(b.record[c]);
         kern::Ray1 ray;
         if (visibility_ray(sp, r, ray)) {
             b.ray.push_back(int32_t(b.rays.size()));
@@ -142,54 +135,51 @@ void CacheEvaluator::queue_lookup(const SurfacePoint& sp, const warp::Frame& fra
     b.queries.push_back(q);
 }
 
-void CacheEvaluator::serve_lookups(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats,
-                                   StageClock& clock) const {
-    CacheLookupBatch& b = ws.batch;
-    if (b.queries.empty()) return;
+void CacheEvaluator::serve_batch(uint32_t level, CacheLookupBatch& b, CacheWorkspace& ws,
+                                 CacheCounters& st) const {
     if (!b.rays.empty()) accel_.occluded(b.rays, b.occluded, ws.trace);
-    ws.lookup.visibility_tests += b.rays.size();
+    st.visibility_tests += b.rays.size();
     b.visible.resize(b.record.size());
     for (std::size_t c = 0; c < b.record.size(); ++c) {
         const bool blocked = b.ray[c] >= 0 && b.occluded[std::size_t(b.ray[c])];
         b.visible[c] = !blocked;
-        ws.lookup.visibility_rejections += blocked;
+        st.visibility_rejections += blocked;
     }
-    for (const CacheLookupBatch::Query& q : b.queries) {
+    const IrradianceCache& found = *ws.levels[level].found;
+    b.served.assign(b.queries.size(), 0);
+    b.value.assign(b.queries.size(), RGB{0.f});
+    for (std::size_t i = 0; i < b.queries.size(); ++i) {
+        const CacheLookupBatch::Query& q = b.queries[i];
         IrradianceCache::Blend blend;
-        ++ws.lookup.lookups;
+        ++st.lookups;
         const Vec3& n = q.sp.ns;
-        caches_[0]->blend_visible(q.sp.p, n, b.record.data() + q.first, b.visible.data() + q.first,
-                                  q.frozen, ws.lookup, blend);
-        ws.levels[0].found->blend_visible(q.sp.p, n, b.record.data() + q.first + q.frozen,
-                                          b.visible.data() + q.first + q.frozen, q.count - q.frozen,
-                                          ws.lookup, blend);
+        caches_[level]->blend_visible(q.sp.p, n, b.record.data() + q.first,
+                                      b.visible.data() + q.first, q.frozen, st, blend);
+        found.blend_visible(q.sp.p, n, b.record.data() + q.first + q.frozen,
+                            b.visible.data() + q.first + q.frozen, q.count - q.frozen, st, blend);
         RGB e;
-        if (blend.finish(e, ws.lookup)) {
-            out[q.slot] += q.weight * e;
+        if (blend.finish(e, st)) {
+            b.served[i] = 1;
+            b.value[i] = q.weight * e;
             continue;
         }
         warp::Frame frame;
         frame.s = q.s;
         frame.t = q.t;
         frame.n = q.sp.ns;
-        queue_pending(q.sp, frame, q.weight, q.slot, q.key, q.path_length, ws.levels[0]);
+        queue_pending(q.sp, frame, q.weight, q.slot, q.key, q.path_length, ws.levels[level]);
     }
-    stats.add(Stage::CacheLookup, b.queries.size(), clock);
-    b.clear();
 }
 
-void CacheEvaluator::lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame,
-                            const RGB& weight, uint32_t slot, uint64_t key, float path_length,
-                            CacheWorkspace& ws, std::vector<RGB>& out) const {
-    CacheLevelWork& work = ws.levels[level];
-    RGB e;
-    if (caches_[level]->interpolate(
-            sp.p, frame.n, e, [&](const IrradianceRecord& r) { return visible(sp, r, ws); },
-            ws.lookup, work.found.get())) {
-        out[slot] += weight * e;
-        return;
-    }
-    queue_pending(sp, frame, weight, slot, key, path_length, work);
+void CacheEvaluator::serve_lookups(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats,
+                                   StageClock& clock) const {
+    CacheLookupBatch& b = ws.batch;
+    if (b.queries.empty()) return;
+    serve_batch(0, b, ws, ws.lookup);
+    for (std::size_t i = 0; i < b.queries.size(); ++i)
+        if (b.served[i]) out[b.queries[i].slot] += b.value[i];
+    stats.add(Stage::CacheLookup, b.queries.size(), clock);
+    b.clear();
 }
 
 void CacheEvaluator::resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats) const {
@@ -258,21 +248,24 @@ void CacheEvaluator::resolve_level(uint32_t level, CacheWorkspace& ws, std::vect
     const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
     for (int round = 0; !work.pending.empty(); ++round) {
         if (round > 0) {
-            // What this batch's records now serve (counted as interpolated, not as lookups).
-            CacheCounters st;
-            std::size_t kept = 0;
-            for (std::size_t i = 0; i < work.pending.size(); ++i) {
-                const PendingLookup q = work.pending[i];
-                RGB e;
-                if (caches_[level]->interpolate(
-                        q.sp.p, q.sp.ns, e,
-                        [&](const IrradianceRecord& r) { return visible(q.sp, r, ws); }, st,
-                        work.found.get()))
-                    out[q.slot] += q.weight * e;
-                else
-                    work.pending[kept++] = q;
+            // What this batch's records now serve (counted as interpolated, not as lookups),
+            // in the order they wait; the rest wait again, in that order.
+            CacheLookupBatch& b = work.lookups;
+            b.clear();
+            const std::vector<PendingLookup> waiting = std::move(work.pending);
+            work.pending.clear();
+            for (const PendingLookup& q : waiting) {
+                warp::Frame frame;
+                frame.s = q.s;
+                frame.t = q.t;
+                frame.n = q.sp.ns;
+                enqueue(level, q.sp, frame, q.weight, q.slot, q.key, q.path_length, b, ws);
             }
-            work.pending.resize(kept);
+            CacheCounters st;
+            serve_batch(level, b, ws, st);
+            for (std::size_t i = 0; i < b.queries.size(); ++i)
+                if (b.served[i]) out[b.queries[i].slot] += b.value[i];
+            b.clear();
             st.lookups = 0;
             ws.lookup.merge(st);
             if (work.pending.empty()) break;
@@ -343,8 +336,13 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
     ws.shadow.clear();
     ws.shadow_value.clear();
     const bool deeper = mode_ == CacheSecondary::Cache && level + 1 < levels_;
+    // The next level's lookups wait for one batch of visibility rays after the trace; so that
+    // L sums in the ray-by-ray walk's order, the additions made meanwhile are logged.
+    CacheLookupBatch* const next = deeper ? &ws.levels[level + 1].lookups : nullptr;
+    if (next) next->clear();
+    work.adds.clear();
     const std::size_t traced = trace_gather(
-        scene_, accel_, g, work.L, work.dist.data(), stats,
+        scene_, accel_, g, work.dist.data(), stats,
         [&](uint32_t id, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
             if (mode_ == CacheSecondary::Photon) {
                 work.L[id] += w * photons_(sp, m, d);
@@ -361,12 +359,30 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
                               rng::uniform(seed_, key, kDimLight + 3, 0), ds))
                 queue_direct(ds, id, ws.shadow, ws.shadow_value);
             RGB rho;
-            if (deeper && m.bsdf.lambert_albedo(rho) && !rho.is_black()) {
-                lookup(level + 1, sp, frame, w * rho * kInvPi, id,
-                       rng::hash(key, kCacheStream, 3, 0), q.path_length + length(sp.p - q.sp.p),
-                       ws, work.L);
+            if (next && m.bsdf.lambert_albedo(rho) && !rho.is_black()) {
+                work.adds.push_back({id, int32_t(next->queries.size()), RGB{0.f}});
+                enqueue(level + 1, sp, frame, w * rho * kInvPi, id,
+                        rng::hash(key, kCacheStream, 3, 0), q.path_length + length(sp.p - q.sp.p),
+                        *next, ws);
             }
+        },
+        [&](uint32_t slot, const RGB& v) {
+            if (next)
+                work.adds.push_back({slot, -1, v});
+            else
+                work.L[slot] += v;
         });
+    if (next) {
+        serve_batch(level + 1, *next, ws, ws.lookup);
+        for (const LoggedAdd& a : work.adds) {
+            if (a.query < 0)
+                work.L[a.slot] += a.value;
+            else if (next->served[std::size_t(a.query)])
+                work.L[a.slot] += next->value[std::size_t(a.query)];
+        }
+        next->clear();
+        work.adds.clear();
+    }
     stats.add(Stage::FinalGather, traced, clock);
     resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, work.L, stats, clock);
 }

@@ -44,20 +44,9 @@ struct CacheRequest {
     uint32_t first = 0;
 };
 
-// One cache level's work in the current batch.
-struct CacheLevelWork {
-    std::vector<PendingLookup> pending;
-    std::vector<CacheRequest> requests;  // this round's records
-    RayBatch rays;                       // their hemisphere rays; id = index into L and dist
-    std::vector<RGB> L;
-    std::vector<float> dist;
-    std::unique_ptr<IrradianceCache> found;  // the records this batch computed
-    std::vector<uint8_t> picked;
-};
-
-// The camera paths' level-0 lookups of one bounce, served together: each one's candidate
-// records (of the frozen cache, then of the batch's own), and one batch of visibility rays
-// for all of them.
+// Lookups of one level served together: each one's candidate records (of the level's frozen
+// cache, then of the batch's own), and one batch of visibility rays for all of them. The
+// camera paths' level-0 lookups of a bounce, and a record's rays' lookups in the next level.
 struct CacheLookupBatch {
     struct Query {
         SurfacePoint sp;
@@ -75,13 +64,38 @@ struct CacheLookupBatch {
     std::vector<int32_t> ray;      // per candidate: its visibility ray, or -1 for none
     RayBatch rays;
     std::vector<uint8_t> occluded;
+    std::vector<uint8_t> served;  // per query, once served: the cache could interpolate
+    std::vector<RGB> value;       // per query served: weight * E
     void clear() {
         queries.clear();
         record.clear();
         visible.clear();
         ray.clear();
         rays.clear();
+        served.clear();
+        value.clear();
     }
+};
+
+// An addition to a record ray's radiance, kept in the order the ray-by-ray walk made it: a
+// value, or (query >= 0) the result of a deeper lookup served later as a batch.
+struct LoggedAdd {
+    uint32_t slot;
+    int32_t query;
+    RGB value;
+};
+
+// One cache level's work in the current batch.
+struct CacheLevelWork {
+    std::vector<PendingLookup> pending;
+    std::vector<CacheRequest> requests;  // this round's records
+    RayBatch rays;                       // their hemisphere rays; id = index into L and dist
+    std::vector<RGB> L;
+    std::vector<float> dist;
+    std::unique_ptr<IrradianceCache> found;  // the records this batch computed
+    std::vector<uint8_t> picked;
+    CacheLookupBatch lookups;     // this level's lookups (re-interpolation; from the level above)
+    std::vector<LoggedAdd> adds;  // additions to L while its rays are traced (deeper lookups)
 };
 
 struct CacheWorkspace {
@@ -116,18 +130,14 @@ class CacheEvaluator {
     const Bounds3& bounds() const { return bounds_; }
 
     // At a point whose non-delta lobes are Lambertian and reflect `weight` radiance per unit
-    // of irradiance: adds weight * E to out[slot] if the level's cache can interpolate,
+    // of irradiance: a level-0 lookup, served by serve_lookups() with the other lookups of the
+    // bounce (the octree walks and weights one query after another, the visibility rays of all
+    // of them as one batch). It adds weight * E to out[slot] if the cache can interpolate,
     // otherwise queues a record (computed by resolve()). `key` keys its random numbers.
-    void lookup(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
-                uint32_t slot, uint64_t key, float path_length, CacheWorkspace& ws,
-                std::vector<RGB>& out) const;
-    // lookup() at level 0, served later by serve_lookups() with the other lookups of the
-    // bounce: the octree walks and weights one query after another, the visibility rays of
-    // all of them as one batch.
     void queue_lookup(const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
                       uint32_t slot, uint64_t key, float path_length, CacheWorkspace& ws) const;
-    // Serves the queued lookups in the order they were queued: exactly what lookup() would
-    // have done for each, in that order.
+    // Serves the queued lookups in the order they were queued: exactly what interpolating
+    // each with its visibility rays traced one by one would have done, in that order.
     // Its time goes to the cache-lookup stage (a lap of `clock`).
     void serve_lookups(CacheWorkspace& ws, std::vector<RGB>& out, RenderStats& stats,
                        StageClock& clock) const;
@@ -143,7 +153,16 @@ class CacheEvaluator {
     void queue_record(CacheLevelWork& work, uint32_t pending) const;
     // Traces the level's record rays and fills its L and dist (deeper lookups may wait).
     void evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& stats) const;
-    bool visible(const SurfacePoint& sp, const IrradianceRecord& r, CacheWorkspace& ws) const;
+    // Queues a lookup at `level` into b (candidates of caches_[level] and of the level's
+    // found records, as they are now).
+    void enqueue(uint32_t level, const SurfacePoint& sp, const warp::Frame& frame,
+                 const RGB& weight, uint32_t slot, uint64_t key, float path_length,
+                 CacheLookupBatch& b, CacheWorkspace& ws) const;
+    // Traces b's visibility rays as one batch and interpolates its queries in order: b.served
+    // and b.value per query; a query not served joins the level's pending lookups. Counts go
+    // to `st` (visibility rays' traversal to ws.trace).
+    void serve_batch(uint32_t level, CacheLookupBatch& b, CacheWorkspace& ws,
+                     CacheCounters& st) const;
     // The visibility test's segment from sp to r; false when no ray is needed (it passes).
     bool visibility_ray(const SurfacePoint& sp, const IrradianceRecord& r, kern::Ray1& ray) const;
     void queue_pending(const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
