@@ -1,7 +1,7 @@
 #pragma once
 // SPPM's camera pass: one camera sample per pixel, followed through specular chains to its
 // visible point. A row of pixels is traced as batches (its rays at each depth, then its
-// shadow rays), so the accelerator's stream and packet kernels serve this pass as they serve
+// shadow rays), so the accelerator's stream kernels serve this pass as they serve
 // the path tracer's; every pixel gets exactly what a ray-by-ray walk would give it.
 #include <cstdint>
 #include <vector>
