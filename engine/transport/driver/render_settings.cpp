@@ -56,7 +56,7 @@ void parse_path_guide(const ParamSet& p, RenderSettings& r) {
     if (r.integrator != "path") p.fail("guided", "guided=true needs type=\"path\"");
     // Roulette on a guided path throws away what the guide bought: its variance grows with
     // the square of the continuation's mean, which guiding does not lower. Measured on the
-    // caustics box (README): no roulette is 1.9x as efficient as rr_depth=3 when guided.
+    // caustics box (docs/results.md): no roulette is 1.9x as efficient as rr_depth=3 when guided.
     if (!p.has("rr_depth")) r.rr_depth = kNoRoulette;
 }
 
