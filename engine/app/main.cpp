@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "engine/core/error.h"
+#include "engine/transport/driver/integrators.h"
 #include "mpi_cluster.h"
 #include "scale_study.h"
 #include "serve.h"
@@ -42,10 +43,7 @@ int main(int argc, char** argv) {
                      "x0,x1,y0,y1: render only pixels [x0,x1) x [y0,y1) (like pbrt's "
                      "--pixelbounds)")
         ->delimiter(',');
-    render->add_option(
-        "--integrator", ra.integrator,
-        "raytracer | path | light | distributed | photon | sppm | ppm | bdpt | bpm | "
-        "vcm");
+    render->add_option("--integrator", ra.integrator, "one of:" + integrator_help());
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "
                        "filter=gauss); repeatable");

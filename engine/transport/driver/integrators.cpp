@@ -11,18 +11,50 @@ namespace foton {
 
 const std::vector<IntegratorInfo>& integrators() {
     // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
-    //                          name  aliases  camera  cache  render
+    constexpr uint32_t kPath =
+        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide;
+    constexpr uint32_t kPhoton = kCapCamera | kCapIrradianceCache | kCapLightingSplit;
     static const std::vector<IntegratorInfo> table = {
-        {"raytracer", {"whitted"}, true, false, render_whitted},
-        {"path", {}, true, true, render_path},
-        {"distributed", {}, true, false, render_distributed},
-        {"light", {}, false, false, render_light},
-        {"photon", {}, true, true, render_photon},
-        {"sppm", {}, false, false, render_sppm},
-        {"ppm", {}, false, false, render_ppm},
-        {"bdpt", {}, false, false, render_bdpt},
-        {"bpm", {}, false, false, render_bpm},
-        {"vcm", {}, false, false, render_vcm},
+        {"raytracer",
+         {"whitted"},
+         "Whitted ray tracing (the first thesis)",
+         kCapCamera,
+         nullptr,
+         render_whitted},
+        {"path", {}, "path tracing, NEE + MIS", kPath, nullptr, render_path},
+        {"distributed",
+         {},
+         "distributed ray tracing (Cook 1984)",
+         kCapCamera,
+         nullptr,
+         render_distributed},
+        {"light", {}, "light tracing", 0, nullptr, render_light},
+        {"photon",
+         {},
+         "photon mapping: final gather, irradiance cache or direct visualisation",
+         kPhoton,
+         nullptr,
+         render_photon},
+        {"sppm", {}, "stochastic progressive photon mapping", 0, nullptr, render_sppm},
+        {"ppm", {}, "progressive photon mapping", 0, nullptr, render_ppm},
+        {"bdpt",
+         {},
+         "bidirectional path tracing",
+         kCapBidirectional | kCapStrategyDebug,
+         nullptr,
+         render_bdpt},
+        {"bpm",
+         {},
+         "bidirectional photon mapping",
+         kCapBidirectional | kCapMerging,
+         nullptr,
+         render_bpm},
+        {"vcm",
+         {},
+         "vertex connection and merging",
+         kCapBidirectional | kCapMerging,
+         nullptr,
+         render_vcm},
     };
     return table;
 }
@@ -36,20 +68,44 @@ const IntegratorInfo* find_integrator(const std::string& name) {
     return nullptr;
 }
 
-std::string integrator_list() {
+std::string integrator_list(const char* separator) {
     std::string s;
     for (const IntegratorInfo& i : integrators())
-        s += (s.empty() ? "" : ", ") + std::string(i.name);
+        s += (s.empty() ? "" : separator) + std::string(i.name);
+    return s;
+}
+
+std::string integrator_help() {
+    std::string s;
+    for (const IntegratorInfo& i : integrators()) {
+        s += "\n  " + std::string(i.name);
+        for (const char* a : i.aliases) s += std::string(" (") + a + ")";
+        s += ": " + std::string(i.summary);
+    }
+    return s;
+}
+
+std::string integrators_with(uint32_t caps) {
+    std::vector<std::string> names;
+    for (const IntegratorInfo& i : integrators())
+        if (i.has(caps)) names.push_back(i.name);
+    if (names.empty()) return "an integrator that has none here";
+    std::string s = "type=\"" + names[0] + "\"";
+    for (std::size_t k = 1; k < names.size(); ++k)
+        s += std::string(k + 1 == names.size() ? " or " : ", ") + "\"" + names[k] + "\"";
     return s;
 }
 
 RenderSettings render_settings(const ParamSet& params) {
-    RenderSettings r = parse_render_settings(params);
-    const IntegratorInfo* info = find_integrator(r.integrator);
+    const std::string type = params.text("type", "raytracer");
+    const IntegratorInfo* info = find_integrator(type);
     if (!info)
-        params.fail("type",
-                    "unknown renderer type '" + r.integrator + "' (" + integrator_list() + ")");
-    r.integrator = info->name;  // an alias becomes the name
+        params.fail("type", "unknown renderer type '" + type + "' (" + integrator_list() + ")");
+    // An alias becomes the name.
+    const IntegratorTraits traits{info->name, info->caps, integrators_with};
+    RenderSettings r = parse_render_settings(params, traits);
+    if (info->parse) info->parse(params, r);
+    params.reject_unused();
     return r;
 }
 

@@ -11,7 +11,6 @@ const EnumTable<Lighting> kLighting{
     {{"all", Lighting::All}, {"direct", Lighting::Direct}, {"indirect", Lighting::Indirect}}};
 
 void parse_sampling(const ParamSet& p, RenderSettings& r) {
-    r.integrator = p.text("type", r.integrator);
     // aa_samples is the first thesis' name; spp (and --spp, which sets it) wins over it.
     r.run.spp = uint32_t(p.integer("aa_samples", r.run.spp, 1, kMaxCount));
     r.run.spp = uint32_t(p.integer("spp", r.run.spp, 1, kMaxCount));
@@ -40,7 +39,7 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
 }
 
-void parse_path_guide(const ParamSet& p, RenderSettings& r) {
+void parse_path_guide(const ParamSet& p, const IntegratorTraits& it, RenderSettings& r) {
     PathGuideSettings& g = r.guide;
     g.enabled = p.boolean("guided", g.enabled);
     g.emitted = p.integer("guide_emitted", g.emitted, 1, 4000000000ull);
@@ -53,15 +52,16 @@ void parse_path_guide(const ParamSet& p, RenderSettings& r) {
             if (p.has(key)) p.fail(key, std::string(key) + " needs guided=true");
         return;
     }
-    if (r.integrator != "path") p.fail("guided", "guided=true needs type=\"path\"");
+    if (!(it.caps & kCapPhotonGuide))
+        p.fail("guided", "guided=true needs " + it.names_with(kCapPhotonGuide));
     // Roulette on a guided path throws away what the guide bought: its variance grows with
     // the square of the continuation's mean, which guiding does not lower. Measured on the
     // caustics box (docs/results.md): no roulette is 1.9x as efficient as rr_depth=3 when guided.
     if (!p.has("rr_depth")) r.rr_depth = kNoRoulette;
 }
 
-void parse_bidir(const ParamSet& p, RenderSettings& r) {
-    const bool bidir = r.integrator == "bdpt" || r.integrator == "bpm" || r.integrator == "vcm";
+void parse_bidir(const ParamSet& p, const IntegratorTraits& it, RenderSettings& r) {
+    const bool bidir = it.caps & kCapBidirectional;
     if (bidir && r.mis != MisHeuristic::Balance && r.mis != MisHeuristic::Power)
         p.fail("mis",
                "bdpt, bpm and vcm weigh by the balance or power heuristic (mis=balance "
@@ -75,11 +75,12 @@ void parse_bidir(const ParamSet& p, RenderSettings& r) {
     static const EnumTable<MergeIndex> kMergeIndex{
         {{"grid", MergeIndex::Grid}, {"kdtree", MergeIndex::KdTree}}};
     r.bidir.merge_index = p.choice("merge_index", kMergeIndex, r.bidir.merge_index);
-    if (p.has("merge_index") && r.integrator != "bpm" && r.integrator != "vcm")
-        p.fail("merge_index", "merge_index needs type=\"bpm\" or \"vcm\"");
+    if (p.has("merge_index") && !(it.caps & kCapMerging))
+        p.fail("merge_index", "merge_index needs " + it.names_with(kCapMerging));
     if (!p.has("strategy")) return;
     const std::string v = p.text("strategy");
-    if (r.integrator != "bdpt") p.fail("strategy", "strategy=\"s,t\" needs type=\"bdpt\"");
+    if (!(it.caps & kCapStrategyDebug))
+        p.fail("strategy", "strategy=\"s,t\" needs " + it.names_with(kCapStrategyDebug));
     unsigned s = 0, t = 0;
     char tail = 0;
     if (v != "all") {
@@ -97,18 +98,20 @@ void parse_bidir(const ParamSet& p, RenderSettings& r) {
 
 }  // namespace
 
-RenderSettings parse_render_settings(const ParamSet& params) {
+RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTraits& it) {
     RenderSettings r;
+    r.integrator = it.name;
     parse_sampling(params, r);
     parse_path(params, r);
     parse_photon_settings(params, r.photon);
     parse_cache_settings(params, r.indirect, r.cache);
-    parse_path_guide(params, r);
-    parse_bidir(params, r);
+    parse_path_guide(params, it, r);
+    parse_bidir(params, it, r);
     r.lighting = params.choice("lighting", kLighting, r.lighting);
     if (r.lighting != Lighting::All) {
-        if (r.integrator != "path" && r.integrator != "photon")
-            params.fail("lighting", "lighting=direct|indirect needs type=\"path\" or \"photon\"");
+        if (!(it.caps & kCapLightingSplit))
+            params.fail("lighting",
+                        "lighting=direct|indirect needs " + it.names_with(kCapLightingSplit));
         if (r.indirect == IndirectMode::IrradianceCache)
             params.fail("lighting",
                         "lighting=direct|indirect and indirect=\"irradiance_cache\" "
@@ -116,7 +119,6 @@ RenderSettings parse_render_settings(const ParamSet& params) {
     }
     if (r.guide.enabled && r.indirect == IndirectMode::IrradianceCache)
         params.fail("guided", "guided paths and indirect=\"irradiance_cache\" do not combine");
-    params.reject_unused();
     return r;
 }
 

@@ -4,7 +4,9 @@
 // irradiance_cache/cache_settings.h, the MIS heuristic in common/mis.h); render_settings()
 // (integrators.h) reads them all from the scene's ParamSet, reporting every bad value at its file
 // and line and rejecting keys nobody knows.
+#include <any>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "engine/core/params.h"
@@ -54,6 +56,29 @@ struct BidirSettings {
     MergeIndex merge_index = MergeIndex::Grid;
 };
 
+// What an integrator takes beyond the settings every family reads: the capability bits of its
+// row in the integrator table (integrators.h). The rules of the settings ask for these, not
+// for integrator names, so a new integrator states what it supports in its row alone.
+enum Capability : uint32_t {
+    kCapCamera = 1u << 0,           // paths start at the camera, pixel by pixel: adaptive sampling
+    kCapIrradianceCache = 1u << 1,  // indirect="irradiance_cache"
+    kCapLightingSplit = 1u << 2,    // lighting=direct|indirect
+    kCapPhotonGuide = 1u << 3,      // guided=true: photon-guided directions
+    kCapBidirectional = 1u << 4,    // MIS over bidirectional strategies: balance or power, no
+                                    // rr_depth (the subpaths' vertex rules must agree)
+    kCapMerging = 1u << 5,          // merges light vertices: merge_index
+    kCapStrategyDebug = 1u << 6,    // strategy="s,t"
+};
+
+// The chosen integrator as the settings' rules see it.
+struct IntegratorTraits {
+    std::string name;
+    uint32_t caps = 0;
+    // `type="a"`, `type="a" or "b"`, ...: the integrators with every bit of a capability, for
+    // error messages.
+    std::function<std::string(uint32_t)> names_with;
+};
+
 struct RenderSettings {
     std::string integrator = "raytracer";  // a name in integrators()
     // The run's own settings as the file gives them (spp, num_threads, seed, time): the
@@ -79,10 +104,14 @@ struct RenderSettings {
     IndirectMode indirect = IndirectMode::FinalGather;
     CacheSettings cache;
     BidirSettings bidir;
+    // The integrator's own settings, read by its row's parse (integrators.h), for keys no other
+    // family reads; the integrator any_casts it to its own type.
+    std::any own;
 };
 
-// Every group's keys, then rejects keys nobody read. The integrator's name is checked
-// against the table by render_settings() (integrators.h), which is what callers use.
-RenderSettings parse_render_settings(const ParamSet& params);
+// Every shared group's keys, checked against what the integrator (`type`, found in the table
+// by render_settings() in integrators.h, which is what callers use) supports. Unknown keys are
+// rejected there, after the integrator's own parse.
+RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTraits& integrator);
 
 }  // namespace foton
