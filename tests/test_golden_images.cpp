@@ -15,6 +15,7 @@
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/driver/integrators.h"
 #include "engine/transport/driver/render.h"
 #include "test_util.h"
 
@@ -43,43 +44,50 @@ const std::vector<Config>& configs() {
     };
     // Scenes that ask for the irradiance cache get it only in the -cache configurations.
     const RendererOverrides no_cache = {{"indirect", "final_gather"}};
-    static const std::vector<Config> list = {
-        {"raytracer", with({{"type", "raytracer"}}, no_cache)},
-        {"path", with({{"type", "path"}}, no_cache)},
-        {"path-bsdf", with({{"type", "path"}, {"nee", "false"}}, no_cache)},
-        {"path-cache", with({{"type", "path"}}, small_cache)},
-        {"path-passes", with({{"type", "path"}}, no_cache), 3},
-        {"path-adaptive", with({{"type", "path"}}, no_cache), 1, true},
-        {"light", with({{"type", "light"}}, no_cache)},
-        {"light-passes", with({{"type", "light"}}, no_cache), 2},
-        {"distributed", with({{"type", "distributed"}}, no_cache)},
-        {"photon", with(with({{"type", "photon"}}, small_photons), no_cache)},
-        {"photon-direct",
-         with(with({{"type", "photon"}, {"mode", "direct_visualisation"}, {"split_direct", "true"}},
-                   small_photons),
-              no_cache)},
-        {"photon-cache", with(with({{"type", "photon"}}, small_photons), small_cache)},
-        // A cache per bounce, three deep: the next level's lookups and their visibility rays.
-        {"photon-cache-levels",
-         with(with({{"type", "photon"}, {"cache_secondary", "cache"}, {"cache_levels", "3"}},
-                   small_photons),
-              {{"indirect", "irradiance_cache"}, {"cache_samples", "16"}})},
-        // Shadow photons deciding the shadow rays they can (Jensen 1995).
-        {"photon-shadow", with(with({{"type", "photon"},
-                                     {"shadow_photons", "true"},
-                                     {"shadow_visibility", "estimate"}},
-                                    small_photons),
-                               no_cache)},
-        {"sppm", with({{"type", "sppm"}}, no_cache)},
-        {"sppm-passes", with({{"type", "sppm"}}, no_cache), 3},
-        {"ppm", with({{"type", "ppm"}}, no_cache)},
-        {"ppm-passes", with({{"type", "ppm"}}, no_cache), 3},
-        {"bdpt", with({{"type", "bdpt"}}, no_cache)},
-        {"bpm", with({{"type", "bpm"}}, no_cache)},
-        {"vcm", with({{"type", "vcm"}}, no_cache)},
-        {"vcm-passes", with({{"type", "vcm"}}, no_cache), 3},
-    };
-    return list;
+    // Every row of the integrator table gets a configuration of its name (a new integrator's
+    // hashes are recorded by FOTON_REGENERATE_IMAGE_HASHES); those that need small settings
+    // to run fast at this size name them here.
+    const std::map<std::string, RendererOverrides> small = {{"photon", small_photons}};
+    static const std::vector<Config> all = [&] {
+        std::vector<Config> list;
+        for (const IntegratorInfo& i : integrators()) {
+            auto it = small.find(i.name);
+            list.push_back({i.name, with(with({{"type", i.name}},
+                                              it == small.end() ? RendererOverrides{} : it->second),
+                                         no_cache)});
+        }
+        // Variations that pin a feature's own code path.
+        const std::vector<Config> variations = {
+            {"path-bsdf", with({{"type", "path"}, {"nee", "false"}}, no_cache)},
+            {"path-cache", with({{"type", "path"}}, small_cache)},
+            {"path-passes", with({{"type", "path"}}, no_cache), 3},
+            {"path-adaptive", with({{"type", "path"}}, no_cache), 1, true},
+            {"light-passes", with({{"type", "light"}}, no_cache), 2},
+            {"photon-direct", with(with({{"type", "photon"},
+                                         {"mode", "direct_visualisation"},
+                                         {"split_direct", "true"}},
+                                        small_photons),
+                                   no_cache)},
+            {"photon-cache", with(with({{"type", "photon"}}, small_photons), small_cache)},
+            // A cache per bounce, three deep: the next level's lookups and their visibility rays.
+            {"photon-cache-levels",
+             with(with({{"type", "photon"}, {"cache_secondary", "cache"}, {"cache_levels", "3"}},
+                       small_photons),
+                  {{"indirect", "irradiance_cache"}, {"cache_samples", "16"}})},
+            // Shadow photons deciding the shadow rays they can (Jensen 1995).
+            {"photon-shadow", with(with({{"type", "photon"},
+                                         {"shadow_photons", "true"},
+                                         {"shadow_visibility", "estimate"}},
+                                        small_photons),
+                                   no_cache)},
+            {"sppm-passes", with({{"type", "sppm"}}, no_cache), 3},
+            {"ppm-passes", with({{"type", "ppm"}}, no_cache), 3},
+            {"vcm-passes", with({{"type", "vcm"}}, no_cache), 3},
+        };
+        list.insert(list.end(), variations.begin(), variations.end());
+        return list;
+    }();
+    return all;
 }
 
 // The hash of the image, or "error" when the configuration does not apply to the scene

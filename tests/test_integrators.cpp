@@ -380,7 +380,8 @@ TEST_CASE("progressive passes: counted, deterministic, snapshots", "[integrator]
 
 TEST_CASE("every integrator reports each pass to the pass observer",
           "[integrator][progressive][fast]") {
-    for (const char* type : {"path", "light", "photon", "sppm", "ppm", "raytracer"}) {
+    for (const IntegratorInfo& i : integrators()) {
+        const char* type = i.name;
         INFO(type);
         const TestScene s = cornell(16, type);
         const auto acc = make_intersector(s, s.accel);

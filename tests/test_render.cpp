@@ -137,9 +137,11 @@ TEST_CASE("every integrator gives the same image with every accelerator", "[rend
         const char* integrator;
         bool cache;
     };
-    const Case cases[] = {{"raytracer", false},   {"path", false},   {"light", false},
-                          {"distributed", false}, {"photon", false}, {"sppm", false},
-                          {"ppm", false},         {"photon", true}};
+    // Every row of the integrator table, and again with the cache where it takes one.
+    std::vector<Case> cases;
+    for (const IntegratorInfo& i : integrators()) cases.push_back({i.name, false});
+    for (const IntegratorInfo& i : integrators())
+        if (i.has(kCapIrradianceCache)) cases.push_back({i.name, true});
     for (const Case& k : cases) {
         TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
         s.set_resolution(24, 24);
@@ -227,10 +229,9 @@ TEST_CASE("every integrator reports its stage graph, and photon mapping's runs t
             if (int(from) == ia && int(to) == ib) return true;
         return false;
     };
-    for (const char* type :
-         {"raytracer", "path", "distributed", "light", "photon", "sppm", "ppm"}) {
-        INFO(type);
-        const RenderStats st = graph_of(type, "final_gather");
+    for (const IntegratorInfo& i : integrators()) {
+        INFO(i.name);
+        const RenderStats st = graph_of(i.name, "final_gather");
         REQUIRE(st.graph.nodes.size() >= 2);
         CHECK(st.json().find("\"graph\"") != std::string::npos);
         CHECK(st.table().find("graph node") != std::string::npos);
