@@ -1,5 +1,6 @@
 #include "integrators.h"
 
+#include "engine/transport/ao/ao.h"
 #include "engine/transport/bidir/vcm_render.h"
 #include "engine/transport/light/light_render.h"
 #include "engine/transport/path/path.h"
@@ -14,48 +15,22 @@ const std::vector<IntegratorInfo>& integrators() {
     constexpr uint32_t kPath =
         kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide;
     constexpr uint32_t kPhoton = kCapCamera | kCapIrradianceCache | kCapLightingSplit;
+    // One row per integrator: name, aliases, summary, capabilities, own parse, render.
+    // clang-format off
     static const std::vector<IntegratorInfo> table = {
-        {"raytracer",
-         {"whitted"},
-         "Whitted ray tracing (the first thesis)",
-         kCapCamera,
-         nullptr,
-         render_whitted},
+        {"raytracer", {"whitted"}, "Whitted ray tracing (the first thesis)", kCapCamera, nullptr, render_whitted},
         {"path", {}, "path tracing, NEE + MIS", kPath, nullptr, render_path},
-        {"distributed",
-         {},
-         "distributed ray tracing (Cook 1984)",
-         kCapCamera,
-         nullptr,
-         render_distributed},
+        {"distributed", {}, "distributed ray tracing (Cook 1984)", kCapCamera, nullptr, render_distributed},
         {"light", {}, "light tracing", 0, nullptr, render_light},
-        {"photon",
-         {},
-         "photon mapping: final gather, irradiance cache or direct visualisation",
-         kPhoton,
-         nullptr,
-         render_photon},
+        {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon},
         {"sppm", {}, "stochastic progressive photon mapping", 0, nullptr, render_sppm},
         {"ppm", {}, "progressive photon mapping", 0, nullptr, render_ppm},
-        {"bdpt",
-         {},
-         "bidirectional path tracing",
-         kCapBidirectional | kCapStrategyDebug,
-         nullptr,
-         render_bdpt},
-        {"bpm",
-         {},
-         "bidirectional photon mapping",
-         kCapBidirectional | kCapMerging,
-         nullptr,
-         render_bpm},
-        {"vcm",
-         {},
-         "vertex connection and merging",
-         kCapBidirectional | kCapMerging,
-         nullptr,
-         render_vcm},
+        {"bdpt", {}, "bidirectional path tracing", kCapBidirectional | kCapStrategyDebug, nullptr, render_bdpt},
+        {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
+        {"vcm", {}, "vertex connection and merging", kCapBidirectional | kCapMerging, nullptr, render_vcm},
+        {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
     };
+    // clang-format on
     return table;
 }
 
