@@ -24,8 +24,8 @@
 #include "engine/accel/intersector.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
 #include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/registry/render.h"
 
 using namespace foton;
 using namespace foton::bench;

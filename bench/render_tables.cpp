@@ -20,7 +20,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/stats.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 
 using namespace foton;
 using bench::median;

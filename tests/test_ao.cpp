@@ -9,7 +9,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

@@ -13,7 +13,7 @@
 #include "engine/film/image_io.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

@@ -15,8 +15,8 @@
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/integrators.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/integrators.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

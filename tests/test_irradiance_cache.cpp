@@ -9,8 +9,8 @@
 #include "engine/core/rng.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

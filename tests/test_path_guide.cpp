@@ -10,8 +10,8 @@
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
 #include "engine/transport/path/path_guide.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

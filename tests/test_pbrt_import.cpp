@@ -13,7 +13,7 @@
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/texture.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

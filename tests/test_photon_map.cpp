@@ -10,9 +10,9 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/registry/render.h"
 #include "test_util.h"
 
 using namespace foton;

@@ -1,4 +1,4 @@
-// The integrator table (transport/driver/integrators.h) is the one list of integrators:
+// The integrator table (transport/registry/integrators.h) is the one list of integrators:
 // names and aliases resolve, the capability wording of error messages comes from it, and the
 // scene format's documentation and the command line's help cover every row.
 #include <catch2/catch.hpp>
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/transport/driver/integrators.h"
+#include "engine/transport/registry/integrators.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -31,8 +31,8 @@ TEST_CASE("every row of the integrator table resolves, is documented and is in t
         }
         CHECK(i.render != nullptr);
         CHECK(std::string(i.summary).size() > 0);
-        CHECK(doc.str().find("`" + std::string(i.name) + "`") != std::string::npos);
-        CHECK(help.find("\n  " + std::string(i.name)) != std::string::npos);
+        CHECK(doc.str().find(std::string("`") + i.name + "`") != std::string::npos);
+        CHECK(help.find(std::string("\n  ") + i.name) != std::string::npos);
     }
     CHECK(find_integrator("no-such") == nullptr);
 }
@@ -44,7 +44,7 @@ TEST_CASE("capability wording names the rows that have it", "[registry][fast]") 
     // Adaptive sampling needs a camera integrator: the table says which.
     const std::string camera = integrators_with(kCapCamera);
     for (const IntegratorInfo& i : integrators()) {
-        const bool named = camera.find("\"" + std::string(i.name) + "\"") != std::string::npos;
+        const bool named = camera.find(std::string("\"") + i.name + "\"") != std::string::npos;
         CHECK(named == i.has(kCapCamera));
     }
 }

@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/thread_clock.h"
-#include "engine/transport/driver/stage_graph.h"
+#include "engine/transport/run/stage_graph.h"
 
 using namespace foton;
 

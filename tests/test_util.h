@@ -7,8 +7,8 @@
 
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/integrators.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/integrators.h"
+#include "engine/transport/registry/render.h"
 
 namespace foton {
 // A scene with its renderer settings typed, for tests that adjust them

@@ -9,7 +9,7 @@
 
 #include "engine/film/metrics.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/render_options.h"
+#include "engine/transport/run/render_options.h"
 
 namespace foton::app {
 

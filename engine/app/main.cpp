@@ -8,7 +8,7 @@
 
 #include "commands.h"
 #include "engine/core/error.h"
-#include "engine/transport/driver/integrators.h"
+#include "engine/transport/registry/integrators.h"
 #include "mpi_cluster.h"
 #include "scale_study.h"
 #include "serve.h"

@@ -21,7 +21,7 @@
 #include "engine/core/thread_pinning.h"
 #include "engine/film/image_io.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "image_flags.h"
 #include "interrupt.h"
 #include "json_text.h"

@@ -11,7 +11,7 @@
 #include "engine/core/error.h"
 #include "engine/film/image_io.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "json_text.h"
 
 namespace foton::app {

@@ -16,7 +16,7 @@
 #include "engine/core/params.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/render.h"
+#include "engine/transport/registry/render.h"
 #include "image_flags.h"
 #include "output_paths.h"
 #include "scale_report.h"

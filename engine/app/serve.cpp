@@ -10,7 +10,7 @@
 #include "engine/core/error.h"
 #include "engine/film/image_io.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/integrators.h"
+#include "engine/transport/registry/integrators.h"
 #include "json_text.h"
 #include "render_session.h"
 #include "web_page.h"

@@ -80,8 +80,8 @@ class StageClock {
     std::chrono::steady_clock::time_point start_;
 };
 
-// The render's stage graph as it ran (driver/stage_graph.h): its nodes, the time their bodies
-// ran summed over all runs, the items they processed, and the dependencies between them. A
+// The render's stage graph as it ran (transport/run/stage_graph.h): its nodes, the time their
+// bodies ran summed over all runs, the items they processed, and the dependencies between them. A
 // node that runs once per pass parallelises inside, so its time is wall time, unless it
 // timed its parallel chunks (the passes that run side by side do): then, like a tile node's
 // (one run per tile, on many threads at once), its time is thread time.

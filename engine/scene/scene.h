@@ -91,7 +91,7 @@ struct Scene {
     Camera camera;
     FilmSettings film;
     // The renderer's settings as written (<renderer>, with --set applied), each with its file
-    // and line: the integrators read and check them (transport/driver/render_settings.h).
+    // and line: the integrators read and check them (transport/run/render_settings.h).
     ParamSet renderer;
     std::size_t skipped_degenerate = 0;
     // Imported formats (pbrt-v4): what was read ("Shape sphere x2"), and what was left out

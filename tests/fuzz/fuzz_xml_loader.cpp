@@ -8,7 +8,7 @@
 
 #include "engine/core/error.h"
 #include "engine/scene/xml_loader.h"
-#include "engine/transport/driver/integrators.h"
+#include "engine/transport/registry/integrators.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const std::string input(reinterpret_cast<const char*>(data), size);

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/transport/driver/integrators.h"
 #include "importer.h"
 
 namespace foton::pbrt {
@@ -146,8 +145,10 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
         renderer_.set("initial_radius", std::to_string(p.real("radius", 1.f)), here, t.line);
         if (p.has("seed"))
             renderer_.set("seed", std::to_string(p.integer("seed", 0)), here, t.line);
-    } else if (find_integrator(type)) {
-        // foton's own integrators by name: their parameters are foton's renderer settings.
+    } else {
+        // foton's own integrators by name, their parameters foton's renderer settings. The
+        // scene layer does not know the integrator table: a name that is none of them fails
+        // when the settings are read, at this file and line, with the list of names.
         renderer_.set("type", type, here, t.line);
         for (const Param& q : p.params) {
             q.used = true;
@@ -155,9 +156,6 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
                 p.fail(q, "foton's renderer settings take one value");
             renderer_.set(q.name, number_text(q), q.file, q.line);
         }
-    } else {
-        fail(t, "unsupported integrator '" + type + "' (path, volpath, lighttracer, sppm, or " +
-                    "foton's: " + integrator_list() + ")");
     }
     warn_unused(p, "Integrator \"" + type + "\"");
     count("Integrator " + type);

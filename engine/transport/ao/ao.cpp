@@ -7,7 +7,7 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
-#include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/run/camera_driver.h"
 
 namespace foton {
 

@@ -4,12 +4,12 @@
 // `ao_samples` cosine-weighted rays, so a pixel is (1 / pi) times the cosine-weighted visible
 // solid angle, as pbrt-v4's "ambientocclusion" integrator computes it; camera rays that miss
 // are 0. A research aid for checking geometry and accelerators, and the example of what a new
-// integrator touches: this folder, its row in transport/driver/integrators.cpp and its source
+// integrator touches: this folder, its row in transport/registry/integrators.cpp and its source
 // line in engine/CMakeLists.txt.
 #include "engine/accel/intersector.h"
 #include "engine/core/params.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

@@ -5,7 +5,7 @@
 
 #include "engine/accel/intersector.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_settings.h"
 #include "vcm_mis.h"
 
 namespace foton {

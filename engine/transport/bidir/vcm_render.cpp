@@ -12,9 +12,9 @@
 #include "camera_subpaths.h"
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
-#include "engine/transport/driver/pass_control.h"
-#include "engine/transport/driver/pixel_owners.h"
-#include "engine/transport/driver/stage_graph.h"
+#include "engine/transport/run/pass_control.h"
+#include "engine/transport/run/pixel_owners.h"
+#include "engine/transport/run/stage_graph.h"
 #include "light_subpaths.h"
 
 namespace foton {

@@ -8,8 +8,8 @@
 // merge grid) -> camera paths, and the light paths' camera splats. A pass is `spp` iterations.
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

@@ -22,8 +22,8 @@
 #include "engine/transport/common/gather_trace.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/common/surface.h"
-#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

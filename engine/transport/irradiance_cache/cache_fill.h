@@ -15,8 +15,8 @@
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/common/camera_integrator.h"
-#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
+#include "engine/transport/run/stage_graph.h"
 
 namespace foton {
 

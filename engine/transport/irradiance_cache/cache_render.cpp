@@ -4,7 +4,7 @@
 
 #include "cache_fill.h"
 #include "engine/core/error.h"
-#include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/run/camera_driver.h"
 
 namespace foton {
 

@@ -8,9 +8,9 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/radiance_along_rays.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
-#include "engine/transport/driver/stage_graph.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
+#include "engine/transport/run/stage_graph.h"
 
 namespace foton {
 

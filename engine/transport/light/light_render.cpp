@@ -10,8 +10,8 @@
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/driver/pass_control.h"
-#include "engine/transport/driver/stage_graph.h"
+#include "engine/transport/run/pass_control.h"
+#include "engine/transport/run/stage_graph.h"
 #include "light_tracer.h"
 
 namespace foton {

@@ -4,8 +4,8 @@
 // the image is bit-identical for any thread count.
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

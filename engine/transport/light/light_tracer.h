@@ -16,7 +16,7 @@
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/wavefront.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

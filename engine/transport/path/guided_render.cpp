@@ -2,9 +2,9 @@
 
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
-#include "engine/transport/driver/camera_driver.h"
-#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/run/camera_driver.h"
+#include "engine/transport/run/stage_graph.h"
 #include "path.h"
 #include "path_guide.h"
 

@@ -11,8 +11,8 @@
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
-#include "engine/transport/driver/camera_driver.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
+#include "engine/transport/run/camera_driver.h"
 #include "path_guide.h"
 
 namespace foton {

@@ -24,9 +24,9 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/radiance_along_rays.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 
@@ -104,7 +104,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     const PathGuide* guide_ = nullptr;
 };
 
-// The table entries (driver/integrators.h): the tile driver over path tracing (with the
+// The table entries (registry/integrators.h): the tile driver over path tracing (with the
 // irradiance cache when the settings ask for it) or Cook's distributed ray tracing.
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& options);

@@ -15,10 +15,10 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/shading_point.h"
 #include "engine/transport/common/surface.h"
-#include "engine/transport/driver/render_settings.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_map.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

@@ -9,10 +9,10 @@
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/driver/camera_driver.h"
-#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
 #include "engine/transport/path/path.h"
+#include "engine/transport/run/camera_driver.h"
+#include "engine/transport/run/stage_graph.h"
 #include "photon_integrator.h"
 #include "photon_tracer.h"
 

@@ -4,8 +4,8 @@
 // global tree feeds the precomputed irradiance, and all of it feeds the camera pass.
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

@@ -15,11 +15,11 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
-#include "engine/transport/driver/pass_control.h"
-#include "engine/transport/driver/pixel_owners.h"
-#include "engine/transport/driver/stage_graph.h"
 #include "engine/transport/photon/photon_tracer.h"
 #include "engine/transport/photon/sppm_visible.h"
+#include "engine/transport/run/pass_control.h"
+#include "engine/transport/run/pixel_owners.h"
+#include "engine/transport/run/stage_graph.h"
 
 namespace foton {
 

@@ -11,8 +11,8 @@
 //         anti-aliased and glossy-correct in the limit;
 //   ppm:  the visible points of the first pass are kept.
 #include "engine/accel/intersector.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

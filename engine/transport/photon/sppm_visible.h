@@ -10,7 +10,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 

@@ -8,7 +8,7 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/wavefront.h"
-#include "engine/transport/driver/camera_driver.h"
+#include "engine/transport/run/camera_driver.h"
 
 namespace foton {
 

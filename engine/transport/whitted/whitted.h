@@ -12,8 +12,8 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/shading_point.h"
 #include "engine/transport/common/surface.h"
-#include "engine/transport/driver/render_options.h"
-#include "engine/transport/driver/render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 
@@ -62,7 +62,7 @@ class WhittedIntegrator : public CameraIntegrator {
     bool sampled_lights_ = false;     // area lights, emissive objects or an environment
 };
 
-// The table entry (driver/integrators.h): the tile driver over this integrator.
+// The table entry (registry/integrators.h): the tile driver over this integrator.
 RenderResult render_whitted(const Scene& scene, const RenderSettings& settings,
                             const Intersector& accel, const RenderOptions& options);
 

@@ -7,9 +7,9 @@
 // bit-identical for any thread count.
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 #include "integrators.h"
-#include "render_options.h"
-#include "render_settings.h"
 
 namespace foton {
 

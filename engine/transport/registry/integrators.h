@@ -9,8 +9,8 @@
 
 #include "engine/accel/intersector.h"
 #include "engine/scene/scene.h"
-#include "render_options.h"
-#include "render_settings.h"
+#include "engine/transport/run/render_options.h"
+#include "engine/transport/run/render_settings.h"
 
 namespace foton {
 
