@@ -3,10 +3,12 @@
 #include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <iterator>
 #include <set>
 #include <vector>
 
 #include "engine/core/halton.h"
+#include "engine/core/rng_streams.h"
 #include "engine/core/sampler.h"
 #include "engine/core/sobol.h"
 #include "engine/core/zsobol.h"
@@ -360,4 +362,11 @@ TEST_CASE("zsobol: pairs are uncorrelated and uniform, and neighbours' errors ca
             CHECK(sobol_ratio < 1.3);
             CHECK(z_ratio < 0.3 * sobol_ratio);
         }
+}
+
+TEST_CASE("random stream keys are distinct", "[sampler][fast]") {
+    // Two users of one key would draw the same numbers (core/rng_streams.h).
+    std::set<uint64_t> keys;
+    for (RandomStream s : kAllRandomStreams) CHECK(keys.insert(uint64_t(s)).second);
+    CHECK(keys.size() == std::size(kAllRandomStreams));
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
@@ -12,8 +13,6 @@
 namespace foton {
 
 namespace {
-
-constexpr uint64_t kAoStream = 0xa0;
 
 // The row's parse leaves AoSettings in `own`; settings made by hand (tests) take the defaults.
 AoSettings own_settings(const RenderSettings& settings) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "engine/accel/intersector.h"
+#include "engine/core/rng_streams.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/run/render_settings.h"
 #include "vcm_mis.h"
@@ -11,8 +12,6 @@
 namespace foton {
 
 // The random streams of the bidirectional integrators.
-inline constexpr uint64_t kBidirLightStream = 0xb1d1;
-inline constexpr uint64_t kBidirCameraStream = 0xb1d2;
 
 struct VcmContext {
     const Scene& scene;

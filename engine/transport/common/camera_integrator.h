@@ -10,6 +10,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
 #include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
 #include "engine/core/sampler.h"
 #include "engine/core/stats.h"
 #include "engine/core/zsobol.h"
@@ -24,15 +25,6 @@ struct SampleJob {
     uint32_t x = 0, y = 0;
     uint32_t pat_i = 0, pat_n = 1, pat_round = 0;
     uint64_t id = 0;
-};
-
-// The streams of counter-based randomness used by the renderers.
-enum RandomStream : uint64_t {
-    kPixelStream = 1,
-    kLightStream = 2,
-    kPathStream = 3,
-    kLightPathStream = 4,
-    kLensStream = 5,
 };
 
 // What keys a pixel's pattern in a round (and, with the Sobol' sampler, every dimension

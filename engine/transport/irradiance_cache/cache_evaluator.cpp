@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
 
@@ -19,7 +20,6 @@ CacheParams cache_params(const CacheSettings& s) {
     return p;
 }
 
-constexpr uint64_t kCacheStream = 0x1cac;
 // Random dimensions of a record ray's hit: light choice, light position (3).
 constexpr uint32_t kDimLight = 0;
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/core/halton.h"
+#include "engine/core/rng_streams.h"
 #include "engine/core/sobol.h"
 #include "engine/core/warp.h"
 #include "engine/core/zsobol.h"
@@ -22,8 +23,6 @@ namespace {
 // Russian roulette. The distributed tracer's shadow samples use their own keyed streams.
 constexpr uint32_t kDimsPerBounce = 8;
 constexpr uint32_t kDimLightSelect = 0, kDimLight = 1, kDimBsdf = 4, kDimRoulette = 7;
-// The cache's vertex chooses between a delta and the diffuse part on a stream of its own.
-constexpr uint64_t kChoiceStream = 0xc401;
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& settings,
@@ -83,7 +82,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // stops here, each chosen with its lobes' probability and weighted by its inverse.
     if (m.bsdf.has_delta()) {
         const float p_delta = m.bsdf.selection_probability(kSpecular);
-        if (rng::uniform(seed_, kChoiceStream, key, depth) < p_delta) {
+        if (rng::uniform(seed_, kCacheVertexChoiceStream, key, depth) < p_delta) {
             const BsdfContext ctx{sp.front_face, Transport::Radiance};
             BsdfSample bs;
             if (!m.bsdf.sample(wo, rand(ws, slot, depth, kDimBsdf),
@@ -108,8 +107,9 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
                       rand2(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
     if (!rho.is_black())
-        cache_->queue_lookup(sp, frame, beta * rho * kInvPi, slot, rng::hash(key, depth, 0x1cac, 0),
-                             ws.path_length[slot], ws.cache);
+        cache_->queue_lookup(sp, frame, beta * rho * kInvPi, slot,
+                             rng::hash(key, depth, kCacheStream, 0), ws.path_length[slot],
+                             ws.cache);
     return true;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/core/rng_streams.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/gather_trace.h"
 #include "engine/transport/common/next_event.h"
@@ -67,7 +68,7 @@ void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspac
     if (cache_ && m.bsdf.lambert_albedo(rho)) {
         if (!rho.is_black())
             cache_->queue_lookup(sp, frame, weight * rho * kInvPi, slot,
-                                 rng::hash(v.key, v.depth, 0x1cac, 0), ws.path_length[slot],
+                                 rng::hash(v.key, v.depth, kCacheStream, 0), ws.path_length[slot],
                                  ws.cache);
         return;
     }
@@ -124,7 +125,7 @@ void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace&
     const uint32_t n = ps.gather_rays;
     if (n == 0 || maps_.global.empty()) return;
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
-    const uint64_t key = rng::hash(v.key, v.depth, 0x6a7, 0);
+    const uint64_t key = rng::hash(v.key, v.depth, kPhotonGatherStream, 0);
     // Guided gathering on diffuse surfaces: the histogram of the indirect photons here (the
     // direct ones point at the lights, whose emission the gather hits do not count).
     bool guided = false;

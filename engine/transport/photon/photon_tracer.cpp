@@ -7,6 +7,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/rng_streams.h"
 #include "engine/core/thread_clock.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
@@ -16,7 +17,6 @@
 namespace foton {
 
 namespace {
-constexpr uint64_t kPhotonStream = 16;
 constexpr uint32_t kChunk = 4096;
 // Surfaces a shadow photon's line is followed through beyond its first hit.
 constexpr int kShadowCrossings = 8;

@@ -4,13 +4,10 @@
 #include <optional>
 
 #include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
 #include "engine/transport/common/surface.h"
 
 namespace foton {
-
-namespace {
-constexpr uint64_t kSppmStream = 32;
-}  // namespace
 
 float VisiblePoints::rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
     return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
