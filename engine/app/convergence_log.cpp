@@ -1,6 +1,7 @@
 #include "convergence_log.h"
 
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "engine/film/image_io.h"
 
@@ -52,15 +53,18 @@ std::string ConvergenceLog::csv() const {
     return out;
 }
 
-std::string ConvergenceLog::json() const {
-    std::string out = "[";
-    for (std::size_t i = 0; i < points_.size(); ++i)
-        out += (i ? ",\n    " : "\n    ") +
-               row(points_[i],
-                   "{\"passes\": %u, \"seconds\": %.9g, \"cpu_seconds\": %.9g, \"spp\": %.9g, "
-                   "\"rmse\": %.9g, \"relative_mse\": %.9g, \"mae\": %.9g, "
-                   "\"bias\": [%.9g, %.9g, %.9g]}");
-    return out + (points_.empty() ? "]" : "\n  ]");
+nlohmann::ordered_json ConvergenceLog::json() const {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const ConvergencePoint& p : points_)
+        out.push_back({{"passes", p.pass.passes},
+                       {"seconds", p.pass.seconds},
+                       {"cpu_seconds", p.pass.cpu_seconds},
+                       {"spp", p.pass.spp},
+                       {"rmse", p.error.rmse},
+                       {"relative_mse", p.error.relative_mse},
+                       {"mae", p.error.mae},
+                       {"bias", {p.bias.r, p.bias.g, p.bias.b}}});
+    return out;
 }
 
 }  // namespace foton::app

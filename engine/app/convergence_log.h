@@ -3,6 +3,7 @@
 // against a reference, with the pass's wall time, CPU time and samples; written as CSV and
 // into the stats JSON, so error-vs-time curves of several methods can be drawn
 // (bench/plot_convergence).
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,7 +32,7 @@ class ConvergenceLog {
     // One row per pass: passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,...
     std::string csv() const;
     // The same rows as a JSON array of objects.
-    std::string json() const;
+    nlohmann::ordered_json json() const;
 
   private:
     Film reference_;

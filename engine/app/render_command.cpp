@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include <unistd.h>
@@ -24,7 +25,6 @@
 #include "engine/transport/registry/render.h"
 #include "image_flags.h"
 #include "interrupt.h"
-#include "json_text.h"
 #include "kernels/simd.h"
 #include "mpi_cluster.h"
 #include "output_paths.h"
@@ -86,29 +86,28 @@ std::string host_name() {
 }
 
 // Rank 0 gets every rank's counters (merged into `stats`) and each rank's own statistics, as
-// a JSON list; "" in one process. Collective.
-std::string gather_rank_stats(const Cluster& ranks, RenderStats& stats) {
-    if (!ranks.distributed()) return {};
+// a JSON list; null in one process. Collective.
+nlohmann::ordered_json gather_rank_stats(const Cluster& ranks, RenderStats& stats) {
+    if (!ranks.distributed()) return nullptr;
     const std::string own_text =
-        stats.json({{"rank", std::to_string(ranks.rank())},
-                    {"host", json_string(host_name())},
-                    {"mpi_bytes_moved", std::to_string(ranks.bytes_moved())},
-                    {"mpi_collective_seconds", format_number(ranks.collective_seconds())}});
+        stats.json({{"rank", ranks.rank()},
+                    {"host", host_name()},
+                    {"mpi_bytes_moved", ranks.bytes_moved()},
+                    {"mpi_collective_seconds", ranks.collective_seconds()}});
     Bytes mine;
     pack_counters(mine, stats);
     pack(mine, std::vector<char>(own_text.begin(), own_text.end()));
     const std::vector<Bytes> parts = ranks.gather(mine);
-    std::string list;
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (std::size_t r = 0; r < parts.size(); ++r) {
         Unpacker in(parts[r]);
         const RenderStats counters = unpack_counters(in);
         if (r > 0) stats.merge(counters);
         std::vector<char> text;
         in.append(text);
-        list.append(r ? ", " : "[");
-        list.append(text.begin(), text.end());
+        list.push_back(nlohmann::ordered_json::parse(text.begin(), text.end()));
     }
-    return list + "]";
+    return list;
 }
 
 }  // namespace
@@ -298,7 +297,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     line.reset();
     display.reset();  // the last pass's image reaches the viewer
     res.stats.build_seconds = build;
-    const std::string rank_stats = gather_rank_stats(ranks, res.stats);
+    const nlohmann::ordered_json rank_stats = gather_rank_stats(ranks, res.stats);
     set_rank_phase(RankPhase::Local);
     if (!root) return interrupted ? kExitInterrupted : 0;
 
@@ -328,30 +327,30 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (!args.stats_json.empty()) {
         std::ofstream js(args.stats_json);
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
-        std::vector<std::pair<std::string, std::string>> run = {
-            {"version", json_string(FOTON_VERSION)},
-            {"git_commit", json_string(git_commit())},
-            {"scene", json_string(args.scene)},
-            {"integrator", json_string(rs.integrator)},
-            {"accelerator", json_string(accel->name())},
-            {"width", std::to_string(scene.film.width)},
-            {"height", std::to_string(scene.film.height)},
-            {"spp_mean", format_number(spp_mean)},
-            {"seed", std::to_string(opt.seed)},
-            {"threads_requested", std::to_string(opt.threads)},
-            {"cpu", json_string(cpu_topology().model)},
-            {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
-            {"simd", json_string(std::string(simd::Arch::name()))},
-            {"simd_width", std::to_string(simd::kWidth)},
-            {"mpi_ranks", std::to_string(ranks.size())},
-            {"pinned", args.pin ? "true" : "false"},
+        nlohmann::ordered_json run = {
+            {"version", FOTON_VERSION},
+            {"git_commit", git_commit()},
+            {"scene", args.scene},
+            {"integrator", rs.integrator},
+            {"accelerator", accel->name()},
+            {"width", scene.film.width},
+            {"height", scene.film.height},
+            {"spp_mean", spp_mean},
+            {"seed", opt.seed},
+            {"threads_requested", opt.threads},
+            {"cpu", cpu_topology().model},
+            {"hardware_threads", std::thread::hardware_concurrency()},
+            {"simd", simd::Arch::name()},
+            {"simd_width", simd::kWidth},
+            {"mpi_ranks", ranks.size()},
+            {"pinned", args.pin},
         };
         // Across ranks: the counters above are every rank's summed, times are rank 0's,
         // and each rank's own statistics follow.
-        if (ranks.distributed()) run.push_back({"ranks", rank_stats});
+        if (ranks.distributed()) run["ranks"] = rank_stats;
         if (convergence) {
-            run.push_back({"reference", json_string(args.reference)});
-            run.push_back({"convergence", convergence->json()});
+            run["reference"] = args.reference;
+            run["convergence"] = convergence->json();
         }
         js << res.stats.json(run);
     }

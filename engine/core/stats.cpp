@@ -1,5 +1,7 @@
 #include "stats.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 
 namespace foton {
@@ -123,65 +125,63 @@ std::string RenderStats::table() const {
     return s;
 }
 
-std::string RenderStats::json(const std::vector<std::pair<std::string, std::string>>& run) const {
-    char buf[4096];
-    std::string s = "{\n  \"schema_version\": 2,\n";
-    for (const auto& [key, value] : run) s += "  \"" + key + "\": " + value + ",\n";
-    std::snprintf(
-        buf, sizeof buf,
-        "  \"threads\": %d,\n  \"build_seconds\": %.6f,\n  \"wall_seconds\": %.6f,\n"
-        "  \"camera_rays\": %llu,\n  \"secondary_rays\": %llu,\n  \"shadow_rays\": %llu,\n"
-        "  \"rays_per_second\": %.6g,\n  \"samples\": %llu,\n  \"passes\": %u,\n"
-        "  \"samples_per_second\": %.6g,\n  \"triangle_tests\": %llu,\n"
-        "  \"sphere_tests\": %llu,\n  \"grid_cells\": %llu,\n  \"bvh_nodes\": %llu,\n"
-        "  \"instance_visits\": %llu,\n"
-        "  \"cache_records\": %llu,\n  \"cache_stored\": %llu,\n  \"cache_lookups\": %llu,\n"
-        "  \"cache_interpolated\": %llu,\n  \"cache_visibility_rejections\": %llu,\n"
-        "  \"cache_fill_seconds\": %.6f,\n  \"photon_seconds\": %.6f,\n"
-        "  \"photons_global\": %llu,\n  \"photons_caustic\": %llu,\n"
-        "  \"shadow_rays_saved\": %llu,\n  \"cache_candidates\": %llu,\n"
-        "  \"cache_used\": %llu,\n  \"cache_visibility_tests\": %llu,\n"
-        "  \"stages\": {\n",
-        threads, build_seconds, wall_seconds, (unsigned long long)camera_rays,
-        (unsigned long long)secondary_rays, (unsigned long long)shadow_rays,
-        wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0, (unsigned long long)samples,
-        passes, wall_seconds > 0 ? double(samples) / wall_seconds : 0.0,
-        (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
-        (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
-        (unsigned long long)trace.instance_visits, (unsigned long long)cache_records,
-        (unsigned long long)cache_stored, (unsigned long long)cache.lookups,
-        (unsigned long long)cache.interpolated, (unsigned long long)cache.visibility_rejections,
-        cache_fill_seconds, photon_seconds, (unsigned long long)photons_global,
-        (unsigned long long)photons_caustic, (unsigned long long)shadow_rays_saved,
-        (unsigned long long)cache.candidates, (unsigned long long)cache.used,
-        (unsigned long long)cache.visibility_tests);
-    s += buf;
-    for (int i = 0; i < kNumStages; ++i) {
-        std::snprintf(buf, sizeof buf,
-                      "    \"%s\": {\"thread_seconds\": %.6f, \"items\": %llu}%s\n",
-                      stage_name(Stage(i)), stage_seconds[i], (unsigned long long)stage_items[i],
-                      i + 1 < kNumStages ? "," : "");
-        s += buf;
-    }
-    s += "  },\n  \"graph\": {\n    \"nodes\": [";
-    for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
-        const GraphStats::Node& n = graph.nodes[i];
-        std::snprintf(buf, sizeof buf,
-                      "%s\n      {\"name\": \"%s\", \"busy_seconds\": %.6f, \"items\": %llu, "
-                      "\"runs\": %llu, \"time\": \"%s\"}",
-                      i ? "," : "", n.name.c_str(), n.busy_seconds, (unsigned long long)n.items,
-                      (unsigned long long)n.runs, n.thread_time ? "thread" : "wall");
-        s += buf;
-    }
-    s += "\n    ],\n    \"edges\": [";
-    for (std::size_t i = 0; i < graph.edges.size(); ++i) {
-        std::snprintf(buf, sizeof buf, "%s[\"%s\", \"%s\"]", i ? ", " : "",
-                      graph.nodes[graph.edges[i].first].name.c_str(),
-                      graph.nodes[graph.edges[i].second].name.c_str());
-        s += buf;
-    }
-    s += "]\n  }\n}\n";
-    return s;
+nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& run) const {
+    using J = nlohmann::ordered_json;
+    J j;
+    j["schema_version"] = 2;
+    for (const auto& [key, value] : run.items()) j[key] = value;
+    j["threads"] = threads;
+    j["build_seconds"] = build_seconds;
+    j["wall_seconds"] = wall_seconds;
+    j["camera_rays"] = camera_rays;
+    j["secondary_rays"] = secondary_rays;
+    j["shadow_rays"] = shadow_rays;
+    j["rays_per_second"] = wall_seconds > 0 ? double(total_rays()) / wall_seconds : 0.0;
+    j["samples"] = samples;
+    j["passes"] = passes;
+    j["samples_per_second"] = wall_seconds > 0 ? double(samples) / wall_seconds : 0.0;
+    j["triangle_tests"] = trace.triangle_tests;
+    j["sphere_tests"] = trace.sphere_tests;
+    j["grid_cells"] = trace.cells;
+    j["bvh_nodes"] = trace.bvh_nodes;
+    j["instance_visits"] = trace.instance_visits;
+    j["cache_records"] = cache_records;
+    j["cache_stored"] = cache_stored;
+    j["cache_lookups"] = cache.lookups;
+    j["cache_interpolated"] = cache.interpolated;
+    j["cache_visibility_rejections"] = cache.visibility_rejections;
+    j["cache_fill_seconds"] = cache_fill_seconds;
+    j["photon_seconds"] = photon_seconds;
+    j["photons_global"] = photons_global;
+    j["photons_caustic"] = photons_caustic;
+    j["shadow_rays_saved"] = shadow_rays_saved;
+    j["cache_candidates"] = cache.candidates;
+    j["cache_used"] = cache.used;
+    j["cache_visibility_tests"] = cache.visibility_tests;
+    J stages = J::object();
+    for (int i = 0; i < kNumStages; ++i)
+        stages[stage_name(Stage(i))] = {{"thread_seconds", stage_seconds[i]},
+                                        {"items", stage_items[i]}};
+    j["stages"] = std::move(stages);
+    J nodes = J::array(), edges = J::array();
+    for (const GraphStats::Node& n : graph.nodes)
+        nodes.push_back({{"name", n.name},
+                         {"busy_seconds", n.busy_seconds},
+                         {"items", n.items},
+                         {"runs", n.runs},
+                         {"time", n.thread_time ? "thread" : "wall"}});
+    for (const auto& [from, to] : graph.edges)
+        edges.push_back({graph.nodes[from].name, graph.nodes[to].name});
+    j["graph"] = {{"nodes", std::move(nodes)}, {"edges", std::move(edges)}};
+    return j;
+}
+
+std::string RenderStats::json(const nlohmann::ordered_json& run) const {
+    return json_object(run).dump(2) + "\n";
+}
+
+std::string RenderStats::json() const {
+    return json(nlohmann::ordered_json::object());
 }
 
 }  // namespace foton

@@ -3,6 +3,7 @@
 // fills its own RenderStats; they are merged once at the end, so counting costs no atomics.
 #include <chrono>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -154,8 +155,11 @@ struct RenderStats {
     }
     uint64_t total_rays() const { return camera_rays + secondary_rays + shadow_rays; }
     std::string table() const;  // human-readable, for --stats
-    // For --stats-json; `run` are the run's own fields (key, JSON value), written first.
-    std::string json(const std::vector<std::pair<std::string, std::string>>& run = {}) const;
+    // For --stats-json: the run's own fields (`run`, an object) first, then the counters, the
+    // stage table and the graph. json() is its text.
+    nlohmann::ordered_json json_object(const nlohmann::ordered_json& run) const;
+    std::string json() const;
+    std::string json(const nlohmann::ordered_json& run) const;
 };
 
 }  // namespace foton
