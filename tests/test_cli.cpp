@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/stats.h"
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "test_util.h"
@@ -456,4 +457,16 @@ TEST_CASE("foton render --preview writes the tone-mapped image as PNG, JPEG or B
     CHECK(run("render " + scene + " --width 8 --height 8 --spp 1 -q -o " + dir.file("x.exr") +
               " --preview tiff")
               .code == 2);
+}
+
+TEST_CASE("statistics JSON escapes every string and survives invalid UTF-8", "[cli][fast]") {
+    foton::RenderStats st;
+    st.camera_rays = 7;
+    const std::string text =
+        st.json({{"scene", "a \"quoted\" \\ path\n"}, {"bytes", std::string("bad \xff utf-8")}});
+    const nlohmann::json j = nlohmann::json::parse(text);
+    CHECK(j["scene"] == "a \"quoted\" \\ path\n");
+    CHECK(j["camera_rays"] == 7);
+    CHECK(j["schema_version"] == 2);
+    CHECK(j["bytes"].get<std::string>().rfind("bad ", 0) == 0);
 }

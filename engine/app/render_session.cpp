@@ -1,6 +1,7 @@
 #include "render_session.h"
 
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +13,6 @@
 #include "engine/film/image_io.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
-#include "json_text.h"
 
 namespace foton::app {
 
@@ -117,22 +117,20 @@ void RenderSession::run(SessionRequest req) {
 
 std::string RenderSession::status_json() const {
     std::lock_guard lock(mutex_);
-    std::string out = "{\"state\": " + json_string(state_);
-    out += ", \"scene\": " + json_string(scene_name_);
-    out += ", \"message\": " + json_string(message_);
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  ", \"passes\": %u, \"seconds\": %.6g, \"spp\": %.6g, \"rays_per_second\": %.6g"
-                  ", \"width\": %d, \"height\": %d",
-                  passes_, seconds_, spp_, rays_per_second_, width_, height_);
-    out += buf;
-    if (const std::optional<Progress::View> v = progress_.view(); v && state_ == "running") {
-        std::snprintf(buf, sizeof buf, ", \"progress\": {\"fraction\": %.6g, \"eta\": %.6g, ",
-                      v->fraction, v->eta);
-        out += buf + std::string("\"task\": ") + json_string(v->name) + "}";
-    }
-    out += ", \"stats\": " + json_string(stats_table_) + "}";
-    return out;
+    nlohmann::ordered_json j = {{"state", state_},
+                                {"scene", scene_name_},
+                                {"message", message_},
+                                {"passes", passes_},
+                                {"seconds", seconds_},
+                                {"spp", spp_},
+                                {"rays_per_second", rays_per_second_},
+                                {"width", width_},
+                                {"height", height_}};
+    if (const std::optional<Progress::View> v = progress_.view(); v && state_ == "running")
+        j["progress"] = {{"fraction", v->fraction}, {"eta", v->eta}, {"task", v->name}};
+    j["stats"] = stats_table_;
+    // Invalid UTF-8 (a file name, a message quoting a file) is replaced, never thrown.
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::optional<Film> RenderSession::image(float& exposure, float& gamma) const {

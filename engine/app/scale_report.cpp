@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include <embree3/rtcore_config.h>
 #include <tbb/version.h>
 
 #include "build_info.h"
-#include "json_text.h"
 #include "kernels/simd.h"
 
 namespace foton::app {
@@ -105,67 +105,67 @@ std::string scale_markdown(const ScaleStudy& s) {
 }
 
 std::string scale_json(const ScaleStudy& s, const CpuTopology& m) {
-    std::string j = "{\n  \"schema\": \"foton-scale\",\n  \"schema_version\": 1,\n";
-    j += "  \"machine\": {\"cpu\": " + json_string(m.model) +
-         ", \"sockets\": " + std::to_string(m.sockets) + ", \"cores\": " + std::to_string(m.cores) +
-         ", \"logical_cpus\": " + std::to_string(m.logical) +
-         ", \"threads_per_core\": " + std::to_string(m.threads_per_core) +
-         ", \"numa_nodes\": " + std::to_string(m.numa_nodes) +
-         ", \"simd\": " + json_string(simd::Arch::name()) +
-         ", \"simd_width\": " + std::to_string(simd::kWidth) + "},\n";
-    j += "  \"build\": {\"version\": " + json_string(FOTON_VERSION) +
-         ", \"git_commit\": " + json_string(git_commit()) +
-         ", \"compiler\": " + json_string(compiler()) +
-         ", \"onetbb\": " + json_string(TBB_VERSION_STRING) +
-         ", \"embree\": " + json_string(RTC_VERSION_STRING) + "},\n";
-    j += "  \"scene\": {\"path\": " + json_string(s.args.scene) +
-         ", \"fnv1a\": " + json_string(hex(s.scene_hash)) + "},\n";
-    j += "  \"settings\": {\"integrator\": " + json_string(s.integrator) +
-         ", \"renderer\": " + json_string(s.settings) +
-         ", \"accelerator\": " + json_string(s.accel) + ", \"width\": " + std::to_string(s.width) +
-         ", \"height\": " + std::to_string(s.height) + ", \"mode\": " + json_string(mode(s)) +
-         ", \"time\": " + (s.args.time ? fmt("%g", *s.args.time) : "null") +
-         ", \"repeats\": " + std::to_string(s.args.repeats) +
-         ", \"pinned\": " + (s.args.pin ? "true" : "false") +
-         ", \"command_line\": " + json_string(s.args.command_line) + "},\n";
-    j += "  \"images_identical\": " +
-         std::string(s.images_identical ? (*s.images_identical ? "true" : "false") : "null") +
-         ",\n";
-    j += "  \"worst_stage\": " + (s.worst_stage.empty() ? "null" : json_string(s.worst_stage)) +
-         ",\n";
+    using J = nlohmann::ordered_json;
     auto stages = [](const std::vector<std::pair<std::string, double>>& v) {
-        std::string o = "{";
-        for (std::size_t i = 0; i < v.size(); ++i)
-            o += (i ? ", " : "") + json_string(v[i].first) + ": " + fmt("%.6g", v[i].second);
-        return o + "}";
+        J o = J::object();
+        for (const auto& [name, value] : v) o[name] = value;
+        return o;
     };
-    j += "  \"points\": [";
-    for (std::size_t i = 0; i < s.points.size(); ++i) {
-        const ScalePoint& p = s.points[i];
-        j += std::string(i ? "," : "") + "\n    {\"threads\": " + std::to_string(p.threads) +
-             ", \"wall_median\": " + fmt("%.6g", p.wall_median) +
-             ", \"wall_min\": " + fmt("%.6g", p.wall_min) +
-             ", \"wall_max\": " + fmt("%.6g", p.wall_max) +
-             ", \"samples_per_second\": " + fmt("%.6g", p.rate) +
-             ", \"speedup\": " + fmt("%.6g", p.speedup) +
-             ", \"efficiency\": " + fmt("%.6g", p.efficiency) +
-             ", \"karp_flatt\": " + fmt("%.6g", p.karp_flatt) +
-             ",\n     \"stage_thread_seconds\": " + stages(p.stage_thread_seconds) +
-             ",\n     \"stage_efficiency\": " + stages(p.stage_efficiency) + "}";
-    }
-    j += "\n  ],\n  \"runs\": [";
-    for (std::size_t i = 0; i < s.runs.size(); ++i) {
-        const ScaleRun& r = s.runs[i];
-        j += std::string(i ? "," : "") + "\n    {\"threads\": " + std::to_string(r.threads) +
-             ", \"repeat\": " + std::to_string(r.repeat) +
-             ", \"wall_seconds\": " + fmt("%.6g", r.wall_seconds) +
-             ", \"build_seconds\": " + fmt("%.6g", r.build_seconds) +
-             ", \"samples\": " + std::to_string(r.samples) +
-             ", \"passes\": " + std::to_string(r.passes) +
-             ", \"image_fnv1a\": " + json_string(hex(r.image_hash)) +
-             ",\n     \"stage_thread_seconds\": " + stages(r.stage_thread_seconds) + "}";
-    }
-    return j + "\n  ]\n}\n";
+    J j;
+    j["schema"] = "foton-scale";
+    j["schema_version"] = 1;
+    j["machine"] = {{"cpu", m.model},
+                    {"sockets", m.sockets},
+                    {"cores", m.cores},
+                    {"logical_cpus", m.logical},
+                    {"threads_per_core", m.threads_per_core},
+                    {"numa_nodes", m.numa_nodes},
+                    {"simd", simd::Arch::name()},
+                    {"simd_width", simd::kWidth}};
+    j["build"] = {{"version", FOTON_VERSION},
+                  {"git_commit", git_commit()},
+                  {"compiler", compiler()},
+                  {"onetbb", TBB_VERSION_STRING},
+                  {"embree", RTC_VERSION_STRING}};
+    j["scene"] = {{"path", s.args.scene}, {"fnv1a", hex(s.scene_hash)}};
+    j["settings"] = {{"integrator", s.integrator},
+                     {"renderer", s.settings},
+                     {"accelerator", s.accel},
+                     {"width", s.width},
+                     {"height", s.height},
+                     {"mode", mode(s)},
+                     {"time", s.args.time ? J(*s.args.time) : J(nullptr)},
+                     {"repeats", s.args.repeats},
+                     {"pinned", s.args.pin},
+                     {"command_line", s.args.command_line}};
+    j["images_identical"] = s.images_identical ? J(*s.images_identical) : J(nullptr);
+    j["worst_stage"] = s.worst_stage.empty() ? J(nullptr) : J(s.worst_stage);
+    J points = J::array();
+    for (const ScalePoint& p : s.points)
+        points.push_back({{"threads", p.threads},
+                          {"wall_median", p.wall_median},
+                          {"wall_min", p.wall_min},
+                          {"wall_max", p.wall_max},
+                          {"samples_per_second", p.rate},
+                          {"speedup", p.speedup},
+                          {"efficiency", p.efficiency},
+                          {"karp_flatt", p.karp_flatt},
+                          {"stage_thread_seconds", stages(p.stage_thread_seconds)},
+                          {"stage_efficiency", stages(p.stage_efficiency)}});
+    j["points"] = std::move(points);
+    J runs = J::array();
+    for (const ScaleRun& r : s.runs)
+        runs.push_back({{"threads", r.threads},
+                        {"repeat", r.repeat},
+                        {"wall_seconds", r.wall_seconds},
+                        {"build_seconds", r.build_seconds},
+                        {"samples", r.samples},
+                        {"passes", r.passes},
+                        {"image_fnv1a", hex(r.image_hash)},
+                        {"stage_thread_seconds", stages(r.stage_thread_seconds)}});
+    j["runs"] = std::move(runs);
+    // Invalid UTF-8 (a file name) is replaced, never thrown.
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string scale_svg(const ScaleStudy& s) {

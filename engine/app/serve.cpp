@@ -1,6 +1,7 @@
 #include "serve.h"
 
 #include <httplib.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -11,7 +12,6 @@
 #include "engine/film/image_io.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/registry/integrators.h"
-#include "json_text.h"
 #include "render_session.h"
 #include "web_page.h"
 
@@ -64,25 +64,21 @@ int run_serve(const ServeArgs& args) {
         res.set_content(kWebPage, "text/html; charset=utf-8");
     });
     server.Get("/api/options", [&](const httplib::Request&, httplib::Response& res) {
-        std::string out = "{\"scenes\": [";
-        bool first = true;
-        for (const auto& [name, path] : scenes) {
-            out += (first ? "" : ", ") + json_string(name);
-            first = false;
-        }
-        out += "], \"integrators\": [";
-        first = true;
-        for (const IntegratorInfo& i : integrators()) {
-            out += (first ? "" : ", ") + json_string(i.name);
-            first = false;
-        }
-        out += "], \"accelerators\": [\"bvh\", \"embree\", \"grid\", \"brute-simd\", \"brute\"]}";
-        res.set_content(out, "application/json");
+        nlohmann::ordered_json out = {
+            {"scenes", nlohmann::ordered_json::array()},
+            {"integrators", nlohmann::ordered_json::array()},
+            {"accelerators", {"bvh", "embree", "grid", "brute-simd", "brute"}}};
+        for (const auto& [name, path] : scenes) out["scenes"].push_back(name);
+        for (const IntegratorInfo& i : integrators()) out["integrators"].push_back(i.name);
+        res.set_content(out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                        "application/json");
     });
     server.Post("/api/render", [&](const httplib::Request& req, httplib::Response& res) {
         auto fail = [&](const std::string& message) {
             res.status = 400;
-            res.set_content("{\"error\": " + json_string(message) + "}", "application/json");
+            res.set_content(nlohmann::json{{"error", message}}.dump(
+                                -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            "application/json");
         };
         const auto scene = scenes.find(req.get_param_value("scene"));
         if (scene == scenes.end())
@@ -121,7 +117,9 @@ int run_serve(const ServeArgs& args) {
         std::string error;
         if (!session.start(r, error)) {
             res.status = 409;
-            res.set_content("{\"error\": " + json_string(error) + "}", "application/json");
+            res.set_content(nlohmann::json{{"error", error}}.dump(
+                                -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            "application/json");
             return;
         }
         res.set_content("{\"started\": true}", "application/json");

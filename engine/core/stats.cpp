@@ -177,7 +177,8 @@ nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& ru
 }
 
 std::string RenderStats::json(const nlohmann::ordered_json& run) const {
-    return json_object(run).dump(2) + "\n";
+    // Invalid UTF-8 (a file name) is replaced, never thrown.
+    return json_object(run).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string RenderStats::json() const {
