@@ -29,6 +29,7 @@
 #include "mpi_cluster.h"
 #include "output_paths.h"
 #include "progress_line.h"
+#include "render_job.h"
 #include "scene_flags.h"
 #include "tev_display.h"
 
@@ -43,13 +44,6 @@ std::string exact_text(float v) {
     char buf[32];
     const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
     return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
-}
-
-// Shortest decimal form (%.6g): 16, 24.5.
-std::string format_number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
 }
 
 // The image with every directly visible first-level cache record drawn as a white pixel (the
@@ -196,46 +190,11 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
         if (!args.cache_points.empty())
             check_writable(args.cache_points, "--cache-points", args.scene);
     }
-    const char* integrator = rs.integrator.c_str();
-    const std::string settings = settings_text(scene);
+    const JobRecord job{args.scene, args.command_line};
     auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
-        char secs[32];
-        std::snprintf(secs, sizeof secs, "%.3f", seconds);
-        std::string method = integrator;
-        if (rs.integrator == "path")
-            method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) +
-                                   (rs.mis == MisHeuristic::Power && rs.mis_beta != 2.f
-                                        ? " beta=" + format_number(rs.mis_beta)
-                                        : std::string())
-                             : " bsdf-only";
-        return ImageAttributes{
-            {"foton:scene", args.scene},
-            {"foton:integrator", method},
-            // What a pixel's value averages: the mean over pixels for adaptive sampling,
-            // the passes for SPPM, spp x passes otherwise.
-            {"foton:samples", format_number(spp)},
-            {"foton:passes", std::to_string(passes)},
-            {"foton:seed", std::to_string(opt.seed)},
-            {"foton:renderSeconds", secs},
-            {"foton:accel", accel_name},
-            {"foton:version", FOTON_VERSION},
-            {"foton:gitCommit", git_commit()},
-            {"foton:commandLine", args.command_line},
-            {"foton:settings", settings},
-        };
+        return job_attributes(job, scene, rs, opt, seconds, passes, spp, accel_name);
     };
-    // pbrt-v4's standard attributes: time, samples, the camera's matrices.
-    auto exr_info = [&](double seconds, double spp) {
-        ExrRenderInfo info{float(seconds), int(std::lround(spp)), {}, {}, 0, 0, 0, 0};
-        info.world_to_camera = scene.camera.world_to_camera();
-        info.world_to_ndc = scene.camera.world_to_ndc();
-        // A crop is the data window of the full image's display window.
-        info.x0 = scene.film.x0;
-        info.y0 = scene.film.y0;
-        info.display_width = scene.film.full_width;
-        info.display_height = scene.film.full_height;
-        return info;
-    };
+    auto exr_info = [&](double seconds, double spp) { return job_exr_info(scene, seconds, spp); };
     if (!opt.snapshot_times.empty()) {
         // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
         opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes,
@@ -301,9 +260,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     set_rank_phase(RankPhase::Local);
     if (!root) return interrupted ? kExitInterrupted : 0;
 
-    double spp_mean = 0.0;
-    for (uint32_t c : res.samples_per_pixel) spp_mean += c;
-    if (!res.samples_per_pixel.empty()) spp_mean /= double(res.samples_per_pixel.size());
+    const double spp_mean = mean_samples(res);
     ImageAttributes attrs =
         attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
@@ -359,7 +316,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
         std::printf(
             "rendered %s with %s (%dx%d, %.4g spp in %u passes, %s, %d threads%s) in %.3f s\n"
             "wrote %s\nwrote %s\n",
-            args.scene.c_str(), integrator, scene.film.width, scene.film.height,
+            args.scene.c_str(), rs.integrator.c_str(), scene.film.width, scene.film.height,
             double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
             res.stats.passes, accel->name(), res.stats.threads,
             ranks.distributed() ? (" x " + std::to_string(ranks.size()) + " MPI ranks").c_str()

@@ -13,6 +13,7 @@
 #include "engine/film/image_io.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
+#include "render_job.h"
 
 namespace foton::app {
 
@@ -44,6 +45,23 @@ bool RenderSession::start(const SessionRequest& request, std::string& error) {
 void RenderSession::stop() {
     cancel_ = true;
 }
+
+namespace {
+// The page's request in the command line's words, for the image's foton:commandLine.
+std::string request_text(const SessionRequest& r) {
+    std::string s = "foton serve: render " + r.scene_path;
+    if (!r.integrator.empty()) s += " --integrator " + r.integrator;
+    if (!r.accel.empty()) s += " --accel " + r.accel;
+    if (r.width > 0) s += " --width " + std::to_string(r.width);
+    if (r.height > 0) s += " --height " + std::to_string(r.height);
+    s += " --spp " + std::to_string(r.spp) + " --seed " + std::to_string(r.seed) + " --threads " +
+         std::to_string(r.threads);
+    if (r.passes > 0) s += " --passes " + std::to_string(r.passes);
+    if (r.time > 0.f) s += " --time " + std::to_string(r.time);
+    for (const auto& [key, value] : r.set) s += " --set " + key + "=" + value;
+    return s;
+}
+}  // namespace
 
 void RenderSession::run(SessionRequest req) {
     try {
@@ -84,13 +102,13 @@ void RenderSession::run(SessionRequest req) {
         const std::string tmp = (std::filesystem::temp_directory_path() /
                                  ("foton-serve-" + std::to_string(getpid()) + ".exr"))
                                     .string();
-        write_exr(tmp, res.film,
-                  {{"foton:scene", req.scene_path},
-                   {"foton:integrator", rs.integrator},
-                   {"foton:seed", std::to_string(opt.seed)},
-                   {"foton:passes", std::to_string(res.stats.passes)},
-                   {"foton:version", FOTON_VERSION}},
-                  {float(res.stats.wall_seconds), int(opt.spp * res.stats.passes), {}, {}});
+        const double spp = mean_samples(res);
+        ImageAttributes attrs =
+            job_attributes({req.scene_path, request_text(req)}, scene, rs, opt,
+                           res.stats.wall_seconds, res.stats.passes, spp, accel->name());
+        attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
+        if (cancel_) attrs.push_back({"foton:interrupted", "true"});
+        write_exr(tmp, res.film, attrs, job_exr_info(scene, res.stats.wall_seconds, spp));
         std::ifstream in(tmp, std::ios::binary);
         std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         std::filesystem::remove(tmp);

@@ -1,0 +1,67 @@
+#include "render_job.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "build_info.h"
+#include "engine/transport/common/mis.h"
+#include "scene_flags.h"
+
+namespace foton::app {
+
+namespace {
+// Shortest decimal form (%.6g): 16, 24.5.
+std::string format_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+}  // namespace
+
+ImageAttributes job_attributes(const JobRecord& job, const Scene& scene, const RenderSettings& rs,
+                               const RenderOptions& opt, double seconds, uint32_t passes,
+                               double spp, const char* accel_name) {
+    char secs[32];
+    std::snprintf(secs, sizeof secs, "%.3f", seconds);
+    std::string method = rs.integrator;
+    if (rs.integrator == "path")
+        method += rs.nee ? std::string(" nee mis=") + mis_name(rs.mis) +
+                               (rs.mis == MisHeuristic::Power && rs.mis_beta != 2.f
+                                    ? " beta=" + format_number(rs.mis_beta)
+                                    : std::string())
+                         : " bsdf-only";
+    return ImageAttributes{
+        {"foton:scene", job.scene_path},
+        {"foton:integrator", method},
+        // What a pixel's value averages: the mean over pixels for adaptive sampling, the
+        // passes for SPPM, spp x passes otherwise.
+        {"foton:samples", format_number(spp)},
+        {"foton:passes", std::to_string(passes)},
+        {"foton:seed", std::to_string(opt.seed)},
+        {"foton:renderSeconds", secs},
+        {"foton:accel", accel_name},
+        {"foton:version", FOTON_VERSION},
+        {"foton:gitCommit", git_commit()},
+        {"foton:commandLine", job.command_line},
+        {"foton:settings", settings_text(scene)},
+    };
+}
+
+ExrRenderInfo job_exr_info(const Scene& scene, double seconds, double spp) {
+    ExrRenderInfo info{float(seconds), int(std::lround(spp)), {}, {}, 0, 0, 0, 0};
+    info.world_to_camera = scene.camera.world_to_camera();
+    info.world_to_ndc = scene.camera.world_to_ndc();
+    info.x0 = scene.film.x0;
+    info.y0 = scene.film.y0;
+    info.display_width = scene.film.full_width;
+    info.display_height = scene.film.full_height;
+    return info;
+}
+
+double mean_samples(const RenderResult& result) {
+    double sum = 0.0;
+    for (uint32_t c : result.samples_per_pixel) sum += c;
+    return result.samples_per_pixel.empty() ? 0.0 : sum / double(result.samples_per_pixel.size());
+}
+
+}  // namespace foton::app
