@@ -113,16 +113,14 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     const bool root = ranks.root();
     // Every arena the render and the accelerator's build make is pinned (PinnedArena).
     set_thread_pinning(args.pin);
-    Scene scene = load_scene(args.scene, parse_set_flags(args.set));
-    if (!args.quiet && root)
-        for (const std::string& w : scene.warnings)
-            std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
-    apply_accel_flag(args.accel, scene);
-    apply_image_flags({args.width, args.height, args.crop, args.pixel_bounds}, scene);
+    JobRequest request{args.scene,  parse_set_flags(args.set),
+                       args.accel,  {args.width, args.height, args.crop, args.pixel_bounds},
+                       {},          args.spp,
+                       args.passes, args.time};
     // The flags that are renderer settings join the file's and --set's in the scene's set:
     // checked by the same rules, reported under their own name, recorded with the others.
     auto flag = [&](const char* key, const std::string& value, const char* name) {
-        scene.renderer.set(key, value, name, 0);
+        request.flags.push_back({key, value, name});
     };
     if (!args.integrator.empty()) flag("type", args.integrator, "--integrator");
     if (!args.mis.empty()) flag("mis", args.mis, "--mis");
@@ -142,22 +140,14 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // Numbers are parsed by the settings' one integer parser, whatever wrote them.
     if (args.seed) flag("seed", *args.seed, "--seed");
     if (args.threads) flag("num_threads", *args.threads, "--threads");
-    RenderSettings rs = render_settings(scene);
-    // --spp: the samples per pixel (per pass), or under adaptive sampling the pilot.
-    if (args.spp) flag(rs.adaptive.enabled ? "adaptive_pilot" : "spp", *args.spp, "--spp");
-    rs = render_settings(scene);
-    RenderOptions opt = rs.run;
-    opt.time_limit = args.time.value_or(opt.time_limit);
-    if (opt.time_limit < 0.f) throw InputError("--time", 0, "must not be negative");
-    if (args.passes)
-        opt.max_passes =
-            uint32_t(integer_or_fail(*args.passes, 1, 1u << 30, "--passes", 0, "the value"));
-    const bool progressive = opt.time_limit > 0.f || args.passes;
-    if (progressive && rs.adaptive.enabled)
-        throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
-                         "progressive passes and adaptive sampling do not mix");
-    // Progressive passes are one sample per pixel each unless --spp sets the pass size.
-    if (progressive && !args.spp) opt.spp = 1;
+    RenderJob made = make_job(request);
+    Scene& scene = made.scene;
+    const RenderSettings& rs = made.settings;
+    RenderOptions& opt = made.options;
+    const bool progressive = made.progressive;
+    if (!args.quiet && root)
+        for (const std::string& w : scene.warnings)
+            std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
     opt.snapshot_times = args.snapshots;
     if (!opt.snapshot_times.empty() && !progressive)
         throw InputError("--snapshots", 0,

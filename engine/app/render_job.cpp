@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "build_info.h"
+#include "engine/core/error.h"
+#include "engine/core/params.h"
 #include "engine/transport/common/mis.h"
 #include "scene_flags.h"
 
@@ -17,6 +19,40 @@ std::string format_number(double v) {
     return buf;
 }
 }  // namespace
+
+RenderJob make_job(const JobRequest& r) {
+    RenderJob job;
+    Scene& scene = job.scene;
+    scene = load_scene(r.scene, r.set);
+    apply_accel_flag(r.accel, scene);
+    apply_image_flags(r.image, scene);
+    for (const auto& [key, value, flag] : r.flags) scene.renderer.set(key, value, flag, 0);
+    // --spp: the samples per pixel (per pass), or under adaptive sampling the pilot. Whether
+    // adaptive sampling is on is read off the settings first (the same parser, so the same
+    // message for a bad value), so that the settings are parsed once.
+    if (r.spp) {
+        const bool adaptive = scene.renderer.boolean("adaptive", false);
+        scene.renderer.set(adaptive ? "adaptive_pilot" : "spp", *r.spp, "--spp", 0);
+    }
+    job.settings = render_settings(scene);
+    RenderOptions& opt = job.options;
+    opt = job.settings.run;
+    if (r.time) {
+        if (!(*r.time >= 0.f) || !std::isfinite(*r.time))
+            throw InputError("--time", 0, "must be a number of seconds, not negative");
+        opt.time_limit = *r.time;
+    }
+    if (r.passes)
+        opt.max_passes =
+            uint32_t(integer_or_fail(*r.passes, 1, 1u << 30, "--passes", 0, "the value"));
+    job.progressive = opt.time_limit > 0.f || r.passes;
+    if (job.progressive && job.settings.adaptive.enabled)
+        throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
+                         "progressive passes and adaptive sampling do not mix");
+    // Progressive passes are one sample per pixel each unless --spp sets the pass size.
+    if (job.progressive && !r.spp) opt.spp = 1;
+    return job;
+}
 
 ImageAttributes job_attributes(const JobRecord& job, const Scene& scene, const RenderSettings& rs,
                                const RenderOptions& opt, double seconds, uint32_t passes,

@@ -1,16 +1,47 @@
 #pragma once
-// What every front-end writes about a render it ran: `foton render` (its image and snapshots)
-// and `foton serve` (the EXR the page saves) record the same attributes, pbrt-v4's standard
-// ones and foton's, from one place, so an image says how it was made whichever tool made it.
+// A render job as every front-end makes it (`foton render`, `foton serve`, `foton scale`): the
+// scene with the user's settings on top, checked by the same parsers and limits whichever tool
+// took them; and what they write about the render they ran (pbrt-v4's standard attributes and
+// foton's), so an image says how it was made whichever tool made it.
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/film/image_io.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
+#include "image_flags.h"
 
 namespace foton::app {
+
+// What the user asked for beyond the scene file, as text: the settings' own parsers check
+// every value, so the command line and the web page accept the same values and fail with the
+// same messages.
+struct JobRequest {
+    std::string scene;      // the scene file
+    RendererOverrides set;  // key=value renderer settings (--set, the page's settings box)
+    std::string accel;      // "" = the scene's <aggregate>
+    ImageFlags image;       // resolution and crop, checked against the image limits
+    // Renderer settings given as flags: {key, value, flag}, after `set`; a bad value is
+    // reported under the flag's name.
+    std::vector<std::array<std::string, 3>> flags;
+    std::optional<std::string> spp;     // per pass, or the adaptive pilot
+    std::optional<std::string> passes;  // progressive passes
+    std::optional<float> time;          // seconds of progressive passes
+};
+
+struct RenderJob {
+    Scene scene;
+    RenderSettings settings;
+    RenderOptions options;
+    bool progressive = false;  // --passes or --time: passes of one sample unless --spp
+};
+
+// Loads and checks everything; InputError at the first problem. The settings are read once.
+RenderJob make_job(const JobRequest& request);
 
 // The request as the tool saw it.
 struct JobRecord {

@@ -65,21 +65,28 @@ std::string request_text(const SessionRequest& r) {
 
 void RenderSession::run(SessionRequest req) {
     try {
-        RendererOverrides overrides(req.set.begin(), req.set.end());
-        Scene scene = load_scene(req.scene_path, overrides);
-        if (!req.accel.empty() && !parse_accel(req.accel, scene.accel))
-            throw InputError("accelerator", 0, "unknown accelerator '" + req.accel + "'");
-        if (req.width > 0 || req.height > 0)
-            scene.set_resolution(req.width > 0 ? req.width : scene.film.width,
-                                 req.height > 0 ? req.height : scene.film.height);
-        if (!req.integrator.empty()) scene.renderer.set("type", req.integrator, "integrator", 0);
-        const RenderSettings rs = render_settings(scene);
-        RenderOptions opt = rs.run;
-        opt.spp = req.spp;
-        opt.seed = req.seed;
-        opt.threads = req.threads;
-        opt.max_passes = req.passes;
-        opt.time_limit = req.time;
+        // The page's request goes through the command line's job: the same parsers, limits
+        // and messages.
+        JobRequest request{req.scene_path,
+                           RendererOverrides(req.set.begin(), req.set.end()),
+                           req.accel,
+                           {},
+                           {},
+                           std::to_string(req.spp),
+                           {},
+                           {}};
+        if (req.width > 0) request.image.width = std::to_string(req.width);
+        if (req.height > 0) request.image.height = std::to_string(req.height);
+        if (!req.integrator.empty())
+            request.flags.push_back({"type", req.integrator, "integrator"});
+        request.flags.push_back({"seed", std::to_string(req.seed), "seed"});
+        request.flags.push_back({"num_threads", std::to_string(req.threads), "threads"});
+        if (req.passes > 0) request.passes = std::to_string(req.passes);
+        if (req.time != 0.f) request.time = req.time;  // NaN and negative times are refused
+        RenderJob job = make_job(request);
+        const Scene& scene = job.scene;
+        const RenderSettings& rs = job.settings;
+        RenderOptions& opt = job.options;
         opt.progress = &progress_;
         opt.cancel = &cancel_;
         opt.on_pass = [&](const Film& film, const PassReport& pass) {

@@ -19,6 +19,7 @@
 #include "engine/transport/registry/render.h"
 #include "image_flags.h"
 #include "output_paths.h"
+#include "render_job.h"
 #include "scale_report.h"
 #include "scene_flags.h"
 
@@ -48,18 +49,19 @@ int run_scale(const ScaleArgs& args) {
     if (args.time && args.weak)
         throw InputError("--weak", 0, "needs fixed work (--spp or --passes), not --time");
     if (args.time && !(*args.time > 0.f)) throw InputError("--time", 0, "must be positive");
-    Scene scene = load_scene(args.scene, parse_set_flags(args.set));
-    apply_accel_flag(args.accel, scene);
-    apply_image_flags({args.width, args.height, {}, {}}, scene);
-    if (!args.integrator.empty()) scene.renderer.set("type", args.integrator, "--integrator", 0);
-    if (args.seed) scene.renderer.set("seed", *args.seed, "--seed", 0);
-    if (args.spp) scene.renderer.set("spp", *args.spp, "--spp", 0);
-    const RenderSettings rs = render_settings(scene);
+    JobRequest request{args.scene,  parse_set_flags(args.set),
+                       args.accel,  {args.width, args.height, {}, {}},
+                       {},          args.spp,
+                       args.passes, args.time};
+    if (!args.integrator.empty())
+        request.flags.push_back({"type", args.integrator, "--integrator"});
+    if (args.seed) request.flags.push_back({"seed", *args.seed, "--seed"});
+    const RenderJob job = make_job(request);
+    const Scene& scene = job.scene;
+    const RenderSettings& rs = job.settings;
     if (rs.adaptive.enabled)
         throw InputError(args.scene, 0, "adaptive sampling does not make a scaling study");
-    uint32_t passes = 0;
-    if (args.passes)
-        passes = uint32_t(integer_or_fail(*args.passes, 1, 1u << 30, "--passes", 0, "the value"));
+    const uint32_t passes = job.options.max_passes;
 
     const CpuTopology topo = cpu_topology();
     const std::vector<int> counts = thread_counts(args.threads, topo.logical);
@@ -92,12 +94,9 @@ int run_scale(const ScaleArgs& args) {
     set_thread_pinning(args.pin);
     for (const int n : counts)
         for (uint32_t rep = 0; rep < args.repeats; ++rep) {
-            RenderOptions opt = rs.run;
-            opt.threads = n;
             // As `foton render`: progressive passes are one sample per pixel unless --spp.
-            if ((args.time || passes) && !args.spp) opt.spp = 1;
-            if (args.time) opt.time_limit = *args.time;
-            opt.max_passes = passes;
+            RenderOptions opt = job.options;
+            opt.threads = n;
             if (args.weak) {
                 const uint32_t scale = uint32_t(n / counts.front());
                 if (passes)
