@@ -1,13 +1,18 @@
-// The image metadata every front-end writes (app/render_job.h): an EXR saved from `foton
-// serve`'s page carries the same attributes as the command line's, with the page's request in
-// the command line's words.
+// The render job every front-end makes and the metadata it writes (app/render_job.h): an EXR
+// saved from `foton serve`'s page carries the same attributes as the command line's, with the
+// page's request in the command line's words, and the page's requests meet the command line's
+// checks.
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/app/render_session.h"
 #include "engine/film/image_io.h"
@@ -51,4 +56,44 @@ TEST_CASE("foton serve's EXR carries the command line's attributes", "[cli][serv
     CHECK_THAT(attrs["foton:commandLine"], Catch::Contains("--integrator path"));
     CHECK_THAT(attrs["foton:commandLine"], Catch::Contains("--spp 2 --seed 5"));
     CHECK_THAT(attrs["foton:settings"], Catch::Contains("type=path"));
+}
+
+TEST_CASE("foton serve's requests meet the command line's checks", "[cli][serve]") {
+    // The state a request ends in, once the session has finished with it.
+    auto outcome = [](const app::SessionRequest& r) {
+        app::RenderSession session;
+        std::string error;
+        REQUIRE(session.start(r, error));
+        nlohmann::json status;
+        for (int i = 0; i < 600; ++i) {
+            status = nlohmann::json::parse(session.status_json());
+            if (status["state"] != "running") break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return status;
+    };
+    app::SessionRequest r;
+    r.scene_path = test::source_path("scenes/cornell-diffuse.xml");
+    r.width = r.height = 8;
+    r.threads = 1;
+    CHECK(outcome(r)["state"] == "done");
+    // 32768 x 32768 passes each side's limit but not the image's (the command line's check).
+    app::SessionRequest big = r;
+    big.width = big.height = 32768;
+    nlohmann::json s = outcome(big);
+    CHECK(s["state"] == "error");
+    CHECK_THAT(s["message"].get<std::string>(), Catch::Contains("pixels"));
+    for (float t : {std::nanf(""), -1.f, std::numeric_limits<float>::infinity()}) {
+        app::SessionRequest timed = r;
+        timed.time = t;
+        s = outcome(timed);
+        INFO(t);
+        CHECK(s["state"] == "error");
+        CHECK_THAT(s["message"].get<std::string>(), Catch::Contains("--time"));
+    }
+    app::SessionRequest bad = r;
+    bad.set["max_depth"] = "deep";
+    s = outcome(bad);
+    CHECK(s["state"] == "error");
+    CHECK_THAT(s["message"].get<std::string>(), Catch::Contains("max_depth"));
 }
