@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/integrators.h"
 #include "test_util.h"
 
@@ -46,5 +47,30 @@ TEST_CASE("capability wording names the rows that have it", "[registry][fast]") 
     for (const IntegratorInfo& i : integrators()) {
         const bool named = camera.find(std::string("\"") + i.name + "\"") != std::string::npos;
         CHECK(named == i.has(kCapCamera));
+    }
+}
+
+TEST_CASE("what an integrator cannot do is refused at the setting's file and line",
+          "[registry][fast]") {
+    struct Case {
+        const char* renderer;
+        const char* message;
+    };
+    for (const Case& c :
+         {Case{R"(type="light" adaptive="true")", "adaptive sampling applies to camera"},
+          Case{R"(type="sppm" indirect="irradiance_cache")", "indirect=\"irradiance_cache\" needs"},
+          Case{R"(type="photon" indirect="irradiance_cache" mode="direct_visualisation")",
+               "final-gather mode"},
+          Case{R"(type="path" indirect="irradiance_cache" cache_secondary="photon")",
+               "no photon map"}}) {
+        INFO(c.renderer);
+        const std::string xml = std::string(R"(<scene>
+<objects><sphere radius="1"><center x="0" y="0" z="0"/><material type="lambert"/></sphere></objects>
+<renderer )") + c.renderer + R"(/>
+<film width="4" height="4"/>
+<camera><eye x="0" y="0" z="-5"/><target x="0" y="0" z="0"/></camera></scene>)";
+        // The <renderer> element is on line 3 of the file.
+        CHECK_THROWS_WITH(render_settings(parse_scene(xml, "rules.xml", ".")),
+                          Catch::Contains("rules.xml:3:") && Catch::Contains(c.message));
     }
 }

@@ -23,11 +23,6 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     // The camera passes' times (and a time budget) count the photon passes too.
     RenderOptions opt = render_opt;
     if (!opt.start) opt.start = RenderStart::now();
-    if (settings.indirect == IndirectMode::IrradianceCache &&
-        settings.photon.mode != PhotonMode::FinalGather)
-        throw InputError("renderer", 0,
-                         "indirect=\"irradiance_cache\" needs type=\"path\" or type=\"photon\" "
-                         "in final-gather mode");
     const PhotonSettings& ps = settings.photon;
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");

@@ -14,7 +14,8 @@ const std::vector<IntegratorInfo>& integrators() {
     // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
     constexpr uint32_t kPath =
         kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide;
-    constexpr uint32_t kPhoton = kCapCamera | kCapIrradianceCache | kCapLightingSplit;
+    constexpr uint32_t kPhoton =
+        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap;
     // One row per integrator: name, aliases, summary, capabilities, own parse, render.
     // clang-format off
     static const std::vector<IntegratorInfo> table = {
@@ -71,6 +72,28 @@ std::string integrators_with(uint32_t caps) {
     return s;
 }
 
+std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
+                                                  const RenderSettings& s) {
+    if (s.adaptive.enabled && !info.has(kCapCamera))
+        return SettingsProblem{"adaptive", "adaptive sampling applies to camera integrators (" +
+                                               integrators_with(kCapCamera) + "), not type=\"" +
+                                               info.name + "\""};
+    if (s.indirect == IndirectMode::IrradianceCache) {
+        if (!info.has(kCapIrradianceCache))
+            return SettingsProblem{"indirect", "indirect=\"irradiance_cache\" needs " +
+                                                   integrators_with(kCapIrradianceCache)};
+        if (s.photon.mode != PhotonMode::FinalGather)
+            return SettingsProblem{"indirect",
+                                   "indirect=\"irradiance_cache\" needs photon mapping in "
+                                   "final-gather mode (mode=\"final_gather\")"};
+    }
+    if (s.cache.secondary == CacheSecondary::Photon && !info.has(kCapPhotonMap))
+        return SettingsProblem{"cache_secondary", "cache_secondary=\"photon\" needs " +
+                                                      integrators_with(kCapPhotonMap) +
+                                                      " (there is no photon map)"};
+    return std::nullopt;
+}
+
 RenderSettings render_settings(const ParamSet& params) {
     const std::string type = params.text("type", "raytracer");
     const IntegratorInfo* info = find_integrator(type);
@@ -80,6 +103,8 @@ RenderSettings render_settings(const ParamSet& params) {
     const IntegratorTraits traits{info->name, info->caps, integrators_with};
     RenderSettings r = parse_render_settings(params, traits);
     if (info->parse) info->parse(params, r);
+    if (const std::optional<SettingsProblem> p = capability_problem(*info, r))
+        params.fail(p->key, p->message);
     params.reject_unused();
     return r;
 }

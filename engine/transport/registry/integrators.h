@@ -4,6 +4,7 @@
 // entry; render() runs it. Everything that lists integrators reads this table: the command
 // line's help, `foton serve`'s page, the pbrt importer, the golden images and the tests that
 // run every integrator.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,16 @@ std::string integrator_help();
 // `type="a"`, `type="a" or "b"`, `type="a", "b" or "c"`: the integrators with every bit of
 // `caps`, for error messages.
 std::string integrators_with(uint32_t caps);
+
+// What the chosen integrator cannot do with these settings: the setting's key and why, or
+// nothing. render_settings() reports it at the key's file and line; render() refuses settings
+// made by hand that break it.
+struct SettingsProblem {
+    const char* key;
+    std::string message;
+};
+std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
+                                                  const RenderSettings& settings);
 
 // The renderer's settings from a ParamSet (the scene's <renderer> with --set applied): every
 // key typed and checked, unknown keys and integrator names rejected at their file and line.

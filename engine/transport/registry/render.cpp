@@ -18,15 +18,9 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
         throw InputError(
             scene.source, 0,
             "unknown renderer type '" + settings.integrator + "' (" + integrator_list() + ")");
-    if (settings.adaptive.enabled && !info->has(kCapCamera))
-        throw InputError("renderer", 0,
-                         "adaptive sampling applies to camera integrators, not type=\"" +
-                             settings.integrator + "\"");
-    if (settings.indirect == IndirectMode::IrradianceCache && !info->has(kCapIrradianceCache))
-        throw InputError("renderer", 0,
-                         "indirect=\"irradiance_cache\" needs " +
-                             integrators_with(kCapIrradianceCache) +
-                             " (photon in final-gather mode)");
+    // Settings made by hand (a test, a tool) meet the rules render_settings() checks.
+    if (const std::optional<SettingsProblem> p = capability_problem(*info, settings))
+        throw InputError("renderer", 0, p->key + (": " + p->message));
     // oneTBB runs no more threads than the hardware has unless told otherwise: a request
     // for more (a scaling study, a determinism test) raises the limit for this render, so
     // the threads recorded are the threads that ran.

@@ -68,6 +68,7 @@ enum Capability : uint32_t {
                                     // rr_depth (the subpaths' vertex rules must agree)
     kCapMerging = 1u << 5,          // merges light vertices: merge_index
     kCapStrategyDebug = 1u << 6,    // strategy="s,t"
+    kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
 };
 
 // The chosen integrator as the settings' rules see it.
