@@ -2,11 +2,8 @@
 
 #include <cmath>
 
-#include "engine/core/halton.h"
 #include "engine/core/rng_streams.h"
-#include "engine/core/sobol.h"
 #include "engine/core/warp.h"
-#include "engine/core/zsobol.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
@@ -15,14 +12,16 @@
 #include "engine/transport/irradiance_cache/cache_render.h"
 #include "engine/transport/run/camera_driver.h"
 #include "path_guide.h"
+#include "path_sampler.h"
 
 namespace foton {
 
 namespace {
-// Random dimensions per bounce: light choice, light position (3), BSDF lobe and direction (3),
-// Russian roulette. The distributed tracer's shadow samples use their own keyed streams.
-constexpr uint32_t kDimsPerBounce = 8;
-constexpr uint32_t kDimLightSelect = 0, kDimLight = 1, kDimBsdf = 4, kDimRoulette = 7;
+// Random dimensions per bounce (path_sampler.h). The distributed tracer's shadow samples use
+// their own keyed streams.
+constexpr uint32_t kDimsPerBounce = kPathDimsPerBounce;
+constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLight,
+                   kDimBsdf = kPathDimBsdf, kDimRoulette = kPathDimRoulette;
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& settings,
@@ -37,36 +36,12 @@ PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& setting
 
 float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                            uint32_t k) const {
-    const PathWorkspace::QmcSlot& q = ws.qmc[slot];
-    if (q.n == 0)
-        return rng::uniform(seed_, kPathStream, ws.keys[slot],
-                            uint64_t(depth) * kDimsPerBounce + k);
-    // Halton: the path's dimensions follow the pixel's two, one prime base each.
-    if (settings_.sampler == SamplerKind::Halton)
-        return halton::sample(q.i, seed_, q.key, 2 + depth * kDimsPerBounce + k);
-    // Sobol' pairs per bounce: light position (1, 2), BSDF direction (5, 6), then the 1D
-    // choices paired up (light choice with the mesh's triangle, lobe with roulette). Pair 0
-    // is the pixel position.
-    static constexpr uint8_t kPair[kDimsPerBounce] = {2, 0, 0, 2, 3, 1, 1, 3};
-    static constexpr uint8_t kCoord[kDimsPerBounce] = {0, 0, 1, 1, 0, 0, 1, 1};
-    const uint32_t pair = 1 + depth * 4 + kPair[k];
-    if (settings_.sampler == SamplerKind::ZSobol) return zsobol::sample1(q.z, pair, kCoord[k]);
-    return sobol::sample1(q.i, q.n, seed_, q.key, pair, kCoord[k]);
+    return ws.samplers[slot].get1(seed_, depth, k);
 }
 
 Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                              uint32_t k) const {
-    const PathWorkspace::QmcSlot& q = ws.qmc[slot];
-    if (q.n == 0 || settings_.sampler == SamplerKind::Halton)
-        return {rand(ws, slot, depth, k), rand(ws, slot, depth, k + 1)};
-    // Light position (1, 2) and BSDF direction (5, 6) are pairs 0 and 1 of the bounce.
-    Point2 p;
-    const uint32_t pair = 1 + depth * 4 + (k == kDimLight ? 0 : 1);
-    if (settings_.sampler == SamplerKind::ZSobol)
-        zsobol::sample2(q.z, pair, p.x, p.y);
-    else
-        sobol::sample2(q.i, q.n, seed_, q.key, pair, p.x, p.y);
-    return p;
+    return ws.samplers[slot].get2(seed_, depth, k);
 }
 
 bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
@@ -296,13 +271,9 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.path_length.assign(n, 0.f);
     ws.keys.resize(n);
     for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
-    ws.qmc.assign(n, {});
-    if (settings_.sampler == SamplerKind::Sobol || settings_.sampler == SamplerKind::Halton)
-        for (std::size_t i = 0; i < n; ++i)
-            ws.qmc[i] = {pixel_pattern_key(scene_, jobs[i]), jobs[i].pat_i, jobs[i].pat_n, {}};
-    else if (settings_.sampler == SamplerKind::ZSobol)
-        for (std::size_t i = 0; i < n; ++i)
-            ws.qmc[i] = {0, jobs[i].pat_i, jobs[i].pat_n, zsobol_index(scene_, jobs[i], seed_)};
+    ws.samplers.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+        ws.samplers[i] = PathSampler::for_job(settings_.sampler, scene_, jobs[i], seed_);
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();
@@ -320,7 +291,8 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     StageClock clock;
     ws.keys = keys;
     const std::size_t n = radiance.size();
-    ws.qmc.assign(n, {});
+    ws.samplers.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ws.samplers[i] = PathSampler::uniform(keys[i]);
     ws.beta.assign(n, RGB{1.f});
     ws.eta_scale.assign(n, 1.f);
     ws.pdf_prev.assign(n, 0.f);

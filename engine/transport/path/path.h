@@ -27,6 +27,7 @@
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_options.h"
 #include "engine/transport/run/render_settings.h"
+#include "path_sampler.h"
 
 namespace foton {
 
@@ -40,19 +41,11 @@ struct PathWorkspace : IntegratorWorkspace {
     // The product of eta^2 over the refractions so far: beta times it is the path's
     // throughput without the radiance scaling of crossing into and out of dielectrics.
     std::vector<float> eta_scale;
-    std::vector<float> pdf_prev;         // solid-angle pdf of the BSDF sample that made the ray
-    std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
-    std::vector<Vec3> p_prev;            // where that ray started
-    std::vector<uint64_t> keys;          // what keys the path's random numbers
-    // With sampler="sobol" or "halton": each path's pixel key and its point (i of n) in the pass's
-    // scrambled set; with "zsobol" its index in the image-wide sequence; n = 0: the
-    // counter-based random numbers of `keys`.
-    struct QmcSlot {
-        uint64_t key = 0;
-        uint32_t i = 0, n = 0;
-        zsobol::Index z;
-    };
-    std::vector<QmcSlot> qmc;
+    std::vector<float> pdf_prev;          // solid-angle pdf of the BSDF sample that made the ray
+    std::vector<uint8_t> specular_prev;   // ... and whether it came from a delta lobe
+    std::vector<Vec3> p_prev;             // where that ray started
+    std::vector<uint64_t> keys;           // what keys the path's random numbers
+    std::vector<PathSampler> samplers;    // each path's random numbers (path_sampler.h)
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)
     // The path's class for lighting=direct|indirect: 0 before its first non-specular vertex,
     // 1 just after it, 2 once a second vertex (of any kind) follows it.
