@@ -26,13 +26,13 @@ constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLi
 
 PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& settings,
                                const Intersector& accel, const LightSet& lights, uint64_t seed,
-                               bool distributed)
+                               const VertexRules& rules)
     : scene_(scene),
       settings_(settings),
       accel_(accel),
       lights_(lights),
       seed_(seed),
-      distributed_(distributed) {}
+      rules_(rules) {}
 
 float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                            uint32_t k) const {
@@ -90,12 +90,12 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
 
 void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
     const RenderSettings& rs = settings_;
-    const bool guided = guide_ && !guide_->empty() && !distributed_;
+    const bool guided = guide_ && !guide_->empty() && rules_.guided;
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
-    const bool nee = distributed_ || rs.nee;
-    const Mis mis = distributed_ ? Mis{MisHeuristic::None} : Mis{rs.mis, rs.mis_beta};
+    const bool nee = rules_.nee;
+    const Mis mis = rules_.mis;
     const RGB ambient = scene_.ambient.radiance();
 
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
@@ -108,7 +108,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         // density, selection included, `light_pdf` gives).
         const bool counts_emission = !(ws.first_depth > 0 && depth == ws.first_depth);
         auto emission_weight = [&](auto&& light_pdf) {
-            if (depth == 0 || ws.specular_prev[slot] || !nee || distributed_) return 1.f;
+            if (depth == 0 || ws.specular_prev[slot] || !nee || rules_.emission_whole) return 1.f;
             if (mis.heuristic == MisHeuristic::None) return 0.f;
             return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
         };
@@ -147,7 +147,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         const Vec3& wo = v.wo;
         const BsdfContext ctx{sp.front_face, Transport::Radiance};
 
-        if (distributed_) {
+        if (rules_.ambient) {
             const RGB amb = m.type == MaterialType::Generic ? m.base_color * m.c_diffuse
                                                             : m.base_color * m.c_ambient;
             radiance[slot] += beta * amb * ambient;
@@ -165,7 +165,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
             counts(rs.lighting, ws.nondelta[slot] + 1u)) {
             auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
                 // The distributed tracer's glossy lobes see area lights by being sampled.
-                const uint8_t lobes = distributed_ && !lights_.emitter(li).is_delta()
+                const uint8_t lobes = rules_.glossy_by_sampling && !lights_.emitter(li).is_delta()
                                           ? uint8_t(kDiffuse)
                                           : uint8_t(kDiffuse | kGlossy);
                 DirectSample ds;
@@ -173,7 +173,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                                  strategy))
                     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
             };
-            if (distributed_) {
+            if (rules_.every_light) {
                 const uint32_t n = rs.light_samples;
                 for (uint32_t li = 0; li < lights_.size(); ++li) {
                     const uint32_t k = lights_.emitter(li).is_delta() ? 1 : n;
@@ -194,7 +194,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
 
         // Continue the path by sampling the BSDF.
         BsdfSample bs;
-        const uint8_t only = distributed_ ? uint8_t(kGlossy | kSpecular) : uint8_t(0xff);
+        const uint8_t only = rules_.continue_lobes;
         const float u_lobe = rand(ws, slot, depth, kDimBsdf);
         const Point2 u_dir = rand2(ws, slot, depth, kDimBsdf + 1);
         float bsdf_pdf = 0.f;
@@ -309,7 +309,8 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene);
-    PathIntegrator integrator(scene, settings, accel, lights, opt.seed, false);
+    PathIntegrator integrator(scene, settings, accel, lights, opt.seed,
+                              VertexRules::path(settings));
     if (settings.guide.enabled)
         return render_guided_path(scene, settings, accel, lights, integrator, opt);
     if (settings.indirect != IndirectMode::IrradianceCache)
@@ -319,7 +320,8 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
     RenderResult result = render_with_cache(
         scene, settings, accel, lights, integrator,
         [&](const CacheEvaluator* e) { integrator.set_cache(e); }, nullptr,
-        PathIntegrator(scene, settings, accel, lights, opt.seed, false), opt, graph, {});
+        PathIntegrator(scene, settings, accel, lights, opt.seed, VertexRules::path(settings)), opt,
+        graph, {});
     result.stats.graph = graph.report();
     return result;
 }
@@ -327,7 +329,8 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
 RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
                                 const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene);
-    const PathIntegrator integrator(scene, settings, accel, lights, opt.seed, true);
+    const PathIntegrator integrator(scene, settings, accel, lights, opt.seed,
+                                    VertexRules::distributed());
     return render_camera(scene, settings, integrator, opt);
 }
 

@@ -23,6 +23,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/mis.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_options.h"
@@ -30,6 +31,37 @@
 #include "path_sampler.h"
 
 namespace foton {
+
+// What path tracing and Cook's distributed ray tracing do differently at a vertex, fixed when
+// the integrator is made: one wavefront loop serves both.
+struct VertexRules {
+    bool nee = true;                  // a light sample at every non-delta vertex
+    Mis mis;                          // how emission found by BSDF rays is weighed against it
+    bool emission_whole = false;      // emission found by rays counts whole (no MIS)
+    bool every_light = false;         // light_samples shadow rays to every light, not one chosen
+    bool glossy_by_sampling = false;  // glossy lobes see area lights only by being sampled
+    bool ambient = false;             // the thesis' ambient term stands in for interreflection
+    bool guided = true;               // may follow a photon guide
+    uint8_t continue_lobes = 0xff;    // the lobes a path continues through
+
+    static VertexRules path(const RenderSettings& s) {
+        VertexRules r;
+        r.nee = s.nee;
+        r.mis = Mis{s.mis, s.mis_beta};
+        return r;
+    }
+    static VertexRules distributed() {
+        VertexRules r;
+        r.mis = Mis{MisHeuristic::None};
+        r.emission_whole = true;
+        r.every_light = true;
+        r.glossy_by_sampling = true;
+        r.ambient = true;
+        r.guided = false;
+        r.continue_lobes = uint8_t(kGlossy | kSpecular);
+        return r;
+    }
+};
 
 struct PathWorkspace : IntegratorWorkspace {
     RayBatch rays, next, shadow;
@@ -59,7 +91,7 @@ struct PathWorkspace : IntegratorWorkspace {
 class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
   public:
     PathIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                   const LightSet& lights, uint64_t seed, bool distributed);
+                   const LightSet& lights, uint64_t seed, const VertexRules& rules);
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PathWorkspace>();
     }
@@ -92,7 +124,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     const Intersector& accel_;
     const LightSet& lights_;
     uint64_t seed_;
-    bool distributed_;
+    VertexRules rules_;
     const CacheEvaluator* cache_ = nullptr;
     const PathGuide* guide_ = nullptr;
 };

@@ -145,7 +145,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
                                     [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
                                         return integrator.photon_radiance(sp, m, d);
                                     },
-                                    PathIntegrator(scene, settings, accel, lights, opt.seed, false),
+                                    PathIntegrator(scene, settings, accel, lights, opt.seed,
+                                                   VertexRules::path(settings)),
                                     opt, graph, maps_ready)
                               : render_camera(scene, settings, integrator, opt, graph, maps_ready);
     result.stats.graph = graph.report();
