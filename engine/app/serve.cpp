@@ -13,6 +13,7 @@
 #include "engine/scene/scene.h"
 #include "engine/transport/registry/integrators.h"
 #include "render_session.h"
+#include "request_guard.h"
 #include "web_page.h"
 
 namespace foton::app {
@@ -59,6 +60,27 @@ int run_serve(const ServeArgs& args) {
     const std::map<std::string, std::string> scenes = list_scenes(dirs);
     RenderSession session;
     httplib::Server server;
+    int port = args.port;  // the bound port, known before the first request
+    // Every request passes the guard first (request_guard.h); refused ones get 403.
+    server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+        const RequestView view{req.method,
+                               req.path,
+                               req.get_header_value("Host"),
+                               req.get_header_value("Origin"),
+                               req.get_header_value("Sec-Fetch-Site"),
+                               req.get_header_value(kRequestTokenHeader)};
+        const std::string why = refuse_reason(view, args.host, port);
+        if (why.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        res.status = 403;
+        res.set_content(nlohmann::json{{"error", std::string("refused: ") + why}}.dump(
+                            -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                        "application/json");
+        return httplib::Server::HandlerResponse::Handled;
+    });
+    server.set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+        res.set_header("X-Content-Type-Options", "nosniff");
+        res.set_header("X-Frame-Options", "DENY");
+    });
 
     server.Get("/", [](const httplib::Request&, httplib::Response& res) {
         res.set_content(kWebPage, "text/html; charset=utf-8");
@@ -164,7 +186,6 @@ int run_serve(const ServeArgs& args) {
         res.set_content(exr, "image/x-exr");
     });
 
-    int port = args.port;
     if (port == 0) {
         port = server.bind_to_any_port(args.host);
     } else if (!server.bind_to_port(args.host, port)) {

@@ -8,6 +8,7 @@
 import { chromium } from 'playwright-core';
 import { spawn, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
+import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -87,15 +88,48 @@ try {
   // Nothing outside the scene folders: names not listed are refused, paths are not files.
   const refused = await page.evaluate(async () => {
     const body = new URLSearchParams({scene: '../../../etc/passwd'});
-    const r = await fetch('/api/render', {method: 'POST', body});
+    const r = await fetch('/api/render', {method: 'POST', body, headers: {'X-Foton-Request': '1'}});
     return [r.status, (await r.json()).error];
   });
   assert.equal(refused[0], 400);
   assert.match(refused[1], /unknown scene/);
+
+  // Other sites cannot drive it (request_guard.h): the page's own POST without its token, a
+  // cross-origin POST from another page (a form needs no preflight), and this server reached
+  // under another host name (DNS rebinding) are refused with 403.
+  const untokened = await page.evaluate(async () => (await fetch('/api/stop', {method: 'POST'})).status);
+  assert.equal(untokened, 403);
+  const other = await browser.newPage();
+  await other.goto('about:blank');
+  const crossSite = await other.evaluate(async (target) => {
+    try {
+      const r = await fetch(target + 'api/render', {
+        method: 'POST', mode: 'no-cors',
+        body: new URLSearchParams({scene: 'scenes/cornell-diffuse.xml', time: '60'})});
+      return r.type;  // opaque: sent, and the server's guard answers 403 unseen
+    } catch (e) { return 'blocked'; }
+  }, url);
+  assert.ok(['opaque', 'blocked'].includes(crossSite), crossSite);
+  // ... and started nothing: the last render is still the stopped one.
+  const state = await page.evaluate(async () => (await (await fetch('/api/status')).json()).state);
+  assert.equal(state, 'stopped');
+  const raw = (method, pathName, headers) => new Promise((resolve, reject) => {
+    const u = new URL(url);
+    const req = http.request({host: u.hostname, port: u.port, method, path: pathName, headers},
+                             (res) => { res.resume(); resolve(res.statusCode); });
+    req.on('error', reject);
+    req.end();
+  });
+  assert.equal(await raw('POST', '/api/render', {'Origin': 'https://evil.example',
+                                                 'X-Foton-Request': '1'}), 403);
+  assert.equal(await raw('POST', '/api/stop', {'Sec-Fetch-Site': 'cross-site'}), 403);
+  assert.equal(await raw('GET', '/api/status', {'Host': 'evil.example:' + new URL(url).port}),
+               403);
+  assert.equal(await raw('GET', '/api/status', {}), 200);
   const traversal = await page.evaluate(async () => (await fetch('/../../etc/passwd')).status);
   assert.equal(traversal, 404);
   console.log(`web page: ${passes} passes previewed in ${previews.length} fetches; saved EXR ` +
-              'equals the CLI render; bad scene, stop and path checks pass');
+              'equals the CLI render; bad scene, stop, path and cross-site checks pass');
 } catch (e) {
   console.error(e);
   failed = true;
