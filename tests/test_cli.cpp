@@ -470,3 +470,30 @@ TEST_CASE("statistics JSON escapes every string and survives invalid UTF-8", "[c
     CHECK(j["schema_version"] == 2);
     CHECK(j["bytes"].get<std::string>().rfind("bad ", 0) == 0);
 }
+
+TEST_CASE("foton serve and render refuse ports, hosts and snapshot times they cannot honour",
+          "[cli][serve][fast]") {
+    const Run port = run("serve --port 70000");
+    CHECK(port.code == 2);
+    CHECK_THAT(port.output, Catch::Contains("not a TCP port"));
+    const Run remote = run("serve --host 0.0.0.0 --port 0");
+    CHECK(remote.code == 2);
+    CHECK_THAT(remote.output, Catch::Contains("--allow-remote"));
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-box.xml");
+    for (const char* t : {"-1", "nan", "inf", "0"}) {
+        INFO(t);
+        const Run r = run("render " + scene + " --width 8 --height 8 -q --time 0.1 --snapshots " +
+                          t + " -o " + dir.file("s.exr"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("--snapshots"));
+        CHECK_FALSE(std::filesystem::exists(dir.file("s.exr")));
+    }
+    for (const char* t : {"nan", "inf", "-1"}) {
+        INFO(t);
+        const Run r = run("render " + scene + " --width 8 --height 8 -q --time " + std::string(t) +
+                          " -o " + dir.file("t.exr"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("--time"));
+    }
+}

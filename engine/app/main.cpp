@@ -147,7 +147,11 @@ int main(int argc, char** argv) {
         "serve", "a local web page to open scenes, render, watch and save (one render at a time)");
     serve->add_option("--port", sa.port, "TCP port (0: any free one, printed); default 8080");
     serve->add_option("--host", sa.host,
-                      "address to listen on; default 127.0.0.1 (this machine only)");
+                      "address to listen on; default 127.0.0.1 (this machine only); another "
+                      "needs --allow-remote");
+    serve->add_flag("--allow-remote", sa.allow_remote,
+                    "let --host be an address other machines reach: anyone on that network can "
+                    "then start renders");
     serve->add_option("--scenes", sa.scene_dirs,
                       "folders whose *.xml scenes the page may open (default: scenes)");
 

@@ -149,6 +149,10 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
         for (const std::string& w : scene.warnings)
             std::fprintf(stderr, "foton: warning: %s\n", w.c_str());
     opt.snapshot_times = args.snapshots;
+    for (const double t : opt.snapshot_times)
+        if (!(t > 0.0) || !std::isfinite(t))
+            throw InputError("--snapshots", 0,
+                             "snapshot times are seconds after the start, positive and finite");
     if (!opt.snapshot_times.empty() && !progressive)
         throw InputError("--snapshots", 0,
                          "needs --time or --passes (snapshots are taken between the passes of "

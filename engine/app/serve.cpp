@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include "engine/core/error.h"
@@ -38,28 +39,58 @@ std::map<std::string, std::string> list_scenes(const std::vector<std::string>& d
     return scenes;
 }
 
+// A whole field as a number of type T: no trailing text, not negative, not NaN, and within
+// T's range (4294967297 is not a 32-bit width of 1).
 template <typename T>
 bool parse_number(const std::string& text, T& out) {
     try {
         std::size_t used = 0;
-        if constexpr (std::is_floating_point_v<T>)
-            out = T(std::stod(text, &used));
-        else
-            out = T(std::stoll(text, &used));
-        return used == text.size() && !(out < T(0));
+        if constexpr (std::is_floating_point_v<T>) {
+            const double v = std::stod(text, &used);
+            if (used != text.size() || !(v >= 0.0) || v > double(std::numeric_limits<T>::max()))
+                return false;
+            out = T(v);
+        } else {
+            const long long v = std::stoll(text, &used);
+            if (used != text.size() || v < 0 ||
+                static_cast<unsigned long long>(v) >
+                    static_cast<unsigned long long>(std::numeric_limits<T>::max()))
+                return false;
+            out = T(v);
+        }
+        return true;
     } catch (const std::exception&) {
         return false;
     }
 }
 
+bool loopback_host(const std::string& host) {
+    return host == "127.0.0.1" || host == "localhost" || host == "::1";
+}
+
 }  // namespace
 
 int run_serve(const ServeArgs& args) {
+    if (args.port < 0 || args.port > 65535)
+        throw InputError("--port", 0,
+                         std::to_string(args.port) + " is not a TCP port (0 to 65535)");
+    if (!loopback_host(args.host)) {
+        if (!args.allow_remote)
+            throw InputError("--host", 0,
+                             args.host +
+                                 " lets other machines reach the server, and anyone who "
+                                 "can may start renders: add --allow-remote to mean it");
+        std::fprintf(stderr,
+                     "foton serve: warning: listening on %s: anyone on that network can start "
+                     "renders on this machine\n",
+                     args.host.c_str());
+    }
     const std::vector<std::string> dirs =
         args.scene_dirs.empty() ? std::vector<std::string>{"scenes"} : args.scene_dirs;
     const std::map<std::string, std::string> scenes = list_scenes(dirs);
     RenderSession session;
     httplib::Server server;
+    server.set_payload_max_length(kMaxRequestBody);
     int port = args.port;  // the bound port, known before the first request
     // Every request passes the guard first (request_guard.h); refused ones get 403.
     server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
@@ -122,6 +153,16 @@ int run_serve(const ServeArgs& args) {
             if (req.has_param(key) && !req.get_param_value(key).empty() &&
                 !parse(req.get_param_value(key)))
                 return fail(std::string("bad ") + key + " '" + req.get_param_value(key) + "'");
+        // The command line's limits, checked before anything starts (the job checks them
+        // again with the scene's own resolution filled in).
+        if (r.width > kMaxImageSide || r.height > kMaxImageSide ||
+            uint64_t(r.width) * uint64_t(r.height) > kMaxImagePixels)
+            return fail("width x height: at most " + std::to_string(kMaxImageSide) +
+                        " per side and " + std::to_string(kMaxImagePixels) + " pixels");
+        if (r.threads > kMaxThreads)
+            return fail("threads: at most " + std::to_string(kMaxThreads));
+        if (r.spp > 100000000u) return fail("spp: at most 100000000 per pass");
+        if (r.passes > (1u << 30)) return fail("passes: at most 2^30");
         // Further settings, one key=value per line.
         std::string set = req.get_param_value("set");
         for (std::size_t at = 0; at < set.size();) {

@@ -113,11 +113,13 @@ try {
   // ... and started nothing: the last render is still the stopped one.
   const state = await page.evaluate(async () => (await (await fetch('/api/status')).json()).state);
   assert.equal(state, 'stopped');
-  const raw = (method, pathName, headers) => new Promise((resolve, reject) => {
+  const raw = (method, pathName, headers, body) => new Promise((resolve, reject) => {
     const u = new URL(url);
     const req = http.request({host: u.hostname, port: u.port, method, path: pathName, headers},
                              (res) => { res.resume(); resolve(res.statusCode); });
-    req.on('error', reject);
+    req.on('error', (e) => (e.code === 'EPIPE' || e.code === 'ECONNRESET' ? resolve(413)
+                                                                           : reject(e)));
+    if (body) req.write(body);
     req.end();
   });
   assert.equal(await raw('POST', '/api/render', {'Origin': 'https://evil.example',
@@ -126,6 +128,19 @@ try {
   assert.equal(await raw('GET', '/api/status', {'Host': 'evil.example:' + new URL(url).port}),
                403);
   assert.equal(await raw('GET', '/api/status', {}), 200);
+
+  // The command line's limits, before anything starts: each a 4xx, and the server answers on.
+  const form = {'X-Foton-Request': '1', 'Content-Type': 'application/x-www-form-urlencoded'};
+  for (const q of ['width=32768&height=32768', 'time=nan', 'time=inf', 'spp=1e12',
+                   'spp=1000000000000', 'width=4294967297', 'threads=100000']) {
+    const status = await raw('POST', '/api/render', form,
+                             'scene=scenes%2Fcornell-diffuse.xml&' + q);
+    assert.equal(status, 400, q);
+  }
+  assert.ok((await raw('POST', '/api/render', form, 'x'.repeat(64 << 20))) >= 400);
+  assert.equal(await raw('GET', '/api/status', {}), 200);
+  const after = await page.evaluate(async () => (await (await fetch('/api/status')).json()).state);
+  assert.equal(after, 'stopped');
   const traversal = await page.evaluate(async () => (await fetch('/../../etc/passwd')).status);
   assert.equal(traversal, 404);
   console.log(`web page: ${passes} passes previewed in ${previews.length} fetches; saved EXR ` +
