@@ -3,10 +3,12 @@
 #include <stb/stb_image.h>
 #include <sys/wait.h>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -496,4 +498,28 @@ TEST_CASE("foton serve and render refuse ports, hosts and snapshot times they ca
         CHECK(r.code == 2);
         CHECK_THAT(r.output, Catch::Contains("--time"));
     }
+}
+
+TEST_CASE("foton compare counts NaN and infinite pixels and says so in its exit code",
+          "[cli][compare][fast]") {
+    foton::test::TempDir dir;
+    foton::Film a(4, 2), b(4, 2);
+    for (auto& p : a.pixels) p = foton::RGB{0.5f};
+    b = a;
+    foton::write_exr(dir.file("a.exr"), a);
+    foton::write_exr(dir.file("b.exr"), b);
+    const Run same = run("compare " + dir.file("a.exr") + " " + dir.file("b.exr"));
+    CHECK(same.code == 0);
+    CHECK_THAT(same.output, Catch::Contains("nonfinite_a 0"));
+    a.pixels[3].g = std::numeric_limits<float>::quiet_NaN();
+    a.pixels[5].b = std::numeric_limits<float>::infinity();
+    foton::write_exr(dir.file("a.exr"), a);
+    const Run bad = run("compare " + dir.file("a.exr") + " " + dir.file("b.exr"));
+    CHECK(bad.code == 3);
+    CHECK_THAT(bad.output, Catch::Contains("nonfinite_a 2"));
+    CHECK_THAT(bad.output, Catch::Contains("nonfinite_b 0"));
+    CHECK_THAT(bad.output, Catch::Contains("max_abs nan"));
+    const foton::ImageError e = foton::compare_images(a, b);
+    CHECK(e.nonfinite_a == 2);
+    CHECK(std::isnan(e.max_abs));
 }

@@ -42,9 +42,16 @@ int run_compare(const CompareArgs& args) {
                 e.relative_mse, e.mae, e.max_abs, e.pixels);
     std::printf("mean_a %.6g %.6g %.6g\nmean_b %.6g %.6g %.6g\n", e.mean_a.r, e.mean_a.g,
                 e.mean_a.b, e.mean_b.r, e.mean_b.g, e.mean_b.b);
+    std::printf("nonfinite_a %zu\nnonfinite_b %zu\n", e.nonfinite_a, e.nonfinite_b);
     for (int n : args.lowpass)
         std::printf("lowpass_rmse %d %.6g\n", n, lowpass_rmse(a, b, mask, n));
     if (!args.diff_png.empty()) write_difference_png(args.diff_png, a, b, args.diff_scale);
+    // Not-a-number or infinite pixels make the figures meaningless: say so in the exit code.
+    if (e.nonfinite_a || e.nonfinite_b) {
+        std::fprintf(stderr, "foton compare: %zu pixels of %s and %zu of %s are NaN or infinite\n",
+                     e.nonfinite_a, args.a.c_str(), e.nonfinite_b, args.b.c_str());
+        return 3;
+    }
     return 0;
 }
 

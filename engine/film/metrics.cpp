@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "engine/core/error.h"
@@ -19,6 +20,11 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
         ++e.pixels;
         const float av[3] = {a.pixels[i].r, a.pixels[i].g, a.pixels[i].b};
         const float bv[3] = {b.pixels[i].r, b.pixels[i].g, b.pixels[i].b};
+        auto finite = [](const float* v) {
+            return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+        };
+        e.nonfinite_a += !finite(av);
+        e.nonfinite_b += !finite(bv);
         for (int c = 0; c < 3; ++c) {
             ma[c] += av[c];
             mb[c] += bv[c];
@@ -26,7 +32,11 @@ ImageError compare_images(const Film& a, const Film& b, const std::vector<uint8_
             se += d * d;
             rel += d * d / (double(bv[c]) * double(bv[c]) + 1e-2);
             ae += std::fabs(d);
-            e.max_abs = std::max(e.max_abs, std::fabs(d));
+            // std::max would drop a NaN difference and report the images equal.
+            if (std::isnan(d) || std::isnan(e.max_abs))
+                e.max_abs = std::numeric_limits<double>::quiet_NaN();
+            else
+                e.max_abs = std::max(e.max_abs, std::fabs(d));
         }
     }
     if (e.pixels > 0) {

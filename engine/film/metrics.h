@@ -12,9 +12,12 @@ struct ImageError {
     double rmse = 0.0;          // sqrt(mean over pixels and channels of (a - b)^2)
     double relative_mse = 0.0;  // mean of (a - b)^2 / (b^2 + 1e-2), per channel
     double mae = 0.0;           // mean |a - b|
-    double max_abs = 0.0;       // largest |a - b| of any channel
+    double max_abs = 0.0;       // largest |a - b| of any channel; NaN when one is NaN
     std::size_t pixels = 0;     // pixels counted (mask)
-    RGB mean_a, mean_b;         // channel means over the counted pixels
+    // Counted pixels with a NaN or infinite channel, in a and in b: they make the other
+    // figures NaN or infinite, and say the render (or the reference) is broken.
+    std::size_t nonfinite_a = 0, nonfinite_b = 0;
+    RGB mean_a, mean_b;  // channel means over the counted pixels
 };
 
 // `mask` (optional, same size as the images) selects the pixels that count.
