@@ -523,3 +523,30 @@ TEST_CASE("foton compare counts NaN and infinite pixels and says so in its exit 
     CHECK(e.nonfinite_a == 2);
     CHECK(std::isnan(e.max_abs));
 }
+
+TEST_CASE("outputs are distinct from each other and from the inputs", "[cli][bad-input][fast]") {
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-box.xml");
+    const std::string common = "render " + scene + " --width 8 --height 8 -q ";
+    const std::string a = dir.file("a.exr");
+    Run r = run(common + "-o " + a + " --stats-json " + a);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.output, Catch::Contains("also written by -o"));
+    CHECK_FALSE(std::filesystem::exists(a));
+    // A reference to compare against, then a render told to write over it.
+    REQUIRE(run(common + "-o " + a).code == 0);
+    const auto before = std::filesystem::last_write_time(a);
+    r = run(common + "--time 0.05 --reference " + a + " -o " + a);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.output, Catch::Contains("--reference image itself"));
+    CHECK(std::filesystem::last_write_time(a) == before);
+    r = run(common + "--time 0.05 --snapshots 0.01 -o " + a + " --stats-json " +
+            dir.file("a-0.01s.exr"));
+    CHECK(r.code == 2);
+    CHECK_THAT(r.output, Catch::Contains("also written by"));
+    // compare's difference image over one of its inputs.
+    r = run("compare " + a + " " + a + " --diff " + a);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.output, Catch::Contains("first image itself"));
+    CHECK(std::filesystem::last_write_time(a) == before);
+}

@@ -8,6 +8,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
+#include "output_paths.h"
 
 namespace foton::app {
 
@@ -21,6 +22,12 @@ int run_info(const std::string& path) {
 }
 
 int run_compare(const CompareArgs& args) {
+    if (!args.diff_png.empty()) {
+        FilePlan files;
+        files.input(args.a, "the first image");
+        files.input(args.b, "the second image");
+        files.output(args.diff_png, "--diff");
+    }
     const Film a = read_exr(args.a);
     Film b = read_exr(args.b);
     if (a.width != b.width || a.height != b.height) {

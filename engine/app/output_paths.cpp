@@ -24,4 +24,24 @@ void check_writable(const std::string& path, const char* what, const std::string
                              (ec ? ec.message() : std::string("directory not writable")) + ")");
 }
 
+std::string FilePlan::key_of(const std::string& path) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    return (ec ? fs::absolute(path).lexically_normal() : p).string();
+}
+
+void FilePlan::input(const std::string& path, const std::string& what) {
+    if (!path.empty()) inputs_.push_back({key_of(path), what});
+}
+
+void FilePlan::output(const std::string& path, const std::string& what) {
+    check_writable(path, what.c_str());
+    const std::string key = key_of(path);
+    for (const Entry& e : inputs_)
+        if (e.key == key) throw InputError(what, 0, "'" + path + "' is " + e.what + " itself");
+    for (const Entry& e : outputs_)
+        if (e.key == key) throw InputError(what, 0, "'" + path + "' is also written by " + e.what);
+    outputs_.push_back({key, what});
+}
+
 }  // namespace foton::app

@@ -177,12 +177,19 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // Every file the render will write is checked now, before any work.
     const std::string png =
         fs::path(out).replace_extension(preview_extension(preview_format)).string();
+    FilePlan files;
+    files.input(args.scene, "the scene file");
+    files.input(args.reference, "the --reference image");
     if (root) {
-        check_writable(out, "-o", args.scene);
-        check_writable(png, "-o (its preview)", args.scene);
-        if (!args.stats_json.empty()) check_writable(args.stats_json, "--stats-json", args.scene);
-        if (!args.cache_points.empty())
-            check_writable(args.cache_points, "--cache-points", args.scene);
+        files.output(out, "-o");
+        files.output(png, "-o (its preview)");
+        if (!args.stats_json.empty()) files.output(args.stats_json, "--stats-json");
+        if (!args.cache_points.empty()) files.output(args.cache_points, "--cache-points");
+        for (const double t : opt.snapshot_times) {
+            char suffix[48];
+            std::snprintf(suffix, sizeof suffix, "-%gs.exr", t);
+            files.output(fs::path(out).replace_extension("").string() + suffix, "--snapshots");
+        }
     }
     const JobRecord job{args.scene, args.command_line};
     auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
@@ -210,7 +217,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
                 std::make_unique<ConvergenceLog>(args.reference, scene.film, args.exclude_above);
         if (convergence_csv.empty())
             convergence_csv = fs::path(out).replace_extension(".convergence.csv").string();
-        if (root) check_writable(convergence_csv, "--convergence", args.scene);
+        if (root) files.output(convergence_csv, "--convergence");
     } else if (args.exclude_above || !args.convergence_csv.empty()) {
         throw InputError(args.exclude_above ? "--exclude-above" : "--convergence", 0,
                          "needs --reference");
