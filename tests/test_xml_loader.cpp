@@ -192,6 +192,12 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input][fas
                                "z=\"0\"/></point></lights>"),
                      5, "must not be negative");
         expect_error(scene_xml("\n<renderer aa_samples=\"0\"/>"), 5, "positive integer");
+        // Each attribute once, one root element (issue 34, defect 19): pugixml takes both.
+        expect_error(scene_xml("\n<renderer spp=\"4\" spp=\"64\"/>"), 5, "'spp' given twice");
+        expect_error(scene_xml("\n<lights><point intensity=\"1\" intensity=\"9\"><position "
+                               "x=\"0\" y=\"0\" z=\"0\"/></point></lights>"),
+                     5, "'intensity' given twice");
+        expect_error(scene_xml("") + "\n" + scene_xml(""), 5, "second root element <scene>");
     }
     SECTION("empty scene") {
         expect_error(std::string("<scene>") + kFilmCamera + "\n<objects>\n</objects></scene>", 4,

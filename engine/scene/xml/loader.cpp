@@ -3,12 +3,40 @@
 
 namespace foton::xml {
 
+// XML allows one root element and each attribute once per element; pugixml reads a second
+// <scene> and the last of two equal attributes without a word, which would make a scene mean
+// something other than what a reader of the file sees. Walked without recursion: the nesting
+// depth is the file's to choose.
+void Loader::reject_duplicates(const pugi::xml_document& doc) const {
+    int roots = 0;
+    for (const pugi::xml_node& c : doc.children())
+        if (c.type() == pugi::node_element && ++roots > 1)
+            fail(c, std::string("a second root element <") + c.name() +
+                        "> (a file holds one <scene>)");
+    pugi::xml_node n = doc.first_child();
+    while (n) {
+        if (n.type() == pugi::node_element)
+            for (pugi::xml_attribute a = n.first_attribute(); a; a = a.next_attribute())
+                for (pugi::xml_attribute b = a.next_attribute(); b; b = b.next_attribute())
+                    if (std::string_view(a.name()) == b.name())
+                        fail(n, std::string("attribute '") + a.name() + "' given twice on <" +
+                                    n.name() + ">");
+        if (n.first_child()) {
+            n = n.first_child();
+            continue;
+        }
+        while (n && !n.next_sibling()) n = n.parent();
+        if (n) n = n.next_sibling();
+    }
+}
+
 Scene Loader::run() {
     pugi::xml_document doc;
     const pugi::xml_parse_result r = doc.load_buffer(xml_.data(), xml_.size());
     if (!r)
         throw InputError(name_, line_of(r.offset),
                          std::string("malformed XML: ") + r.description());
+    reject_duplicates(doc);
     const pugi::xml_node root = doc.document_element();
     if (std::string_view(root.name()) != "scene")
         fail(root, std::string("root element must be <scene>, not <") + root.name() + ">");

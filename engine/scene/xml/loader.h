@@ -52,6 +52,7 @@ class Loader {
     }
 
     // Rejects attributes and child elements that the element does not define.
+    void reject_duplicates(const pugi::xml_document& doc) const;
     void check(const pugi::xml_node& n, const Names& attrs, const Names& children,
                bool any_attribute = false) const {
         for (const pugi::xml_attribute& a : n.attributes())
