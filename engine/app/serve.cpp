@@ -15,6 +15,7 @@
 #include "engine/transport/registry/integrators.h"
 #include "render_session.h"
 #include "request_guard.h"
+#include "scene_list.h"
 #include "web_page.h"
 
 namespace foton::app {
@@ -22,22 +23,6 @@ namespace foton::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-// The scenes the page may open: name ("folder/file.xml") -> path. Nothing else is ever read.
-std::map<std::string, std::string> list_scenes(const std::vector<std::string>& dirs) {
-    std::map<std::string, std::string> scenes;
-    for (const std::string& d : dirs) {
-        if (!fs::is_directory(d)) throw InputError(d, 0, "not a directory of scenes");
-        const std::string folder =
-            fs::path(d).lexically_normal().filename().string().empty()
-                ? fs::path(d).lexically_normal().parent_path().filename().string()
-                : fs::path(d).lexically_normal().filename().string();
-        for (const auto& e : fs::directory_iterator(d))
-            if (e.is_regular_file() && e.path().extension() == ".xml")
-                scenes[folder + "/" + e.path().filename().string()] = e.path().string();
-    }
-    return scenes;
-}
 
 // A whole field as a number of type T: no trailing text, not negative, not NaN, and within
 // T's range (4294967297 is not a 32-bit width of 1).
@@ -159,8 +144,7 @@ int run_serve(const ServeArgs& args) {
             uint64_t(r.width) * uint64_t(r.height) > kMaxImagePixels)
             return fail("width x height: at most " + std::to_string(kMaxImageSide) +
                         " per side and " + std::to_string(kMaxImagePixels) + " pixels");
-        if (r.threads > kMaxThreads)
-            return fail("threads: at most " + std::to_string(kMaxThreads));
+        if (r.threads > kMaxThreads) return fail("threads: at most " + std::to_string(kMaxThreads));
         if (r.spp > 100000000u) return fail("spp: at most 100000000 per pass");
         if (r.passes > (1u << 30)) return fail("passes: at most 2^30");
         // Further settings, one key=value per line.

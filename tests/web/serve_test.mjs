@@ -44,6 +44,9 @@ try {
   page.on('request', (r) => { if (r.url().includes('/api/image.png')) previews.push(r.url()); });
   await page.goto(url);
   await page.waitForSelector('#scene option[value="scenes/cornell-diffuse.xml"]', {state: 'attached'});
+  // Subfolders and pbrt-v4 scenes are listed too (app/scene_list.h).
+  await page.waitForSelector('#scene option[value="scenes/pbrt/cornell/path_diffuse.pbrt"]',
+                             {state: 'attached'});
 
   // A progressive render for a second and a half: the preview follows the passes.
   await page.selectOption('#scene', 'scenes/cornell-diffuse.xml');
