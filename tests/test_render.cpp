@@ -247,6 +247,12 @@ TEST_CASE("every integrator reports its stage graph, and photon mapping's runs t
     CHECK(photon.graph.nodes[index(photon.graph, "photons-global")].thread_time);
     CHECK(photon.graph.nodes[index(photon.graph, "photons-caustic")].thread_time);
     CHECK(photon.graph.nodes[index(photon.graph, "balance-global")].thread_time);
+    // The stage table says which of its rows are wall time (one clock around parallel work).
+    CHECK(photon.stage_wall[int(Stage::Balance)]);
+    CHECK(photon.stage_wall[int(Stage::Precompute)]);
+    CHECK_FALSE(photon.stage_wall[int(Stage::Shade)]);
+    CHECK(photon.table().find("wall") != std::string::npos);
+    CHECK(photon.json().find("\"time\": \"wall\"") != std::string::npos);
     const RenderStats sppm = graph_of("sppm", "final_gather");
     CHECK(sppm.graph.nodes[index(sppm.graph, "visible-points")].thread_time);
     CHECK(sppm.graph.nodes[index(sppm.graph, "photons")].thread_time);

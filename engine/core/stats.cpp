@@ -50,6 +50,7 @@ const char* stage_name(Stage s) {
 
 void RenderStats::merge(const RenderStats& o) {
     for_each_summed(*this, o, [](auto& a, const auto& b) { a += b; });
+    for (int i = 0; i < kNumStages; ++i) stage_wall[i] = stage_wall[i] || o.stage_wall[i];
 }
 
 std::string RenderStats::table() const {
@@ -101,11 +102,14 @@ std::string RenderStats::table() const {
                   (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
                   (unsigned long long)trace.instance_visits);
     s += buf;
-    s += "stage        thread-s      items     items/thread-s\n";
+    // Seconds are thread time (summed over the threads that ran the stage) unless the row
+    // says wall (one clock around parallel work).
+    s += "stage             seconds  time        items      items/s\n";
     for (int i = 0; i < kNumStages; ++i) {
         if (stage_items[i] == 0 && stage_seconds[i] == 0.0) continue;
-        std::snprintf(buf, sizeof buf, "%-12s %8.3f %10llu %18.4g\n", stage_name(Stage(i)),
-                      stage_seconds[i], (unsigned long long)stage_items[i],
+        std::snprintf(buf, sizeof buf, "%-16s %8.3f  %-6s %10llu %12.4g\n", stage_name(Stage(i)),
+                      stage_seconds[i], stage_wall[i] ? "wall" : "thread",
+                      (unsigned long long)stage_items[i],
                       stage_seconds[i] > 0 ? double(stage_items[i]) / stage_seconds[i] : 0.0);
         s += buf;
     }
@@ -161,7 +165,8 @@ nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& ru
     J stages = J::object();
     for (int i = 0; i < kNumStages; ++i)
         stages[stage_name(Stage(i))] = {{"thread_seconds", stage_seconds[i]},
-                                        {"items", stage_items[i]}};
+                                        {"items", stage_items[i]},
+                                        {"time", stage_wall[i] ? "wall" : "thread"}};
     j["stages"] = std::move(stages);
     J nodes = J::array(), edges = J::array();
     for (const GraphStats::Node& n : graph.nodes)

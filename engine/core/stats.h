@@ -114,8 +114,11 @@ struct RenderStats {
     double cache_fill_seconds = 0.0;  // wall time of the fill passes (set once)
     CacheCounters cache;
     TraceCounters trace;
-    double stage_seconds[kNumStages] = {};  // summed over threads
+    double stage_seconds[kNumStages] = {};  // summed over threads (wall, see stage_wall)
     uint64_t stage_items[kNumStages] = {};
+    // Stages timed by one clock around work that ran on many threads (a balance, a
+    // precomputation, SPPM's passes): their seconds are wall time, not thread time.
+    bool stage_wall[kNumStages] = {};
     double wall_seconds = 0.0;
     double build_seconds = 0.0;
     GraphStats graph;  // set once by the render's driver, not merged
@@ -125,6 +128,11 @@ struct RenderStats {
     void add(Stage s, uint64_t items, StageClock& clock) {
         stage_items[int(s)] += items;
         stage_seconds[int(s)] += clock.lap();
+    }
+    // The same for a clock that ran around parallel work: wall time, labelled so.
+    void add_wall(Stage s, uint64_t items, StageClock& clock) {
+        add(s, items, clock);
+        stage_wall[int(s)] = true;
     }
     void merge(const RenderStats& o);
     // Calls f(a.x, b.x) for every counter merge() sums: one list for merging and for

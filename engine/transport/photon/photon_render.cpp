@@ -87,7 +87,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         maps.direct.build(par);
         maps.shadow.build(par);
         const uint64_t n = maps.global.size() + maps.direct.size() + maps.shadow.size();
-        global_stats.add(Stage::Balance, n, c);
+        global_stats.add_wall(Stage::Balance, n, c);
         return n;
     });
     const uint32_t precompute = graph.add("precompute-irradiance", [&]() -> uint64_t {
@@ -108,13 +108,13 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         if (!maps.direct.empty())
             maps.direct.precompute_irradiance(ps.irradiance_stride, gp, parallel_for, opt.cluster);
         const uint64_t n = maps.global.precomputed_size() + maps.direct.precomputed_size();
-        global_stats.add(Stage::Precompute, n, c);
+        global_stats.add_wall(Stage::Precompute, n, c);
         return n;
     });
     const uint32_t balance_caustic = graph.add("balance-caustic", [&]() -> uint64_t {
         StageClock c;
         maps.caustic.build(timed_parallel_invoke(ThreadClock::for_chunks()));
-        caustic_stats.add(Stage::Balance, maps.caustic.size(), c);
+        caustic_stats.add_wall(Stage::Balance, maps.caustic.size(), c);
         return maps.caustic.size();
     });
     // Across MPI ranks the map exchanges (and the precomputed irradiance's) are collectives,

@@ -133,7 +133,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                                                            &pixels[y * std::size_t(w)], work, st);
                               }
                           });
-        local.local().add(Stage::Shade, rows * std::size_t(w), clock);
+        local.local().add_wall(Stage::Shade, rows * std::size_t(w), clock);
         return rows * std::size_t(w);
     });
     const uint32_t trace = graph.add("photons", [&]() -> uint64_t {
@@ -149,7 +149,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
         StageClock clock;
         photons.build(timed_parallel_invoke(ThreadClock::for_chunks()));
-        local.local().add(Stage::Balance, photons.size(), clock);
+        local.local().add_wall(Stage::Balance, photons.size(), clock);
         return photons.size();
     });
     const uint32_t gather = graph.add("gather", [&]() -> uint64_t {
@@ -163,7 +163,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         const std::size_t gathered =
             std::size_t(std::count(owner.begin(), owner.end(), int32_t(cluster.rank())));
         RenderStats& st = local.local();
-        st.add(Stage::FinalGather, gathered, clock);
+        st.add_wall(Stage::FinalGather, gathered, clock);
         st.samples += gathered;
         return gathered;
     });
