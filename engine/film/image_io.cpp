@@ -107,12 +107,31 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
     });
 }
 
+void check_claimed_size(const std::string& path, int width, int height, uint64_t pixels_per_byte) {
+    std::error_code ec;
+    const uint64_t bytes = std::filesystem::file_size(path, ec);
+    const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
+    if (width <= 0 || height <= 0 || pixels > kMaxInputPixels)
+        throw InputError(path, 0,
+                         "image size " + std::to_string(width) + "x" + std::to_string(height) +
+                             " is out of range (at most " + std::to_string(kMaxInputPixels) +
+                             " pixels)");
+    if (!ec && pixels > bytes * pixels_per_byte)
+        throw InputError(path, 0,
+                         "the header claims " + std::to_string(width) + "x" +
+                             std::to_string(height) + " pixels in a file of " +
+                             std::to_string(bytes) + " bytes: a corrupt header");
+}
+
 Film read_exr(const std::string& path) {
     if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
         const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        // Half-float RGB is 6 bytes a pixel before compression; no OpenEXR codec packs a
+        // pixel into less than 1/256 of a byte.
+        check_claimed_size(path, w, h, 256);
         Film film(w, h);
         Imf::FrameBuffer fb;
         char* base =
@@ -244,6 +263,9 @@ void write_difference_png(const std::string& path, const Film& a, const Film& b,
 
 std::vector<uint8_t> read_png_mask(const std::string& path, int width, int height) {
     int w = 0, h = 0, c = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &c))
+        throw InputError(path, 0, std::string("cannot read PNG: ") + stbi_failure_reason());
+    check_claimed_size(path, w, h, 2048);
     unsigned char* data = stbi_load(path.c_str(), &w, &h, &c, 1);
     if (!data) throw InputError(path, 0, std::string("cannot read PNG: ") + stbi_failure_reason());
     std::vector<uint8_t> m(std::size_t(w) * std::size_t(h));

@@ -36,6 +36,15 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
 ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
 Film read_exr(const std::string& path);
+
+// Images read (EXR, textures, masks) are at most this many pixels (16384 x 16384).
+inline constexpr uint64_t kMaxInputPixels = uint64_t(1) << 28;
+// Refuses, before any pixel memory is taken, an image whose header claims width x height
+// beyond kMaxInputPixels or beyond what its file could encode: no format foton reads packs
+// more than `pixels_per_byte` pixels into a byte of file (deflate's ratio is at most 1032:1
+// of bytes, and a pixel is at least one byte), so a 45-byte PNG claiming 16384^2 is a corrupt
+// or hostile header, not an image.
+void check_claimed_size(const std::string& path, int width, int height, uint64_t pixels_per_byte);
 // Removes the temporary file of an image being written, if any: async-signal-safe, for an
 // interrupt handler that is about to end the process.
 void remove_pending_temp_file() noexcept;

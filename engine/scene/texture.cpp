@@ -73,10 +73,7 @@ TextureImage load_texture_image(const std::string& path, bool linear) {
             throw InputError(path, 0,
                              std::string("not a readable image (EXR, HDR, PNG, JPEG, BMP, TGA): ") +
                                  stbi_failure_reason());
-        if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > (uint64_t(1) << 28))
-            throw InputError(
-                path, 0,
-                "texture size " + std::to_string(w) + "x" + std::to_string(h) + " is out of range");
+        check_claimed_size(path, w, h, 2048);
         img.width = w;
         img.height = h;
         img.texels.resize(std::size_t(w) * std::size_t(h));
