@@ -23,7 +23,7 @@ while IFS= read -r line; do
   fi
   n=$((n + 1))
   cmd=${line%%#*}  # the comment after a command is for the reader
-  start=$(date +%s.%N)
+  start=$(date +%s%N)
   if ! eval "$cmd" >"$work/log" 2>&1; then
     echo "readme_tour: failed: $line" >&2
     cat "$work/log" >&2
@@ -35,7 +35,8 @@ while IFS= read -r line; do
     echo "readme_tour: $line: wrote no $out" >&2
     exit 1
   fi
-  printf 'readme_tour: %5.1f s  %s\n' "$(echo "$(date +%s.%N) - $start" | bc)" "$cmd"
+  ms=$((($(date +%s%N) - start) / 1000000))  # bash arithmetic: no bc on a fresh machine
+  printf 'readme_tour: %4d.%01d s  %s\n' $((ms / 1000)) $((ms % 1000 / 100)) "$cmd"
 done <<<"$block"
 [ -s out/cornell-box.exr ] || { echo "readme_tour: no out/cornell-box.exr" >&2; exit 1; }
 echo "readme_tour: $n commands ran"
