@@ -9,8 +9,9 @@ namespace bvh_detail {
 
 // A ray prepared for box tests: origin and reciprocal direction broadcast to N lanes, and the
 // row offsets of the near planes per axis. A far row is its near row with bit N flipped (rows
-// 2a and 2a + 1 hold axis a's low and high planes), so three offsets serve six loads: fewer
-// registers live across the walk, which GCC otherwise spills (docs/kernels.md).
+// 2a and 2a + 1 hold axis a's low and high planes), so the far offsets are derived, not kept.
+// (GCC hoists the three XORs out of the walk; the register pressure docs/kernels.md describes
+// came from the znver3 tuning, not from these offsets.)
 template <std::size_t N>
 struct BoxRay {
     using V = simd::FloatW<N>;

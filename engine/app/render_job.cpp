@@ -44,7 +44,7 @@ RenderJob make_job(const JobRequest& r) {
     }
     if (r.passes)
         opt.max_passes =
-            uint32_t(integer_or_fail(*r.passes, 1, 1u << 30, "--passes", 0, "the value"));
+            uint32_t(integer_or_fail(*r.passes, 1, kMaxPasses, "--passes", 0, "the value"));
     job.progressive = opt.time_limit > 0.f || r.passes;
     if (job.progressive && job.settings.adaptive.enabled)
         throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,

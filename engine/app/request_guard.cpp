@@ -4,22 +4,25 @@ namespace foton::app {
 
 namespace {
 
-bool loopback(const std::string& host) {
-    return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == "[::1]";
-}
-
 bool starts_with(const std::string& s, const char* prefix) {
     return s.rfind(prefix, 0) == 0;
 }
 
 }  // namespace
 
+bool is_loopback_host(const std::string& host) {
+    return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == "[::1]";
+}
+
 std::string refuse_reason(const RequestView& r, const std::string& bound_host, int port) {
-    const std::string p = std::string(":") + std::to_string(port);
-    if (loopback(bound_host)) {
-        if (r.host != std::string("127.0.0.1") + p && r.host != std::string("localhost") + p &&
-            r.host != std::string("[::1]") + p)
-            return std::string("Host '") + r.host + "' is not this server";
+    if (is_loopback_host(bound_host)) {
+        // "name:port" with a loopback name and this server's port.
+        const std::size_t colon = r.host.rfind(':');
+        const bool ours = colon != std::string::npos &&
+                          r.host.compare(colon + 1, std::string::npos, std::to_string(port)) == 0 &&
+                          is_loopback_host(r.host.substr(0, colon)) &&
+                          r.host.compare(0, colon, "::1") != 0;  // IPv6 needs its brackets
+        if (!ours) return std::string("Host '") + r.host + "' is not this server";
     }
     const bool changes_state = r.method != "GET" && r.method != "HEAD";
     const bool api = starts_with(r.path, "/api/");

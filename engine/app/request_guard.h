@@ -24,6 +24,9 @@ struct RequestView {
     std::string token;           // X-Foton-Request, "" when absent
 };
 
+// Whether `host` (a --host value) is this machine's loopback interface.
+bool is_loopback_host(const std::string& host);
+
 // "" when the request may be served; otherwise why not (for a 403 answer).
 std::string refuse_reason(const RequestView& request, const std::string& bound_host, int port);
 

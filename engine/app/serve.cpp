@@ -49,17 +49,13 @@ bool parse_number(const std::string& text, T& out) {
     }
 }
 
-bool loopback_host(const std::string& host) {
-    return host == "127.0.0.1" || host == "localhost" || host == "::1";
-}
-
 }  // namespace
 
 int run_serve(const ServeArgs& args) {
     if (args.port < 0 || args.port > 65535)
         throw InputError("--port", 0,
                          std::to_string(args.port) + " is not a TCP port (0 to 65535)");
-    if (!loopback_host(args.host)) {
+    if (!is_loopback_host(args.host)) {
         if (!args.allow_remote)
             throw InputError("--host", 0,
                              args.host +
@@ -145,8 +141,11 @@ int run_serve(const ServeArgs& args) {
             return fail("width x height: at most " + std::to_string(kMaxImageSide) +
                         " per side and " + std::to_string(kMaxImagePixels) + " pixels");
         if (r.threads > kMaxThreads) return fail("threads: at most " + std::to_string(kMaxThreads));
-        if (r.spp > 100000000u) return fail("spp: at most 100000000 per pass");
-        if (r.passes > (1u << 30)) return fail("passes: at most 2^30");
+        if (r.spp > kMaxSamplesPerPass)
+            return fail(std::string("spp: at most ") + std::to_string(kMaxSamplesPerPass) +
+                        " per pass");
+        if (r.passes > kMaxPasses)
+            return fail(std::string("passes: at most ") + std::to_string(kMaxPasses));
         // Further settings, one key=value per line.
         std::string set = req.get_param_value("set");
         for (std::size_t at = 0; at < set.size();) {

@@ -1,6 +1,7 @@
 #include "cache_render.h"
 
 #include <chrono>
+#include <stdexcept>
 
 #include "cache_fill.h"
 #include "engine/core/error.h"
@@ -12,10 +13,10 @@ CacheSecondary cache_secondary(const CacheSettings& settings, bool photon_map) {
     const CacheSecondary m = settings.secondary;
     if (m == CacheSecondary::Auto)
         return photon_map ? CacheSecondary::Photon : CacheSecondary::Path;
+    // The settings refuse this (capability_problem, registry/integrators.cpp, at the key's
+    // file and line); reaching it is a caller's bug, not bad input.
     if (m == CacheSecondary::Photon && !photon_map)
-        throw InputError(
-            "renderer", 0,
-            "cache_secondary=\"photon\" needs type=\"photon\" (there is no photon map)");
+        throw std::logic_error("cache_secondary=\"photon\" without a photon map");
     return m;
 }
 

@@ -75,6 +75,11 @@ struct RenderResult {
 
 // The most worker threads a render runs (oneTBB itself fails beyond 65,536).
 constexpr int kMaxThreads = 4096;
+// The most samples per pixel of a pass (spp, aa_samples, the adaptive pilot) and the most
+// progressive passes a render takes: the settings, the command line and `foton serve` check
+// against these.
+constexpr uint64_t kMaxSamplesPerPass = 100000000;
+constexpr uint32_t kMaxPasses = 1u << 30;
 
 // The worker count to run with: `requested`, or every hardware thread for 0.
 int resolve_threads(int requested);

@@ -6,7 +6,7 @@ namespace foton {
 
 namespace {
 
-constexpr uint64_t kMaxCount = 100000000;
+constexpr uint64_t kMaxCount = kMaxSamplesPerPass;
 const EnumTable<Lighting> kLighting{
     {{"all", Lighting::All}, {"direct", Lighting::Direct}, {"indirect", Lighting::Indirect}}};
 
