@@ -19,7 +19,6 @@ namespace foton {
 namespace {
 // Random dimensions per bounce (path_sampler.h). The distributed tracer's shadow samples use
 // their own keyed streams.
-constexpr uint32_t kDimsPerBounce = kPathDimsPerBounce;
 constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLight,
                    kDimBsdf = kPathDimBsdf, kDimRoulette = kPathDimRoulette;
 }  // namespace
