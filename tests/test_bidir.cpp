@@ -160,7 +160,7 @@ void check_strategies(const StrategyCase& c, uint32_t path_spp, uint32_t bdpt_sp
         b.render.bidir.only_t = t;
         // Hitting the light by BSDF sampling alone (s = 0) and joining two surface
         // vertices near each other's corners (2, 2) are the noisy ones: 4x the samples.
-        const uint32_t spp = (s == 0 || s == 2 && t == 2 ? 4 : 1) * bdpt_spp * test::effort();
+        const uint32_t spp = (s == 0 || (s == 2 && t == 2) ? 4 : 1) * bdpt_spp * test::effort();
         return render_test(b, spp, 0, 7).film;
     };
     for (const auto& [s, t] : {std::pair{0, 3}, {1, 2}, {2, 1}}) {
