@@ -42,26 +42,20 @@ void CacheWorkspace::begin(std::size_t level_count, const Bounds3& bounds,
     trace = {};
 }
 
-CacheEvaluator::CacheEvaluator(const Scene& scene, const RenderSettings& settings,
-                               const Intersector& accel, const LightSet& lights, uint64_t seed,
-                               CacheSecondary mode, PhotonRadiance photons,
-                               const RadianceAlongRays* path)
-    : scene_(scene),
-      settings_(settings),
-      accel_(accel),
-      lights_(lights),
-      seed_(seed),
+CacheEvaluator::CacheEvaluator(const RenderContext& ctx, CacheSecondary mode,
+                               PhotonRadiance photons, const RadianceAlongRays* path)
+    : ctx_(ctx),
       mode_(mode),
       photons_(std::move(photons)),
       path_(path),
-      levels_(mode == CacheSecondary::Cache ? settings.cache.levels : 1),
-      strata_(HemisphereStrata::from_count(settings.cache.samples)),
-      params_(cache_params(settings.cache)),
-      bounds_(scene.bounds()) {}
+      levels_(mode == CacheSecondary::Cache ? ctx.settings.cache.levels : 1),
+      strata_(HemisphereStrata::from_count(ctx.settings.cache.samples)),
+      params_(cache_params(ctx.settings.cache)),
+      bounds_(ctx.scene.bounds()) {}
 
 bool CacheEvaluator::visibility_ray(const SurfacePoint& sp, const IrradianceRecord& r,
                                     kern::Ray1& ray) const {
-    if (!settings_.cache.visibility) return false;
+    if (!ctx_.settings.cache.visibility) return false;
     // The notes' edge case: a record beyond an edge that p cannot see must not be used.
     // Both ends are lifted off their surfaces by a tenth of their distance, so that the
     // segment clears a curved surface between them (a chord of a sphere of radius R dips
@@ -86,7 +80,7 @@ void CacheEvaluator::queue_pending(const SurfacePoint& sp, const warp::Frame& fr
     q.sp.ns = frame.n;
     q.s = frame.s;
     q.t = frame.t;
-    q.r_min = settings_.cache.r_min_pixels * scene_.camera.footprint(path_length);
+    q.r_min = ctx_.settings.cache.r_min_pixels * ctx_.scene.camera.footprint(path_length);
     q.path_length = path_length;
     q.slot = slot;
     q.weight = weight;
@@ -137,7 +131,7 @@ void CacheEvaluator::enqueue(uint32_t level, const SurfacePoint& sp, const warp:
 
 void CacheEvaluator::serve_batch(uint32_t level, CacheLookupBatch& b, CacheWorkspace& ws,
                                  CacheCounters& st) const {
-    if (!b.rays.empty()) accel_.occluded(b.rays, b.occluded, ws.trace);
+    if (!b.rays.empty()) ctx_.accel.occluded(b.rays, b.occluded, ws.trace);
     st.visibility_tests += b.rays.size();
     b.visible.resize(b.record.size());
     for (std::size_t c = 0; c < b.record.size(); ++c) {
@@ -192,7 +186,7 @@ void CacheEvaluator::resolve(CacheWorkspace& ws, std::vector<RGB>& out, RenderSt
 }
 
 void CacheEvaluator::pick_sites(CacheLevelWork& work, float f) const {
-    const float factor = settings_.cache.r_max_factor;
+    const float factor = ctx_.settings.cache.r_max_factor;
     work.picked.assign(work.pending.size(), 0);
     std::vector<uint32_t> sites;
     for (uint32_t i = 0; i < work.pending.size(); ++i) {
@@ -218,7 +212,7 @@ void CacheEvaluator::pick_sites(CacheLevelWork& work, float f) const {
 void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const {
     // M x N stratified rays; those below the geometric surface see nothing (their radiance
     // stays 0, their distance infinite).
-    const CacheSettings& cs = settings_.cache;
+    const CacheSettings& cs = ctx_.settings.cache;
     const PendingLookup& q = work.pending[pending];
     warp::Frame frame;
     frame.s = q.s;
@@ -234,7 +228,8 @@ void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const 
         for (uint32_t k = 0; k < strata_.n; ++k) {
             const uint32_t i = j * strata_.n + k;
             const Vec3 wi = frame.to_world(strata_.direction(
-                j, k, {rng::uniform(seed_, q.key, i, 0), rng::uniform(seed_, q.key, i, 1)}));
+                j, k,
+                {rng::uniform(ctx_.seed, q.key, i, 0), rng::uniform(ctx_.seed, q.key, i, 1)}));
             if (dot(wi, q.sp.ng) <= 0.f) continue;
             work.rays.push(offset_origin(q.sp, wi), wi, 0.f, tmax, first + i);
         }
@@ -244,7 +239,7 @@ void CacheEvaluator::queue_record(CacheLevelWork& work, uint32_t pending) const 
 void CacheEvaluator::resolve_level(uint32_t level, CacheWorkspace& ws, std::vector<RGB>& out,
                                    RenderStats& stats) const {
     CacheLevelWork& work = ws.levels[level];
-    const CacheSettings& cs = settings_.cache;
+    const CacheSettings& cs = ctx_.settings.cache;
     const RadiusRule rule = cs.minimum_radius ? RadiusRule::Minimum : RadiusRule::Harmonic;
     for (int round = 0; !work.pending.empty(); ++round) {
         if (round > 0) {
@@ -314,9 +309,10 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
     }
     if (mode_ == CacheSecondary::Occlusion) {
         // The ambient radiance from every direction not blocked within ao_distance.
-        const RGB sky = scene_.ambient.radiance().is_black() ? RGB{1.f} : scene_.ambient.radiance();
+        const RGB sky =
+            ctx_.scene.ambient.radiance().is_black() ? RGB{1.f} : ctx_.scene.ambient.radiance();
         HitBatch& hits = ws.gather.hits;
-        accel_.intersect(work.rays, hits, stats.trace);
+        ctx_.accel.intersect(work.rays, hits, stats.trace);
         for (std::size_t i = 0; i < work.rays.size(); ++i) {
             const uint32_t id = work.rays.id[i];
             if (hits.geom[i] == kNoHit)
@@ -342,7 +338,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
     if (next) next->clear();
     work.adds.clear();
     const std::size_t traced = trace_gather(
-        scene_, accel_, g, work.dist.data(), stats,
+        ctx_.scene, ctx_.accel, g, work.dist.data(), stats,
         [&](uint32_t id, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
             if (mode_ == CacheSecondary::Photon) {
                 work.L[id] += w * photons_(sp, m, d);
@@ -352,11 +348,11 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
             const PendingLookup& q = work.pending[work.requests[id / strata_.count()].pending];
             const uint64_t key = rng::hash(q.key, id % strata_.count(), kCacheStream, 2);
             DirectSample ds;
-            if (sample_direct(lights_, ShadingPoint(sp, m, d, w, id, 0, key),
-                              rng::uniform(seed_, key, kDimLight, 0),
-                              {rng::uniform(seed_, key, kDimLight + 1, 0),
-                               rng::uniform(seed_, key, kDimLight + 2, 0)},
-                              rng::uniform(seed_, key, kDimLight + 3, 0), ds))
+            if (sample_direct(ctx_.lights, ShadingPoint(sp, m, d, w, id, 0, key),
+                              rng::uniform(ctx_.seed, key, kDimLight, 0),
+                              {rng::uniform(ctx_.seed, key, kDimLight + 1, 0),
+                               rng::uniform(ctx_.seed, key, kDimLight + 2, 0)},
+                              rng::uniform(ctx_.seed, key, kDimLight + 3, 0), ds))
                 queue_direct(ds, id, ws.shadow, ws.shadow_value);
             RGB rho;
             if (next && m.bsdf.lambert_albedo(rho) && !rho.is_black()) {
@@ -384,7 +380,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
         work.adds.clear();
     }
     stats.add(Stage::FinalGather, traced, clock);
-    resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, work.L, stats, clock);
+    resolve_shadow_rays(ctx_.accel, ws.shadow, ws.shadow_value, ws.occluded, work.L, stats, clock);
 }
 
 }  // namespace foton

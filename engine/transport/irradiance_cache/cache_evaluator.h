@@ -23,7 +23,7 @@
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/irradiance_cache/irradiance_cache.h"
-#include "engine/transport/run/render_settings.h"
+#include "engine/transport/run/render_context.h"
 
 namespace foton {
 
@@ -119,9 +119,8 @@ class CacheEvaluator {
     using PhotonRadiance =
         std::function<RGB(const SurfacePoint& sp, const Material& m, const Vec3& dir)>;
     // `photons` is needed by secondary = photon, `path` by secondary = path.
-    CacheEvaluator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                   const LightSet& lights, uint64_t seed, CacheSecondary mode,
-                   PhotonRadiance photons, const RadianceAlongRays* path);
+    CacheEvaluator(const RenderContext& ctx, CacheSecondary mode, PhotonRadiance photons,
+                   const RadianceAlongRays* path);
     // The frozen caches, one per level (levels() of them).
     void set_caches(std::vector<const IrradianceCache*> caches) { caches_ = std::move(caches); }
     uint32_t levels() const { return levels_; }
@@ -168,11 +167,7 @@ class CacheEvaluator {
     void queue_pending(const SurfacePoint& sp, const warp::Frame& frame, const RGB& weight,
                        uint32_t slot, uint64_t key, float path_length, CacheLevelWork& work) const;
 
-    const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
-    uint64_t seed_;
+    const RenderContext ctx_;
     CacheSecondary mode_;
     PhotonRadiance photons_;
     const RadianceAlongRays* path_;

@@ -10,15 +10,15 @@
 
 namespace foton {
 
-RenderResult render_guided_path(const Scene& scene, const RenderSettings& settings,
-                                const Intersector& accel, const LightSet& lights,
-                                PathIntegrator& integrator, const RenderOptions& render_opt) {
+RenderResult render_guided_path(const RenderContext& ctx, const RenderOptions& render_opt) {
+    const Scene& scene = ctx.scene;
+    const RenderSettings& settings = ctx.settings;
     // The camera passes' times (and a time budget) count the guide's pre-pass too.
     RenderOptions opt = render_opt;
     if (!opt.start) opt.start = RenderStart::now();
-    if (lights.empty()) throw InputError(scene.source, 0, "guided paths need a light");
+    if (ctx.lights.empty()) throw InputError(scene.source, 0, "guided paths need a light");
     const PathGuideSettings& gs = settings.guide;
-    const PhotonTracer tracer(scene, accel, lights, opt.seed);
+    const PhotonTracer tracer(scene, ctx.accel, ctx.lights, opt.seed);
 
     PhotonMap photons;
     PathGuide guide;
@@ -47,9 +47,8 @@ RenderResult render_guided_path(const Scene& scene, const RenderSettings& settin
         PinnedArena arena(resolve_threads(opt.threads));
         graph.run(arena);
     }
-    integrator.set_guide(&guide);
+    const PathIntegrator integrator(ctx, VertexRules::path(settings), PathReaders{nullptr, &guide});
     RenderResult result = render_camera(scene, settings, integrator, opt, graph, graph.sinks());
-    integrator.set_guide(nullptr);
     result.stats.graph = graph.report();
     result.stats.merge(stats);
     result.stats.photons_global = photons.size();

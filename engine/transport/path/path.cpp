@@ -23,24 +23,18 @@ constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLi
                    kDimBsdf = kPathDimBsdf, kDimRoulette = kPathDimRoulette;
 }  // namespace
 
-PathIntegrator::PathIntegrator(const Scene& scene, const RenderSettings& settings,
-                               const Intersector& accel, const LightSet& lights, uint64_t seed,
-                               const VertexRules& rules)
-    : scene_(scene),
-      settings_(settings),
-      accel_(accel),
-      lights_(lights),
-      seed_(seed),
-      rules_(rules) {}
+PathIntegrator::PathIntegrator(const RenderContext& ctx, const VertexRules& rules,
+                               const PathReaders& readers)
+    : ctx_(ctx), rules_(rules), cache_(readers.cache), guide_(readers.guide) {}
 
 float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                            uint32_t k) const {
-    return ws.samplers[slot].get1(seed_, depth, k);
+    return ws.samplers[slot].get1(ctx_.seed, depth, k);
 }
 
 Point2 PathIntegrator::rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                              uint32_t k) const {
-    return ws.samplers[slot].get2(seed_, depth, k);
+    return ws.samplers[slot].get2(ctx_.seed, depth, k);
 }
 
 bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const Material& m,
@@ -56,7 +50,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // stops here, each chosen with its lobes' probability and weighted by its inverse.
     if (m.bsdf.has_delta()) {
         const float p_delta = m.bsdf.selection_probability(kSpecular);
-        if (rng::uniform(seed_, kCacheVertexChoiceStream, key, depth) < p_delta) {
+        if (rng::uniform(ctx_.seed, kCacheVertexChoiceStream, key, depth) < p_delta) {
             const BsdfContext ctx{sp.front_face, Transport::Radiance};
             BsdfSample bs;
             if (!m.bsdf.sample(wo, rand(ws, slot, depth, kDimBsdf),
@@ -77,7 +71,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     // No BSDF sample leaves this vertex, so the light sample is the only estimator of its
     // direct light and takes full weight.
     DirectSample ds;
-    if (sample_direct(lights_, vertex(), rand(ws, slot, depth, kDimLightSelect),
+    if (sample_direct(ctx_.lights, vertex(), rand(ws, slot, depth, kDimLightSelect),
                       rand2(ws, slot, depth, kDimLight), rand(ws, slot, depth, kDimLight + 2), ds))
         queue_direct(ds, slot, ws.shadow, ws.shadow_value);
     if (!rho.is_black())
@@ -88,14 +82,14 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
 }
 
 void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
-    const RenderSettings& rs = settings_;
+    const RenderSettings& rs = ctx_.settings;
     const bool guided = guide_ && !guide_->empty() && rules_.guided;
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
     const bool nee = rules_.nee;
     const Mis mis = rules_.mis;
-    const RGB ambient = scene_.ambient.radiance();
+    const RGB ambient = ctx_.scene.ambient.radiance();
 
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
         const uint32_t slot = ws.rays.id[i];
@@ -115,24 +109,24 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         const bool counts_light = counts(rs.lighting, ws.nondelta[slot]);
         if (geom == kNoHit) {
             if (!counts_light) continue;
-            if (!scene_.environment)
-                radiance[slot] += beta * scene_.background;
+            if (!ctx_.scene.environment)
+                radiance[slot] += beta * ctx_.scene.background;
             else if (counts_emission)
-                radiance[slot] += beta * scene_.environment->Le(d) *
-                                  emission_weight([&] { return lights_.environment_pdf(d); });
+                radiance[slot] += beta * ctx_.scene.environment->Le(d) *
+                                  emission_weight([&] { return ctx_.lights.environment_pdf(d); });
             continue;
         }
-        const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
+        const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
-        const Material& m = scene_.material_at(geom, sp.uv, scratch);
+        const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
         ws.path_length[slot] += ws.hits.t[i];
 
         if (m.emits_towards(sp.front_face) && counts_emission && counts_light) {
             const float w = emission_weight([&] {
-                const int li = lights_.emitter_of(geom);
+                const int li = ctx_.lights.emitter_of(geom);
                 return li < 0 ? 0.f
-                              : lights_.pmf(uint32_t(li)) *
-                                    lights_.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
+                              : ctx_.lights.pmf(uint32_t(li)) *
+                                    ctx_.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
             });
             radiance[slot] += beta * m.emission * w;
         }
@@ -160,32 +154,35 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
         }
 
         // Next event estimation.
-        if (nee && m.bsdf.has_non_delta() && !lights_.empty() &&
+        if (nee && m.bsdf.has_non_delta() && !ctx_.lights.empty() &&
             counts(rs.lighting, ws.nondelta[slot] + 1u)) {
             auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
                 // The distributed tracer's glossy lobes see area lights by being sampled.
-                const uint8_t lobes = rules_.glossy_by_sampling && !lights_.emitter(li).is_delta()
-                                          ? uint8_t(kDiffuse)
-                                          : uint8_t(kDiffuse | kGlossy);
+                const uint8_t lobes =
+                    rules_.glossy_by_sampling && !ctx_.lights.emitter(li).is_delta()
+                        ? uint8_t(kDiffuse)
+                        : uint8_t(kDiffuse | kGlossy);
                 DirectSample ds;
-                if (sample_light(lights_, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
+                if (sample_light(ctx_.lights, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
                                  strategy))
                     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
             };
             if (rules_.every_light) {
                 const uint32_t n = rs.light_samples;
-                for (uint32_t li = 0; li < lights_.size(); ++li) {
-                    const uint32_t k = lights_.emitter(li).is_delta() ? 1 : n;
+                for (uint32_t li = 0; li < ctx_.lights.size(); ++li) {
+                    const uint32_t k = ctx_.lights.emitter(li).is_delta() ? 1 : n;
                     for (uint32_t s = 0; s < k; ++s) {
                         const uint64_t lkey = rng::hash(key, depth, li, 0);
-                        const Point2 u = sample_pattern(SamplerKind::Jittered, s, k, seed_, lkey);
-                        const float uc = rng::uniform(seed_, lkey, s, 2);
+                        const Point2 u =
+                            sample_pattern(SamplerKind::Jittered, s, k, ctx_.seed, lkey);
+                        const float uc = rng::uniform(ctx_.seed, lkey, s, 2);
                         estimate(li, 1.f, u, uc, 1.f / float(k));
                     }
                 }
             } else {
                 float pick;
-                const uint32_t li = lights_.select(rand(ws, slot, depth, kDimLightSelect), pick);
+                const uint32_t li =
+                    ctx_.lights.select(rand(ws, slot, depth, kDimLightSelect), pick);
                 estimate(li, pick, rand2(ws, slot, depth, kDimLight),
                          rand(ws, slot, depth, kDimLight + 2), 1.f);
             }
@@ -235,7 +232,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
 void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist,
                          RenderStats& stats, StageClock& clock) const {
     run_wavefront(
-        accel_, ws.rays, ws.next, ws.hits, ws.first_depth, std::numeric_limits<uint32_t>::max(),
+        ctx_.accel, ws.rays, ws.next, ws.hits, ws.first_depth, std::numeric_limits<uint32_t>::max(),
         stats, clock,
         [&](uint32_t depth) {
             if (first_dist && depth == ws.first_depth)
@@ -248,8 +245,8 @@ void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* f
             // The bounce's cache lookups before its shadow rays, as when they were made one
             // by one during shading.
             if (cache_) cache_->serve_lookups(ws.cache, radiance, stats, clock);
-            resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
-                                clock);
+            resolve_shadow_rays(ctx_.accel, ws.shadow, ws.shadow_value, ws.occluded, radiance,
+                                stats, clock);
         });
 }
 
@@ -272,11 +269,12 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
     ws.samplers.resize(n);
     for (std::size_t i = 0; i < n; ++i)
-        ws.samplers[i] = PathSampler::for_job(settings_.sampler, scene_, jobs[i], seed_);
+        ws.samplers[i] =
+            PathSampler::for_job(ctx_.settings.sampler, ctx_.scene, jobs[i], ctx_.seed);
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
     ws.rays.clear();
-    generate_camera_rays(scene_, settings_.sampler, jobs, seed_, ws.rays);
+    generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
     stats.camera_rays += n;
     stats.add(Stage::Generate, n, clock);
     run(ws, radiance, nullptr, stats, clock);
@@ -305,22 +303,29 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     run(ws, radiance, first_dist, stats, clock);
 }
 
+std::unique_ptr<RadianceAlongRays> make_path_onwards(const RenderContext& ctx) {
+    return std::make_unique<PathIntegrator>(ctx, VertexRules::path(ctx.settings));
+}
+
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene);
-    PathIntegrator integrator(scene, settings, accel, lights, opt.seed,
-                              VertexRules::path(settings));
-    if (settings.guide.enabled)
-        return render_guided_path(scene, settings, accel, lights, integrator, opt);
+    const RenderContext ctx{scene, settings, accel, lights, opt.seed};
+    if (settings.guide.enabled) return render_guided_path(ctx, opt);
     if (settings.indirect != IndirectMode::IrradianceCache)
-        return render_camera(scene, settings, integrator, opt);
+        return render_camera(scene, settings, PathIntegrator(ctx, VertexRules::path(settings)),
+                             opt);
+    // The cache's records trace on with a path tracer that does not read the cache.
+    const PathIntegrator onwards(ctx, VertexRules::path(settings));
+    CacheClient client;
+    client.camera = [&](const CacheEvaluator& cache) -> std::unique_ptr<CameraIntegrator> {
+        return std::make_unique<PathIntegrator>(ctx, VertexRules::path(settings),
+                                                PathReaders{&cache, nullptr});
+    };
+    client.onwards = &onwards;
     StageGraph graph;
     graph.set_progress(opt.progress);
-    RenderResult result = render_with_cache(
-        scene, settings, accel, lights, integrator,
-        [&](const CacheEvaluator* e) { integrator.set_cache(e); }, nullptr,
-        PathIntegrator(scene, settings, accel, lights, opt.seed, VertexRules::path(settings)), opt,
-        graph, {});
+    RenderResult result = render_with_cache(ctx, client, opt, graph, {});
     result.stats.graph = graph.report();
     return result;
 }
@@ -328,9 +333,8 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
 RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
                                 const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene);
-    const PathIntegrator integrator(scene, settings, accel, lights, opt.seed,
-                                    VertexRules::distributed());
-    return render_camera(scene, settings, integrator, opt);
+    const RenderContext ctx{scene, settings, accel, lights, opt.seed};
+    return render_camera(scene, settings, PathIntegrator(ctx, VertexRules::distributed()), opt);
 }
 
 }  // namespace foton

@@ -26,8 +26,8 @@
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
+#include "engine/transport/run/render_context.h"
 #include "engine/transport/run/render_options.h"
-#include "engine/transport/run/render_settings.h"
 #include "path_sampler.h"
 
 namespace foton {
@@ -63,6 +63,17 @@ struct VertexRules {
     }
 };
 
+class PathGuide;
+
+// What a path tracer may read besides the scene, fixed when it is made (path only, not
+// distributed).
+struct PathReaders {
+    // Indirect light at the first diffuse vertex from this irradiance cache.
+    const CacheEvaluator* cache = nullptr;
+    // Diffuse vertices draw their next direction from this photon guide's mixture.
+    const PathGuide* guide = nullptr;
+};
+
 struct PathWorkspace : IntegratorWorkspace {
     RayBatch rays, next, shadow;
     HitBatch hits;
@@ -90,17 +101,13 @@ struct PathWorkspace : IntegratorWorkspace {
 
 class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
   public:
-    PathIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                   const LightSet& lights, uint64_t seed, const VertexRules& rules);
+    PathIntegrator(const RenderContext& ctx, const VertexRules& rules,
+                   const PathReaders& readers = {});
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PathWorkspace>();
     }
     void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
                      std::vector<RGB>& radiance, RenderStats& stats) const override;
-    // Indirect light at the first diffuse vertex from this cache (path only).
-    void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
-    // Diffuse vertices draw their next direction from this photon guide's mixture (path only).
-    void set_guide(const class PathGuide* guide) { guide_ = guide; }
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
     // rays); see RadianceAlongRays.
     void radiance_along(const RayBatch& rays, const std::vector<uint64_t>& keys,
@@ -119,14 +126,10 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     // Numbers k and k + 1 together (the light position, the BSDF direction): one Sobol' pair.
     Point2 rand2(const PathWorkspace& ws, uint32_t slot, uint32_t depth, uint32_t k) const;
 
-    const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
-    uint64_t seed_;
-    VertexRules rules_;
-    const CacheEvaluator* cache_ = nullptr;
-    const PathGuide* guide_ = nullptr;
+    const RenderContext ctx_;
+    const VertexRules rules_;
+    const CacheEvaluator* const cache_;
+    const PathGuide* const guide_;
 };
 
 // The table entries (registry/integrators.h): the tile driver over path tracing (with the
@@ -135,9 +138,11 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& options);
 // Path tracing guided by a photon pre-pass (path_guide.h): the guide's stages, then the
 // camera pass as render_path's (guided_render.cpp).
-RenderResult render_guided_path(const Scene& scene, const RenderSettings& settings,
-                                const Intersector& accel, const LightSet& lights,
-                                PathIntegrator& integrator, const RenderOptions& options);
+RenderResult render_guided_path(const RenderContext& ctx, const RenderOptions& options);
+// Path tracing onwards from rays leaving a scattering vertex, for the irradiance cache's
+// secondary="path" in families that have no path tracer of their own (the registry hands it
+// to them, so they need not include this family).
+std::unique_ptr<RadianceAlongRays> make_path_onwards(const RenderContext& ctx);
 RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
                                 const Intersector& accel, const RenderOptions& options);
 

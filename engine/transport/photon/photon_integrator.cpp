@@ -19,23 +19,17 @@ constexpr uint32_t kDimsPerBounce = 8;
 constexpr uint32_t kDimChoice = 0, kDimLobe = 1, kDimLight = 4;
 }  // namespace
 
-PhotonIntegrator::PhotonIntegrator(const Scene& scene, const RenderSettings& settings,
-                                   const Intersector& accel, const LightSet& lights,
-                                   const PhotonMaps& maps, uint64_t seed)
-    : scene_(scene),
-      settings_(settings),
-      accel_(accel),
-      lights_(lights),
-      maps_(maps),
-      seed_(seed) {}
+PhotonIntegrator::PhotonIntegrator(const RenderContext& ctx, const PhotonMaps& maps,
+                                   const CacheEvaluator* cache)
+    : ctx_(ctx), maps_(maps), cache_(cache) {}
 
 float PhotonIntegrator::rand(uint64_t key, uint32_t depth, uint32_t k) const {
-    return rng::uniform(seed_, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
+    return rng::uniform(ctx_.seed, kPathStream, key, uint64_t(depth) * kDimsPerBounce + k);
 }
 
 void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspace& ws,
                                      std::vector<RGB>& radiance) const {
-    const PhotonSettings& ps = settings_.photon;
+    const PhotonSettings& ps = ctx_.settings.photon;
     const SurfacePoint& sp = v.sp;
     const Material& m = v.m;
     const warp::Frame& frame = v.frame;
@@ -46,8 +40,8 @@ void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspac
     // lighting=direct|indirect (the thesis' chapter 7): the visible point's direct light is
     // its light sample, or the direct photons (render_photon leaves the global map with the
     // photons of the chosen kind when it is not split); the rest is indirect.
-    const bool direct = settings_.lighting != Lighting::Indirect;
-    const bool indirect = settings_.lighting != Lighting::Direct;
+    const bool direct = ctx_.settings.lighting != Lighting::Indirect;
+    const bool indirect = ctx_.settings.lighting != Lighting::Direct;
     if (ps.mode == PhotonMode::DirectVisualisation) {
         // The global map seen directly; when split it holds the indirect light only and the
         // direct light is ray traced (the thesis' comparison of the two).
@@ -80,7 +74,7 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
     const SurfacePoint& sp = v.sp;
     const uint32_t slot = v.slot;
     DirectSample ds;
-    if (!sample_direct(lights_, v, rand(v.key, v.depth, kDimLight),
+    if (!sample_direct(ctx_.lights, v, rand(v.key, v.depth, kDimLight),
                        {rand(v.key, v.depth, kDimLight + 1), rand(v.key, v.depth, kDimLight + 2)},
                        rand(v.key, v.depth, kDimLight + 3), ds))
         return;
@@ -103,7 +97,7 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
         });
         if (lit > 0 && dark == 0) verdict = 1;
         if (dark > 0 && lit == 0) verdict = 0;
-        if (lit > 0 && dark > 0 && settings_.photon.shadow_estimate) {
+        if (lit > 0 && dark > 0 && ctx_.settings.photon.shadow_estimate) {
             verdict = 1;
             visibility = float(lit) / float(lit + dark);
         }
@@ -117,7 +111,7 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
 }
 
 void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace& ws) const {
-    const PhotonSettings& ps = settings_.photon;
+    const PhotonSettings& ps = ctx_.settings.photon;
     const SurfacePoint& sp = v.sp;
     const Material& m = v.m;
     const warp::Frame& frame = v.frame;
@@ -144,7 +138,7 @@ void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace&
         guided = ws.guide.finish(0.5f);
     }
     for (uint32_t g = 0; g < n; ++g) {
-        const Point2 u = sample_pattern(SamplerKind::Jittered, g, n, seed_, key);
+        const Point2 u = sample_pattern(SamplerKind::Jittered, g, n, ctx_.seed, key);
         Vec3 wl;
         RGB f;
         float pdf;
@@ -153,7 +147,8 @@ void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace&
             f = m.bsdf.f_restricted(wo, wl, ctx, kDiffuse | kGlossy);
         } else {
             BsdfSample bs;
-            if (!m.bsdf.sample(wo, rng::uniform(seed_, key, g, 2), u, ctx, bs, kDiffuse | kGlossy))
+            if (!m.bsdf.sample(wo, rng::uniform(ctx_.seed, key, g, 2), u, ctx, bs,
+                               kDiffuse | kGlossy))
                 continue;
             // The restricted sample is over the non-delta lobes only; its weight is theirs.
             wl = bs.wi;
@@ -257,7 +252,7 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
     // Emission is not counted at the hits: direct light came from NEE, and light through
     // specular surfaces from the caustic map.
     const std::size_t rays = trace_gather(
-        scene_, accel_, ws.gather, nullptr, stats,
+        ctx_.scene, ctx_.accel, ws.gather, nullptr, stats,
         [&](uint32_t slot, const RGB& w, const SurfacePoint& sp, const Material& m, const Vec3& d) {
             b.order.emplace_back(slot, int32_t(b.hits.size()));
             b.hits.push_back({sp, &m, d, w});
@@ -294,13 +289,14 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
     ws.gather.clear();
     ws.path_length.assign(n, 0.f);
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
-    generate_camera_rays(scene_, settings_.sampler, jobs, seed_, ws.rays);
+    generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
     stats.camera_rays += n;
     stats.add(Stage::Generate, n, clock);
 
     // Camera rays through specular chains to the visible points.
     run_wavefront(
-        accel_, ws.rays, ws.next, ws.hits, 0, std::numeric_limits<uint32_t>::max(), stats, clock,
+        ctx_.accel, ws.rays, ws.next, ws.hits, 0, std::numeric_limits<uint32_t>::max(), stats,
+        clock,
         [&](uint32_t depth) {
             for (std::size_t i = 0; i < ws.rays.size(); ++i) {
                 const uint32_t slot = ws.rays.id[i];
@@ -308,23 +304,23 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 RGB& beta = ws.beta[slot];
                 const uint32_t geom = ws.hits.geom[i];
                 if (geom == kNoHit) {
-                    if (settings_.lighting != Lighting::Indirect)
-                        radiance[slot] += beta * scene_.background_along(ws.rays.direction(i));
+                    if (ctx_.settings.lighting != Lighting::Indirect)
+                        radiance[slot] += beta * ctx_.scene.background_along(ws.rays.direction(i));
                     continue;
                 }
                 const Vec3 d = ws.rays.direction(i);
                 ws.path_length[slot] += ws.hits.t[i];
-                const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
+                const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
                 std::optional<Material> scratch;
-                const Material& m = scene_.material_at(geom, sp.uv, scratch);
+                const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
-                if (m.emits_towards(sp.front_face) && settings_.lighting != Lighting::Indirect)
+                if (m.emits_towards(sp.front_face) && ctx_.settings.lighting != Lighting::Indirect)
                     radiance[slot] += beta * m.emission;
                 if (m.bsdf.empty()) continue;
                 const float p_delta = m.bsdf.selection_probability(kSpecular);
                 if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
-                    if (depth >= settings_.max_depth) continue;
+                    if (depth >= ctx_.settings.max_depth) continue;
                     const warp::Frame frame(sp.ns);
                     const Vec3 wo = frame.to_local(-d);
                     const BsdfContext ctx{sp.front_face, Transport::Radiance};
@@ -351,7 +347,8 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
         });
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
-    resolve_shadow_rays(accel_, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats, clock);
+    resolve_shadow_rays(ctx_.accel, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                        clock);
 }
 
 }  // namespace foton

@@ -18,7 +18,7 @@
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_map.h"
-#include "engine/transport/run/render_settings.h"
+#include "engine/transport/run/render_context.h"
 
 namespace foton {
 
@@ -68,8 +68,11 @@ struct PhotonCameraWorkspace : IntegratorWorkspace {
 
 class PhotonIntegrator : public CameraIntegrator {
   public:
-    PhotonIntegrator(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                     const LightSet& lights, const PhotonMaps& maps, uint64_t seed);
+    // With `cache`, indirect diffuse light comes from that irradiance cache instead of final
+    // gathering at every point; visible points it cannot serve compute new records, which
+    // the last trace() left in the workspace's cache part.
+    PhotonIntegrator(const RenderContext& ctx, const PhotonMaps& maps,
+                     const CacheEvaluator* cache = nullptr);
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<PhotonCameraWorkspace>();
     }
@@ -82,10 +85,6 @@ class PhotonIntegrator : public CameraIntegrator {
     }
     void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
                      std::vector<RGB>& radiance, RenderStats& stats) const override;
-    // Indirect diffuse light from this cache instead of final gathering at every point;
-    // visible points it cannot serve compute new records, which the last trace() left in
-    // the workspace's cache part.
-    void set_cache(const CacheEvaluator* cache) { cache_ = cache; }
     // Radiance leaving a final-gather hit towards -d, from the photons (global and, when
     // split, direct maps; precomputed irradiance on Lambertian surfaces).
     RGB photon_radiance(const struct SurfacePoint& sp, const Material& m, const Vec3& d) const;
@@ -104,13 +103,9 @@ class PhotonIntegrator : public CameraIntegrator {
                       RenderStats& stats) const;
     float rand(uint64_t key, uint32_t depth, uint32_t k) const;
 
-    const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
+    const RenderContext ctx_;
     const PhotonMaps& maps_;
-    uint64_t seed_;
-    const CacheEvaluator* cache_ = nullptr;
+    const CacheEvaluator* const cache_;
 };
 
 }  // namespace foton

@@ -10,7 +10,6 @@
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
-#include "engine/transport/path/path.h"
 #include "engine/transport/run/camera_driver.h"
 #include "engine/transport/run/stage_graph.h"
 #include "photon_integrator.h"
@@ -19,7 +18,8 @@
 namespace foton {
 
 RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
-                           const Intersector& accel, const RenderOptions& render_opt) {
+                           const Intersector& accel, const RenderOptions& render_opt,
+                           const PathOnwards& path_onwards) {
     // The camera passes' times (and a time budget) count the photon passes too.
     RenderOptions opt = render_opt;
     if (!opt.start) opt.start = RenderStart::now();
@@ -134,21 +134,29 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     photon_stats.merge(global_stats);
     photon_stats.merge(caustic_stats);
 
-    PhotonIntegrator integrator(scene, settings, accel, lights, maps, opt.seed);
+    const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     // The camera nodes (camera gather, final gather, accumulate; the cache fill before them)
     // join the graph after the maps are ready.
     const std::vector<uint32_t> maps_ready = graph.sinks();
-    RenderResult result = settings.indirect == IndirectMode::IrradianceCache
-                              ? render_with_cache(
-                                    scene, settings, accel, lights, integrator,
-                                    [&](const CacheEvaluator* e) { integrator.set_cache(e); },
-                                    [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
-                                        return integrator.photon_radiance(sp, m, d);
-                                    },
-                                    PathIntegrator(scene, settings, accel, lights, opt.seed,
-                                                   VertexRules::path(settings)),
-                                    opt, graph, maps_ready)
-                              : render_camera(scene, settings, integrator, opt, graph, maps_ready);
+    RenderResult result;
+    if (settings.indirect == IndirectMode::IrradianceCache) {
+        // The records' rays read the photons through an integrator that has no cache.
+        const PhotonIntegrator photons(ctx, maps);
+        const std::unique_ptr<RadianceAlongRays> onwards =
+            path_onwards ? path_onwards(ctx) : nullptr;
+        CacheClient client;
+        client.camera = [&](const CacheEvaluator& cache) -> std::unique_ptr<CameraIntegrator> {
+            return std::make_unique<PhotonIntegrator>(ctx, maps, &cache);
+        };
+        client.photons = [&](const SurfacePoint& sp, const Material& m, const Vec3& d) {
+            return photons.photon_radiance(sp, m, d);
+        };
+        client.onwards = onwards.get();
+        result = render_with_cache(ctx, client, opt, graph, maps_ready);
+    } else {
+        result =
+            render_camera(scene, settings, PhotonIntegrator(ctx, maps), opt, graph, maps_ready);
+    }
     result.stats.graph = graph.report();
     result.stats.merge(photon_stats);
     result.stats.photons_global = maps.global.size() + maps.direct.size();

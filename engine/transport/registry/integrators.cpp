@@ -10,6 +10,15 @@
 
 namespace foton {
 
+namespace {
+// Photon mapping's irradiance cache traces on (cache_secondary="path") with the path family's
+// tracer: the table is where the families meet.
+RenderResult render_photon_row(const Scene& scene, const RenderSettings& settings,
+                               const Intersector& accel, const RenderOptions& options) {
+    return render_photon(scene, settings, accel, options, make_path_onwards);
+}
+}  // namespace
+
 const std::vector<IntegratorInfo>& integrators() {
     // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
     constexpr uint32_t kPath =
@@ -23,7 +32,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"path", {}, "path tracing, NEE + MIS", kPath, nullptr, render_path},
         {"distributed", {}, "distributed ray tracing (Cook 1984)", kCapCamera, nullptr, render_distributed},
         {"light", {}, "light tracing", 0, nullptr, render_light},
-        {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon},
+        {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon_row},
         {"sppm", {}, "stochastic progressive photon mapping", 0, nullptr, render_sppm},
         {"ppm", {}, "progressive photon mapping", 0, nullptr, render_ppm},
         {"bdpt", {}, "bidirectional path tracing", kCapBidirectional | kCapStrategyDebug, nullptr, render_bdpt},
