@@ -94,6 +94,19 @@ inline Share share_of(uint64_t n, const Cluster& c) {
     return share_of(n, c.rank(), c.size());
 }
 
+// The other split: items dealt out in turn, item i to rank i mod N (camera tiles, VCM's
+// camera chunks, SPPM's image rows). Every rank gets some of every part of the image, so
+// cheap and costly regions are shared alike; rank order is then not item order.
+inline int dealt_to(uint64_t item, int ranks) {
+    return int(item % uint64_t(ranks));
+}
+// The items of [0, n) dealt to this rank, in order.
+inline std::vector<uint64_t> dealt_in_turn(uint64_t n, const Cluster& c) {
+    std::vector<uint64_t> mine;
+    for (uint64_t i = uint64_t(c.rank()); i < n; i += uint64_t(c.size())) mine.push_back(i);
+    return mine;
+}
+
 // Packing trivially copyable values into the byte strings the collectives move.
 template <class T>
 void pack(Bytes& out, const T* data, std::size_t n) {

@@ -12,8 +12,8 @@
 #include "camera_subpaths.h"
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
+#include "engine/film/pixel_sums.h"
 #include "engine/transport/run/pass_control.h"
-#include "engine/transport/run/pixel_owners.h"
 #include "engine/transport/run/stage_graph.h"
 #include "light_subpaths.h"
 
@@ -65,19 +65,11 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     // on its pixels in chunk order, as one process adds them to each pixel.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
     const Share light_mine = share_of(light_chunks, cluster);
-    std::vector<std::size_t> camera_mine;
-    for (std::size_t k = std::size_t(cluster.rank()); k < camera_chunks;
-         k += std::size_t(cluster.size()))
-        camera_mine.push_back(k);
-    PixelOwners owner;
-    if (cluster.distributed()) {
-        owner.resize(pixels);
-        for (uint32_t p = 0; p < pixels; ++p)
-            owner[p] = int32_t((p / kCameraChunk) % uint32_t(cluster.size()));
-    }
+    const std::vector<uint64_t> camera_mine = dealt_in_turn(camera_chunks, cluster);
+    PixelSums sums(scene.film.width, scene.film.height);
+    if (cluster.distributed()) sums.set_owners(owners_by_run(pixels, kCameraChunk, cluster.size()));
     std::vector<LightVertices> chunk_vertices(light_chunks);
     std::vector<std::vector<Splat>> splats(light_chunks);
-    std::vector<RGB> sum(pixels, RGB{0.f});
     LightPathStore store;
     store.use_kdtree = settings.bidir.merge_index == MergeIndex::KdTree;
     tbb::enumerable_thread_specific<LightSubpathWorkspace> light_ws;
@@ -156,48 +148,31 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                                   const uint32_t first = uint32_t(k) * kCameraChunk;
                                   const uint32_t n = std::min(kCameraChunk, pixels - first);
                                   trace_camera_subpaths(ctx, store, first, n, ws, radiance, st);
-                                  for (uint32_t i = 0; i < n; ++i) sum[first + i] += radiance[i];
+                                  for (uint32_t i = 0; i < n; ++i) sums.add(first + i, radiance[i]);
                                   st.samples += n;
                                   task.advance();
                               }
                           });
         uint64_t traced = 0;
-        for (const std::size_t k : camera_mine)
+        for (const uint64_t k : camera_mine)
             traced += std::min(kCameraChunk, pixels - uint32_t(k) * kCameraChunk);
         return traced;
     });
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
-        std::size_t count = 0;
-        if (cluster.distributed()) {
-            Bytes packed;
-            for (std::size_t k = light_mine.begin; k < light_mine.end; ++k)
-                pack(packed, splats[k].data(), splats[k].size());
-            const int me = cluster.rank();
-            for (const Bytes& part : cluster.all_gather(packed))
-                for (Unpacker in(part); !in.done();) {
-                    const Splat sp = in.value<Splat>();
-                    if (owner[sp.pixel] == me) sum[sp.pixel] += sp.value, ++count;
-                }
-        } else {
-            count = add_splats(splats, sum);
-        }
+        const std::size_t count = sums.add_splats(splats, light_mine, cluster);
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });
     graph.edge(light, vertices);
     graph.edge(vertices, camera);
     graph.edge(light, splat);
-    graph.edge(camera, splat);  // both add to `sum`
+    graph.edge(camera, splat);  // both add to `sums`
 
     // Collective across ranks: the image is whole on rank 0.
     auto image = [&] {
-        Film f(scene.film.width, scene.film.height);
-        const float inv = iterations ? float(1.0 / double(iterations)) : 0.f;
-        std::vector<RGB> all = sum;
-        gather_to_root(cluster, owner, all);
-        for (std::size_t i = 0; i < all.size(); ++i) f.pixels[i] = all[i] * inv;
-        return f;
+        sums.gather(cluster);
+        return sums.scaled(iterations ? float(1.0 / double(iterations)) : 0.f);
     };
     PinnedArena arena(threads);
     uint32_t passes = 0;
@@ -228,7 +203,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     result.stats.passes = passes;
     result.stats.graph = graph.report();
     result.film = image();
-    result.samples_per_pixel.assign(sum.size(), uint32_t(iterations));
+    result.samples_per_pixel.assign(sums.size(), uint32_t(iterations));
     return result;
 }
 

@@ -9,6 +9,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
+#include "engine/film/pixel_sums.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
@@ -23,7 +24,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
                          "the light tracer needs a pinhole perspective camera (no lens_radius)");
     const LightSet lights(scene);
     if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
-    const LightTracer tracer(scene, settings, accel, lights, opt.seed);
+    const LightTracer tracer(RenderContext{scene, settings, accel, lights, opt.seed});
     const int threads = resolve_threads(opt.threads);
     const uint64_t per_pass = scene.film.full_pixels() * uint64_t(opt.spp);
     constexpr uint32_t kChunk = 4096;
@@ -32,20 +33,16 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     // the splats of all in rank order, which is chunk order.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
     const Share mine = share_of(chunks, cluster);
-    std::vector<RGB> sum(std::size_t(scene.film.width) * scene.film.height);
+    // Rank 0 adds every splat (no owners): its sums are the image.
+    PixelSums sums(scene.film.width, scene.film.height);
     std::vector<std::vector<Splat>> splats(chunks);
     tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> stats;
     PassControl control(opt);
     const ProgressTask task = control.task("light-paths", mine.size());
     uint32_t passes = 0;
-    auto image = [&] {
-        Film f(scene.film.width, scene.film.height);
-        // A pixel's estimate is its splat sum over the number of paths traced.
-        const float inv = float(1.0 / (double(per_pass) * passes));
-        for (std::size_t i = 0; i < sum.size(); ++i) f.pixels[i] = sum[i] * inv;
-        return f;
-    };
+    // A pixel's estimate is its splat sum over the number of paths traced.
+    auto image = [&] { return sums.scaled(float(1.0 / (double(per_pass) * passes))); };
     // Per pass: the light paths in parallel chunks, then their splats in chunk order.
     StageGraph graph;
     graph.set_progress(opt.progress);
@@ -68,23 +65,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
-        std::size_t count = 0;
-        if (cluster.distributed()) {
-            std::size_t mine_count = 0;
-            for (std::size_t c = mine.begin; c < mine.end; ++c) mine_count += splats[c].size();
-            Bytes packed;
-            packed.reserve(mine_count * sizeof(Splat));
-            for (std::size_t c = mine.begin; c < mine.end; ++c)
-                pack(packed, splats[c].data(), splats[c].size());
-            // Rank 0 adds them straight from the messages, in rank order (= chunk order).
-            for (const Bytes& part : cluster.gather(packed))
-                for (Unpacker in(part); !in.done(); ++count) {
-                    const Splat sp = in.value<Splat>();
-                    sum[sp.pixel] += sp.value;
-                }
-        } else {
-            count = add_splats(splats, sum);
-        }
+        const std::size_t count = sums.add_splats(splats, mine, cluster);
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });
@@ -101,7 +82,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     result.stats.passes = passes;
     result.stats.graph = graph.report();
     result.film = image();
-    result.samples_per_pixel.assign(sum.size(), opt.spp * passes);
+    result.samples_per_pixel.assign(sums.size(), opt.spp * passes);
     return result;
 }
 

@@ -16,18 +16,14 @@ constexpr uint32_t kDimLightSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle =
                    kDimFirstBounce = 8, kDimsPerBounce = 4;
 }  // namespace
 
-LightTracer::LightTracer(const Scene& scene, const RenderSettings& settings,
-                         const Intersector& accel, const LightSet& lights, uint64_t seed)
-    : scene_(scene), settings_(settings), accel_(accel), lights_(lights), seed_(seed) {}
-
 float LightTracer::rand(uint64_t path, uint32_t dim) const {
-    return rng::uniform(seed_, kLightPathStream, path, dim);
+    return rng::uniform(ctx_.seed, kLightPathStream, path, dim);
 }
 
 void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws,
                         std::vector<Splat>& splats, RenderStats& stats) const {
-    const Camera& cam = scene_.camera;
-    const RenderSettings& rs = settings_;
+    const Camera& cam = ctx_.scene.camera;
+    const RenderSettings& rs = ctx_.settings;
     StageClock clock;
     ws.rays.clear();
     ws.shadow.clear();
@@ -55,11 +51,11 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     for (uint32_t k = 0; k < count; ++k) {
         const uint64_t path = first + k;
         EmittedRay er;
-        if (!lights_.sample_ray(
+        if (!ctx_.lights.sample_ray(
                 rand(path, kDimLightSelect), {rand(path, kDimPos), rand(path, kDimPos + 1)},
                 {rand(path, kDimDir), rand(path, kDimDir + 1)}, rand(path, kDimTriangle), er))
             continue;
-        const Emitter& em = lights_.emitter(er.light);
+        const Emitter& em = ctx_.lights.emitter(er.light);
         const EmissionSample& es = er.emission;
         if (!em.is_delta() && !em.is_infinite()) {
             // The emitting point itself, seen by the camera.
@@ -77,7 +73,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     stats.samples += count;
     stats.add(Stage::Generate, count, clock);
 
-    run_wavefront(accel_, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
+    run_wavefront(ctx_.accel, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
         const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
         for (std::size_t i = 0; i < ws.rays.size(); ++i) {
             const uint32_t geom = ws.hits.geom[i];
@@ -85,9 +81,9 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const uint32_t slot = ws.rays.id[i];
             const uint64_t path = first + slot;
             const Vec3 d = ws.rays.direction(i);
-            const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
+            const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
             std::optional<Material> scratch;
-            const Material& m = scene_.material_at(geom, sp.uv, scratch);
+            const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
             if (m.bsdf.empty() || vertex > rs.max_depth) continue;
             RGB& beta = ws.beta[slot];
             const warp::Frame frame(sp.ns);
@@ -131,7 +127,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     // The connections, tested at once. Splats keep the order the connections were made in,
     // which depends only on the chunk's paths.
     if (!ws.shadow.empty()) {
-        accel_.occluded(ws.shadow, ws.occluded, stats.trace);
+        ctx_.accel.occluded(ws.shadow, ws.occluded, stats.trace);
         stats.shadow_rays += ws.shadow.size();
         stats.add(Stage::Occlusion, ws.shadow.size(), clock);
         for (std::size_t i = 0; i < ws.shadow.size(); ++i)

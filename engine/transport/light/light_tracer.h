@@ -14,28 +14,12 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
+#include "engine/film/pixel_sums.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/wavefront.h"
-#include "engine/transport/run/render_settings.h"
+#include "engine/transport/run/render_context.h"
 
 namespace foton {
-
-struct Splat {
-    uint32_t pixel;
-    RGB value;
-};
-
-// Adds the chunks' splats to the film sums in chunk order (so the sums do not depend on which
-// thread traced which chunk); returns how many there were.
-inline std::size_t add_splats(const std::vector<std::vector<Splat>>& chunks,
-                              std::vector<RGB>& sum) {
-    std::size_t count = 0;
-    for (const std::vector<Splat>& list : chunks) {
-        for (const Splat& s : list) sum[s.pixel] += s.value;
-        count += list.size();
-    }
-    return count;
-}
 
 struct LightTracerWorkspace : WavefrontBuffers {
     std::vector<uint32_t> shadow_pixel;  // the film pixel each shadow ray's splat lands on
@@ -43,8 +27,7 @@ struct LightTracerWorkspace : WavefrontBuffers {
 
 class LightTracer {
   public:
-    LightTracer(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                const LightSet& lights, uint64_t seed);
+    explicit LightTracer(const RenderContext& ctx) : ctx_(ctx) {}
     // Traces paths [first, first + count) and appends their (unoccluded) splats. A splat's
     // value is one path's contribution: the pixel estimate is the splat sum over the number
     // of paths traced.
@@ -54,11 +37,7 @@ class LightTracer {
   private:
     float rand(uint64_t path, uint32_t dim) const;
 
-    const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
-    uint64_t seed_;
+    const RenderContext ctx_;
 };
 
 }  // namespace foton

@@ -12,13 +12,13 @@
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/core/warp.h"
+#include "engine/film/pixel_owners.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/photon/photon_tracer.h"
 #include "engine/transport/photon/sppm_visible.h"
 #include "engine/transport/run/pass_control.h"
-#include "engine/transport/run/pixel_owners.h"
 #include "engine/transport/run/stage_graph.h"
 
 namespace foton {
@@ -76,7 +76,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     std::vector<SppmPixel> pixels(npix);
     for (SppmPixel& p : pixels) p.radius = radius0;
     const ProgressivePhotons pm(scene);
-    const VisiblePoints visible_points(scene, settings, accel, lights, opt.seed);
+    const VisiblePoints visible_points(RenderContext{scene, settings, accel, lights, opt.seed});
     tbb::enumerable_thread_specific<VisibleRowWork> row_work;
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const int threads = resolve_threads(opt.threads);
@@ -87,6 +87,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     // each pass's photons and gathers from the whole map (photon_tracer.h) for its rows.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
     const PixelOwners owner = owners_by_row(w, h, cluster.size());
+    const std::vector<uint64_t> my_rows = dealt_in_turn(uint64_t(h), cluster);
     auto image = [&](uint32_t passes) {
         Film f(w, h);
         // A pass's photons carry its light's flux divided by the photons of the pass, so tau
@@ -118,9 +119,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const uint32_t visible = graph.add("visible-points", [&]() -> uint64_t {
         if (!stochastic && pass > 0) return 0;
         StageClock clock;
-        // This rank's rows: y = rank, rank + N, ...
-        const std::size_t ranks = std::size_t(cluster.size()), rank = std::size_t(cluster.rank());
-        const std::size_t rows = (std::size_t(h) + ranks - 1 - rank) / ranks;
+        const std::size_t rows = my_rows.size();
         BusyTime* const busy = ThreadClock::for_chunks();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows),
                           [&](const tbb::blocked_range<std::size_t>& r) {
@@ -128,7 +127,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                               RenderStats& st = local.local();
                               VisibleRowWork& work = row_work.local();
                               for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                  const std::size_t y = rank + i * ranks;
+                                  const std::size_t y = my_rows[i];
                                   visible_points.trace_row(pass, uint32_t(y),
                                                            &pixels[y * std::size_t(w)], work, st);
                               }

@@ -10,23 +10,23 @@
 namespace foton {
 
 float VisiblePoints::rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
-    return rng::uniform(seed_ + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
+    return rng::uniform(ctx_.seed + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
 }
 
 void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, VisibleRowWork& work,
                               RenderStats& stats) const {
-    const uint32_t w = uint32_t(scene_.film.width);
+    const uint32_t w = uint32_t(ctx_.scene.film.width);
     work.rays.clear();
     work.shadow.clear();
     work.shadow_add.clear();
     work.beta.assign(w, RGB{1.f});
     for (uint32_t x = 0; x < w; ++x) {
-        const uint64_t pixel = scene_.film.pixel_id(x, y);
+        const uint64_t pixel = ctx_.scene.film.pixel_id(x, y);
         const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
         Vec3 o, d;
-        scene_.camera.generate(float(int(x) + scene_.film.x0) + j.x,
-                               float(int(y) + scene_.film.y0) + j.y,
-                               {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
+        ctx_.scene.camera.generate(float(int(x) + ctx_.scene.film.x0) + j.x,
+                                   float(int(y) + ctx_.scene.film.y0) + j.y,
+                                   {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
         row[x].valid = false;
         work.rays.push(o, d, 0.f, kInfinity, x);
     }
@@ -34,15 +34,15 @@ void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, Visible
     // Not flagged coherent: a row's neighbours make 16 x 1 packets, and on the dragon at 320^2
     // the packet kernel made this pass 5 % slower than the single-ray (here: stream) path.
     work.rays.coherent = false;
-    for (uint32_t depth = 0; depth <= settings_.max_depth && !work.rays.empty(); ++depth) {
-        accel_.intersect(work.rays, work.hits, stats.trace);
+    for (uint32_t depth = 0; depth <= ctx_.settings.max_depth && !work.rays.empty(); ++depth) {
+        ctx_.accel.intersect(work.rays, work.hits, stats.trace);
         work.next.clear();
         for (std::size_t r = 0; r < work.rays.size(); ++r)
             shade(pass, y, depth, r, row, work, stats);
         std::swap(work.rays, work.next);
     }
     if (work.shadow.empty()) return;
-    accel_.occluded(work.shadow, work.occluded, stats.trace);
+    ctx_.accel.occluded(work.shadow, work.occluded, stats.trace);
     for (std::size_t i = 0; i < work.shadow.size(); ++i)
         if (!work.occluded[i]) row[work.shadow.id[i]].direct += work.shadow_add[i];
 }
@@ -50,18 +50,18 @@ void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, Visible
 void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t r, SppmPixel* row,
                           VisibleRowWork& work, RenderStats& stats) const {
     const uint32_t x = work.rays.id[r];
-    const uint64_t pixel = scene_.film.pixel_id(x, y);
+    const uint64_t pixel = ctx_.scene.film.pixel_id(x, y);
     SppmPixel& px = row[x];
     RGB& beta = work.beta[x];
     const Vec3 d = work.rays.direction(r);
     if (work.hits.geom[r] == kNoHit) {
-        px.direct += beta * scene_.background_along(d);
+        px.direct += beta * ctx_.scene.background_along(d);
         return;
     }
-    const SurfacePoint sp = surface_at(scene_, work.rays, work.hits, r);
-    const uint32_t mi = scene_.objects[work.hits.geom[r]].material;
+    const SurfacePoint sp = surface_at(ctx_.scene, work.rays, work.hits, r);
+    const uint32_t mi = ctx_.scene.objects[work.hits.geom[r]].material;
     std::optional<Material> scratch;
-    const Material& m = scene_.material_at(work.hits.geom[r], sp.uv, scratch);
+    const Material& m = ctx_.scene.material_at(work.hits.geom[r], sp.uv, scratch);
     if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
     if (m.bsdf.empty()) return;
     const warp::Frame frame(sp.ns);
@@ -94,12 +94,12 @@ void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t
     px.material = mi;
     px.uv = sp.uv;
     px.beta = beta;
-    if (lights_.empty()) return;
+    if (ctx_.lights.empty()) return;
     float pick;
-    const uint32_t li = lights_.select(rand(pass, pixel, 4), pick);
+    const uint32_t li = ctx_.lights.select(rand(pass, pixel, 4), pick);
     LightSample ls;
-    if (!lights_.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
-                           rand(pass, pixel, 7), ls) ||
+    if (!ctx_.lights.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
+                               rand(pass, pixel, 7), ls) ||
         !(dot(ls.wi, sp.ng) > 0.f))
         return;
     const Vec3 wi = frame.to_local(ls.wi);

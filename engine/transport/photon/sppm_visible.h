@@ -10,7 +10,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/run/render_settings.h"
+#include "engine/transport/run/render_context.h"
 
 namespace foton {
 
@@ -42,9 +42,7 @@ struct VisibleRowWork {
 
 class VisiblePoints {
   public:
-    VisiblePoints(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-                  const LightSet& lights, uint64_t seed)
-        : scene_(scene), settings_(settings), accel_(accel), lights_(lights), seed_(seed) {}
+    explicit VisiblePoints(const RenderContext& ctx) : ctx_(ctx) {}
 
     // Pass `pass`'s visible points of image row y (row[x] is pixel x of it); emission found on
     // the way and one NEE sample at each visible point go to the pixel's `direct`.
@@ -58,11 +56,7 @@ class VisiblePoints {
     void shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t r, SppmPixel* row,
                VisibleRowWork& work, RenderStats& stats) const;
 
-    const Scene& scene_;
-    const RenderSettings& settings_;
-    const Intersector& accel_;
-    const LightSet& lights_;
-    uint64_t seed_;
+    const RenderContext ctx_;
 };
 
 }  // namespace foton

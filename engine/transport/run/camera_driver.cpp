@@ -12,8 +12,8 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/thread_pinning.h"
+#include "engine/film/pixel_sums.h"
 #include "pass_control.h"
-#include "pixel_owners.h"
 
 namespace foton {
 
@@ -31,21 +31,6 @@ std::vector<Tile> make_tiles(int width, int height, int size) {
             tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
     return tiles;
 }
-
-// Running sums of the samples of every pixel: the image is sum / count.
-struct Accumulator {
-    int width = 0, height = 0;
-    std::vector<RGB> sum;
-    std::vector<uint32_t> count;
-    Accumulator(int w, int h)
-        : width(w), height(h), sum(std::size_t(w) * h), count(std::size_t(w) * h, 0) {}
-    Film film() const {
-        Film f(width, height);
-        for (std::size_t i = 0; i < sum.size(); ++i)
-            f.pixels[i] = count[i] ? sum[i] * (1.f / float(count[i])) : RGB{0.f};
-        return f;
-    }
-};
 
 // Luminance statistics of one pixel's samples, for adaptive sampling.
 struct PixelMoments {
@@ -91,12 +76,11 @@ class CameraDriver {
     }
 
     void accumulate_samples(const std::vector<SampleJob>& jobs, const std::vector<RGB>& out,
-                            Accumulator& acc, RenderStats& st) const {
+                            PixelSums& acc, RenderStats& st) const {
         StageClock clock;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
-            acc.sum[p] += out[i];
-            acc.count[p] += 1;
+            acc.add(p, out[i]);
         }
         st.samples += jobs.size();
         st.add(Stage::Accumulate, jobs.size(), clock);
@@ -171,7 +155,7 @@ class CameraDriver {
     }
 
     void accumulate_tile(const Tile& t, const std::vector<RGB>& sum,
-                         const std::vector<uint32_t>& count, Accumulator& acc,
+                         const std::vector<uint32_t>& count, PixelSums& acc,
                          RenderStats& st) const {
         StageClock clock;
         const int tw = t.x1 - t.x0;
@@ -179,8 +163,7 @@ class CameraDriver {
             for (int x = t.x0; x < t.x1; ++x) {
                 const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
                 const std::size_t p = std::size_t(y) * scene_.film.width + x;
-                acc.sum[p] += sum[l];
-                acc.count[p] += count[l];
+                acc.add(p, sum[l], count[l]);
             }
         st.add(Stage::Accumulate, std::size_t(t.pixels()), clock);
     }
@@ -213,26 +196,25 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                            const CameraIntegrator& integrator, const RenderOptions& opt,
                            StageGraph& graph, const std::vector<uint32_t>& after) {
     RenderResult result;
-    Accumulator acc(scene.film.width, scene.film.height);
+    PixelSums acc(scene.film.width, scene.film.height);
     // Across MPI ranks the tiles are dealt out in turn (tile i to rank i mod N); each rank
     // renders its own, and rank 0 gathers their pixels when the image is needed.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
     const std::vector<Tile> all_tiles =
         make_tiles(scene.film.width, scene.film.height, opt.tile_size);
     std::vector<Tile> tiles;
-    PixelOwners owner(acc.sum.size());
-    for (std::size_t i = 0; i < all_tiles.size(); ++i) {
-        const Tile& t = all_tiles[i];
-        const int r = int(i % std::size_t(cluster.size()));
-        if (r == cluster.rank()) tiles.push_back(t);
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x)
-                owner[std::size_t(y) * std::size_t(scene.film.width) + std::size_t(x)] = r;
+    if (cluster.distributed()) {
+        PixelOwners owner(acc.size());
+        for (std::size_t i = 0; i < all_tiles.size(); ++i) {
+            const Tile& t = all_tiles[i];
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x)
+                    owner[std::size_t(y) * std::size_t(scene.film.width) + std::size_t(x)] =
+                        dealt_to(i, cluster.size());
+        }
+        acc.set_owners(std::move(owner));
     }
-    auto gather = [&] {
-        gather_to_root(cluster, owner, acc.sum);
-        gather_to_root(cluster, owner, acc.count);
-    };
+    for (const uint64_t i : dealt_in_turn(all_tiles.size(), cluster)) tiles.push_back(all_tiles[i]);
     const CameraDriver driver(scene, settings.adaptive, integrator, opt);
     const int threads = resolve_threads(opt.threads);
     const bool adaptive = settings.adaptive.enabled;
@@ -348,18 +330,18 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         } while (control.another(
             passes,
             [&] {
-                gather();
-                return acc.film();
+                acc.gather(cluster);
+                return acc.mean();
             },
-            [&] { return mean_count(acc.count); }, adaptive));
+            [&] { return mean_count(acc.samples()); }, adaptive));
     }
-    gather();
+    acc.gather(cluster);
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);
     result.stats.threads = threads;
     result.stats.passes = passes;
-    result.film = acc.film();
-    result.samples_per_pixel = acc.count;
+    result.film = acc.mean();
+    result.samples_per_pixel = acc.samples();
     return result;
 }
 

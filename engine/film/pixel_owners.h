@@ -12,12 +12,19 @@ namespace foton {
 // owner[pixel] = the rank that renders it; every rank computes the same table.
 using PixelOwners = std::vector<int32_t>;
 
-// Image rows dealt out in turn (row y to rank y mod N): every rank gets some of every part
-// of the image, so cheap and costly regions are shared alike.
+// Image rows dealt out in turn (row y to rank y mod N, cluster.h's dealt_to).
 inline PixelOwners owners_by_row(int width, int height, int ranks) {
     PixelOwners o(std::size_t(width) * std::size_t(height));
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) o[std::size_t(y) * std::size_t(width) + x] = y % ranks;
+        for (int x = 0; x < width; ++x)
+            o[std::size_t(y) * std::size_t(width) + x] = dealt_to(uint64_t(y), ranks);
+    return o;
+}
+
+// Runs of `run` pixels in image order dealt out in turn (pixel p to rank (p / run) mod N).
+inline PixelOwners owners_by_run(std::size_t pixels, std::size_t run, int ranks) {
+    PixelOwners o(pixels);
+    for (std::size_t p = 0; p < pixels; ++p) o[p] = dealt_to(uint64_t(p / run), ranks);
     return o;
 }
 
