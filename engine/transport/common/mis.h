@@ -4,23 +4,9 @@
 // would have produced it with density pb.
 #include <cmath>
 
-#include "engine/core/params.h"
+#include "transport_settings.h"
 
 namespace foton {
-
-// How next event estimation and BSDF sampling are combined in `path`.
-enum class MisHeuristic { Balance, Power, Maximum, None };
-inline const EnumTable<MisHeuristic>& mis_names() {
-    static const EnumTable<MisHeuristic> t{{{"balance", MisHeuristic::Balance},
-                                            {"power", MisHeuristic::Power},
-                                            {"max", MisHeuristic::Maximum},
-                                            {"maximum", MisHeuristic::Maximum},
-                                            {"none", MisHeuristic::None}}};
-    return t;
-}
-inline const char* mis_name(MisHeuristic h) {
-    return mis_names().name(h);
-}
 
 inline constexpr float kMaxTieTolerance = 1.f + 1e-3f;
 

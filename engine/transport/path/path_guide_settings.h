@@ -3,6 +3,9 @@
 // guide_emitted, guide_cells, guide_min_photons and guide_fraction.
 #include <cstdint>
 
+#include "engine/core/params.h"
+#include "engine/transport/common/transport_settings.h"
+
 namespace foton {
 
 // The guide's voxels along the scene's longest side, at most (its dense index holds
@@ -16,5 +19,11 @@ struct PathGuideSettings {
     uint32_t min_photons = 8;    // a bin with fewer photons does not guide
     float fraction = 0.5f;       // probability of drawing a direction from the guide
 };
+
+// The guide's keys, refused without guided=true or for an integrator that cannot be guided.
+// Guided paths default to no Russian roulette (`rr_depth` unless the file gives it): roulette
+// throws away what the guide bought.
+void parse_path_guide_settings(const ParamSet& params, const IntegratorTraits& integrator,
+                               PathGuideSettings& settings, uint32_t& rr_depth);
 
 }  // namespace foton

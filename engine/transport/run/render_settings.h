@@ -11,7 +11,8 @@
 
 #include "engine/core/params.h"
 #include "engine/core/sampler.h"
-#include "engine/transport/common/mis.h"
+#include "engine/transport/bidir/bidir_settings.h"
+#include "engine/transport/common/transport_settings.h"
 #include "engine/transport/irradiance_cache/cache_settings.h"
 #include "engine/transport/path/path_guide_settings.h"
 #include "engine/transport/photon/photon_settings.h"
@@ -31,9 +32,6 @@ inline bool counts(Lighting l, uint32_t k) {
     return l == Lighting::All || (l == Lighting::Direct ? k <= 1 : k >= 2);
 }
 
-// rr_depth that no path reaches: Russian roulette off.
-inline constexpr uint32_t kNoRoulette = 1000000;
-
 struct AdaptiveSettings {
     bool enabled = false;
     uint32_t pilot = 8;       // samples every pixel gets first
@@ -43,41 +41,6 @@ struct AdaptiveSettings {
     // keeps the estimate unbiased (the default, iterative rule stops on the very samples it
     // averages, a small bias).
     bool unbiased = false;
-};
-
-// bdpt, bpm and vcm (transport/bidir): `strategy="s,t"` keeps only the strategy with s light
-// and t camera vertices, at full weight (a debug switch: each strategy alone converges to its
-// share of the image); the default, all strategies, weighted.
-// `merge_index="grid|kdtree"` (bpm, vcm): the light vertices' index for merging, a hashed
-// grid of cells 2r wide (default) or the photon map's kd-tree kernel.
-enum class MergeIndex : uint8_t { Grid, KdTree };
-struct BidirSettings {
-    int only_s = -1, only_t = -1;
-    MergeIndex merge_index = MergeIndex::Grid;
-};
-
-// What an integrator takes beyond the settings every family reads: the capability bits of its
-// row in the integrator table (integrators.h). The rules of the settings ask for these, not
-// for integrator names, so a new integrator states what it supports in its row alone.
-enum Capability : uint32_t {
-    kCapCamera = 1u << 0,           // paths start at the camera, pixel by pixel: adaptive sampling
-    kCapIrradianceCache = 1u << 1,  // indirect="irradiance_cache"
-    kCapLightingSplit = 1u << 2,    // lighting=direct|indirect
-    kCapPhotonGuide = 1u << 3,      // guided=true: photon-guided directions
-    kCapBidirectional = 1u << 4,    // MIS over bidirectional strategies: balance or power, no
-                                    // rr_depth (the subpaths' vertex rules must agree)
-    kCapMerging = 1u << 5,          // merges light vertices: merge_index
-    kCapStrategyDebug = 1u << 6,    // strategy="s,t"
-    kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
-};
-
-// The chosen integrator as the settings' rules see it.
-struct IntegratorTraits {
-    std::string name;
-    uint32_t caps = 0;
-    // `type="a"`, `type="a" or "b"`, ...: the integrators with every bit of a capability, for
-    // error messages.
-    std::function<std::string(uint32_t)> names_with;
 };
 
 struct RenderSettings {

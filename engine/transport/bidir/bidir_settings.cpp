@@ -1,0 +1,45 @@
+#include "bidir_settings.h"
+
+#include <cstdio>
+#include <string>
+
+namespace foton {
+
+void parse_bidir_settings(const ParamSet& p, const IntegratorTraits& it, MisHeuristic mis,
+                          BidirSettings& b) {
+    const bool bidir = it.caps & kCapBidirectional;
+    if (bidir && mis != MisHeuristic::Balance && mis != MisHeuristic::Power)
+        p.fail("mis",
+               "bdpt, bpm and vcm weigh by the balance or power heuristic (mis=balance "
+               "or mis=power)");
+    // Roulette by depth would differ between the two subpaths' view of a vertex.
+    if (bidir && p.has("rr_depth"))
+        p.fail("rr_depth",
+               "bdpt, bpm and vcm continue a subpath with the vertex's albedo "
+               "estimate at every vertex (MIS needs a rule that does not depend on "
+               "depth): rr_depth does not apply");
+    static const EnumTable<MergeIndex> kMergeIndex{
+        {{"grid", MergeIndex::Grid}, {"kdtree", MergeIndex::KdTree}}};
+    b.merge_index = p.choice("merge_index", kMergeIndex, b.merge_index);
+    if (p.has("merge_index") && !(it.caps & kCapMerging))
+        p.fail("merge_index", "merge_index needs " + it.names_with(kCapMerging));
+    if (!p.has("strategy")) return;
+    const std::string v = p.text("strategy");
+    if (!(it.caps & kCapStrategyDebug))
+        p.fail("strategy", "strategy=\"s,t\" needs " + it.names_with(kCapStrategyDebug));
+    unsigned s = 0, t = 0;
+    char tail = 0;
+    if (v != "all") {
+        if (std::sscanf(v.c_str(), "%u,%u%c", &s, &t, &tail) != 2 || t < 1 || s + t < 2 ||
+            s > 1000 || t > 1000)
+            p.fail("strategy",
+                   "strategy is \"all\" or \"s,t\": s >= 0 light vertices and t "
+                   ">= 1 camera vertices (e.g. \"1,2\": next event estimation at "
+                   "the first hit), not '" +
+                       v + "'");
+        b.only_s = int(s);
+        b.only_t = int(t);
+    }
+}
+
+}  // namespace foton

@@ -1,0 +1,25 @@
+#pragma once
+// The settings of bdpt, bpm and vcm (transport/bidir). `strategy="s,t"` keeps only the
+// strategy with s light and t camera vertices, at full weight (a debug switch: each strategy
+// alone converges to its share of the image); the default, all strategies, weighted.
+// `merge_index="grid|kdtree"` (bpm, vcm): the light vertices' index for merging, a hashed grid
+// of cells 2r wide (default) or the photon map's kd-tree kernel.
+#include <cstdint>
+
+#include "engine/core/params.h"
+#include "engine/transport/common/transport_settings.h"
+
+namespace foton {
+
+enum class MergeIndex : uint8_t { Grid, KdTree };
+struct BidirSettings {
+    int only_s = -1, only_t = -1;
+    MergeIndex merge_index = MergeIndex::Grid;
+};
+
+// The bidirectional keys (strategy, merge_index) and the rules the family sets on the shared
+// ones (mis, rr_depth), each failure at its key's file and line.
+void parse_bidir_settings(const ParamSet& params, const IntegratorTraits& integrator,
+                          MisHeuristic mis, BidirSettings& settings);
+
+}  // namespace foton
