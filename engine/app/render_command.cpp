@@ -104,21 +104,14 @@ nlohmann::ordered_json gather_rank_stats(const Cluster& ranks, RenderStats& stat
     return list;
 }
 
-}  // namespace
-
-int run_render(const RenderArgs& args, const Cluster* cluster) {
-    // Across MPI ranks every rank loads and checks the same input; rank 0 alone writes
-    // files, shows progress and feeds the observers (the render gathers the image to it).
-    const Cluster& ranks = cluster_or_solo(cluster);
-    const bool root = ranks.root();
-    // Every arena the render and the accelerator's build make is pinned (PinnedArena).
-    set_thread_pinning(args.pin);
+// The job as the flags ask for it: the flags that are renderer settings join the file's and
+// --set's in the scene's set, checked by the same rules, reported under their own name,
+// recorded with the others.
+JobRequest job_request(const RenderArgs& args) {
     JobRequest request{args.scene,  parse_set_flags(args.set),
                        args.accel,  {args.width, args.height, args.crop, args.pixel_bounds},
                        {},          args.spp,
                        args.passes, args.time};
-    // The flags that are renderer settings join the file's and --set's in the scene's set:
-    // checked by the same rules, reported under their own name, recorded with the others.
     auto flag = [&](const char* key, const std::string& value, const char* name) {
         request.flags.push_back({key, value, name});
     };
@@ -140,7 +133,72 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // Numbers are parsed by the settings' one integer parser, whatever wrote them.
     if (args.seed) flag("seed", *args.seed, "--seed");
     if (args.threads) flag("num_threads", *args.threads, "--threads");
-    RenderJob made = make_job(request);
+    return request;
+}
+
+// Where the render writes: the EXR (out/<scene>.exr unless -o), its preview beside it in
+// the --preview format.
+struct RenderOutputs {
+    std::string exr, preview;
+    PreviewFormat preview_format = PreviewFormat::Png;
+};
+RenderOutputs render_outputs(const RenderArgs& args) {
+    RenderOutputs o;
+    o.exr = args.output;
+    if (o.exr.empty()) o.exr = (fs::path("out") / fs::path(args.scene).stem()).string() + ".exr";
+    if (fs::path(o.exr).extension() != ".exr")
+        throw InputError(o.exr, 0,
+                         "output must be an .exr file (a .png preview is written beside it)");
+    if (!args.preview.empty() && !preview_formats().parse(args.preview, o.preview_format))
+        throw InputError(
+            "--preview", 0,
+            "unknown format '" + args.preview + "' (" + preview_formats().list() + ")");
+    o.preview = fs::path(o.exr).replace_extension(preview_extension(o.preview_format)).string();
+    return o;
+}
+
+// A snapshot's file beside the output: out-10s.exr for the one requested at 10 s.
+std::string snapshot_path(const std::string& exr, double requested) {
+    char suffix[48];
+    std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
+    return fs::path(exr).replace_extension("").string() + suffix;
+}
+
+// What the statistics JSON says about the run before its counters: build, scene, settings,
+// machine.
+nlohmann::ordered_json run_record(const RenderArgs& args, const Scene& scene,
+                                  const RenderSettings& rs, const RenderOptions& opt,
+                                  const char* accel, double spp_mean, int ranks) {
+    return {
+        {"version", FOTON_VERSION},
+        {"git_commit", git_commit()},
+        {"scene", args.scene},
+        {"integrator", rs.integrator},
+        {"accelerator", accel},
+        {"width", scene.film.width},
+        {"height", scene.film.height},
+        {"spp_mean", spp_mean},
+        {"seed", opt.seed},
+        {"threads_requested", opt.threads},
+        {"cpu", cpu_topology().model},
+        {"hardware_threads", std::thread::hardware_concurrency()},
+        {"simd", simd::Arch::name()},
+        {"simd_width", simd::kWidth},
+        {"mpi_ranks", ranks},
+        {"pinned", args.pin},
+    };
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& args, const Cluster* cluster) {
+    // Across MPI ranks every rank loads and checks the same input; rank 0 alone writes
+    // files, shows progress and feeds the observers (the render gathers the image to it).
+    const Cluster& ranks = cluster_or_solo(cluster);
+    const bool root = ranks.root();
+    // Every arena the render and the accelerator's build make is pinned (PinnedArena).
+    set_thread_pinning(args.pin);
+    RenderJob made = make_job(job_request(args));
     Scene& scene = made.scene;
     const RenderSettings& rs = made.settings;
     RenderOptions& opt = made.options;
@@ -164,19 +222,9 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (!args.quiet && root && isatty(fileno(stderr)))
         line = std::make_unique<ProgressLine>(progress);
 
-    std::string out = args.output;
-    if (out.empty()) out = (fs::path("out") / fs::path(args.scene).stem()).string() + ".exr";
-    if (fs::path(out).extension() != ".exr")
-        throw InputError(out, 0,
-                         "output must be an .exr file (a .png preview is written beside it)");
-    PreviewFormat preview_format = PreviewFormat::Png;
-    if (!args.preview.empty() && !preview_formats().parse(args.preview, preview_format))
-        throw InputError(
-            "--preview", 0,
-            "unknown format '" + args.preview + "' (" + preview_formats().list() + ")");
-    // Every file the render will write is checked now, before any work.
-    const std::string png =
-        fs::path(out).replace_extension(preview_extension(preview_format)).string();
+    const RenderOutputs outputs = render_outputs(args);
+    const std::string& out = outputs.exr;
+    const std::string& png = outputs.preview;
     FilePlan files;
     files.input(args.scene, "the scene file");
     files.input(args.reference, "the --reference image");
@@ -185,11 +233,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
         files.output(png, "-o (its preview)");
         if (!args.stats_json.empty()) files.output(args.stats_json, "--stats-json");
         if (!args.cache_points.empty()) files.output(args.cache_points, "--cache-points");
-        for (const double t : opt.snapshot_times) {
-            char suffix[48];
-            std::snprintf(suffix, sizeof suffix, "-%gs.exr", t);
-            files.output(fs::path(out).replace_extension("").string() + suffix, "--snapshots");
-        }
+        for (const double t : opt.snapshot_times)
+            files.output(snapshot_path(out, t), "--snapshots");
     }
     const JobRecord job{args.scene, args.command_line};
     auto attributes = [&](double seconds, uint32_t passes, double spp, const char* accel_name) {
@@ -197,12 +242,9 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     };
     auto exr_info = [&](double seconds, double spp) { return job_exr_info(scene, seconds, spp); };
     if (!opt.snapshot_times.empty()) {
-        // Snapshots go beside the output: out-10s.exr for the one requested at 10 s.
         opt.on_snapshot = [&](const Film& f, double requested, double seconds, uint32_t passes,
                               double spp) {
-            char suffix[48];
-            std::snprintf(suffix, sizeof suffix, "-%gs.exr", requested);
-            write_exr(fs::path(out).replace_extension("").string() + suffix, f,
+            write_exr(snapshot_path(out, requested), f,
                       attributes(seconds, passes, spp, accel_name(scene.accel)),
                       exr_info(seconds, spp));
         };
@@ -268,7 +310,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (ranks.distributed()) attrs.push_back({"foton:mpiRanks", std::to_string(ranks.size())});
     if (interrupted) attrs.push_back({"foton:interrupted", "true"});
     write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
-    write_preview(png, res.film, scene.camera.exposure, scene.film.gamma, preview_format);
+    write_preview(png, res.film, scene.camera.exposure, scene.film.gamma, outputs.preview_format);
     if (!args.cache_points.empty()) {
         std::size_t marked = 0;
         const Film f = mark_cache_points(scene, *accel, res.film, res.cache_points, marked);
@@ -285,24 +327,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (!args.stats_json.empty()) {
         std::ofstream js(args.stats_json);
         if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
-        nlohmann::ordered_json run = {
-            {"version", FOTON_VERSION},
-            {"git_commit", git_commit()},
-            {"scene", args.scene},
-            {"integrator", rs.integrator},
-            {"accelerator", accel->name()},
-            {"width", scene.film.width},
-            {"height", scene.film.height},
-            {"spp_mean", spp_mean},
-            {"seed", opt.seed},
-            {"threads_requested", opt.threads},
-            {"cpu", cpu_topology().model},
-            {"hardware_threads", std::thread::hardware_concurrency()},
-            {"simd", simd::Arch::name()},
-            {"simd_width", simd::kWidth},
-            {"mpi_ranks", ranks.size()},
-            {"pinned", args.pin},
-        };
+        nlohmann::ordered_json run =
+            run_record(args, scene, rs, opt, accel->name(), spp_mean, ranks.size());
         // Across ranks: the counters above are every rank's summed, times are rank 0's,
         // and each rank's own statistics follow.
         if (ranks.distributed()) run["ranks"] = rank_stats;

@@ -163,6 +163,24 @@ class Loader {
     void place_mesh_file(const pugi::xml_node& o, const std::string& src, const std::string& path,
                          const Affine& xf, bool instanced);
     Material material(const pugi::xml_node& n, bool top);
+    // <material type="..."> by type: each reader (material_types.cpp) checks its element and
+    // adds the type's lobes; `top` is false inside a mix (which adds `weight`).
+    struct MaterialReader {
+        const char* type;
+        void (Loader::*read)(const pugi::xml_node& n, bool top, Material& m);
+    };
+    static const std::vector<MaterialReader>& material_readers();
+    // Fails on an attribute or child the type does not take (beyond type, weight inside a
+    // mix, <emission> and <texture>, which every material takes).
+    void check_material(const pugi::xml_node& n, bool top, Names attrs, Names children) const;
+    void thesis_material(const pugi::xml_node& n, bool top, Material& m);
+    void lambert_material(const pugi::xml_node& n, bool top, Material& m);
+    void conductor_material(const pugi::xml_node& n, bool top, Material& m);
+    void dielectric_material(const pugi::xml_node& n, bool top, Material& m);
+    void microfacet_material(const pugi::xml_node& n, bool top, Material& m);
+    void mix_material(const pugi::xml_node& n, bool top, Material& m);
+    void material_texture(const pugi::xml_node& n, Material& m);
+    void material_emission(const pugi::xml_node& n, Material& m) const;
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
     float roughness(const pugi::xml_node& n) const;
     float exponent(const pugi::xml_node& n, const char* attr, float fallback) const;

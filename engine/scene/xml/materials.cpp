@@ -83,221 +83,87 @@ MicrofacetDistribution Loader::distribution(const pugi::xml_node& n, const char*
     fail(n, "unknown distribution '" + d + "' (blinn, beckmann, ashikhmin_shirley)");
 }
 
+// The readers of each type, in the order the unknown-type message lists them.
+const std::vector<Loader::MaterialReader>& Loader::material_readers() {
+    static const std::vector<MaterialReader> readers = {
+        {"matte", &Loader::thesis_material},          {"phong", &Loader::thesis_material},
+        {"reflective", &Loader::thesis_material},     {"glass", &Loader::thesis_material},
+        {"lambert", &Loader::lambert_material},       {"oren_nayar", &Loader::lambert_material},
+        {"conductor", &Loader::conductor_material},   {"dielectric", &Loader::dielectric_material},
+        {"microfacet", &Loader::microfacet_material}, {"mix", &Loader::mix_material},
+    };
+    return readers;
+}
+
 Material Loader::material(const pugi::xml_node& n, bool top) {
     Material m;
     const std::string type = n.attribute("type").value();
     m.name = type;
-    // Attributes and children every physically based material accepts.
-    const Names common_children = {"emission", "texture"};
-    // A texture multiplies the diffuse colour, which is then 1 unless given.
-    const RGB diffuse_default{n.child("texture") ? 1.f : 0.5f};
-    auto with = [](Names a, Names b) {
-        std::vector<const char*> v(a.begin(), a.end());
-        v.insert(v.end(), b.begin(), b.end());
-        return v;
-    };
-    auto check_v = [&](const std::vector<const char*>& attrs,
-                       const std::vector<const char*>& children) {
-        for (const pugi::xml_attribute& a : n.attributes())
-            if (std::none_of(attrs.begin(), attrs.end(),
-                             [&](const char* s) { return std::string_view(s) == a.name(); }))
-                fail(n, std::string("unknown attribute '") + a.name() + "' on <material type=\"" +
-                            type + "\">");
-        for (const pugi::xml_node& c : n.children()) {
-            if (c.type() != pugi::node_element) continue;
-            if (std::none_of(children.begin(), children.end(),
-                             [&](const char* s) { return std::string_view(s) == c.name(); }))
-                fail(c, std::string("unknown element <") + c.name() + "> in <material type=\"" +
-                            type + "\">");
-        }
-    };
-    auto attrs = [&](Names a) {
-        std::vector<const char*> v = with({"type"}, a);
-        if (!top) v.push_back("weight");
-        return v;
-    };
-    if (type == "matte" || type == "phong" || type == "reflective" || type == "glass") {
-        if (type == "matte") {
-            m.type = MaterialType::Matte;
-            check_v(attrs({"c_ambient", "c_diffuse"}), with({"base_color"}, common_children));
-        } else if (type == "phong") {
-            m.type = MaterialType::Phong;
-            check_v(attrs({"c_ambient", "c_diffuse", "c_specular", "exp"}),
-                    with({"base_color", "specular_color"}, common_children));
-        } else if (type == "reflective") {
-            m.type = MaterialType::Reflective;
-            check_v(attrs({"c_ambient", "c_diffuse", "c_specular", "exp", "c_reflective"}),
-                    with({"base_color", "specular_color", "reflective_color"}, common_children));
-        } else {
-            m.type = MaterialType::Glass;
-            check_v(attrs({"ior"}), with({"refraction_color"}, common_children));
-        }
-        m.c_ambient = non_negative(n, "c_ambient", 0.f);
-        m.c_diffuse = non_negative(n, "c_diffuse", m.type == MaterialType::Glass ? 0.f : 1.f);
-        m.c_specular = non_negative(n, "c_specular", 1.f);
-        m.exponent = exponent(n, "exp", 10.f);
-        m.c_reflective = non_negative(n, "c_reflective", 1.f);
-        m.ior = positive(n, "ior", 1.5f);
-        m.base_color =
-            rgb_child(n, "base_color", m.type == MaterialType::Glass ? RGB{0.f} : diffuse_default);
-        m.specular_color = rgb_child(n, "specular_color", RGB{0.f});
-        m.reflective_color = rgb_child(n, "reflective_color", RGB{1.f});
-        m.refraction_color = rgb_child(n, "refraction_color", RGB{1.f});
-        // The physically based reading of the thesis' models.
-        if (m.type != MaterialType::Glass && m.c_diffuse > 0.f)
-            m.bsdf.add(Lobe::lambert(m.base_color * m.c_diffuse));
-        if ((m.type == MaterialType::Phong || m.type == MaterialType::Reflective) &&
-            !(m.specular_color * m.c_specular).is_black())
-            m.bsdf.add(Lobe::phong(m.specular_color * m.c_specular, m.exponent));
-        if (m.type == MaterialType::Reflective)
-            m.bsdf.add(Lobe::mirror(m.reflective_color * m.c_reflective, Fresnel{}));
-        if (m.type == MaterialType::Glass)
-            m.bsdf.add(Lobe::dielectric(m.ior, RGB{1.f}, m.refraction_color));
-    } else {
-        m.type = MaterialType::Generic;
-        m.c_diffuse = 0.f;
-        m.base_color = RGB{0.f};
-        if (type == "lambert") {
-            check_v(attrs({}), with({"reflectance"}, common_children));
-            const RGB r = rgb_child(n, "reflectance", diffuse_default);
-            if (r.max_component() > 1.f)
-                fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
-            m.bsdf.add(Lobe::lambert(r));
-            m.base_color = r;
-            m.c_diffuse = 1.f;
-        } else if (type == "oren_nayar") {
-            check_v(attrs({"sigma"}), with({"reflectance"}, common_children));
-            const RGB r = rgb_child(n, "reflectance", diffuse_default);
-            if (r.max_component() > 1.f)
-                fail(n.child("reflectance"), "reflectance must be in [0, 1] (energy would grow)");
-            const float sigma = non_negative(n, "sigma", 0.3f);
-            if (sigma > 1.6f) fail(n, "sigma is in radians and must be at most 1.6");
-            m.bsdf.add(Lobe::oren_nayar(r, sigma));
-            m.base_color = r;
-            m.c_diffuse = 1.f;
-        } else if (type == "conductor") {
-            check_v(attrs({"preset", "roughness", "distribution", "exponent", "nu", "nv"}),
-                    with({"eta", "k", "reflectance"}, common_children));
-            const Fresnel f = conductor_fresnel(n);
-            const bool rough = n.attribute("roughness") && number(n, "roughness") > 0.f;
-            if (rough || n.attribute("distribution"))
-                m.bsdf.add(Lobe::microfacet(RGB{1.f}, distribution(n, "beckmann"), f));
-            else
-                m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
-        } else if (type == "dielectric") {
-            check_v(attrs({"ior", "roughness"}),
-                    with({"reflectance", "transmittance"}, common_children));
-            if (n.attribute("roughness") && number(n, "roughness") != 0.f)
-                fail(n, "rough dielectrics are not supported (roughness must be 0)");
-            m.ior = positive(n, "ior", 1.5f);
-            m.bsdf.add(Lobe::dielectric(m.ior, rgb_child(n, "reflectance", RGB{1.f}),
-                                        rgb_child(n, "transmittance", RGB{1.f})));
-        } else if (type == "microfacet") {
-            check_v(attrs({"model", "distribution", "roughness", "exponent", "nu", "nv", "fresnel",
-                           "ior", "preset", "kd", "ks"}),
-                    with({"specular", "diffuse", "eta", "k", "reflectance"}, common_children));
-            const std::string model =
-                n.attribute("model") ? n.attribute("model").value() : "torrance_sparrow";
-            if (model != "torrance_sparrow" && model != "cook_torrance")
-                fail(n,
-                     "unknown microfacet model '" + model + "' (torrance_sparrow, cook_torrance)");
-            const std::string fk =
-                n.attribute("fresnel") ? n.attribute("fresnel").value() : "dielectric";
-            Fresnel f;
-            if (fk == "dielectric") {
-                f.kind = FresnelKind::Dielectric;
-                f.ior = positive(n, "ior", 1.5f);
-            } else if (fk == "conductor") {
-                f = conductor_fresnel(n);
-            } else if (fk != "none") {
-                fail(n, "unknown fresnel '" + fk + "' (dielectric, conductor, none)");
-            }
-            const MicrofacetDistribution d =
-                distribution(n, model == "cook_torrance" ? "beckmann" : "blinn");
-            const float ks = non_negative(n, "ks", 1.f);
-            const RGB spec = rgb_child(n, "specular", RGB{1.f}) * ks;
-            if (model == "cook_torrance") {
-                // Cook–Torrance: kd * Lambert + ks * microfacet specular, kd + ks <= 1.
-                const float kd = non_negative(n, "kd", n.child("diffuse") ? 1.f - ks : 0.f);
-                if (kd + ks > 1.f + 1e-5f) fail(n, "kd + ks must be at most 1");
-                const RGB diff = rgb_child(n, "diffuse", RGB{0.5f}) * kd;
-                if (!diff.is_black()) m.bsdf.add(Lobe::lambert(diff));
-                m.base_color = diff;
-                m.c_diffuse = 1.f;
-            } else if (n.child("diffuse") || n.attribute("kd")) {
-                fail(n, "a diffuse part belongs to model=\"cook_torrance\" (or use a mix)");
-            }
-            m.bsdf.add(Lobe::microfacet(spec, d, f));
-        } else if (type == "mix") {
-            check_v(attrs({}), with({"material"}, common_children));
-            // Mixes nest by recursion: a bound keeps a hostile file from exhausting the stack.
-            if (mix_depth_ >= kMaxMixDepth)
-                fail(n, "mixes nest at most " + std::to_string(kMaxMixDepth) + " deep");
-            ++mix_depth_;
-            struct Leave {
-                int& depth;
-                ~Leave() { --depth; }
-            } leave{mix_depth_};
-            float total = 0.f;
-            for (const pugi::xml_node& c : n.children("material")) {
-                const float w = non_negative(c, "weight", 1.f);
-                total += w;
-                Material sub = material(c, false);
-                if (!sub.emission.is_black())
-                    fail(c, "put <emission> on the mix, not on its components");
-                sub.bsdf.scale(w);
-                if (sub.texture >= 0) {
-                    if (m.texture >= 0)
-                        fail(c,
-                             "a mix takes one textured component (the texture multiplies its "
-                             "lobes)");
-                    m.texture = sub.texture;
-                    m.textured_lobes = uint8_t(sub.textured_lobes << m.bsdf.size());
-                }
-                for (int i = 0; i < sub.bsdf.size(); ++i)
-                    if (!m.bsdf.add(sub.bsdf.lobe(i)))
-                        fail(c, "a mix may hold at most " + std::to_string(Bsdf::kMaxLobes) +
-                                    " lobes");
-                m.base_color += sub.base_color * (w * sub.c_diffuse);
-            }
-            if (total == 0.f) fail(n, "a mix needs at least one <material> with weight > 0");
-            if (total > 1.f + 1e-5f) fail(n, "mix weights sum to more than 1 (energy would grow)");
-            m.c_diffuse = 1.f;
-        } else {
-            fail(n, "unknown material type '" + type +
-                        "' (matte, phong, reflective, glass, lambert, oren_nayar, conductor, "
-                        "dielectric, microfacet, mix)");
-        }
+    const MaterialReader* reader = nullptr;
+    std::string names;
+    for (const MaterialReader& r : material_readers()) {
+        if (type == r.type) reader = &r;
+        names += (names.empty() ? "" : ", ") + std::string(r.type);
     }
-    if (const pugi::xml_node tx = n.child("texture")) {
-        // The diffuse reflectance's texture: the Lambert or Oren-Nayar lobe (the first one the
-        // diffuse types add) and the base colour are multiplied by it.
-        const bool diffuse = type == "matte" || type == "phong" || type == "reflective" ||
-                             type == "lambert" || type == "oren_nayar";
-        if (!diffuse)
-            fail(tx,
-                 "<texture> multiplies a diffuse reflectance: matte, phong, reflective, "
-                 "lambert or oren_nayar (or put it on a mix's component)");
-        if (m.bsdf.empty() || (m.bsdf.lobe(0).type != LobeType::Lambert &&
-                               m.bsdf.lobe(0).type != LobeType::OrenNayar))
-            fail(tx, "<texture> on a material without diffuse reflection (c_diffuse 0)");
-        m.texture = parse_texture(tx);
-        m.textured_lobes = 1;
-    }
-    if (const pugi::xml_node e = n.child("emission")) {
-        check(e, {"r", "g", "b", "intensity", "sampling", "two_sided"}, {});
-        m.emission =
-            rgb(e, {"intensity", "sampling", "two_sided"}) * non_negative(e, "intensity", 1.f);
-        m.emission_two_sided = boolean(e, "two_sided", false);
-        if (e.attribute("sampling")) {
-            const std::string sm = e.attribute("sampling").value();
-            if (sm == "area")
-                m.emitter_solid_angle = false;
-            else if (sm != "solid_angle")
-                fail(e, "unknown emitter sampling '" + sm + "' (area, solid_angle)");
-        }
-    }
+    if (!reader) fail(n, "unknown material type '" + type + "' (" + names + ")");
+    (this->*reader->read)(n, top, m);
+    material_texture(n, m);
+    material_emission(n, m);
     return m;
+}
+
+void Loader::check_material(const pugi::xml_node& n, bool top, Names attrs, Names children) const {
+    const std::string type = n.attribute("type").value();
+    // Every material takes type (and a weight inside a mix), <emission> and <texture>.
+    auto known_attr = [&](const char* a) {
+        return in(attrs, a) || std::string_view(a) == "type" ||
+               (!top && std::string_view(a) == "weight");
+    };
+    for (const pugi::xml_attribute& a : n.attributes())
+        if (!known_attr(a.name()))
+            fail(n, std::string("unknown attribute '") + a.name() + "' on <material type=\"" +
+                        type + "\">");
+    for (const pugi::xml_node& c : n.children()) {
+        if (c.type() != pugi::node_element) continue;
+        if (!in(children, c.name()) && std::string_view(c.name()) != "emission" &&
+            std::string_view(c.name()) != "texture")
+            fail(c, std::string("unknown element <") + c.name() + "> in <material type=\"" + type +
+                        "\">");
+    }
+}
+
+void Loader::material_texture(const pugi::xml_node& n, Material& m) {
+    const pugi::xml_node tx = n.child("texture");
+    if (!tx) return;
+    // The diffuse reflectance's texture: the Lambert or Oren-Nayar lobe (the first one the
+    // diffuse types add) and the base colour are multiplied by it.
+    const std::string type = n.attribute("type").value();
+    const bool diffuse = type == "matte" || type == "phong" || type == "reflective" ||
+                         type == "lambert" || type == "oren_nayar";
+    if (!diffuse)
+        fail(tx,
+             "<texture> multiplies a diffuse reflectance: matte, phong, reflective, "
+             "lambert or oren_nayar (or put it on a mix's component)");
+    if (m.bsdf.empty() ||
+        (m.bsdf.lobe(0).type != LobeType::Lambert && m.bsdf.lobe(0).type != LobeType::OrenNayar))
+        fail(tx, "<texture> on a material without diffuse reflection (c_diffuse 0)");
+    m.texture = parse_texture(tx);
+    m.textured_lobes = 1;
+}
+
+void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
+    const pugi::xml_node e = n.child("emission");
+    if (!e) return;
+    check(e, {"r", "g", "b", "intensity", "sampling", "two_sided"}, {});
+    m.emission = rgb(e, {"intensity", "sampling", "two_sided"}) * non_negative(e, "intensity", 1.f);
+    m.emission_two_sided = boolean(e, "two_sided", false);
+    if (e.attribute("sampling")) {
+        const std::string sm = e.attribute("sampling").value();
+        if (sm == "area")
+            m.emitter_solid_angle = false;
+        else if (sm != "solid_angle")
+            fail(e, "unknown emitter sampling '" + sm + "' (area, solid_angle)");
+    }
 }
 
 // <texture src="image" .../> or <texture type="checkerboard">: into Scene::textures.
