@@ -51,9 +51,9 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
     const BoxPacket<N> bp = make_box_packet<N>(p, lr, lanes);
     // The packet's hits live in h between leaves; the cull distances in registers.
     auto cull_of = [&](PacketV& cull) {
-        alignas(64) float c[kPacket];
+        alignas(64) float c[kPacketK];
         float m = -kInf;
-        for (std::size_t i = 0; i < kPacket; ++i) {
+        for (std::size_t i = 0; i < kPacketK; ++i) {
             c[i] = h.id[i] != kInvalidId ? h.t[i] * kBvhCullScale : h.t[i];
             if ((lanes >> i) & 1u) m = std::max(m, c[i]);
         }
@@ -112,8 +112,8 @@ void TriangleBvhT<N, M>::intersect_packet(const RayPacket& p, uint32_t active, P
                         improved = true;
                     }
                     if (tie) {
-                        alignas(64) uint32_t ids[kPacket];
-                        alignas(64) float us[kPacket], vs[kPacket], bu[kPacket], bv[kPacket];
+                        alignas(64) uint32_t ids[kPacketK];
+                        alignas(64) float us[kPacketK], vs[kPacketK], bu[kPacketK], bv[kPacketK];
                         cur_id.store_aligned(reinterpret_cast<float*>(ids));
                         cur_u.store_aligned(us), cur_v.store_aligned(vs);
                         bt.u.store_aligned(bu), bt.v.store_aligned(bv);
@@ -170,8 +170,8 @@ uint32_t TriangleBvhT<N, M>::occluded_packet(const RayPacket& p, const float* tm
 
     const LaneRays lr(p, lanes);
     const BoxPacket<N> bp = make_box_packet<N>(p, lr, lanes);
-    alignas(64) float tm[kPacket];
-    for (std::size_t i = 0; i < kPacket; ++i) tm[i] = ((lanes >> i) & 1u) ? tmax[i] : -kInf;
+    alignas(64) float tm[kPacketK];
+    for (std::size_t i = 0; i < kPacketK; ++i) tm[i] = ((lanes >> i) & 1u) ? tmax[i] : -kInf;
     const PacketV cull = PacketV::load_aligned(tm);
     float cull_max = -kInf;
     for (uint32_t b = lanes; b; b &= b - 1) cull_max = std::max(cull_max, tm[__builtin_ctz(b)]);

@@ -16,7 +16,9 @@ namespace bvh_detail {
 
 using PacketV = simd::FloatV;
 using PacketMask = simd::MaskV;
-inline constexpr std::size_t kPacket = simd::kWidth;
+// K, the packet width (Embree's vocabulary: N children per node, M triangles per leaf block,
+// K rays per packet): one SIMD register of rays.
+inline constexpr std::size_t kPacketK = simd::kWidth;
 
 inline float bits_to_float(uint32_t b) {
     float f;
@@ -72,7 +74,7 @@ inline int packet_octant(const RayPacket& p, std::size_t i, float tmax) {
 // visit most of the tree, so those rays go alone.
 inline constexpr float kPacketCosine = 0.95f;
 inline constexpr float kPacketOriginSpan = 1.f / 32.f;
-inline constexpr int kPacketMinLanes = int(kPacket / 4);
+inline constexpr int kPacketMinLanes = int(kPacketK / 4);
 
 // Splits `active` into the lanes that traverse as a packet (returned: the octant and cone of
 // the first usable lane) and the rest (`single`). Lanes with nothing to find (tmin >= tmax)
@@ -122,14 +124,14 @@ inline uint32_t packet_lanes(const RayPacket& p, const float* tmax, uint32_t act
 // is the arithmetic of BoxRay::test; all lanes share the octant, so the same near and far rows
 // serve every ray.
 struct LaneRays {
-    alignas(64) float inv[3][kPacket];  // 1 / d (1 in lanes outside the packet: masked anyway)
-    alignas(64) float far[3][kPacket];  // 1 / d * kBvhFarScale
+    alignas(64) float inv[3][kPacketK];  // 1 / d (1 in lanes outside the packet: masked anyway)
+    alignas(64) float far[3][kPacketK];  // 1 / d * kBvhFarScale
     PacketV ox, oy, oz, dx, dy, dz, ix, iy, iz, fx, fy, fz, tmin;
 
     LaneRays(const RayPacket& p, uint32_t lanes) {
         const float* d[3] = {p.dx, p.dy, p.dz};
         for (int a = 0; a < 3; ++a)
-            for (std::size_t i = 0; i < kPacket; ++i) {
+            for (std::size_t i = 0; i < kPacketK; ++i) {
                 inv[a][i] = ((lanes >> i) & 1u) ? 1.f / d[a][i] : 1.f;
                 far[a][i] = inv[a][i] * kBvhFarScale;
             }
@@ -191,14 +193,14 @@ BoxPacket<N> make_box_packet(const RayPacket& p, const LaneRays& lr, uint32_t la
 
 // A float mask with lane i true where bit i of `bits` is set.
 inline PacketMask packet_mask(uint32_t bits) {
-    alignas(64) float f[kPacket];
-    for (std::size_t i = 0; i < kPacket; ++i) f[i] = float((bits >> i) & 1u);
+    alignas(64) float f[kPacketK];
+    for (std::size_t i = 0; i < kPacketK; ++i) f[i] = float((bits >> i) & 1u);
     return PacketV::load_aligned(f) != PacketV(0.f);
 }
 
 // Below this many active rays a subtree is cheaper ray by ray than as a packet (a packet pays
 // for all W lanes at every node and triangle).
-inline constexpr int kPacketMinActive = kPacket >= 16 ? 4 : 2;
+inline constexpr int kPacketMinActive = kPacketK >= 16 ? 4 : 2;
 
 struct PacketEntry {
     uint32_t ref;

@@ -26,7 +26,7 @@
 namespace foton::kern {
 
 // Points per leaf. 32 beat 16 and 64 at k = 50 .. 500 on 1M dragon photons (AVX-512, see
-// bench/bench_kdtree.cpp); a multiple of every SIMD width, so leaves need no tail.
+// bench/bench_point_kdtree.cpp); a multiple of every SIMD width, so leaves need no tail.
 inline constexpr std::size_t kKdBucket = 32;
 static_assert(kKdBucket % simd::kWidth == 0);
 

@@ -81,7 +81,7 @@ while IFS= read -r line; do
     *"foton serve"*)
       port=$((20000 + RANDOM % 20000))
       serve=${cmd//--port 8080/--port $port}
-      eval "$serve" </dev/null >"$work/serve.log" 2>&1 &
+      eval "exec $serve" </dev/null >"$work/serve.log" 2>&1 &  # $! is foton itself
       pid=$!
       ok=0
       for _ in $(seq 50); do
