@@ -254,10 +254,10 @@ float Bsdf::continuation() const {
     RGB sum{0.f};
     for (int i = 0; i < n_; ++i) {
         const Lobe& l = lobes_[std::size_t(i)];
-        sum += l.type == LobeType::Dielectric ? RGB(std::max(l.color.r, l.transmit.r),
-                                                    std::max(l.color.g, l.transmit.g),
-                                                    std::max(l.color.b, l.transmit.b))
-                                              : l.color;
+        sum += l.type == LobeType::Dielectric
+                   ? RGB(std::max(l.color.r, l.transmit.r), std::max(l.color.g, l.transmit.g),
+                         std::max(l.color.b, l.transmit.b))
+                   : l.color;
     }
     return std::min(1.f, sum.max_component());
 }

@@ -6,6 +6,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/warp.h"
+#include "light.h"
 
 namespace foton {
 
@@ -97,6 +98,17 @@ Environment Environment::image(TextureImage map, EnvMapping mapping, const RGB& 
         }
         sum += row_sum * jac;
     }
+    // The brightest texel times the scale is what a ray can bring back (an HDR exponent of
+    // 255 decodes to 1.7e38).
+    RGB brightest{0.f};
+    for (const RGB& t : e.map_.texels) {
+        if (!std::isfinite(t.r) || !std::isfinite(t.g) || !std::isfinite(t.b))
+            throw InputError(e.map_.path, 0, "the environment map holds NaN or infinite texels");
+        brightest =
+            RGB{std::max(brightest.r, t.r), std::max(brightest.g, t.g), std::max(brightest.b, t.b)};
+    }
+    if (const std::string why = emission_problem(brightest * scale); !why.empty())
+        throw InputError(e.map_.path, 0, "the brightest texel times the scale " + why);
     try {
         e.dist_ = Distribution2D(weights, w, h);
     } catch (const std::invalid_argument&) {

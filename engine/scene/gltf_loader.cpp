@@ -10,6 +10,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
+#include "gltf_inputs.h"
 #include "mesh_file.h"
 
 namespace foton {
@@ -177,6 +178,10 @@ class GltfReader {
         if (kept.empty()) return;
         m.indices = std::move(kept);
         part.has_normals = !m.normals.empty();
+        placed_triangles_ += m.indices.size() / 3;
+        if (placed_triangles_ > kMaxPlacedTriangles)
+            fail(where, "the scene places more than " + std::to_string(kMaxPlacedTriangles) +
+                            " triangles (meshes repeated by the node graph count each time)");
         m.transform(xf);
         part.material = p.material >= 0 ? material(p.material) : -1;
         out_.parts.push_back(std::move(part));
@@ -282,6 +287,12 @@ class GltfReader {
         if (i < 0 || std::size_t(i) >= g_.nodes.size())
             fail("node " + std::to_string(i), "does not exist");
         if (depth > 64) fail("node " + std::to_string(i), "nodes nest deeper than 64 (a cycle?)");
+        // A node listed as a child twice is placed twice, and so is everything below it: 24
+        // such nodes in 900 bytes would ask for 2^24 copies.
+        if (++visits_ > kMaxNodePlacements)
+            fail("node " + std::to_string(i),
+                 "the node graph places more than " + std::to_string(kMaxNodePlacements) +
+                     " nodes (children listed more than once multiply)");
         const tinygltf::Node& n = g_.nodes[std::size_t(i)];
         const Affine xf = parent * node_transform(n);
         if (n.mesh >= 0) {
@@ -320,17 +331,28 @@ class GltfReader {
     }
 
   private:
+    static constexpr uint64_t kMaxNodePlacements = uint64_t(1) << 18;
+    static constexpr uint64_t kMaxPlacedTriangles = uint64_t(1) << 26;
     const tinygltf::Model& g_;
     std::string path_;
     MeshFile out_;
     std::map<int, int> materials_;
+    uint64_t visits_ = 0, placed_triangles_ = 0;
 };
 
 }  // namespace
 
 MeshFile parse_gltf(const std::string& bytes, const std::string& name, const std::string& base_dir,
                     bool binary) {
+    // The parser recurses per level of nesting: a deep file would overflow the stack.
+    const std::string_view json = binary ? glb_json_chunk(bytes) : std::string_view(bytes);
+    if (json_nesting_depth(json) > kMaxGltfJsonDepth)
+        throw InputError(name, 0,
+                         "malformed glTF: JSON nested deeper than " +
+                             std::to_string(kMaxGltfJsonDepth) + " levels");
     tinygltf::TinyGLTF loader;
+    GltfFileRoot root{base_dir};
+    guard_gltf_loader(loader, root);
     tinygltf::Model model;
     std::string err, warn;
     const bool ok =

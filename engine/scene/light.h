@@ -2,7 +2,10 @@
 // Light sources of the Whitted renderer. Point and spot lights follow the thesis'
 // attenuation I / (1 + a d^2) (a = 0: no fall-off); the rectangle area light is given in
 // radiance and sampled with several shadow rays.
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "engine/core/math.h"
@@ -10,6 +13,28 @@
 #include "engine/core/sampler.h"
 
 namespace foton {
+
+// The most a light's intensity or radiance, a material's emission or an environment map's
+// texel times its scale may be: the sums of many samples of it, times geometry and BSDF
+// factors, must stay finite in float (1e38 gave NaN pixels). The loaders refuse more at the
+// value's line.
+inline constexpr float kMaxEmission = 1e15f;
+// "" when every component of v is finite, not negative and at most kMaxEmission; else what
+// is wrong with it.
+inline std::string emission_problem(const RGB& v) {
+    const float c[3] = {v.r, v.g, v.b};
+    for (const float x : c) {
+        if (!std::isfinite(x)) return "is NaN or infinite";
+        if (x < 0.f) return "is negative";
+        if (x > kMaxEmission) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "is %g, above foton's limit of %g", double(x),
+                          double(kMaxEmission));
+            return buf;
+        }
+    }
+    return "";
+}
 
 struct PointLight {
     Vec3 position;

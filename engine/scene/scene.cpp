@@ -4,6 +4,7 @@
 
 #include "engine/core/error.h"
 
+#include <cmath>
 #include <cstdio>
 
 namespace foton {
@@ -112,6 +113,21 @@ Bounds3 Scene::bounds() const {
     Bounds3 b;
     for (uint32_t g = 0; g < objects.size(); ++g) b.extend(object_bounds(g));
     return b;
+}
+
+void Scene::check_extent() const {
+    const Bounds3 b = bounds();
+    const float c[6] = {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z};
+    for (const float x : c)
+        if (!(std::fabs(x) <= kMaxCoordinate)) {
+            char buf[192];
+            std::snprintf(buf, sizeof buf,
+                          "the geometry reaches from (%g, %g, %g) to (%g, %g, %g): coordinates "
+                          "must be finite and within +-%g",
+                          double(b.lo.x), double(b.lo.y), double(b.lo.z), double(b.hi.x),
+                          double(b.hi.y), double(b.hi.z), double(kMaxCoordinate));
+            throw InputError(source, 0, buf);
+        }
 }
 
 std::size_t Scene::memory_bytes() const {

@@ -51,6 +51,10 @@ constexpr int kMaxImageSide = 32768;
 constexpr uint64_t kMaxImagePixels = uint64_t(1) << 27;
 // Throws InputError at file:line for an image beyond those limits.
 void check_image_size(int width, int height, const std::string& file, int line);
+// No coordinate of the scene's geometry may be NaN, infinite or beyond this: squared lengths
+// and the bounds' diagonal must stay finite in float (a translation of 1e39, or two of 3e38,
+// rendered black with exit 0).
+inline constexpr float kMaxCoordinate = 1e18f;
 
 struct FilmSettings {
     int width = 512, height = 512;  // the pixels rendered (a crop window's, when cropped)
@@ -137,6 +141,9 @@ struct Scene {
     std::size_t num_triangles() const;         // as rendered: an instanced mesh per placement
     std::size_t num_stored_triangles() const;  // as stored: an instanced mesh once
     Bounds3 bounds() const;
+    // Fails (InputError at `source`) when the bounds are not finite or reach beyond
+    // kMaxCoordinate; every loader calls it on the scene it made.
+    void check_extent() const;
     Bounds3 object_bounds(uint32_t geom) const;
     std::size_t memory_bytes() const;
     std::string summary() const;  // foton info (the scene; the renderer's line is the app's)

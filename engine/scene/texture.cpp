@@ -19,6 +19,17 @@ int wrap(int i, int n) {
 
 }  // namespace
 
+bool checker_even(Point2 st) {
+    // The parity of floor(s) + floor(t) in double arithmetic: a float beyond 2^63 (a scale of
+    // 1e30) must not be converted to an integer, which is undefined behaviour. Every float
+    // above 2^24 is even, so the pattern there is uniform, as the float grid is.
+    auto parity = [](float v) {
+        const double f = std::floor(double(v));
+        return f - 2.0 * std::floor(0.5 * f);  // 0 or 1; NaN for a non-finite v
+    };
+    return parity(st.x) + parity(st.y) != 1.0;
+}
+
 float srgb_to_linear(float c) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
@@ -48,10 +59,8 @@ RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
             return value * scale;
         case TextureKind::Image:
             return images[image].bilinear(st) * scale;
-        case TextureKind::Checkerboard: {
-            const bool even = (int64_t(std::floor(st.x)) + int64_t(std::floor(st.y))) % 2 == 0;
-            return (even ? value : other) * scale;
-        }
+        case TextureKind::Checkerboard:
+            return (checker_even(st) ? value : other) * scale;
     }
     return value;
 }

@@ -36,6 +36,9 @@ struct Texture {
 
 // The sRGB transfer function's inverse: an encoded value in [0, 1] to linear.
 float srgb_to_linear(float c);
+// Whether a checkerboard is on its even squares at texture coordinates st (floor(s) + floor(t)
+// even); defined for every float, however large.
+bool checker_even(Point2 st);
 
 // Decodes an EXR, HDR, PNG, JPEG, BMP or TGA file into linear RGB (8-bit files are sRGB
 // encoded unless `linear`). Throws InputError naming the file.

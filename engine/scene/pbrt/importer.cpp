@@ -285,6 +285,7 @@ Scene Importer::run() {
     if (!stack_.empty())
         throw InputError(file(), 0, "AttributeBegin or TransformBegin without its end");
     if (scene_.objects.empty()) throw InputError(file(), 0, "the scene has no shapes");
+    scene_.check_extent();
     finish_camera();
     for (const auto& [key, value] : overrides_) renderer_.set(key, value, "--set", 0);
     scene_.renderer = std::move(renderer_);

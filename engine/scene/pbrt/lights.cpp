@@ -29,6 +29,12 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
     const std::string what = "LightSource \"" + type + "\"";
     const float scale = p.real("scale", 1.f);
     if (scale < 0.f) fail(t, what + ": scale must not be negative");
+    // What the light emits, checked: sums of its samples must stay finite (light.h).
+    auto emitted = [&](const RGB& v) {
+        if (const std::string why = emission_problem(v); !why.empty())
+            fail(t, what + ": the emitted colour x scale " + why);
+        return v;
+    };
     auto photometric = [&](const char* key, float k_e) {
         const float v = p.real(key, -1.f);
         return v > 0.f ? v / k_e : 1.f;
@@ -48,7 +54,7 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
         const auto i = p.color("I", true);
         PointLight l;
         l.position = gs_.ctm.point(point("from", {0, 0, 0}));
-        l.intensity = (i ? *i : RGB{1.f}) * scale * photometric("power", 4.f * kPi);
+        l.intensity = emitted((i ? *i : RGB{1.f}) * scale * photometric("power", 4.f * kPi));
         scene_.lights.points.push_back(l);
     } else if (type == "spot") {
         const auto i = p.color("I", true);
@@ -61,13 +67,14 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
         l.cos_outer = std::cos(cone * kPi / 180.f);
         l.cos_inner = std::cos(std::max(cone - delta, 0.f) * kPi / 180.f);
         const float k_e = 2.f * kPi * ((1.f - l.cos_inner) + 0.5f * (l.cos_inner - l.cos_outer));
-        l.intensity = (i ? *i : RGB{1.f}) * scale * photometric("power", k_e);
+        l.intensity = emitted((i ? *i : RGB{1.f}) * scale * photometric("power", k_e));
         scene_.lights.spots.push_back(l);
     } else if (type == "distant") {
         const auto radiance = p.color("L", true);
         DirectionalLight l;
         l.direction = axis();
-        l.radiance = (radiance ? *radiance : RGB{1.f}) * scale * photometric("illuminance", 1.f);
+        l.radiance =
+            emitted((radiance ? *radiance : RGB{1.f}) * scale * photometric("illuminance", 1.f));
         scene_.lights.directionals.push_back(l);
     } else if (type == "infinite") {
         infinite_light(t, p, scale);
@@ -96,6 +103,8 @@ void Importer::infinite_light(const Token& t, const ParamList& p, float scale) {
         const RGB L = radiance ? *radiance : RGB{1.f};
         // A constant sky of radiance L gives illuminance pi L.
         const float k = illuminance > 0.f ? illuminance / kPi : 1.f;
+        if (const std::string why = emission_problem(L * (scale * k)); !why.empty())
+            fail(t, what + ": the emitted colour x scale " + why);
         scene_.environment = Environment::constant(L * (scale * k));
     } else {
         const std::string path = input_path(t, "environment map", rel, kMaxMeshFileBytes);
@@ -131,6 +140,8 @@ void Importer::area_light(const Token& t, const std::string& type, const ParamLi
     if (scale < 0.f) fail(t, "scale must not be negative");
     const auto radiance = p.color("L", true);
     gs_.area.radiance = (radiance ? *radiance : RGB{1.f}) * scale;
+    if (const std::string why = emission_problem(gs_.area.radiance); !why.empty())
+        fail(t, "AreaLightSource \"diffuse\": the emitted colour x scale " + why);
     gs_.area.two_sided = p.boolean("twosided", false);
     gs_.area.id = area_lights_++;
     warn_unused(p, "AreaLightSource \"diffuse\"");

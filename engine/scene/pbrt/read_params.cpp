@@ -2,6 +2,7 @@
 // list, each value checked for type and range at its line.
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "importer.h"
 
@@ -19,8 +20,12 @@ float Importer::expect_number(const Token& directive) {
     double v = 0.0;
     if (t.kind == TokenKind::Number) {
         auto [ptr, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), v);
-        if (ec == std::errc() && ptr == t.text.data() + t.text.size() && std::isfinite(v))
+        if (ec == std::errc() && ptr == t.text.data() + t.text.size() && std::isfinite(v)) {
+            if (std::fabs(v) > double(std::numeric_limits<float>::max()))
+                fail(t, std::string(directive.text) + ": '" + std::string(t.text) +
+                            "' is beyond the range of a float");
             return float(v);
+        }
     }
     fail(t.kind == TokenKind::End ? directive : t,
          std::string(directive.text) + " expects a number, got '" + std::string(t.text) + "'");
@@ -65,6 +70,9 @@ ParamList Importer::read_params() {
                 if (ec != std::errc() || ptr != v.text.data() + v.text.size() || !std::isfinite(x))
                     fail(v, "parameter '" + p.name + "': '" + std::string(v.text) +
                                 "' is not a finite number");
+                if (p.type != "integer" && std::fabs(x) > double(std::numeric_limits<float>::max()))
+                    fail(v, "parameter '" + p.name + "': '" + std::string(v.text) +
+                                "' is beyond the range of a float");
                 if (p.type == "integer" && (x != std::floor(x) || std::fabs(x) > 2147483647.0))
                     fail(v, "parameter '" + p.name + "': '" + std::string(v.text) +
                                 "' is not an integer");

@@ -14,14 +14,16 @@ void Loader::parse_lights(const pugi::xml_node& n) {
             check(l, {"intensity", "attenuation"}, {"color", "position"});
             PointLight p;
             p.position = xyz_child(l, "position");
-            p.intensity = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            p.intensity =
+                emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
             p.attenuation = non_negative(l, "attenuation", 0.f);
             scene_.lights.points.push_back(p);
         } else if (kind == "directional") {
             check(l, {"intensity"}, {"color", "direction"});
             DirectionalLight d;
             d.direction = direction(l, "direction");
-            d.radiance = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            d.radiance =
+                emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
             scene_.lights.directionals.push_back(d);
         } else if (kind == "spot") {
             check(l, {"intensity", "attenuation", "angle", "inner_angle", "falloff"},
@@ -35,7 +37,8 @@ void Loader::parse_lights(const pugi::xml_node& n) {
             } else {
                 s.direction = direction(l, "direction");
             }
-            s.intensity = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+            s.intensity =
+                emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
             s.attenuation = non_negative(l, "attenuation", 0.f);
             const float outer = number(l, "angle");
             if (!(outer > 0.f && outer <= 180.f)) fail(l, "spot angle must be in (0, 180] degrees");
@@ -64,7 +67,8 @@ void Loader::parse_lights(const pugi::xml_node& n) {
 void Loader::add_environment(const pugi::xml_node& l) {
     check(l, {"intensity", "src", "mapping", "sampling"}, {"color", "up", "front"});
     if (scene_.environment) fail(l, "the scene has more than one <environment>");
-    const RGB scale = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+    const RGB scale =
+        emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
     const std::string src = l.attribute("src").value();
     if (src.empty()) {
         if (l.attribute("mapping") || l.child("up") || l.child("front") || l.attribute("sampling"))
@@ -128,9 +132,10 @@ void Loader::add_area_light(const pugi::xml_node& l) {
     a.normal = cr / a.area;
     if (l.child("radiance")) {
         check(l.child("radiance"), {"r", "g", "b"}, {});
-        a.radiance = rgb(l.child("radiance")) * non_negative(l, "intensity", 1.f);
+        a.radiance = emitted(l, rgb(l.child("radiance")) * non_negative(l, "intensity", 1.f));
     } else {
-        a.radiance = rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f);
+        a.radiance =
+            emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
     }
     a.samples = count(l, "samples", 16);
     a.sampler = scene_.renderer.choice("sampler", sampler_names(), SamplerKind::Jittered);

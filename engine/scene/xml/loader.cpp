@@ -80,6 +80,7 @@ Scene Loader::run() {
     for (const Object& o : scene_.objects)
         if (scene_.materials[o.material].type != MaterialType::Emitter) has_geometry = true;
     if (!has_geometry) fail(root.child("objects"), "the scene has no objects");
+    scene_.check_extent();
     return std::move(scene_);
 }
 

@@ -109,6 +109,13 @@ class Loader {
         if (v == "false" || v == "0") return false;
         fail(n, std::string("attribute '") + attr + "' must be true or false");
     }
+    // An emitted quantity (a light's intensity or radiance, an emission) that the renderer can
+    // sum without overflowing (light.h's kMaxEmission), or an error at n.
+    RGB emitted(const pugi::xml_node& n, const RGB& v) const {
+        if (const std::string why = emission_problem(v); !why.empty())
+            fail(n, std::string("<") + n.name() + ">: the emitted colour x intensity " + why);
+        return v;
+    }
     pugi::xml_node child(const pugi::xml_node& n, const char* name) const {
         const pugi::xml_node c = n.child(name);
         if (!c) fail(n, std::string("<") + n.name() + "> needs a <" + name + "> element");

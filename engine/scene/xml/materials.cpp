@@ -155,7 +155,8 @@ void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
     const pugi::xml_node e = n.child("emission");
     if (!e) return;
     check(e, {"r", "g", "b", "intensity", "sampling", "two_sided"}, {});
-    m.emission = rgb(e, {"intensity", "sampling", "two_sided"}) * non_negative(e, "intensity", 1.f);
+    m.emission = emitted(
+        e, rgb(e, {"intensity", "sampling", "two_sided"}) * non_negative(e, "intensity", 1.f));
     m.emission_two_sided = boolean(e, "two_sided", false);
     if (e.attribute("sampling")) {
         const std::string sm = e.attribute("sampling").value();
