@@ -153,7 +153,10 @@ int main(int argc, char** argv) {
                     "let --host be an address other machines reach: anyone on that network can "
                     "then start renders");
     serve->add_option("--scenes", sa.scene_dirs,
-                      "folders whose *.xml scenes the page may open (default: scenes)");
+                      "folders whose *.xml and *.pbrt scenes the page may open (default: scenes)");
+    serve->add_option("--allow-read", sa.allow_read,
+                      "folders besides --scenes whose files scenes may read (meshes, textures); "
+                      "default with the default scenes: ../shared when it exists");
 
     try {
         app.parse(argc, argv);

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "engine/core/error.h"
+#include "engine/core/input_file.h"
 #include "engine/film/image_io.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/registry/integrators.h"
@@ -69,6 +70,14 @@ int run_serve(const ServeArgs& args) {
     const std::vector<std::string> dirs =
         args.scene_dirs.empty() ? std::vector<std::string>{"scenes"} : args.scene_dirs;
     const std::map<std::string, std::string> scenes = list_scenes(dirs);
+    // Scenes read only under these: a request cannot open (or see quoted) any other file.
+    std::vector<std::string> readable = dirs;
+    readable.insert(readable.end(), args.allow_read.begin(), args.allow_read.end());
+    std::error_code ec;
+    if (args.scene_dirs.empty() && args.allow_read.empty() &&
+        std::filesystem::is_directory("../shared", ec))
+        readable.push_back("../shared");
+    confine_inputs(readable);
     RenderSession session;
     httplib::Server server;
     server.set_payload_max_length(kMaxRequestBody);
@@ -218,8 +227,10 @@ int run_serve(const ServeArgs& args) {
     if (port < 0)
         throw InputError("--port", 0,
                          "cannot listen on " + args.host + ":" + std::to_string(args.port));
-    std::printf("foton serve: http://%s:%d/ (%zu scenes; Ctrl-C stops)\n", args.host.c_str(), port,
-                scenes.size());
+    std::string reads;
+    for (const std::string& f : input_confinement()) reads += (reads.empty() ? "" : ", ") + f;
+    std::printf("foton serve: http://%s:%d/ (%zu scenes; reads files under %s; Ctrl-C stops)\n",
+                args.host.c_str(), port, scenes.size(), reads.c_str());
     std::fflush(stdout);
     server.listen_after_bind();
     return 0;

@@ -12,6 +12,10 @@ struct ServeArgs {
     std::string host = "127.0.0.1";
     int port = 8080;                      // 0: any free port (printed)
     std::vector<std::string> scene_dirs;  // default: scenes/
+    // Folders besides scene_dirs whose files scenes may read (meshes, textures); every other
+    // path is refused (core/input_file.h's confine_inputs). Default with the default
+    // scenes/: ../shared when it exists (the repository's scenes read its meshes).
+    std::vector<std::string> allow_read;
     // Listening beyond this machine (a --host other than loopback) lets anyone on that
     // network start renders: it needs this, and prints a warning.
     bool allow_remote = false;

@@ -9,8 +9,48 @@
 
 namespace foton {
 
+namespace {
+std::vector<std::string>& confinement() {
+    static std::vector<std::string> folders;
+    return folders;
+}
+
+// Whether `path`, symlinks resolved, lies in one of the confinement folders.
+bool confined(const std::string& path) {
+    namespace fs = std::filesystem;
+    if (confinement().empty()) return true;
+    std::error_code ec;
+    const std::string real = fs::weakly_canonical(path, ec).string();
+    if (ec) return false;
+    for (const std::string& f : confinement())
+        if (real.compare(0, f.size(), f) == 0 &&
+            (real.size() == f.size() || real[f.size()] == '/' || f == "/"))
+            return true;
+    return false;
+}
+}  // namespace
+
+void confine_inputs(const std::vector<std::string>& folders) {
+    namespace fs = std::filesystem;
+    confinement().clear();
+    for (const std::string& f : folders) {
+        std::error_code ec;
+        const fs::path real = fs::weakly_canonical(f, ec);
+        confinement().push_back(ec ? f : real.string());
+    }
+}
+
+const std::vector<std::string>& input_confinement() {
+    return confinement();
+}
+
 std::string input_file_problem(const std::string& path, uint64_t max_bytes) {
     namespace fs = std::filesystem;
+    if (!confined(path)) {
+        std::string list;
+        for (const std::string& f : confinement()) list += (list.empty() ? "" : ", ") + f;
+        return "outside the folders this server reads (" + list + "; see --allow-read)";
+    }
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
     if (st.type() == fs::file_type::not_found || ec == std::errc::no_such_file_or_directory)

@@ -20,6 +20,16 @@ fs.mkdirSync(badDir);
 fs.writeFileSync(path.join(badDir, 'broken.xml'),
                  '<scene>\n<film width="8" height="8"/>\n<camera type="fisheye"/>\n</scene>\n');
 
+// A scene whose mesh names a material library outside the served folders (defect 17: its
+// first line once reached the error that /api/status publishes).
+fs.writeFileSync(path.join(badDir, 'leak.obj'),
+                 'mtllib /etc/passwd\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n');
+fs.writeFileSync(path.join(badDir, 'leak.xml'),
+                 '<scene>\n<film width="8" height="8"/>\n<camera type="perspective"><eye x="0" ' +
+                 'y="0" z="5"/><target x="0" y="0" z="0"/></camera>\n<lights><point>' +
+                 '<position x="0" y="0" z="5"/></point></lights>\n<objects><triangle_mesh ' +
+                 'src="leak.obj"/></objects>\n</scene>\n');
+
 const server = spawn(foton, ['serve', '--port', '0', '--scenes', path.join(source, 'scenes'),
                              '--scenes', badDir], {stdio: ['ignore', 'pipe', 'inherit']});
 const url = await new Promise((resolve, reject) => {
@@ -79,6 +89,13 @@ try {
   await page.waitForSelector('#state[data-state="error"]');
   const error = await page.textContent('#error');
   assert.match(error, /broken\.xml:3: .*fisheye/, error);
+  // A file outside the served folders is refused unread: nothing of it in the message.
+  await page.selectOption('#scene', 'bad/leak.xml');
+  await page.click('#start');
+  await page.waitForFunction(() => document.querySelector('#error').textContent.includes('leak'));
+  const leak = await page.textContent('#error');
+  assert.match(leak, /outside the folders this server reads/, leak);
+  assert.doesNotMatch(leak, /root:/, leak);
 
   // Stop: a long render ends after the pass in flight.
   await page.selectOption('#scene', 'scenes/cornell-diffuse.xml');
