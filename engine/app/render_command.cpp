@@ -304,6 +304,14 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (!root) return interrupted ? kExitInterrupted : 0;
 
     const double spp_mean = mean_samples(res);
+    if (interrupted && !(spp_mean > 0.0)) {
+        // Stopped before any sample reached the image (in a pre-pass: photons, the cache
+        // fill, the guide): a black image would only replace a previous result.
+        std::fprintf(stderr,
+                     "foton: interrupted before any sample reached the image: nothing was "
+                     "written\n");
+        return kExitInterrupted;
+    }
     ImageAttributes attrs =
         attributes(res.stats.wall_seconds, res.stats.passes, spp_mean, accel->name());
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});

@@ -91,6 +91,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                                   const uint32_t n = std::min(kLightChunk, paths - first);
                                   chunk_vertices[k].clear();
                                   splats[k].clear();
+                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
+                                      continue;  // a cancelled iteration traces no more
                                   trace_light_subpaths(ctx, first, n, ws, chunk_vertices[k],
                                                        splats[k], st);
                               }
@@ -144,6 +146,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                               RenderStats& st = stats.local();
                               std::vector<RGB> radiance;
                               for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
+                                      break;
                                   const std::size_t k = camera_mine[j];
                                   const uint32_t first = uint32_t(k) * kCameraChunk;
                                   const uint32_t n = std::min(kCameraChunk, pixels - first);

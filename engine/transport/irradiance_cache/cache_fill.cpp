@@ -21,7 +21,8 @@ constexpr std::size_t kChunk = 64;  // pixels per job of a pass
 uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
                                std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
                                RenderStats& stats, StageGraph& graph,
-                               const std::vector<uint32_t>& after, const Cluster* cluster) {
+                               const std::vector<uint32_t>& after, const Cluster* cluster,
+                               const std::atomic<bool>* cancel) {
     const Cluster& ranks = cluster_or_solo(cluster);
     const int w = scene.film.width, h = scene.film.height;
     const uint64_t npix = uint64_t(w) * uint64_t(h);
@@ -54,6 +55,8 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
                 Scratch& s = scratch.local();
                 if (!s.ws) s.ws = integrator.make_workspace();
                 for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                    // A cancelled fill computes no further record (its chunks stay empty).
+                    if (cancel && cancel->load(std::memory_order_relaxed)) return;
                     const std::size_t c = rank + k * ranks_n;
                     const std::vector<SampleJob> part(
                         jobs.begin() + std::ptrdiff_t(c * kChunk),
@@ -116,6 +119,8 @@ uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integ
         }
         if (!jobs.empty()) graph.run(arena, {records, insert});
         if (steps >= extent) break;
+        // Across ranks every rank runs every level (the exchanges are collective).
+        if (cancel && cancel->load() && !ranks.distributed()) break;
     }
     for (Scratch& s : scratch) {
         // The fill's lookups are not the image's: keep its work, not its lookup counts.

@@ -9,6 +9,7 @@
 // new records are then inserted in chunk order. Chunks of one pass may compute overlapping
 // records (they cannot see each other's): the price of the parallelism, counted in the
 // statistics as records per pixel.
+#include <atomic>
 #include <functional>
 
 #include "engine/core/cluster.h"
@@ -29,7 +30,7 @@ namespace foton {
 uint32_t fill_irradiance_cache(const Scene& scene, const CameraIntegrator& integrator,
                                std::vector<IrradianceCache>& caches, uint32_t spp, int threads,
                                RenderStats& stats, StageGraph& graph,
-                               const std::vector<uint32_t>& after,
-                               const Cluster* cluster = nullptr);
+                               const std::vector<uint32_t>& after, const Cluster* cluster = nullptr,
+                               const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace foton

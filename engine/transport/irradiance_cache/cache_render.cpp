@@ -42,7 +42,7 @@ RenderResult render_with_cache(const RenderContext& ctx, const CacheClient& clie
     StageClock fill_clock;
     const uint32_t fill =
         fill_irradiance_cache(ctx.scene, *integrator, caches, opt.spp, resolve_threads(opt.threads),
-                              fill_stats, graph, after, opt.cluster);
+                              fill_stats, graph, after, opt.cluster, opt.cancel);
     const double fill_seconds = fill_clock.lap();
     std::size_t stored = 0;
     for (const IrradianceCache& c : caches) stored += c.size();

@@ -1,6 +1,7 @@
 #include "light_render.h"
 
 #include <algorithm>
+#include <atomic>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -41,8 +42,14 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     PassControl control(opt);
     const ProgressTask task = control.task("light-paths", mine.size());
     uint32_t passes = 0;
-    // A pixel's estimate is its splat sum over the number of paths traced.
-    auto image = [&] { return sums.scaled(float(1.0 / (double(per_pass) * passes))); };
+    // A pixel's estimate is its splat sum over the number of paths traced: every pass's
+    // per_pass, or fewer when a cancelled pass stopped early (in one process; across ranks
+    // each rank counts only its own share, so the passes' count stands).
+    std::atomic<uint64_t> traced{0};
+    auto image = [&] {
+        const double paths = cluster.distributed() ? double(per_pass) * passes : double(traced);
+        return sums.scaled(paths > 0.0 ? float(1.0 / paths) : 0.f);
+    };
     // Per pass: the light paths in parallel chunks, then their splats in chunk order.
     StageGraph graph;
     graph.set_progress(opt.progress);
@@ -53,11 +60,14 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
                               LightTracerWorkspace& ws = workspaces.local();
                               RenderStats& st = stats.local();
                               for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                  splats[c].clear();
+                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
+                                      continue;  // a cancelled pass traces no further chunk
                                   const uint64_t first = uint64_t(c) * kChunk;
                                   const uint32_t n =
                                       uint32_t(std::min<uint64_t>(kChunk, per_pass - first));
-                                  splats[c].clear();
                                   tracer.trace(base + first, n, ws, splats[c], st);
+                                  traced += n;
                                   task.advance();
                               }
                           });

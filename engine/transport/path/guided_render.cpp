@@ -30,6 +30,7 @@ RenderResult render_guided_path(const RenderContext& ctx, const RenderOptions& r
         s.kind = PhotonMapKind::Global;
         s.emitted = gs.emitted;
         s.max_depth = settings.max_depth;
+        s.cancel = opt.cancel;
         const ProgressTask task(graph.progress(), "photons-guide", s.emitted);
         photons = tracer.run(s, stats, nullptr, &task, opt.cluster);
         return s.emitted;

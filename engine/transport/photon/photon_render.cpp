@@ -53,6 +53,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         s.max_depth = settings.max_depth;
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = pass;
+        s.cancel = opt.cancel;
         return s;
     };
     const uint32_t trace_global = graph.add("photons-global", [&]() -> uint64_t {
@@ -79,7 +80,13 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         maps.caustic = tracer.run(s, caustic_stats, nullptr, &task, opt.cluster);
         return s.emitted;
     });
+    // After a cancel the maps are neither balanced nor read: the camera pass starts no tile.
+    // (Across ranks the balance and precomputation are collective: every rank runs them.)
+    auto cancelled = [&] {
+        return opt.cancel && opt.cancel->load() && !(opt.cluster && opt.cluster->distributed());
+    };
     const uint32_t balance_global = graph.add("balance-global", [&]() -> uint64_t {
+        if (cancelled()) return 0;
         StageClock c;
         const kern::PointKdTree::ParallelInvoke par =
             timed_parallel_invoke(ThreadClock::for_chunks());
@@ -91,7 +98,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         return n;
     });
     const uint32_t precompute = graph.add("precompute-irradiance", [&]() -> uint64_t {
-        if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0) return 0;
+        if (ps.mode != PhotonMode::FinalGather || ps.irradiance_stride == 0 || cancelled())
+            return 0;
         StageClock c;
         BusyTime* const busy = ThreadClock::for_chunks();
         const auto parallel_for = [&](std::size_t n,
@@ -112,6 +120,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         return n;
     });
     const uint32_t balance_caustic = graph.add("balance-caustic", [&]() -> uint64_t {
+        if (cancelled()) return 0;
         StageClock c;
         maps.caustic.build(timed_parallel_invoke(ThreadClock::for_chunks()));
         caustic_stats.add_wall(Stage::Balance, maps.caustic.size(), c);

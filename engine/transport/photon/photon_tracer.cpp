@@ -174,6 +174,7 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, Pho
             PhotonWorkspace& ws = workspaces.local();
             RenderStats& local = st.local();
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                if (s.cancel && s.cancel->load(std::memory_order_relaxed)) return;
                 const uint64_t first = uint64_t(c) * kChunk;
                 const uint32_t n = uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
                 trace(s, first, n, ws, parts[c], shadow ? &shadow_parts[c] : nullptr, local);

@@ -14,6 +14,7 @@
 // roulette on reflect/absorb from the surface's albedo) and its power is scaled by
 // (f cos / pdf) / q, which keeps the estimate unbiased; `unscaled` keeps the power as it is
 // (the thesis' simpler, biased variant for coloured surfaces).
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct PhotonPassSettings {
     // Global pass: continue every photon's line through its first hit and store a shadow
     // photon (light id, negated power) at each further surface it crosses (Jensen 1995).
     bool shadow_photons = false;
+    // The render's cancel flag (RenderOptions::cancel): once set, the pass traces no further
+    // chunk and ends with the photons traced so far.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // Shadow photons' lines (Jensen 1995), traced as a batch after the first hits of a chunk.

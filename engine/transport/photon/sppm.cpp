@@ -127,6 +127,8 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                               RenderStats& st = local.local();
                               VisibleRowWork& work = row_work.local();
                               for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
+                                      return;  // a cancelled pass traces no further row
                                   const std::size_t y = my_rows[i];
                                   visible_points.trace_row(pass, uint32_t(y),
                                                            &pixels[y * std::size_t(w)], work, st);
@@ -142,6 +144,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         s.max_depth = settings.max_depth;
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = 1000 + pass;
+        s.cancel = opt.cancel;
         photons = tracer.run(s, local.local(), nullptr, nullptr, opt.cluster);
         return per_pass;
     });
