@@ -87,12 +87,12 @@ TEST_CASE("thin lens: every ray of a pixel meets the pinhole ray on the plane in
 }
 
 namespace {
-// p * M with the homogeneous divide, as Imath's multVecMatrix.
+// M p for a column vector p, with the homogeneous divide (pbrt-v4's convention).
 Vec3 transform(const std::array<float, 16>& m, const Vec3& p) {
     double r[4];
-    for (int j = 0; j < 4; ++j)
-        r[j] = double(p.x) * m[0 * 4 + j] + double(p.y) * m[1 * 4 + j] +
-               double(p.z) * m[2 * 4 + j] + m[3 * 4 + j];
+    for (int i = 0; i < 4; ++i)
+        r[i] = m[std::size_t(i * 4 + 0)] * double(p.x) + m[std::size_t(i * 4 + 1)] * double(p.y) +
+               m[std::size_t(i * 4 + 2)] * double(p.z) + m[std::size_t(i * 4 + 3)];
     return Vec3(float(r[0] / r[3]), float(r[1] / r[3]), float(r[2] / r[3]));
 }
 }  // namespace
@@ -114,15 +114,21 @@ TEST_CASE("EXR camera matrices: worldToCamera and worldToNDC agree with the came
         CHECK(ahead.z == Approx(5.f).margin(1e-4));
         CHECK(transform(to_camera, c.eye + c.u).x == Approx(1.f).margin(1e-5));
         CHECK(transform(to_camera, c.eye + c.v).y == Approx(1.f).margin(1e-5));
-        // Every point on a pixel's ray lands on that pixel's NDC position.
+        // Every point on a pixel's ray lands on that pixel's NDC position, pbrt-v4's: 1/2 plus
+        // half the screen position, y up; a perspective screen spans +-1 on the shorter side
+        // (256 pixels here), an orthographic one is camera space itself.
         for (const auto& [fx, fy] : {std::pair{0.f, 0.f}, std::pair{512.f, 256.f},
                                      std::pair{100.5f, 30.25f}, std::pair{400.f, 200.f}}) {
             Vec3 o, d;
             c.generate(fx, fy, o, d);
+            const float sx = type == CameraType::Perspective ? (fx - 256.f) / 128.f
+                                                             : (fx - 256.f) * c.pixel_size;
+            const float sy = type == CameraType::Perspective ? (128.f - fy) / 128.f
+                                                             : (128.f - fy) * c.pixel_size;
             for (float t : {0.5f, 3.f, 40.f}) {
                 const Vec3 ndc = transform(to_ndc, o + d * t);
-                CHECK(ndc.x == Approx(fx / 512.f).margin(1e-4));
-                CHECK(ndc.y == Approx(fy / 256.f).margin(1e-4));
+                CHECK(ndc.x == Approx(0.5f + 0.5f * sx).margin(1e-4));
+                CHECK(ndc.y == Approx(0.5f + 0.5f * sy).margin(1e-4));
             }
         }
     }

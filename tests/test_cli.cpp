@@ -20,19 +20,9 @@
 #include "test_util.h"
 
 namespace {
-struct Run {
-    int code;
-    std::string output;
-};
-
+using Run = foton::test::FotonRun;
 Run run(const std::string& args) {
-    const std::string cmd = std::string(FOTON_BINARY) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    const int status = pclose(p);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    return foton::test::run_foton(args);
 }
 }  // namespace
 

@@ -26,19 +26,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-    int code;
-    std::string output;
-};
-
+using Run = test::FotonRun;
 Run foton_cli(const std::string& args) {
-    const std::string cmd = std::string(FOTON_BINARY) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    const int status = pclose(p);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    return test::run_foton(args);
 }
 
 std::string scene_with(const std::string& material, const std::string& objects_extra = "") {

@@ -1,5 +1,8 @@
 #pragma once
 // Helpers shared by the tests: paths to the project and to ../shared, temporary files.
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -57,6 +60,24 @@ inline std::string source_path(const std::string& rel) {
 }
 inline std::string shared_path(const std::string& rel) {
     return std::string(FOTON_SOURCE_DIR) + "/../shared/" + rel;
+}
+
+// The foton program run with `args` (a shell command line), its exit code and its stdout and
+// stderr together.
+struct FotonRun {
+    int code = -1;
+    std::string output;
+};
+inline FotonRun run_foton(const std::string& args) {
+    const std::string cmd = std::string(FOTON_BINARY) + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    FotonRun r;
+    if (!p) return r;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
 }
 
 // A fresh empty directory under the system temp dir, removed with the object.

@@ -317,7 +317,13 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
     if (ranks.distributed()) attrs.push_back({"foton:mpiRanks", std::to_string(ranks.size())});
     if (interrupted) attrs.push_back({"foton:interrupted", "true"});
-    write_exr(out, res.film, attrs, exr_info(res.stats.wall_seconds, spp_mean));
+    ExrRenderInfo info = exr_info(res.stats.wall_seconds, spp_mean);
+    // With --reference, pbrt-v4's MSE of the written image (the last pass's error).
+    if (convergence && !convergence->points().empty()) {
+        const double rmse = convergence->points().back().error.rmse;
+        info.mse = float(rmse * rmse);
+    }
+    write_exr(out, res.film, attrs, info);
     write_preview(png, res.film, scene.camera.exposure, scene.film.gamma, outputs.preview_format);
     if (!args.cache_points.empty()) {
         std::size_t marked = 0;

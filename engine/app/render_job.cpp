@@ -1,5 +1,7 @@
 #include "render_job.h"
 
+#include <cstdint>
+
 #include <cmath>
 #include <cstdio>
 
@@ -84,7 +86,13 @@ ImageAttributes job_attributes(const JobRecord& job, const Scene& scene, const R
 }
 
 ExrRenderInfo job_exr_info(const Scene& scene, double seconds, double spp) {
-    ExrRenderInfo info{float(seconds), int(std::lround(spp)), {}, {}, 0, 0, 0, 0};
+    // samplesPerPixel is an integer (pbrt-v4's): written only when the samples are a whole
+    // number per pixel, never a rounded mean (3.625 once became 4); foton:samples has the
+    // exact mean either way.
+    const bool whole = spp == std::floor(spp) && spp <= double(INT32_MAX);
+    ExrRenderInfo info;
+    info.render_seconds = float(seconds);
+    info.samples_per_pixel = whole ? int(spp) : -1;
     info.world_to_camera = scene.camera.world_to_camera();
     info.world_to_ndc = scene.camera.world_to_ndc();
     info.x0 = scene.film.x0;

@@ -92,6 +92,7 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
             header.insert("renderTimeSeconds", Imf::FloatAttribute(info.render_seconds));
         if (info.samples_per_pixel >= 0)
             header.insert("samplesPerPixel", Imf::IntAttribute(info.samples_per_pixel));
+        if (info.mse) header.insert("MSE", Imf::FloatAttribute(*info.mse));
         Imf::OutputFile file(tmp.c_str(), header);
         Imf::FrameBuffer fb;
         // Slices address pixels by data-window coordinates.

@@ -21,6 +21,8 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 struct ExrRenderInfo {
     float render_seconds = -1.f;
     int samples_per_pixel = -1;
+    // pbrt-v4's MSE: the mean squared error against a reference (over pixels and channels).
+    std::optional<float> mse;
     // OpenEXR's worldToCamera and worldToNDC (Camera::world_to_camera/world_to_ndc).
     std::optional<std::array<float, 16>> world_to_camera, world_to_ndc;
     // A crop window: the film is the data window at (x0, y0) of a display window of

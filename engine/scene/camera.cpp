@@ -71,41 +71,50 @@ float Camera::vertical_fov_degrees() const {
 }
 
 std::array<float, 16> Camera::world_to_camera() const {
-    // Column j of the matrix is the j-th camera axis: p * M = ((p - eye).u, .v, .w, 1).
+    // Row j is the j-th camera axis: M p = ((p - eye).u, .v, .w, 1) for a column vector p.
     const Vec3 axes[3] = {u, v, w};
     std::array<float, 16> m{};
     for (int j = 0; j < 3; ++j) {
-        m[0 * 4 + j] = axes[j].x;
-        m[1 * 4 + j] = axes[j].y;
-        m[2 * 4 + j] = axes[j].z;
-        m[3 * 4 + j] = -dot(eye, axes[j]);
+        m[std::size_t(j * 4 + 0)] = axes[j].x;
+        m[std::size_t(j * 4 + 1)] = axes[j].y;
+        m[std::size_t(j * 4 + 2)] = axes[j].z;
+        m[std::size_t(j * 4 + 3)] = -dot(eye, axes[j]);
     }
     m[15] = 1.f;
     return m;
 }
 
 std::array<float, 16> Camera::world_to_ndc() const {
-    // Camera to NDC as a row-vector matrix P: perspective (x, y, z) -> (a x + z / 2,
-    // -b y + z / 2, 1, z), which divides to (1/2 + a x / z, 1/2 - b y / z); orthographic
-    // (1/2 + x / W, 1/2 - y / H), W and H the film's extent in scene units.
-    const float wx = pixel_size * float(width), hy = pixel_size * float(height);
-    std::array<float, 16> p{};
+    // pbrt-v4's NDCFromWorld: Translate(1/2, 1/2, 1/2) Scale(1/2, 1/2, 1/2) screenFromCamera
+    // cameraFromWorld. screenFromCamera is pbrt's Perspective(fov, 1e-2, 1000), the field of
+    // view spanning the image's shorter side (so screen x reaches +-aspect on a wide image),
+    // or the identity for an orthographic camera (pbrt's Orthographic(0, 1)).
+    double p[4][4] = {};
     if (type == CameraType::Perspective) {
-        p = {d / wx, 0.f,     0.f, 0.f,  //
-             0.f,    -d / hy, 0.f, 0.f,  //
-             0.5f,   0.5f,    0.f, 1.f,  //
-             0.f,    0.f,     1.f, 0.f};
+        const double n = 1e-2, f = 1000.0;
+        const double extent = double(pixel_size) * double(std::min(width, height));
+        const double inv_tan = 2.0 * double(d) / extent;
+        const double zz = f / (f - n);
+        p[0][0] = 0.5 * inv_tan;
+        p[0][2] = 0.5;
+        p[1][1] = 0.5 * inv_tan;
+        p[1][2] = 0.5;
+        p[2][2] = 0.5 * zz + 0.5;
+        p[2][3] = -0.5 * zz * n;
+        p[3][2] = 1.0;
     } else {
-        p = {1.f / wx, 0.f,       0.f, 0.f,  //
-             0.f,      -1.f / hy, 0.f, 0.f,  //
-             0.f,      0.f,       1.f, 0.f,  //
-             0.5f,     0.5f,      0.f, 1.f};
+        p[0][0] = p[1][1] = p[2][2] = 0.5;
+        p[0][3] = p[1][3] = p[2][3] = 0.5;
+        p[3][3] = 1.0;
     }
     const std::array<float, 16> c = world_to_camera();
     std::array<float, 16> m{};
     for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            for (int k = 0; k < 4; ++k) m[i * 4 + j] += c[i * 4 + k] * p[k * 4 + j];
+        for (int j = 0; j < 4; ++j) {
+            double sum = 0.0;
+            for (int k = 0; k < 4; ++k) sum += p[i][k] * double(c[std::size_t(k * 4 + j)]);
+            m[std::size_t(i * 4 + j)] = float(sum);
+        }
     return m;
 }
 

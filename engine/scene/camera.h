@@ -73,10 +73,10 @@ struct Camera {
     }
     // Vertical field of view in degrees implied by d, pixel size and height.
     float vertical_fov_degrees() const;
-    // OpenEXR's standard worldToCamera and worldToNDC attributes, row-major in Imath's
-    // convention (a point is a row vector multiplied from the left, the homogeneous divide
-    // follows). Camera space is left-handed: x right, y up, z along the view. NDC has (0, 0)
-    // at the image's top-left corner and (1, 1) at its bottom-right.
+    // OpenEXR's worldToCamera and worldToNDC attributes as pbrt-v4 writes them: row-major 4 x 4
+    // matrices acting on column vectors (the translation in the last column), camera space
+    // x right, y up, z along the view, and pbrt's NDC (y up; x in +-aspect around 1/2 on a
+    // wide image, see world_to_ndc). tests/test_exr_metadata.cpp holds them to pbrt-v4's EXR.
     std::array<float, 16> world_to_camera() const;
     std::array<float, 16> world_to_ndc() const;
 };
