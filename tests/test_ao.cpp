@@ -75,7 +75,11 @@ TEST_CASE("ambient occlusion under a square ceiling is one minus its view factor
 TEST_CASE("ambient occlusion's settings are checked at their file and line", "[ao][fast]") {
     CHECK_THROWS_WITH(ceiling_scene(1.f, R"(ao_samples="0")"), Catch::Contains("ao_samples"));
     CHECK_THROWS_WITH(ceiling_scene(1.f, R"(ao_distance="-1")"), Catch::Contains("ao_distance"));
-    // Another integrator does not take them.
-    CHECK_THROWS_WITH(render_settings(ceiling(1.f, R"(type="path" ao_samples="4")")),
-                      Catch::Contains("ao_samples"));
+    // Another integrator does not take them: a warning, ignored; a key nobody knows is an error.
+    const RenderSettings path = render_settings(ceiling(1.f, R"(type="path" ao_samples="4")"));
+    REQUIRE(path.warnings.size() == 1);
+    CHECK_THAT(path.warnings[0], Catch::Contains("'ao_samples' belongs to type=\"ao\"") &&
+                                     Catch::Contains("ignored by type=\"path\""));
+    CHECK_THROWS_WITH(render_settings(ceiling(1.f, R"(type="path" ao_sample="4")")),
+                      Catch::Contains("unknown setting 'ao_sample'"));
 }

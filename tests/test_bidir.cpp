@@ -294,16 +294,24 @@ TEST_CASE("bdpt and vcm: white furnace, thread-count identity, settings", "[bidi
                       Catch::Contains("\"s,t\""));
     CHECK_THROWS_WITH(settings_of(R"(<renderer type="bdpt" strategy="2,0"/>)"),
                       Catch::Contains("t >= 1"));
-    CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" strategy="1,2"/>)"),
-                      Catch::Contains("needs type=\"bdpt\""));
+    // What another integrator takes is a warning and ignored (a scene written for path or
+    // bdpt renders with vcm); a bad value for this one is an error.
+    const RenderSettings vcm_strategy = settings_of(R"(<renderer type="vcm" strategy="1,2"/>)");
+    CHECK(vcm_strategy.bidir.only_s == -1);
+    CHECK_THAT(vcm_strategy.warnings.at(0), Catch::Contains("applies to type=\"bdpt\""));
     CHECK(settings_of(R"(<renderer type="vcm" merge_index="kdtree"/>)").bidir.merge_index ==
           MergeIndex::KdTree);
-    CHECK_THROWS_WITH(settings_of(R"(<renderer type="bdpt" merge_index="kdtree"/>)"),
-                      Catch::Contains("needs type=\"bpm\" or \"vcm\""));
-    CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" rr_depth="3"/>)"),
-                      Catch::Contains("rr_depth does not apply"));
-    CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" mis="max"/>)"),
-                      Catch::Contains("balance or power"));
+    const RenderSettings bdpt_merge =
+        settings_of(R"(<renderer type="bdpt" merge_index="kdtree"/>)");
+    CHECK(bdpt_merge.bidir.merge_index == MergeIndex::Grid);
+    CHECK_THAT(bdpt_merge.warnings.at(0), Catch::Contains("applies to type=\"bpm\" or \"vcm\""));
+    CHECK_THAT(settings_of(R"(<renderer type="vcm" rr_depth="3"/>)").warnings.at(0),
+               Catch::Contains("b.xml:") && Catch::Contains("rr_depth does not apply"));
+    const RenderSettings vcm_max = settings_of(R"(<renderer type="vcm" mis="max"/>)");
+    CHECK(vcm_max.mis == MisHeuristic::Power);
+    CHECK_THAT(vcm_max.warnings.at(0), Catch::Contains("balance or power"));
+    CHECK_THROWS_WITH(settings_of(R"(<renderer type="vcm" merge_index="octree"/>)"),
+                      Catch::Contains("merge_index"));
     // Light subpaths are joined to the eye: an orthographic camera cannot take them.
     const TestScene ortho = parse_scene(
         R"(<scene><lights><point><position x="0" y="2" z="0"/></point></lights><objects>

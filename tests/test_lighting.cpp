@@ -78,8 +78,13 @@ TEST_CASE("lighting: only for path and photon, not with the irradiance cache", "
     TestScene s = load_scene(test::source_path("scenes/cornell-empty.xml"));
     s.renderer.set("lighting", "direct", "test", 0);
     CHECK(render_settings(s).lighting == Lighting::Direct);
-    s.renderer.set("type", "light", "test", 0);
-    CHECK_THROWS_WITH(render_settings(s), Catch::Contains("needs type=\"path\" or \"photon\""));
+    // Another integrator: a warning at the setting's line, and all light.
+    s.renderer.set("type", "light", "test", 7);
+    const RenderSettings light = render_settings(s);
+    CHECK(light.lighting == Lighting::All);
+    REQUIRE(light.warnings.size() == 1);
+    CHECK_THAT(light.warnings[0], Catch::Contains("test:0") &&
+                                      Catch::Contains("applies to type=\"path\" or \"photon\""));
     s.renderer.set("type", "path", "test", 0);
     s.renderer.set("indirect", "irradiance_cache", "test", 0);
     CHECK_THROWS_WITH(render_settings(s), Catch::Contains("do not combine"));

@@ -171,10 +171,10 @@ TEST_CASE("mpirun: bad input on every rank or on one ends all with the message s
     SECTION("a setting the renderer rejects, found by every rank alike") {
         const Run r =
             shell(mpirun(2) + foton + test::source_path("scenes/cornell-box.xml") +
-                      " --integrator vcm --set rr_depth=3 --width 8 --height 8 -q -o " + out,
+                      " --integrator vcm --set rr_depht=3 --width 8 --height 8 -q -o " + out,
                   dir);
         CHECK(r.code == 2);
-        CHECK(count(r.err, "rr_depth does not apply") == 1);
+        CHECK(count(r.err, "unknown setting 'rr_depht'") == 1);
     }
     std::FILE* f = std::fopen(out.c_str(), "rb");
     CHECK(f == nullptr);

@@ -192,8 +192,10 @@ TEST_CASE("guided path settings: path only, keys need guided=true", "[guide][fas
     CHECK(ok.rr_depth > ok.max_depth);  // no roulette unless asked for
     CHECK(settings(R"(type="path" guided="true" rr_depth="4")").rr_depth == 4);
     CHECK(settings(R"(type="path")").rr_depth == 3);
-    CHECK_THROWS_WITH(settings(R"(type="photon" guided="true")"),
-                      Catch::Contains("guided=true needs type=\"path\""));
+    // Guiding belongs to path: under photon mapping a warning, and no guide.
+    CHECK_FALSE(settings(R"(type="photon" guided="true")").guide.enabled);
+    CHECK_THAT(settings(R"(type="photon" guided="true")").warnings.at(0),
+               Catch::Contains("guided applies to type=\"path\""));
     CHECK_THROWS_WITH(settings(R"(type="path" guide_fraction="0.3")"),
                       Catch::Contains("guide_fraction needs guided=true"));
     CHECK_THROWS_WITH(settings(R"(type="path" guided="true" guide_fraction="1")"),

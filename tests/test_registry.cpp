@@ -55,14 +55,17 @@ TEST_CASE("what an integrator cannot do is refused at the setting's file and lin
     struct Case {
         const char* renderer;
         const char* message;
+        bool warning;  // a setting for another integrator: warned about and ignored
     };
     for (const Case& c :
-         {Case{R"(type="light" adaptive="true")", "adaptive sampling applies to camera"},
-          Case{R"(type="sppm" indirect="irradiance_cache")", "indirect=\"irradiance_cache\" needs"},
+         {Case{R"(type="light" adaptive="true")", "adaptive sampling applies to type=\"raytracer\"",
+               true},
+          Case{R"(type="sppm" indirect="irradiance_cache")",
+               "indirect=\"irradiance_cache\" applies to", true},
           Case{R"(type="photon" indirect="irradiance_cache" mode="direct_visualisation")",
-               "final-gather mode"},
+               "final-gather mode", false},
           Case{R"(type="path" indirect="irradiance_cache" cache_secondary="photon")",
-               "no photon map"}}) {
+               "cache_secondary=\"photon\" applies to", true}}) {
         INFO(c.renderer);
         const std::string xml = std::string(R"(<scene>
 <objects><sphere radius="1"><center x="0" y="0" z="0"/><material type="lambert"/></sphere></objects>
@@ -70,7 +73,32 @@ TEST_CASE("what an integrator cannot do is refused at the setting's file and lin
 <film width="4" height="4"/>
 <camera><eye x="0" y="0" z="-5"/><target x="0" y="0" z="0"/></camera></scene>)";
         // The <renderer> element is on line 3 of the file.
-        CHECK_THROWS_WITH(render_settings(parse_scene(xml, "rules.xml", ".")),
-                          Catch::Contains("rules.xml:3:") && Catch::Contains(c.message));
+        if (c.warning) {
+            const RenderSettings r = render_settings(parse_scene(xml, "rules.xml", "."));
+            REQUIRE(r.warnings.size() == 1);
+            CHECK_THAT(r.warnings[0],
+                       Catch::Contains("rules.xml:3:") && Catch::Contains(c.message));
+        } else {
+            CHECK_THROWS_WITH(render_settings(parse_scene(xml, "rules.xml", ".")),
+                              Catch::Contains("rules.xml:3:") && Catch::Contains(c.message));
+        }
     }
+}
+
+TEST_CASE("A scene written for one integrator renders with another: its settings are warnings",
+          "[registry][cli]") {
+    // cornell-diffuse.xml is written for path; the switch is the issue's example.
+    test::TempDir dir;
+    const test::FotonRun r =
+        test::run_foton("render " + test::source_path("scenes/cornell-diffuse.xml") +
+                        " --integrator vcm --set rr_depth=3 --width 16 --height 16 --spp 1 -o " +
+                        dir.file("v.exr"));
+    CHECK(r.code == 0);
+    CHECK_THAT(r.output, Catch::Contains("warning: --set:0: ") &&
+                             Catch::Contains("rr_depth does not apply; ignored by type=\"vcm\""));
+    CHECK(std::filesystem::exists(dir.file("v.exr")));
+    // A key no integrator knows is still an error.
+    CHECK(test::run_foton("render " + test::source_path("scenes/cornell-diffuse.xml") +
+                          " --set rr_dept=3 --width 16 --height 16 -o " + dir.file("w.exr"))
+              .code == 2);
 }

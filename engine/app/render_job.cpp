@@ -37,6 +37,9 @@ RenderJob make_job(const JobRequest& r) {
         scene.renderer.set(adaptive ? "adaptive_pilot" : "spp", *r.spp, "--spp", 0);
     }
     job.settings = render_settings(scene);
+    // Settings for another integrator, ignored: said with the scene's own warnings.
+    scene.warnings.insert(scene.warnings.end(), job.settings.warnings.begin(),
+                          job.settings.warnings.end());
     RenderOptions& opt = job.options;
     opt = job.settings.run;
     if (r.time) {

@@ -163,6 +163,20 @@ std::vector<std::string> ParamSet::read_keys() const {
     return asked_;
 }
 
+void ParamSet::warn(const std::string& key, const std::string& what) const {
+    const Param* p = find(key);
+    warnings_.push_back((p ? p->file + ":" + std::to_string(p->line) : file + ":0") + ": " + what);
+}
+
+void ParamSet::warn_unused(const std::vector<std::string>& keys, const std::string& what) const {
+    for (const Param& p : params_)
+        if (!p.used && std::find(keys.begin(), keys.end(), p.key) != keys.end()) {
+            p.used = true;
+            warnings_.push_back(p.file + ":" + std::to_string(p.line) + ": setting '" + p.key +
+                                "' " + what);
+        }
+}
+
 void ParamSet::reject_unused(const std::vector<std::string>& known) const {
     for (const Param& p : params_) {
         if (p.used) continue;

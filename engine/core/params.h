@@ -83,6 +83,13 @@ class ParamSet {
     }
     // An error about `key`'s value, at its file and line (or `file`:0 when it is not set).
     [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+    // A warning about `key` at its file and line ("file:line: what"), kept in warnings(): for
+    // a setting that applies to another integrator than the one running, which is ignored.
+    void warn(const std::string& key, const std::string& what) const;
+    const std::vector<std::string>& warnings() const { return warnings_; }
+    // Unused keys among `keys` (which another reader knows) are warned about with `what`
+    // after the key's name, and count as read.
+    void warn_unused(const std::vector<std::string>& keys, const std::string& what) const;
     // Throws for the first key that no getter has read, suggesting the closest of `known`
     // (or of the keys read) when one is near.
     void reject_unused(const std::vector<std::string>& known = {}) const;
@@ -101,6 +108,7 @@ class ParamSet {
     [[noreturn]] void fail(const Param& p, const std::string& what) const;
     std::vector<Param> params_;
     mutable std::vector<std::string> asked_;
+    mutable std::vector<std::string> warnings_;
 };
 
 }  // namespace foton

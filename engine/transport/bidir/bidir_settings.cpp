@@ -5,28 +5,40 @@
 
 namespace foton {
 
-void parse_bidir_settings(const ParamSet& p, const IntegratorTraits& it, MisHeuristic mis,
+void parse_bidir_settings(const ParamSet& p, const IntegratorTraits& it, MisHeuristic& mis,
                           BidirSettings& b) {
-    const bool bidir = it.caps & kCapBidirectional;
-    if (bidir && mis != MisHeuristic::Balance && mis != MisHeuristic::Power)
-        p.fail("mis",
-               "bdpt, bpm and vcm weigh by the balance or power heuristic (mis=balance "
-               "or mis=power)");
+    // A scene written for another integrator may carry what bdpt, bpm and vcm do not take:
+    // warned about at its line and ignored, so it renders.
+    const std::string running = std::string("; ignored by type=\"") + it.name + "\"";
+    const bool bidir = it.has(kCapBidirectional);
+    if (bidir && mis != MisHeuristic::Balance && mis != MisHeuristic::Power) {
+        p.warn("mis", std::string("mis=") + mis_name(mis) +
+                          " is path tracing's; bdpt, bpm and vcm weigh by the balance or power "
+                          "heuristic (power used)" +
+                          running);
+        mis = MisHeuristic::Power;
+    }
     // Roulette by depth would differ between the two subpaths' view of a vertex.
     if (bidir && p.has("rr_depth"))
-        p.fail("rr_depth",
-               "bdpt, bpm and vcm continue a subpath with the vertex's albedo "
-               "estimate at every vertex (MIS needs a rule that does not depend on "
-               "depth): rr_depth does not apply");
+        p.warn("rr_depth",
+               "bdpt, bpm and vcm continue a subpath with the vertex's albedo estimate at every "
+               "vertex (MIS needs a rule that does not depend on depth): rr_depth does not "
+               "apply" +
+                   running);
     static const EnumTable<MergeIndex> kMergeIndex{
         {{"grid", MergeIndex::Grid}, {"kdtree", MergeIndex::KdTree}}};
     b.merge_index = p.choice("merge_index", kMergeIndex, b.merge_index);
-    if (p.has("merge_index") && !(it.caps & kCapMerging))
-        p.fail("merge_index", "merge_index needs " + it.names_with(kCapMerging));
+    if (p.has("merge_index") && !it.has(kCapMerging)) {
+        p.warn("merge_index", "merge_index applies to " + it.names_with(kCapMerging) + running);
+        b.merge_index = MergeIndex::Grid;
+    }
     if (!p.has("strategy")) return;
     const std::string v = p.text("strategy");
-    if (!(it.caps & kCapStrategyDebug))
-        p.fail("strategy", "strategy=\"s,t\" needs " + it.names_with(kCapStrategyDebug));
+    if (!it.has(kCapStrategyDebug)) {
+        p.warn("strategy",
+               "strategy=\"s,t\" applies to " + it.names_with(kCapStrategyDebug) + running);
+        return;
+    }
     unsigned s = 0, t = 0;
     char tail = 0;
     if (v != "all") {

@@ -18,8 +18,10 @@ struct BidirSettings {
 };
 
 // The bidirectional keys (strategy, merge_index) and the rules the family sets on the shared
-// ones (mis, rr_depth), each failure at its key's file and line.
+// ones (mis, rr_depth). Keys for other integrators (mis=max, rr_depth; strategy or merge_index
+// under another integrator) are warnings at their line and ignored (mis becomes power); a bad
+// value is an error at its line.
 void parse_bidir_settings(const ParamSet& params, const IntegratorTraits& integrator,
-                          MisHeuristic mis, BidirSettings& settings);
+                          MisHeuristic& mis, BidirSettings& settings);
 
 }  // namespace foton

@@ -1,5 +1,9 @@
 #include "integrators.h"
 
+#include <algorithm>
+
+#include "engine/core/error.h"
+
 #include "engine/transport/ao/ao.h"
 #include "engine/transport/bidir/vcm_render.h"
 #include "engine/transport/light/light_render.h"
@@ -103,6 +107,49 @@ std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
     return std::nullopt;
 }
 
+namespace {
+
+// Settings that only other integrators take, in a scene written for one of them: warned about
+// at their line and ignored (pbrt-v4 reports unused parameters alike), so a scene renders
+// with any integrator. A key that no integrator knows stays an error (reject_unused).
+void ignore_foreign(const ParamSet& params, const IntegratorInfo& info, RenderSettings& r) {
+    const std::string running = std::string(" by type=\"") + info.name + "\"";
+    auto ignored = [&](const char* key, uint32_t cap, const std::string& what) {
+        params.warn(key, what + " applies to " + integrators_with(cap) + "; ignored" + running);
+    };
+    if (r.adaptive.enabled && !info.has(kCapCamera)) {
+        ignored("adaptive", kCapCamera, "adaptive sampling");
+        r.adaptive.enabled = false;
+    }
+    if (r.indirect == IndirectMode::IrradianceCache && !info.has(kCapIrradianceCache)) {
+        ignored("indirect", kCapIrradianceCache, "indirect=\"irradiance_cache\"");
+        r.indirect = IndirectMode::FinalGather;
+    }
+    if (r.cache.secondary == CacheSecondary::Photon && !info.has(kCapPhotonMap)) {
+        ignored("cache_secondary", kCapPhotonMap, "cache_secondary=\"photon\"");
+        r.cache.secondary = CacheSecondary::Auto;
+    }
+    // Keys that only another integrator's own parse reads (ao_samples for ao).
+    for (const IntegratorInfo& other : integrators()) {
+        if (&other == &info || !other.parse) continue;
+        ParamSet probe = params;
+        RenderSettings scratch = r;
+        const std::vector<std::string> before = probe.read_keys();
+        try {
+            other.parse(probe, scratch);
+        } catch (const InputError&) {
+            // Its values are its own business; only which keys it reads matters here.
+        }
+        std::vector<std::string> theirs;
+        for (const std::string& k : probe.read_keys())
+            if (std::find(before.begin(), before.end(), k) == before.end()) theirs.push_back(k);
+        params.warn_unused(
+            theirs, std::string("belongs to type=\"") + other.name + "\"; ignored" + running);
+    }
+}
+
+}  // namespace
+
 RenderSettings render_settings(const ParamSet& params) {
     const std::string type = params.text("type", "raytracer");
     const IntegratorInfo* info = find_integrator(type);
@@ -112,9 +159,11 @@ RenderSettings render_settings(const ParamSet& params) {
     const IntegratorTraits traits{info->name, info->caps, integrators_with};
     RenderSettings r = parse_render_settings(params, traits);
     if (info->parse) info->parse(params, r);
+    ignore_foreign(params, *info, r);
     if (const std::optional<SettingsProblem> p = capability_problem(*info, r))
         params.fail(p->key, p->message);
     params.reject_unused();
+    r.warnings = params.warnings();
     return r;
 }
 

@@ -49,10 +49,13 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
     r.lighting = params.choice("lighting", kLighting, r.lighting);
+    if (r.lighting != Lighting::All && !it.has(kCapLightingSplit)) {
+        params.warn("lighting", "lighting=direct|indirect applies to " +
+                                    it.names_with(kCapLightingSplit) + "; ignored by type=\"" +
+                                    it.name + "\"");
+        r.lighting = Lighting::All;
+    }
     if (r.lighting != Lighting::All) {
-        if (!(it.caps & kCapLightingSplit))
-            params.fail("lighting",
-                        "lighting=direct|indirect needs " + it.names_with(kCapLightingSplit));
         if (r.indirect == IndirectMode::IrradianceCache)
             params.fail("lighting",
                         "lighting=direct|indirect and indirect=\"irradiance_cache\" "

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "engine/core/params.h"
 #include "engine/core/sampler.h"
@@ -71,6 +72,8 @@ struct RenderSettings {
     // The integrator's own settings, read by its row's parse (integrators.h), for keys no other
     // family reads; the integrator any_casts it to its own type.
     std::any own;
+    // "file:line: ..." for each setting that applies to another integrator and was ignored.
+    std::vector<std::string> warnings;
 };
 
 // Every shared group's keys, checked against what the integrator (`type`, found in the table
