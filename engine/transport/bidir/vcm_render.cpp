@@ -180,7 +180,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     };
     PinnedArena arena(threads);
     uint32_t passes = 0;
-    do {
+    auto pass = [&](uint32_t k) {
+        passes = k;
         for (uint32_t s = 0; s < opt.spp; ++s) {
             // The radius of iteration i (from 1): r0 i^((alpha - 1) / 2), so its area shrinks
             // as i^(alpha - 1) (Knaus and Zwicker's progressive photon mapping).
@@ -197,8 +198,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
             graph.run(arena);
             ++iterations;
         }
-        ++passes;
-    } while (control.another(passes, image, [&] { return double(iterations); }));
+    };
+    passes = control.run(pass, image, [&] { return double(iterations); });
 
     RenderResult result;
     result.stats.wall_seconds = control.elapsed();

@@ -81,10 +81,13 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     });
     graph.edge(trace, splat);
     PinnedArena arena(threads);
-    do {
-        graph.run(arena);
-        ++passes;
-    } while (control.another(passes, image, [&] { return double(opt.spp) * passes; }));
+    passes = control.run(
+        [&](uint32_t k) {
+            passes = k;  // the trace node keys the pass's paths by it
+            graph.run(arena);
+            passes = k + 1;
+        },
+        image, [&] { return double(opt.spp) * passes; });
     RenderResult result;
     result.stats.wall_seconds = control.elapsed();
     for (const RenderStats& s : stats) result.stats.merge(s);

@@ -172,12 +172,14 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     graph.edge(trace, balance);
     graph.edge(visible, gather);
     graph.edge(balance, gather);
-    do {
-        graph.run(arena);
-        ++pass;
-        task.advance();
-    } while (control.another(
-        pass, [&] { return image(pass); }, [&] { return double(pass); }));
+    control.run(
+        [&](uint32_t k) {
+            pass = k;
+            graph.run(arena);
+            pass = k + 1;  // the passes the image averages from here on
+            task.advance();
+        },
+        [&] { return image(pass); }, [&] { return double(pass); });
     RenderResult result;
     for (const RenderStats& s : local) stats.merge(s);
     stats.wall_seconds = control.elapsed();

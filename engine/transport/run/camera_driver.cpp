@@ -324,16 +324,12 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                          uint64_t(tiles.size()) * pieces);
         progress_task = &task;
         PinnedArena arena(threads);
-        do {
-            arena.execute([&] { run_pass(passes); });
-            ++passes;
-        } while (control.another(
-            passes,
-            [&] {
-                acc.gather(cluster);
-                return acc.mean();
-            },
-            [&] { return mean_count(acc.samples()); }, adaptive));
+        passes = control.run([&](uint32_t k) { arena.execute([&] { run_pass(k); }); },
+                             [&] {
+                                 acc.gather(cluster);
+                                 return acc.mean();
+                             },
+                             [&] { return mean_count(acc.samples()); }, adaptive);
     }
     acc.gather(cluster);
     result.stats.wall_seconds = control.elapsed();

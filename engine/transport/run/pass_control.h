@@ -84,6 +84,19 @@ class PassControl {
         return d.more;
     }
 
+    // The progressive loop every family runs: pass(k) for k = 0, 1, ... until another() says
+    // stop (`image` and `spp` as there; `stop`: this is the only pass). Returns the passes
+    // run, at least one.
+    uint32_t run(const std::function<void(uint32_t)>& pass, const std::function<Film()>& image,
+                 const std::function<double()>& spp, bool stop = false) {
+        uint32_t passes = 0;
+        do {
+            pass(passes);
+            ++passes;
+        } while (another(passes, image, spp, stop));
+        return passes;
+    }
+
   private:
     double wall() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_.wall)
