@@ -140,6 +140,54 @@ TEST_CASE("reliability: outputs are checked before any work", "[reliability][fas
     CHECK(files == 2);  // the scene and the directory: nothing written, no temporary left
 }
 
+TEST_CASE("reliability: a destination that cannot be written fails before the render",
+          "[reliability][fast]") {
+    // /proc answers access(W_OK) for root but refuses new files: probed, not trusted.
+    const Run r = foton_cli("render " + test::source_path("scenes/cornell-box.xml") +
+                            " --width 8 --height 8 -q -o /proc/foton-test.exr");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.output, Catch::Contains("cannot write '/proc/foton-test.exr'"));
+    CHECK_THAT(r.output, !Catch::Contains("internal error") && !Catch::Contains("rendered"));
+}
+
+TEST_CASE("reliability: a write that fails (full disk, size limit) is an error, never a file",
+          "[reliability]") {
+    // A file-size limit stands in for a full disk: every write past it fails with
+    // EFBIG (SIGXFSZ ignored), as ENOSPC would. Nothing may be left under the output's name,
+    // no temporary either, and foton must not say "wrote".
+    test::TempDir dir;
+    // bash's ulimit -f counts KiB.
+    auto limited = [&](int kib, const std::string& args) {
+        const std::string cmd = "bash -c 'trap \"\" XFSZ; ulimit -f " + std::to_string(kib) +
+                                "; exec " + std::string(FOTON_BINARY) + " " + args + "' 2>&1";
+        FILE* p = popen(cmd.c_str(), "r");
+        std::string out;
+        char buf[4096];
+        while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+        const int status = pclose(p);
+        return Run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    };
+    const std::string box = test::source_path("scenes/cornell-box.xml");
+    const Run big =
+        limited(4, "render " + box + " --width 256 --height 256 --spp 1 -o " + dir.file("a.exr"));
+    CHECK(big.code == 2);
+    CHECK_THAT(big.output, Catch::Contains("a.exr: cannot write: File too large"));
+    CHECK_THAT(big.output, !Catch::Contains("wrote"));
+    // A small image (1.4 KB) fits in 2 KiB; its statistics JSON (3 KB) is checked as strictly.
+    const Run small = limited(2, "render " + box + " --width 4 --height 4 --spp 1 -o " +
+                                     dir.file("b.exr") + " --stats-json " + dir.file("s.json"));
+    CHECK(small.code == 2);
+    CHECK_THAT(small.output, Catch::Contains("s.json: cannot write: File too large"));
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(dir.path())) {
+        INFO(e.path());
+        CHECK(e.path().filename().string().rfind(".", 0) != 0);  // no temporary left
+        CHECK(e.path().extension() != ".json");                  // no partial JSON
+        ++files;
+    }
+    CHECK(files <= 2);  // b.exr and its preview at most
+}
+
 TEST_CASE("reliability: bad paths and sizes are bad input at their line", "[reliability][fast]") {
     test::TempDir dir;
     // A symlink loop and an over-long name as mesh files; a FIFO and a device as scenes.

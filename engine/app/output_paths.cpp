@@ -1,6 +1,10 @@
 #include "output_paths.h"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <filesystem>
 
@@ -22,6 +26,15 @@ void check_writable(const std::string& path, const char* what, const std::string
         throw InputError(what, 0,
                          "cannot write '" + path + "' (" +
                              (ec ? ec.message() : std::string("directory not writable")) + ")");
+    // access() says yes for root almost everywhere (/proc, a read-only mount answers only on
+    // writing): a probe file is created and removed, so the render does not end in an error.
+    const fs::path probe = dir / (".foton-probe-" + std::to_string(getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd < 0)
+        throw InputError(what, 0,
+                         "cannot write '" + path + "' (" + std::string(std::strerror(errno)) + ")");
+    ::close(fd);
+    ::unlink(probe.c_str());
 }
 
 std::string FilePlan::key_of(const std::string& path) {

@@ -333,14 +333,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
             std::printf("wrote %s (%zu of %zu records directly visible)\n",
                         args.cache_points.c_str(), marked, res.cache_points.size());
     }
-    if (convergence) {
-        std::ofstream csv(convergence_csv);
-        csv << convergence->csv();
-        if (!csv) throw InputError(convergence_csv, 0, "cannot write the convergence CSV");
-    }
+    if (convergence) write_file_bytes(convergence_csv, convergence->csv());
     if (!args.stats_json.empty()) {
-        std::ofstream js(args.stats_json);
-        if (!js) throw InputError(args.stats_json, 0, "cannot write statistics file");
         nlohmann::ordered_json run =
             run_record(args, scene, rs, opt, accel->name(), spp_mean, ranks.size());
         // Across ranks: the counters above are every rank's summed, times are rank 0's,
@@ -350,7 +344,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
             run["reference"] = args.reference;
             run["convergence"] = convergence->json();
         }
-        js << res.stats.json(run);
+        write_file_bytes(args.stats_json, res.stats.json(run));
     }
     if (args.stats) std::fputs(res.stats.table().c_str(), stdout);
     if (!args.quiet)
@@ -371,6 +365,9 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
                      res.stats.passes, spp_mean);
         return kExitInterrupted;
     }
+    // A signal during the writes: they finished (the image is whole), but the exit code says
+    // the run was interrupted.
+    if (InterruptGuard::requested().load()) return kExitInterrupted;
     return 0;
 }
 

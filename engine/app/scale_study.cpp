@@ -132,16 +132,8 @@ int run_scale(const ScaleArgs& args) {
     summarise(study);
 
     std::fputs(scale_markdown(study).c_str(), stdout);
-    {
-        std::ofstream out(json);
-        out << scale_json(study, topo);
-        if (!out) throw InputError(json, 0, "cannot write the study");
-    }
-    {
-        std::ofstream out(plot);
-        out << scale_svg(study);
-        if (!out) throw InputError(plot, 0, "cannot write the plot");
-    }
+    write_file_bytes(json, scale_json(study, topo));
+    write_file_bytes(plot, scale_svg(study));
     std::printf("\nwrote %s\nwrote %s\n", json.c_str(), plot.c_str());
     if (study.images_identical == false) {
         std::fprintf(stderr,

@@ -7,12 +7,14 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfMatrixAttribute.h>
@@ -24,53 +26,33 @@
 #include <unistd.h>
 
 #include "engine/core/error.h"
+#include "file_write.h"
 
 namespace foton {
 
 namespace {
-
-// The temporary file being written, for remove_pending_temp_file (a signal handler): a
-// fixed buffer, published by an atomic pointer, so the handler reads no half-written name.
-char g_temp_name[4096];
-std::atomic<const char*> g_pending_temp{nullptr};
-
-// Runs `write(tmp)` and renames tmp to `path`; removes tmp on any failure.
-void write_atomically(const std::string& path,
-                      const std::function<void(const std::string&)>& write) {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    if (!fs::is_directory(dir)) throw InputError(path, 0, "output directory does not exist");
-    // Hidden name in the same directory, so the final rename cannot cross file systems.
-    std::string name = ".";
-    name.append(target.filename().string()).append(".tmp-").append(std::to_string(getpid()));
-    const fs::path tmp = dir / name;
-    const std::string tmp_text = tmp.string();
-    if (tmp_text.size() < sizeof g_temp_name) {
-        std::memcpy(g_temp_name, tmp_text.c_str(), tmp_text.size() + 1);
-        g_pending_temp.store(g_temp_name);
+// An OpenEXR output stream into memory (it seeks back to fill in the line offsets).
+class MemoryStream : public Imf::OStream {
+  public:
+    explicit MemoryStream(const std::string& name) : Imf::OStream(name.c_str()) {}
+    void write(const char c[], int n) override {
+        if (pos_ + std::size_t(n) > data_.size()) data_.resize(pos_ + std::size_t(n));
+        std::memcpy(data_.data() + pos_, c, std::size_t(n));
+        pos_ += std::size_t(n);
     }
-    try {
-        write(tmp_text);
-        fs::rename(tmp, target);
-        g_pending_temp.store(nullptr);
-    } catch (...) {
-        g_pending_temp.store(nullptr);
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw;
-    }
-}
+    uint64_t tellp() override { return pos_; }
+    void seekp(uint64_t pos) override { pos_ = std::size_t(pos); }
+    const std::string& bytes() const { return data_; }
 
+  private:
+    std::string data_;
+    std::size_t pos_ = 0;
+};
 }  // namespace
-
-void remove_pending_temp_file() noexcept {
-    if (const char* name = g_pending_temp.exchange(nullptr)) unlink(name);
-}
 
 void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
                const ExrRenderInfo& info) {
-    write_atomically(path, [&](const std::string& tmp) {
+    {
         const int dw = info.display_width > 0 ? info.display_width : film.width;
         const int dh = info.display_height > 0 ? info.display_height : film.height;
         const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(dw - 1, dh - 1));
@@ -93,7 +75,11 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
         if (info.samples_per_pixel >= 0)
             header.insert("samplesPerPixel", Imf::IntAttribute(info.samples_per_pixel));
         if (info.mse) header.insert("MSE", Imf::FloatAttribute(*info.mse));
-        Imf::OutputFile file(tmp.c_str(), header);
+        // Encoded in memory (the offset table OpenEXR writes on closing included), then
+        // written whole by write_file_bytes, which checks every write.
+        MemoryStream stream(path);
+        std::optional<Imf::OutputFile> file;
+        file.emplace(stream, header);
         Imf::FrameBuffer fb;
         // Slices address pixels by data-window coordinates.
         char* base = reinterpret_cast<char*>(const_cast<RGB*>(film.pixels.data())) -
@@ -103,9 +89,11 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
         fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
         fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, b), xs, ys));
-        file.setFrameBuffer(fb);
-        file.writePixels(film.height);
-    });
+        file->setFrameBuffer(fb);
+        file->writePixels(film.height);
+        file.reset();
+        write_file_bytes(path, stream.bytes());
+    }
 }
 
 void check_claimed_size(const std::string& path, int width, int height, uint64_t pixels_per_byte) {
@@ -231,22 +219,28 @@ std::string preview_extension(PreviewFormat f) {
 void write_preview(const std::string& path, const Film& film, float exposure, float gamma,
                    PreviewFormat format) {
     const std::vector<unsigned char> px = tone_map(film, exposure, gamma);
-    write_atomically(path, [&](const std::string& tmp) {
-        const int w = film.width, h = film.height;
-        int ok = 0;
-        switch (format) {
-            case PreviewFormat::Png:
-                ok = stbi_write_png(tmp.c_str(), w, h, 3, px.data(), w * 3);
-                break;
-            case PreviewFormat::Jpeg:
-                ok = stbi_write_jpg(tmp.c_str(), w, h, 3, px.data(), 95);
-                break;
-            case PreviewFormat::Bmp:
-                ok = stbi_write_bmp(tmp.c_str(), w, h, 3, px.data());
-                break;
-        }
-        if (!ok) throw std::runtime_error("cannot write the preview " + tmp);
-    });
+    // Encoded in memory, then written by write_file_bytes, which checks every write: stb's own
+    // file writers report success on a full disk.
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                                   std::size_t(size));
+    };
+    const int w = film.width, h = film.height;
+    int ok = 0;
+    switch (format) {
+        case PreviewFormat::Png:
+            ok = stbi_write_png_to_func(append, &bytes, w, h, 3, px.data(), w * 3);
+            break;
+        case PreviewFormat::Jpeg:
+            ok = stbi_write_jpg_to_func(append, &bytes, w, h, 3, px.data(), 95);
+            break;
+        case PreviewFormat::Bmp:
+            ok = stbi_write_bmp_to_func(append, &bytes, w, h, 3, px.data());
+            break;
+    }
+    if (!ok || bytes.empty()) throw std::runtime_error("cannot encode the preview " + path);
+    write_file_bytes(path, bytes);
 }
 
 void write_difference_png(const std::string& path, const Film& a, const Film& b, float scale) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/params.h"
+#include "file_write.h"
 #include "film.h"
 
 namespace foton {
@@ -47,9 +48,6 @@ inline constexpr uint64_t kMaxInputPixels = uint64_t(1) << 28;
 // of bytes, and a pixel is at least one byte), so a 45-byte PNG claiming 16384^2 is a corrupt
 // or hostile header, not an image.
 void check_claimed_size(const std::string& path, int width, int height, uint64_t pixels_per_byte);
-// Removes the temporary file of an image being written, if any: async-signal-safe, for an
-// interrupt handler that is about to end the process.
-void remove_pending_temp_file() noexcept;
 // 8-bit preview: value = clamp(exposure * L, 0, 1)^(1 / gamma).
 void write_png(const std::string& path, const Film& film, float exposure, float gamma);
 // The same preview as PNG, JPEG (quality 95) or BMP: the formats the ray-tracing thesis'
