@@ -257,6 +257,22 @@ TEST_CASE("every integrator reports its stage graph, and photon mapping's runs t
     CHECK(sppm.graph.nodes[index(sppm.graph, "visible-points")].thread_time);
     CHECK(sppm.graph.nodes[index(sppm.graph, "photons")].thread_time);
     CHECK_FALSE(sppm.graph.nodes[index(sppm.graph, "gather")].thread_time);
+    // The caustic pass traced its 2000 photons in the box with glass, and traces none where
+    // no surface has a delta lobe (no photon could become a caustic one there).
+    CHECK(photon.graph.nodes[index(photon.graph, "photons-caustic")].items == 2000);
+    {
+        TestScene diffuse = load_scene(test::source_path("scenes/cornell-diffuse.xml"),
+                                       {{"type", "photon"},
+                                        {"indirect", "final_gather"},
+                                        {"global_photons", "2000"},
+                                        {"caustic_photons", "2000"},
+                                        {"gather_rays", "4"}});
+        diffuse.set_resolution(16, 12);
+        const RenderStats st = render_scene(diffuse, AccelType::Bvh, 2, 1).stats;
+        CHECK(st.graph.nodes[index(st.graph, "photons-caustic")].items == 0);
+        CHECK(st.photons_caustic == 0);
+        CHECK(st.graph.nodes[index(st.graph, "photons-global")].items == 2000);
+    }
     // Every tile went through both camera nodes.
     CHECK(photon.graph.nodes[index(photon.graph, "camera-gather")].items == 16 * 12);
     CHECK(photon.graph.nodes[index(photon.graph, "final-gather")].items == 16 * 12);

@@ -17,6 +17,15 @@
 
 namespace foton {
 
+namespace {
+// Whether any surface reflects or refracts through a delta lobe (a mirror, glass).
+bool has_delta_lobe(const Scene& scene) {
+    for (const Material& m : scene.materials)
+        if (m.bsdf.has_delta()) return true;
+    return false;
+}
+}  // namespace
+
 RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
                            const Intersector& accel, const RenderOptions& render_opt,
                            const PathOnwards& path_onwards) {
@@ -74,8 +83,10 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     });
     const uint32_t trace_caustic = graph.add("photons-caustic", [&]() -> uint64_t {
         const PhotonPassSettings s = pass_settings(PhotonMapKind::Caustic, ps.caustic_photons, 1);
-        // The direct-visualisation mode reads the global map only.
-        if (s.emitted == 0 || ps.mode != PhotonMode::FinalGather) return 0;
+        // The direct-visualisation mode reads the global map only; a scene without a mirror or
+        // glass has no caustic photon to find (they arrive through delta lobes only).
+        if (s.emitted == 0 || ps.mode != PhotonMode::FinalGather || !has_delta_lobe(scene))
+            return 0;
         const ProgressTask task(graph.progress(), "photons-caustic", s.emitted);
         maps.caustic = tracer.run(s, caustic_stats, nullptr, &task, opt.cluster);
         return s.emitted;
