@@ -70,6 +70,18 @@ TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-inpu
           2);
     CHECK(run("render --no-such-flag").code == 2);
     CHECK(run("").code == 2);
+    // A model or an image given as the scene is named as what it is, not "malformed XML".
+    const std::string glb = dir.file("model.GLB"), exr = dir.file("picture.exr");
+    std::ofstream(glb) << "glTF\x02";
+    std::ofstream(exr) << "v/1\x01";
+    const Run model = run("render " + glb + " -o " + dir.file("m.exr"));
+    CHECK(model.code == 2);
+    CHECK_THAT(model.output, Catch::Contains(glb + ": a glb model, not a scene"));
+    CHECK_THAT(model.output, Catch::Contains("<triangle_mesh src="));
+    const Run image = run("info " + exr);
+    CHECK(image.code == 2);
+    CHECK_THAT(image.output, Catch::Contains(exr + ": an image, not a scene"));
+    CHECK_THAT(model.output + image.output, !Catch::Contains("malformed"));
 }
 
 TEST_CASE("foton render: integrators, progressive snapshots, bad integrator input", "[cli]") {

@@ -1,6 +1,9 @@
 // Scene files by format: read once, with the same size limit and messages, then parsed by
 // the loader their extension chooses.
+#include <cctype>
 #include <filesystem>
+
+#include "engine/core/error.h"
 
 #include "engine/core/input_file.h"
 #include "pbrt_loader.h"
@@ -9,6 +12,22 @@
 namespace foton {
 
 Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
+    // A model is not a scene: it has no camera, lights or film. Said before reading, instead
+    // of the XML parser's "malformed" at its first binary byte.
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* model : {".glb", ".gltf", ".obj", ".ply", ".mtl"})
+        if (ext == model)
+            throw InputError(path, 0,
+                             "a " + ext.substr(1) +
+                                 " model, not a scene: foton renders XML scenes (.xml) and "
+                                 "pbrt-v4 scenes (.pbrt); place the model in a scene with "
+                                 "<triangle_mesh src=\"...\"/>");
+    for (const char* image : {".exr", ".png", ".hdr", ".jpg", ".jpeg", ".bmp", ".tga", ".pfm"})
+        if (ext == image)
+            throw InputError(path, 0,
+                             "an image, not a scene (foton reads XML and pbrt-v4 scenes; "
+                             "`foton compare` reads images)");
     const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
     const std::string dir = std::filesystem::path(path).parent_path().string();
     const std::string base = dir.empty() ? "." : dir;
