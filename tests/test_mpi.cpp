@@ -2,13 +2,16 @@
 // process bit for bit, for every integrator that splits its work; --time stops every rank
 // after the same passes; statistics come per rank and merged; bad input on any rank ends all
 // of them with the message once and exit code 2.
+#include <signal.h>
 #include <sys/wait.h>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <thread>
 
 #include "engine/film/image_io.h"
 #include "test_util.h"
@@ -179,6 +182,87 @@ TEST_CASE("mpirun: bad input on every rank or on one ends all with the message s
     std::FILE* f = std::fopen(out.c_str(), "rb");
     CHECK(f == nullptr);
     if (f) std::fclose(f);
+}
+
+TEST_CASE("mpirun: ranks that loaded different jobs stop before rendering, the difference named",
+          "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string foton = std::string(FOTON_BINARY) + " render ";
+    const std::string scene = test::source_path("scenes/cornell-box.xml");
+    const std::string out = dir.file("mixed.exr");
+    // Rank 1 runs `theirs`, the others `ours`.
+    auto split = [&](const std::string& ours, const std::string& theirs) {
+        return shell(mpirun(2) + "sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then exec " + foton +
+                         theirs + " -q -o " + out + "; else exec " + foton + ours + " -q -o " +
+                         out + "; fi'",
+                     dir);
+    };
+    SECTION("another width: once a silently mixed image") {
+        const Run r = split(scene + " --width 16 --height 8", scene + " --width 24 --height 8");
+        CHECK(r.code == 2);
+        CHECK(count(r.err,
+                    "MPI ranks disagree on the job: rank 1 has resolution '24x8', rank 0 "
+                    "has '16x8'") == 1);
+    }
+    SECTION("another integrator: once a deadlock") {
+        const Run r = split(scene + " --width 8 --height 8 --integrator path",
+                            scene + " --width 8 --height 8 --integrator sppm --passes 2");
+        CHECK(r.code == 2);
+        CHECK(count(r.err, "rank 1 has integrator 'sppm', rank 0 has 'path'") == 1);
+    }
+    SECTION("another seed or scene file") {
+        const Run seed = split(scene + " --width 8 --height 8", scene +
+                                                                    " --width 8 --height 8 "
+                                                                    "--seed 7");
+        CHECK(seed.code == 2);
+        CHECK_THAT(seed.err, Catch::Contains("MPI ranks disagree"));
+        const std::string copy = dir.file("cornell-box.xml");
+        std::ofstream(copy) << slurp(scene) << "<!-- another node's copy -->\n";
+        const Run file = split(scene + " --width 8 --height 8", copy + " --width 8 --height 8");
+        CHECK(file.code == 2);
+        CHECK_THAT(file.err, Catch::Contains("rank 1 has scene file's bytes"));
+    }
+    std::FILE* f = std::fopen(out.c_str(), "rb");
+    CHECK(f == nullptr);
+    if (f) std::fclose(f);
+}
+
+TEST_CASE("mpirun: Ctrl-C on one rank stops every rank and the image says it was interrupted",
+          "[mpi][cli]") {
+    test::TempDir dir;
+    const std::string out = dir.file("stopped.exr");
+    const std::string pids = dir.file("pid");
+    // Each rank leaves its process id (exec keeps it); a 60 s progressive render.
+    const std::string cmd = mpirun(2) + "sh -c 'echo $$ > " + pids +
+                            "$OMPI_COMM_WORLD_RANK; exec " + FOTON_BINARY + " render " +
+                            test::source_path("scenes/cornell-diffuse.xml") +
+                            " --integrator path --time 60 --width 48 --height 32 --threads 1 -q "
+                            "-o " +
+                            out + "'";
+    const auto t0 = std::chrono::steady_clock::now();
+    std::FILE* run = popen((cmd + " 2>&1").c_str(), "r");
+    REQUIRE(run);
+    long pid = 0;
+    for (int i = 0; i < 200 && pid == 0; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        std::ifstream(pids + "1") >> pid;
+    }
+    REQUIRE(pid > 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    kill(pid_t(pid), SIGINT);
+    std::string text;
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, run)) text += buf;
+    const int status = pclose(run);
+    INFO(text);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 130);
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30));
+    std::string interrupted;
+    for (const auto& [k, v] : read_exr_attributes(out))
+        if (k == "foton:interrupted") interrupted = v;
+    CHECK(interrupted == "true");
+    CHECK(read_exr(out).width == 48);
 }
 
 #else

@@ -1,8 +1,13 @@
 // Issue 19's cases, each as written by the attacker or careless user who found it: exit 2
 // with a clear message (or a correct render), no crash, no NaN, no stray or clobbered file.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
@@ -12,7 +17,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
@@ -294,6 +301,22 @@ int wait_exit(pid_t pid) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// The EXR's per-pixel sample counts, when it has them.
+std::optional<std::vector<uint32_t>> samples_channel(const std::string& path) {
+    Imf::InputFile file(path.c_str());
+    if (!file.header().channels().findChannel("samples")) return std::nullopt;
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    std::vector<uint32_t> counts(std::size_t(w) * std::size_t(h));
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(counts.data()) -
+                 (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * w) * 4;
+    fb.insert("samples", Imf::Slice(Imf::UINT, base, 4, std::size_t(w) * 4));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return counts;
+}
+
 int hidden_files(const std::string& dir) {
     int n = 0;
     for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string()[0] == '.';
@@ -320,13 +343,33 @@ TEST_CASE("reliability: Ctrl-C keeps the image so far, a second one quits at onc
         CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20));
         const Film f = read_exr(dir.file("i.exr"));
         CHECK(f.width > 0);
-        std::string interrupted, spp;
+        std::string interrupted, spp, unfinished;
         for (const auto& [k, v] : read_exr_attributes(dir.file("i.exr"))) {
             if (k == "foton:interrupted") interrupted = v;
             if (k == "foton:samples") spp = v;
+            if (k == "foton:unfinishedPixels") unfinished = v;
         }
         CHECK(interrupted == "true");
         CHECK(std::stod(spp) > 0.0);
+        // The long pass was cut: its `samples` channel has 0 where no sample arrived, and the
+        // attribute counts those pixels. A progressive render has all of its earlier passes.
+        const std::optional<std::vector<uint32_t>> counts = samples_channel(dir.file("i.exr"));
+        if (extra[0] == "--spp") {
+            REQUIRE(counts);
+            const auto none = std::count(counts->begin(), counts->end(), 0u);
+            CHECK(none > 0);
+            CHECK(none < long(counts->size()));
+            CHECK(unfinished == std::to_string(none));
+            // A tile in flight finished: a pixel has all its samples or none.
+            const uint32_t most = *std::max_element(counts->begin(), counts->end());
+            CHECK(std::count(counts->begin(), counts->end(), most) + none == long(counts->size()));
+        } else if (counts) {
+            // The pass in flight was cut: its finished tiles hold one sample more.
+            const auto [lo, hi] = std::minmax_element(counts->begin(), counts->end());
+            CHECK(*lo >= 1u);
+            CHECK(*hi == *lo + 1);
+            CHECK(unfinished.empty());
+        }
         CHECK(hidden_files(dir.path()) == 0);
         fs::remove(dir.file("i.exr"));
     }

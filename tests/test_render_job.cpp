@@ -9,8 +9,10 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,7 +37,7 @@ TEST_CASE("foton serve's EXR carries the command line's attributes", "[cli][serv
     std::string exr;
     for (int i = 0; i < 600 && exr.empty(); ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        exr = session.exr_bytes();
+        if (const auto bytes = session.exr()) exr = *bytes;
     }
     REQUIRE(!exr.empty());
     const test::TempDir dir;
@@ -56,6 +58,21 @@ TEST_CASE("foton serve's EXR carries the command line's attributes", "[cli][serv
     CHECK_THAT(attrs["foton:commandLine"], Catch::Contains("--integrator path"));
     CHECK_THAT(attrs["foton:commandLine"], Catch::Contains("--spp 2 --seed 5"));
     CHECK_THAT(attrs["foton:settings"], Catch::Contains("type=path"));
+
+    // Defect 13: 50 requests at once for the image once copied the film 50 times and encoded
+    // it 50 times (805 MB each at 8192²). They now share one encoding per image and exposure,
+    // and the EXR is one buffer whatever the number of readers.
+    std::vector<std::shared_ptr<const std::string>> pngs(50);
+    std::vector<std::thread> readers;
+    for (std::size_t i = 0; i < pngs.size(); ++i)
+        readers.emplace_back([&, i] { pngs[i] = session.png(0.f); });
+    for (std::thread& t : readers) t.join();
+    REQUIRE(pngs[0]);
+    CHECK(pngs[0]->size() > 8);
+    for (const auto& p : pngs) CHECK(p.get() == pngs[0].get());
+    const auto brighter = session.png(1.f);
+    CHECK(brighter.get() != pngs[0].get());
+    CHECK(session.exr().get() == session.exr().get());
 }
 
 TEST_CASE("foton serve's requests meet the command line's checks", "[cli][serve]") {

@@ -25,6 +25,7 @@
 #include "engine/transport/registry/render.h"
 #include "image_flags.h"
 #include "interrupt.h"
+#include "job_agreement.h"
 #include "kernels/simd.h"
 #include "mpi_cluster.h"
 #include "output_paths.h"
@@ -287,15 +288,19 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     }
     const double build =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Every rank is ready (or all stop here): the render's collectives begin.
+    // Every rank is ready (or all stop here), and all loaded the same job: the render's
+    // collectives begin.
     check_in(ranks);
+    agree_on_job(ranks, job_fingerprint(args.scene, made), args.scene);
     set_rank_phase(RankPhase::Collective);
     if (ranks.distributed()) opt.cluster = &ranks;
     // Ctrl-C from here on stops the render and keeps what it made.
     InterruptGuard interrupt;
     opt.cancel = &InterruptGuard::requested();
     RenderResult res = render(scene, rs, *accel, opt);
-    const bool interrupted = InterruptGuard::requested().load();
+    // A signal may have reached one rank only: its share of the pass is missing, so the
+    // image is an interrupted one on every rank.
+    const bool interrupted = ranks.any(InterruptGuard::requested().load());
     line.reset();
     display.reset();  // the last pass's image reaches the viewer
     res.stats.build_seconds = build;
@@ -318,6 +323,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (ranks.distributed()) attrs.push_back({"foton:mpiRanks", std::to_string(ranks.size())});
     if (interrupted) attrs.push_back({"foton:interrupted", "true"});
     ExrRenderInfo info = exr_info(res.stats.wall_seconds, spp_mean);
+    const SampleSpread spread = describe_sample_counts(res, attrs, info);
     // With --reference, pbrt-v4's MSE of the written image (the last pass's error).
     if (convergence && !convergence->points().empty()) {
         const double rmse = convergence->points().back().error.rmse;
@@ -363,6 +369,11 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
                      "foton: interrupted after %u passes (%.4g spp on average): the image "
                      "so far was written\n",
                      res.stats.passes, spp_mean);
+        if (spread.uneven())
+            std::fprintf(stderr,
+                         "foton: the pass was cut short: pixels hold %u to %u samples, %zu of "
+                         "%zu none (the EXR's `samples` channel holds each pixel's count)\n",
+                         spread.fewest, spread.most, spread.none, res.film.pixels.size());
         return kExitInterrupted;
     }
     // A signal during the writes: they finished (the image is whole), but the exit code says

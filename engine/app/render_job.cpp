@@ -1,5 +1,6 @@
 #include "render_job.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include <cmath>
@@ -109,6 +110,19 @@ double mean_samples(const RenderResult& result) {
     double sum = 0.0;
     for (uint32_t c : result.samples_per_pixel) sum += c;
     return result.samples_per_pixel.empty() ? 0.0 : sum / double(result.samples_per_pixel.size());
+}
+
+SampleSpread describe_sample_counts(const RenderResult& result, ImageAttributes& attrs,
+                                    ExrRenderInfo& info) {
+    const std::vector<uint32_t>& counts = result.samples_per_pixel;
+    if (counts.empty() || counts.size() != result.film.pixels.size()) return {};
+    const auto [lo, hi] = std::minmax_element(counts.begin(), counts.end());
+    SampleSpread spread{*lo, *hi, 0};
+    if (!spread.uneven()) return spread;
+    info.samples = &counts;
+    spread.none = std::size_t(std::count(counts.begin(), counts.end(), 0u));
+    if (spread.none) attrs.push_back({"foton:unfinishedPixels", std::to_string(spread.none)});
+    return spread;
 }
 
 }  // namespace foton::app

@@ -60,5 +60,16 @@ ImageAttributes job_attributes(const JobRecord& job, const Scene& scene, const R
 ExrRenderInfo job_exr_info(const Scene& scene, double seconds, double spp);
 // What a pixel's value averages, over the image: the mean of samples_per_pixel.
 double mean_samples(const RenderResult& result);
+// How the samples spread over the pixels.
+struct SampleSpread {
+    uint32_t fewest = 0, most = 0;
+    std::size_t none = 0;  // pixels no sample reached
+    bool uneven() const { return fewest != most; }
+};
+// Where pixels average different sample counts (adaptive sampling, a pass cut short by a
+// stop): the EXR gets every pixel's count as its `samples` channel and, when some pixels got
+// none, `foton:unfinishedPixels`. `info.samples` points into `result`.
+SampleSpread describe_sample_counts(const RenderResult& result, ImageAttributes& attrs,
+                                    ExrRenderInfo& info);
 
 }  // namespace foton::app

@@ -3,6 +3,7 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -34,7 +35,8 @@ bool RenderSession::start(const SessionRequest& request, std::string& error) {
     message_.clear();
     stats_table_.clear();
     image_.reset();
-    exr_.clear();
+    ++image_version_;
+    exr_.reset();
     passes_ = 0;
     seconds_ = spp_ = rays_per_second_ = 0.0;
     scene_name_ = std::filesystem::path(request.scene_path).filename().string();
@@ -90,8 +92,10 @@ void RenderSession::run(SessionRequest req) {
         opt.progress = &progress_;
         opt.cancel = &cancel_;
         opt.on_pass = [&](const Film& film, const PassReport& pass) {
+            auto copy = std::make_shared<const Film>(film);
             std::lock_guard lock(mutex_);
-            image_ = film;
+            image_ = std::move(copy);
+            ++image_version_;
             passes_ = pass.passes;
             seconds_ = pass.seconds;
             spp_ = pass.spp;
@@ -106,21 +110,20 @@ void RenderSession::run(SessionRequest req) {
         const auto accel = make_intersector(scene, scene.accel, resolve_threads(opt.threads));
         RenderResult res = render(scene, rs, *accel, opt);
         // The EXR as the command line writes it, kept for download.
-        const std::string tmp = (std::filesystem::temp_directory_path() /
-                                 ("foton-serve-" + std::to_string(getpid()) + ".exr"))
-                                    .string();
         const double spp = mean_samples(res);
         ImageAttributes attrs =
             job_attributes({req.scene_path, request_text(req)}, scene, rs, opt,
                            res.stats.wall_seconds, res.stats.passes, spp, accel->name());
         attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
         if (cancel_) attrs.push_back({"foton:interrupted", "true"});
-        write_exr(tmp, res.film, attrs, job_exr_info(scene, res.stats.wall_seconds, spp));
-        std::ifstream in(tmp, std::ios::binary);
-        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        std::filesystem::remove(tmp);
+        ExrRenderInfo info = job_exr_info(scene, res.stats.wall_seconds, spp);
+        describe_sample_counts(res, attrs, info);
+        auto bytes =
+            std::make_shared<const std::string>(encode_exr("foton.exr", res.film, attrs, info));
+        auto final_image = std::make_shared<const Film>(std::move(res.film));
         std::lock_guard lock(mutex_);
-        image_ = res.film;
+        image_ = std::move(final_image);
+        ++image_version_;
         exr_ = std::move(bytes);
         passes_ = res.stats.passes;
         seconds_ = res.stats.wall_seconds;
@@ -158,14 +161,29 @@ std::string RenderSession::status_json() const {
     return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-std::optional<Film> RenderSession::image(float& exposure, float& gamma) const {
-    std::lock_guard lock(mutex_);
-    exposure = exposure_;
-    gamma = gamma_;
-    return image_;
+std::shared_ptr<const std::string> RenderSession::png(float stops) const {
+    std::shared_ptr<const Film> film;
+    uint64_t version = 0;
+    float exposure = 1.f, gamma = 2.2f;
+    {
+        std::lock_guard lock(mutex_);
+        film = image_;
+        version = image_version_;
+        exposure = exposure_;
+        gamma = gamma_;
+    }
+    if (!film) return nullptr;
+    std::lock_guard lock(png_mutex_);
+    if (!png_ || png_version_ != version || png_stops_ != stops) {
+        png_ = std::make_shared<const std::string>(
+            encode_png(*film, exposure * std::exp2(stops), gamma));
+        png_version_ = version;
+        png_stops_ = stops;
+    }
+    return png_;
 }
 
-std::string RenderSession::exr_bytes() const {
+std::shared_ptr<const std::string> RenderSession::exr() const {
     std::lock_guard lock(mutex_);
     return exr_;
 }

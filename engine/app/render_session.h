@@ -33,10 +33,12 @@ class RenderSession {
     void stop();
     // {"state": idle|running|done|stopped|error, ...} for the page.
     std::string status_json() const;
-    // The image so far (or the final one), empty before the first pass.
-    std::optional<Film> image(float& exposure, float& gamma) const;
-    // The last finished render's EXR file contents ("" when there is none).
-    std::string exr_bytes() const;
+    // The image so far (or the final one) as a PNG, `stops` of exposure added; null before the
+    // first pass. Encoded once per image and exposure and shared: concurrent requests for a
+    // large image neither copy the film nor encode it again (50 of them once exhausted memory).
+    std::shared_ptr<const std::string> png(float stops) const;
+    // The last finished render's EXR file contents (null when there is none).
+    std::shared_ptr<const std::string> exr() const;
 
   private:
     void run(SessionRequest request);
@@ -46,12 +48,18 @@ class RenderSession {
     std::atomic<bool> cancel_{false};
     Progress progress_;
     std::string state_ = "idle", message_, stats_table_, scene_name_;
-    std::optional<Film> image_;
+    std::shared_ptr<const Film> image_;  // replaced, never changed: readers keep their copy
+    uint64_t image_version_ = 0;
     float exposure_ = 1.f, gamma_ = 2.2f;
     uint32_t passes_ = 0;
     double seconds_ = 0.0, spp_ = 0.0, rays_per_second_ = 0.0;
     int width_ = 0, height_ = 0;
-    std::string exr_;  // the final image as written
+    std::shared_ptr<const std::string> exr_;  // the final image as written
+    // The last PNG made, for its image version and stops; one encode at a time.
+    mutable std::mutex png_mutex_;
+    mutable std::shared_ptr<const std::string> png_;
+    mutable uint64_t png_version_ = 0;
+    mutable float png_stops_ = 0.f;
 };
 
 }  // namespace foton::app

@@ -81,6 +81,12 @@ int run_serve(const ServeArgs& args) {
     RenderSession session;
     httplib::Server server;
     server.set_payload_max_length(kMaxRequestBody);
+    // Each connection holds a worker until its request arrives or the read times out: with
+    // httplib's 8 workers and 5 s, 20 idle or half-open connections delayed the page's own
+    // requests by 18 s. Many workers and a short read timeout keep it answering.
+    server.new_task_queue = [] { return new httplib::ThreadPool(kServeWorkers); };
+    server.set_read_timeout(kServeReadTimeoutSeconds, 0);
+    server.set_keep_alive_timeout(kServeReadTimeoutSeconds);
     int port = args.port;  // the bound port, known before the first request
     // Every request passes the guard first (request_guard.h); refused ones get 403.
     server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
@@ -187,13 +193,16 @@ int run_serve(const ServeArgs& args) {
         res.set_header("Cache-Control", "no-store");
         res.set_content(session.status_json(), "application/json");
     });
+    // Images are shared snapshots streamed without a copy per request (render_session.h).
+    auto send = [](httplib::Response& res, std::shared_ptr<const std::string> bytes,
+                   const char* type) {
+        const std::size_t size = bytes->size();
+        res.set_content_provider(
+            size, type, [bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                return sink.write(bytes->data() + offset, std::min(length, bytes->size() - offset));
+            });
+    };
     server.Get("/api/image.png", [&](const httplib::Request& req, httplib::Response& res) {
-        float exposure = 1.f, gamma = 2.2f;
-        const std::optional<Film> film = session.image(exposure, gamma);
-        if (!film) {
-            res.status = 404;
-            return;
-        }
         float stops = 0.f;
         if (req.has_param("stops")) {
             try {
@@ -202,21 +211,25 @@ int run_serve(const ServeArgs& args) {
                 stops = 0.f;
             }
         }
+        if (!std::isfinite(stops)) stops = 0.f;
+        std::shared_ptr<const std::string> png = session.png(std::clamp(stops, -20.f, 20.f));
+        if (!png) {
+            res.status = 404;
+            return;
+        }
         res.set_header("Cache-Control", "no-store");
         if (req.has_param("download"))
             res.set_header("Content-Disposition", "attachment; filename=\"foton.png\"");
-        res.set_content(
-            encode_png(*film, exposure * std::exp2(std::clamp(stops, -20.f, 20.f)), gamma),
-            "image/png");
+        send(res, std::move(png), "image/png");
     });
     server.Get("/api/image.exr", [&](const httplib::Request&, httplib::Response& res) {
-        const std::string exr = session.exr_bytes();
-        if (exr.empty()) {
+        std::shared_ptr<const std::string> exr = session.exr();
+        if (!exr) {
             res.status = 404;
             return;
         }
         res.set_header("Content-Disposition", "attachment; filename=\"foton.exr\"");
-        res.set_content(exr, "image/x-exr");
+        send(res, std::move(exr), "image/x-exr");
     });
 
     if (port == 0) {

@@ -23,6 +23,9 @@ struct ServeArgs {
 
 // The largest request body the server reads (a form of a few settings fits in a few KB).
 inline constexpr std::size_t kMaxRequestBody = 1 << 20;
+// Worker threads, and how long a connection may take to send its request.
+inline constexpr std::size_t kServeWorkers = 64;
+inline constexpr int kServeReadTimeoutSeconds = 2;
 
 int run_serve(const ServeArgs& args);
 

@@ -18,6 +18,14 @@ std::string Cluster::first_error(const std::string& mine) const {
     return {};
 }
 
+bool Cluster::any(bool mine) const {
+    if (!distributed()) return mine;
+    const std::vector<uint64_t> votes = all_sizes(mine ? 1 : 0);
+    for (const uint64_t v : votes)
+        if (v) return true;
+    return false;
+}
+
 std::vector<Bytes> Cluster::all_gather(const Bytes& mine) const {
     const std::vector<uint64_t> sizes = all_sizes(mine.size());
     uint64_t total = 0;

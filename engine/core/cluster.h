@@ -60,6 +60,8 @@ class Cluster {
     // The first of the ranks' errors ("" = none), on every rank: a failure on one rank
     // (a file only that node cannot read) ends every rank instead of leaving them waiting.
     std::string first_error(const std::string& mine) const;
+    // Whether any rank says yes, on every rank (a Ctrl-C that reached one rank only).
+    bool any(bool mine) const;
 };
 
 // The cluster of one: this process alone.

@@ -50,8 +50,8 @@ class MemoryStream : public Imf::OStream {
 };
 }  // namespace
 
-void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
-               const ExrRenderInfo& info) {
+std::string encode_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
+                       const ExrRenderInfo& info) {
     {
         const int dw = info.display_width > 0 ? info.display_width : film.width;
         const int dh = info.display_height > 0 ? info.display_height : film.height;
@@ -60,6 +60,10 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
                                 Imath::V2i(info.x0 + film.width - 1, info.y0 + film.height - 1));
         Imf::Header header(display, data);
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        const bool samples = info.samples && info.samples->size() == film.pixels.size();
+        if (info.samples && !samples)
+            throw std::logic_error("encode_exr: the samples do not match the film's pixels");
+        if (samples) header.channels().insert("samples", Imf::Channel(Imf::UINT));
         for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
         // foton's RGB is linear with the sRGB / Rec. 709 primaries and D65 white: OpenEXR's
         // default chromaticities, written out so that readers need not assume them.
@@ -75,8 +79,8 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
         if (info.samples_per_pixel >= 0)
             header.insert("samplesPerPixel", Imf::IntAttribute(info.samples_per_pixel));
         if (info.mse) header.insert("MSE", Imf::FloatAttribute(*info.mse));
-        // Encoded in memory (the offset table OpenEXR writes on closing included), then
-        // written whole by write_file_bytes, which checks every write.
+        // Encoded in memory (the offset table OpenEXR writes on closing included): written
+        // whole by write_file_bytes, which checks every write, or served as it is.
         MemoryStream stream(path);
         std::optional<Imf::OutputFile> file;
         file.emplace(stream, header);
@@ -89,11 +93,23 @@ void write_exr(const std::string& path, const Film& film, const ImageAttributes&
         fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
         fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, b), xs, ys));
+        if (samples) {
+            char* counts = reinterpret_cast<char*>(const_cast<uint32_t*>(info.samples->data())) -
+                           (std::ptrdiff_t(info.x0) + std::ptrdiff_t(info.y0) * film.width) *
+                               std::ptrdiff_t(sizeof(uint32_t));
+            fb.insert("samples", Imf::Slice(Imf::UINT, counts, sizeof(uint32_t),
+                                            sizeof(uint32_t) * std::size_t(film.width)));
+        }
         file->setFrameBuffer(fb);
         file->writePixels(film.height);
         file.reset();
-        write_file_bytes(path, stream.bytes());
+        return stream.bytes();
     }
+}
+
+void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs,
+               const ExrRenderInfo& info) {
+    write_file_bytes(path, encode_exr(path, film, attrs, info));
 }
 
 void check_claimed_size(const std::string& path, int width, int height, uint64_t pixels_per_byte) {

@@ -29,12 +29,19 @@ struct ExrRenderInfo {
     // A crop window: the film is the data window at (x0, y0) of a display window of
     // display_width x display_height (0: the film's own size).
     int x0 = 0, y0 = 0, display_width = 0, display_height = 0;
+    // The samples each pixel averages, written as a UINT channel `samples` when given (one per
+    // film pixel): where they differ (adaptive sampling, an interrupted pass) it says which
+    // pixels hold how much, and 0 marks the ones no sample reached.
+    const std::vector<uint32_t>* samples = nullptr;
 };
 
 // Linear float RGB OpenEXR (Rec. 709 / sRGB primaries, written as chromaticities) with string
 // header attributes and, when given, the standard render attributes.
 void write_exr(const std::string& path, const Film& film, const ImageAttributes& attrs = {},
                const ExrRenderInfo& info = {});
+// The same file's bytes, in memory (`name` for OpenEXR's messages).
+std::string encode_exr(const std::string& name, const Film& film, const ImageAttributes& attrs = {},
+                       const ExrRenderInfo& info = {});
 // The string, float and int attributes of an OpenEXR file's header, as text.
 ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.

@@ -9,6 +9,7 @@ import { chromium } from 'playwright-core';
 import { spawn, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import http from 'node:http';
+import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -156,7 +157,10 @@ try {
   assert.equal(state, 'stopped');
   const raw = (method, pathName, headers, body) => new Promise((resolve, reject) => {
     const u = new URL(url);
-    const req = http.request({host: u.hostname, port: u.port, method, path: pathName, headers},
+    // A new connection each time (agent: false): a pooled keep-alive one already has its
+    // server worker, which would hide a server that cannot take new connections.
+    const req = http.request({host: u.hostname, port: u.port, method, path: pathName, headers,
+                              agent: false},
                              (res) => { res.resume(); resolve(res.statusCode); });
     req.on('error', (e) => (e.code === 'EPIPE' || e.code === 'ECONNRESET' ? resolve(413)
                                                                            : reject(e)));
@@ -184,6 +188,35 @@ try {
   assert.equal(after, 'stopped');
   const traversal = await page.evaluate(async () => (await fetch('/../../etc/passwd')).status);
   assert.equal(traversal, 404);
+
+  // 20 idle and half-open connections (defect 23: they once held all 8 workers for their 5 s
+  // read timeout, 18.5 s of delay) must not keep the page's request waiting.
+  const port = Number(new URL(url).port);
+  const idle = [];
+  for (let i = 0; i < 20; ++i) {
+    const sock = net.connect(port, '127.0.0.1');
+    if (i % 2) sock.on('connect', () => sock.write('GET /api/status HTTP/1.1\r\nHost: x'));
+    sock.on('error', () => {});
+    idle.push(sock);
+  }
+  await new Promise((f) => setTimeout(f, 200));
+  // On a new connection (raw's agent: false; the page's own keep-alive one has its worker).
+  const answered = await Promise.race([
+    raw('GET', '/api/status', {'Connection': 'close'}),
+    new Promise((f) => setTimeout(() => f('no answer within 3 s'), 3000)),
+  ]);
+  assert.equal(answered, 200);
+  for (const sock of idle) sock.destroy();
+
+  // 50 image requests at once (defect 13: each copied the whole film): all served, the same.
+  const images = await page.evaluate(async () => {
+    const all = await Promise.all(Array.from({length: 50}, () => fetch('/api/image.png')));
+    const bodies = await Promise.all(all.map((r) => r.arrayBuffer()));
+    const sizes = new Set(bodies.map((b) => b.byteLength));
+    return [all.every((r) => r.status === 200), sizes.size, bodies[0].byteLength];
+  });
+  assert.deepEqual(images.slice(0, 2), [true, 1]);
+  assert.ok(images[2] > 0);
   console.log(`web page: ${passes} passes previewed in ${previews.length} fetches; saved EXR ` +
               'equals the CLI render; bad scene, stop, path and cross-site checks pass');
 } catch (e) {

@@ -38,13 +38,15 @@ class PassControl {
     // observer needs them. `stop` ends the render here whatever the options say (an
     // adaptive render's single pass).
     // Across MPI ranks rank 0 decides (its clock, its observers) and tells the others, so
-    // all run the same passes; `image` then runs on every rank (it may gather the image to
-    // rank 0) and `spp` on rank 0 after it; the observers run on rank 0 only.
+    // all run the same passes, and a cancel on any rank (a signal that reached one process)
+    // stops them all after this pass; `image` then runs on every rank (it may gather the
+    // image to rank 0) and `spp` on rank 0 after it; the observers run on rank 0 only.
     bool another(uint32_t passes, const std::function<Film()>& image,
                  const std::function<double()>& spp, bool stop = false) {
         const Cluster& cluster = cluster_or_solo(opt_.cluster);
         const double t = elapsed();
-        bool more = !stop && !(opt_.cancel && opt_.cancel->load());
+        const bool cancelled = opt_.cancel && opt_.cancel->load();
+        bool more = !stop && !cancelled;
         if (opt_.max_passes > 0 && passes >= opt_.max_passes)
             more = false;
         else if (opt_.time_limit > 0.f)
@@ -56,14 +58,17 @@ class PassControl {
                t >= opt_.snapshot_times[next_snapshot_ + due])
             ++due;
         struct Decision {
-            uint8_t more, observe;
+            uint8_t more, observe, cancelled;
             uint32_t due;
-        } d{uint8_t(more), uint8_t((due > 0 && opt_.on_snapshot) || opt_.on_pass), due};
+        } d{uint8_t(more), uint8_t((due > 0 && opt_.on_snapshot) || opt_.on_pass),
+            uint8_t(cancelled), due};
         if (cluster.distributed()) {
             Bytes b;
             pack_value(b, d);
-            cluster.broadcast(b);
-            d = Unpacker(b).value<Decision>();
+            const std::vector<Bytes> all = cluster.all_gather(b);
+            d = Unpacker(all[0]).value<Decision>();
+            for (const Bytes& other : all)
+                if (Unpacker(other).value<Decision>().cancelled) d.more = 0;
         }
         const double wall0 = wall(), cpu0 = cpu();
         Film film;
