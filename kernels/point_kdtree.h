@@ -20,6 +20,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "huge_page_allocator.h"
 #include "ray1.h"
 #include "simd.h"
 
@@ -102,8 +103,9 @@ class PointKdTree {
 
     std::size_t n_ = 0;
     uint32_t leaves_ = 0, first_deep_ = 0;
-    std::vector<KdNode> nodes_;  // [1, leaves_) used
-    std::vector<float, xsimd::aligned_allocator<float, 64>> x_, y_, z_;
+    // On 2 MB pages where the system allows (huge_page_allocator.h): kNN walks them at random.
+    std::vector<KdNode, HugePageAllocator<KdNode>> nodes_;  // [1, leaves_) used
+    std::vector<float, HugePageAllocator<float>> x_, y_, z_;
     std::vector<uint32_t> index_;
 };
 

@@ -55,9 +55,9 @@ inline void TriangleBlockT<M>::set(std::size_t lane, const float* p0, const floa
 // Packs the triangles listed in `tris` (indices into the index buffer) into consecutive
 // blocks, appended to `out`, in the order given. `positions` is xyz-interleaved and
 // `indices` holds three vertex indices per triangle; the lane id is the triangle index.
-inline void pack_triangle_blocks(const float* positions, const uint32_t* indices,
-                                 const uint32_t* tris, std::size_t count,
-                                 std::vector<TriangleBlock>& out) {
+template <class BlockVector>
+void pack_triangle_blocks(const float* positions, const uint32_t* indices, const uint32_t* tris,
+                          std::size_t count, BlockVector& out) {
     for (std::size_t first = 0; first < count; first += kBlockWidth) {
         TriangleBlock& b = out.emplace_back();
         b.clear();

@@ -20,6 +20,7 @@
 
 #include "bvh_build.h"
 #include "bvh_node.h"
+#include "huge_page_allocator.h"
 #include "moller_trumbore.h"
 #include "ray1.h"
 #include "ray_stream.h"
@@ -111,8 +112,10 @@ class TriangleBvhT {
     bool empty() const { return root_ == kBvhEmpty; }
     const TriangleBvhStats& stats() const { return stats_; }
     std::size_t memory_bytes() const;
-    const std::vector<Node>& nodes() const { return nodes_; }
-    const std::vector<Block>& blocks() const { return blocks_; }
+    using NodeArray = std::vector<Node, HugePageAllocator<Node>>;
+    using BlockArray = std::vector<Block, HugePageAllocator<Block>>;
+    const NodeArray& nodes() const { return nodes_; }
+    const BlockArray& blocks() const { return blocks_; }
     uint32_t root() const { return root_; }
 
   private:
@@ -127,8 +130,8 @@ class TriangleBvhT {
     void occluded_sorted_packets(const RayStream& rays, uint8_t* occluded,
                                  BvhCounters* counters) const;
 
-    std::vector<Node> nodes_;
-    std::vector<Block> blocks_;
+    NodeArray nodes_;
+    BlockArray blocks_;
     uint32_t root_ = kBvhEmpty;
     float packet_span_ = 0.f;  // largest origin spread of a packet (bvh_packet.h)
     float bounds_lo_[3] = {0.f, 0.f, 0.f}, bounds_hi_[3] = {0.f, 0.f, 0.f};  // the root's box

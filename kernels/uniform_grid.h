@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "grid_dda.h"
+#include "huge_page_allocator.h"
 #include "moller_trumbore.h"
 #include "ray1.h"
 #include "triangle_block.h"
@@ -78,7 +79,7 @@ class UniformGrid {
     GridFrame frame_;
     bool mailbox_ = false;
     std::vector<uint32_t> cell_begin_;  // num_cells + 1 offsets into blocks_
-    std::vector<TriangleBlock> blocks_;
+    std::vector<TriangleBlock, HugePageAllocator<TriangleBlock>> blocks_;  // 2 MB pages
     std::size_t references_ = 0;
     // Nested grids: cell_child_[cell] indexes children_ (-1: the cell's own blocks). Empty
     // when no cell is nested.

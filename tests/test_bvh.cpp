@@ -5,6 +5,7 @@
 // use gives the same answers; bad input builds a valid tree without the bad triangles.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -393,4 +394,27 @@ TEST_CASE("next_up is nextafter towards +inf", "[kernel][bvh]") {
         REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
     }
     CHECK(std::isnan(bvh_detail::next_up(std::numeric_limits<float>::quiet_NaN())));
+}
+
+TEST_CASE("the tree's large arrays start on 2 MB boundaries, small ones on cache lines",
+          "[kernel][bvh]") {
+    // madvise(MADV_HUGEPAGE) applies to whole 2 MB pages: an array that did not start on one
+    // would keep its first and last megabytes on 4 KB pages (kernels/huge_page_allocator.h).
+    HugePageAllocator<float> alloc;
+    for (const std::size_t floats : {std::size_t(16), std::size_t(1000), std::size_t(1) << 19,
+                                     (std::size_t(3) << 20) / 4 + 7}) {
+        float* p = alloc.allocate(floats);
+        const auto at = reinterpret_cast<std::uintptr_t>(p);
+        const bool large = floats * sizeof(float) >= kHugePageBytes;
+        INFO(floats << " floats at " << at);
+        CHECK(at % (large ? kHugePageBytes : 64) == 0);
+        p[0] = 1.f;
+        p[floats - 1] = 2.f;  // the whole range is ours (ASan checks it in the sanitizer build)
+        alloc.deallocate(p, floats);
+    }
+    // The bunny's leaf blocks (4 MB) are such an array.
+    const bench::KernelScene scene = bench::load_kernel_scene("bunny");
+    const TriangleBvh bvh = bvh_of<TriangleBvh>(scene.mesh, false);
+    REQUIRE(bvh.blocks().size() * sizeof(bvh.blocks()[0]) >= kHugePageBytes);
+    CHECK(reinterpret_cast<std::uintptr_t>(bvh.blocks().data()) % kHugePageBytes == 0);
 }

@@ -68,7 +68,7 @@ TEST_CASE("a refitted bvh finds what brute force finds on the moved mesh", "[ker
     TriangleBvh bvh;
     bvh.build(m.positions.data(), m.indices.data(), m.num_triangles(),
               TriangleBvh::default_params(), true);
-    const std::vector<WideNode<TriangleBvh::kWidth>> built = bvh.nodes();
+    const TriangleBvh::NodeArray built = bvh.nodes();
 
     bench::KernelScene moved = scene;
     moved.mesh = deformed(m);
