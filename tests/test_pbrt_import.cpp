@@ -345,6 +345,16 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));
     CHECK(s.renderer.text("spp") == "8");
     CHECK(s.renderer.text("max_depth") == "3");
+    CHECK(s.renderer.text("type") == "path");
+    // pbrt-v4's bdpt is foton's bdpt, not the path tracer.
+    const Scene b = world(R"(Integrator "bdpt" "integer maxdepth" 4 "bool visualizeweights" true)",
+                          R"(Shape "sphere")");
+    CHECK(b.renderer.text("type") == "bdpt");
+    CHECK(b.renderer.text("max_depth") == "4");
+    bool said = false;
+    for (const std::string& w : b.warnings)
+        said |= w.find("visualizeweights ignored") != std::string::npos;
+    CHECK(said);
 }
 
 TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]") {

@@ -114,8 +114,22 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
         if (d < 0) fail(t, "maxdepth must not be negative");
         renderer_.set("max_depth", std::to_string(d), here, t.line);
     };
-    if (type == "path" || type == "volpath" || type == "simplepath" || type == "bdpt" ||
-        type == "mlt" || type == "randomwalk" || type == "simplevolpath") {
+    if (type == "bdpt") {
+        // foton has pbrt-v4's bidirectional path tracer's estimator (all strategies, MIS).
+        renderer_.set("type", "bdpt", here, t.line);
+        depth();
+        for (const char* debug : {"visualizestrategies", "visualizeweights"})
+            if (p.has(debug) && p.boolean(debug, false))
+                warn(here, t.line,
+                     std::string(debug) +
+                         " ignored (foton's bdpt writes one image; its "
+                         "strategy setting shows one (s, t) technique)");
+        if (p.has("regularize") && p.boolean("regularize", false))
+            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+        if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
+            warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
+    } else if (type == "path" || type == "volpath" || type == "simplepath" || type == "mlt" ||
+               type == "randomwalk" || type == "simplevolpath") {
         if (type != "path")
             warn(here, t.line,
                  "Integrator \"" + type +
