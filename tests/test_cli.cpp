@@ -128,6 +128,7 @@ TEST_CASE("foton compare: metrics, downsampled reference, masks", "[cli][compare
     CHECK_THAT(c.output, Catch::Contains("rmse"));
     CHECK_THAT(c.output, Catch::Contains("relative_mse"));
     CHECK_THAT(c.output, Catch::Contains("mae"));
+    CHECK_THAT(c.output, Catch::Contains("ssim 0."));
     CHECK(std::filesystem::file_size(dir.file("d.png")) > 0);
     // The light (luminance 15) is about 1 % of the pixels; excluding it drops them.
     const auto pixels = [](const std::string& out) {
@@ -286,13 +287,13 @@ TEST_CASE("foton render --reference: a convergence curve whose last error is fot
         std::getline(csv, header);
         CHECK(header ==
               "passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,bias_g,"
-              "bias_b");
+              "bias_b,ssim");
         std::vector<std::vector<double>> rows;
         while (std::getline(csv, line)) {
             std::vector<double> v;
             std::stringstream ss(line);
             for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
-            REQUIRE(v.size() == 10);
+            REQUIRE(v.size() == 11);
             rows.push_back(v);
         }
         REQUIRE(rows.size() == 4);
@@ -310,6 +311,11 @@ TEST_CASE("foton render --reference: a convergence curve whose last error is fot
         const std::size_t at = c.output.find("rmse ");
         REQUIRE(at != std::string::npos);
         CHECK(rows.back()[4] == Approx(std::stod(c.output.substr(at + 5))).epsilon(1e-5));
+        const std::size_t s_at = c.output.find("ssim ");
+        REQUIRE(s_at != std::string::npos);
+        CHECK(rows.back()[10] == Approx(std::stod(c.output.substr(s_at + 5))).epsilon(1e-5));
+        CHECK(rows.back()[10] > 0.0);
+        CHECK(rows.back()[10] < 1.0);
         std::ifstream js(dir.file("a.json"));
         const std::string json((std::istreambuf_iterator<char>(js)),
                                std::istreambuf_iterator<char>());

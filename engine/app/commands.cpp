@@ -6,6 +6,7 @@
 
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
+#include "engine/film/ssim.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
 #include "output_paths.h"
@@ -50,6 +51,8 @@ int run_compare(const CompareArgs& args) {
     std::printf("mean_a %.6g %.6g %.6g\nmean_b %.6g %.6g %.6g\n", e.mean_a.r, e.mean_a.g,
                 e.mean_a.b, e.mean_b.r, e.mean_b.g, e.mean_b.b);
     std::printf("nonfinite_a %zu\nnonfinite_b %zu\n", e.nonfinite_a, e.nonfinite_b);
+    // Structural similarity of the display values (at exposure 1), over the same mask.
+    std::printf("ssim %.6g\n", ssim(a, b, &mask));
     for (int n : args.lowpass)
         std::printf("lowpass_rmse %d %.6g\n", n, lowpass_rmse(a, b, mask, n));
     if (!args.diff_png.empty()) write_difference_png(args.diff_png, a, b, args.diff_scale);

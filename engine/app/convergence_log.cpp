@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/film/image_io.h"
+#include "engine/film/ssim.h"
 
 namespace foton::app {
 
@@ -32,6 +33,7 @@ void ConvergenceLog::record(const Film& image, const PassReport& pass) {
     p.pass = pass;
     p.error = compare_images(image, reference_, &mask_);
     p.bias = p.error.mean_a - p.error.mean_b;
+    p.ssim = ssim(image, reference_, &mask_);
     points_.push_back(p);
 }
 
@@ -41,15 +43,16 @@ std::string row(const ConvergencePoint& p, const char* format) {
     char buf[512];
     std::snprintf(buf, sizeof buf, format, p.pass.passes, p.pass.seconds, p.pass.cpu_seconds,
                   p.pass.spp, p.error.rmse, p.error.relative_mse, p.error.mae, double(p.bias.r),
-                  double(p.bias.g), double(p.bias.b));
+                  double(p.bias.g), double(p.bias.b), p.ssim);
     return buf;
 }
 }  // namespace
 
 std::string ConvergenceLog::csv() const {
-    std::string out = "passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,bias_g,bias_b\n";
+    std::string out =
+        "passes,seconds,cpu_seconds,spp,rmse,relative_mse,mae,bias_r,bias_g,bias_b,ssim\n";
     for (const ConvergencePoint& p : points_)
-        out += row(p, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n");
+        out += row(p, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n");
     return out;
 }
 
@@ -63,7 +66,8 @@ nlohmann::ordered_json ConvergenceLog::json() const {
                        {"rmse", p.error.rmse},
                        {"relative_mse", p.error.relative_mse},
                        {"mae", p.error.mae},
-                       {"bias", {p.bias.r, p.bias.g, p.bias.b}}});
+                       {"bias", {p.bias.r, p.bias.g, p.bias.b}},
+                       {"ssim", p.ssim}});
     return out;
 }
 

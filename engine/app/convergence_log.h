@@ -17,7 +17,8 @@ namespace foton::app {
 struct ConvergencePoint {
     PassReport pass;
     ImageError error;
-    RGB bias;  // mean of the image minus mean of the reference, per channel
+    RGB bias;           // mean of the image minus mean of the reference, per channel
+    double ssim = 0.0;  // structural similarity to the reference (film/ssim.h)
 };
 
 class ConvergenceLog {
