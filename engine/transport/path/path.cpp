@@ -25,7 +25,11 @@ constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLi
 
 PathIntegrator::PathIntegrator(const RenderContext& ctx, const VertexRules& rules,
                                const PathReaders& readers)
-    : ctx_(ctx), rules_(rules), cache_(readers.cache), guide_(readers.guide) {}
+    : ctx_(ctx),
+      rules_(rules),
+      cache_(readers.cache),
+      guide_(readers.guide),
+      diffuse_(diffuse_materials()) {}
 
 float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                            uint32_t k) const {
@@ -82,151 +86,160 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
 }
 
 void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const {
-    const RenderSettings& rs = ctx_.settings;
-    const bool guided = guide_ && !guide_->empty() && rules_.guided;
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
+    // The hits the SIMD kernel takes (Lambertian vertices, path_diffuse.cpp) are set aside and
+    // shaded together; every other hit is shaded here, one at a time.
+    const bool kernel = diffuse_.enabled && depth < ctx_.settings.max_depth;
+    ws.diffuse_entries.clear();
+    for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+        if (kernel && diffuse_kernel_takes(ws, i))
+            ws.diffuse_entries.push_back(uint32_t(i));
+        else
+            shade_vertex(depth, i, ws, radiance);
+    }
+    if (!ws.diffuse_entries.empty()) shade_diffuse(depth, ws);
+}
+
+void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,
+                                  std::vector<RGB>& radiance) const {
+    const RenderSettings& rs = ctx_.settings;
+    const bool guided = guide_ && !guide_->empty() && rules_.guided;
     const bool nee = rules_.nee;
     const Mis mis = rules_.mis;
-    const RGB ambient = ctx_.scene.ambient.radiance();
-
-    for (std::size_t i = 0; i < ws.rays.size(); ++i) {
-        const uint32_t slot = ws.rays.id[i];
-        const uint64_t key = ws.keys[slot];
-        RGB& beta = ws.beta[slot];
-        const uint32_t geom = ws.hits.geom[i];
-        const Vec3 d = ws.rays.direction(i);
-        // Emission found by this ray, weighted against having sampled it as a light (whose
-        // density, selection included, `light_pdf` gives).
-        const bool counts_emission = !(ws.first_depth > 0 && depth == ws.first_depth);
-        auto emission_weight = [&](auto&& light_pdf) {
-            if (depth == 0 || ws.specular_prev[slot] || !nee || rules_.emission_whole) return 1.f;
-            if (mis.heuristic == MisHeuristic::None) return 0.f;
-            return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
-        };
-        // lighting=direct|indirect: light reached after this many non-specular vertices.
-        const bool counts_light = counts(rs.lighting, ws.nondelta[slot]);
-        if (geom == kNoHit) {
-            if (!counts_light) continue;
-            if (!ctx_.scene.environment)
-                radiance[slot] += beta * ctx_.scene.background;
-            else if (counts_emission)
-                radiance[slot] += beta * ctx_.scene.environment->Le(d) *
-                                  emission_weight([&] { return ctx_.lights.environment_pdf(d); });
-            continue;
-        }
-        const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
-        std::optional<Material> scratch;
-        const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
-        ws.path_length[slot] += ws.hits.t[i];
-
-        if (m.emits_towards(sp.front_face) && counts_emission && counts_light) {
-            const float w = emission_weight([&] {
-                const int li = ctx_.lights.emitter_of(geom);
-                return li < 0 ? 0.f
-                              : ctx_.lights.pmf(uint32_t(li)) *
-                                    ctx_.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
-            });
-            radiance[slot] += beta * m.emission * w;
-        }
-        if (depth >= rs.max_depth || m.bsdf.empty()) continue;
-        // Direct light only: once a second non-specular vertex is behind, nothing counts.
-        if (rs.lighting == Lighting::Direct && ws.nondelta[slot] >= 2) continue;
-        if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws)) continue;
-
-        const ShadingPoint v(sp, m, d, beta, slot, depth, key);
-        const warp::Frame& frame = v.frame;
-        const Vec3& wo = v.wo;
-        const BsdfContext ctx{sp.front_face, Transport::Radiance};
-
-        if (rules_.ambient) {
-            const RGB amb = m.type == MaterialType::Generic ? m.base_color * m.c_diffuse
-                                                            : m.base_color * m.c_ambient;
-            radiance[slot] += beta * amb * ambient;
-        }
-
-        // A guided vertex's BSDF strategy is a mixture with its bin's direction histogram.
-        GuideMixture strategy;
-        if (guided && guidable(m.bsdf)) {
-            const int bin = guide_->find(sp.p, sp.ng);
-            if (bin >= 0) strategy = guide_->mixture(bin, rs.guide.fraction);
-        }
-
-        // Next event estimation.
-        if (nee && m.bsdf.has_non_delta() && !ctx_.lights.empty() &&
-            counts(rs.lighting, ws.nondelta[slot] + 1u)) {
-            auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
-                // The distributed tracer's glossy lobes see area lights by being sampled.
-                const uint8_t lobes =
-                    rules_.glossy_by_sampling && !ctx_.lights.emitter(li).is_delta()
-                        ? uint8_t(kDiffuse)
-                        : uint8_t(kDiffuse | kGlossy);
-                DirectSample ds;
-                if (sample_light(ctx_.lights, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
-                                 strategy))
-                    queue_direct(ds, slot, ws.shadow, ws.shadow_value);
-            };
-            if (rules_.every_light) {
-                const uint32_t n = rs.light_samples;
-                for (uint32_t li = 0; li < ctx_.lights.size(); ++li) {
-                    const uint32_t k = ctx_.lights.emitter(li).is_delta() ? 1 : n;
-                    for (uint32_t s = 0; s < k; ++s) {
-                        const uint64_t lkey = rng::hash(key, depth, li, 0);
-                        const Point2 u =
-                            sample_pattern(SamplerKind::Jittered, s, k, ctx_.seed, lkey);
-                        const float uc = rng::uniform(ctx_.seed, lkey, s, 2);
-                        estimate(li, 1.f, u, uc, 1.f / float(k));
-                    }
-                }
-            } else {
-                float pick;
-                const uint32_t li =
-                    ctx_.lights.select(rand(ws, slot, depth, kDimLightSelect), pick);
-                estimate(li, pick, rand2(ws, slot, depth, kDimLight),
-                         rand(ws, slot, depth, kDimLight + 2), 1.f);
-            }
-        }
-
-        // Continue the path by sampling the BSDF.
-        BsdfSample bs;
-        const uint8_t only = rules_.continue_lobes;
-        const float u_lobe = rand(ws, slot, depth, kDimBsdf);
-        const Point2 u_dir = rand2(ws, slot, depth, kDimBsdf + 1);
-        float bsdf_pdf = 0.f;
-        if (strategy.active()
-                ? !sample_mixture(m.bsdf, wo, frame, ctx, strategy, u_lobe, u_dir, bs, bsdf_pdf)
-                : !m.bsdf.sample(wo, u_lobe, u_dir, ctx, bs, only))
-            continue;
-        const Vec3 wi = frame.to_world(bs.wi);
-        // A direction on the wrong side of the true surface would leak light through it.
-        const float side = dot(wi, sp.ng);
-        if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
-        // What roulette weighs: the throughput as BSDF sampling would carry it. A guided
-        // direction's weight is low exactly because light is likely to come from there; a
-        // roulette on it would kill the paths the guide sent towards the light.
-        beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
-        const RGB rr_beta = strategy.active() && bsdf_pdf > 0.f ? beta * (bs.pdf / bsdf_pdf) : beta;
-        if (beta.is_black()) continue;
-        ws.eta_scale[slot] *= bs.eta * bs.eta;
-        // Russian roulette: survive with the path's weight, capped at 1, and reweight. Inside
-        // glass beta is 1/eta^2 of the carried throughput, and the path leaves with it back;
-        // deciding on beta alone would kill paths through glass (caustics) 2.25x too often.
-        if (depth + 1 >= rs.rr_depth) {
-            const float q = std::min(1.f, rr_beta.max_component() * ws.eta_scale[slot]);
-            if (rand(ws, slot, depth, kDimRoulette) >= q) continue;
-            beta *= 1.f / q;
-        }
-        ws.pdf_prev[slot] = bs.pdf;
-        ws.specular_prev[slot] = bs.is_delta();
-        // A specular bounce after the first non-specular vertex makes what it finds a
-        // caustic there: indirect light, as the photon maps count it.
-        if (!bs.is_delta() || ws.nondelta[slot] == 1)
-            ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
-        ws.chain_specular[slot] &= uint8_t(bs.is_delta());
-        ws.p_prev[slot] = sp.p;
-        ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+    const uint32_t slot = ws.rays.id[i];
+    const uint64_t key = ws.keys[slot];
+    RGB& beta = ws.beta[slot];
+    const uint32_t geom = ws.hits.geom[i];
+    const Vec3 d = ws.rays.direction(i);
+    // Emission found by this ray, weighted against having sampled it as a light (whose
+    // density, selection included, `light_pdf` gives).
+    const bool counts_emission = !(ws.first_depth > 0 && depth == ws.first_depth);
+    auto emission_weight = [&](auto&& light_pdf) {
+        if (depth == 0 || ws.specular_prev[slot] || !nee || rules_.emission_whole) return 1.f;
+        if (mis.heuristic == MisHeuristic::None) return 0.f;
+        return mis_weight_bsdf(mis, ws.pdf_prev[slot], light_pdf());
+    };
+    // lighting=direct|indirect: light reached after this many non-specular vertices.
+    const bool counts_light = counts(rs.lighting, ws.nondelta[slot]);
+    if (geom == kNoHit) {
+        if (!counts_light) return;
+        if (!ctx_.scene.environment)
+            radiance[slot] += beta * ctx_.scene.background;
+        else if (counts_emission)
+            radiance[slot] += beta * ctx_.scene.environment->Le(d) *
+                              emission_weight([&] { return ctx_.lights.environment_pdf(d); });
+        return;
     }
+    const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+    std::optional<Material> scratch;
+    const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+    ws.path_length[slot] += ws.hits.t[i];
+
+    if (m.emits_towards(sp.front_face) && counts_emission && counts_light) {
+        const float w = emission_weight([&] {
+            const int li = ctx_.lights.emitter_of(geom);
+            return li < 0 ? 0.f
+                          : ctx_.lights.pmf(uint32_t(li)) *
+                                ctx_.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
+        });
+        radiance[slot] += beta * m.emission * w;
+    }
+    if (depth >= rs.max_depth || m.bsdf.empty()) return;
+    // Direct light only: once a second non-specular vertex is behind, nothing counts.
+    if (rs.lighting == Lighting::Direct && ws.nondelta[slot] >= 2) return;
+    if (cache_ && ws.chain_specular[slot] && shade_cached(depth, sp, m, d, slot, ws)) return;
+
+    const ShadingPoint v(sp, m, d, beta, slot, depth, key);
+    const warp::Frame& frame = v.frame;
+    const Vec3& wo = v.wo;
+    const BsdfContext ctx{sp.front_face, Transport::Radiance};
+
+    if (rules_.ambient) {
+        const RGB ambient = ctx_.scene.ambient.radiance();
+        const RGB amb = m.type == MaterialType::Generic ? m.base_color * m.c_diffuse
+                                                        : m.base_color * m.c_ambient;
+        radiance[slot] += beta * amb * ambient;
+    }
+
+    // A guided vertex's BSDF strategy is a mixture with its bin's direction histogram.
+    GuideMixture strategy;
+    if (guided && guidable(m.bsdf)) {
+        const int bin = guide_->find(sp.p, sp.ng);
+        if (bin >= 0) strategy = guide_->mixture(bin, rs.guide.fraction);
+    }
+
+    // Next event estimation.
+    if (nee && m.bsdf.has_non_delta() && !ctx_.lights.empty() &&
+        counts(rs.lighting, ws.nondelta[slot] + 1u)) {
+        auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
+            // The distributed tracer's glossy lobes see area lights by being sampled.
+            const uint8_t lobes = rules_.glossy_by_sampling && !ctx_.lights.emitter(li).is_delta()
+                                      ? uint8_t(kDiffuse)
+                                      : uint8_t(kDiffuse | kGlossy);
+            DirectSample ds;
+            if (sample_light(ctx_.lights, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
+                             strategy))
+                queue_direct(ds, slot, ws.shadow, ws.shadow_value);
+        };
+        if (rules_.every_light) {
+            const uint32_t n = rs.light_samples;
+            for (uint32_t li = 0; li < ctx_.lights.size(); ++li) {
+                const uint32_t k = ctx_.lights.emitter(li).is_delta() ? 1 : n;
+                for (uint32_t s = 0; s < k; ++s) {
+                    const uint64_t lkey = rng::hash(key, depth, li, 0);
+                    const Point2 u = sample_pattern(SamplerKind::Jittered, s, k, ctx_.seed, lkey);
+                    const float uc = rng::uniform(ctx_.seed, lkey, s, 2);
+                    estimate(li, 1.f, u, uc, 1.f / float(k));
+                }
+            }
+        } else {
+            float pick;
+            const uint32_t li = ctx_.lights.select(rand(ws, slot, depth, kDimLightSelect), pick);
+            estimate(li, pick, rand2(ws, slot, depth, kDimLight),
+                     rand(ws, slot, depth, kDimLight + 2), 1.f);
+        }
+    }
+
+    // Continue the path by sampling the BSDF.
+    BsdfSample bs;
+    const uint8_t only = rules_.continue_lobes;
+    const float u_lobe = rand(ws, slot, depth, kDimBsdf);
+    const Point2 u_dir = rand2(ws, slot, depth, kDimBsdf + 1);
+    float bsdf_pdf = 0.f;
+    if (strategy.active()
+            ? !sample_mixture(m.bsdf, wo, frame, ctx, strategy, u_lobe, u_dir, bs, bsdf_pdf)
+            : !m.bsdf.sample(wo, u_lobe, u_dir, ctx, bs, only))
+        return;
+    const Vec3 wi = frame.to_world(bs.wi);
+    // A direction on the wrong side of the true surface would leak light through it.
+    const float side = dot(wi, sp.ng);
+    if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
+    // What roulette weighs: the throughput as BSDF sampling would carry it. A guided
+    // direction's weight is low exactly because light is likely to come from there; a
+    // roulette on it would kill the paths the guide sent towards the light.
+    beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+    const RGB rr_beta = strategy.active() && bsdf_pdf > 0.f ? beta * (bs.pdf / bsdf_pdf) : beta;
+    if (beta.is_black()) return;
+    ws.eta_scale[slot] *= bs.eta * bs.eta;
+    // Russian roulette: survive with the path's weight, capped at 1, and reweight. Inside
+    // glass beta is 1/eta^2 of the carried throughput, and the path leaves with it back;
+    // deciding on beta alone would kill paths through glass (caustics) 2.25x too often.
+    if (depth + 1 >= rs.rr_depth) {
+        const float q = std::min(1.f, rr_beta.max_component() * ws.eta_scale[slot]);
+        if (rand(ws, slot, depth, kDimRoulette) >= q) return;
+        beta *= 1.f / q;
+    }
+    ws.pdf_prev[slot] = bs.pdf;
+    ws.specular_prev[slot] = bs.is_delta();
+    // A specular bounce after the first non-specular vertex makes what it finds a
+    // caustic there: indirect light, as the photon maps count it.
+    if (!bs.is_delta() || ws.nondelta[slot] == 1)
+        ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
+    ws.chain_specular[slot] &= uint8_t(bs.is_delta());
+    ws.p_prev[slot] = sp.p;
+    ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
 }
 
 void PathIntegrator::run(PathWorkspace& ws, std::vector<RGB>& radiance, float* first_dist,
@@ -289,7 +302,7 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     ws.keys = keys;
     const std::size_t n = radiance.size();
     ws.samplers.resize(n);
-    for (std::size_t i = 0; i < n; ++i) ws.samplers[i] = PathSampler::uniform(keys[i]);
+    for (std::size_t i = 0; i < n; ++i) ws.samplers[i] = PathSampler::uniform(keys[i], ctx_.seed);
     ws.beta.assign(n, RGB{1.f});
     ws.eta_scale.assign(n, 1.f);
     ws.pdf_prev.assign(n, 0.f);

@@ -19,6 +19,7 @@
 // vertex of each camera path (one reached through specular vertices only) whose non-delta
 // lobes are Lambertian: its direct light from one light sample, its indirect light from the
 // cache.
+#include "diffuse_lanes.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
@@ -97,6 +98,9 @@ struct PathWorkspace : IntegratorWorkspace {
     uint32_t first_depth = 0;        // > 0: paths started at a scattering vertex (radiance_along)
     CacheWorkspace cache;
     CacheWorkspace* cache_workspace() override { return &cache; }
+    // The bounce's hits the SIMD kernel shades (batch entries), and its lanes.
+    std::vector<uint32_t> diffuse_entries;
+    DiffuseLanes diffuse;
 };
 
 class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
@@ -115,7 +119,16 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
                         RenderStats& stats) const override;
 
   private:
+    // A bounce: the Lambertian hits through the SIMD kernel, the others one at a time.
     void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;
+    void shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,
+                      std::vector<RGB>& radiance) const;
+    // The SIMD kernel's part (path_diffuse.cpp).
+    DiffuseMaterials diffuse_materials() const;
+    bool diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i) const;
+    void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
+    void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
+    void read_diffuse_lane(std::size_t lane, PathWorkspace& ws) const;
     // The cache's vertex: true when it took the path over.
     bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,
                       const Vec3& d, uint32_t slot, PathWorkspace& ws) const;
@@ -130,6 +143,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     const VertexRules rules_;
     const CacheEvaluator* const cache_;
     const PathGuide* const guide_;
+    const DiffuseMaterials diffuse_;
 };
 
 // The table entries (registry/integrators.h): the tile driver over path tracing (with the

@@ -28,16 +28,17 @@ inline constexpr uint32_t kPathDimLightSelect = 0, kPathDimLight = 1, kPathDimBs
 class PathSampler {
   public:
     PathSampler() = default;
-    // Counter-based numbers keyed by `path_key` (and the render's seed).
-    static PathSampler uniform(uint64_t path_key) {
+    // Counter-based numbers keyed by `path_key` and the render's seed.
+    static PathSampler uniform(uint64_t path_key, uint64_t seed) {
         PathSampler s;
         s.key_ = path_key;
+        s.prefix_ = rng::stream_prefix(seed, kPathStream);
         return s;
     }
     // A camera sample's numbers under the renderer's sampler.
     static PathSampler for_job(SamplerKind sampler, const Scene& scene, const SampleJob& job,
                                uint64_t seed) {
-        PathSampler s = uniform(job.id);
+        PathSampler s = uniform(job.id, seed);
         if (job.pat_n == 0) return s;
         if (sampler == SamplerKind::Sobol || sampler == SamplerKind::Halton) {
             s.kind_ = sampler == SamplerKind::Sobol ? Kind::Sobol : Kind::Halton;
@@ -58,8 +59,8 @@ class PathSampler {
     float get1(uint64_t seed, uint32_t depth, uint32_t k) const {
         switch (kind_) {
             case Kind::Uniform:
-                return rng::uniform(seed, kPathStream, key_,
-                                    uint64_t(depth) * kPathDimsPerBounce + k);
+                // rng::uniform(seed, kPathStream, key_, dim), its seed's half done once.
+                return rng::uniform_from(prefix_, key_, uint64_t(depth) * kPathDimsPerBounce + k);
             case Kind::Halton:
                 return halton::sample(i_, seed, key_, 2 + depth * kPathDimsPerBounce + k);
             case Kind::ZSobol:
@@ -89,7 +90,8 @@ class PathSampler {
     static uint32_t pair_of(uint32_t depth, uint32_t k) { return 1 + depth * 4 + kPair[k]; }
 
     Kind kind_ = Kind::Uniform;
-    uint64_t key_ = 0;  // Uniform: the path's key; Halton, Sobol': the pixel's pattern key
+    uint64_t key_ = 0;     // Uniform: the path's key; Halton, Sobol': the pixel's pattern key
+    uint64_t prefix_ = 0;  // Uniform: rng::stream_prefix(seed, kPathStream)
     uint32_t i_ = 0, n_ = 0;
     zsobol::Index z_;
 };

@@ -33,6 +33,8 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
     if (p.has("mis_beta") && r.mis != MisHeuristic::Power)
         p.fail("mis_beta", "mis_beta is the power heuristic's exponent: it needs mis=power");
     r.nee = p.boolean("nee", r.nee);
+    static const EnumTable<bool> kShading{{{"simd", true}, {"scalar", false}}};
+    r.simd_shading = p.choice("shading", kShading, r.simd_shading);
     r.rr_depth = uint32_t(p.integer("rr_depth", r.rr_depth, 0, kNoRoulette));
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
 }

@@ -54,8 +54,11 @@ struct RenderSettings {
     uint32_t max_depth = 8;
     float min_contribution = 1e-3f;  // raytracer: cut-off on a path's weight
     MisHeuristic mis = MisHeuristic::Power;
-    float mis_beta = 2.f;   // the power heuristic's exponent
-    bool nee = true;        // path: next event estimation (false = BSDF sampling only)
+    float mis_beta = 2.f;  // the power heuristic's exponent
+    bool nee = true;       // path: next event estimation (false = BSDF sampling only)
+    // path: Lambertian vertices through the SIMD shading kernel (false: every vertex one at
+    // a time, the kernel's reference)
+    bool simd_shading = true;
     uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on (guided
                             // paths: kNoRoulette unless given)
     uint32_t light_samples =

@@ -1,0 +1,33 @@
+#pragma once
+// What the path tracer's SIMD shading of Lambertian vertices keeps (path_diffuse.cpp): which
+// materials the kernel takes, fixed when the integrator is made, and a workspace's table of
+// lanes, kern::shade_diffuse's columns.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/aligned.h"
+#include "engine/core/rgb.h"
+#include "kernels/diffuse_shade.h"
+
+namespace foton {
+
+struct DiffuseMaterials {
+    bool enabled = false;        // the settings and the vertex rules allow the kernel at all
+    std::vector<uint8_t> takes;  // per material: Lambertian lobes only, untextured, not emitting
+    std::vector<RGB> rho;        // ... and their summed reflectance
+    kern::DiffuseRules rules;
+};
+
+struct DiffuseLanes {
+    // Lanes per kernel call: the table (60 columns, 30 KB) stays in the first-level cache
+    // between filling it, the kernel and reading it back.
+    static constexpr std::size_t kLanes = 128;
+    AlignedVector<float> data = AlignedVector<float>(std::size_t(kern::kDiffuseColumns) * kLanes);
+    uint32_t entry[kLanes];  // the batch entry each lane came from
+    std::size_t size = 0;
+
+    kern::DiffuseVertices table() { return {data.data(), kLanes}; }
+    float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }
+};
+
+}  // namespace foton

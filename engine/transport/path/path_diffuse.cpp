@@ -1,0 +1,166 @@
+// The path tracer's Lambertian vertices through kern::shade_diffuse: a chunk of lanes is
+// filled from the batch (surface, throughput, the light sample, the random numbers), shaded
+// at SIMD width, and read back into shadow rays, continuation rays and the paths' state.
+// What stays scalar here: reconstructing the surface, choosing and sampling the light, the
+// sampler's numbers.
+#include <algorithm>
+#include <cmath>
+
+#include "engine/transport/common/surface.h"
+#include "path.h"
+
+namespace foton {
+
+namespace {
+
+kern::DiffuseMis kernel_mis(MisHeuristic h) {
+    switch (h) {
+        case MisHeuristic::Balance:
+            return kern::DiffuseMis::Balance;
+        case MisHeuristic::Power:
+            return kern::DiffuseMis::Power;
+        case MisHeuristic::Maximum:
+            return kern::DiffuseMis::Maximum;
+        case MisHeuristic::None:
+            break;
+    }
+    return kern::DiffuseMis::None;
+}
+
+// Every lobe Lambertian (their sum is one Lambertian lobe of the summed reflectance), no
+// texture, no emission: a vertex the kernel shades exactly as shade_vertex would.
+bool kernel_material(const Material& m, RGB& rho) {
+    if (m.texture >= 0 || !m.emission.is_black() || m.bsdf.empty()) return false;
+    rho = RGB{0.f};
+    for (int i = 0; i < m.bsdf.size(); ++i) {
+        const Lobe& l = m.bsdf.lobe(i);
+        if (l.type != LobeType::Lambert) return false;
+        rho += l.color;
+    }
+    return true;
+}
+
+}  // namespace
+
+DiffuseMaterials PathIntegrator::diffuse_materials() const {
+    DiffuseMaterials d;
+    const RenderSettings& rs = ctx_.settings;
+    const VertexRules plain = VertexRules::path(rs);
+    // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
+    // lighting split and power heuristics of another exponent than 2 keep their own rules in
+    // shade_vertex.
+    const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
+    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
+                !rules_.glossy_by_sampling && !rules_.emission_whole &&
+                rules_.continue_lobes == plain.continue_lobes && !guide_ &&
+                rs.lighting == Lighting::All && power2;
+    d.rules.mis = kernel_mis(rules_.mis.heuristic);
+    const std::vector<Material>& ms = ctx_.scene.materials;
+    d.takes.assign(ms.size(), 0);
+    d.rho.assign(ms.size(), RGB{0.f});
+    for (std::size_t k = 0; k < ms.size(); ++k) d.takes[k] = kernel_material(ms[k], d.rho[k]);
+    return d;
+}
+
+bool PathIntegrator::diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i) const {
+    const uint32_t geom = ws.hits.geom[i];
+    if (geom == kNoHit || !diffuse_.takes[ctx_.scene.objects[geom].material]) return false;
+    // The cache's first diffuse vertex is shade_cached's.
+    return !(cache_ && ws.chain_specular[ws.rays.id[i]]);
+}
+
+void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    const std::size_t i = L.entry[lane];
+    const uint32_t slot = ws.rays.id[i];
+    const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+    ws.path_length[slot] += ws.hits.t[i];
+    auto put3 = [&](uint32_t c, float x, float y, float z) {
+        L.col(c)[lane] = x;
+        L.col(c + 1)[lane] = y;
+        L.col(c + 2)[lane] = z;
+    };
+    put3(kern::kDvPx, sp.p.x, sp.p.y, sp.p.z);
+    put3(kern::kDvNgx, sp.ng.x, sp.ng.y, sp.ng.z);
+    put3(kern::kDvNsx, sp.ns.x, sp.ns.y, sp.ns.z);
+    L.col(kern::kDvEps)[lane] = sp.epsilon;
+    put3(kern::kDvWox, -ws.rays.dx[i], -ws.rays.dy[i], -ws.rays.dz[i]);
+    const RGB& rho = diffuse_.rho[ctx_.scene.objects[ws.hits.geom[i]].material];
+    put3(kern::kDvRhoR, rho.r, rho.g, rho.b);
+    const RGB& beta = ws.beta[slot];
+    put3(kern::kDvBetaR, beta.r, beta.g, beta.b);
+    L.col(kern::kDvEtaScale)[lane] = ws.eta_scale[slot];
+    // The light sample, as shade_vertex's next event estimation draws it.
+    float pdf = 0.f, full = 1.f;
+    LightSample ls;
+    if (rules_.nee && !ctx_.lights.empty()) {
+        float pick;
+        const uint32_t li = ctx_.lights.select(rand(ws, slot, depth, kPathDimLightSelect), pick);
+        if (ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
+                                  rand(ws, slot, depth, kPathDimLight + 2), ls)) {
+            pdf = pick * ls.pdf;
+            full = rules_.mis.heuristic == MisHeuristic::None || ctx_.lights.emitter(li).is_delta()
+                       ? 1.f
+                       : 0.f;
+        }
+    }
+    L.col(kern::kDvLightPdf)[lane] = pdf;
+    L.col(kern::kDvLightFull)[lane] = full;
+    put3(kern::kDvLwx, ls.wi.x, ls.wi.y, ls.wi.z);
+    L.col(kern::kDvLdist)[lane] = ls.dist;
+    put3(kern::kDvLpx, ls.p_light.x, ls.p_light.y, ls.p_light.z);
+    put3(kern::kDvLnx, ls.n_light.x, ls.n_light.y, ls.n_light.z);
+    put3(kern::kDvLiR, ls.Li.r, ls.Li.g, ls.Li.b);
+    const Point2 u = rand2(ws, slot, depth, kPathDimBsdf + 1);
+    L.col(kern::kDvU0)[lane] = u.x;
+    L.col(kern::kDvU1)[lane] = u.y;
+    L.col(kern::kDvURoulette)[lane] =
+        depth + 1 >= ctx_.settings.rr_depth ? rand(ws, slot, depth, kPathDimRoulette) : 0.f;
+}
+
+void PathIntegrator::read_diffuse_lane(std::size_t lane, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    const std::size_t i = L.entry[lane];
+    const uint32_t slot = ws.rays.id[i];
+    auto get3 = [&](uint32_t c) {
+        return Vec3{L.col(c)[lane], L.col(c + 1)[lane], L.col(c + 2)[lane]};
+    };
+    if (L.col(kern::kDvShadowValid)[lane] != 0.f) {
+        ws.shadow.push(get3(kern::kDvSox), get3(kern::kDvSdx), 0.f, L.col(kern::kDvStmax)[lane],
+                       slot);
+        const Vec3 v = get3(kern::kDvSvR);
+        ws.shadow_value.push_back(RGB{v.x, v.y, v.z});
+    }
+    if (L.col(kern::kDvNextValid)[lane] == 0.f) return;
+    const Vec3 b = get3(kern::kDvNbetaR);
+    ws.beta[slot] = RGB{b.x, b.y, b.z};
+    ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[lane];
+    ws.specular_prev[slot] = 0;
+    ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
+    ws.chain_specular[slot] = 0;
+    ws.p_prev[slot] = get3(kern::kDvPx);
+    ws.next.push(get3(kern::kDvNox), get3(kern::kDvNdx), 0.f, kInfinity, slot);
+}
+
+void PathIntegrator::shade_diffuse(uint32_t depth, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    kern::DiffuseRules rules = diffuse_.rules;
+    rules.roulette = depth + 1 >= ctx_.settings.rr_depth;
+    const std::size_t width = kern::diffuse_shade_width();
+    const std::vector<uint32_t>& entries = ws.diffuse_entries;
+    for (std::size_t start = 0; start < entries.size(); start += DiffuseLanes::kLanes) {
+        L.size = std::min(DiffuseLanes::kLanes, entries.size() - start);
+        for (std::size_t k = 0; k < L.size; ++k) {
+            L.entry[k] = entries[start + k];
+            fill_diffuse_lane(depth, k, ws);
+        }
+        // The lanes past the last up to the SIMD width: zeros, which make no rays.
+        const std::size_t padded = (L.size + width - 1) / width * width;
+        for (uint32_t c = 0; c < kern::kDiffuseColumns; ++c)
+            std::fill(L.col(c) + L.size, L.col(c) + padded, 0.f);
+        kern::shade_diffuse(L.table(), L.size, rules);
+        for (std::size_t k = 0; k < L.size; ++k) read_diffuse_lane(k, ws);
+    }
+}
+
+}  // namespace foton

@@ -1,0 +1,150 @@
+// The scalar twin of shade_diffuse: one lane at a time, the same steps in the same order.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "diffuse_shade.h"
+#include "diffuse_shade_math.h"
+
+namespace foton::kern {
+
+namespace {
+
+struct V3 {
+    float x, y, z;
+};
+inline V3 operator+(V3 a, V3 b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline V3 operator-(V3 a, V3 b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline V3 operator*(V3 a, float s) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+inline float dot(V3 a, V3 b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+float mis_weight(const DiffuseRules& r, float pa, float pb) {
+    switch (r.mis) {
+        case DiffuseMis::Balance:
+            return pa / (pa + pb);
+        case DiffuseMis::Power:  // exponent 2 (the caller keeps others scalar)
+            return pa * pa / (pa * pa + pb * pb);
+        case DiffuseMis::Maximum:
+            return pa * kDiffuseMaxTie >= pb ? 1.f : 0.f;
+        case DiffuseMis::None:
+            break;
+    }
+    return 1.f;
+}
+
+// p pushed off the surface along ng to the side w goes.
+inline V3 offset(V3 p, V3 ng, float eps, V3 w) {
+    return dot(w, ng) >= 0.f ? p + ng * eps : p - ng * eps;
+}
+
+}  // namespace
+
+void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const DiffuseRules& rules) {
+    auto in3 = [&](uint32_t c, std::size_t i) {
+        return V3{v.col(c)[i], v.col(c + 1)[i], v.col(c + 2)[i]};
+    };
+    auto out3 = [&](uint32_t c, std::size_t i, V3 a) {
+        v.col(c)[i] = a.x;
+        v.col(c + 1)[i] = a.y;
+        v.col(c + 2)[i] = a.z;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const V3 p = in3(kDvPx, i), ng = in3(kDvNgx, i), ns = in3(kDvNsx, i);
+        const float eps = v.col(kDvEps)[i];
+        const V3 rho = in3(kDvRhoR, i), beta = in3(kDvBetaR, i);
+        // The frame around the shading normal (Duff et al. 2017).
+        const float sign = std::copysign(1.f, ns.z);
+        const float a = -1.f / (sign + ns.z);
+        const float b = ns.x * ns.y * a;
+        const V3 s{1.f + sign * ns.x * ns.x * a, sign * b, -sign * ns.x};
+        const V3 t{b, sign + ns.y * ns.y * a, -ns.y};
+        const float wo_z = dot(in3(kDvWox, i), ns);
+
+        // Next event estimation.
+        const float pl = v.col(kDvLightPdf)[i];
+        const V3 lw = in3(kDvLwx, i);
+        const float cos_l = dot(lw, ns);
+        bool shadow = pl > 0.f && dot(lw, ng) > 0.f && wo_z * cos_l > 0.f;
+        V3 value{0.f, 0.f, 0.f};
+        if (shadow) {
+            const float pb = std::fabs(cos_l) * kDiffuseInvPi;
+            const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pb);
+            const float k = std::fabs(cos_l) * w / pl;
+            const V3 li = in3(kDvLiR, i);
+            value = {beta.x * (rho.x * kDiffuseInvPi) * li.x * k,
+                     beta.y * (rho.y * kDiffuseInvPi) * li.y * k,
+                     beta.z * (rho.z * kDiffuseInvPi) * li.z * k};
+            shadow = value.x != 0.f || value.y != 0.f || value.z != 0.f;
+        }
+        v.col(kDvShadowValid)[i] = shadow ? 1.f : 0.f;
+        out3(kDvSvR, i, value);
+        const float dist = v.col(kDvLdist)[i];
+        if (std::isinf(dist)) {
+            out3(kDvSox, i, offset(p, ng, eps, lw));
+            out3(kDvSdx, i, lw);
+            v.col(kDvStmax)[i] = std::numeric_limits<float>::infinity();
+        } else {
+            // Both ends pushed off their surfaces towards each other (surface.h).
+            const V3 q = in3(kDvLpx, i), nq = in3(kDvLnx, i);
+            const V3 o = offset(p, ng, eps, q - p);
+            const float eps_q = kDiffuseOffset *
+                                (std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)}) + dist);
+            const V3 end = q + (dot(nq, o - q) >= 0.f ? nq : nq * -1.f) * eps_q;
+            const V3 d = end - o;
+            const float len = std::sqrt(dot(d, d));
+            out3(kDvSox, i, o);
+            out3(kDvSdx, i, len > 0.f ? d * (1.f / len) : d);
+            v.col(kDvStmax)[i] = len * (1.f - 1e-4f);
+        }
+
+        // The continuation: a cosine-weighted direction.
+        const float da = 2.f * v.col(kDvU0)[i] - 1.f, db = 2.f * v.col(kDvU1)[i] - 1.f;
+        float lx = 0.f, ly = 0.f;
+        if (da != 0.f || db != 0.f) {
+            float sx, cx;
+            if (std::fabs(da) > std::fabs(db)) {
+                sincos_quarter(0.25f * kDiffusePi * (db / da), sx, cx);
+                lx = da * cx;
+                ly = da * sx;
+            } else {
+                // The angle pi/2 - x: cosine and sine swap.
+                sincos_quarter(0.25f * kDiffusePi * (da / db), sx, cx);
+                lx = db * sx;
+                ly = db * cx;
+            }
+        }
+        float lz = std::sqrt(std::max(0.f, 1.f - lx * lx - ly * ly));
+        if (wo_z < 0.f) lz = -lz;
+        const float cz = std::fabs(lz);
+        bool next = wo_z * lz > 0.f;
+        const V3 wi = s * lx + t * ly + ns * lz;
+        next = next && dot(wi, ng) > 0.f;
+        // f |cos| / pdf = (rho / pi) |cos| / (|cos| / pi): the division kept as the BSDF
+        // path does it.
+        const float pdf = cz * kDiffuseInvPi;
+        const float k = cz / pdf;
+        V3 nb{beta.x * ((rho.x * kDiffuseInvPi) * k), beta.y * ((rho.y * kDiffuseInvPi) * k),
+              beta.z * ((rho.z * kDiffuseInvPi) * k)};
+        next = next && (nb.x != 0.f || nb.y != 0.f || nb.z != 0.f);
+        if (rules.roulette) {
+            const float q = std::min(1.f, std::max({nb.x, nb.y, nb.z}) * v.col(kDvEtaScale)[i]);
+            next = next && v.col(kDvURoulette)[i] < q;
+            nb = nb * (1.f / q);
+        }
+        v.col(kDvNextValid)[i] = next ? 1.f : 0.f;
+        out3(kDvNox, i, offset(p, ng, eps, wi));
+        out3(kDvNdx, i, wi);
+        out3(kDvNbetaR, i, nb);
+        v.col(kDvNpdf)[i] = pdf;
+    }
+}
+
+}  // namespace foton::kern

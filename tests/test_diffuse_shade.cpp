@@ -1,0 +1,202 @@
+// The SIMD shading kernel of Lambertian vertices (kernels/diffuse_shade.h): bit for bit equal
+// to its scalar twin on random vertex sets with every edge the engine produces (lights behind
+// the surface, leaning shading normals, lights at infinity, the disc's centre, roulette), the
+// twin's directions equal to the engine's own Lambert sampling, and renders with the kernel
+// equal to renders without it up to float rounding.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "engine/core/aligned.h"
+#include "engine/core/warp.h"
+#include "engine/film/metrics.h"
+#include "engine/scene/bsdf.h"
+#include "engine/scene/xml_loader.h"
+#include "kernels/diffuse_shade.h"
+#include "test_util.h"
+
+using namespace foton;
+using namespace foton::kern;
+
+namespace {
+
+struct Table {
+    AlignedVector<float> data;
+    std::size_t stride;
+    explicit Table(std::size_t n)
+        : data(std::size_t(kDiffuseColumns) *
+               ((n + diffuse_shade_width() - 1) / diffuse_shade_width() * diffuse_shade_width())),
+          stride(data.size() / kDiffuseColumns) {}
+    DiffuseVertices view() { return {data.data(), stride}; }
+    float& at(uint32_t c, std::size_t i) { return data[c * stride + i]; }
+    void set3(uint32_t c, std::size_t i, const Vec3& v) {
+        at(c, i) = v.x;
+        at(c + 1, i) = v.y;
+        at(c + 2, i) = v.z;
+    }
+};
+
+Vec3 random_unit(std::mt19937& g) {
+    std::normal_distribution<float> n;
+    for (;;) {
+        const Vec3 v{n(g), n(g), n(g)};
+        if (length(v) > 1e-3f) return normalize(v);
+    }
+}
+
+// n random vertices; every fifth lane takes an edge value somewhere.
+Table random_vertices(std::size_t n, uint32_t seed) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u01(0.f, 1.f), coord(-300.f, 300.f);
+    Table t(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool edge = i % 5 == 0;
+        const Vec3 p{coord(g), coord(g), coord(g)};
+        const Vec3 ng = random_unit(g);
+        // A shading normal leaning off the geometric one (sometimes past the horizon).
+        const Vec3 ns = normalize(ng + random_unit(g) * (edge ? 1.2f : 0.3f));
+        Vec3 wo = random_unit(g);
+        if (dot(wo, ns) < 0.f && !edge) wo = -wo;
+        t.set3(kDvPx, i, p);
+        t.set3(kDvNgx, i, ng);
+        t.set3(kDvNsx, i, ns);
+        t.at(kDvEps, i) = 2e-5f * 300.f;
+        t.set3(kDvWox, i, wo);
+        t.set3(kDvRhoR, i, {u01(g), u01(g), edge && i % 3 == 0 ? 0.f : u01(g)});
+        t.set3(kDvBetaR, i, {u01(g) * 2.f, u01(g), u01(g)});
+        t.at(kDvEtaScale, i) = edge ? 2.25f : 1.f;
+        // The light sample: a point on a light, or a direction to one at infinity.
+        const Vec3 q = p + random_unit(g) * (10.f + 200.f * u01(g));
+        const bool infinite = i % 7 == 3;
+        const Vec3 to = q - p;
+        const float dist = length(to);
+        t.at(kDvLightPdf, i) = i % 11 == 0 ? 0.f : 0.01f + u01(g);
+        t.at(kDvLightFull, i) = i % 13 == 0 ? 1.f : 0.f;
+        t.set3(kDvLwx, i, infinite ? random_unit(g) : to / dist);
+        t.at(kDvLdist, i) = infinite ? kInfinity : dist;
+        t.set3(kDvLpx, i, q);
+        t.set3(kDvLnx, i, random_unit(g));
+        t.set3(kDvLiR, i, {15.f * u01(g), 15.f, edge ? 0.f : 3.f});
+        // The disc's centre and its diagonals, besides random numbers.
+        const float u0 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);
+        const float u1 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);
+        t.at(kDvU0, i) = u0;
+        t.at(kDvU1, i) = u1;
+        t.at(kDvURoulette, i) = u01(g);
+    }
+    return t;
+}
+
+Film render_path(const std::string& scene_file, const RendererOverrides& settings) {
+    Scene scene = load_scene(test::source_path("scenes/" + scene_file), settings);
+    scene.set_resolution(48, 48);
+    const RenderSettings rs = render_settings(scene);
+    const auto accel = make_intersector(scene, AccelType::Bvh, 2);
+    RenderOptions opt;
+    opt.threads = 2;
+    opt.spp = 16;
+    opt.seed = 3;
+    return render(scene, rs, *accel, opt).film;
+}
+
+uint32_t bits(float x) {
+    uint32_t b;
+    std::memcpy(&b, &x, 4);
+    return b;
+}
+
+}  // namespace
+
+TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
+          "[kernel][shade][fast]") {
+    const std::size_t n = 4099;  // not a multiple of any SIMD width
+    for (const DiffuseMis mis :
+         {DiffuseMis::Balance, DiffuseMis::Power, DiffuseMis::Maximum, DiffuseMis::None}) {
+        for (const bool roulette : {false, true}) {
+            Table a = random_vertices(n, 7u + uint32_t(mis)), b = a;
+            const DiffuseRules rules{mis, roulette};
+            shade_diffuse(a.view(), n, rules);
+            shade_diffuse_scalar(b.view(), n, rules);
+            std::size_t shadows = 0, nexts = 0, mismatches = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                REQUIRE(a.at(kDvShadowValid, i) == b.at(kDvShadowValid, i));
+                REQUIRE(a.at(kDvNextValid, i) == b.at(kDvNextValid, i));
+                auto same = [&](uint32_t from, uint32_t to) {
+                    for (uint32_t c = from; c <= to; ++c)
+                        if (bits(a.at(c, i)) != bits(b.at(c, i))) ++mismatches;
+                };
+                if (a.at(kDvShadowValid, i) != 0.f) {
+                    ++shadows;
+                    same(kDvSox, kDvSvB);
+                }
+                if (a.at(kDvNextValid, i) != 0.f) {
+                    ++nexts;
+                    same(kDvNox, kDvNpdf);
+                }
+            }
+            CHECK(mismatches == 0);
+            // The sets exercise both outcomes of both tests.
+            CHECK(shadows > n / 5);
+            CHECK(shadows < n);
+            CHECK(nexts > n / 3);
+            CHECK(nexts < n);
+        }
+    }
+}
+
+TEST_CASE("Diffuse shading kernel: the twin samples as the engine's Lambert lobe",
+          "[kernel][shade][fast]") {
+    const std::size_t n = 2000;
+    Table t = random_vertices(n, 99);
+    shade_diffuse_scalar(t.view(), n, DiffuseRules{DiffuseMis::Power, false});
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (t.at(kDvNextValid, i) == 0.f) continue;
+        const Vec3 ns{t.at(kDvNsx, i), t.at(kDvNsy, i), t.at(kDvNsz, i)};
+        const Vec3 wo{t.at(kDvWox, i), t.at(kDvWoy, i), t.at(kDvWoz, i)};
+        const RGB rho{t.at(kDvRhoR, i), t.at(kDvRhoG, i), t.at(kDvRhoB, i)};
+        const warp::Frame frame(ns);
+        BsdfSample s;
+        REQUIRE(lobe_sample(Lobe::lambert(rho), frame.to_local(wo), 0.5f,
+                            {t.at(kDvU0, i), t.at(kDvU1, i)}, BsdfContext{}, s));
+        const Vec3 wi = frame.to_world(s.wi);
+        const Vec3 k{t.at(kDvNdx, i), t.at(kDvNdy, i), t.at(kDvNdz, i)};
+        // The two sines and cosines differ by an ulp; near the horizon z = sqrt(1 - x^2 - y^2)
+        // magnifies that by 1 / z, so the tolerances are absolute.
+        CHECK(length(wi - k) < 1e-4f);
+        CHECK(t.at(kDvNpdf, i) == Approx(s.pdf).epsilon(1e-5).margin(3e-5));
+        const RGB beta{t.at(kDvBetaR, i), t.at(kDvBetaG, i), t.at(kDvBetaB, i)};
+        const RGB expect = beta * s.f * (std::fabs(s.wi.z) / s.pdf);
+        CHECK(t.at(kDvNbetaR, i) == Approx(expect.r).epsilon(1e-5));
+        CHECK(t.at(kDvNbetaB, i) == Approx(expect.b).epsilon(1e-5));
+        ++compared;
+    }
+    CHECK(compared > n / 3);
+}
+
+TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to rounding",
+          "[render][shade]") {
+    // The Lambertian box, and the mirror + glass box, where kernel and scalar vertices meet on
+    // one path; each MIS heuristic, BSDF sampling alone, and roulette from the first vertex.
+    const std::vector<std::pair<const char*, RendererOverrides>> cases = {
+        {"cornell-diffuse.xml", {{"mis", "power"}}},
+        {"cornell-diffuse.xml", {{"mis", "balance"}, {"rr_depth", "1"}}},
+        {"cornell-diffuse.xml", {{"mis", "max"}}},
+        {"cornell-diffuse.xml", {{"mis", "none"}}},
+        {"cornell-diffuse.xml", {{"nee", "false"}}},
+        {"smallvcm-box.xml", {{"mis", "power"}}},
+    };
+    for (const auto& [scene_name, settings] : cases) {
+        RendererOverrides simd = settings, scalar = settings;
+        simd.push_back({"type", "path"});
+        scalar.push_back({"type", "path"});
+        scalar.push_back({"shading", "scalar"});
+        const ImageError e =
+            compare_images(render_path(scene_name, simd), render_path(scene_name, scalar));
+        const double mean = (e.mean_b.r + e.mean_b.g + e.mean_b.b) / 3.0;
+        INFO(scene_name << " rmse " << e.rmse << " mean " << mean);
+        CHECK(mean > 0.01);
+        CHECK(e.rmse < 2e-3 * mean);
+    }
+}
