@@ -48,6 +48,17 @@ struct Table {
             col(kDvLny)[i] = -1.f;
             col(kDvLnz)[i] = 0.f;
             for (uint32_t c = kDvLiR; c <= kDvLiB; ++c) col(c)[i] = 15.f;
+            // The Cornell box's ceiling light, sampled by the kernel.
+            col(kDvLrect)[i] = 1.f;
+            col(kDvLightPdf)[i] = 1.f;
+            col(kDvLpx)[i] = 212.5f;
+            col(kDvLpy)[i] = 554.f;
+            col(kDvLpz)[i] = 227.f;
+            col(kDvLe1x)[i] = 130.f;
+            col(kDvLe2z)[i] = 105.f;
+            col(kDvLarea)[i] = 130.f * 105.f;
+            col(kDvLu0)[i] = u(g);
+            col(kDvLu1)[i] = u(g);
             for (uint32_t c = kDvU0; c <= kDvURoulette; ++c) col(c)[i] = u(g);
         }
     }

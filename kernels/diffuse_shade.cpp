@@ -82,9 +82,26 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const V3 t{b, sign + ns.y * ns.y * a, -ns.y};
     const FloatV wo_z = dot(l.in3(kDvWox), ns);
 
+    // A rectangle light's sample: a point uniform on its area, its solid-angle density.
+    const MaskV rect = l.in(kDvLrect) != zero;
+    FloatV pl = l.in(kDvLightPdf), dist = l.in(kDvLdist);
+    V3 lw = l.in3(kDvLwx), q = l.in3(kDvLpx), nq = l.in3(kDvLnx);
+    if (xsimd::any(rect)) {
+        const V3 qr = (q + l.in3(kDvLe1x) * l.in(kDvLu0)) + l.in3(kDvLe2x) * l.in(kDvLu1);
+        const V3 to = qr - p;
+        const FloatV d2 = dot(to, to);
+        const FloatV dr = simd::vsqrt(d2);
+        const V3 wr = to * (one / dr);
+        const FloatV cos_r = -dot(nq, wr);
+        const FloatV pr = pl * (d2 / (cos_r * l.in(kDvLarea)));
+        pl = xsimd::select(rect, xsimd::select((d2 != zero) & (cos_r > zero), pr, zero), pl);
+        dist = xsimd::select(rect, dr, dist);
+        lw = select(rect, wr, lw);
+        nq = select(rect & (dot(nq, wr) >= zero), V3{-nq.x, -nq.y, -nq.z}, nq);
+        q = select(rect, qr, q);
+    }
+
     // Next event estimation.
-    const FloatV pl = l.in(kDvLightPdf);
-    const V3 lw = l.in3(kDvLwx);
     const FloatV cos_l = dot(lw, ns);
     MaskV shadow = (pl > zero) & (dot(lw, ng) > zero) & (wo_z * cos_l > zero);
     const FloatV pb = xsimd::abs(cos_l) * inv_pi;
@@ -98,9 +115,7 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     l.out3(kDvSvR, value);
     // Both ends pushed off their surfaces towards each other (surface.h), or towards a light
     // at infinity along the direction.
-    const FloatV dist = l.in(kDvLdist);
     const MaskV at_infinity = xsimd::isinf(dist);
-    const V3 q = l.in3(kDvLpx), nq = l.in3(kDvLnx);
     const V3 o = offset(p, ng, eps, select(at_infinity, lw, q - p));
     const FloatV eps_q =
         FloatV(kDiffuseOffset) * (max3(xsimd::abs(q.x), xsimd::abs(q.y), xsimd::abs(q.z)) + dist);

@@ -68,6 +68,20 @@ enum DiffuseColumn : uint32_t {
     kDvLiR,
     kDvLiG,
     kDvLiB,
+    // Or a rectangle light the kernel samples itself (kDvLrect = 1): kDvLightPdf is then the
+    // light's selection probability alone, kDvLp its corner, kDvLn its normal (the side it
+    // emits to), kDvLi its radiance, and these its edges, area and the two numbers that place
+    // the point (LightSet::sample_li's arithmetic).
+    kDvLrect,
+    kDvLe1x,
+    kDvLe1y,
+    kDvLe1z,
+    kDvLe2x,
+    kDvLe2y,
+    kDvLe2z,
+    kDvLarea,
+    kDvLu0,
+    kDvLu1,
     // Uniform numbers: the BSDF direction (2), Russian roulette.
     kDvU0,
     kDvU1,

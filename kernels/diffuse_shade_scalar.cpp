@@ -68,9 +68,21 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
         const V3 t{b, sign + ns.y * ns.y * a, -ns.y};
         const float wo_z = dot(in3(kDvWox, i), ns);
 
+        // A rectangle light's sample: a point uniform on its area, its solid-angle density.
+        float pl = v.col(kDvLightPdf)[i], dist = v.col(kDvLdist)[i];
+        V3 lw = in3(kDvLwx, i), q = in3(kDvLpx, i), nq = in3(kDvLnx, i);
+        if (v.col(kDvLrect)[i] != 0.f) {
+            q = (q + in3(kDvLe1x, i) * v.col(kDvLu0)[i]) + in3(kDvLe2x, i) * v.col(kDvLu1)[i];
+            const V3 to = q - p;
+            const float d2 = dot(to, to);
+            dist = std::sqrt(d2);
+            lw = to * (1.f / dist);
+            const float cos_r = -dot(nq, lw);
+            pl = d2 != 0.f && cos_r > 0.f ? pl * (d2 / (cos_r * v.col(kDvLarea)[i])) : 0.f;
+            if (dot(nq, lw) >= 0.f) nq = nq * -1.f;
+        }
+
         // Next event estimation.
-        const float pl = v.col(kDvLightPdf)[i];
-        const V3 lw = in3(kDvLwx, i);
         const float cos_l = dot(lw, ns);
         bool shadow = pl > 0.f && dot(lw, ng) > 0.f && wo_z * cos_l > 0.f;
         V3 value{0.f, 0.f, 0.f};
@@ -86,14 +98,12 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
         }
         v.col(kDvShadowValid)[i] = shadow ? 1.f : 0.f;
         out3(kDvSvR, i, value);
-        const float dist = v.col(kDvLdist)[i];
         if (std::isinf(dist)) {
             out3(kDvSox, i, offset(p, ng, eps, lw));
             out3(kDvSdx, i, lw);
             v.col(kDvStmax)[i] = std::numeric_limits<float>::infinity();
         } else {
             // Both ends pushed off their surfaces towards each other (surface.h).
-            const V3 q = in3(kDvLpx, i), nq = in3(kDvLnx, i);
             const V3 o = offset(p, ng, eps, q - p);
             const float eps_q = kDiffuseOffset *
                                 (std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)}) + dist);

@@ -78,6 +78,21 @@ Table random_vertices(std::size_t n, uint32_t seed) {
         t.set3(kDvLpx, i, q);
         t.set3(kDvLnx, i, random_unit(g));
         t.set3(kDvLiR, i, {15.f * u01(g), 15.f, edge ? 0.f : 3.f});
+        // Every third lane a rectangle light for the kernel to sample (facing either way).
+        if (i % 3 == 1) {
+            const Vec3 e1 = random_unit(g) * (20.f + 80.f * u01(g));
+            const Vec3 e2 = normalize(cross(e1, random_unit(g))) * (20.f + 80.f * u01(g));
+            const Vec3 n_rect = normalize(cross(e1, e2));
+            t.at(kDvLrect, i) = 1.f;
+            t.set3(kDvLpx, i, q);
+            t.set3(kDvLnx, i, i % 2 ? n_rect : -n_rect);
+            t.set3(kDvLe1x, i, e1);
+            t.set3(kDvLe2x, i, e2);
+            t.at(kDvLarea, i) = length(cross(e1, e2));
+            t.at(kDvLu0, i) = u01(g);
+            t.at(kDvLu1, i) = u01(g);
+            t.at(kDvLdist, i) = 0.f;
+        }
         // The disc's centre and its diagonals, besides random numbers.
         const float u0 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);
         const float u1 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);

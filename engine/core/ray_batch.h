@@ -21,6 +21,8 @@ struct RayBatch {
     bool empty() const { return id.empty(); }
     void clear();
     void reserve(std::size_t n);
+    // n rays; those past the old size are set by the caller, column by column.
+    void resize(std::size_t n);
     void push(const Vec3& o, const Vec3& d, float t0, float t1, uint32_t slot);
     Vec3 origin(std::size_t i) const { return {ox[i], oy[i], oz[i]}; }
     Vec3 direction(std::size_t i) const { return {dx[i], dy[i], dz[i]}; }
@@ -59,6 +61,18 @@ inline void RayBatch::reserve(std::size_t n) {
     tmin.reserve(n);
     tmax.reserve(n);
     id.reserve(n);
+}
+
+inline void RayBatch::resize(std::size_t n) {
+    ox.resize(n);
+    oy.resize(n);
+    oz.resize(n);
+    dx.resize(n);
+    dy.resize(n);
+    dz.resize(n);
+    tmin.resize(n);
+    tmax.resize(n);
+    id.resize(n);
 }
 
 inline void RayBatch::push(const Vec3& o, const Vec3& d, float t0, float t1, uint32_t slot) {

@@ -90,20 +90,35 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     const RGB& beta = ws.beta[slot];
     put3(kern::kDvBetaR, beta.r, beta.g, beta.b);
     L.col(kern::kDvEtaScale)[lane] = ws.eta_scale[slot];
-    // The light sample, as shade_vertex's next event estimation draws it.
-    float pdf = 0.f, full = 1.f;
+    // The light, as shade_vertex's next event estimation chooses it; a rectangle is sampled
+    // by the kernel, any other light here.
+    float pdf = 0.f, full = 1.f, rect = 0.f;
     LightSample ls;
     if (rules_.nee && !ctx_.lights.empty()) {
         float pick;
         const uint32_t li = ctx_.lights.select(rand(ws, slot, depth, kPathDimLightSelect), pick);
-        if (ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
-                                  rand(ws, slot, depth, kPathDimLight + 2), ls)) {
+        const Emitter& e = ctx_.lights.emitter(li);
+        const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
+        if (e.type == EmitterType::Rect) {
+            const Point2 ul = rand2(ws, slot, depth, kPathDimLight);
+            rect = 1.f;
+            pdf = pick;
+            full = no_mis ? 1.f : 0.f;
+            ls.p_light = e.p;
+            ls.n_light = e.n;
+            ls.Li = e.value;
+            put3(kern::kDvLe1x, e.e1.x, e.e1.y, e.e1.z);
+            put3(kern::kDvLe2x, e.e2.x, e.e2.y, e.e2.z);
+            L.col(kern::kDvLarea)[lane] = e.area;
+            L.col(kern::kDvLu0)[lane] = ul.x;
+            L.col(kern::kDvLu1)[lane] = ul.y;
+        } else if (ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
+                                         rand(ws, slot, depth, kPathDimLight + 2), ls)) {
             pdf = pick * ls.pdf;
-            full = rules_.mis.heuristic == MisHeuristic::None || ctx_.lights.emitter(li).is_delta()
-                       ? 1.f
-                       : 0.f;
+            full = no_mis || e.is_delta() ? 1.f : 0.f;
         }
     }
+    L.col(kern::kDvLrect)[lane] = rect;
     L.col(kern::kDvLightPdf)[lane] = pdf;
     L.col(kern::kDvLightFull)[lane] = full;
     put3(kern::kDvLwx, ls.wi.x, ls.wi.y, ls.wi.z);
@@ -118,28 +133,58 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         depth + 1 >= ctx_.settings.rr_depth ? rand(ws, slot, depth, kPathDimRoulette) : 0.f;
 }
 
-void PathIntegrator::read_diffuse_lane(std::size_t lane, PathWorkspace& ws) const {
+void PathIntegrator::read_diffuse_lanes(PathWorkspace& ws) const {
     DiffuseLanes& L = ws.diffuse;
-    const std::size_t i = L.entry[lane];
-    const uint32_t slot = ws.rays.id[i];
-    auto get3 = [&](uint32_t c) {
-        return Vec3{L.col(c)[lane], L.col(c + 1)[lane], L.col(c + 2)[lane]};
-    };
-    if (L.col(kern::kDvShadowValid)[lane] != 0.f) {
-        ws.shadow.push(get3(kern::kDvSox), get3(kern::kDvSdx), 0.f, L.col(kern::kDvStmax)[lane],
-                       slot);
-        const Vec3 v = get3(kern::kDvSvR);
-        ws.shadow_value.push_back(RGB{v.x, v.y, v.z});
+    const float* shadow_valid = L.col(kern::kDvShadowValid);
+    const float* next_valid = L.col(kern::kDvNextValid);
+    std::size_t shadows = 0, nexts = 0;
+    for (std::size_t k = 0; k < L.size; ++k) {
+        shadows += shadow_valid[k] != 0.f;
+        nexts += next_valid[k] != 0.f;
     }
-    if (L.col(kern::kDvNextValid)[lane] == 0.f) return;
-    const Vec3 b = get3(kern::kDvNbetaR);
-    ws.beta[slot] = RGB{b.x, b.y, b.z};
-    ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[lane];
-    ws.specular_prev[slot] = 0;
-    ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
-    ws.chain_specular[slot] = 0;
-    ws.p_prev[slot] = get3(kern::kDvPx);
-    ws.next.push(get3(kern::kDvNox), get3(kern::kDvNdx), 0.f, kInfinity, slot);
+    // Both batches grown once and written column by column (not a push per ray).
+    RayBatch& sb = ws.shadow;
+    std::size_t s = sb.size();
+    sb.resize(s + shadows);
+    ws.shadow_value.resize(s + shadows);
+    RayBatch& nb = ws.next;
+    std::size_t n = nb.size();
+    nb.resize(n + nexts);
+    for (std::size_t k = 0; k < L.size; ++k) {
+        const uint32_t slot = ws.rays.id[L.entry[k]];
+        if (shadow_valid[k] != 0.f) {
+            sb.ox[s] = L.col(kern::kDvSox)[k];
+            sb.oy[s] = L.col(kern::kDvSoy)[k];
+            sb.oz[s] = L.col(kern::kDvSoz)[k];
+            sb.dx[s] = L.col(kern::kDvSdx)[k];
+            sb.dy[s] = L.col(kern::kDvSdy)[k];
+            sb.dz[s] = L.col(kern::kDvSdz)[k];
+            sb.tmin[s] = 0.f;
+            sb.tmax[s] = L.col(kern::kDvStmax)[k];
+            sb.id[s] = slot;
+            ws.shadow_value[s] =
+                RGB{L.col(kern::kDvSvR)[k], L.col(kern::kDvSvG)[k], L.col(kern::kDvSvB)[k]};
+            ++s;
+        }
+        if (next_valid[k] == 0.f) continue;
+        ws.beta[slot] =
+            RGB{L.col(kern::kDvNbetaR)[k], L.col(kern::kDvNbetaG)[k], L.col(kern::kDvNbetaB)[k]};
+        ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[k];
+        ws.specular_prev[slot] = 0;
+        ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
+        ws.chain_specular[slot] = 0;
+        ws.p_prev[slot] = Vec3{L.col(kern::kDvPx)[k], L.col(kern::kDvPy)[k], L.col(kern::kDvPz)[k]};
+        nb.ox[n] = L.col(kern::kDvNox)[k];
+        nb.oy[n] = L.col(kern::kDvNoy)[k];
+        nb.oz[n] = L.col(kern::kDvNoz)[k];
+        nb.dx[n] = L.col(kern::kDvNdx)[k];
+        nb.dy[n] = L.col(kern::kDvNdy)[k];
+        nb.dz[n] = L.col(kern::kDvNdz)[k];
+        nb.tmin[n] = 0.f;
+        nb.tmax[n] = kInfinity;
+        nb.id[n] = slot;
+        ++n;
+    }
 }
 
 void PathIntegrator::shade_diffuse(uint32_t depth, PathWorkspace& ws) const {
@@ -159,7 +204,7 @@ void PathIntegrator::shade_diffuse(uint32_t depth, PathWorkspace& ws) const {
         for (uint32_t c = 0; c < kern::kDiffuseColumns; ++c)
             std::fill(L.col(c) + L.size, L.col(c) + padded, 0.f);
         kern::shade_diffuse(L.table(), L.size, rules);
-        for (std::size_t k = 0; k < L.size; ++k) read_diffuse_lane(k, ws);
+        read_diffuse_lanes(ws);
     }
 }
 
