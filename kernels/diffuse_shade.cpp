@@ -14,6 +14,13 @@ namespace {
 using simd::FloatV;
 using simd::MaskV;
 
+// -x by its sign bit, as C++'s unary minus on a float: xsimd's AVX-512 negation is 0 - x,
+// which turns +0 into +0, not -0, and a frame built on an axis-aligned normal then flips
+// (copysign reads that sign) where the scalar twin's and the engine's does not.
+inline FloatV neg(const FloatV& x) {
+    return xsimd::bitwise_xor(x, FloatV(-0.f));
+}
+
 struct V3 {
     FloatV x, y, z;
 };
@@ -68,7 +75,53 @@ struct Lanes {
     }
 };
 
+inline V3 cross(const V3& a, const V3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline V3 neg(const V3& a) {
+    return {neg(a.x), neg(a.y), neg(a.z)};
+}
+
+// The surface of the lanes whose kDvSurface is not 0, written into the surface columns.
+void reconstruct_surface(const Lanes& l) {
+    const FloatV zero(0.f), one(1.f);
+    const FloatV kind = l.in(kDvSurface);
+    const MaskV made = kind != zero;
+    if (!xsimd::any(made)) return;
+    const FloatV t = l.in(kDvT), u = l.in(kDvU), v = l.in(kDvV);
+    const V3 dir = neg(l.in3(kDvWox));
+    const V3 a0 = l.in3(kDvA0x), a1 = l.in3(kDvA1x), a2 = l.in3(kDvA2x);
+    // A triangle: the barycentric point, the normal of its corners' cross product, and for a
+    // smooth one the normalised interpolated vertex normal.
+    const FloatV w = (one - u) - v;
+    const V3 p_tri = (a0 * w + a1 * u) + a2 * v;
+    const V3 c = cross(a1 - a0, a2 - a0);
+    const V3 ng_tri = c * (one / simd::vsqrt(dot(c, c)));
+    const V3 n_smooth = (l.in3(kDvN0x) * w + l.in3(kDvN1x) * u) + l.in3(kDvN2x) * v;
+    const FloatV len = simd::vsqrt(dot(n_smooth, n_smooth));
+    const V3 ns_tri = select((kind == FloatV(2.f)) & (len > zero), n_smooth * (one / len), ng_tri);
+    // A sphere: o + t d, the radius' direction.
+    const MaskV sphere = kind == FloatV(3.f);
+    const V3 p_sph = l.in3(kDvOx) + dir * t;
+    const V3 n_sph = (p_sph - a0) * (one / a1.x);
+    const V3 p = select(sphere, p_sph, p_tri);
+    V3 ng = select(sphere, n_sph, ng_tri), ns = select(sphere, n_sph, ns_tri);
+    // Both normals towards the side the ray came from; a shading normal that leans past the
+    // true surface gives way to the geometric one.
+    const MaskV back = dot(ng, dir) >= zero;
+    ng = select(back, neg(ng), ng);
+    ns = select(back, neg(ns), ns);
+    ns = select(dot(ns, dir) >= zero, ng, ns);
+    const FloatV eps =
+        FloatV(kDiffuseOffset) * (max3(xsimd::abs(p.x), xsimd::abs(p.y), xsimd::abs(p.z)) + t);
+    l.out3(kDvPx, select(made, p, l.in3(kDvPx)));
+    l.out3(kDvNgx, select(made, ng, l.in3(kDvNgx)));
+    l.out3(kDvNsx, select(made, ns, l.in3(kDvNsx)));
+    l.out(kDvEps, xsimd::select(made, eps, l.in(kDvEps)));
+}
+
 void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
+    reconstruct_surface(l);
     const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi);
     const V3 p = l.in3(kDvPx), ng = l.in3(kDvNgx), ns = l.in3(kDvNsx);
     const FloatV eps = l.in(kDvEps);
@@ -78,8 +131,8 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV sign = xsimd::copysign(one, ns.z);
     const FloatV a = FloatV(-1.f) / (sign + ns.z);
     const FloatV b = ns.x * ns.y * a;
-    const V3 s{one + sign * ns.x * ns.x * a, sign * b, -sign * ns.x};
-    const V3 t{b, sign + ns.y * ns.y * a, -ns.y};
+    const V3 s{one + sign * ns.x * ns.x * a, sign * b, neg(sign) * ns.x};
+    const V3 t{b, sign + ns.y * ns.y * a, neg(ns.y)};
     const FloatV wo_z = dot(l.in3(kDvWox), ns);
 
     // A rectangle light's sample: a point uniform on its area, its solid-angle density.
@@ -92,12 +145,12 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
         const FloatV d2 = dot(to, to);
         const FloatV dr = simd::vsqrt(d2);
         const V3 wr = to * (one / dr);
-        const FloatV cos_r = -dot(nq, wr);
+        const FloatV cos_r = neg(dot(nq, wr));
         const FloatV pr = pl * (d2 / (cos_r * l.in(kDvLarea)));
         pl = xsimd::select(rect, xsimd::select((d2 != zero) & (cos_r > zero), pr, zero), pl);
         dist = xsimd::select(rect, dr, dist);
         lw = select(rect, wr, lw);
-        nq = select(rect & (dot(nq, wr) >= zero), V3{-nq.x, -nq.y, -nq.z}, nq);
+        nq = select(rect & (dot(nq, wr) >= zero), neg(nq), nq);
         q = select(rect, qr, q);
     }
 
@@ -119,7 +172,7 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const V3 o = offset(p, ng, eps, select(at_infinity, lw, q - p));
     const FloatV eps_q =
         FloatV(kDiffuseOffset) * (max3(xsimd::abs(q.x), xsimd::abs(q.y), xsimd::abs(q.z)) + dist);
-    const FloatV toward = xsimd::select(dot(nq, o - q) >= zero, eps_q, -eps_q);
+    const FloatV toward = xsimd::select(dot(nq, o - q) >= zero, eps_q, neg(eps_q));
     const V3 d = (q + nq * toward) - o;
     const FloatV len = simd::vsqrt(dot(d, d));
     const V3 dn = select(len > zero, d * (one / len), d);
@@ -141,7 +194,7 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV lx = xsimd::select(centre, zero, r * xsimd::select(wide, cx, sx));
     const FloatV ly = xsimd::select(centre, zero, r * xsimd::select(wide, sx, cx));
     FloatV lz = simd::vsqrt(simd::vmax(one - lx * lx - ly * ly, zero));
-    lz = xsimd::select(wo_z < zero, -lz, lz);
+    lz = xsimd::select(wo_z < zero, neg(lz), lz);
     const FloatV cz = xsimd::abs(lz);
     const V3 wi = s * lx + t * ly + ns * lz;
     const FloatV pdf = cz * inv_pi;

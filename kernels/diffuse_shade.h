@@ -14,6 +14,9 @@
 //     shading normal, beta *= f |cos| / pdf, Russian roulette on max(beta) * eta_scale, the
 //     ray's origin pushed off the surface to the side it leaves by.
 //
+// Per vertex, first (unless given) the surface: the point, geometric and shading normals
+// facing the ray and the offset, from a triangle's corners or a sphere.
+//
 // shade_diffuse is the xsimd kernel; shade_diffuse_scalar its scalar twin, written one lane at
 // a time with branches. They do the same IEEE operations in the same order (sine and cosine
 // by one polynomial, diffuse_shade_math.h; the build contracts no multiply-add), so the tests
@@ -42,6 +45,36 @@ enum DiffuseColumn : uint32_t {
     kDvWox,
     kDvWoy,
     kDvWoz,
+    // Or the hit to reconstruct that surface from (engine/transport/common/surface.cpp's
+    // arithmetic), by kDvSurface: 0 = the columns above are given, 1 = a flat triangle,
+    // 2 = a smooth one, 3 = a sphere. The ray's distance and barycentrics, its origin, the
+    // triangle's corners (a sphere: its centre in A0, its radius in A1x) and a smooth
+    // triangle's vertex normals. The kernel then writes the surface columns above.
+    kDvSurface,
+    kDvT,
+    kDvU,
+    kDvV,
+    kDvOx,
+    kDvOy,
+    kDvOz,
+    kDvA0x,
+    kDvA0y,
+    kDvA0z,
+    kDvA1x,
+    kDvA1y,
+    kDvA1z,
+    kDvA2x,
+    kDvA2y,
+    kDvA2z,
+    kDvN0x,
+    kDvN0y,
+    kDvN0z,
+    kDvN1x,
+    kDvN1y,
+    kDvN1z,
+    kDvN2x,
+    kDvN2y,
+    kDvN2z,
     // Reflectance, the path's throughput up to here, its product of eta^2 (path.h).
     kDvRhoR,
     kDvRhoG,

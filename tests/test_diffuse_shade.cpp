@@ -1,6 +1,7 @@
 // The SIMD shading kernel of Lambertian vertices (kernels/diffuse_shade.h): bit for bit equal
-// to its scalar twin on random vertex sets with every edge the engine produces (lights behind
-// the surface, leaning shading normals, lights at infinity, the disc's centre, roulette), the
+// to its scalar twin on random vertex sets with every edge the engine produces (surfaces made
+// from flat and smooth triangles and spheres, lights behind the surface, leaning shading
+// normals, lights at infinity, the disc's centre, roulette), the
 // twin's directions equal to the engine's own Lambert sampling, and renders with the kernel
 // equal to renders without it up to float rounding.
 #include <catch2/catch.hpp>
@@ -78,6 +79,35 @@ Table random_vertices(std::size_t n, uint32_t seed) {
         t.set3(kDvLpx, i, q);
         t.set3(kDvLnx, i, random_unit(g));
         t.set3(kDvLiR, i, {15.f * u01(g), 15.f, edge ? 0.f : 3.f});
+        // Lanes whose surface the kernel makes: flat and smooth triangles, spheres.
+        if (i % 4 != 0) {
+            const float kind = float(i % 4);
+            const float tt = 1.f + 100.f * u01(g);
+            t.at(kDvSurface, i) = kind;
+            t.at(kDvT, i) = tt;
+            const Vec3 dir = -wo;
+            if (kind == 3.f) {
+                const Vec3 o = p - dir * tt;
+                const float r = 1.f + 50.f * u01(g);
+                t.set3(kDvOx, i, o);
+                t.set3(kDvA0x, i, p - random_unit(g) * r);
+                t.at(kDvA1x, i) = r;
+            } else {
+                const float bu = u01(g), bv = (1.f - bu) * u01(g);
+                t.at(kDvU, i) = bu;
+                t.at(kDvV, i) = bv;
+                for (uint32_t c : {kDvA0x, kDvA1x, kDvA2x})
+                    t.set3(c, i, p + random_unit(g) * (5.f + 40.f * u01(g)));
+                // An axis-aligned triangle (a Cornell box wall): its normal has exact zeros,
+                // whose signs pick the shading frame.
+                if (i % 8 == 1) {
+                    t.set3(kDvA0x, i, p);
+                    t.set3(kDvA1x, i, p + Vec3{0.f, 10.f, 0.f});
+                    t.set3(kDvA2x, i, p + Vec3{0.f, 0.f, 10.f});
+                }
+                for (uint32_t c : {kDvN0x, kDvN1x, kDvN2x}) t.set3(c, i, random_unit(g));
+            }
+        }
         // Every third lane a rectangle light for the kernel to sample (facing either way).
         if (i % 3 == 1) {
             const Vec3 e1 = random_unit(g) * (20.f + 80.f * u01(g));
@@ -141,6 +171,7 @@ TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
                     for (uint32_t c = from; c <= to; ++c)
                         if (bits(a.at(c, i)) != bits(b.at(c, i))) ++mismatches;
                 };
+                same(kDvPx, kDvEps);
                 if (a.at(kDvShadowValid, i) != 0.f) {
                     ++shadows;
                     same(kDvSox, kDvSvB);

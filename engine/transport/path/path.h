@@ -128,6 +128,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     bool diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i) const;
     void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
     void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
+    bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
     void read_diffuse_lanes(PathWorkspace& ws) const;
     // The cache's vertex: true when it took the path over.
     bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,

@@ -69,56 +69,103 @@ bool PathIntegrator::diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i
     return !(cache_ && ws.chain_specular[ws.rays.id[i]]);
 }
 
+// The hit's geometry for the kernel to reconstruct the surface from (flat and smooth
+// triangles of meshes placed as they are, spheres); false for an instance, whose surface
+// surface_at makes here.
+bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    const Scene& scene = ctx_.scene;
+    const Object& obj = scene.objects[ws.hits.geom[i]];
+    if (obj.instance >= 0) return false;
+    auto put3 = [&](uint32_t c, const Vec3& a) {
+        L.col(c)[lane] = a.x;
+        L.col(c + 1)[lane] = a.y;
+        L.col(c + 2)[lane] = a.z;
+    };
+    float kind;
+    if (obj.kind == ObjectKind::Mesh) {
+        const TriangleMesh& m = scene.meshes[obj.index];
+        const uint32_t* ix = &m.indices[3 * std::size_t(ws.hits.prim[i])];
+        put3(kern::kDvA0x, m.vertex(ix[0]));
+        put3(kern::kDvA1x, m.vertex(ix[1]));
+        put3(kern::kDvA2x, m.vertex(ix[2]));
+        kind = 1.f;
+        if (obj.smooth) {
+            put3(kern::kDvN0x, m.vertex_normal(ix[0]));
+            put3(kern::kDvN1x, m.vertex_normal(ix[1]));
+            put3(kern::kDvN2x, m.vertex_normal(ix[2]));
+            kind = 2.f;
+        }
+    } else {
+        const Sphere& sph = scene.spheres[obj.index];
+        put3(kern::kDvA0x, sph.center);
+        L.col(kern::kDvA1x)[lane] = sph.radius;
+        put3(kern::kDvOx, ws.rays.origin(i));
+        kind = 3.f;
+    }
+    L.col(kern::kDvSurface)[lane] = kind;
+    L.col(kern::kDvT)[lane] = ws.hits.t[i];
+    L.col(kern::kDvU)[lane] = ws.hits.u[i];
+    L.col(kern::kDvV)[lane] = ws.hits.v[i];
+    return true;
+}
+
 void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const {
     DiffuseLanes& L = ws.diffuse;
     const std::size_t i = L.entry[lane];
     const uint32_t slot = ws.rays.id[i];
-    const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
     ws.path_length[slot] += ws.hits.t[i];
     auto put3 = [&](uint32_t c, float x, float y, float z) {
         L.col(c)[lane] = x;
         L.col(c + 1)[lane] = y;
         L.col(c + 2)[lane] = z;
     };
-    put3(kern::kDvPx, sp.p.x, sp.p.y, sp.p.z);
-    put3(kern::kDvNgx, sp.ng.x, sp.ng.y, sp.ng.z);
-    put3(kern::kDvNsx, sp.ns.x, sp.ns.y, sp.ns.z);
-    L.col(kern::kDvEps)[lane] = sp.epsilon;
     put3(kern::kDvWox, -ws.rays.dx[i], -ws.rays.dy[i], -ws.rays.dz[i]);
     const RGB& rho = diffuse_.rho[ctx_.scene.objects[ws.hits.geom[i]].material];
     put3(kern::kDvRhoR, rho.r, rho.g, rho.b);
     const RGB& beta = ws.beta[slot];
     put3(kern::kDvBetaR, beta.r, beta.g, beta.b);
     L.col(kern::kDvEtaScale)[lane] = ws.eta_scale[slot];
-    // The light, as shade_vertex's next event estimation chooses it; a rectangle is sampled
-    // by the kernel, any other light here.
-    float pdf = 0.f, full = 1.f, rect = 0.f;
-    LightSample ls;
-    if (rules_.nee && !ctx_.lights.empty()) {
-        float pick;
-        const uint32_t li = ctx_.lights.select(rand(ws, slot, depth, kPathDimLightSelect), pick);
-        const Emitter& e = ctx_.lights.emitter(li);
-        const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
-        if (e.type == EmitterType::Rect) {
-            const Point2 ul = rand2(ws, slot, depth, kPathDimLight);
-            rect = 1.f;
-            pdf = pick;
-            full = no_mis ? 1.f : 0.f;
-            ls.p_light = e.p;
-            ls.n_light = e.n;
-            ls.Li = e.value;
-            put3(kern::kDvLe1x, e.e1.x, e.e1.y, e.e1.z);
-            put3(kern::kDvLe2x, e.e2.x, e.e2.y, e.e2.z);
-            L.col(kern::kDvLarea)[lane] = e.area;
-            L.col(kern::kDvLu0)[lane] = ul.x;
-            L.col(kern::kDvLu1)[lane] = ul.y;
-        } else if (ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
-                                         rand(ws, slot, depth, kPathDimLight + 2), ls)) {
-            pdf = pick * ls.pdf;
-            full = no_mis || e.is_delta() ? 1.f : 0.f;
-        }
+    // The light, as shade_vertex's next event estimation chooses it. The kernel samples a
+    // rectangle and makes the surface itself; any other light is sampled here, from the
+    // surface point surface_at makes here.
+    const bool nee = rules_.nee && !ctx_.lights.empty();
+    float pick = 0.f;
+    const uint32_t li =
+        nee ? ctx_.lights.select(rand(ws, slot, depth, kPathDimLightSelect), pick) : 0;
+    const Emitter* e = nee ? &ctx_.lights.emitter(li) : nullptr;
+    const bool rect = e && e->type == EmitterType::Rect;
+    SurfacePoint sp;
+    const bool made_here = !(rect || !e) || !put_hit(lane, i, ws);
+    if (made_here) {
+        sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+        L.col(kern::kDvSurface)[lane] = 0.f;
+        put3(kern::kDvPx, sp.p.x, sp.p.y, sp.p.z);
+        put3(kern::kDvNgx, sp.ng.x, sp.ng.y, sp.ng.z);
+        put3(kern::kDvNsx, sp.ns.x, sp.ns.y, sp.ns.z);
+        L.col(kern::kDvEps)[lane] = sp.epsilon;
     }
-    L.col(kern::kDvLrect)[lane] = rect;
+    float pdf = 0.f, full = 1.f;
+    const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
+    LightSample ls;
+    if (rect) {
+        const Point2 ul = rand2(ws, slot, depth, kPathDimLight);
+        pdf = pick;
+        full = no_mis ? 1.f : 0.f;
+        ls.p_light = e->p;
+        ls.n_light = e->n;
+        ls.Li = e->value;
+        put3(kern::kDvLe1x, e->e1.x, e->e1.y, e->e1.z);
+        put3(kern::kDvLe2x, e->e2.x, e->e2.y, e->e2.z);
+        L.col(kern::kDvLarea)[lane] = e->area;
+        L.col(kern::kDvLu0)[lane] = ul.x;
+        L.col(kern::kDvLu1)[lane] = ul.y;
+    } else if (e && ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
+                                          rand(ws, slot, depth, kPathDimLight + 2), ls)) {
+        pdf = pick * ls.pdf;
+        full = no_mis || e->is_delta() ? 1.f : 0.f;
+    }
+    L.col(kern::kDvLrect)[lane] = rect ? 1.f : 0.f;
     L.col(kern::kDvLightPdf)[lane] = pdf;
     L.col(kern::kDvLightFull)[lane] = full;
     put3(kern::kDvLwx, ls.wi.x, ls.wi.y, ls.wi.z);
