@@ -4,14 +4,17 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <iterator>
+#include <random>
 #include <set>
 #include <vector>
 
 #include "engine/core/halton.h"
+#include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
 #include "engine/core/sampler.h"
 #include "engine/core/sobol.h"
 #include "engine/core/zsobol.h"
+#include "kernels/counter_hash.h"
 
 using namespace foton;
 
@@ -369,4 +372,36 @@ TEST_CASE("random stream keys are distinct", "[sampler][fast]") {
     std::set<uint64_t> keys;
     for (RandomStream s : kAllRandomStreams) CHECK(keys.insert(uint64_t(s)).second);
     CHECK(keys.size() == std::size(kAllRandomStreams));
+}
+
+TEST_CASE("Counter-based numbers drawn as a table equal rng::uniform's, bit for bit",
+          "[sampler][kernel][fast]") {
+    std::mt19937_64 g(11);
+    const std::size_t n = 203;  // the table kernel reads and writes up to 208
+    std::vector<uint64_t> keys((n + 7) / 8 * 8);
+    for (uint64_t& k : keys) k = g();
+    keys[0] = 0;
+    keys[1] = ~0ull;
+    const std::vector<uint64_t> dims = {0, 1, 7, 8, 63, 1000, uint64_t(~0ull - 1)};
+    for (const uint64_t seed : {uint64_t(0), uint64_t(12345), uint64_t(~0ull)}) {
+        const uint64_t prefix = rng::stream_prefix(seed, kPathStream);
+        std::vector<float> simd(dims.size() * keys.size()), scalar(simd.size());
+        kern::uniform_table(prefix, keys.data(), n, dims.data(), dims.size(), simd.data(),
+                            keys.size());
+        kern::uniform_table_scalar(prefix, keys.data(), n, dims.data(), dims.size(), scalar.data(),
+                                   keys.size());
+        std::size_t differ = 0, engine_differ = 0;
+        double sum = 0.0;
+        for (std::size_t d = 0; d < dims.size(); ++d)
+            for (std::size_t i = 0; i < n; ++i) {
+                const float a = simd[d * keys.size() + i];
+                differ += a != scalar[d * keys.size() + i];
+                engine_differ += a != rng::uniform(seed, kPathStream, keys[i], dims[d]);
+                sum += a;
+                CHECK((a >= 0.f && a < 1.f));
+            }
+        CHECK(differ == 0);
+        CHECK(engine_differ == 0);
+        CHECK(sum / double(n * dims.size()) == Approx(0.5).margin(0.03));
+    }
 }

@@ -25,6 +25,14 @@ struct DiffuseLanes {
     AlignedVector<float> data = AlignedVector<float>(std::size_t(kern::kDiffuseColumns) * kLanes);
     uint32_t entry[kLanes];  // the batch entry each lane came from
     std::size_t size = 0;
+    // The lanes' random numbers of this bounce, drawn as one table when every lane's sampler
+    // is counter-based (kRandDims rows of kLanes; `drawn` says whether they are).
+    static constexpr uint32_t kRandDims = 7;
+    static constexpr uint32_t kRandLightSelect = 0, kRandLight = 1, kRandBsdf = 4,
+                              kRandRoulette = 6;
+    AlignedVector<uint64_t> keys = AlignedVector<uint64_t>(kLanes);
+    AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandDims) * kLanes);
+    bool drawn = false;
 
     kern::DiffuseVertices table() { return {data.data(), kLanes}; }
     float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }

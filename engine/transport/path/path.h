@@ -127,6 +127,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     DiffuseMaterials diffuse_materials() const;
     bool diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i) const;
     void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
+    void draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) const;
     void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
     bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
     void read_diffuse_lanes(PathWorkspace& ws) const;

@@ -110,10 +110,43 @@ bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws)
     return true;
 }
 
+// The chunk's random numbers as one table (kern::uniform_table) when every lane's sampler is
+// counter-based; the same numbers rand() would give one at a time.
+void PathIntegrator::draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    L.drawn = false;
+    uint64_t prefix = 0;
+    for (std::size_t k = 0; k < L.size; ++k) {
+        const PathSampler& ps = ws.samplers[ws.rays.id[L.entry[k]]];
+        if (!ps.counter_based() || (k > 0 && ps.prefix() != prefix)) return;
+        prefix = ps.prefix();
+        L.keys[k] = ps.key();
+    }
+    const std::size_t padded = (L.size + 7) / 8 * 8;
+    std::fill(L.keys.begin() + std::ptrdiff_t(L.size), L.keys.begin() + std::ptrdiff_t(padded), 0);
+    const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
+    const uint64_t dims[DiffuseLanes::kRandDims] = {
+        base + kPathDimLightSelect, base + kPathDimLight,    base + kPathDimLight + 1,
+        base + kPathDimLight + 2,   base + kPathDimBsdf + 1, base + kPathDimBsdf + 2,
+        base + kPathDimRoulette};
+    kern::uniform_table(prefix, L.keys.data(), L.size, dims, DiffuseLanes::kRandDims, L.rand.data(),
+                        DiffuseLanes::kLanes);
+    L.drawn = true;
+}
+
 void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const {
     DiffuseLanes& L = ws.diffuse;
     const std::size_t i = L.entry[lane];
     const uint32_t slot = ws.rays.id[i];
+    // Number `row` of the drawn table, or the sampler's number k.
+    auto draw = [&](uint32_t row, uint32_t k) {
+        return L.drawn ? L.rand[row * DiffuseLanes::kLanes + lane] : rand(ws, slot, depth, k);
+    };
+    auto draw2 = [&](uint32_t row, uint32_t k) {
+        return L.drawn ? Point2{L.rand[row * DiffuseLanes::kLanes + lane],
+                                L.rand[(row + 1) * DiffuseLanes::kLanes + lane]}
+                       : rand2(ws, slot, depth, k);
+    };
     ws.path_length[slot] += ws.hits.t[i];
     auto put3 = [&](uint32_t c, float x, float y, float z) {
         L.col(c)[lane] = x;
@@ -132,7 +165,8 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     const bool nee = rules_.nee && !ctx_.lights.empty();
     float pick = 0.f;
     const uint32_t li =
-        nee ? ctx_.lights.select(rand(ws, slot, depth, kPathDimLightSelect), pick) : 0;
+        nee ? ctx_.lights.select(draw(DiffuseLanes::kRandLightSelect, kPathDimLightSelect), pick)
+            : 0;
     const Emitter* e = nee ? &ctx_.lights.emitter(li) : nullptr;
     const bool rect = e && e->type == EmitterType::Rect;
     SurfacePoint sp;
@@ -149,7 +183,7 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
     LightSample ls;
     if (rect) {
-        const Point2 ul = rand2(ws, slot, depth, kPathDimLight);
+        const Point2 ul = draw2(DiffuseLanes::kRandLight, kPathDimLight);
         pdf = pick;
         full = no_mis ? 1.f : 0.f;
         ls.p_light = e->p;
@@ -160,8 +194,9 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         L.col(kern::kDvLarea)[lane] = e->area;
         L.col(kern::kDvLu0)[lane] = ul.x;
         L.col(kern::kDvLu1)[lane] = ul.y;
-    } else if (e && ctx_.lights.sample_li(li, sp.p, rand2(ws, slot, depth, kPathDimLight),
-                                          rand(ws, slot, depth, kPathDimLight + 2), ls)) {
+    } else if (e &&
+               ctx_.lights.sample_li(li, sp.p, draw2(DiffuseLanes::kRandLight, kPathDimLight),
+                                     draw(DiffuseLanes::kRandLight + 2, kPathDimLight + 2), ls)) {
         pdf = pick * ls.pdf;
         full = no_mis || e->is_delta() ? 1.f : 0.f;
     }
@@ -173,11 +208,12 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     put3(kern::kDvLpx, ls.p_light.x, ls.p_light.y, ls.p_light.z);
     put3(kern::kDvLnx, ls.n_light.x, ls.n_light.y, ls.n_light.z);
     put3(kern::kDvLiR, ls.Li.r, ls.Li.g, ls.Li.b);
-    const Point2 u = rand2(ws, slot, depth, kPathDimBsdf + 1);
+    const Point2 u = draw2(DiffuseLanes::kRandBsdf, kPathDimBsdf + 1);
     L.col(kern::kDvU0)[lane] = u.x;
     L.col(kern::kDvU1)[lane] = u.y;
-    L.col(kern::kDvURoulette)[lane] =
-        depth + 1 >= ctx_.settings.rr_depth ? rand(ws, slot, depth, kPathDimRoulette) : 0.f;
+    L.col(kern::kDvURoulette)[lane] = depth + 1 >= ctx_.settings.rr_depth
+                                          ? draw(DiffuseLanes::kRandRoulette, kPathDimRoulette)
+                                          : 0.f;
 }
 
 void PathIntegrator::read_diffuse_lanes(PathWorkspace& ws) const {
@@ -242,10 +278,9 @@ void PathIntegrator::shade_diffuse(uint32_t depth, PathWorkspace& ws) const {
     const std::vector<uint32_t>& entries = ws.diffuse_entries;
     for (std::size_t start = 0; start < entries.size(); start += DiffuseLanes::kLanes) {
         L.size = std::min(DiffuseLanes::kLanes, entries.size() - start);
-        for (std::size_t k = 0; k < L.size; ++k) {
-            L.entry[k] = entries[start + k];
-            fill_diffuse_lane(depth, k, ws);
-        }
+        for (std::size_t k = 0; k < L.size; ++k) L.entry[k] = entries[start + k];
+        draw_diffuse_numbers(depth, ws);
+        for (std::size_t k = 0; k < L.size; ++k) fill_diffuse_lane(depth, k, ws);
         // The lanes past the last up to the SIMD width: zeros, which make no rays.
         const std::size_t padded = (L.size + width - 1) / width * width;
         for (uint32_t c = 0; c < kern::kDiffuseColumns; ++c)

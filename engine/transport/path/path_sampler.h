@@ -55,6 +55,13 @@ class PathSampler {
         return s;
     }
 
+    // Counter-based numbers (random, jittered, regular, hammersley past the pixel): number k
+    // of bounce d is rng::uniform_from(prefix(), key(), d * kPathDimsPerBounce + k), which a
+    // caller may draw for many paths at once (kern::uniform_table).
+    bool counter_based() const { return kind_ == Kind::Uniform; }
+    uint64_t key() const { return key_; }
+    uint64_t prefix() const { return prefix_; }
+
     // Number k of bounce `depth`.
     float get1(uint64_t seed, uint32_t depth, uint32_t k) const {
         switch (kind_) {

@@ -1,0 +1,56 @@
+// uniform_table: AVX-512 (with its DQ extension's 64-bit multiply) draws 8 numbers of one
+// dimension at once; other builds run the scalar twin.
+#include "counter_hash.h"
+
+#include <immintrin.h>
+
+namespace foton::kern {
+
+void uniform_table_scalar(uint64_t prefix, const uint64_t* index, std::size_t n,
+                          const uint64_t* dims, std::size_t n_dims, float* out,
+                          std::size_t stride) {
+    for (std::size_t d = 0; d < n_dims; ++d)
+        for (std::size_t i = 0; i < n; ++i)
+            out[d * stride + i] = to_unit_float(hash_from(prefix, index[i], dims[d]));
+}
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+namespace {
+
+// The masked forms: GCC 12's plain shifts pass an undefined source it then warns about.
+inline __m512i shift_right(__m512i z, unsigned n) {
+    return _mm512_maskz_srli_epi64(__mmask8(0xff), z, n);
+}
+inline __m512i mix(__m512i z) {
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shift_right(z, 30)),
+                           _mm512_set1_epi64(int64_t(0xbf58476d1ce4e5b9ull)));
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shift_right(z, 27)),
+                           _mm512_set1_epi64(int64_t(0x94d049bb133111ebull)));
+    return _mm512_xor_si512(z, shift_right(z, 31));
+}
+
+}  // namespace
+
+void uniform_table(uint64_t prefix, const uint64_t* index, std::size_t n, const uint64_t* dims,
+                   std::size_t n_dims, float* out, std::size_t stride) {
+    const __m512i pre = _mm512_set1_epi64(int64_t(prefix));
+    const __m256 scale = _mm256_set1_ps(1.f / 16777216.f);
+    for (std::size_t i = 0; i < n; i += 8) {
+        const __m512i k = _mm512_loadu_si512(index + i);
+        for (std::size_t d = 0; d < n_dims; ++d) {
+            const __m512i step = _mm512_set1_epi64(int64_t(0x85157af5ull * (dims[d] + 1)));
+            __m512i h = mix(_mm512_xor_si512(pre, _mm512_add_epi64(k, step)));
+            h = mix(_mm512_xor_si512(h, _mm512_set1_epi64(int64_t(dims[d]))));
+            const __m256 f = _mm512_maskz_cvtepu64_ps(__mmask8(0xff), shift_right(h, 40));
+            _mm256_storeu_ps(out + d * stride + i, _mm256_mul_ps(f, scale));
+        }
+    }
+}
+#else
+void uniform_table(uint64_t prefix, const uint64_t* index, std::size_t n, const uint64_t* dims,
+                   std::size_t n_dims, float* out, std::size_t stride) {
+    uniform_table_scalar(prefix, index, (n + 7) / 8 * 8, dims, n_dims, out, stride);
+}
+#endif
+
+}  // namespace foton::kern
