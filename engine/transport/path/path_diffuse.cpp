@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "engine/transport/common/surface.h"
+#include "kernels/sobol_net.h"
 #include "path.h"
 
 namespace foton {
@@ -110,27 +111,48 @@ bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws)
     return true;
 }
 
-// The chunk's random numbers as one table (kern::uniform_table) when every lane's sampler is
-// counter-based; the same numbers rand() would give one at a time.
+// The chunk's random numbers as one table when every lane's sampler is counter-based
+// (kern::uniform_table) or Sobol' (kern::sobol::sample_table): the same numbers rand() gives
+// one at a time. Other samplers (Halton, Z-Sobol') draw them one at a time in the fill.
 void PathIntegrator::draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) const {
     DiffuseLanes& L = ws.diffuse;
     L.drawn = false;
-    uint64_t prefix = 0;
+    const PathSampler& first = ws.samplers[ws.rays.id[L.entry[0]]];
+    const bool uniform = first.counter_based(), sobol = first.sobol();
+    if (!uniform && !sobol) return;
     for (std::size_t k = 0; k < L.size; ++k) {
         const PathSampler& ps = ws.samplers[ws.rays.id[L.entry[k]]];
-        if (!ps.counter_based() || (k > 0 && ps.prefix() != prefix)) return;
-        prefix = ps.prefix();
+        if (ps.counter_based() != uniform || ps.sobol() != sobol ||
+            (uniform && ps.prefix() != first.prefix()))
+            return;
         L.keys[k] = ps.key();
+        L.pattern_index[k] = ps.pattern_index();
+        L.pattern_count[k] = ps.pattern_count();
     }
+    // The kernels read up to 8 lanes past the last: zeros there.
     const std::size_t padded = (L.size + 7) / 8 * 8;
-    std::fill(L.keys.begin() + std::ptrdiff_t(L.size), L.keys.begin() + std::ptrdiff_t(padded), 0);
-    const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
-    const uint64_t dims[DiffuseLanes::kRandDims] = {
-        base + kPathDimLightSelect, base + kPathDimLight,    base + kPathDimLight + 1,
-        base + kPathDimLight + 2,   base + kPathDimBsdf + 1, base + kPathDimBsdf + 2,
-        base + kPathDimRoulette};
-    kern::uniform_table(prefix, L.keys.data(), L.size, dims, DiffuseLanes::kRandDims, L.rand.data(),
-                        DiffuseLanes::kLanes);
+    for (std::size_t k = L.size; k < padded; ++k) {
+        L.keys[k] = 0;
+        L.pattern_index[k] = 0;
+        L.pattern_count[k] = 1;
+    }
+    if (uniform) {
+        // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
+        // triangle, lobe, roulette.
+        const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
+        const uint64_t dims[DiffuseLanes::kRandRows] = {
+            base + kPathDimLight,    base + kPathDimLight + 1,   base + kPathDimBsdf + 1,
+            base + kPathDimBsdf + 2, base + kPathDimLightSelect, base + kPathDimLight + 2,
+            base + kPathDimBsdf,     base + kPathDimRoulette};
+        kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, DiffuseLanes::kRandRows,
+                            L.rand.data(), DiffuseLanes::kLanes);
+    } else {
+        const uint32_t p0 = 1 + depth * 4;
+        const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
+        kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
+                                  L.keys.data(), L.size, pairs, 4, L.rand.data(),
+                                  DiffuseLanes::kLanes);
+    }
     L.drawn = true;
 }
 
@@ -196,7 +218,7 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         L.col(kern::kDvLu1)[lane] = ul.y;
     } else if (e &&
                ctx_.lights.sample_li(li, sp.p, draw2(DiffuseLanes::kRandLight, kPathDimLight),
-                                     draw(DiffuseLanes::kRandLight + 2, kPathDimLight + 2), ls)) {
+                                     draw(DiffuseLanes::kRandLightUc, kPathDimLight + 2), ls)) {
         pdf = pick * ls.pdf;
         full = no_mis || e->is_delta() ? 1.f : 0.f;
     }

@@ -59,6 +59,12 @@ class PathSampler {
     // of bounce d is rng::uniform_from(prefix(), key(), d * kPathDimsPerBounce + k), which a
     // caller may draw for many paths at once (kern::uniform_table).
     bool counter_based() const { return kind_ == Kind::Uniform; }
+    // Sobol' (sampler="sobol"): number k of bounce d is coordinate kCoord[k] of point
+    // pattern_index() of pattern_count() of pair pair_of(d, k), keyed by key()
+    // (kern::sobol::sample_table draws them for many paths at once).
+    bool sobol() const { return kind_ == Kind::Sobol; }
+    uint32_t pattern_index() const { return i_; }
+    uint32_t pattern_count() const { return n_; }
     uint64_t key() const { return key_; }
     uint64_t prefix() const { return prefix_; }
 

@@ -1,11 +1,11 @@
-#include "sobol.h"
+#include "sobol_net.h"
 
 #include <algorithm>
 #include <bit>
 
-#include "rng.h"
+#include "counter_hash.h"
 
-namespace foton::sobol {
+namespace foton::kern::sobol {
 
 uint32_t dim0(uint32_t i) {
     i = (i << 16) | (i >> 16);
@@ -40,6 +40,10 @@ constexpr Dim1Tables make_dim1_tables() {
 constexpr Dim1Tables kDim1 = make_dim1_tables();
 }  // namespace
 
+const uint32_t* dim1_tables() {
+    return &kDim1.t[0][0];
+}
+
 uint32_t dim1(uint32_t i) {
     return kDim1.t[0][i & 0xffu] ^ kDim1.t[1][(i >> 8) & 0xffu] ^ kDim1.t[2][(i >> 16) & 0xffu] ^
            kDim1.t[3][i >> 24];
@@ -51,7 +55,7 @@ uint32_t owen_scramble(uint32_t v, uint64_t seed) {
     // all do exactly that (carries only move up), so their composition, keyed by the seed,
     // is a nested scramble and a bijection, for a few operations per value.
     uint32_t x = dim0(v);  // bit reversal
-    const uint64_t h = rng::mix64(seed), h2 = rng::mix64(seed ^ 0x632be59bd9b4e019ull);
+    const uint64_t h = mix64(seed), h2 = mix64(seed ^ 0x632be59bd9b4e019ull);
     x += uint32_t(h);
     x *= uint32_t(h >> 32) | 1u;
     x ^= x * (uint32_t(h2) << 1);
@@ -64,7 +68,7 @@ uint32_t permute(uint32_t i, uint32_t n, uint64_t seed) {
     if (n <= 1) return 0;
     uint32_t mask = n - 1;
     for (int s = 1; s < 32; s <<= 1) mask |= mask >> s;
-    const uint64_t h = rng::mix64(seed);
+    const uint64_t h = mix64(seed);
     const uint32_t a = uint32_t(h) | 1u, c = uint32_t(h >> 32), a2 = uint32_t(h >> 16) | 1u;
     const int shift = std::max(1, std::countr_one(mask) / 2);
     // Each step is a bijection of [0, mask]: odd multiplication, addition, xor-shift right.
@@ -78,10 +82,11 @@ uint32_t permute(uint32_t i, uint32_t n, uint64_t seed) {
     return i;
 }
 
-namespace {
 uint64_t pair_key(uint64_t seed, uint64_t key, uint32_t pair) {
-    return rng::mix64(key ^ rng::mix64(seed + 0x50b0u * (uint64_t(pair) + 1)));
+    return mix64(key ^ pair_salt(seed, pair));
 }
+
+namespace {
 // 24 bits: the float stays below 1.
 float to_float(uint32_t v) {
     return float(v >> 8) * (1.f / 16777216.f);
@@ -103,4 +108,13 @@ float sample1(uint32_t i, uint32_t n, uint64_t seed, uint64_t key, uint32_t pair
                       : to_float(owen_scramble(dim1(j), k + 2));
 }
 
-}  // namespace foton::sobol
+void sample_table_scalar(uint64_t seed, const uint32_t* index, const uint32_t* count,
+                         const uint64_t* key, std::size_t n, const uint32_t* pairs,
+                         std::size_t n_pairs, float* out, std::size_t stride) {
+    for (std::size_t p = 0; p < n_pairs; ++p)
+        for (std::size_t s = 0; s < n; ++s)
+            sample2(index[s], count[s], seed, key[s], pairs[p], out[2 * p * stride + s],
+                    out[(2 * p + 1) * stride + s]);
+}
+
+}  // namespace foton::kern::sobol
