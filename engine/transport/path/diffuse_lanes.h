@@ -26,13 +26,14 @@ struct DiffuseLanes {
     uint32_t entry[kLanes];  // the batch entry each lane came from
     std::size_t size = 0;
     // The lanes' random numbers of this bounce, drawn as one table when every lane's sampler
-    // is counter-based or Sobol' (kRandRows rows of kLanes; `drawn` says whether they are).
-    // The rows are the Sobol' table's: the pairs (light point), (BSDF direction), (light
+    // is counter-based, Sobol' or Z-Sobol' (kRandRows rows of kLanes; `drawn` says whether they
+    // are). The rows are the Sobol' table's: the pairs (light point), (BSDF direction), (light
     // choice, mesh triangle), (lobe, roulette).
     static constexpr uint32_t kRandRows = 8;
     static constexpr uint32_t kRandLight = 0, kRandBsdf = 2, kRandLightSelect = 4, kRandLightUc = 5,
                               kRandRoulette = 7;
     AlignedVector<uint64_t> keys = AlignedVector<uint64_t>(kLanes);
+    AlignedVector<uint64_t> z_index = AlignedVector<uint64_t>(kLanes);
     AlignedVector<uint32_t> pattern_index = AlignedVector<uint32_t>(kLanes);
     AlignedVector<uint32_t> pattern_count = AlignedVector<uint32_t>(kLanes);
     AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandRows) * kLanes);

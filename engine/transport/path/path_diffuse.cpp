@@ -8,6 +8,7 @@
 
 #include "engine/transport/common/surface.h"
 #include "kernels/sobol_net.h"
+#include "kernels/zsobol_net.h"
 #include "path.h"
 
 namespace foton {
@@ -112,30 +113,40 @@ bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws)
 }
 
 // The chunk's random numbers as one table when every lane's sampler is counter-based
-// (kern::uniform_table) or Sobol' (kern::sobol::sample_table): the same numbers rand() gives
-// one at a time. Other samplers (Halton, Z-Sobol') draw them one at a time in the fill.
+// (kern::uniform_table), Sobol' (kern::sobol::sample_table) or Z-Sobol'
+// (kern::zsobol::sample_table): the same numbers rand() gives one at a time. Halton draws
+// them one at a time in the fill.
 void PathIntegrator::draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) const {
     DiffuseLanes& L = ws.diffuse;
     L.drawn = false;
     const PathSampler& first = ws.samplers[ws.rays.id[L.entry[0]]];
-    const bool uniform = first.counter_based(), sobol = first.sobol();
-    if (!uniform && !sobol) return;
+    const bool uniform = first.counter_based(), sobol = first.sobol(), z = first.zsobol();
+    if (!uniform && !sobol && !z) return;
     for (std::size_t k = 0; k < L.size; ++k) {
         const PathSampler& ps = ws.samplers[ws.rays.id[L.entry[k]]];
-        if (ps.counter_based() != uniform || ps.sobol() != sobol ||
+        if (ps.counter_based() != uniform || ps.sobol() != sobol || ps.zsobol() != z ||
             (uniform && ps.prefix() != first.prefix()))
             return;
-        L.keys[k] = ps.key();
-        L.pattern_index[k] = ps.pattern_index();
-        L.pattern_count[k] = ps.pattern_count();
+        if (z) {
+            L.z_index[k] = ps.z_index().index;
+            L.pattern_count[k] = ps.z_index().bits;
+            L.keys[k] = ps.z_index().key;
+        } else {
+            L.keys[k] = ps.key();
+            L.pattern_index[k] = ps.pattern_index();
+            L.pattern_count[k] = ps.pattern_count();
+        }
     }
-    // The kernels read up to 8 lanes past the last: zeros there.
+    // The kernels read up to 8 lanes past the last: one-point patterns there.
     const std::size_t padded = (L.size + 7) / 8 * 8;
     for (std::size_t k = L.size; k < padded; ++k) {
         L.keys[k] = 0;
+        L.z_index[k] = 0;
         L.pattern_index[k] = 0;
         L.pattern_count[k] = 1;
     }
+    const uint32_t p0 = 1 + depth * 4;
+    const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
     if (uniform) {
         // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
         // triangle, lobe, roulette.
@@ -146,12 +157,13 @@ void PathIntegrator::draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) con
             base + kPathDimBsdf,     base + kPathDimRoulette};
         kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, DiffuseLanes::kRandRows,
                             L.rand.data(), DiffuseLanes::kLanes);
-    } else {
-        const uint32_t p0 = 1 + depth * 4;
-        const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
+    } else if (sobol) {
         kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
                                   L.keys.data(), L.size, pairs, 4, L.rand.data(),
                                   DiffuseLanes::kLanes);
+    } else {
+        kern::zsobol::sample_table(L.z_index.data(), L.pattern_count.data(), L.keys.data(), L.size,
+                                   pairs, 4, L.rand.data(), DiffuseLanes::kLanes);
     }
     L.drawn = true;
 }

@@ -63,6 +63,9 @@ class PathSampler {
     // pattern_index() of pattern_count() of pair pair_of(d, k), keyed by key()
     // (kern::sobol::sample_table draws them for many paths at once).
     bool sobol() const { return kind_ == Kind::Sobol; }
+    // Z-Sobol': the same pairs of the sample's place in the image-wide sequence.
+    bool zsobol() const { return kind_ == Kind::ZSobol; }
+    const zsobol::Index& z_index() const { return z_; }
     uint32_t pattern_index() const { return i_; }
     uint32_t pattern_count() const { return n_; }
     uint64_t key() const { return key_; }

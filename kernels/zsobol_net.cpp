@@ -1,11 +1,11 @@
-#include "zsobol.h"
+#include "zsobol_net.h"
 
 #include <bit>
 
-#include "rng.h"
-#include "sobol.h"
+#include "counter_hash.h"
+#include "sobol_net.h"
 
-namespace foton::zsobol {
+namespace foton::kern::zsobol {
 
 namespace {
 
@@ -31,15 +31,26 @@ uint32_t ceil_log2(uint32_t n) {
     return n <= 1 ? 0u : uint32_t(std::bit_width(n - 1));
 }
 
-uint64_t pair_key(const Index& s, uint32_t pair) {
-    return rng::mix64(s.key + 0x2505u * (uint64_t(pair) + 1));
-}
-
 float to_float(uint32_t v) {
     return float(v >> 8) * (1.f / 16777216.f);
 }
 
 }  // namespace
+
+uint64_t pair_key(uint64_t key, uint32_t pair) {
+    return mix64(key + 0x2505u * (uint64_t(pair) + 1));
+}
+
+const uint32_t* permutations() {
+    static const auto table = [] {
+        struct Wide {
+            uint32_t p[24];
+        } w{};
+        for (int k = 0; k < 24; ++k) w.p[k] = kPermutations.p[k];
+        return w;
+    }();
+    return table.p;
+}
 
 uint64_t morton2(uint32_t x, uint32_t y) {
     auto spread = [](uint64_t v) {
@@ -60,7 +71,7 @@ Index index_of(uint32_t x, uint32_t y, uint32_t width, uint32_t height, uint32_t
     Index s;
     s.index = (morton2(x, y) << log2n) | i;
     s.bits = 2 * side + log2n;
-    s.key = rng::hash(seed, 0x7a50b01u, pass, 0);
+    s.key = hash_from(stream_prefix(seed, 0x7a50b01u), pass, 0);
     return s;
 }
 
@@ -92,16 +103,16 @@ uint64_t permute_digits(const Index& s, uint64_t pk) {
 
 // The pair's permuted index and its Owen scramble key.
 uint64_t scrambled(const Index& s, uint32_t pair, uint64_t& key) {
-    const uint64_t pk = pair_key(s, pair);
+    const uint64_t pk = pair_key(s.key, pair);
     const uint64_t j = permute_digits(s, pk);
-    key = j >> 32 ? rng::mix64(pk ^ (j >> 32)) : pk;
+    key = j >> 32 ? mix64(pk ^ (j >> 32)) : pk;
     return j;
 }
 
 }  // namespace
 
 uint64_t permuted_index(const Index& s, uint32_t pair) {
-    return permute_digits(s, pair_key(s, pair));
+    return permute_digits(s, pair_key(s.key, pair));
 }
 
 void sample2(const Index& s, uint32_t pair, float& x, float& y) {
@@ -118,4 +129,13 @@ float sample1(const Index& s, uint32_t pair, int coord) {
                       : to_float(sobol::owen_scramble(sobol::dim1(j), k + 2));
 }
 
-}  // namespace foton::zsobol
+void sample_table_scalar(const uint64_t* index, const uint32_t* bits, const uint64_t* key,
+                         std::size_t n, const uint32_t* pairs, std::size_t n_pairs, float* out,
+                         std::size_t stride) {
+    for (std::size_t p = 0; p < n_pairs; ++p)
+        for (std::size_t s = 0; s < n; ++s)
+            sample2(Index{index[s], bits[s], key[s]}, pairs[p], out[2 * p * stride + s],
+                    out[(2 * p + 1) * stride + s]);
+}
+
+}  // namespace foton::kern::zsobol
