@@ -19,6 +19,9 @@ namespace foton::kern::sobol_simd {
 inline __m512i shr64(__m512i z, unsigned n) {
     return _mm512_maskz_srli_epi64(__mmask8(0xff), z, n);
 }
+inline __m512i shl64(__m512i z, unsigned n) {
+    return _mm512_maskz_slli_epi64(__mmask8(0xff), z, n);
+}
 inline __m512i mix(__m512i z) {
     z = _mm512_mullo_epi64(_mm512_xor_si512(z, shr64(z, 30)),
                            _mm512_set1_epi64(int64_t(0xbf58476d1ce4e5b9ull)));

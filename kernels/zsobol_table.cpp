@@ -24,9 +24,23 @@ inline __m512i shl64v(__m512i z, __m512i n) {
     return _mm512_maskz_sllv_epi64(__mmask8(0xff), z, n);
 }
 
+// The 24 permutations of four digits as one string of 192 bits (entry d of permutation k at
+// bits 8 k + 2 d), in three broadcast words.
+struct PackedPermutations {
+    __m512i w0, w1, w2;
+};
+const PackedPermutations& packed_permutations() {
+    static const PackedPermutations t = [] {
+        uint64_t w[3] = {0, 0, 0};
+        for (uint32_t k = 0; k < 24; ++k) w[k / 8] |= uint64_t(permutations()[k]) << (8 * (k % 8));
+        return PackedPermutations{set64(w[0]), set64(w[1]), set64(w[2])};
+    }();
+    return t;
+}
+
 // permute_digits of eight samples: index, bit count (64-bit lanes), pair key.
 __m512i permute_lanes(__m512i index, __m512i bits, __m512i pk, uint32_t max_bits) {
-    const int* perms = reinterpret_cast<const int*>(permutations());
+    const PackedPermutations& table = packed_permutations();
     const __m512i three = set64(3), one = set64(1);
     const __m512i lone = _mm512_and_si512(bits, one);
     __m512i out = _mm512_setzero_si512();
@@ -41,12 +55,19 @@ __m512i permute_lanes(__m512i index, __m512i bits, __m512i pk, uint32_t max_bits
                              _mm512_add_epi64(pk, set64(uint64_t(shift) * 0x9e3779b97f4a7c15ull))),
             set64(0xbf58476d1ce4e5b9ull));
         h = _mm512_xor_si512(h, shr64(h, 29));
-        const __m512i which = shr64(_mm512_mullo_epi64(shr64(h, 32), set64(24)), 32);
-        const __m512i perm = _mm512_maskz_cvtepu32_epi64(
-            __mmask8(0xff),
-            _mm512_mask_i64gather_epi32(_mm256_setzero_si256(), __mmask8(0xff), which, perms, 4));
+        // which = (h >> 32) * 24 >> 32, the multiply as two shifts.
+        const __m512i hi = shr64(h, 32);
+        const __m512i which = shr64(_mm512_add_epi64(shl64(hi, 4), shl64(hi, 3)), 32);
+        // Entry `digit` of permutation `which`: two bits at 8 which + 2 digit of the packed
+        // table (three words), without a gather.
         const __m512i digit = _mm512_and_si512(shr64v(index, set64(uint64_t(shift))), three);
-        const __m512i moved = _mm512_and_si512(shr64v(perm, _mm512_add_epi64(digit, digit)), three);
+        const __m512i pos = _mm512_add_epi64(shl64(which, 3), _mm512_add_epi64(digit, digit));
+        const __m512i word = shr64(pos, 6);
+        __m512i packed =
+            _mm512_mask_blend_epi64(_mm512_cmpeq_epi64_mask(word, one), table.w0, table.w1);
+        packed = _mm512_mask_blend_epi64(_mm512_cmpeq_epi64_mask(word, set64(2)), packed, table.w2);
+        const __m512i moved =
+            _mm512_and_si512(shr64v(packed, _mm512_and_si512(pos, set64(63))), three);
         out = _mm512_mask_or_epi64(out, active, out, shl64v(moved, set64(uint64_t(shift))));
     }
     // A lone lowest bit, flipped by a hash.
