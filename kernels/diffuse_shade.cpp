@@ -4,44 +4,13 @@
 
 #include <limits>
 
-#include "diffuse_shade_math.h"
-#include "simd.h"
+#include "shade_lanes.h"
 
 namespace foton::kern {
 
 namespace {
 
-using simd::FloatV;
-using simd::MaskV;
-
-// -x by its sign bit, as C++'s unary minus on a float: xsimd's AVX-512 negation is 0 - x,
-// which turns +0 into +0, not -0, and a frame built on an axis-aligned normal then flips
-// (copysign reads that sign) where the scalar twin's and the engine's does not.
-inline FloatV neg(const FloatV& x) {
-    return xsimd::bitwise_xor(x, FloatV(-0.f));
-}
-
-struct V3 {
-    FloatV x, y, z;
-};
-inline V3 operator+(const V3& a, const V3& b) {
-    return {a.x + b.x, a.y + b.y, a.z + b.z};
-}
-inline V3 operator-(const V3& a, const V3& b) {
-    return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-inline V3 operator*(const V3& a, const FloatV& s) {
-    return {a.x * s, a.y * s, a.z * s};
-}
-inline FloatV dot(const V3& a, const V3& b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-inline V3 select(const MaskV& m, const V3& a, const V3& b) {
-    return {xsimd::select(m, a.x, b.x), xsimd::select(m, a.y, b.y), xsimd::select(m, a.z, b.z)};
-}
-inline FloatV max3(const FloatV& a, const FloatV& b, const FloatV& c) {
-    return simd::vmax(simd::vmax(a, b), c);
-}
+using namespace lanes;
 
 FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     const FloatV zero(0.f), one(1.f);
@@ -58,68 +27,6 @@ FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     return one;
 }
 
-inline V3 offset(const V3& p, const V3& ng, const FloatV& eps, const V3& w) {
-    return select(dot(w, ng) >= FloatV(0.f), p + ng * eps, p - ng * eps);
-}
-
-struct Lanes {
-    const DiffuseVertices& v;
-    std::size_t i;
-    FloatV in(uint32_t c) const { return FloatV::load_unaligned(v.col(c) + i); }
-    V3 in3(uint32_t c) const { return {in(c), in(c + 1), in(c + 2)}; }
-    void out(uint32_t c, const FloatV& a) const { a.store_unaligned(v.col(c) + i); }
-    void out3(uint32_t c, const V3& a) const {
-        out(c, a.x);
-        out(c + 1, a.y);
-        out(c + 2, a.z);
-    }
-};
-
-inline V3 cross(const V3& a, const V3& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline V3 neg(const V3& a) {
-    return {neg(a.x), neg(a.y), neg(a.z)};
-}
-
-// The surface of the lanes whose kDvSurface is not 0, written into the surface columns.
-void reconstruct_surface(const Lanes& l) {
-    const FloatV zero(0.f), one(1.f);
-    const FloatV kind = l.in(kDvSurface);
-    const MaskV made = kind != zero;
-    if (!xsimd::any(made)) return;
-    const FloatV t = l.in(kDvT), u = l.in(kDvU), v = l.in(kDvV);
-    const V3 dir = neg(l.in3(kDvWox));
-    const V3 a0 = l.in3(kDvA0x), a1 = l.in3(kDvA1x), a2 = l.in3(kDvA2x);
-    // A triangle: the barycentric point, the normal of its corners' cross product, and for a
-    // smooth one the normalised interpolated vertex normal.
-    const FloatV w = (one - u) - v;
-    const V3 p_tri = (a0 * w + a1 * u) + a2 * v;
-    const V3 c = cross(a1 - a0, a2 - a0);
-    const V3 ng_tri = c * (one / simd::vsqrt(dot(c, c)));
-    const V3 n_smooth = (l.in3(kDvN0x) * w + l.in3(kDvN1x) * u) + l.in3(kDvN2x) * v;
-    const FloatV len = simd::vsqrt(dot(n_smooth, n_smooth));
-    const V3 ns_tri = select((kind == FloatV(2.f)) & (len > zero), n_smooth * (one / len), ng_tri);
-    // A sphere: o + t d, the radius' direction.
-    const MaskV sphere = kind == FloatV(3.f);
-    const V3 p_sph = l.in3(kDvOx) + dir * t;
-    const V3 n_sph = (p_sph - a0) * (one / a1.x);
-    const V3 p = select(sphere, p_sph, p_tri);
-    V3 ng = select(sphere, n_sph, ng_tri), ns = select(sphere, n_sph, ns_tri);
-    // Both normals towards the side the ray came from; a shading normal that leans past the
-    // true surface gives way to the geometric one.
-    const MaskV back = dot(ng, dir) >= zero;
-    ng = select(back, neg(ng), ng);
-    ns = select(back, neg(ns), ns);
-    ns = select(dot(ns, dir) >= zero, ng, ns);
-    const FloatV eps =
-        FloatV(kDiffuseOffset) * (max3(xsimd::abs(p.x), xsimd::abs(p.y), xsimd::abs(p.z)) + t);
-    l.out3(kDvPx, select(made, p, l.in3(kDvPx)));
-    l.out3(kDvNgx, select(made, ng, l.in3(kDvNgx)));
-    l.out3(kDvNsx, select(made, ns, l.in3(kDvNsx)));
-    l.out(kDvEps, xsimd::select(made, eps, l.in(kDvEps)));
-}
-
 void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     reconstruct_surface(l);
     const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi);
@@ -127,12 +34,8 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV eps = l.in(kDvEps);
     const V3 rho = l.in3(kDvRhoR), beta = l.in3(kDvBetaR);
     const V3 f{rho.x * inv_pi, rho.y * inv_pi, rho.z * inv_pi};
-    // The frame around the shading normal (Duff et al. 2017).
-    const FloatV sign = xsimd::copysign(one, ns.z);
-    const FloatV a = FloatV(-1.f) / (sign + ns.z);
-    const FloatV b = ns.x * ns.y * a;
-    const V3 s{one + sign * ns.x * ns.x * a, sign * b, neg(sign) * ns.x};
-    const V3 t{b, sign + ns.y * ns.y * a, neg(ns.y)};
+    V3 s, t;
+    shading_frame(ns, s, t);
     const FloatV wo_z = dot(l.in3(kDvWox), ns);
 
     // A rectangle light's sample: a point uniform on its area, its solid-angle density.

@@ -42,6 +42,7 @@ enum DiffuseColumn : uint32_t {
     kDvNsy,
     kDvNsz,
     kDvEps,
+    kDvFront,  // 1 when the ray hit the side the geometry's normal points to
     kDvWox,
     kDvWoy,
     kDvWoz,
@@ -131,6 +132,28 @@ enum DiffuseColumn : uint32_t {
     kDvSvR,
     kDvSvG,
     kDvSvB,
+    // A specular vertex's material (specular_shade.h): 1 = a mirror, 2 = a dielectric; its
+    // reflectance tint, a dielectric's transmission tint, the mirror's Fresnel term (0 none,
+    // 1 conductor of index eta + i k per channel, 2 dielectric of index kDvIor), a
+    // dielectric's index, the lobe's sampling weight, and the number that chooses between
+    // reflection and refraction.
+    kDvSpecKind,
+    kDvSpecR,
+    kDvSpecG,
+    kDvSpecB,
+    kDvTransR,
+    kDvTransG,
+    kDvTransB,
+    kDvFresnel,
+    kDvIor,
+    kDvEtaR,
+    kDvEtaG,
+    kDvEtaB,
+    kDvKR,
+    kDvKG,
+    kDvKB,
+    kDvLobeWeight,
+    kDvUChoice,
     // Out, the continuation (valid: 1 or 0), its throughput and solid-angle pdf.
     kDvNextValid,
     kDvNox,
@@ -143,6 +166,10 @@ enum DiffuseColumn : uint32_t {
     kDvNbetaG,
     kDvNbetaB,
     kDvNpdf,
+    // Out, for a specular continuation: the path's product of eta^2 after it, and 1 when it
+    // refracted.
+    kDvNetaScale,
+    kDvNtransmit,
     kDiffuseColumns
 };
 

@@ -4,27 +4,13 @@
 #include <limits>
 
 #include "diffuse_shade.h"
-#include "diffuse_shade_math.h"
+#include "shade_scalar.h"
 
 namespace foton::kern {
 
 namespace {
 
-struct V3 {
-    float x, y, z;
-};
-inline V3 operator+(V3 a, V3 b) {
-    return {a.x + b.x, a.y + b.y, a.z + b.z};
-}
-inline V3 operator-(V3 a, V3 b) {
-    return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-inline V3 operator*(V3 a, float s) {
-    return {a.x * s, a.y * s, a.z * s};
-}
-inline float dot(V3 a, V3 b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
+using namespace scalar;
 
 float mis_weight(const DiffuseRules& r, float pa, float pb) {
     switch (r.mis) {
@@ -40,15 +26,6 @@ float mis_weight(const DiffuseRules& r, float pa, float pb) {
     return 1.f;
 }
 
-// p pushed off the surface along ng to the side w goes.
-inline V3 offset(V3 p, V3 ng, float eps, V3 w) {
-    return dot(w, ng) >= 0.f ? p + ng * eps : p - ng * eps;
-}
-
-inline V3 cross(V3 a, V3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 }  // namespace
 
 void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const DiffuseRules& rules) {
@@ -61,49 +38,12 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
         v.col(c + 2)[i] = a.z;
     };
     for (std::size_t i = 0; i < n; ++i) {
-        if (const float kind = v.col(kDvSurface)[i]; kind != 0.f) {
-            // The surface from the hit: a triangle's barycentric point and normals, or a
-            // sphere's.
-            const float t = v.col(kDvT)[i], u = v.col(kDvU)[i], w_v = v.col(kDvV)[i];
-            const V3 dir = in3(kDvWox, i) * -1.f;
-            const V3 a0 = in3(kDvA0x, i), a1 = in3(kDvA1x, i), a2 = in3(kDvA2x, i);
-            V3 p, ng, ns;
-            if (kind == 3.f) {
-                p = in3(kDvOx, i) + dir * t;
-                ng = (p - a0) * (1.f / a1.x);
-                ns = ng;
-            } else {
-                const float w = (1.f - u) - w_v;
-                p = (a0 * w + a1 * u) + a2 * w_v;
-                const V3 c = cross(a1 - a0, a2 - a0);
-                ng = c * (1.f / std::sqrt(dot(c, c)));
-                ns = ng;
-                if (kind == 2.f) {
-                    const V3 m = (in3(kDvN0x, i) * w + in3(kDvN1x, i) * u) + in3(kDvN2x, i) * w_v;
-                    const float len = std::sqrt(dot(m, m));
-                    if (len > 0.f) ns = m * (1.f / len);
-                }
-            }
-            if (dot(ng, dir) >= 0.f) {
-                ng = ng * -1.f;
-                ns = ns * -1.f;
-            }
-            if (dot(ns, dir) >= 0.f) ns = ng;
-            out3(kDvPx, i, p);
-            out3(kDvNgx, i, ng);
-            out3(kDvNsx, i, ns);
-            v.col(kDvEps)[i] =
-                kDiffuseOffset * (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) + t);
-        }
+        reconstruct_surface_scalar(v, i);
         const V3 p = in3(kDvPx, i), ng = in3(kDvNgx, i), ns = in3(kDvNsx, i);
         const float eps = v.col(kDvEps)[i];
         const V3 rho = in3(kDvRhoR, i), beta = in3(kDvBetaR, i);
-        // The frame around the shading normal (Duff et al. 2017).
-        const float sign = std::copysign(1.f, ns.z);
-        const float a = -1.f / (sign + ns.z);
-        const float b = ns.x * ns.y * a;
-        const V3 s{1.f + sign * ns.x * ns.x * a, sign * b, -sign * ns.x};
-        const V3 t{b, sign + ns.y * ns.y * a, -ns.y};
+        V3 s, t;
+        shading_frame(ns, s, t);
         const float wo_z = dot(in3(kDvWox, i), ns);
 
         // A rectangle light's sample: a point uniform on its area, its solid-angle density.

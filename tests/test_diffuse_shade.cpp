@@ -15,6 +15,7 @@
 #include "engine/scene/bsdf.h"
 #include "engine/scene/xml_loader.h"
 #include "kernels/diffuse_shade.h"
+#include "kernels/specular_shade.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -145,6 +146,47 @@ Film render_path(const std::string& scene_file, const RendererOverrides& setting
     return render(scene, rs, *accel, opt).film;
 }
 
+// The lanes as specular vertices: mirrors (no Fresnel term, a conductor's, a dielectric's)
+// and dielectrics of several indices, hit from either side; `bsdfs` gets each lane's BSDF as
+// the engine builds it.
+void make_specular(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bsdfs) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    bsdfs.assign(n, Bsdf{});
+    for (std::size_t i = 0; i < n; ++i) {
+        const RGB color{0.5f + 0.5f * u01(g), 0.9f, 0.3f + 0.7f * u01(g)};
+        Lobe lobe;
+        if (i % 2 == 0) {
+            Fresnel f;
+            if (i % 6 == 2) {
+                f.kind = FresnelKind::Conductor;
+                f.eta = RGB{0.2f + u01(g), 0.9f, 1.1f};
+                f.k = RGB{3.f + u01(g), 2.5f, 2.f};
+            } else if (i % 6 == 4) {
+                f.kind = FresnelKind::Dielectric;
+                f.ior = 1.3f + u01(g);
+            }
+            lobe = Lobe::mirror(color, f);
+        } else {
+            lobe = Lobe::dielectric(1.2f + u01(g), color, RGB{u01(g), 1.f, 0.8f});
+        }
+        bsdfs[i].add(lobe);
+        t.at(kDvSpecKind, i) = lobe.type == LobeType::Mirror ? 1.f : 2.f;
+        t.set3(kDvSpecR, i, {lobe.color.r, lobe.color.g, lobe.color.b});
+        t.set3(kDvTransR, i, {lobe.transmit.r, lobe.transmit.g, lobe.transmit.b});
+        t.at(kDvFresnel, i) = lobe.fresnel.kind == FresnelKind::Conductor    ? 1.f
+                              : lobe.fresnel.kind == FresnelKind::Dielectric ? 2.f
+                                                                             : 0.f;
+        t.at(kDvIor, i) = lobe.fresnel.ior;
+        t.set3(kDvEtaR, i, {lobe.fresnel.eta.r, lobe.fresnel.eta.g, lobe.fresnel.eta.b});
+        t.set3(kDvKR, i, {lobe.fresnel.k.r, lobe.fresnel.k.g, lobe.fresnel.k.b});
+        t.at(kDvLobeWeight, i) = bsdfs[i].weight(0);
+        t.at(kDvUChoice, i) = u01(g);
+        t.at(kDvSurface, i) = 0.f;  // the random surface columns as they are
+        t.at(kDvFront, i) = i % 4 == 1 ? 0.f : 1.f;
+    }
+}
+
 uint32_t bits(float x) {
     uint32_t b;
     std::memcpy(&b, &x, 4);
@@ -232,6 +274,8 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"cornell-diffuse.xml", {{"mis", "none"}}},
         {"cornell-diffuse.xml", {{"nee", "false"}}},
         {"smallvcm-box.xml", {{"mis", "power"}}},
+        {"cornell-caustics.xml", {{"rr_depth", "1"}}},
+        {"cornell-box.xml", {{"mis", "power"}}},
     };
     for (const auto& [scene_name, settings] : cases) {
         RendererOverrides simd = settings, scalar = settings;
@@ -244,5 +288,48 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         INFO(scene_name << " rmse " << e.rmse << " mean " << mean);
         CHECK(mean > 0.01);
         CHECK(e.rmse < 2e-3 * mean);
+    }
+}
+
+TEST_CASE("Specular shading kernel: SIMD equals its scalar twin, and the twin the engine's lobes",
+          "[kernel][shade][fast]") {
+    const std::size_t n = 3001;
+    for (const bool roulette : {false, true}) {
+        Table a = random_vertices(n, 21), b = a;
+        std::vector<Bsdf> bsdfs;
+        make_specular(a, n, 5, bsdfs);
+        make_specular(b, n, 5, bsdfs);
+        shade_specular(a.view(), n, roulette);
+        shade_specular_scalar(b.view(), n, roulette);
+        std::size_t nexts = 0, refracted = 0, mismatches = 0, engine_mismatches = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            REQUIRE(a.at(kDvNextValid, i) == b.at(kDvNextValid, i));
+            REQUIRE(a.at(kDvShadowValid, i) == 0.f);
+            if (a.at(kDvNextValid, i) == 0.f) continue;
+            ++nexts;
+            refracted += a.at(kDvNtransmit, i) != 0.f;
+            for (uint32_t c = kDvNox; c <= kDvNtransmit; ++c)
+                if (bits(a.at(c, i)) != bits(b.at(c, i))) ++mismatches;
+            if (roulette) continue;
+            // The engine's sample of the same lobe: the same direction and weight, exactly.
+            const Vec3 ns{b.at(kDvNsx, i), b.at(kDvNsy, i), b.at(kDvNsz, i)};
+            const Vec3 wo{b.at(kDvWox, i), b.at(kDvWoy, i), b.at(kDvWoz, i)};
+            const warp::Frame frame(ns);
+            BsdfSample s;
+            const BsdfContext ctx{b.at(kDvFront, i) != 0.f, Transport::Radiance};
+            REQUIRE(bsdfs[i].sample(frame.to_local(wo), b.at(kDvUChoice, i), {0.5f, 0.5f}, ctx, s));
+            const Vec3 wi = frame.to_world(s.wi);
+            const RGB beta{b.at(kDvBetaR, i), b.at(kDvBetaG, i), b.at(kDvBetaB, i)};
+            const RGB w = beta * (s.f * (std::fabs(s.wi.z) / s.pdf));
+            engine_mismatches += !(wi == Vec3{b.at(kDvNdx, i), b.at(kDvNdy, i), b.at(kDvNdz, i)});
+            engine_mismatches += w.r != b.at(kDvNbetaR, i) || w.b != b.at(kDvNbetaB, i);
+            engine_mismatches += s.pdf != b.at(kDvNpdf, i);
+            engine_mismatches += b.at(kDvNetaScale, i) != b.at(kDvEtaScale, i) * (s.eta * s.eta);
+        }
+        CHECK(mismatches == 0);
+        CHECK(engine_mismatches == 0);
+        CHECK(nexts > n / 4);
+        CHECK(refracted > n / 20);
+        CHECK(refracted < nexts);
     }
 }

@@ -93,6 +93,8 @@ class Bsdf {
     bool add(const Lobe& lobe);
     int size() const { return n_; }
     const Lobe& lobe(int i) const { return lobes_[std::size_t(i)]; }
+    // Lobe i's sampling weight (sample() picks lobes in proportion to these).
+    float weight(int i) const { return weight_[std::size_t(i)]; }
     bool empty() const { return n_ == 0; }
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
     bool has_delta() const { return (flags_ & kSpecular) != 0; }

@@ -11,10 +11,28 @@
 
 namespace foton {
 
+// Which shading kernel takes a material's vertices.
+enum class KernelKind : uint8_t {
+    None,      // shade_vertex, one at a time
+    Diffuse,   // kern::shade_diffuse: Lambertian lobes only
+    Specular,  // kern::shade_specular: one mirror or dielectric lobe
+};
+
+// A specular material as kern::shade_specular reads it (the kDvSpec.. columns).
+struct SpecularMaterial {
+    float kind = 0.f;     // 1 mirror, 2 dielectric
+    RGB color, transmit;  // reflection and transmission tints
+    float fresnel = 0.f;  // 0 none, 1 conductor, 2 dielectric
+    float ior = 1.f;
+    RGB eta, k;  // a conductor's complex index
+    float weight = 1.f;
+};
+
 struct DiffuseMaterials {
-    bool enabled = false;        // the settings and the vertex rules allow the kernel at all
-    std::vector<uint8_t> takes;  // per material: Lambertian lobes only, untextured, not emitting
-    std::vector<RGB> rho;        // ... and their summed reflectance
+    bool enabled = false;            // the settings and the vertex rules allow the kernels at all
+    std::vector<KernelKind> kernel;  // per material; untextured and not emitting ones only
+    std::vector<RGB> rho;            // Diffuse: the lobes' summed reflectance
+    std::vector<SpecularMaterial> specular;
     kern::DiffuseRules rules;
 };
 
@@ -31,7 +49,7 @@ struct DiffuseLanes {
     // choice, mesh triangle), (lobe, roulette).
     static constexpr uint32_t kRandRows = 8;
     static constexpr uint32_t kRandLight = 0, kRandBsdf = 2, kRandLightSelect = 4, kRandLightUc = 5,
-                              kRandRoulette = 7;
+                              kRandLobe = 6, kRandRoulette = 7;
     AlignedVector<uint64_t> keys = AlignedVector<uint64_t>(kLanes);
     AlignedVector<uint64_t> z_index = AlignedVector<uint64_t>(kLanes);
     AlignedVector<uint32_t> pattern_index = AlignedVector<uint32_t>(kLanes);

@@ -89,17 +89,26 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
     ws.next.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
-    // The hits the SIMD kernel takes (Lambertian vertices, path_diffuse.cpp) are set aside and
-    // shaded together; every other hit is shaded here, one at a time.
-    const bool kernel = diffuse_.enabled && depth < ctx_.settings.max_depth;
+    // The hits the SIMD kernels take (Lambertian and specular vertices, path_lanes.cpp) are
+    // grouped by kernel and shaded together; every other hit is shaded here, one at a time.
+    const bool kernels = diffuse_.enabled && depth < ctx_.settings.max_depth;
     ws.diffuse_entries.clear();
+    ws.specular_entries.clear();
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
-        if (kernel && diffuse_kernel_takes(ws, i))
-            ws.diffuse_entries.push_back(uint32_t(i));
-        else
-            shade_vertex(depth, i, ws, radiance);
+        switch (kernels ? kernel_of(ws, i) : KernelKind::None) {
+            case KernelKind::Diffuse:
+                ws.diffuse_entries.push_back(uint32_t(i));
+                break;
+            case KernelKind::Specular:
+                ws.specular_entries.push_back(uint32_t(i));
+                break;
+            case KernelKind::None:
+                shade_vertex(depth, i, ws, radiance);
+                break;
+        }
     }
     if (!ws.diffuse_entries.empty()) shade_diffuse(depth, ws);
+    if (!ws.specular_entries.empty()) shade_specular(depth, ws);
 }
 
 void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,

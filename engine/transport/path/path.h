@@ -98,8 +98,8 @@ struct PathWorkspace : IntegratorWorkspace {
     uint32_t first_depth = 0;        // > 0: paths started at a scattering vertex (radiance_along)
     CacheWorkspace cache;
     CacheWorkspace* cache_workspace() override { return &cache; }
-    // The bounce's hits the SIMD kernel shades (batch entries), and its lanes.
-    std::vector<uint32_t> diffuse_entries;
+    // The bounce's hits the SIMD kernels shade (batch entries), and their lanes.
+    std::vector<uint32_t> diffuse_entries, specular_entries;
     DiffuseLanes diffuse;
 };
 
@@ -123,13 +123,18 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;
     void shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,
                       std::vector<RGB>& radiance) const;
-    // The SIMD kernel's part (path_diffuse.cpp).
+    // The SIMD kernels' part (path_lanes.cpp, path_diffuse.cpp, path_specular.cpp).
     DiffuseMaterials diffuse_materials() const;
-    bool diffuse_kernel_takes(const PathWorkspace& ws, std::size_t i) const;
-    void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
-    void draw_diffuse_numbers(uint32_t depth, PathWorkspace& ws) const;
-    void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
+    KernelKind kernel_of(const PathWorkspace& ws, std::size_t i) const;
     bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
+    bool put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws, bool need_point,
+                     struct SurfacePoint& sp) const;
+    void draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const;
+    void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
+    void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
+    void shade_specular(uint32_t depth, PathWorkspace& ws) const;
+    void fill_specular_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
+    void read_specular_lanes(PathWorkspace& ws) const;
     void read_diffuse_lanes(PathWorkspace& ws) const;
     // The cache's vertex: true when it took the path over.
     bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,

@@ -1,0 +1,211 @@
+// What the path tracer's shading kernels share (path_diffuse.cpp, path_specular.cpp): which
+// kernel takes a material, the surface and the random numbers of a chunk of lanes.
+#include <algorithm>
+
+#include "engine/transport/common/surface.h"
+#include "kernels/counter_hash.h"
+#include "kernels/sobol_net.h"
+#include "kernels/zsobol_net.h"
+#include "path.h"
+
+namespace foton {
+
+namespace {
+
+kern::DiffuseMis kernel_mis(MisHeuristic h) {
+    switch (h) {
+        case MisHeuristic::Balance:
+            return kern::DiffuseMis::Balance;
+        case MisHeuristic::Power:
+            return kern::DiffuseMis::Power;
+        case MisHeuristic::Maximum:
+            return kern::DiffuseMis::Maximum;
+        case MisHeuristic::None:
+            break;
+    }
+    return kern::DiffuseMis::None;
+}
+
+// Which kernel shades a material's vertices as shade_vertex would: untextured, not emitting,
+// and every lobe Lambertian (their sum is one Lambertian lobe of the summed reflectance) or
+// one mirror or dielectric lobe.
+KernelKind kernel_material(const Material& m, RGB& rho, SpecularMaterial& spec) {
+    if (m.texture >= 0 || !m.emission.is_black() || m.bsdf.empty()) return KernelKind::None;
+    const Lobe& first = m.bsdf.lobe(0);
+    if (m.bsdf.size() == 1 && m.bsdf.weight(0) > 0.f &&
+        (first.type == LobeType::Mirror || first.type == LobeType::Dielectric)) {
+        spec.kind = first.type == LobeType::Mirror ? 1.f : 2.f;
+        spec.color = first.color;
+        spec.transmit = first.transmit;
+        spec.fresnel = first.fresnel.kind == FresnelKind::Conductor    ? 1.f
+                       : first.fresnel.kind == FresnelKind::Dielectric ? 2.f
+                                                                       : 0.f;
+        spec.ior = first.fresnel.ior;
+        spec.eta = first.fresnel.eta;
+        spec.k = first.fresnel.k;
+        spec.weight = m.bsdf.weight(0);
+        return KernelKind::Specular;
+    }
+    rho = RGB{0.f};
+    for (int i = 0; i < m.bsdf.size(); ++i) {
+        const Lobe& l = m.bsdf.lobe(i);
+        if (l.type != LobeType::Lambert) return KernelKind::None;
+        rho += l.color;
+    }
+    return KernelKind::Diffuse;
+}
+
+}  // namespace
+
+DiffuseMaterials PathIntegrator::diffuse_materials() const {
+    DiffuseMaterials d;
+    const RenderSettings& rs = ctx_.settings;
+    const VertexRules plain = VertexRules::path(rs);
+    // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
+    // lighting split and power heuristics of another exponent than 2 keep their own rules in
+    // shade_vertex.
+    const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
+    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
+                !rules_.glossy_by_sampling && !rules_.emission_whole &&
+                rules_.continue_lobes == plain.continue_lobes && !guide_ &&
+                rs.lighting == Lighting::All && power2;
+    d.rules.mis = kernel_mis(rules_.mis.heuristic);
+    const std::vector<Material>& ms = ctx_.scene.materials;
+    d.kernel.assign(ms.size(), KernelKind::None);
+    d.rho.assign(ms.size(), RGB{0.f});
+    d.specular.assign(ms.size(), SpecularMaterial{});
+    for (std::size_t k = 0; k < ms.size(); ++k)
+        d.kernel[k] = kernel_material(ms[k], d.rho[k], d.specular[k]);
+    return d;
+}
+
+KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) const {
+    const uint32_t geom = ws.hits.geom[i];
+    if (geom == kNoHit) return KernelKind::None;
+    const KernelKind k = diffuse_.kernel[ctx_.scene.objects[geom].material];
+    // The cache's first diffuse vertex is shade_cached's.
+    if (k == KernelKind::Diffuse && cache_ && ws.chain_specular[ws.rays.id[i]])
+        return KernelKind::None;
+    return k;
+}
+
+// The lane's surface: the hit for the kernel to rebuild, or, for an instance or when the
+// caller needs the point now (`need_point`), surface_at's, written whole. True when `sp`
+// holds it.
+bool PathIntegrator::put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws,
+                                 bool need_point, SurfacePoint& sp) const {
+    if (!need_point && put_hit(lane, i, ws)) return false;
+    DiffuseLanes& L = ws.diffuse;
+    sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+    auto put3 = [&](uint32_t c, const Vec3& a) {
+        L.col(c)[lane] = a.x;
+        L.col(c + 1)[lane] = a.y;
+        L.col(c + 2)[lane] = a.z;
+    };
+    L.col(kern::kDvSurface)[lane] = 0.f;
+    put3(kern::kDvPx, sp.p);
+    put3(kern::kDvNgx, sp.ng);
+    put3(kern::kDvNsx, sp.ns);
+    L.col(kern::kDvEps)[lane] = sp.epsilon;
+    L.col(kern::kDvFront)[lane] = sp.front_face ? 1.f : 0.f;
+    return true;
+}
+
+// The hit's geometry for the kernel to reconstruct the surface from (flat and smooth
+// triangles of meshes placed as they are, spheres); false for an instance, whose surface
+// surface_at makes here.
+bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    const Scene& scene = ctx_.scene;
+    const Object& obj = scene.objects[ws.hits.geom[i]];
+    if (obj.instance >= 0) return false;
+    auto put3 = [&](uint32_t c, const Vec3& a) {
+        L.col(c)[lane] = a.x;
+        L.col(c + 1)[lane] = a.y;
+        L.col(c + 2)[lane] = a.z;
+    };
+    float kind;
+    if (obj.kind == ObjectKind::Mesh) {
+        const TriangleMesh& m = scene.meshes[obj.index];
+        const uint32_t* ix = &m.indices[3 * std::size_t(ws.hits.prim[i])];
+        put3(kern::kDvA0x, m.vertex(ix[0]));
+        put3(kern::kDvA1x, m.vertex(ix[1]));
+        put3(kern::kDvA2x, m.vertex(ix[2]));
+        kind = 1.f;
+        if (obj.smooth) {
+            put3(kern::kDvN0x, m.vertex_normal(ix[0]));
+            put3(kern::kDvN1x, m.vertex_normal(ix[1]));
+            put3(kern::kDvN2x, m.vertex_normal(ix[2]));
+            kind = 2.f;
+        }
+    } else {
+        const Sphere& sph = scene.spheres[obj.index];
+        put3(kern::kDvA0x, sph.center);
+        L.col(kern::kDvA1x)[lane] = sph.radius;
+        put3(kern::kDvOx, ws.rays.origin(i));
+        kind = 3.f;
+    }
+    L.col(kern::kDvSurface)[lane] = kind;
+    L.col(kern::kDvT)[lane] = ws.hits.t[i];
+    L.col(kern::kDvU)[lane] = ws.hits.u[i];
+    L.col(kern::kDvV)[lane] = ws.hits.v[i];
+    return true;
+}
+
+// The chunk's random numbers as one table when every lane's sampler is counter-based
+// (kern::uniform_table), Sobol' (kern::sobol::sample_table) or Z-Sobol'
+// (kern::zsobol::sample_table): the same numbers rand() gives one at a time. Halton draws
+// them one at a time in the fill.
+void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const {
+    DiffuseLanes& L = ws.diffuse;
+    L.drawn = false;
+    const PathSampler& first = ws.samplers[ws.rays.id[L.entry[0]]];
+    const bool uniform = first.counter_based(), sobol = first.sobol(), z = first.zsobol();
+    if (!uniform && !sobol && !z) return;
+    for (std::size_t k = 0; k < L.size; ++k) {
+        const PathSampler& ps = ws.samplers[ws.rays.id[L.entry[k]]];
+        if (ps.counter_based() != uniform || ps.sobol() != sobol || ps.zsobol() != z ||
+            (uniform && ps.prefix() != first.prefix()))
+            return;
+        if (z) {
+            L.z_index[k] = ps.z_index().index;
+            L.pattern_count[k] = ps.z_index().bits;
+            L.keys[k] = ps.z_index().key;
+        } else {
+            L.keys[k] = ps.key();
+            L.pattern_index[k] = ps.pattern_index();
+            L.pattern_count[k] = ps.pattern_count();
+        }
+    }
+    // The kernels read up to 8 lanes past the last: one-point patterns there.
+    const std::size_t padded = (L.size + 7) / 8 * 8;
+    for (std::size_t k = L.size; k < padded; ++k) {
+        L.keys[k] = 0;
+        L.z_index[k] = 0;
+        L.pattern_index[k] = 0;
+        L.pattern_count[k] = 1;
+    }
+    const uint32_t p0 = 1 + depth * 4;
+    const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
+    if (uniform) {
+        // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
+        // triangle, lobe, roulette.
+        const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
+        const uint64_t dims[DiffuseLanes::kRandRows] = {
+            base + kPathDimLight,    base + kPathDimLight + 1,   base + kPathDimBsdf + 1,
+            base + kPathDimBsdf + 2, base + kPathDimLightSelect, base + kPathDimLight + 2,
+            base + kPathDimBsdf,     base + kPathDimRoulette};
+        kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, DiffuseLanes::kRandRows,
+                            L.rand.data(), DiffuseLanes::kLanes);
+    } else if (sobol) {
+        kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
+                                  L.keys.data(), L.size, pairs, 4, L.rand.data(),
+                                  DiffuseLanes::kLanes);
+    } else {
+        kern::zsobol::sample_table(L.z_index.data(), L.pattern_count.data(), L.keys.data(), L.size,
+                                   pairs, 4, L.rand.data(), DiffuseLanes::kLanes);
+    }
+    L.drawn = true;
+}
+
+}  // namespace foton

@@ -1,0 +1,133 @@
+// shade_specular at SIMD width: the twin's branches (mirror or dielectric, reflection or
+// refraction, the Fresnel kinds) computed on every lane and selected.
+#include <limits>
+
+#include "shade_lanes.h"
+#include "specular_shade.h"
+
+namespace foton::kern {
+
+namespace {
+
+using namespace lanes;
+
+// std::clamp(x, 0, 1): x < 0 ? 0 : (1 < x ? 1 : x).
+inline FloatV clamp01(const FloatV& x) {
+    const FloatV zero(0.f), one(1.f);
+    return xsimd::select(x < zero, zero, xsimd::select(one < x, one, x));
+}
+// std::max(0.f, x): 0 < x ? x : 0.
+inline FloatV pos(const FloatV& x) {
+    return simd::vmax(x, FloatV(0.f));
+}
+
+FloatV fresnel_dielectric(FloatV cos_i, const FloatV& eta_i, const FloatV& eta_t) {
+    const FloatV one(1.f);
+    cos_i = clamp01(cos_i);
+    const FloatV sin_i = simd::vsqrt(pos(one - cos_i * cos_i));
+    const FloatV sin_t = eta_i / eta_t * sin_i;
+    const FloatV cos_t = simd::vsqrt(pos(one - sin_t * sin_t));
+    const FloatV r_par = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+    const FloatV r_perp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+    return xsimd::select(sin_t >= one, one, FloatV(0.5f) * (r_par * r_par + r_perp * r_perp));
+}
+
+FloatV fresnel_conductor(FloatV cos_i, const FloatV& eta, const FloatV& k) {
+    const FloatV one(1.f), half(0.5f), two(2.f);
+    cos_i = clamp01(cos_i);
+    const FloatV cos2 = cos_i * cos_i, sin2 = one - cos2;
+    const FloatV eta2 = eta * eta, k2 = k * k;
+    const FloatV t0 = eta2 - k2 - sin2;
+    const FloatV a2b2 = simd::vsqrt(pos(t0 * t0 + FloatV(4.f) * eta2 * k2));
+    const FloatV a = simd::vsqrt(pos(half * (a2b2 + t0)));
+    const FloatV t1 = a2b2 + cos2, t2 = two * cos_i * a;
+    const FloatV rs = (t1 - t2) / (t1 + t2);
+    const FloatV t3 = cos2 * a2b2 + sin2 * sin2, t4 = t2 * sin2;
+    const FloatV rp = rs * (t3 - t4) / (t3 + t4);
+    return half * (rs + rp);
+}
+
+void specular_lanes(const Lanes& l, bool roulette) {
+    reconstruct_surface(l);
+    const FloatV zero(0.f), one(1.f);
+    const V3 p = l.in3(kDvPx), ng = l.in3(kDvNgx), ns = l.in3(kDvNsx);
+    const V3 beta = l.in3(kDvBetaR), color = l.in3(kDvSpecR);
+    V3 s, t;
+    shading_frame(ns, s, t);
+    const V3 wo_world = l.in3(kDvWox);
+    const V3 wo{dot(wo_world, s), dot(wo_world, t), dot(wo_world, ns)};
+    const V3 mirror{neg(wo.x), neg(wo.y), wo.z};
+
+    // A mirror: its Fresnel term at the reflected direction's cosine.
+    const FloatV c = xsimd::abs(mirror.z);
+    const FloatV fresnel = l.in(kDvFresnel);
+    const FloatV fd = fresnel_dielectric(c, one, l.in(kDvIor));
+    const V3 fc{fresnel_conductor(c, l.in(kDvEtaR), l.in(kDvKR)),
+                fresnel_conductor(c, l.in(kDvEtaG), l.in(kDvKG)),
+                fresnel_conductor(c, l.in(kDvEtaB), l.in(kDvKB))};
+    const V3 fr = select(fresnel == one, fc,
+                         select(fresnel == FloatV(2.f), V3{fd, fd, fd}, V3{one, one, one}));
+    const FloatV inv = one / c;
+    const V3 f_mirror{color.x * fr.x * inv, color.y * fr.y * inv, color.z * fr.z * inv};
+
+    // A dielectric: reflection or refraction by its Fresnel term.
+    const MaskV front = l.in(kDvFront) != zero;
+    const FloatV ior = l.in(kDvIor);
+    const FloatV eta_i = xsimd::select(front, one, ior), eta_t = xsimd::select(front, ior, one);
+    const FloatV cos_i = xsimd::abs(wo.z);
+    const FloatV F = fresnel_dielectric(cos_i, eta_i, eta_t);
+    const V3 nrm{zero, zero, xsimd::select(wo.z > zero, one, FloatV(-1.f))};
+    const V3 d = neg(wo);
+    const FloatV e = eta_i / eta_t;
+    const FloatV ci = neg(dot(d, nrm));
+    const FloatV k = one - e * e * (one - ci * ci);
+    const MaskV tir = k < zero;
+    V3 tr = d * e + nrm * (e * ci - simd::vsqrt(k));
+    tr = tr * (one / simd::vsqrt(dot(tr, tr)));
+    const FloatV w = l.in(kDvLobeWeight);
+    // std::clamp(u w / w, 0, the float below 1).
+    const FloatV below_one(0x1.fffffep-1f), uw = (l.in(kDvUChoice)*w) / w;
+    const FloatV uc = xsimd::select(uw < zero, zero, xsimd::select(below_one < uw, below_one, uw));
+    const MaskV reflect = (uc < F) | tir;
+    const FloatV k_r = F / cos_i;
+    const FloatV k_t = (one - F) * ((eta_i * eta_i) / (eta_t * eta_t)) / xsimd::abs(tr.z);
+    const V3 trans = l.in3(kDvTransR);
+    const V3 f_dielectric = select(reflect, color * k_r, trans * k_t);
+
+    const MaskV is_mirror = l.in(kDvSpecKind) == one;
+    const MaskV transmit = ~(is_mirror | reflect);
+    const V3 wi = select(transmit, tr, mirror);
+    const V3 f = select(is_mirror, f_mirror, f_dielectric);
+    const FloatV pdf = xsimd::select(is_mirror, one, xsimd::select(reflect, F, one - F));
+    const FloatV eta = xsimd::select(transmit, eta_t / eta_i, one);
+    MaskV ok = xsimd::select(is_mirror, c, cos_i) != zero;
+    ok = ok & (pdf > zero);
+    const V3 w_world = s * wi.x + t * wi.y + ns * wi.z;
+    const FloatV side = dot(w_world, ng);
+    ok = ok & ((transmit & (side < zero)) | (~transmit & (side > zero)));
+    const FloatV kn = xsimd::abs(wi.z) / pdf;
+    V3 nb{beta.x * (f.x * kn), beta.y * (f.y * kn), beta.z * (f.z * kn)};
+    ok = ok & ((nb.x != zero) | (nb.y != zero) | (nb.z != zero));
+    const FloatV es = l.in(kDvEtaScale) * (eta * eta);
+    if (roulette) {
+        const FloatV q = simd::vmin(max3(nb.x, nb.y, nb.z) * es, one);
+        ok = ok & (l.in(kDvURoulette) < q);
+        nb = nb * (one / q);
+    }
+    l.out(kDvShadowValid, zero);
+    l.out(kDvNextValid, xsimd::select(ok, one, zero));
+    l.out3(kDvNox, offset(p, ng, l.in(kDvEps), w_world));
+    l.out3(kDvNdx, w_world);
+    l.out3(kDvNbetaR, nb);
+    l.out(kDvNpdf, pdf);
+    l.out(kDvNetaScale, es);
+    l.out(kDvNtransmit, xsimd::select(transmit, one, zero));
+}
+
+}  // namespace
+
+void shade_specular(const DiffuseVertices& v, std::size_t n, bool roulette) {
+    for (std::size_t i = 0; i < n; i += simd::kWidth) specular_lanes(Lanes{v, i}, roulette);
+}
+
+}  // namespace foton::kern
