@@ -1,6 +1,8 @@
-// Google Benchmark: the Lambertian shading kernel (kernels/diffuse_shade.h) against its scalar
-// twin on the same 128-lane table the path tracer fills (vertices per second): what the SIMD
-// part of the shade stage costs, without the filling and reading back around it.
+// Google Benchmark: the shading kernels against their scalar twins on the same 128-lane table
+// (vertices per second): Lambertian (kernels/diffuse_shade.h) and specular
+// (kernels/specular_shade.h) vertices, and the random-number tables the path tracer draws
+// for them (counter-based, Sobol', Z-Sobol'; numbers per second). What the SIMD parts of the
+// shade stage cost, without the filling and reading back around them.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -8,7 +10,11 @@
 #include <vector>
 
 #include "engine/core/aligned.h"
+#include "kernels/counter_hash.h"
 #include "kernels/diffuse_shade.h"
+#include "kernels/sobol_net.h"
+#include "kernels/specular_shade.h"
+#include "kernels/zsobol_net.h"
 
 using namespace foton::kern;
 
@@ -81,7 +87,82 @@ void BM_ShadeDiffuse(benchmark::State& state) {
     state.counters["width"] = double(kSimd ? diffuse_shade_width() : 1);
 }
 
+// Mirrors and dielectrics alternating, on the diffuse table's surfaces.
+template <bool kSimd>
+void BM_ShadeSpecular(benchmark::State& state) {
+    Table t;
+    std::mt19937 g(8);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (std::size_t i = 0; i < kLanes; ++i) {
+        t.col(kDvSpecKind)[i] = i % 2 ? 2.f : 1.f;
+        for (uint32_t c = kDvSpecR; c <= kDvTransB; ++c) t.col(c)[i] = 0.9f;
+        t.col(kDvIor)[i] = 1.5f;
+        t.col(kDvLobeWeight)[i] = 0.9f;
+        t.col(kDvUChoice)[i] = u(g);
+        t.col(kDvFront)[i] = 1.f;
+    }
+    const DiffuseVertices v{t.data.data(), kLanes};
+    for (auto _ : state) {
+        if (kSimd)
+            shade_specular(v, kLanes, true);
+        else
+            shade_specular_scalar(v, kLanes, true);
+        benchmark::ClobberMemory();
+    }
+    state.counters["vertices/s"] =
+        benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// A bounce's eight numbers for 128 paths: counter-based (0), Sobol' (1), Z-Sobol' (2).
+template <int kKind, bool kSimd>
+void BM_NumberTable(benchmark::State& state) {
+    std::mt19937_64 g(3);
+    std::vector<uint64_t> keys(kLanes), zindex(kLanes);
+    std::vector<uint32_t> index(kLanes), count(kLanes, 16), bits(kLanes, 22);
+    for (std::size_t i = 0; i < kLanes; ++i) {
+        keys[i] = g();
+        index[i] = uint32_t(i % 16);
+        zindex[i] = g() & ((1ull << 22) - 1);
+    }
+    const uint64_t dims[8] = {9, 10, 13, 14, 8, 11, 12, 15};
+    const uint32_t pairs[4] = {5, 6, 7, 8};
+    std::vector<float> out(8 * kLanes);
+    for (auto _ : state) {
+        if (kKind == 0) {
+            if (kSimd)
+                uniform_table(0x1234, keys.data(), kLanes, dims, 8, out.data(), kLanes);
+            else
+                uniform_table_scalar(0x1234, keys.data(), kLanes, dims, 8, out.data(), kLanes);
+        } else if (kKind == 1) {
+            if (kSimd)
+                sobol::sample_table(1, index.data(), count.data(), keys.data(), kLanes, pairs, 4,
+                                    out.data(), kLanes);
+            else
+                sobol::sample_table_scalar(1, index.data(), count.data(), keys.data(), kLanes,
+                                           pairs, 4, out.data(), kLanes);
+        } else {
+            if (kSimd)
+                zsobol::sample_table(zindex.data(), bits.data(), keys.data(), kLanes, pairs, 4,
+                                     out.data(), kLanes);
+            else
+                zsobol::sample_table_scalar(zindex.data(), bits.data(), keys.data(), kLanes, pairs,
+                                            4, out.data(), kLanes);
+        }
+        benchmark::ClobberMemory();
+    }
+    state.counters["numbers/s"] =
+        benchmark::Counter(double(8 * kLanes), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, true)->Name("shade_diffuse/simd");
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, false)->Name("shade_diffuse/scalar");
+BENCHMARK_TEMPLATE(BM_ShadeSpecular, true)->Name("shade_specular/simd");
+BENCHMARK_TEMPLATE(BM_ShadeSpecular, false)->Name("shade_specular/scalar");
+BENCHMARK_TEMPLATE(BM_NumberTable, 0, true)->Name("numbers_uniform/simd");
+BENCHMARK_TEMPLATE(BM_NumberTable, 0, false)->Name("numbers_uniform/scalar");
+BENCHMARK_TEMPLATE(BM_NumberTable, 1, true)->Name("numbers_sobol/simd");
+BENCHMARK_TEMPLATE(BM_NumberTable, 1, false)->Name("numbers_sobol/scalar");
+BENCHMARK_TEMPLATE(BM_NumberTable, 2, true)->Name("numbers_zsobol/simd");
+BENCHMARK_TEMPLATE(BM_NumberTable, 2, false)->Name("numbers_zsobol/scalar");

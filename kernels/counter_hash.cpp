@@ -35,15 +35,25 @@ void uniform_table(uint64_t prefix, const uint64_t* index, std::size_t n, const 
                    std::size_t n_dims, float* out, std::size_t stride) {
     const __m512i pre = _mm512_set1_epi64(int64_t(prefix));
     const __m256 scale = _mm256_set1_ps(1.f / 16777216.f);
-    for (std::size_t i = 0; i < n; i += 8) {
-        const __m512i k = _mm512_loadu_si512(index + i);
-        for (std::size_t d = 0; d < n_dims; ++d) {
-            const __m512i step = _mm512_set1_epi64(int64_t(0x85157af5ull * (dims[d] + 1)));
-            __m512i h = mix(_mm512_xor_si512(pre, _mm512_add_epi64(k, step)));
-            h = mix(_mm512_xor_si512(h, _mm512_set1_epi64(int64_t(dims[d]))));
-            const __m256 f = _mm512_maskz_cvtepu64_ps(__mmask8(0xff), shift_right(h, 40));
-            _mm256_storeu_ps(out + d * stride + i, _mm256_mul_ps(f, scale));
+    // Dimension by dimension over all indices, two registers at a time: two independent
+    // multiply chains keep the multiplier busy.
+    for (std::size_t d = 0; d < n_dims; ++d) {
+        const __m512i step = _mm512_set1_epi64(int64_t(0x85157af5ull * (dims[d] + 1)));
+        const __m512i dim = _mm512_set1_epi64(int64_t(dims[d]));
+        auto draw = [&](std::size_t i) {
+            const __m512i k = _mm512_loadu_si512(index + i);
+            const __m512i h =
+                mix(_mm512_xor_si512(mix(_mm512_xor_si512(pre, _mm512_add_epi64(k, step))), dim));
+            return _mm256_mul_ps(_mm512_maskz_cvtepu64_ps(__mmask8(0xff), shift_right(h, 40)),
+                                 scale);
+        };
+        std::size_t i = 0;
+        for (; i + 16 <= n; i += 16) {
+            const __m256 a = draw(i), b = draw(i + 8);
+            _mm256_storeu_ps(out + d * stride + i, a);
+            _mm256_storeu_ps(out + d * stride + i + 8, b);
         }
+        for (; i < n; i += 8) _mm256_storeu_ps(out + d * stride + i, draw(i));
     }
 }
 #else
