@@ -27,6 +27,21 @@ FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     return one;
 }
 
+// Oren–Nayar's f / rho for local directions wo, wi on one side (bsdf.cpp's lobe_f, operation
+// for operation); B = 0 gives 1 / pi exactly, Lambert's.
+FloatV oren_nayar(const V3& wo, const V3& wi, const FloatV& a, const FloatV& b) {
+    const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi), tiny(1e-4f);
+    const FloatV ci = xsimd::abs(wi.z), co = xsimd::abs(wo.z);
+    const FloatV si = simd::vsqrt(simd::vmax(one - ci * ci, zero));
+    const FloatV so = simd::vsqrt(simd::vmax(one - co * co, zero));
+    const FloatV cos_dphi = xsimd::select(
+        (si > tiny) & (so > tiny), simd::vmax((wi.x * wo.x + wi.y * wo.y) / (si * so), zero), zero);
+    // alpha = the larger polar angle, beta = the smaller.
+    const FloatV sin_alpha = xsimd::select(ci > co, so, si);
+    const FloatV tan_beta = xsimd::select(ci > co, si / ci, so / co);
+    return xsimd::select(b == zero, inv_pi, inv_pi * (a + b * cos_dphi * sin_alpha * tan_beta));
+}
+
 void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     reconstruct_surface(l);
     const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi);
@@ -36,7 +51,17 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const V3 f{rho.x * inv_pi, rho.y * inv_pi, rho.z * inv_pi};
     V3 s, t;
     shading_frame(ns, s, t);
-    const FloatV wo_z = dot(l.in3(kDvWox), ns);
+    const V3 wo_world = l.in3(kDvWox);
+    const FloatV wo_z = dot(wo_world, ns);
+    // Oren–Nayar lanes: f depends on the directions (else f = rho / pi).
+    const FloatV on_a = l.in(kDvOnA), on_b = l.in(kDvOnB);
+    const bool rough = xsimd::any(on_b != zero);
+    const V3 wo{dot(wo_world, s), dot(wo_world, t), wo_z};
+    auto f_at = [&](const V3& wi) {
+        if (!rough) return f;
+        const FloatV k = oren_nayar(wo, wi, on_a, on_b);
+        return V3{rho.x * k, rho.y * k, rho.z * k};
+    };
 
     // A rectangle light's sample: a point uniform on its area, its solid-angle density.
     const MaskV rect = l.in(kDvLrect) != zero;
@@ -64,7 +89,8 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV w = xsimd::select(l.in(kDvLightFull) != zero, one, mis_weight(rules, pl, pb));
     const FloatV k = xsimd::abs(cos_l) * w / pl;
     const V3 li = l.in3(kDvLiR);
-    V3 value{beta.x * f.x * li.x * k, beta.y * f.y * li.y * k, beta.z * f.z * li.z * k};
+    const V3 fl = f_at(V3{dot(lw, s), dot(lw, t), cos_l});
+    V3 value{beta.x * fl.x * li.x * k, beta.y * fl.y * li.y * k, beta.z * fl.z * li.z * k};
     shadow = shadow & ((value.x != zero) | (value.y != zero) | (value.z != zero));
     value = select(shadow, value, V3{zero, zero, zero});
     l.out(kDvShadowValid, xsimd::select(shadow, one, zero));
@@ -102,7 +128,8 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const V3 wi = s * lx + t * ly + ns * lz;
     const FloatV pdf = cz * inv_pi;
     const FloatV kn = cz / pdf;
-    V3 nb{beta.x * (f.x * kn), beta.y * (f.y * kn), beta.z * (f.z * kn)};
+    const V3 fn = f_at(V3{lx, ly, lz});
+    V3 nb{beta.x * (fn.x * kn), beta.y * (fn.y * kn), beta.z * (fn.z * kn)};
     MaskV next = (wo_z * lz > zero) & (dot(wi, ng) > zero) &
                  ((nb.x != zero) | (nb.y != zero) | (nb.z != zero));
     if (rules.roulette) {

@@ -84,6 +84,9 @@ enum DiffuseColumn : uint32_t {
     kDvBetaG,
     kDvBetaB,
     kDvEtaScale,
+    // Oren–Nayar's A and B (a Lambertian material: 1 and 0, which is Lambert's f exactly).
+    kDvOnA,
+    kDvOnB,
     // The light sample: its pdf with the light's selection (0: none), 1 when it takes full
     // weight (a delta light, or no MIS), the unit direction to it, the distance (infinite for
     // a light at infinity), the sampled point and its normal facing the vertex, the radiance.

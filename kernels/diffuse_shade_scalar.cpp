@@ -26,6 +26,19 @@ float mis_weight(const DiffuseRules& r, float pa, float pb) {
     return 1.f;
 }
 
+// Oren–Nayar's f / rho (bsdf.cpp's lobe_f); B = 0: Lambert's 1 / pi.
+float oren_nayar(V3 wo, V3 wi, float a, float b) {
+    if (b == 0.f) return kDiffuseInvPi;
+    const float ci = std::fabs(wi.z), co = std::fabs(wo.z);
+    const float si = std::sqrt(std::max(0.f, 1.f - ci * ci));
+    const float so = std::sqrt(std::max(0.f, 1.f - co * co));
+    float cos_dphi = 0.f;
+    if (si > 1e-4f && so > 1e-4f) cos_dphi = std::max(0.f, (wi.x * wo.x + wi.y * wo.y) / (si * so));
+    const float sin_alpha = ci > co ? so : si;
+    const float tan_beta = ci > co ? si / ci : so / co;
+    return kDiffuseInvPi * (a + b * cos_dphi * sin_alpha * tan_beta);
+}
+
 }  // namespace
 
 void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const DiffuseRules& rules) {
@@ -44,7 +57,10 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
         const V3 rho = in3(kDvRhoR, i), beta = in3(kDvBetaR, i);
         V3 s, t;
         shading_frame(ns, s, t);
-        const float wo_z = dot(in3(kDvWox, i), ns);
+        const V3 wo_world = in3(kDvWox, i);
+        const float wo_z = dot(wo_world, ns);
+        const V3 wo{dot(wo_world, s), dot(wo_world, t), wo_z};
+        const float on_a = v.col(kDvOnA)[i], on_b = v.col(kDvOnB)[i];
 
         // A rectangle light's sample: a point uniform on its area, its solid-angle density.
         float pl = v.col(kDvLightPdf)[i], dist = v.col(kDvLdist)[i];
@@ -69,9 +85,9 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
             const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pb);
             const float k = std::fabs(cos_l) * w / pl;
             const V3 li = in3(kDvLiR, i);
-            value = {beta.x * (rho.x * kDiffuseInvPi) * li.x * k,
-                     beta.y * (rho.y * kDiffuseInvPi) * li.y * k,
-                     beta.z * (rho.z * kDiffuseInvPi) * li.z * k};
+            const float fk = oren_nayar(wo, V3{dot(lw, s), dot(lw, t), cos_l}, on_a, on_b);
+            value = {beta.x * (rho.x * fk) * li.x * k, beta.y * (rho.y * fk) * li.y * k,
+                     beta.z * (rho.z * fk) * li.z * k};
             shadow = value.x != 0.f || value.y != 0.f || value.z != 0.f;
         }
         v.col(kDvShadowValid)[i] = shadow ? 1.f : 0.f;
@@ -119,8 +135,9 @@ void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const Diffuse
         // path does it.
         const float pdf = cz * kDiffuseInvPi;
         const float k = cz / pdf;
-        V3 nb{beta.x * ((rho.x * kDiffuseInvPi) * k), beta.y * ((rho.y * kDiffuseInvPi) * k),
-              beta.z * ((rho.z * kDiffuseInvPi) * k)};
+        const float fk = oren_nayar(wo, V3{lx, ly, lz}, on_a, on_b);
+        V3 nb{beta.x * ((rho.x * fk) * k), beta.y * ((rho.y * fk) * k),
+              beta.z * ((rho.z * fk) * k)};
         next = next && (nb.x != 0.f || nb.y != 0.f || nb.z != 0.f);
         if (rules.roulette) {
             const float q = std::min(1.f, std::max({nb.x, nb.y, nb.z}) * v.col(kDvEtaScale)[i]);

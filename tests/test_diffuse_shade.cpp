@@ -68,6 +68,10 @@ Table random_vertices(std::size_t n, uint32_t seed) {
         t.set3(kDvRhoR, i, {u01(g), u01(g), edge && i % 3 == 0 ? 0.f : u01(g)});
         t.set3(kDvBetaR, i, {u01(g) * 2.f, u01(g), u01(g)});
         t.at(kDvEtaScale, i) = edge ? 2.25f : 1.f;
+        // Lambert (A = 1, B = 0), or Oren–Nayar of some roughness on every third lane.
+        const Lobe on = Lobe::oren_nayar(RGB{1.f}, 0.1f + 0.5f * u01(g));
+        t.at(kDvOnA, i) = i % 3 == 2 ? on.on_a : 1.f;
+        t.at(kDvOnB, i) = i % 3 == 2 ? on.on_b : 0.f;
         // The light sample: a point on a light, or a direction to one at infinity.
         const Vec3 q = p + random_unit(g) * (10.f + 200.f * u01(g));
         const bool infinite = i % 7 == 3;
@@ -233,7 +237,7 @@ TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
     }
 }
 
-TEST_CASE("Diffuse shading kernel: the twin samples as the engine's Lambert lobe",
+TEST_CASE("Diffuse shading kernel: the twin samples as the engine's Lambert and Oren-Nayar lobes",
           "[kernel][shade][fast]") {
     const std::size_t n = 2000;
     Table t = random_vertices(n, 99);
@@ -246,8 +250,14 @@ TEST_CASE("Diffuse shading kernel: the twin samples as the engine's Lambert lobe
         const RGB rho{t.at(kDvRhoR, i), t.at(kDvRhoG, i), t.at(kDvRhoB, i)};
         const warp::Frame frame(ns);
         BsdfSample s;
-        REQUIRE(lobe_sample(Lobe::lambert(rho), frame.to_local(wo), 0.5f,
-                            {t.at(kDvU0, i), t.at(kDvU1, i)}, BsdfContext{}, s));
+        Lobe lobe = Lobe::lambert(rho);
+        if (t.at(kDvOnB, i) != 0.f) {
+            lobe.type = LobeType::OrenNayar;
+            lobe.on_a = t.at(kDvOnA, i);
+            lobe.on_b = t.at(kDvOnB, i);
+        }
+        REQUIRE(lobe_sample(lobe, frame.to_local(wo), 0.5f, {t.at(kDvU0, i), t.at(kDvU1, i)},
+                            BsdfContext{}, s));
         const Vec3 wi = frame.to_world(s.wi);
         const Vec3 k{t.at(kDvNdx, i), t.at(kDvNdy, i), t.at(kDvNdz, i)};
         // The two sines and cosines differ by an ulp; near the horizon z = sqrt(1 - x^2 - y^2)
@@ -276,6 +286,7 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"smallvcm-box.xml", {{"mis", "power"}}},
         {"cornell-caustics.xml", {{"rr_depth", "1"}}},
         {"cornell-box.xml", {{"mis", "power"}}},
+        {"materials.xml", {{"mis", "balance"}}},
     };
     for (const auto& [scene_name, settings] : cases) {
         RendererOverrides simd = settings, scalar = settings;

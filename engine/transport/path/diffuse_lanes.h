@@ -14,7 +14,7 @@ namespace foton {
 // Which shading kernel takes a material's vertices.
 enum class KernelKind : uint8_t {
     None,      // shade_vertex, one at a time
-    Diffuse,   // kern::shade_diffuse: Lambertian lobes only
+    Diffuse,   // kern::shade_diffuse: Lambertian lobes only, or one Oren–Nayar lobe
     Specular,  // kern::shade_specular: one mirror or dielectric lobe
 };
 
@@ -32,6 +32,7 @@ struct DiffuseMaterials {
     bool enabled = false;            // the settings and the vertex rules allow the kernels at all
     std::vector<KernelKind> kernel;  // per material; untextured and not emitting ones only
     std::vector<RGB> rho;            // Diffuse: the lobes' summed reflectance
+    std::vector<float> on_a, on_b;   // ... and Oren–Nayar's A, B (Lambert: 1, 0)
     std::vector<SpecularMaterial> specular;
     kern::DiffuseRules rules;
 };

@@ -31,8 +31,11 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         L.col(c + 2)[lane] = z;
     };
     put3(kern::kDvWox, -ws.rays.dx[i], -ws.rays.dy[i], -ws.rays.dz[i]);
-    const RGB& rho = diffuse_.rho[ctx_.scene.objects[ws.hits.geom[i]].material];
+    const uint32_t material = ctx_.scene.objects[ws.hits.geom[i]].material;
+    const RGB& rho = diffuse_.rho[material];
     put3(kern::kDvRhoR, rho.r, rho.g, rho.b);
+    L.col(kern::kDvOnA)[lane] = diffuse_.on_a[material];
+    L.col(kern::kDvOnB)[lane] = diffuse_.on_b[material];
     const RGB& beta = ws.beta[slot];
     put3(kern::kDvBetaR, beta.r, beta.g, beta.b);
     L.col(kern::kDvEtaScale)[lane] = ws.eta_scale[slot];

@@ -27,9 +27,10 @@ kern::DiffuseMis kernel_mis(MisHeuristic h) {
 }
 
 // Which kernel shades a material's vertices as shade_vertex would: untextured, not emitting,
-// and every lobe Lambertian (their sum is one Lambertian lobe of the summed reflectance) or
-// one mirror or dielectric lobe.
-KernelKind kernel_material(const Material& m, RGB& rho, SpecularMaterial& spec) {
+// and every lobe Lambertian (their sum is one Lambertian lobe of the summed reflectance), one
+// Oren–Nayar lobe, or one mirror or dielectric lobe.
+KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b,
+                           SpecularMaterial& spec) {
     if (m.texture >= 0 || !m.emission.is_black() || m.bsdf.empty()) return KernelKind::None;
     const Lobe& first = m.bsdf.lobe(0);
     if (m.bsdf.size() == 1 && m.bsdf.weight(0) > 0.f &&
@@ -45,6 +46,14 @@ KernelKind kernel_material(const Material& m, RGB& rho, SpecularMaterial& spec) 
         spec.k = first.fresnel.k;
         spec.weight = m.bsdf.weight(0);
         return KernelKind::Specular;
+    }
+    on_a = 1.f;
+    on_b = 0.f;
+    if (m.bsdf.size() == 1 && first.type == LobeType::OrenNayar) {
+        rho = first.color;
+        on_a = first.on_a;
+        on_b = first.on_b;
+        return KernelKind::Diffuse;
     }
     rho = RGB{0.f};
     for (int i = 0; i < m.bsdf.size(); ++i) {
@@ -73,9 +82,11 @@ DiffuseMaterials PathIntegrator::diffuse_materials() const {
     const std::vector<Material>& ms = ctx_.scene.materials;
     d.kernel.assign(ms.size(), KernelKind::None);
     d.rho.assign(ms.size(), RGB{0.f});
+    d.on_a.assign(ms.size(), 1.f);
+    d.on_b.assign(ms.size(), 0.f);
     d.specular.assign(ms.size(), SpecularMaterial{});
     for (std::size_t k = 0; k < ms.size(); ++k)
-        d.kernel[k] = kernel_material(ms[k], d.rho[k], d.specular[k]);
+        d.kernel[k] = kernel_material(ms[k], d.rho[k], d.on_a[k], d.on_b[k], d.specular[k]);
     return d;
 }
 
