@@ -14,6 +14,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/bsdf.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/common/camera_integrator.h"
 #include "kernels/diffuse_shade.h"
 #include "kernels/specular_shade.h"
 #include "test_util.h"
@@ -343,4 +344,35 @@ TEST_CASE("Specular shading kernel: SIMD equals its scalar twin, and the twin th
         CHECK(refracted > n / 20);
         CHECK(refracted < nexts);
     }
+}
+
+TEST_CASE("Camera rays: the Sobol' and Z-Sobol' pixel tables equal pixel_sample",
+          "[sampler][kernel][fast]") {
+    Scene scene = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
+    scene.set_resolution(37, 29);
+    std::mt19937 g(4);
+    std::vector<SampleJob> jobs;
+    for (uint32_t k = 0; k < 203; ++k) {
+        SampleJob j;
+        j.x = g() % 37;
+        j.y = g() % 29;
+        j.pat_n = 1u + g() % 33;
+        j.pat_i = g() % j.pat_n;
+        j.pat_round = g() % 3;
+        j.id = k;
+        jobs.push_back(j);
+    }
+    for (const SamplerKind kind : {SamplerKind::Sobol, SamplerKind::ZSobol}) {
+        std::vector<float> table;
+        REQUIRE(pixel_sample_table(scene, kind, jobs, 17, table));
+        const std::size_t stride = table.size() / 2;
+        std::size_t differ = 0;
+        for (std::size_t s = 0; s < jobs.size(); ++s) {
+            const Point2 p = pixel_sample(scene, kind, jobs[s], 17);
+            differ += (p.x != table[s]) + (p.y != table[stride + s]);
+        }
+        CHECK(differ == 0);
+    }
+    std::vector<float> table;
+    CHECK_FALSE(pixel_sample_table(scene, SamplerKind::Jittered, jobs, 17, table));
 }

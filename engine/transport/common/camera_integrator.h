@@ -12,6 +12,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
 #include "engine/core/sampler.h"
+#include "engine/core/sobol.h"
 #include "engine/core/stats.h"
 #include "engine/core/zsobol.h"
 #include "engine/scene/scene.h"
@@ -51,6 +52,44 @@ inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const Sample
     return sample_pattern(sampler, j.pat_i, j.pat_n, seed, pixel_pattern_key(scene, j));
 }
 
+// The pixel positions of `jobs` as a table (x in [0, n), y in [n, 2n) of `table`, n the
+// jobs' count rounded up to 8) when the sampler is Sobol' or Z-Sobol'; false (and nothing
+// written) for the others.
+inline bool pixel_sample_table(const Scene& scene, SamplerKind sampler,
+                               const std::vector<SampleJob>& jobs, uint64_t seed,
+                               std::vector<float>& table) {
+    if (sampler != SamplerKind::Sobol && sampler != SamplerKind::ZSobol) return false;
+    thread_local std::vector<uint64_t> index, key;
+    thread_local std::vector<uint32_t> count;
+    const std::size_t n = (jobs.size() + 7) / 8 * 8;
+    index.assign(n, 0);
+    key.assign(n, 0);
+    count.assign(n, 1);
+    table.resize(2 * n);
+    const uint32_t pair = 0;
+    if (sampler == SamplerKind::Sobol) {
+        thread_local std::vector<uint32_t> i32;
+        i32.assign(n, 0);
+        for (std::size_t s = 0; s < jobs.size(); ++s) {
+            i32[s] = jobs[s].pat_i;
+            count[s] = jobs[s].pat_n;
+            key[s] = pixel_pattern_key(scene, jobs[s]);
+        }
+        kern::sobol::sample_table(seed, i32.data(), count.data(), key.data(), jobs.size(), &pair, 1,
+                                  table.data(), n);
+    } else {
+        for (std::size_t s = 0; s < jobs.size(); ++s) {
+            const zsobol::Index z = zsobol_index(scene, jobs[s], seed);
+            index[s] = z.index;
+            count[s] = z.bits;
+            key[s] = z.key;
+        }
+        kern::zsobol::sample_table(index.data(), count.data(), key.data(), jobs.size(), &pair, 1,
+                                   table.data(), n);
+    }
+    return true;
+}
+
 // Appends the camera rays of `jobs` to `rays` (slot = job index): the pixel position from
 // the renderer's sampler, the thin-lens position from the job's own stream.
 inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
@@ -60,9 +99,15 @@ inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
     // A tile's jobs are its pixels in rows, each pixel's samples together: neighbours in the
     // batch are neighbours on the film.
     rays.coherent = rays.empty();
+    // Sobol' and Z-Sobol' pixel positions come as one table (the same numbers as
+    // pixel_sample's, drawn by the kernels 8 samples at a time).
+    thread_local std::vector<float> table;
+    const bool tabled = pixel_sample_table(scene, sampler, jobs, seed, table);
+    const std::size_t stride = table.size() / 2;
     for (uint32_t slot = 0; slot < jobs.size(); ++slot) {
         const SampleJob& j = jobs[slot];
-        const Point2 px = pixel_sample(scene, sampler, j, seed);
+        const Point2 px = tabled ? Point2{table[slot], table[stride + slot]}
+                                 : pixel_sample(scene, sampler, j, seed);
         const Point2 lens = {rng::uniform(seed, kLensStream, j.id, 0),
                              rng::uniform(seed, kLensStream, j.id, 1)};
         Vec3 o, d;
