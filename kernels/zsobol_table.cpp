@@ -39,12 +39,14 @@ const PackedPermutations& packed_permutations() {
 }
 
 // permute_digits of eight samples: index, bit count (64-bit lanes), pair key.
-__m512i permute_lanes(__m512i index, __m512i bits, __m512i pk, uint32_t max_bits) {
+__m512i permute_lanes(__m512i index, __m512i bits, __m512i pk, uint32_t max_bits, int step) {
     const PackedPermutations& table = packed_permutations();
     const __m512i three = set64(3), one = set64(1);
     const __m512i lone = _mm512_and_si512(bits, one);
     __m512i out = _mm512_setzero_si512();
-    for (int shift = int(max_bits) - 2; shift >= 0; --shift) {
+    // Lanes of one parity (the usual case: one image, one sample count) have digits only at
+    // every other position.
+    for (int shift = int(max_bits) - 2; shift >= 0; shift -= step) {
         // The lanes with a digit at this position: below their top, of their parity.
         const __mmask8 active = _mm512_cmpge_epu64_mask(bits, set64(uint64_t(shift) + 2)) &
                                 _mm512_cmpeq_epi64_mask(lone, set64(uint64_t(shift) & 1u));
@@ -86,11 +88,13 @@ void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* k
         const __m512i nbits = _mm512_maskz_cvtepu32_epi64(
             __mmask8(0xff), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bits + s)));
         const uint32_t max_bits = *std::max_element(bits + s, bits + s + 8);
+        const bool one_parity = std::all_of(
+            bits + s, bits + s + 8, [&](uint32_t b) { return (b & 1u) == (max_bits & 1u); });
         const __m512i k = _mm512_loadu_si512(key + s);
         for (std::size_t p = 0; p < n_pairs; ++p) {
             // pair_key: the sample's key plus the pair's salt, hashed.
             const __m512i pk = mix(_mm512_add_epi64(k, set64(0x2505u * (uint64_t(pairs[p]) + 1))));
-            const __m512i j = permute_lanes(idx, nbits, pk, max_bits);
+            const __m512i j = permute_lanes(idx, nbits, pk, max_bits, one_parity ? 2 : 1);
             // The bits above 32 key the scramble (scrambled() in zsobol_net.cpp).
             const __m512i hi = shr64(j, 32);
             const __m512i key2 = _mm512_mask_blend_epi64(_mm512_test_epi64_mask(hi, hi), pk,
