@@ -23,7 +23,7 @@ namespace {
 constexpr std::size_t kLanes = 128;
 
 struct Table {
-    foton::AlignedVector<float> data = foton::AlignedVector<float>(kDiffuseColumns * kLanes);
+    foton::AlignedVector<float> data = foton::AlignedVector<float>(kShadeColumns * kLanes);
     float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }
     Table() {
         std::mt19937 g(5);
@@ -73,7 +73,7 @@ struct Table {
 template <bool kSimd>
 void BM_ShadeDiffuse(benchmark::State& state) {
     Table t;
-    const DiffuseVertices v{t.data.data(), kLanes};
+    const ShadeTable v{t.data.data(), kLanes};
     const DiffuseRules rules{DiffuseMis::Power, true};
     for (auto _ : state) {
         if (kSimd)
@@ -84,7 +84,7 @@ void BM_ShadeDiffuse(benchmark::State& state) {
     }
     state.counters["vertices/s"] =
         benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["width"] = double(kSimd ? diffuse_shade_width() : 1);
+    state.counters["width"] = double(kSimd ? shade_width() : 1);
 }
 
 // Mirrors and dielectrics alternating, on the diffuse table's surfaces.
@@ -101,7 +101,7 @@ void BM_ShadeSpecular(benchmark::State& state) {
         t.col(kDvUChoice)[i] = u(g);
         t.col(kDvFront)[i] = 1.f;
     }
-    const DiffuseVertices v{t.data.data(), kLanes};
+    const ShadeTable v{t.data.data(), kLanes};
     for (auto _ : state) {
         if (kSimd)
             shade_specular(v, kLanes, true);

@@ -2,7 +2,7 @@
 // dimension at once; other builds run the scalar twin.
 #include "counter_hash.h"
 
-#include <immintrin.h>
+#include "hash_simd.h"
 
 namespace foton::kern {
 
@@ -14,22 +14,8 @@ void uniform_table_scalar(uint64_t prefix, const uint64_t* index, std::size_t n,
             out[d * stride + i] = to_unit_float(hash_from(prefix, index[i], dims[d]));
 }
 
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
-namespace {
-
-// The masked forms: GCC 12's plain shifts pass an undefined source it then warns about.
-inline __m512i shift_right(__m512i z, unsigned n) {
-    return _mm512_maskz_srli_epi64(__mmask8(0xff), z, n);
-}
-inline __m512i mix(__m512i z) {
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shift_right(z, 30)),
-                           _mm512_set1_epi64(int64_t(0xbf58476d1ce4e5b9ull)));
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shift_right(z, 27)),
-                           _mm512_set1_epi64(int64_t(0x94d049bb133111ebull)));
-    return _mm512_xor_si512(z, shift_right(z, 31));
-}
-
-}  // namespace
+#if FOTON_HASH_SIMD
+using namespace hash_simd;
 
 void uniform_table(uint64_t prefix, const uint64_t* index, std::size_t n, const uint64_t* dims,
                    std::size_t n_dims, float* out, std::size_t stride) {
@@ -44,8 +30,7 @@ void uniform_table(uint64_t prefix, const uint64_t* index, std::size_t n, const 
             const __m512i k = _mm512_loadu_si512(index + i);
             const __m512i h =
                 mix(_mm512_xor_si512(mix(_mm512_xor_si512(pre, _mm512_add_epi64(k, step))), dim));
-            return _mm256_mul_ps(_mm512_maskz_cvtepu64_ps(__mmask8(0xff), shift_right(h, 40)),
-                                 scale);
+            return _mm256_mul_ps(_mm512_maskz_cvtepu64_ps(__mmask8(0xff), shr64(h, 40)), scale);
         };
         std::size_t i = 0;
         for (; i + 16 <= n; i += 16) {

@@ -146,11 +146,11 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
 
 }  // namespace
 
-std::size_t diffuse_shade_width() {
+std::size_t shade_width() {
     return simd::kWidth;
 }
 
-void shade_diffuse(const DiffuseVertices& v, std::size_t n, const DiffuseRules& rules) {
+void shade_diffuse(const ShadeTable& v, std::size_t n, const DiffuseRules& rules) {
     for (std::size_t i = 0; i < n; i += simd::kWidth) shade_lanes(Lanes{v, i}, rules);
 }
 

@@ -41,7 +41,7 @@ float oren_nayar(V3 wo, V3 wi, float a, float b) {
 
 }  // namespace
 
-void shade_diffuse_scalar(const DiffuseVertices& v, std::size_t n, const DiffuseRules& rules) {
+void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules& rules) {
     auto in3 = [&](uint32_t c, std::size_t i) {
         return V3{v.col(c)[i], v.col(c + 1)[i], v.col(c + 2)[i]};
     };

@@ -49,7 +49,7 @@ inline V3 offset(const V3& p, const V3& ng, const FloatV& eps, const V3& w) {
 }
 
 struct Lanes {
-    const DiffuseVertices& v;
+    const ShadeTable& v;
     std::size_t i;
     FloatV in(uint32_t c) const { return FloatV::load_unaligned(v.col(c) + i); }
     V3 in3(uint32_t c) const { return {in(c), in(c + 1), in(c + 2)}; }

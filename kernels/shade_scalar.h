@@ -34,10 +34,10 @@ inline V3 offset(V3 p, V3 ng, float eps, V3 w) {
     return dot(w, ng) >= 0.f ? p + ng * eps : p - ng * eps;
 }
 
-inline V3 in3(const DiffuseVertices& v, uint32_t c, std::size_t i) {
+inline V3 in3(const ShadeTable& v, uint32_t c, std::size_t i) {
     return V3{v.col(c)[i], v.col(c + 1)[i], v.col(c + 2)[i]};
 }
-inline void out3(const DiffuseVertices& v, uint32_t c, std::size_t i, V3 a) {
+inline void out3(const ShadeTable& v, uint32_t c, std::size_t i, V3 a) {
     v.col(c)[i] = a.x;
     v.col(c + 1)[i] = a.y;
     v.col(c + 2)[i] = a.z;
@@ -45,7 +45,7 @@ inline void out3(const DiffuseVertices& v, uint32_t c, std::size_t i, V3 a) {
 
 // The surface of lane i when kDvSurface is not 0 (a triangle's barycentric point and normals,
 // or a sphere's), into the surface columns and kDvFront.
-inline void reconstruct_surface_scalar(const DiffuseVertices& v, std::size_t i) {
+inline void reconstruct_surface_scalar(const ShadeTable& v, std::size_t i) {
     auto in3 = [&](uint32_t c, std::size_t k) { return scalar::in3(v, c, k); };
     auto out3 = [&](uint32_t c, std::size_t k, V3 a) { scalar::out3(v, c, k, a); };
     const float kind = v.col(kDvSurface)[i];

@@ -1,6 +1,6 @@
 #pragma once
 // The AVX-512 pieces the Sobol' and Z-Sobol' table kernels share (sobol_table.cpp,
-// zsobol_table.cpp): the 64-bit hash eight lanes at a time, bit reversal, the second
+// zsobol_table.cpp), besides the 64-bit hash of hash_simd.h: bit reversal, the second
 // dimension's table lookups and the Owen scramble in 32-bit lanes. FOTON_SOBOL_SIMD says
 // whether the build has the extensions they need (F, DQ, CD, VL); without them the kernels run
 // their scalar twins.
@@ -8,6 +8,7 @@
 
 #include <cstdint>
 
+#include "hash_simd.h"
 #include "sobol_net.h"
 
 #if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512CD__) && defined(__AVX512VL__)
@@ -15,24 +16,7 @@
 
 namespace foton::kern::sobol_simd {
 
-// The masked form: GCC 12's plain shift passes an undefined source it then warns about.
-inline __m512i shr64(__m512i z, unsigned n) {
-    return _mm512_maskz_srli_epi64(__mmask8(0xff), z, n);
-}
-inline __m512i shl64(__m512i z, unsigned n) {
-    return _mm512_maskz_slli_epi64(__mmask8(0xff), z, n);
-}
-inline __m512i mix(__m512i z) {
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shr64(z, 30)),
-                           _mm512_set1_epi64(int64_t(0xbf58476d1ce4e5b9ull)));
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, shr64(z, 27)),
-                           _mm512_set1_epi64(int64_t(0x94d049bb133111ebull)));
-    return _mm512_xor_si512(z, shr64(z, 31));
-}
-// The low 32 bits of each 64-bit lane (masked, for the same reason).
-inline __m256i low32(__m512i z) {
-    return _mm512_maskz_cvtepi64_epi32(__mmask8(0xff), z);
-}
+using namespace hash_simd;
 
 inline __m256i bit_reverse(__m256i i) {
     auto swap = [](__m256i x, int s, uint32_t m) {

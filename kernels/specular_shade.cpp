@@ -58,49 +58,61 @@ void specular_lanes(const Lanes& l, bool roulette) {
     const V3 wo{dot(wo_world, s), dot(wo_world, t), dot(wo_world, ns)};
     const V3 mirror{neg(wo.x), neg(wo.y), wo.z};
 
-    // A mirror: its Fresnel term at the reflected direction's cosine.
+    const MaskV is_mirror = l.in(kDvSpecKind) == one;
+    // A mirror: its Fresnel term at the reflected direction's cosine (each kind computed only
+    // when a lane has it).
     const FloatV c = xsimd::abs(mirror.z);
     const FloatV fresnel = l.in(kDvFresnel);
-    const FloatV fd = fresnel_dielectric(c, one, l.in(kDvIor));
-    const V3 fc{fresnel_conductor(c, l.in(kDvEtaR), l.in(kDvKR)),
-                fresnel_conductor(c, l.in(kDvEtaG), l.in(kDvKG)),
-                fresnel_conductor(c, l.in(kDvEtaB), l.in(kDvKB))};
-    const V3 fr = select(fresnel == one, fc,
-                         select(fresnel == FloatV(2.f), V3{fd, fd, fd}, V3{one, one, one}));
+    V3 fr{one, one, one};
+    if (xsimd::any(fresnel == FloatV(2.f))) {
+        const FloatV fd = fresnel_dielectric(c, one, l.in(kDvIor));
+        fr = select(fresnel == FloatV(2.f), V3{fd, fd, fd}, fr);
+    }
+    if (xsimd::any(fresnel == one)) {
+        const V3 fc{fresnel_conductor(c, l.in(kDvEtaR), l.in(kDvKR)),
+                    fresnel_conductor(c, l.in(kDvEtaG), l.in(kDvKG)),
+                    fresnel_conductor(c, l.in(kDvEtaB), l.in(kDvKB))};
+        fr = select(fresnel == one, fc, fr);
+    }
     const FloatV inv = one / c;
     const V3 f_mirror{color.x * fr.x * inv, color.y * fr.y * inv, color.z * fr.z * inv};
 
-    // A dielectric: reflection or refraction by its Fresnel term.
-    const MaskV front = l.in(kDvFront) != zero;
-    const FloatV ior = l.in(kDvIor);
-    const FloatV eta_i = xsimd::select(front, one, ior), eta_t = xsimd::select(front, ior, one);
-    const FloatV cos_i = xsimd::abs(wo.z);
-    const FloatV F = fresnel_dielectric(cos_i, eta_i, eta_t);
-    const V3 nrm{zero, zero, xsimd::select(wo.z > zero, one, FloatV(-1.f))};
-    const V3 d = neg(wo);
-    const FloatV e = eta_i / eta_t;
-    const FloatV ci = neg(dot(d, nrm));
-    const FloatV k = one - e * e * (one - ci * ci);
-    const MaskV tir = k < zero;
-    V3 tr = d * e + nrm * (e * ci - simd::vsqrt(k));
-    tr = tr * (one / simd::vsqrt(dot(tr, tr)));
-    const FloatV w = l.in(kDvLobeWeight);
-    // std::clamp(u w / w, 0, the float below 1).
-    const FloatV below_one(0x1.fffffep-1f), uw = (l.in(kDvUChoice)*w) / w;
-    const FloatV uc = xsimd::select(uw < zero, zero, xsimd::select(below_one < uw, below_one, uw));
-    const MaskV reflect = (uc < F) | tir;
-    const FloatV k_r = F / cos_i;
-    const FloatV k_t = (one - F) * ((eta_i * eta_i) / (eta_t * eta_t)) / xsimd::abs(tr.z);
-    const V3 trans = l.in3(kDvTransR);
-    const V3 f_dielectric = select(reflect, color * k_r, trans * k_t);
+    // A dielectric: reflection or refraction by its Fresnel term. A chunk of mirrors skips it
+    // (reflect everywhere: no lane refracts).
+    MaskV reflect = one == one;
+    FloatV F = one, eta_ratio = one;
+    V3 tr = mirror, f_dielectric{zero, zero, zero};
+    if (!xsimd::all(is_mirror)) {
+        const MaskV front = l.in(kDvFront) != zero;
+        const FloatV ior = l.in(kDvIor);
+        const FloatV eta_i = xsimd::select(front, one, ior);
+        const FloatV eta_t = xsimd::select(front, ior, one);
+        F = fresnel_dielectric(c, eta_i, eta_t);
+        const V3 nrm{zero, zero, xsimd::select(wo.z > zero, one, FloatV(-1.f))};
+        const V3 d = neg(wo);
+        const FloatV e = eta_i / eta_t;
+        const FloatV ci = neg(dot(d, nrm));
+        const FloatV k = one - e * e * (one - ci * ci);
+        tr = d * e + nrm * (e * ci - simd::vsqrt(k));
+        tr = tr * (one / simd::vsqrt(dot(tr, tr)));
+        const FloatV w = l.in(kDvLobeWeight);
+        // std::clamp(u w / w, 0, the float below 1).
+        const FloatV below_one(0x1.fffffep-1f), uw = (l.in(kDvUChoice)*w) / w;
+        const FloatV uc =
+            xsimd::select(uw < zero, zero, xsimd::select(below_one < uw, below_one, uw));
+        reflect = (uc < F) | (k < zero);
+        const FloatV k_r = F / c;
+        const FloatV k_t = (one - F) * ((eta_i * eta_i) / (eta_t * eta_t)) / xsimd::abs(tr.z);
+        f_dielectric = select(reflect, color * k_r, l.in3(kDvTransR) * k_t);
+        eta_ratio = eta_t / eta_i;
+    }
 
-    const MaskV is_mirror = l.in(kDvSpecKind) == one;
     const MaskV transmit = ~(is_mirror | reflect);
     const V3 wi = select(transmit, tr, mirror);
     const V3 f = select(is_mirror, f_mirror, f_dielectric);
     const FloatV pdf = xsimd::select(is_mirror, one, xsimd::select(reflect, F, one - F));
-    const FloatV eta = xsimd::select(transmit, eta_t / eta_i, one);
-    MaskV ok = xsimd::select(is_mirror, c, cos_i) != zero;
+    const FloatV eta = xsimd::select(transmit, eta_ratio, one);
+    MaskV ok = c != zero;
     ok = ok & (pdf > zero);
     const V3 w_world = s * wi.x + t * wi.y + ns * wi.z;
     const FloatV side = dot(w_world, ng);
@@ -126,7 +138,7 @@ void specular_lanes(const Lanes& l, bool roulette) {
 
 }  // namespace
 
-void shade_specular(const DiffuseVertices& v, std::size_t n, bool roulette) {
+void shade_specular(const ShadeTable& v, std::size_t n, bool roulette) {
     for (std::size_t i = 0; i < n; i += simd::kWidth) specular_lanes(Lanes{v, i}, roulette);
 }
 

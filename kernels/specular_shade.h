@@ -18,7 +18,7 @@
 
 namespace foton::kern {
 
-void shade_specular(const DiffuseVertices& v, std::size_t n, bool roulette);
-void shade_specular_scalar(const DiffuseVertices& v, std::size_t n, bool roulette);
+void shade_specular(const ShadeTable& v, std::size_t n, bool roulette);
+void shade_specular_scalar(const ShadeTable& v, std::size_t n, bool roulette);
 
 }  // namespace foton::kern

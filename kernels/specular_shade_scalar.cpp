@@ -2,43 +2,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fresnel.h"
 #include "shade_scalar.h"
 #include "specular_shade.h"
 
 namespace foton::kern {
 
-namespace {
-
-using namespace scalar;
-
-float fresnel_dielectric(float cos_i, float eta_i, float eta_t) {
-    cos_i = std::clamp(cos_i, 0.f, 1.f);
-    const float sin_i = std::sqrt(std::max(0.f, 1.f - cos_i * cos_i));
-    const float sin_t = eta_i / eta_t * sin_i;
-    if (sin_t >= 1.f) return 1.f;
-    const float cos_t = std::sqrt(std::max(0.f, 1.f - sin_t * sin_t));
-    const float r_par = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-    const float r_perp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-    return 0.5f * (r_par * r_par + r_perp * r_perp);
-}
-
-float fresnel_conductor(float cos_i, float eta, float k) {
-    cos_i = std::clamp(cos_i, 0.f, 1.f);
-    const float cos2 = cos_i * cos_i, sin2 = 1.f - cos2;
-    const float eta2 = eta * eta, k2 = k * k;
-    const float t0 = eta2 - k2 - sin2;
-    const float a2b2 = std::sqrt(std::max(0.f, t0 * t0 + 4.f * eta2 * k2));
-    const float a = std::sqrt(std::max(0.f, 0.5f * (a2b2 + t0)));
-    const float t1 = a2b2 + cos2, t2 = 2.f * cos_i * a;
-    const float rs = (t1 - t2) / (t1 + t2);
-    const float t3 = cos2 * a2b2 + sin2 * sin2, t4 = t2 * sin2;
-    const float rp = rs * (t3 - t4) / (t3 + t4);
-    return 0.5f * (rs + rp);
-}
-
-}  // namespace
-
-void shade_specular_scalar(const DiffuseVertices& v, std::size_t n, bool roulette) {
+void shade_specular_scalar(const ShadeTable& v, std::size_t n, bool roulette) {
+    using namespace scalar;
     auto col = [&](uint32_t c, std::size_t i) { return v.col(c)[i]; };
     for (std::size_t i = 0; i < n; ++i) {
         reconstruct_surface_scalar(v, i);

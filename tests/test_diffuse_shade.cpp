@@ -28,10 +28,10 @@ struct Table {
     AlignedVector<float> data;
     std::size_t stride;
     explicit Table(std::size_t n)
-        : data(std::size_t(kDiffuseColumns) *
-               ((n + diffuse_shade_width() - 1) / diffuse_shade_width() * diffuse_shade_width())),
-          stride(data.size() / kDiffuseColumns) {}
-    DiffuseVertices view() { return {data.data(), stride}; }
+        : data(std::size_t(kShadeColumns) *
+               ((n + shade_width() - 1) / shade_width() * shade_width())),
+          stride(data.size() / kShadeColumns) {}
+    ShadeTable view() { return {data.data(), stride}; }
     float& at(uint32_t c, std::size_t i) { return data[c * stride + i]; }
     void set3(uint32_t c, std::size_t i, const Vec3& v) {
         at(c, i) = v.x;

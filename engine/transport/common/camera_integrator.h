@@ -59,32 +59,33 @@ inline bool pixel_sample_table(const Scene& scene, SamplerKind sampler,
                                const std::vector<SampleJob>& jobs, uint64_t seed,
                                std::vector<float>& table) {
     if (sampler != SamplerKind::Sobol && sampler != SamplerKind::ZSobol) return false;
-    thread_local std::vector<uint64_t> index, key;
-    thread_local std::vector<uint32_t> count;
+    // A sample's Sobol' index (or Z-Sobol' bit count), count and key, padded with one-point
+    // patterns up to the kernels' 8.
+    thread_local std::vector<uint64_t> key, z_index;
+    thread_local std::vector<uint32_t> index, count;
     const std::size_t n = (jobs.size() + 7) / 8 * 8;
-    index.assign(n, 0);
     key.assign(n, 0);
+    index.assign(n, 0);
     count.assign(n, 1);
     table.resize(2 * n);
     const uint32_t pair = 0;
     if (sampler == SamplerKind::Sobol) {
-        thread_local std::vector<uint32_t> i32;
-        i32.assign(n, 0);
         for (std::size_t s = 0; s < jobs.size(); ++s) {
-            i32[s] = jobs[s].pat_i;
+            index[s] = jobs[s].pat_i;
             count[s] = jobs[s].pat_n;
             key[s] = pixel_pattern_key(scene, jobs[s]);
         }
-        kern::sobol::sample_table(seed, i32.data(), count.data(), key.data(), jobs.size(), &pair, 1,
-                                  table.data(), n);
+        kern::sobol::sample_table(seed, index.data(), count.data(), key.data(), jobs.size(), &pair,
+                                  1, table.data(), n);
     } else {
+        z_index.assign(n, 0);
         for (std::size_t s = 0; s < jobs.size(); ++s) {
             const zsobol::Index z = zsobol_index(scene, jobs[s], seed);
-            index[s] = z.index;
-            count[s] = z.bits;
+            z_index[s] = z.index;
+            index[s] = z.bits;
             key[s] = z.key;
         }
-        kern::zsobol::sample_table(index.data(), count.data(), key.data(), jobs.size(), &pair, 1,
+        kern::zsobol::sample_table(z_index.data(), index.data(), key.data(), jobs.size(), &pair, 1,
                                    table.data(), n);
     }
     return true;

@@ -29,7 +29,7 @@ PathIntegrator::PathIntegrator(const RenderContext& ctx, const VertexRules& rule
       rules_(rules),
       cache_(readers.cache),
       guide_(readers.guide),
-      diffuse_(diffuse_materials()) {}
+      kernels_(kernel_materials()) {}
 
 float PathIntegrator::rand(const PathWorkspace& ws, uint32_t slot, uint32_t depth,
                            uint32_t k) const {
@@ -91,7 +91,7 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
     ws.shadow_value.clear();
     // The hits the SIMD kernels take (Lambertian and specular vertices, path_lanes.cpp) are
     // grouped by kernel and shaded together; every other hit is shaded here, one at a time.
-    const bool kernels = diffuse_.enabled && depth < ctx_.settings.max_depth;
+    const bool kernels = kernels_.enabled && depth < ctx_.settings.max_depth;
     ws.diffuse_entries.clear();
     ws.specular_entries.clear();
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
@@ -107,8 +107,8 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                 break;
         }
     }
-    if (!ws.diffuse_entries.empty()) shade_diffuse(depth, ws);
-    if (!ws.specular_entries.empty()) shade_specular(depth, ws);
+    shade_lanes(depth, KernelKind::Diffuse, ws);
+    shade_lanes(depth, KernelKind::Specular, ws);
 }
 
 void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,

@@ -19,7 +19,6 @@
 // vertex of each camera path (one reached through specular vertices only) whose non-delta
 // lobes are Lambertian: its direct light from one light sample, its indirect light from the
 // cache.
-#include "diffuse_lanes.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
@@ -29,6 +28,7 @@
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_context.h"
 #include "engine/transport/run/render_options.h"
+#include "kernel_lanes.h"
 #include "path_sampler.h"
 
 namespace foton {
@@ -100,7 +100,7 @@ struct PathWorkspace : IntegratorWorkspace {
     CacheWorkspace* cache_workspace() override { return &cache; }
     // The bounce's hits the SIMD kernels shade (batch entries), and their lanes.
     std::vector<uint32_t> diffuse_entries, specular_entries;
-    DiffuseLanes diffuse;
+    KernelLanes lanes;
 };
 
 class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
@@ -124,18 +124,27 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     void shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,
                       std::vector<RGB>& radiance) const;
     // The SIMD kernels' part (path_lanes.cpp, path_diffuse.cpp, path_specular.cpp).
-    DiffuseMaterials diffuse_materials() const;
+    KernelMaterials kernel_materials() const;
     KernelKind kernel_of(const PathWorkspace& ws, std::size_t i) const;
     bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
     bool put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws, bool need_point,
                      struct SurfacePoint& sp) const;
     void draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const;
-    void shade_diffuse(uint32_t depth, PathWorkspace& ws) const;
+    // The path's part of a lane (throughput, eta^2 product, the ray's direction); its slot.
+    uint32_t put_path(std::size_t lane, PathWorkspace& ws) const;
+    // The sampler's number k of bounce `depth` for a lane: from the drawn table's row `row`
+    // when the chunk has one (draw_lane_numbers), else drawn now.
+    float lane_number(const PathWorkspace& ws, std::size_t lane, uint32_t row, uint32_t depth,
+                      uint32_t k) const;
+    Point2 lane_number2(const PathWorkspace& ws, std::size_t lane, uint32_t row, uint32_t depth,
+                        uint32_t k) const;
+    // A bounce's hits of one kernel, chunk by chunk: fill, kernel, read back.
+    void shade_lanes(uint32_t depth, KernelKind kind, PathWorkspace& ws) const;
     void fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
-    void shade_specular(uint32_t depth, PathWorkspace& ws) const;
     void fill_specular_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const;
-    void read_specular_lanes(PathWorkspace& ws) const;
-    void read_diffuse_lanes(PathWorkspace& ws) const;
+    // The chunk's shadow and continuation rays into the batches, the paths' state (delta:
+    // the specular kernel's lanes).
+    void read_lanes(PathWorkspace& ws, bool delta) const;
     // The cache's vertex: true when it took the path over.
     bool shade_cached(uint32_t depth, const struct SurfacePoint& sp, const Material& m,
                       const Vec3& d, uint32_t slot, PathWorkspace& ws) const;
@@ -150,7 +159,7 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     const VertexRules rules_;
     const CacheEvaluator* const cache_;
     const PathGuide* const guide_;
-    const DiffuseMaterials diffuse_;
+    const KernelMaterials kernels_;
 };
 
 // The table entries (registry/integrators.h): the tile driver over path tracing (with the

@@ -5,6 +5,7 @@
 #include "engine/transport/common/surface.h"
 #include "kernels/counter_hash.h"
 #include "kernels/sobol_net.h"
+#include "kernels/specular_shade.h"
 #include "kernels/zsobol_net.h"
 #include "path.h"
 
@@ -66,8 +67,8 @@ KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b
 
 }  // namespace
 
-DiffuseMaterials PathIntegrator::diffuse_materials() const {
-    DiffuseMaterials d;
+KernelMaterials PathIntegrator::kernel_materials() const {
+    KernelMaterials d;
     const RenderSettings& rs = ctx_.settings;
     const VertexRules plain = VertexRules::path(rs);
     // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
@@ -93,7 +94,7 @@ DiffuseMaterials PathIntegrator::diffuse_materials() const {
 KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) const {
     const uint32_t geom = ws.hits.geom[i];
     if (geom == kNoHit) return KernelKind::None;
-    const KernelKind k = diffuse_.kernel[ctx_.scene.objects[geom].material];
+    const KernelKind k = kernels_.kernel[ctx_.scene.objects[geom].material];
     // The cache's first diffuse vertex is shade_cached's.
     if (k == KernelKind::Diffuse && cache_ && ws.chain_specular[ws.rays.id[i]])
         return KernelKind::None;
@@ -106,17 +107,12 @@ KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) con
 bool PathIntegrator::put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws,
                                  bool need_point, SurfacePoint& sp) const {
     if (!need_point && put_hit(lane, i, ws)) return false;
-    DiffuseLanes& L = ws.diffuse;
+    KernelLanes& L = ws.lanes;
     sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
-    auto put3 = [&](uint32_t c, const Vec3& a) {
-        L.col(c)[lane] = a.x;
-        L.col(c + 1)[lane] = a.y;
-        L.col(c + 2)[lane] = a.z;
-    };
     L.col(kern::kDvSurface)[lane] = 0.f;
-    put3(kern::kDvPx, sp.p);
-    put3(kern::kDvNgx, sp.ng);
-    put3(kern::kDvNsx, sp.ns);
+    L.put3(kern::kDvPx, lane, sp.p);
+    L.put3(kern::kDvNgx, lane, sp.ng);
+    L.put3(kern::kDvNsx, lane, sp.ns);
     L.col(kern::kDvEps)[lane] = sp.epsilon;
     L.col(kern::kDvFront)[lane] = sp.front_face ? 1.f : 0.f;
     return true;
@@ -126,34 +122,29 @@ bool PathIntegrator::put_surface(std::size_t lane, std::size_t i, PathWorkspace&
 // triangles of meshes placed as they are, spheres); false for an instance, whose surface
 // surface_at makes here.
 bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const {
-    DiffuseLanes& L = ws.diffuse;
+    KernelLanes& L = ws.lanes;
     const Scene& scene = ctx_.scene;
     const Object& obj = scene.objects[ws.hits.geom[i]];
     if (obj.instance >= 0) return false;
-    auto put3 = [&](uint32_t c, const Vec3& a) {
-        L.col(c)[lane] = a.x;
-        L.col(c + 1)[lane] = a.y;
-        L.col(c + 2)[lane] = a.z;
-    };
     float kind;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
         const uint32_t* ix = &m.indices[3 * std::size_t(ws.hits.prim[i])];
-        put3(kern::kDvA0x, m.vertex(ix[0]));
-        put3(kern::kDvA1x, m.vertex(ix[1]));
-        put3(kern::kDvA2x, m.vertex(ix[2]));
+        L.put3(kern::kDvA0x, lane, m.vertex(ix[0]));
+        L.put3(kern::kDvA1x, lane, m.vertex(ix[1]));
+        L.put3(kern::kDvA2x, lane, m.vertex(ix[2]));
         kind = 1.f;
         if (obj.smooth) {
-            put3(kern::kDvN0x, m.vertex_normal(ix[0]));
-            put3(kern::kDvN1x, m.vertex_normal(ix[1]));
-            put3(kern::kDvN2x, m.vertex_normal(ix[2]));
+            L.put3(kern::kDvN0x, lane, m.vertex_normal(ix[0]));
+            L.put3(kern::kDvN1x, lane, m.vertex_normal(ix[1]));
+            L.put3(kern::kDvN2x, lane, m.vertex_normal(ix[2]));
             kind = 2.f;
         }
     } else {
         const Sphere& sph = scene.spheres[obj.index];
-        put3(kern::kDvA0x, sph.center);
+        L.put3(kern::kDvA0x, lane, sph.center);
         L.col(kern::kDvA1x)[lane] = sph.radius;
-        put3(kern::kDvOx, ws.rays.origin(i));
+        L.put3(kern::kDvOx, lane, ws.rays.origin(i));
         kind = 3.f;
     }
     L.col(kern::kDvSurface)[lane] = kind;
@@ -163,12 +154,38 @@ bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws)
     return true;
 }
 
+uint32_t PathIntegrator::put_path(std::size_t lane, PathWorkspace& ws) const {
+    KernelLanes& L = ws.lanes;
+    const std::size_t i = L.entry[lane];
+    const uint32_t slot = ws.rays.id[i];
+    ws.path_length[slot] += ws.hits.t[i];
+    L.put3(kern::kDvWox, lane, -ws.rays.direction(i));
+    L.put3(kern::kDvBetaR, lane, ws.beta[slot]);
+    L.col(kern::kDvEtaScale)[lane] = ws.eta_scale[slot];
+    return slot;
+}
+
+float PathIntegrator::lane_number(const PathWorkspace& ws, std::size_t lane, uint32_t row,
+                                  uint32_t depth, uint32_t k) const {
+    const KernelLanes& L = ws.lanes;
+    return L.drawn ? L.rand[row * KernelLanes::kLanes + lane]
+                   : rand(ws, ws.rays.id[L.entry[lane]], depth, k);
+}
+
+Point2 PathIntegrator::lane_number2(const PathWorkspace& ws, std::size_t lane, uint32_t row,
+                                    uint32_t depth, uint32_t k) const {
+    const KernelLanes& L = ws.lanes;
+    if (!L.drawn) return rand2(ws, ws.rays.id[L.entry[lane]], depth, k);
+    return {L.rand[row * KernelLanes::kLanes + lane],
+            L.rand[(row + 1) * KernelLanes::kLanes + lane]};
+}
+
 // The chunk's random numbers as one table when every lane's sampler is counter-based
 // (kern::uniform_table), Sobol' (kern::sobol::sample_table) or Z-Sobol'
 // (kern::zsobol::sample_table): the same numbers rand() gives one at a time. Halton draws
 // them one at a time in the fill.
 void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const {
-    DiffuseLanes& L = ws.diffuse;
+    KernelLanes& L = ws.lanes;
     L.drawn = false;
     const PathSampler& first = ws.samplers[ws.rays.id[L.entry[0]]];
     const bool uniform = first.counter_based(), sobol = first.sobol(), z = first.zsobol();
@@ -180,7 +197,7 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
             return;
         if (z) {
             L.z_index[k] = ps.z_index().index;
-            L.pattern_count[k] = ps.z_index().bits;
+            L.z_bits[k] = ps.z_index().bits;
             L.keys[k] = ps.z_index().key;
         } else {
             L.keys[k] = ps.key();
@@ -195,6 +212,7 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
         L.z_index[k] = 0;
         L.pattern_index[k] = 0;
         L.pattern_count[k] = 1;
+        L.z_bits[k] = 0;
     }
     const uint32_t p0 = 1 + depth * 4;
     const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
@@ -202,21 +220,109 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
         // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
         // triangle, lobe, roulette.
         const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
-        const uint64_t dims[DiffuseLanes::kRandRows] = {
+        const uint64_t dims[KernelLanes::kRandRows] = {
             base + kPathDimLight,    base + kPathDimLight + 1,   base + kPathDimBsdf + 1,
             base + kPathDimBsdf + 2, base + kPathDimLightSelect, base + kPathDimLight + 2,
             base + kPathDimBsdf,     base + kPathDimRoulette};
-        kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, DiffuseLanes::kRandRows,
-                            L.rand.data(), DiffuseLanes::kLanes);
+        kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, KernelLanes::kRandRows,
+                            L.rand.data(), KernelLanes::kLanes);
     } else if (sobol) {
         kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
                                   L.keys.data(), L.size, pairs, 4, L.rand.data(),
-                                  DiffuseLanes::kLanes);
+                                  KernelLanes::kLanes);
     } else {
-        kern::zsobol::sample_table(L.z_index.data(), L.pattern_count.data(), L.keys.data(), L.size,
-                                   pairs, 4, L.rand.data(), DiffuseLanes::kLanes);
+        kern::zsobol::sample_table(L.z_index.data(), L.z_bits.data(), L.keys.data(), L.size, pairs,
+                                   4, L.rand.data(), KernelLanes::kLanes);
     }
     L.drawn = true;
+}
+
+namespace {
+
+// Lane k's ray (origin and direction columns from o and d) into entry `at` of `batch`.
+void take_ray(RayBatch& batch, std::size_t at, KernelLanes& L, std::size_t k, uint32_t o,
+              uint32_t d, float tmax, uint32_t slot) {
+    batch.ox[at] = L.col(o)[k];
+    batch.oy[at] = L.col(o + 1)[k];
+    batch.oz[at] = L.col(o + 2)[k];
+    batch.dx[at] = L.col(d)[k];
+    batch.dy[at] = L.col(d + 1)[k];
+    batch.dz[at] = L.col(d + 2)[k];
+    batch.tmin[at] = 0.f;
+    batch.tmax[at] = tmax;
+    batch.id[at] = slot;
+}
+
+}  // namespace
+
+void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
+    KernelLanes& L = ws.lanes;
+    const float* shadow_valid = L.col(kern::kDvShadowValid);
+    const float* next_valid = L.col(kern::kDvNextValid);
+    std::size_t shadows = 0, nexts = 0;
+    for (std::size_t k = 0; k < L.size; ++k) {
+        shadows += shadow_valid[k] != 0.f;
+        nexts += next_valid[k] != 0.f;
+    }
+    // Both batches grown once and written column by column (not a push per ray).
+    std::size_t s = ws.shadow.size(), n = ws.next.size();
+    ws.shadow.resize(s + shadows);
+    ws.shadow_value.resize(s + shadows);
+    ws.next.resize(n + nexts);
+    for (std::size_t k = 0; k < L.size; ++k) {
+        const uint32_t slot = ws.rays.id[L.entry[k]];
+        if (shadow_valid[k] != 0.f) {
+            take_ray(ws.shadow, s, L, k, kern::kDvSox, kern::kDvSdx, L.col(kern::kDvStmax)[k],
+                     slot);
+            const Vec3 v = L.get3(kern::kDvSvR, k);
+            ws.shadow_value[s++] = RGB{v.x, v.y, v.z};
+        }
+        if (next_valid[k] == 0.f) continue;
+        const Vec3 b = L.get3(kern::kDvNbetaR, k);
+        ws.beta[slot] = RGB{b.x, b.y, b.z};
+        ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[k];
+        ws.p_prev[slot] = L.get3(kern::kDvPx, k);
+        // shade_vertex's bookkeeping: a delta bounce after the first non-specular vertex
+        // makes what it finds a caustic there; any other bounce counts one more vertex.
+        ws.specular_prev[slot] = delta;
+        if (delta) {
+            ws.eta_scale[slot] = L.col(kern::kDvNetaScale)[k];
+            if (ws.nondelta[slot] == 1) ws.nondelta[slot] = 2;
+        } else {
+            ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
+            ws.chain_specular[slot] = 0;
+        }
+        take_ray(ws.next, n++, L, k, kern::kDvNox, kern::kDvNdx, kInfinity, slot);
+    }
+}
+
+void PathIntegrator::shade_lanes(uint32_t depth, KernelKind kind, PathWorkspace& ws) const {
+    KernelLanes& L = ws.lanes;
+    kern::DiffuseRules rules = kernels_.rules;
+    rules.roulette = depth + 1 >= ctx_.settings.rr_depth;
+    const std::size_t width = kern::shade_width();
+    const std::vector<uint32_t>& entries =
+        kind == KernelKind::Diffuse ? ws.diffuse_entries : ws.specular_entries;
+    for (std::size_t start = 0; start < entries.size(); start += KernelLanes::kLanes) {
+        L.size = std::min(KernelLanes::kLanes, entries.size() - start);
+        for (std::size_t k = 0; k < L.size; ++k) L.entry[k] = entries[start + k];
+        draw_lane_numbers(depth, ws);
+        for (std::size_t k = 0; k < L.size; ++k) {
+            if (kind == KernelKind::Diffuse)
+                fill_diffuse_lane(depth, k, ws);
+            else
+                fill_specular_lane(depth, k, ws);
+        }
+        // The lanes past the last up to the SIMD width: zeros, which make no rays.
+        const std::size_t padded = (L.size + width - 1) / width * width;
+        for (uint32_t c = 0; c < kern::kShadeColumns; ++c)
+            std::fill(L.col(c) + L.size, L.col(c) + padded, 0.f);
+        if (kind == KernelKind::Diffuse)
+            kern::shade_diffuse(L.table(), L.size, rules);
+        else
+            kern::shade_specular(L.table(), L.size, rules.roulette);
+        read_lanes(ws, kind == KernelKind::Specular);
+    }
 }
 
 }  // namespace foton

@@ -1,11 +1,12 @@
 #pragma once
-// What the path tracer's SIMD shading of Lambertian vertices keeps (path_diffuse.cpp): which
-// materials the kernel takes, fixed when the integrator is made, and a workspace's table of
-// lanes, kern::shade_diffuse's columns.
+// What the path tracer's shading kernels keep (path_lanes.cpp): which kernel takes each
+// material, fixed when the integrator is made, and a workspace's table of lanes, the kernels'
+// columns (kernels/shade_table.h).
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/aligned.h"
+#include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "kernels/diffuse_shade.h"
 
@@ -28,7 +29,7 @@ struct SpecularMaterial {
     float weight = 1.f;
 };
 
-struct DiffuseMaterials {
+struct KernelMaterials {
     bool enabled = false;            // the settings and the vertex rules allow the kernels at all
     std::vector<KernelKind> kernel;  // per material; untextured and not emitting ones only
     std::vector<RGB> rho;            // Diffuse: the lobes' summed reflectance
@@ -37,11 +38,11 @@ struct DiffuseMaterials {
     kern::DiffuseRules rules;
 };
 
-struct DiffuseLanes {
+struct KernelLanes {
     // Lanes per kernel call: the table (95 columns, 24 KB) stays in the first-level cache
     // between filling it, the kernel and reading it back.
     static constexpr std::size_t kLanes = 64;
-    AlignedVector<float> data = AlignedVector<float>(std::size_t(kern::kDiffuseColumns) * kLanes);
+    AlignedVector<float> data = AlignedVector<float>(std::size_t(kern::kShadeColumns) * kLanes);
     uint32_t entry[kLanes];  // the batch entry each lane came from
     std::size_t size = 0;
     // The lanes' random numbers of this bounce, drawn as one table when every lane's sampler
@@ -53,13 +54,24 @@ struct DiffuseLanes {
                               kRandLobe = 6, kRandRoulette = 7;
     AlignedVector<uint64_t> keys = AlignedVector<uint64_t>(kLanes);
     AlignedVector<uint64_t> z_index = AlignedVector<uint64_t>(kLanes);
+    AlignedVector<uint32_t> z_bits = AlignedVector<uint32_t>(kLanes);
     AlignedVector<uint32_t> pattern_index = AlignedVector<uint32_t>(kLanes);
     AlignedVector<uint32_t> pattern_count = AlignedVector<uint32_t>(kLanes);
     AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandRows) * kLanes);
     bool drawn = false;
 
-    kern::DiffuseVertices table() { return {data.data(), kLanes}; }
+    kern::ShadeTable table() { return {data.data(), kLanes}; }
     float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }
+    // Lane `lane` of columns c, c + 1, c + 2.
+    void put3(uint32_t c, std::size_t lane, const Vec3& v) {
+        col(c)[lane] = v.x;
+        col(c + 1)[lane] = v.y;
+        col(c + 2)[lane] = v.z;
+    }
+    void put3(uint32_t c, std::size_t lane, const RGB& v) { put3(c, lane, Vec3{v.r, v.g, v.b}); }
+    Vec3 get3(uint32_t c, std::size_t lane) {
+        return Vec3{col(c)[lane], col(c + 1)[lane], col(c + 2)[lane]};
+    }
 };
 
 }  // namespace foton

@@ -1,0 +1,169 @@
+#pragma once
+// The table the shading kernels work on (diffuse_shade.h, specular_shade.h): one column per
+// quantity, one lane per path vertex, filled by the path tracer (engine/transport/path/
+// path_lanes.cpp) and read back after the kernel.
+#include <cstddef>
+#include <cstdint>
+
+namespace foton::kern {
+
+// The columns of a ShadeTable (each `stride` floats, stride a multiple of the SIMD width).
+// kDv: a vertex's column; every shading kernel reads and writes its own subset.
+enum ShadeColumn : uint32_t {
+    // The surface: position, geometric and shading normals (unit, facing the incoming ray),
+    // the offset for rays leaving it, the unit direction back towards the viewer.
+    kDvPx,
+    kDvPy,
+    kDvPz,
+    kDvNgx,
+    kDvNgy,
+    kDvNgz,
+    kDvNsx,
+    kDvNsy,
+    kDvNsz,
+    kDvEps,
+    kDvFront,  // 1 when the ray hit the side the geometry's normal points to
+    kDvWox,
+    kDvWoy,
+    kDvWoz,
+    // Or the hit to reconstruct that surface from (engine/transport/common/surface.cpp's
+    // arithmetic), by kDvSurface: 0 = the columns above are given, 1 = a flat triangle,
+    // 2 = a smooth one, 3 = a sphere. The ray's distance and barycentrics, its origin, the
+    // triangle's corners (a sphere: its centre in A0, its radius in A1x) and a smooth
+    // triangle's vertex normals. The kernel then writes the surface columns above.
+    kDvSurface,
+    kDvT,
+    kDvU,
+    kDvV,
+    kDvOx,
+    kDvOy,
+    kDvOz,
+    kDvA0x,
+    kDvA0y,
+    kDvA0z,
+    kDvA1x,
+    kDvA1y,
+    kDvA1z,
+    kDvA2x,
+    kDvA2y,
+    kDvA2z,
+    kDvN0x,
+    kDvN0y,
+    kDvN0z,
+    kDvN1x,
+    kDvN1y,
+    kDvN1z,
+    kDvN2x,
+    kDvN2y,
+    kDvN2z,
+    // Reflectance, the path's throughput up to here, its product of eta^2 (path.h).
+    kDvRhoR,
+    kDvRhoG,
+    kDvRhoB,
+    kDvBetaR,
+    kDvBetaG,
+    kDvBetaB,
+    kDvEtaScale,
+    // Oren–Nayar's A and B (a Lambertian material: 1 and 0, which is Lambert's f exactly).
+    kDvOnA,
+    kDvOnB,
+    // The light sample: its pdf with the light's selection (0: none), 1 when it takes full
+    // weight (a delta light, or no MIS), the unit direction to it, the distance (infinite for
+    // a light at infinity), the sampled point and its normal facing the vertex, the radiance.
+    kDvLightPdf,
+    kDvLightFull,
+    kDvLwx,
+    kDvLwy,
+    kDvLwz,
+    kDvLdist,
+    kDvLpx,
+    kDvLpy,
+    kDvLpz,
+    kDvLnx,
+    kDvLny,
+    kDvLnz,
+    kDvLiR,
+    kDvLiG,
+    kDvLiB,
+    // Or a rectangle light the kernel samples itself (kDvLrect = 1): kDvLightPdf is then the
+    // light's selection probability alone, kDvLp its corner, kDvLn its normal (the side it
+    // emits to), kDvLi its radiance, and these its edges, area and the two numbers that place
+    // the point (LightSet::sample_li's arithmetic).
+    kDvLrect,
+    kDvLe1x,
+    kDvLe1y,
+    kDvLe1z,
+    kDvLe2x,
+    kDvLe2y,
+    kDvLe2z,
+    kDvLarea,
+    kDvLu0,
+    kDvLu1,
+    // Uniform numbers: the BSDF direction (2), Russian roulette.
+    kDvU0,
+    kDvU1,
+    kDvURoulette,
+    // Out, the shadow ray and what it adds unoccluded (valid: 1 or 0).
+    kDvShadowValid,
+    kDvSox,
+    kDvSoy,
+    kDvSoz,
+    kDvSdx,
+    kDvSdy,
+    kDvSdz,
+    kDvStmax,
+    kDvSvR,
+    kDvSvG,
+    kDvSvB,
+    // A specular vertex's material (specular_shade.h): 1 = a mirror, 2 = a dielectric; its
+    // reflectance tint, a dielectric's transmission tint, the mirror's Fresnel term (0 none,
+    // 1 conductor of index eta + i k per channel, 2 dielectric of index kDvIor), a
+    // dielectric's index, the lobe's sampling weight, and the number that chooses between
+    // reflection and refraction.
+    kDvSpecKind,
+    kDvSpecR,
+    kDvSpecG,
+    kDvSpecB,
+    kDvTransR,
+    kDvTransG,
+    kDvTransB,
+    kDvFresnel,
+    kDvIor,
+    kDvEtaR,
+    kDvEtaG,
+    kDvEtaB,
+    kDvKR,
+    kDvKG,
+    kDvKB,
+    kDvLobeWeight,
+    kDvUChoice,
+    // Out, the continuation (valid: 1 or 0), its throughput and solid-angle pdf.
+    kDvNextValid,
+    kDvNox,
+    kDvNoy,
+    kDvNoz,
+    kDvNdx,
+    kDvNdy,
+    kDvNdz,
+    kDvNbetaR,
+    kDvNbetaG,
+    kDvNbetaB,
+    kDvNpdf,
+    // Out, for a specular continuation: the path's product of eta^2 after it, and 1 when it
+    // refracted.
+    kDvNetaScale,
+    kDvNtransmit,
+    kShadeColumns
+};
+
+// A column-major table: column c of lane i is data[c * stride + i].
+struct ShadeTable {
+    float* data = nullptr;
+    std::size_t stride = 0;
+    float* col(uint32_t c) const { return data + std::size_t(c) * stride; }
+};
+
+// The SIMD width the kernels pad a table's lanes to.
+std::size_t shade_width();
+
+}  // namespace foton::kern
