@@ -42,7 +42,8 @@ float Emitter::spot_falloff(float c) const {
     return x * x * (3.f - 2.f * x);
 }
 
-LightSet::LightSet(const Scene& scene) : scene_(&scene) {
+LightSet::LightSet(const Scene& scene, LightSelection selection)
+    : scene_(&scene), selection_(selection) {
     const Bounds3 bounds = scene.bounds();
     center_ = bounds.center();
     radius_ = 0.5f * length(bounds.diagonal());
@@ -143,6 +144,7 @@ LightSet::LightSet(const Scene& scene) : scene_(&scene) {
         cdf_.push_back((cdf_.empty() ? 0.f : cdf_.back()) + p);
     }
     if (!cdf_.empty()) cdf_.back() = 1.f;
+    if (selection_ == LightSelection::Bvh) build_bvh();
 }
 
 uint32_t LightSet::select(float u, float& pmf) const {
@@ -154,29 +156,43 @@ uint32_t LightSet::select(float u, float& pmf) const {
     return i;
 }
 
-void LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const {
+float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n,
+                                  uint32_t tri) const {
     if (e.type == EmitterType::Rect) {
         q = e.p + e.e1 * u.x + e.e2 * u.y;
         n = e.n;
-        return;
+        return e.area;
     }
     if (e.type == EmitterType::Sphere) {
         n = warp::uniform_sphere(u);
         q = e.p + n * e.radius;
-        return;
+        return e.area;
     }
-    const float target = uc * e.area;
-    const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
-    const uint32_t t = uint32_t(
-        std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
+    uint32_t t = tri;
+    if (tri == kWholeEmitter) {
+        const float target = uc * e.area;
+        const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
+        t = uint32_t(
+            std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
+    }
     Vec3 p0, p1, p2;
     scene_->world_corners(e.geom, t, p0, p1, p2);
     const Point2 b = warp::uniform_triangle(u);
     q = p0 * (1.f - b.x - b.y) + p1 * b.x + p2 * b.y;
-    n = normalize(cross(p1 - p0, p2 - p0));
+    const Vec3 c = cross(p1 - p0, p2 - p0);
+    n = normalize(c);
+    return tri == kWholeEmitter ? e.area : 0.5f * length(c);
 }
 
-bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const {
+float LightSet::triangle_area(const Emitter& e, uint32_t tri) const {
+    if (e.type != EmitterType::Mesh || tri == kWholeEmitter) return e.area;
+    Vec3 p0, p1, p2;
+    scene_->world_corners(e.geom, tri, p0, p1, p2);
+    return 0.5f * length(cross(p1 - p0, p2 - p0));
+}
+
+bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s,
+                         uint32_t tri) const {
     const Emitter& e = emitters_[i];
     switch (e.type) {
         case EmitterType::Point:
@@ -245,7 +261,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                 }
             }
             Vec3 q, nq;
-            sample_area_point(e, u, uc, q, nq);
+            const float area = sample_area_point(e, u, uc, q, nq, tri);
             const Vec3 to = q - p;
             const float d2 = length_squared(to);
             if (d2 == 0.f) return false;
@@ -256,7 +272,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             if (cos_l <= 0.f) return false;  // one-sided: its back faces p
             s.p_light = q;
             s.n_light = dot(nq, s.wi) < 0.f ? nq : -nq;
-            s.pdf = d2 / (cos_l * e.area);
+            s.pdf = d2 / (cos_l * area);
             s.Li = e.value;
             return true;
         }
@@ -269,7 +285,8 @@ float LightSet::environment_pdf(const Vec3& wi) const {
     return pmf_[std::size_t(environment_)] * scene_->environment->pdf(wi);
 }
 
-float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const {
+float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq,
+                       uint32_t tri) const {
     const Emitter& e = emitters_[i];
     if (e.is_delta()) return 0.f;
     if (e.type == EmitterType::Environment) return scene_->environment->pdf(normalize(q - p));
@@ -283,7 +300,7 @@ float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq)
     const float d2 = length_squared(to);
     const float cos_l = std::fabs(dot(nq, to)) / std::sqrt(d2);
     if (cos_l == 0.f) return 0.f;
-    return d2 / (cos_l * e.area);
+    return d2 / (cos_l * triangle_area(e, tri));
 }
 
 }  // namespace foton

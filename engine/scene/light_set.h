@@ -14,6 +14,8 @@
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
+#include "light_bvh.h"
+#include "light_selection.h"
 #include "scene.h"
 
 namespace foton {
@@ -76,10 +78,21 @@ struct EmittedRay {
     RGB beta;     // Le |cos| / (pmf pdf_pos pdf_dir)
 };
 
+// A mesh emitter taken whole (a triangle by area within it), or a light that is not a mesh.
+inline constexpr uint32_t kWholeEmitter = 0xffffffffu;
+
+// The light next event estimation samples: an emitter, under bvh a triangle of it, and the
+// probability of the choice.
+struct LightPick {
+    uint32_t light = 0;
+    uint32_t tri = kWholeEmitter;
+    float pmf = 0.f;
+};
+
 class LightSet {
   public:
     LightSet() = default;
-    explicit LightSet(const Scene& scene);
+    explicit LightSet(const Scene& scene, LightSelection selection = LightSelection::Power);
 
     std::size_t size() const { return emitters_.size(); }
     bool empty() const { return emitters_.empty(); }
@@ -89,16 +102,34 @@ class LightSet {
         return geom < geom_to_emitter_.size() ? geom_to_emitter_[geom] : -1;
     }
 
-    // Chooses an emitter in proportion to its power.
+    // Chooses an emitter in proportion to its power (where light paths start).
     uint32_t select(float u, float& pmf) const;
     float pmf(uint32_t i) const { return pmf_[i]; }
 
-    // Samples a direction from `p` towards emitter i; u and uc are uniform. False when the
-    // light cannot reach p (behind a one-sided emitter, outside a spot cone, ...).
-    bool sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s) const;
+    // Next event estimation's choice of a light for the receiver at p with geometric normal
+    // n (zero: none), by the set's selection. False when no light can reach p (bvh only).
+    LightSelection selection() const { return selection_; }
+    bool pick(float u, const Vec3& p, const Vec3& n, LightPick& out) const;
+    // The probability that pick(., p, n) chooses emitter `light` and, under bvh, triangle
+    // `tri` of a mesh (any other light ignores tri).
+    float pick_pmf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n) const;
+    // The solid-angle density with which next event estimation from p (normal n) samples
+    // point q (normal nq) of emitter `light`, found on triangle `tri`, the pick included:
+    // what a BSDF sample that hit the light is weighed against.
+    float nee_pdf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n, const Vec3& q,
+                  const Vec3& nq) const;
+    // The same for a direction wi on the environment.
+    float nee_environment_pdf(const Vec3& wi) const;
+
+    // Samples a direction from `p` towards emitter i (only its triangle `tri` when one is
+    // given); u and uc are uniform. False when the light cannot reach p (behind a one-sided
+    // emitter, outside a spot cone, ...).
+    bool sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSample& s,
+                   uint32_t tri = kWholeEmitter) const;
     // Solid-angle density with which sample_li would have produced the point `q` (normal nq
     // on the emitting side) seen from `p`.
-    float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq) const;
+    float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq,
+                 uint32_t tri = kWholeEmitter) const;
     // The environment's emitter index (-1 without one), and the solid-angle density with
     // which sample_li picks direction wi on it, the light's selection included: what a
     // BSDF-sampled ray that leaves the scene along wi is weighed against.
@@ -121,15 +152,28 @@ class LightSet {
     bool sample_ray(float u_select, Point2 u_pos, Point2 u_dir, float uc, EmittedRay& r) const;
 
   private:
-    // A point uniform over the area of a rectangle, sphere or mesh emitter, with the
-    // geometry's own normal there (u, and uc for a mesh's triangle).
-    void sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n) const;
+    // A point uniform over the area of a rectangle, sphere or mesh emitter (or one triangle of
+    // it), with the geometry's own normal there (u, and uc for a mesh's triangle), and the
+    // area it is uniform over.
+    float sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n,
+                            uint32_t tri = kWholeEmitter) const;
+    float triangle_area(const Emitter& e, uint32_t tri) const;
+    // The light BVH's primitives and tree (light_pick.cpp).
+    void build_bvh();
 
     const Scene* scene_ = nullptr;
     std::vector<Emitter> emitters_;
     std::vector<float> pmf_, cdf_;
     std::vector<int> geom_to_emitter_;
     int environment_ = -1;
+    LightSelection selection_ = LightSelection::Power;
+    // bvh: the tree over the lights not at infinity, each emitter's first primitive there (a
+    // mesh has one per triangle), the lights at infinity and the chance of picking one.
+    LightBvh bvh_;
+    std::vector<uint32_t> first_prim_;
+    std::vector<uint32_t> prim_emitter_, prim_tri_;
+    std::vector<uint32_t> infinite_;
+    float p_infinite_ = 0.f;
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
 };

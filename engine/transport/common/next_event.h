@@ -31,6 +31,7 @@ struct LightChoice {
     float pick = 1.f;
     Point2 u;
     float uc = 0.f;
+    uint32_t tri = kWholeEmitter;  // under the light BVH, the triangle of a mesh
 };
 
 // Next event estimation, the one version every integrator uses: a sample of the chosen
@@ -43,7 +44,8 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
                          const GuideMixture& strategy = {}) {
     const SurfacePoint& sp = v.sp;
     LightSample ls;
-    if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls) || dot(ls.wi, sp.ng) <= 0.f) return false;
+    if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls, c.tri) || dot(ls.wi, sp.ng) <= 0.f)
+        return false;
     const Vec3 wi = v.frame.to_local(ls.wi);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     const RGB f = v.m.bsdf.f_restricted(v.wo, wi, ctx, lobes);
@@ -68,8 +70,12 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
 inline bool sample_direct(const LightSet& lights, const ShadingPoint& v, float u_pick, Point2 u,
                           float uc, DirectSample& out) {
     if (lights.empty()) return false;
+    LightPick pick;
+    if (!lights.pick(u_pick, v.sp.p, v.sp.ng, pick)) return false;
     LightChoice c;
-    c.light = lights.select(u_pick, c.pick);
+    c.light = pick.light;
+    c.pick = pick.pmf;
+    c.tri = pick.tri;
     c.u = u;
     c.uc = uc;
     return sample_light(lights, c, v, kDiffuse | kGlossy, Mis{MisHeuristic::None}, 1.f, out);

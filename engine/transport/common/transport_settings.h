@@ -24,6 +24,7 @@ enum Capability : uint32_t {
     kCapMerging = 1u << 5,          // merges light vertices: merge_index
     kCapStrategyDebug = 1u << 6,    // strategy="s,t"
     kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
+    kCapLightSelection = 1u << 8,   // light_selection: next event estimation's light choice
 };
 
 // The chosen integrator as the settings' rules see it.

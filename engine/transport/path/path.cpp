@@ -67,6 +67,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
             ws.eta_scale[slot] *= bs.eta * bs.eta;
             ws.specular_prev[slot] = 1;
             ws.p_prev[slot] = sp.p;
+            ws.n_prev[slot] = sp.ng;
             ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             return true;
         }
@@ -138,7 +139,7 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
             radiance[slot] += beta * ctx_.scene.background;
         else if (counts_emission)
             radiance[slot] += beta * ctx_.scene.environment->Le(d) *
-                              emission_weight([&] { return ctx_.lights.environment_pdf(d); });
+                              emission_weight([&] { return ctx_.lights.nee_environment_pdf(d); });
         return;
     }
     const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
@@ -150,8 +151,8 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
         const float w = emission_weight([&] {
             const int li = ctx_.lights.emitter_of(geom);
             return li < 0 ? 0.f
-                          : ctx_.lights.pmf(uint32_t(li)) *
-                                ctx_.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng);
+                          : ctx_.lights.nee_pdf(uint32_t(li), ws.hits.prim[i], ws.p_prev[slot],
+                                                ws.n_prev[slot], sp.p, sp.ng);
         });
         radiance[slot] += beta * m.emission * w;
     }
@@ -182,13 +183,14 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
     // Next event estimation.
     if (nee && m.bsdf.has_non_delta() && !ctx_.lights.empty() &&
         counts(rs.lighting, ws.nondelta[slot] + 1u)) {
-        auto estimate = [&](uint32_t li, float pick_pdf, Point2 u, float uc, float scale) {
+        auto estimate = [&](uint32_t li, float pick_pdf, uint32_t tri, Point2 u, float uc,
+                            float scale) {
             // The distributed tracer's glossy lobes see area lights by being sampled.
             const uint8_t lobes = rules_.glossy_by_sampling && !ctx_.lights.emitter(li).is_delta()
                                       ? uint8_t(kDiffuse)
                                       : uint8_t(kDiffuse | kGlossy);
             DirectSample ds;
-            if (sample_light(ctx_.lights, {li, pick_pdf, u, uc}, v, lobes, mis, scale, ds,
+            if (sample_light(ctx_.lights, {li, pick_pdf, u, uc, tri}, v, lobes, mis, scale, ds,
                              strategy))
                 queue_direct(ds, slot, ws.shadow, ws.shadow_value);
         };
@@ -200,14 +202,14 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
                     const uint64_t lkey = rng::hash(key, depth, li, 0);
                     const Point2 u = sample_pattern(SamplerKind::Jittered, s, k, ctx_.seed, lkey);
                     const float uc = rng::uniform(ctx_.seed, lkey, s, 2);
-                    estimate(li, 1.f, u, uc, 1.f / float(k));
+                    estimate(li, 1.f, kWholeEmitter, u, uc, 1.f / float(k));
                 }
             }
         } else {
-            float pick;
-            const uint32_t li = ctx_.lights.select(rand(ws, slot, depth, kDimLightSelect), pick);
-            estimate(li, pick, rand2(ws, slot, depth, kDimLight),
-                     rand(ws, slot, depth, kDimLight + 2), 1.f);
+            LightPick pick;
+            if (ctx_.lights.pick(rand(ws, slot, depth, kDimLightSelect), sp.p, sp.ng, pick))
+                estimate(pick.light, pick.pmf, pick.tri, rand2(ws, slot, depth, kDimLight),
+                         rand(ws, slot, depth, kDimLight + 2), 1.f);
         }
     }
 
@@ -248,6 +250,7 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
         ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
     ws.chain_specular[slot] &= uint8_t(bs.is_delta());
     ws.p_prev[slot] = sp.p;
+    ws.n_prev[slot] = sp.ng;
     ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
 }
 
@@ -286,6 +289,7 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.chain_specular.assign(n, 1);
     ws.nondelta.assign(n, 0);
     ws.p_prev.assign(n, Vec3{});
+    ws.n_prev.assign(n, Vec3{});
     ws.path_length.assign(n, 0.f);
     ws.keys.resize(n);
     for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
@@ -319,6 +323,7 @@ void PathIntegrator::radiance_along(const RayBatch& rays, const std::vector<uint
     ws.chain_specular.assign(n, 0);  // the cache is not consulted again on the way
     ws.nondelta.assign(n, 1);        // the rays leave a scattering vertex
     ws.p_prev.assign(n, Vec3{});
+    ws.n_prev.assign(n, Vec3{});
     ws.path_length.assign(n, 0.f);
     ws.first_depth = 1;
     ws.rays = rays;
@@ -331,7 +336,7 @@ std::unique_ptr<RadianceAlongRays> make_path_onwards(const RenderContext& ctx) {
 
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& opt) {
-    const LightSet lights(scene);
+    const LightSet lights(scene, settings.light_selection);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     if (settings.guide.enabled) return render_guided_path(ctx, opt);
     if (settings.indirect != IndirectMode::IrradianceCache)

@@ -88,6 +88,7 @@ struct PathWorkspace : IntegratorWorkspace {
     std::vector<float> pdf_prev;          // solid-angle pdf of the BSDF sample that made the ray
     std::vector<uint8_t> specular_prev;   // ... and whether it came from a delta lobe
     std::vector<Vec3> p_prev;             // where that ray started
+    std::vector<Vec3> n_prev;             // ... and the geometric normal there
     std::vector<uint64_t> keys;           // what keys the path's random numbers
     std::vector<PathSampler> samplers;    // each path's random numbers (path_sampler.h)
     std::vector<uint8_t> chain_specular;  // only delta vertices so far (the cache's domain)

@@ -22,22 +22,25 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     L.col(kern::kDvOnB)[lane] = kernels_.on_b[material];
     // The light, as shade_vertex's next event estimation chooses it. The kernel samples a
     // rectangle and makes the surface itself; any other light is sampled here, from the
-    // surface point surface_at makes here.
+    // surface point surface_at makes here, which the light BVH also picks from.
     const bool nee = rules_.nee && !ctx_.lights.empty();
-    float pick = 0.f;
-    const uint32_t li =
-        nee ? ctx_.lights.select(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), pick)
-            : 0;
-    const Emitter* e = nee ? &ctx_.lights.emitter(li) : nullptr;
-    const bool rect = e && e->type == EmitterType::Rect;
     SurfacePoint sp;
-    put_surface(lane, i, ws, e && !rect, sp);
+    const bool made =
+        nee && ctx_.lights.selection() == LightSelection::Bvh && put_surface(lane, i, ws, true, sp);
+    LightPick pick;
+    const bool picked =
+        nee && ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), sp.p,
+                                sp.ng, pick);
+    const uint32_t li = pick.light;
+    const Emitter* e = picked ? &ctx_.lights.emitter(li) : nullptr;
+    const bool rect = e && e->type == EmitterType::Rect;
+    if (!made) put_surface(lane, i, ws, e && !rect, sp);
     float pdf = 0.f, full = 1.f;
     const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
     LightSample ls;
     if (rect) {
         const Point2 ul = draw2(KernelLanes::kRandLight, kPathDimLight);
-        pdf = pick;
+        pdf = pick.pmf;
         full = no_mis ? 1.f : 0.f;
         ls.p_light = e->p;
         ls.n_light = e->n;
@@ -48,8 +51,9 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         L.col(kern::kDvLu0)[lane] = ul.x;
         L.col(kern::kDvLu1)[lane] = ul.y;
     } else if (e && ctx_.lights.sample_li(li, sp.p, draw2(KernelLanes::kRandLight, kPathDimLight),
-                                          draw(KernelLanes::kRandLightUc, kPathDimLight + 2), ls)) {
-        pdf = pick * ls.pdf;
+                                          draw(KernelLanes::kRandLightUc, kPathDimLight + 2), ls,
+                                          pick.tri)) {
+        pdf = pick.pmf * ls.pdf;
         full = no_mis || e->is_delta() ? 1.f : 0.f;
     }
     L.col(kern::kDvLrect)[lane] = rect ? 1.f : 0.f;

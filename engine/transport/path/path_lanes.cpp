@@ -282,6 +282,7 @@ void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
         ws.beta[slot] = RGB{b.x, b.y, b.z};
         ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[k];
         ws.p_prev[slot] = L.get3(kern::kDvPx, k);
+        ws.n_prev[slot] = L.get3(kern::kDvNgx, k);
         // shade_vertex's bookkeeping: a delta bounce after the first non-specular vertex
         // makes what it finds a caustic there; any other bounce counts one more vertex.
         ws.specular_prev[slot] = delta;

@@ -95,11 +95,11 @@ void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t
     px.uv = sp.uv;
     px.beta = beta;
     if (ctx_.lights.empty()) return;
-    float pick;
-    const uint32_t li = ctx_.lights.select(rand(pass, pixel, 4), pick);
+    LightPick pick;
+    if (!ctx_.lights.pick(rand(pass, pixel, 4), sp.p, sp.ng, pick)) return;
     LightSample ls;
-    if (!ctx_.lights.sample_li(li, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
-                               rand(pass, pixel, 7), ls) ||
+    if (!ctx_.lights.sample_li(pick.light, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
+                               rand(pass, pixel, 7), ls, pick.tri) ||
         !(dot(ls.wi, sp.ng) > 0.f))
         return;
     const Vec3 wi = frame.to_local(ls.wi);
@@ -108,7 +108,7 @@ void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t
     const ShadowRay s = shadow_ray_to(sp, ls);
     ++stats.shadow_rays;
     work.shadow.push(s.origin, s.dir, 0.f, s.tmax, x);
-    work.shadow_add.push_back(beta * f * ls.Li * (std::fabs(wi.z) / (pick * ls.pdf)));
+    work.shadow_add.push_back(beta * f * ls.Li * (std::fabs(wi.z) / (pick.pmf * ls.pdf)));
 }
 
 }  // namespace foton

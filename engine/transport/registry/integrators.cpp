@@ -26,9 +26,9 @@ RenderResult render_photon_row(const Scene& scene, const RenderSettings& setting
 const std::vector<IntegratorInfo>& integrators() {
     // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
     constexpr uint32_t kPath =
-        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide;
+        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide | kCapLightSelection;
     constexpr uint32_t kPhoton =
-        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap;
+        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap | kCapLightSelection;
     // One row per integrator: name, aliases, summary, capabilities, own parse, render.
     // clang-format off
     static const std::vector<IntegratorInfo> table = {
@@ -37,8 +37,8 @@ const std::vector<IntegratorInfo>& integrators() {
         {"distributed", {}, "distributed ray tracing (Cook 1984)", kCapCamera, nullptr, render_distributed},
         {"light", {}, "light tracing", 0, nullptr, render_light},
         {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon_row},
-        {"sppm", {}, "stochastic progressive photon mapping", 0, nullptr, render_sppm},
-        {"ppm", {}, "progressive photon mapping", 0, nullptr, render_ppm},
+        {"sppm", {}, "stochastic progressive photon mapping", kCapLightSelection, nullptr, render_sppm},
+        {"ppm", {}, "progressive photon mapping", kCapLightSelection, nullptr, render_ppm},
         {"bdpt", {}, "bidirectional path tracing", kCapBidirectional | kCapStrategyDebug, nullptr, render_bdpt},
         {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
         {"vcm", {}, "vertex connection and merging", kCapBidirectional | kCapMerging, nullptr, render_vcm},
@@ -128,6 +128,12 @@ void ignore_foreign(const ParamSet& params, const IntegratorInfo& info, RenderSe
     if (r.cache.secondary == CacheSecondary::Photon && !info.has(kCapPhotonMap)) {
         ignored("cache_secondary", kCapPhotonMap, "cache_secondary=\"photon\"");
         r.cache.secondary = CacheSecondary::Auto;
+    }
+    // Light paths start by power; bidirectional MIS needs a light's choice independent of
+    // the point it lights, so bdpt, bpm and vcm keep power selection for their s = 1 too.
+    if (r.light_selection != LightSelection::Power && !info.has(kCapLightSelection)) {
+        ignored("light_selection", kCapLightSelection, "light_selection");
+        r.light_selection = LightSelection::Power;
     }
     // Keys that only another integrator's own parse reads (ao_samples for ao).
     for (const IntegratorInfo& other : integrators()) {

@@ -35,6 +35,10 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
     r.nee = p.boolean("nee", r.nee);
     static const EnumTable<bool> kShading{{{"simd", true}, {"scalar", false}}};
     r.simd_shading = p.choice("shading", kShading, r.simd_shading);
+    static const EnumTable<LightSelection> kSelection{{{"power", LightSelection::Power},
+                                                       {"uniform", LightSelection::Uniform},
+                                                       {"bvh", LightSelection::Bvh}}};
+    r.light_selection = p.choice("light_selection", kSelection, r.light_selection);
     r.rr_depth = uint32_t(p.integer("rr_depth", r.rr_depth, 0, kNoRoulette));
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
 }

@@ -12,6 +12,7 @@
 
 #include "engine/core/params.h"
 #include "engine/core/sampler.h"
+#include "engine/scene/light_selection.h"
 #include "engine/transport/bidir/bidir_settings.h"
 #include "engine/transport/common/transport_settings.h"
 #include "engine/transport/irradiance_cache/cache_settings.h"
@@ -59,6 +60,8 @@ struct RenderSettings {
     // path: Lambertian vertices through the SIMD shading kernel (false: every vertex one at
     // a time, the kernel's reference)
     bool simd_shading = true;
+    // path, photon, sppm, ppm: how next event estimation chooses its light
+    LightSelection light_selection = LightSelection::Power;
     uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on (guided
                             // paths: kNoRoulette unless given)
     uint32_t light_samples =
