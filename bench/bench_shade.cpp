@@ -1,8 +1,10 @@
 // Google Benchmark: the shading kernels against their scalar twins on the same 128-lane table
 // (vertices per second): Lambertian (kernels/diffuse_shade.h) and specular
 // (kernels/specular_shade.h) vertices, and the random-number tables the path tracer draws
-// for them (counter-based, Sobol', Z-Sobol'; numbers per second). What the SIMD parts of the
-// shade stage cost, without the filling and reading back around them.
+// for them (counter-based, Sobol', Z-Sobol'; numbers per second), and the light BVH's descent
+// (kernels/light_tree.h; picks per second, on a plaza of 4,096 lamps as bench/many_lights
+// renders). What the SIMD parts of the shade stage cost, without the filling and reading back
+// around them.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -10,8 +12,10 @@
 #include <vector>
 
 #include "engine/core/aligned.h"
+#include "engine/scene/light_bvh.h"
 #include "kernels/counter_hash.h"
 #include "kernels/diffuse_shade.h"
+#include "kernels/light_tree.h"
 #include "kernels/sobol_net.h"
 #include "kernels/specular_shade.h"
 #include "kernels/zsobol_net.h"
@@ -156,6 +160,45 @@ void BM_NumberTable(benchmark::State& state) {
 
 }  // namespace
 
+// 4,096 downward lamps (small triangles) 2.5-4 units over a 40 x 40 floor, and 1,024 floor
+// points looking up: the many-lights plaza's tree and queries.
+template <bool kSimd>
+void BM_LightPick(benchmark::State& state) {
+    std::mt19937 g(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    std::vector<foton::LightBounds> bounds;
+    for (int k = 0; k < 4096; ++k) {
+        foton::LightBounds b;
+        const foton::Vec3 c{40.f * u(g) - 20.f, 2.5f + 1.5f * u(g), 40.f * u(g) - 20.f};
+        b.box.extend(c - foton::Vec3{0.15f, 0.f, 0.15f});
+        b.box.extend(c + foton::Vec3{0.15f, 0.f, 0.15f});
+        b.axis = {0.f, -1.f, 0.f};
+        b.phi = 0.1f + 3.f * u(g);
+        bounds.push_back(b);
+    }
+    foton::LightBvh bvh;
+    bvh.build(bounds);
+    constexpr std::size_t n = 1024;
+    std::vector<float> px(n), py(n, 0.f), pz(n), nx(n, 0.f), ny(n, 1.f), nz(n, 0.f), uu(n), pmf(n);
+    std::vector<uint32_t> light(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        px[i] = 40.f * u(g) - 20.f;
+        pz[i] = 40.f * u(g) - 20.f;
+        uu[i] = u(g);
+    }
+    const LightQueries q{px.data(), py.data(), pz.data(),    nx.data(), ny.data(),
+                         nz.data(), uu.data(), light.data(), pmf.data()};
+    for (auto _ : state) {
+        if (kSimd)
+            pick_lights(bvh.tree(), q, n);
+        else
+            pick_lights_scalar(bvh.tree(), q, n);
+        benchmark::ClobberMemory();
+    }
+    state.counters["picks/s"] =
+        benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, true)->Name("shade_diffuse/simd");
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, false)->Name("shade_diffuse/scalar");
 BENCHMARK_TEMPLATE(BM_ShadeSpecular, true)->Name("shade_specular/simd");
@@ -166,3 +209,5 @@ BENCHMARK_TEMPLATE(BM_NumberTable, 1, true)->Name("numbers_sobol/simd");
 BENCHMARK_TEMPLATE(BM_NumberTable, 1, false)->Name("numbers_sobol/scalar");
 BENCHMARK_TEMPLATE(BM_NumberTable, 2, true)->Name("numbers_zsobol/simd");
 BENCHMARK_TEMPLATE(BM_NumberTable, 2, false)->Name("numbers_zsobol/scalar");
+BENCHMARK_TEMPLATE(BM_LightPick, true)->Name("light_pick/simd");
+BENCHMARK_TEMPLATE(BM_LightPick, false)->Name("light_pick/scalar");

@@ -141,6 +141,35 @@ inline xsimd::batch<float, A> vsqrt(const xsimd::batch<float, A>& a) {
     return xsimd::batch<float, A>(detail::sqrt_reg(static_cast<R>(a)));
 }
 
+// Lane-wise truncation to int32 (xsimd::to_int's AVX-512 form draws the same GCC 12 warning).
+template <class A>
+inline xsimd::batch<int32_t, A> to_int(const xsimd::batch<float, A>& a) {
+#if defined(__AVX512F__)
+    if constexpr (xsimd::batch<float, A>::size == 16)
+        return xsimd::batch<int32_t, A>(
+            _mm512_maskz_cvttps_epi32(__mmask16(0xffff), static_cast<__m512>(a)));
+    else
+#endif
+        return xsimd::to_int(a);
+}
+
+// Lane-wise gather of base[index] (xsimd 8.1 gathers element by element on AVX-512).
+template <class A>
+inline xsimd::batch<float, A> gather(const float* base, const xsimd::batch<int32_t, A>& index) {
+#if defined(__AVX512F__)
+    if constexpr (xsimd::batch<float, A>::size == 16)
+        return xsimd::batch<float, A>(_mm512_mask_i32gather_ps(
+            _mm512_setzero_ps(), __mmask16(0xffff), static_cast<__m512i>(index), base, 4));
+    else
+#endif
+#if defined(__AVX2__)
+        if constexpr (xsimd::batch<float, A>::size == 8)
+        return xsimd::batch<float, A>(_mm256_i32gather_ps(base, static_cast<__m256i>(index), 4));
+    else
+#endif
+        return xsimd::batch<float, A>::gather(base, index);
+}
+
 // Horizontal minimum / maximum (xsimd 8.1 has neither).
 inline float hmin(const FloatV& v) {
     alignas(64) float a[kWidth];

@@ -251,3 +251,76 @@ TEST_CASE("Light BVH: the same image on 1 and 2 threads", "[lights][render]") {
     const ImageError e = compare_images(run(1), run(2));
     CHECK(e.max_abs == 0.0);
 }
+
+TEST_CASE("Light BVH: the SIMD descent equals its scalar twin bit for bit", "[lights][bvh]") {
+    // Through LightSet (lights at infinity, triangles of a mesh) and on a bare tree of 3,000
+    // random lights of every kind of bound: one-sided, two-sided, points, spots.
+    const Scene scene = many_kinds();
+    const LightSet ls(scene, LightSelection::Bvh);
+    std::mt19937 g(17);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    const std::size_t n = 1024;  // a multiple of every SIMD width
+    LightPickLanes lanes;
+    lanes.resize(n);
+    std::vector<Receiver> rs = receivers(41, int(n));
+    for (std::size_t i = 0; i < n; ++i) lanes.put(i, u01(g), rs[i].p, rs[i].n);
+    const std::vector<float> u = lanes.u;
+    ls.pick_lanes(lanes, n);
+    std::size_t picked = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        LightPick one;
+        const bool ok = ls.pick(u[i], rs[i].p, rs[i].n, one);
+        INFO("lane " << i);
+        CHECK(ok == (lanes.out[i].pmf > 0.f));
+        if (!ok) continue;
+        ++picked;
+        CHECK(lanes.out[i].light == one.light);
+        CHECK(lanes.out[i].tri == one.tri);
+        CHECK(lanes.out[i].pmf == one.pmf);
+    }
+    CHECK(picked > n * 9 / 10);
+
+    std::vector<LightBounds> bounds;
+    for (int k = 0; k < 3000; ++k) {
+        LightBounds b;
+        const Vec3 c{20.f * u01(g) - 10.f, 5.f * u01(g), 20.f * u01(g) - 10.f};
+        const float r = k % 7 == 0 ? 0.f : 0.3f * u01(g);
+        b.box.extend(c - Vec3{r, r * 0.5f, r});
+        b.box.extend(c + Vec3{r, r * 0.5f, r});
+        b.axis = normalize(Vec3{u01(g) - 0.5f, -1.f, u01(g) - 0.5f});
+        b.cos_o = k % 7 == 0 ? -1.f : (k % 11 == 0 ? 0.7f : 1.f);
+        b.cos_e = k % 11 == 0 ? 1.f : 0.f;
+        b.two_sided = k % 5 == 0;
+        b.phi = 0.1f + 10.f * u01(g);
+        bounds.push_back(b);
+    }
+    LightBvh bvh;
+    bvh.build(bounds);
+    std::vector<float> px(n), py(n), pz(n), nx(n), ny(n), nz(n), uu(n), pmf_a(n), pmf_b(n);
+    std::vector<uint32_t> light_a(n), light_b(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        px[i] = 24.f * u01(g) - 12.f;
+        py[i] = 6.f * u01(g) - 0.5f;
+        pz[i] = 24.f * u01(g) - 12.f;
+        const Vec3 nn = i % 3 == 0 ? Vec3{} : normalize(Vec3{u01(g) - 0.5f, u01(g), u01(g) - 0.5f});
+        nx[i] = nn.x;
+        ny[i] = nn.y;
+        nz[i] = nn.z;
+        uu[i] = u01(g);
+    }
+    const kern::LightQueries qa{px.data(), py.data(), pz.data(),      nx.data(),   ny.data(),
+                                nz.data(), uu.data(), light_a.data(), pmf_a.data()};
+    kern::LightQueries qb = qa;
+    qb.light = light_b.data();
+    qb.pmf = pmf_b.data();
+    kern::pick_lights(bvh.tree(), qa, n);
+    kern::pick_lights_scalar(bvh.tree(), qb, n);
+    std::size_t nonzero = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        INFO("query " << i);
+        CHECK(pmf_a[i] == pmf_b[i]);
+        CHECK(light_a[i] == light_b[i]);
+        nonzero += pmf_a[i] > 0.f;
+    }
+    CHECK(nonzero > n / 2);
+}

@@ -13,9 +13,6 @@ constexpr uint32_t kNoLeaf = 0xffffffffu;
 // Deeper than this a node splits at the middle of its count, not by cost: keeps the depth
 // bounded however the cost buckets fall.
 constexpr int kMaxCostDepth = 48;
-// Deeper than any tree build_range makes: kMaxCostDepth cost splits, then halvings of at
-// most 2^32 lights.
-constexpr std::size_t kMaxDepth = kMaxCostDepth + 34;
 constexpr int kBuckets = 12;
 
 float safe_acos(float c) {
@@ -82,57 +79,7 @@ float split_cost(const LightBounds& b, float regular) {
     return b.phi * orientation_measure(b) * surface_area(b.box) * regular;
 }
 
-// cos(max(0, theta_x - theta_y)) from the cosines and sines of both angles.
-float cos_sub_clamped(float cos_x, float sin_x, float cos_y, float sin_y) {
-    if (cos_x >= cos_y) return 1.f;
-    return cos_x * cos_y + sin_x * sin_y;
-}
-float sin_sub_clamped(float cos_x, float sin_x, float cos_y, float sin_y) {
-    if (cos_x >= cos_y) return 0.f;
-    return sin_x * cos_y - cos_x * sin_y;
-}
-
 }  // namespace
-
-float LightBounds::importance(const Vec3& p, const Vec3& n) const {
-    if (phi == 0.f) return 0.f;
-    const Vec3 centre = box.center();
-    const float r2 = 0.25f * length_squared(box.diagonal());
-    const Vec3 to_p = p - centre;
-    const float dist2 = length_squared(to_p);
-    // The half-angle the box's bounding sphere subtends at p; from inside it, everything.
-    float cos_b = -1.f, sin_b = 0.f;
-    if (dist2 > r2) {
-        const float sin2 = r2 / dist2;
-        sin_b = std::sqrt(sin2);
-        cos_b = std::sqrt(std::max(0.f, 1.f - sin2));
-    }
-    const Vec3 wi = dist2 > 0.f ? to_p / std::sqrt(dist2) : axis;
-    float cos_w = dot(axis, wi);
-    if (two_sided) cos_w = std::fabs(cos_w);
-    const float sin_w = std::sqrt(std::max(0.f, 1.f - cos_w * cos_w));
-    const float sin_o = std::sqrt(std::max(0.f, 1.f - cos_o * cos_o));
-    // The smallest angle between an emitting direction and the way to p: past the normals'
-    // cone, less what the box subtends.
-    const float cos_wo = cos_sub_clamped(cos_w, sin_w, cos_o, sin_o);
-    const float sin_wo = sin_sub_clamped(cos_w, sin_w, cos_o, sin_o);
-    const float cos_t = cos_sub_clamped(cos_wo, sin_wo, cos_b, sin_b);
-    // Strictly outside: a spot's cos_e is 1, and p inside its cone has cos_t = 1.
-    if (cos_t < cos_e) return 0.f;
-    // Not below a quarter of the bound's radius, squared: a point at a node's centre must not
-    // take every sample from its sibling. Conty Estevez and Kulla clamp at the radius itself,
-    // which flattens the nodes of a large scene's upper levels over their whole extent: on
-    // the many-lights plaza that starved the lamps over a point of ~13x the probability they
-    // deserve (relative variance of the pick 6.0 against 0.63 at (5, 0, 5); docs/shading.md).
-    const float d2 = std::max({dist2, r2 * (1.f / 16.f), 1e-12f});
-    float imp = phi * cos_t / d2;
-    if (n.x != 0.f || n.y != 0.f || n.z != 0.f) {
-        const float cos_i = std::fabs(dot(wi, n));
-        const float sin_i = std::sqrt(std::max(0.f, 1.f - cos_i * cos_i));
-        imp *= cos_sub_clamped(cos_i, sin_i, cos_b, sin_b);
-    }
-    return std::max(0.f, imp);
-}
 
 LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b) {
     if (a.phi == 0.f) return b;
@@ -148,25 +95,45 @@ LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b) {
 }
 
 void LightBvh::build(const std::vector<LightBounds>& bounds) {
-    nodes_.clear();
+    tree_.nodes.clear();
     leaf_of_.assign(bounds.size(), kNoLeaf);
     std::vector<uint32_t> order;
     for (uint32_t i = 0; i < bounds.size(); ++i)
         if (bounds[i].phi > 0.f) order.push_back(i);
     if (order.empty()) return;
-    nodes_.reserve(2 * order.size());
+    tree_.nodes.reserve(2 * order.size() * kern::LightTree::kFields);
     build_range(bounds, order.data(), order.data() + order.size(), 0, 0);
+}
+
+void LightBvh::put(uint32_t node, const LightBounds& b, uint32_t next, bool leaf, uint32_t parent) {
+    using F = kern::LightTree;
+    float* r = tree_.node(node);
+    const Vec3 c = b.box.center();
+    r[F::kCx] = c.x;
+    r[F::kCy] = c.y;
+    r[F::kCz] = c.z;
+    r[F::kRadius2] = 0.25f * length_squared(b.box.diagonal());
+    r[F::kRadius] = std::sqrt(r[F::kRadius2]);
+    r[F::kAx] = b.axis.x;
+    r[F::kAy] = b.axis.y;
+    r[F::kAz] = b.axis.z;
+    r[F::kCosO] = b.cos_o;
+    r[F::kSinO] = std::sqrt(std::max(0.f, 1.f - b.cos_o * b.cos_o));
+    r[F::kCosE] = b.cos_e;
+    r[F::kPhi] = b.phi;
+    r[F::kTwoSided] = b.two_sided ? 1.f : 0.f;
+    r[F::kNext] = float(next);
+    r[F::kLeaf] = leaf ? 1.f : 0.f;
+    r[F::kParent] = float(parent);
 }
 
 uint32_t LightBvh::build_range(const std::vector<LightBounds>& bounds, uint32_t* first,
                                uint32_t* last, uint32_t parent, int depth) {
-    const uint32_t self = uint32_t(nodes_.size());
-    nodes_.emplace_back();
-    nodes_[self].parent = self == 0 ? 0 : parent;
+    const uint32_t self = uint32_t(tree_.size());
+    tree_.nodes.resize(tree_.nodes.size() + kern::LightTree::kFields);
+    if (self == 0) parent = 0;
     if (last - first == 1) {
-        nodes_[self].bounds = bounds[*first];
-        nodes_[self].index = *first;
-        nodes_[self].leaf = true;
+        put(self, bounds[*first], *first, true, parent);
         leaf_of_[*first] = self;
         return self;
     }
@@ -230,59 +197,19 @@ uint32_t LightBvh::build_range(const std::vector<LightBounds>& bounds, uint32_t*
     }
     build_range(bounds, first, middle, self, depth + 1);
     const uint32_t second = build_range(bounds, middle, last, self, depth + 1);
-    nodes_[self].bounds = all;
-    nodes_[self].index = second;
+    put(self, all, second, false, parent);
     return self;
 }
 
 bool LightBvh::sample(float u, const Vec3& p, const Vec3& n, uint32_t& prim, float& pmf) const {
-    if (nodes_.empty()) return false;
-    constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
-    uint32_t node = 0;
-    pmf = 1.f;
-    while (!nodes_[node].leaf) {
-        const uint32_t a = node + 1, b = nodes_[node].index;
-        const float ia = nodes_[a].bounds.importance(p, n);
-        const float ib = nodes_[b].bounds.importance(p, n);
-        if (ia == 0.f && ib == 0.f) return false;
-        const float pa = ia / (ia + ib);
-        // The remaining bits of u choose below.
-        if (u < pa) {
-            u = std::min(u / pa, kOneMinusEpsilon);
-            pmf *= pa;
-            node = a;
-        } else {
-            u = std::min((u - pa) / (1.f - pa), kOneMinusEpsilon);
-            pmf *= 1.f - pa;
-            node = b;
-        }
-    }
-    // A single light's own importance can be 0 (p behind it).
-    if (nodes_[node].bounds.importance(p, n) == 0.f) return false;
-    prim = nodes_[node].index;
-    return pmf > 0.f;
+    const float pp[3] = {p.x, p.y, p.z}, nn[3] = {n.x, n.y, n.z};
+    return kern::pick_light(tree_, u, pp, nn, prim, pmf);
 }
 
 float LightBvh::pmf(uint32_t prim, const Vec3& p, const Vec3& n) const {
     if (prim >= leaf_of_.size() || leaf_of_[prim] == kNoLeaf) return 0.f;
-    const uint32_t leaf = leaf_of_[prim];
-    if (nodes_[leaf].bounds.importance(p, n) == 0.f) return 0.f;
-    // The trail from the root, multiplied in the order sample() multiplies it, so both give
-    // the same float.
-    std::array<uint32_t, kMaxDepth> trail;
-    std::size_t depth = 0;
-    for (uint32_t node = leaf; node != 0; node = nodes_[node].parent) trail[depth++] = node;
-    float pmf = 1.f;
-    while (depth > 0) {
-        const uint32_t node = trail[--depth], parent = nodes_[node].parent;
-        const uint32_t a = parent + 1, b = nodes_[parent].index;
-        const float ia = nodes_[a].bounds.importance(p, n);
-        const float ib = nodes_[b].bounds.importance(p, n);
-        if (ia == 0.f && ib == 0.f) return 0.f;
-        const float pa = ia / (ia + ib);
-        pmf *= node == a ? pa : 1.f - pa;
-    }
-    return pmf;
+    const float pp[3] = {p.x, p.y, p.z}, nn[3] = {n.x, n.y, n.z};
+    return kern::light_pmf(tree_, leaf_of_[prim], pp, nn);
 }
 
 }  // namespace foton

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/core/math.h"
+#include "kernels/light_tree.h"
 
 namespace foton {
 
@@ -24,11 +25,6 @@ struct LightBounds {
     float cos_e = 0.f;   // cosine of the angle past a normal that light still leaves at
     float phi = 0.f;     // power (luminance); 0 for an empty bound
     bool two_sided = false;
-
-    // An upper estimate of the light this bound sends to point p with normal n (n = 0: a
-    // point without a surface, no receiver cosine). 0 only when no light under it can reach
-    // p: behind every one-sided emitter, outside every cone.
-    float importance(const Vec3& p, const Vec3& n) const;
 };
 
 // The bound of both.
@@ -39,8 +35,8 @@ class LightBvh {
     // Builds over `bounds`; primitive i of the tree is bounds[i]. Bounds of zero power are
     // left out: such lights are never picked (pmf 0).
     void build(const std::vector<LightBounds>& bounds);
-    bool empty() const { return nodes_.empty(); }
-    std::size_t node_count() const { return nodes_.size(); }
+    bool empty() const { return tree_.empty(); }
+    std::size_t node_count() const { return tree_.size(); }
 
     // Picks a primitive with probability proportional to the importances along the descent;
     // false when every light's importance at p is 0.
@@ -48,17 +44,15 @@ class LightBvh {
     // The probability that sample(., p, n) returns prim.
     float pmf(uint32_t prim, const Vec3& p, const Vec3& n) const;
 
+    // The tree as the descent kernels read it (kernels/light_tree.h).
+    const kern::LightTree& tree() const { return tree_; }
+
   private:
-    struct Node {
-        LightBounds bounds;
-        uint32_t index = 0;   // leaf: its primitive; inner: the second child (the first follows)
-        uint32_t parent = 0;  // the root is its own parent
-        bool leaf = false;
-    };
     uint32_t build_range(const std::vector<LightBounds>& bounds, uint32_t* first, uint32_t* last,
                          uint32_t parent, int depth);
+    void put(uint32_t node, const LightBounds& b, uint32_t next, bool leaf, uint32_t parent);
 
-    std::vector<Node> nodes_;
+    kern::LightTree tree_;
     std::vector<uint32_t> leaf_of_;  // primitive -> its leaf, kNoLeaf when left out
 };
 

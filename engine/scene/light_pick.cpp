@@ -2,6 +2,9 @@
 // (light_bvh.h), and the probabilities MIS weighs a light that a BSDF sample hit by.
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "engine/core/error.h"
 
 #include "light_set.h"
 
@@ -89,6 +92,14 @@ void LightSet::build_bvh() {
             prim_tri_.push_back(t);
         }
     }
+    // The descent kernel indexes nodes by floats (kernels/light_tree.h): 2^23 lights make
+    // 2^24 - 1 nodes.
+    if (bounds.size() >= kern::LightTree::kMaxNodes / 2)
+        throw InputError(scene_->source, 0,
+                         "light_selection=\"bvh\" takes at most " +
+                             std::to_string(kern::LightTree::kMaxNodes / 2 - 1) +
+                             " lights (each emitting triangle one); this scene has " +
+                             std::to_string(bounds.size()));
     bvh_.build(bounds);
     const float trees = bvh_.empty() ? 0.f : 1.f;
     p_infinite_ =
@@ -125,6 +136,50 @@ bool LightSet::pick(float u, const Vec3& p, const Vec3& n, LightPick& out) const
     out.tri = prim_tri_[prim];
     out.pmf = pmf * (1.f - p_infinite_);
     return true;
+}
+
+void LightPickLanes::resize(std::size_t n) {
+    const std::size_t padded = (n + 15) / 16 * 16;
+    for (std::vector<float>* v : {&u, &px, &py, &pz, &nx, &ny, &nz, &pmf}) v->assign(padded, 0.f);
+    light.assign(padded, 0);
+    out.assign(padded, LightPick{});
+}
+
+void LightSet::pick_lanes(LightPickLanes& lanes, std::size_t count) const {
+    if (selection_ != LightSelection::Bvh) {
+        for (std::size_t i = 0; i < count; ++i) {
+            LightPick& pick = lanes.out[i];
+            if (!this->pick(lanes.u[i], Vec3{}, Vec3{}, pick)) pick.pmf = 0.f;
+        }
+        return;
+    }
+    // Lights at infinity here, the tree's share through the descent kernel with u rescaled
+    // as pick() rescales it.
+    std::vector<LightPick>& out = lanes.out;
+    for (std::size_t i = 0; i < count; ++i) {
+        const float u = lanes.u[i];
+        out[i].tri = kWholeEmitter;
+        if (u < p_infinite_) {
+            const std::size_t n = infinite_.size();
+            out[i].light = infinite_[std::min(n - 1, std::size_t(u / p_infinite_ * float(n)))];
+            out[i].pmf = p_infinite_ / float(n);
+            lanes.u[i] = -1.f;  // taken: the kernel's pick for it is not read
+        } else {
+            lanes.u[i] = std::min((u - p_infinite_) / (1.f - p_infinite_), 0x1.fffffep-1f);
+        }
+    }
+    if (bvh_.empty()) return;
+    const kern::LightQueries q{lanes.px.data(), lanes.py.data(),    lanes.pz.data(),
+                               lanes.nx.data(), lanes.ny.data(),    lanes.nz.data(),
+                               lanes.u.data(),  lanes.light.data(), lanes.pmf.data()};
+    kern::pick_lights(bvh_.tree(), q, count);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (lanes.u[i] < 0.f) continue;
+        const uint32_t prim = lanes.light[i];
+        out[i].light = prim_emitter_[prim];
+        out[i].tri = prim_tri_[prim];
+        out[i].pmf = lanes.pmf[i] == 0.f ? 0.f : lanes.pmf[i] * (1.f - p_infinite_);
+    }
 }
 
 float LightSet::pick_pmf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n) const {

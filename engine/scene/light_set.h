@@ -89,6 +89,25 @@ struct LightPick {
     float pmf = 0.f;
 };
 
+// Many receivers' picks at once (LightSet::pick_lanes), structure of arrays: u and the
+// receivers' points and normals in, `out` back. Sized by resize, which pads to the SIMD
+// width the light BVH's descent kernel reads.
+struct LightPickLanes {
+    std::vector<float> u, px, py, pz, nx, ny, nz, pmf;
+    std::vector<uint32_t> light;
+    std::vector<LightPick> out;
+    void resize(std::size_t n);
+    void put(std::size_t i, float ui, const Vec3& p, const Vec3& n) {
+        u[i] = ui;
+        px[i] = p.x;
+        py[i] = p.y;
+        pz[i] = p.z;
+        nx[i] = n.x;
+        ny[i] = n.y;
+        nz[i] = n.z;
+    }
+};
+
 class LightSet {
   public:
     LightSet() = default;
@@ -113,6 +132,9 @@ class LightSet {
     // The probability that pick(., p, n) chooses emitter `light` and, under bvh, triangle
     // `tri` of a mesh (any other light ignores tri).
     float pick_pmf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n) const;
+    // pick for lanes.u[i], lanes' point and normal i, i < count, into lanes.out[i] (pmf 0:
+    // none); the same picks, bit for bit, with the light BVH's SIMD descent.
+    void pick_lanes(LightPickLanes& lanes, std::size_t count) const;
     // The solid-angle density with which next event estimation from p (normal n) samples
     // point q (normal nq) of emitter `light`, found on triangle `tri`, the pick included:
     // what a BSDF sample that hit the light is weighed against.

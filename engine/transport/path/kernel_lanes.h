@@ -8,6 +8,8 @@
 #include "engine/core/aligned.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
+#include "engine/scene/light_set.h"
+#include "engine/transport/common/surface.h"
 #include "kernels/diffuse_shade.h"
 
 namespace foton {
@@ -59,6 +61,11 @@ struct KernelLanes {
     AlignedVector<uint32_t> pattern_count = AlignedVector<uint32_t>(kLanes);
     AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandRows) * kLanes);
     bool drawn = false;
+    // Under the light BVH: the lanes' surfaces, made first so that the chunk's lights are
+    // picked in one descent-kernel call (`picked` says whether they were).
+    SurfacePoint surface[kLanes];
+    LightPickLanes picks;
+    bool picked = false;
 
     kern::ShadeTable table() { return {data.data(), kLanes}; }
     float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }

@@ -25,12 +25,18 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     // surface point surface_at makes here, which the light BVH also picks from.
     const bool nee = rules_.nee && !ctx_.lights.empty();
     SurfacePoint sp;
-    const bool made =
-        nee && ctx_.lights.selection() == LightSelection::Bvh && put_surface(lane, i, ws, true, sp);
     LightPick pick;
-    const bool picked =
-        nee && ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), sp.p,
-                                sp.ng, pick);
+    bool made = false, picked = false;
+    if (L.picked) {
+        // pick_lane_lights made the surface and picked the light.
+        sp = L.surface[lane];
+        pick = L.picks.out[lane];
+        made = true;
+        picked = pick.pmf > 0.f;
+    } else if (nee) {
+        picked = ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), sp.p,
+                                  sp.ng, pick);
+    }
     const uint32_t li = pick.light;
     const Emitter* e = picked ? &ctx_.lights.emitter(li) : nullptr;
     const bool rect = e && e->type == EmitterType::Rect;

@@ -297,6 +297,24 @@ void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
     }
 }
 
+// Under the light BVH, the chunk's surfaces first and then every lane's light in one call of
+// the descent kernel (the same picks as shade_vertex's one at a time).
+void PathIntegrator::pick_lane_lights(uint32_t depth, PathWorkspace& ws) const {
+    KernelLanes& L = ws.lanes;
+    if (!rules_.nee || ctx_.lights.empty() || ctx_.lights.selection() != LightSelection::Bvh)
+        return;
+    if (L.picks.out.size() < KernelLanes::kLanes) L.picks.resize(KernelLanes::kLanes);
+    for (std::size_t k = 0; k < L.size; ++k) {
+        SurfacePoint& sp = L.surface[k];
+        put_surface(k, L.entry[k], ws, true, sp);
+        L.picks.put(k,
+                    lane_number(ws, k, KernelLanes::kRandLightSelect, depth, kPathDimLightSelect),
+                    sp.p, sp.ng);
+    }
+    ctx_.lights.pick_lanes(L.picks, L.size);
+    L.picked = true;
+}
+
 void PathIntegrator::shade_lanes(uint32_t depth, KernelKind kind, PathWorkspace& ws) const {
     KernelLanes& L = ws.lanes;
     kern::DiffuseRules rules = kernels_.rules;
@@ -308,6 +326,8 @@ void PathIntegrator::shade_lanes(uint32_t depth, KernelKind kind, PathWorkspace&
         L.size = std::min(KernelLanes::kLanes, entries.size() - start);
         for (std::size_t k = 0; k < L.size; ++k) L.entry[k] = entries[start + k];
         draw_lane_numbers(depth, ws);
+        L.picked = false;
+        if (kind == KernelKind::Diffuse) pick_lane_lights(depth, ws);
         for (std::size_t k = 0; k < L.size; ++k) {
             if (kind == KernelKind::Diffuse)
                 fill_diffuse_lane(depth, k, ws);
