@@ -46,10 +46,11 @@ float sample1(const Index& s, uint32_t pair, int coord);
 
 // The table of pairs `pairs` for n samples (sample s is {index[s], bits[s], key[s]}): x in row
 // 2 p and y in row 2 p + 1 of `out` (column s, rows `stride` apart), what sample2 gives one at
-// a time, bit for bit. sample_table runs 8 samples per AVX-512 register (the digit
-// permutation's 64-bit arithmetic under a per-lane mask where the index lengths differ);
-// sample_table_scalar is its twin, sample2 in a loop. Samples up to n rounded to 8 are read
-// and written: the caller pads.
+// a time, bit for bit. sample_table runs 16 samples per AVX-512 register where they share a
+// key (one render pass) and their indices fit in 32 bits (a digit mask per lane where their
+// lengths differ), the Owen scramble's hashes then computed once for all; other groups of 16
+// take sample_table_scalar, its twin, which is sample2 in a loop. Samples up to n rounded to
+// 16 are read and written: the caller pads.
 void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* key, std::size_t n,
                   const uint32_t* pairs, std::size_t n_pairs, float* out, std::size_t stride);
 void sample_table_scalar(const uint64_t* index, const uint32_t* bits, const uint64_t* key,
@@ -59,5 +60,27 @@ void sample_table_scalar(const uint64_t* index, const uint32_t* bits, const uint
 // (entry d of permutation k at bits 2d, 2d + 1 of permutations()[k]).
 uint64_t pair_key(uint64_t key, uint32_t pair);
 const uint32_t* permutations();
+
+// The hashes of the digit permutation, in 32-bit arithmetic so that the kernel runs 16 lanes
+// per AVX-512 register: a 64-bit value folded to 32 bits, which of the 24 permutations the
+// digit at `shift` takes given the digits above it (`above`, folded) and the pair's folded
+// key, and whether a lone lowest bit is flipped. Two multiply-xorshift rounds; the choice
+// comes from the hash's top 24 bits.
+inline uint32_t fold32(uint64_t v) {
+    return uint32_t(v) ^ uint32_t(v >> 32);
+}
+inline uint32_t digit_permutation(uint32_t above, uint32_t pk32, int shift) {
+    uint32_t h = (above ^ (pk32 + uint32_t(shift) * 0x9e3779b9u)) * 0x85ebca6bu;
+    h ^= h >> 15;
+    h *= 0xc2b2ae35u;
+    h ^= h >> 13;
+    return ((h >> 8) * 24u) >> 24;
+}
+inline uint32_t lone_flip(uint32_t above, uint32_t pk32) {
+    uint32_t h = (above ^ pk32) * 0x94d049bbu;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    return h >> 31;
+}
 
 }  // namespace foton::kern::zsobol

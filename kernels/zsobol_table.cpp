@@ -1,10 +1,12 @@
-// zsobol::sample_table: eight samples at a time. The digit permutation runs in 64-bit lanes,
-// one base-4 digit per step from the top, with a lane mask where the samples' index lengths
-// (and so the positions of their digits) differ; the 24 permutations come by a gather. The
-// Owen scramble and the generator matrices are the Sobol' kernel's (sobol_simd.h). Builds
-// without AVX-512 (F, DQ, CD, VL) run the scalar twin.
+// zsobol::sample_table: sixteen samples at a time, in 32-bit lanes. A render pass's samples
+// share one key, so the pair's key and the Owen scramble's hashes are computed once per pair
+// and broadcast; the digit permutation runs one base-4 digit per step from the top, its
+// hash in 32-bit arithmetic (zsobol_net.h), the permutation taken from a two-register table
+// by one permute. A group whose keys differ, or whose indices pass 32 bits, runs the scalar
+// twin. Builds without AVX-512 (F, DQ, CD, VL) run the twin throughout.
 #include <algorithm>
 
+#include "counter_hash.h"
 #include "sobol_simd.h"
 #include "zsobol_net.h"
 
@@ -12,106 +14,161 @@ namespace foton::kern::zsobol {
 
 #if FOTON_SOBOL_SIMD
 namespace {
-using namespace sobol_simd;
 
-inline __m512i set64(uint64_t v) {
-    return _mm512_set1_epi64(int64_t(v));
+constexpr std::size_t kGroup = 16;
+constexpr __mmask16 kAll = 0xffff;
+
+inline __m512i set32(uint32_t v) {
+    return _mm512_set1_epi32(int32_t(v));
 }
-inline __m512i shr64v(__m512i z, __m512i n) {
-    return _mm512_maskz_srlv_epi64(__mmask8(0xff), z, n);
+inline __m512i shr32(__m512i z, unsigned n) {
+    return _mm512_maskz_srli_epi32(kAll, z, n);
 }
-inline __m512i shl64v(__m512i z, __m512i n) {
-    return _mm512_maskz_sllv_epi64(__mmask8(0xff), z, n);
+inline __m512i shl32(__m512i z, unsigned n) {
+    return _mm512_maskz_slli_epi32(kAll, z, n);
+}
+inline __m512i mul32(__m512i a, __m512i b) {
+    return _mm512_mullo_epi32(a, b);
 }
 
-// The 24 permutations of four digits as one string of 192 bits (entry d of permutation k at
-// bits 8 k + 2 d), in three broadcast words.
-struct PackedPermutations {
-    __m512i w0, w1, w2;
+// digit_permutation's hash for 16 lanes of `above` (the loop constant c = pk32 + shift * k).
+inline __m512i permutation_index(__m512i above, uint32_t c) {
+    __m512i h = mul32(_mm512_xor_si512(above, set32(c)), set32(0x85ebca6bu));
+    h = _mm512_xor_si512(h, shr32(h, 15));
+    h = mul32(h, set32(0xc2b2ae35u));
+    h = _mm512_xor_si512(h, shr32(h, 13));
+    return shr32(mul32(shr32(h, 8), set32(24u)), 24);
+}
+
+inline __m512i bit_reverse(__m512i i) {
+    auto swap = [](__m512i x, unsigned s, uint32_t m) {
+        const __m512i mask = set32(m);
+        return _mm512_or_si512(shl32(_mm512_and_si512(x, mask), s),
+                               _mm512_and_si512(shr32(x, s), mask));
+    };
+    i = _mm512_or_si512(shl32(i, 16), shr32(i, 16));
+    i = swap(i, 8, 0x00ff00ffu);
+    i = swap(i, 4, 0x0f0f0f0fu);
+    i = swap(i, 2, 0x33333333u);
+    return swap(i, 1, 0x55555555u);
+}
+
+inline __m512i dim1_lanes(__m512i i) {
+    const int* t = reinterpret_cast<const int*>(sobol::dim1_tables());
+    const __m512i byte = set32(0xff);
+    __m512i out = _mm512_setzero_si512();
+    for (unsigned b = 0; b < 4; ++b) {
+        const __m512i idx =
+            _mm512_add_epi32(_mm512_and_si512(shr32(i, 8 * b), byte), set32(256 * b));
+        out = _mm512_xor_si512(
+            out, _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), kAll, idx, t, 4));
+    }
+    return out;
+}
+
+// owen_scramble(v, seed) for 16 values whose bit reversal x is given, with one seed.
+inline __m512i owen_reversed(__m512i x, uint64_t seed) {
+    const uint64_t h = mix64(seed), h2 = mix64(seed ^ 0x632be59bd9b4e019ull);
+    x = _mm512_add_epi32(x, set32(uint32_t(h)));
+    x = mul32(x, set32(uint32_t(h >> 32) | 1u));
+    x = _mm512_xor_si512(x, mul32(x, set32(uint32_t(h2) << 1)));
+    x = _mm512_add_epi32(x, set32(uint32_t(h2 >> 32)));
+    x = _mm512_xor_si512(x, mul32(x, set32(0x7a6b5c4eu)));
+    return bit_reverse(x);
+}
+
+inline __m512 unit_float(__m512i v) {
+    return _mm512_mul_ps(_mm512_maskz_cvtepi32_ps(kAll, shr32(v, 8)),
+                         _mm512_set1_ps(1.f / 16777216.f));
+}
+
+// The 24 permutations (one byte each, in 32-bit entries) as two 16-entry tables.
+struct PermutationTables {
+    __m512i lo, hi;
 };
-const PackedPermutations& packed_permutations() {
-    static const PackedPermutations t = [] {
-        uint64_t w[3] = {0, 0, 0};
-        for (uint32_t k = 0; k < 24; ++k) w[k / 8] |= uint64_t(permutations()[k]) << (8 * (k % 8));
-        return PackedPermutations{set64(w[0]), set64(w[1]), set64(w[2])};
+const PermutationTables& permutation_tables() {
+    static const PermutationTables t = [] {
+        alignas(64) uint32_t w[32] = {};
+        for (int k = 0; k < 24; ++k) w[k] = permutations()[k];
+        return PermutationTables{_mm512_load_si512(w), _mm512_load_si512(w + 16)};
     }();
     return t;
 }
 
-// permute_digits of eight samples: index, bit count (64-bit lanes), pair key.
-__m512i permute_lanes(__m512i index, __m512i bits, __m512i pk, uint32_t max_bits, int step) {
-    const PackedPermutations& table = packed_permutations();
-    const __m512i three = set64(3), one = set64(1);
+// permute_digits for 16 indices (32-bit lanes, `bits` each) of the pair with folded key pk32.
+__m512i permute_lanes(__m512i index, __m512i bits, uint32_t max_bits, bool one_length,
+                      uint32_t pk32) {
+    const PermutationTables& table = permutation_tables();
+    const __m512i three = set32(3), one = set32(1);
     const __m512i lone = _mm512_and_si512(bits, one);
     __m512i out = _mm512_setzero_si512();
-    // Lanes of one parity (the usual case: one image, one sample count) have digits only at
-    // every other position.
-    for (int shift = int(max_bits) - 2; shift >= 0; shift -= step) {
-        // The lanes with a digit at this position: below their top, of their parity.
-        const __mmask8 active = _mm512_cmpge_epu64_mask(bits, set64(uint64_t(shift) + 2)) &
-                                _mm512_cmpeq_epi64_mask(lone, set64(uint64_t(shift) & 1u));
+    // One length (the usual case: one image, one sample count): digits at every other
+    // position, no mask. Else every position, each lane where it has a digit.
+    const int step = one_length ? 2 : 1;
+    const int lowest = one_length ? int(max_bits & 1u) : 0;
+    for (int shift = int(max_bits) - 2; shift >= lowest; shift -= step) {
+        __mmask16 active = kAll;
+        if (!one_length)
+            active = _mm512_cmpge_epu32_mask(bits, set32(uint32_t(shift) + 2)) &
+                     _mm512_cmpeq_epi32_mask(lone, set32(uint32_t(shift) & 1u));
         if (!active) continue;
-        const __m512i above = shr64v(index, set64(uint64_t(shift) + 2));
-        __m512i h = _mm512_mullo_epi64(
-            _mm512_xor_si512(above,
-                             _mm512_add_epi64(pk, set64(uint64_t(shift) * 0x9e3779b97f4a7c15ull))),
-            set64(0xbf58476d1ce4e5b9ull));
-        h = _mm512_xor_si512(h, shr64(h, 29));
-        // which = (h >> 32) * 24 >> 32, the multiply as two shifts.
-        const __m512i hi = shr64(h, 32);
-        const __m512i which = shr64(_mm512_add_epi64(shl64(hi, 4), shl64(hi, 3)), 32);
-        // Entry `digit` of permutation `which`: two bits at 8 which + 2 digit of the packed
-        // table (three words), without a gather.
-        const __m512i digit = _mm512_and_si512(shr64v(index, set64(uint64_t(shift))), three);
-        const __m512i pos = _mm512_add_epi64(shl64(which, 3), _mm512_add_epi64(digit, digit));
-        const __m512i word = shr64(pos, 6);
-        __m512i packed =
-            _mm512_mask_blend_epi64(_mm512_cmpeq_epi64_mask(word, one), table.w0, table.w1);
-        packed = _mm512_mask_blend_epi64(_mm512_cmpeq_epi64_mask(word, set64(2)), packed, table.w2);
-        const __m512i moved =
-            _mm512_and_si512(shr64v(packed, _mm512_and_si512(pos, set64(63))), three);
-        out = _mm512_mask_or_epi64(out, active, out, shl64v(moved, set64(uint64_t(shift))));
+        const __m512i which = permutation_index(shr32(index, unsigned(shift) + 2),
+                                                pk32 + uint32_t(shift) * 0x9e3779b9u);
+        const __m512i perm = _mm512_permutex2var_epi32(table.lo, which, table.hi);
+        const __m512i digit = _mm512_and_si512(shr32(index, unsigned(shift)), three);
+        const __m512i moved = _mm512_and_si512(
+            _mm512_maskz_srlv_epi32(kAll, perm, _mm512_add_epi32(digit, digit)), three);
+        out = _mm512_mask_or_epi32(out, active, out, shl32(moved, unsigned(shift)));
     }
     // A lone lowest bit, flipped by a hash.
-    const __m512i h =
-        _mm512_mullo_epi64(_mm512_xor_si512(shr64(index, 1), pk), set64(0x94d049bb133111ebull));
-    const __m512i flip = _mm512_xor_si512(_mm512_and_si512(index, one), shr64(h, 63));
-    return _mm512_mask_or_epi64(out, _mm512_test_epi64_mask(lone, lone), out, flip);
+    __m512i h = mul32(_mm512_xor_si512(shr32(index, 1), set32(pk32)), set32(0x94d049bbu));
+    h = _mm512_xor_si512(h, shr32(h, 15));
+    h = mul32(h, set32(0x846ca68bu));
+    const __m512i flip = _mm512_xor_si512(_mm512_and_si512(index, one), shr32(h, 31));
+    return _mm512_mask_or_epi32(out, _mm512_test_epi32_mask(lone, lone), out, flip);
+}
+
+// Sixteen 64-bit values narrowed to 32-bit lanes.
+inline __m512i load_low32(const uint64_t* v) {
+    const __m256i a = _mm512_maskz_cvtepi64_epi32(__mmask8(0xff), _mm512_loadu_si512(v));
+    const __m256i b = _mm512_maskz_cvtepi64_epi32(__mmask8(0xff), _mm512_loadu_si512(v + 8));
+    const __m512i wide = _mm512_castsi256_si512(a);
+    return _mm512_mask_inserti64x4(wide, __mmask8(0xff), wide, b, 1);
 }
 
 }  // namespace
 
 void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* key, std::size_t n,
                   const uint32_t* pairs, std::size_t n_pairs, float* out, std::size_t stride) {
-    for (std::size_t s = 0; s < n; s += 8) {
-        const __m512i idx = _mm512_loadu_si512(index + s);
-        const __m512i nbits = _mm512_maskz_cvtepu32_epi64(
-            __mmask8(0xff), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bits + s)));
-        const uint32_t max_bits = *std::max_element(bits + s, bits + s + 8);
-        const bool one_parity = std::all_of(
-            bits + s, bits + s + 8, [&](uint32_t b) { return (b & 1u) == (max_bits & 1u); });
-        const __m512i k = _mm512_loadu_si512(key + s);
+    for (std::size_t s = 0; s < n; s += kGroup) {
+        const uint32_t max_bits = *std::max_element(bits + s, bits + s + kGroup);
+        const bool one_key =
+            std::all_of(key + s, key + s + kGroup, [&](uint64_t k) { return k == key[s]; });
+        if (max_bits > 32 || !one_key) {
+            sample_table_scalar(index + s, bits + s, key + s, kGroup, pairs, n_pairs, out + s,
+                                stride);
+            continue;
+        }
+        const bool one_length =
+            std::all_of(bits + s, bits + s + kGroup, [&](uint32_t b) { return b == max_bits; });
+        const __m512i idx = load_low32(index + s);
+        const __m512i nbits = _mm512_loadu_si512(bits + s);
         for (std::size_t p = 0; p < n_pairs; ++p) {
-            // pair_key: the sample's key plus the pair's salt, hashed.
-            const __m512i pk = mix(_mm512_add_epi64(k, set64(0x2505u * (uint64_t(pairs[p]) + 1))));
-            const __m512i j = permute_lanes(idx, nbits, pk, max_bits, one_parity ? 2 : 1);
-            // The bits above 32 key the scramble (scrambled() in zsobol_net.cpp).
-            const __m512i hi = shr64(j, 32);
-            const __m512i key2 = _mm512_mask_blend_epi64(_mm512_test_epi64_mask(hi, hi), pk,
-                                                         mix(_mm512_xor_si512(pk, hi)));
-            const __m256i j32 = low32(j);
-            const __m256i x = owen_reversed(j32, _mm512_add_epi64(key2, set64(1)));
-            const __m256i y =
-                owen_reversed(bit_reverse(dim1_lanes(j32)), _mm512_add_epi64(key2, set64(2)));
-            _mm256_storeu_ps(out + 2 * p * stride + s, unit_float(x));
-            _mm256_storeu_ps(out + (2 * p + 1) * stride + s, unit_float(y));
+            // Indices of 32 bits or fewer: the scramble's key is the pair's (scrambled() in
+            // zsobol_net.cpp).
+            const uint64_t pk = pair_key(key[s], pairs[p]);
+            const __m512i j = permute_lanes(idx, nbits, max_bits, one_length, fold32(pk));
+            const __m512i x = owen_reversed(j, pk + 1);
+            const __m512i y = owen_reversed(bit_reverse(dim1_lanes(j)), pk + 2);
+            _mm512_storeu_ps(out + 2 * p * stride + s, unit_float(x));
+            _mm512_storeu_ps(out + (2 * p + 1) * stride + s, unit_float(y));
         }
     }
 }
 #else
 void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* key, std::size_t n,
                   const uint32_t* pairs, std::size_t n_pairs, float* out, std::size_t stride) {
-    sample_table_scalar(index, bits, key, (n + 7) / 8 * 8, pairs, n_pairs, out, stride);
+    sample_table_scalar(index, bits, key, (n + 15) / 16 * 16, pairs, n_pairs, out, stride);
 }
 #endif
 

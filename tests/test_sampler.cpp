@@ -481,3 +481,43 @@ TEST_CASE("Z-Sobol' points drawn as a table equal zsobol::sample2's, bit for bit
     CHECK(differ == 0);
     CHECK(engine_differ == 0);
 }
+
+TEST_CASE("Z-Sobol' table: a render pass's samples (one key) equal sample2's, bit for bit",
+          "[sampler][kernel][fast]") {
+    // The kernel's 16-lane path: the samples of one pass share a key. Images of several sizes
+    // and sample counts (odd and even lengths, up to 32 bits), and groups that mix two images'
+    // lengths (the per-lane digit mask).
+    std::mt19937_64 g(21);
+    const std::size_t n = 16 * 40;
+    const uint64_t pass_key = zsobol::index_of(0, 0, 1, 1, 0, 1, 77, 3).key;
+    const uint32_t sizes[][3] = {{256, 256, 16},    {640, 480, 8}, {1, 1, 1},
+                                 {3840, 2160, 256}, {33, 17, 5},   {4096, 4096, 256},
+                                 {200, 100, 2},     {7, 3000, 64}};
+    for (const bool mixed : {false, true}) {
+        std::vector<uint64_t> index(n), keys(n, pass_key);
+        std::vector<uint32_t> bits(n);
+        for (std::size_t s = 0; s < n; ++s) {
+            const auto* sz = sizes[mixed ? (s * 7 + s / 3) % 8 : (s / 16) % 8];
+            const uint32_t w = sz[0], h = sz[1], spp = sz[2];
+            const zsobol::Index z = zsobol::index_of(uint32_t(g() % w), uint32_t(g() % h), w, h,
+                                                     uint32_t(g() % spp), spp, 77, 3);
+            REQUIRE(z.key == pass_key);
+            REQUIRE(z.bits <= 32);
+            index[s] = z.index;
+            bits[s] = z.bits;
+        }
+        const std::vector<uint32_t> pairs = {0, 1, 5, 33};
+        std::vector<float> table(2 * pairs.size() * n);
+        kern::zsobol::sample_table(index.data(), bits.data(), keys.data(), n, pairs.data(),
+                                   pairs.size(), table.data(), n);
+        std::size_t differ = 0;
+        for (std::size_t p = 0; p < pairs.size(); ++p)
+            for (std::size_t s = 0; s < n; ++s) {
+                float x, y;
+                zsobol::sample2(zsobol::Index{index[s], bits[s], pass_key}, pairs[p], x, y);
+                differ += (table[2 * p * n + s] != x) + (table[(2 * p + 1) * n + s] != y);
+            }
+        INFO("mixed lengths " << mixed);
+        CHECK(differ == 0);
+    }
+}

@@ -53,17 +53,17 @@ inline Point2 pixel_sample(const Scene& scene, SamplerKind sampler, const Sample
 }
 
 // The pixel positions of `jobs` as a table (x in [0, n), y in [n, 2n) of `table`, n the
-// jobs' count rounded up to 8) when the sampler is Sobol' or Z-Sobol'; false (and nothing
+// jobs' count rounded up to 16) when the sampler is Sobol' or Z-Sobol'; false (and nothing
 // written) for the others.
 inline bool pixel_sample_table(const Scene& scene, SamplerKind sampler,
                                const std::vector<SampleJob>& jobs, uint64_t seed,
                                std::vector<float>& table) {
     if (sampler != SamplerKind::Sobol && sampler != SamplerKind::ZSobol) return false;
     // A sample's Sobol' index (or Z-Sobol' bit count), count and key, padded with one-point
-    // patterns up to the kernels' 8.
+    // patterns up to the kernels' 16.
     thread_local std::vector<uint64_t> key, z_index;
     thread_local std::vector<uint32_t> index, count;
-    const std::size_t n = (jobs.size() + 7) / 8 * 8;
+    const std::size_t n = (jobs.size() + 15) / 16 * 16;
     key.assign(n, 0);
     index.assign(n, 0);
     count.assign(n, 1);

@@ -205,8 +205,8 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
             L.pattern_count[k] = ps.pattern_count();
         }
     }
-    // The kernels read up to 8 lanes past the last: one-point patterns there.
-    const std::size_t padded = (L.size + 7) / 8 * 8;
+    // The kernels read up to 16 lanes past the last: one-point patterns there.
+    const std::size_t padded = (L.size + 15) / 16 * 16;
     for (std::size_t k = L.size; k < padded; ++k) {
         L.keys[k] = 0;
         L.z_index[k] = 0;
