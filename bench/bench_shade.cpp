@@ -59,7 +59,7 @@ struct Table {
             col(kDvLnz)[i] = 0.f;
             for (uint32_t c = kDvLiR; c <= kDvLiB; ++c) col(c)[i] = 15.f;
             // The Cornell box's ceiling light, sampled by the kernel.
-            col(kDvLrect)[i] = 1.f;
+            col(kDvLkind)[i] = 1.f;
             col(kDvLightPdf)[i] = 1.f;
             col(kDvLpx)[i] = 212.5f;
             col(kDvLpy)[i] = 554.f;

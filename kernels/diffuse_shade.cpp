@@ -12,6 +12,22 @@ namespace {
 
 using namespace lanes;
 
+namespace {
+// sincos_turn (diffuse_shade_math.h) for W lanes: the same comparisons, polynomial and
+// quadrant rotation.
+void sincos_turn(const FloatV& u, FloatV& s, FloatV& c) {
+    const FloatV zero(0.f), one(1.f);
+    const FloatV x4 = u * FloatV(4.f);
+    auto step = [&](float edge) { return xsimd::select(x4 >= FloatV(edge), one, zero); };
+    const FloatV k = ((step(0.5f) + step(1.5f)) + step(2.5f)) + step(3.5f);
+    FloatV sr, cr;
+    sincos_quarter((x4 - k) * FloatV(1.57079632679489661923f), sr, cr);
+    const MaskV q1 = k == one, q2 = k == FloatV(2.f), q3 = k == FloatV(3.f);
+    s = xsimd::select(q1, cr, xsimd::select(q2, neg(sr), xsimd::select(q3, neg(cr), sr)));
+    c = xsimd::select(q1, neg(sr), xsimd::select(q2, neg(cr), xsimd::select(q3, sr, cr)));
+}
+}  // namespace
+
 FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     const FloatV zero(0.f), one(1.f);
     switch (r.mis) {
@@ -63,23 +79,79 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
         return V3{rho.x * k, rho.y * k, rho.z * k};
     };
 
-    // A rectangle light's sample: a point uniform on its area, its solid-angle density.
-    const MaskV rect = l.in(kDvLrect) != zero;
+    // A rectangle's or a triangle's sample: a point uniform on its area (a triangle's by the
+    // low-distortion square-to-triangle map of warp::uniform_triangle), its solid-angle
+    // density.
+    const FloatV kind = l.in(kDvLkind);
+    const MaskV rect = (kind == FloatV(kLightParallelogram)) | (kind == FloatV(kLightTriangle));
     FloatV pl = l.in(kDvLightPdf), dist = l.in(kDvLdist);
     V3 lw = l.in3(kDvLwx), q = l.in3(kDvLpx), nq = l.in3(kDvLnx);
     if (xsimd::any(rect)) {
-        const V3 qr = (q + l.in3(kDvLe1x) * l.in(kDvLu0)) + l.in3(kDvLe2x) * l.in(kDvLu1);
+        FloatV a = l.in(kDvLu0), b = l.in(kDvLu1);
+        const MaskV tri = kind == FloatV(kLightTriangle);
+        const V3 c1 = l.in3(kDvLe1x), c2 = l.in3(kDvLe2x);
+        V3 qr = (q + c1 * a) + c2 * b;
+        if (xsimd::any(tri)) {
+            const MaskV below = a < b;
+            const FloatV half_a = FloatV(0.5f) * a, half_b = FloatV(0.5f) * b;
+            const FloatV b0 = xsimd::select(below, half_a, a - half_b);
+            const FloatV b1 = xsimd::select(below, b - half_a, half_b);
+            // warp::uniform_triangle's barycentrics of the second and third corner, and the
+            // corners weighted as LightSet::sample_li weighs them (c1, c2 are corners here).
+            const FloatV bx = b1, by = (one - b0) - b1;
+            const V3 qt = (q * ((one - bx) - by) + c1 * bx) + c2 * by;
+            qr = select(tri, qt, qr);
+        }
         const V3 to = qr - p;
         const FloatV d2 = dot(to, to);
         const FloatV dr = simd::vsqrt(d2);
         const V3 wr = to * (one / dr);
-        const FloatV cos_r = neg(dot(nq, wr));
+        FloatV cos_r = neg(dot(nq, wr));
+        cos_r = xsimd::select(l.in(kDvLtwoSided) != zero, xsimd::abs(cos_r), cos_r);
         const FloatV pr = pl * (d2 / (cos_r * l.in(kDvLarea)));
         pl = xsimd::select(rect, xsimd::select((d2 != zero) & (cos_r > zero), pr, zero), pl);
         dist = xsimd::select(rect, dr, dist);
         lw = select(rect, wr, lw);
         nq = select(rect & (dot(nq, wr) >= zero), neg(nq), nq);
         q = select(rect, qr, q);
+    }
+
+    // An emitting sphere's sample: uniform in the cone it subtends, the point placed on it by
+    // its angle at the centre (LightSet::sample_li's arithmetic); from inside a one-sided
+    // sphere nothing (its inside does not emit).
+    const MaskV sphere = kind == FloatV(kLightSphere);
+    if (xsimd::any(sphere)) {
+        const V3 c = l.in3(kDvLpx);
+        const FloatV r = l.in(kDvLe1x);
+        const V3 to_c = c - p;
+        const FloatV dc2 = dot(to_c, to_c);
+        const FloatV r2 = r * r;
+        const MaskV outside = dc2 > r2 * FloatV(1.0001f);
+        const V3 wc = to_c * (one / simd::vsqrt(dc2));
+        const FloatV sin2_max = r2 / dc2;
+        const FloatV omc = sin2_max / (one + simd::vsqrt(simd::vmax(one - sin2_max, zero)));
+        const FloatV v = l.in(kDvLu0)*omc;
+        const FloatV cos_t = one - v, sin2_t = v * (FloatV(2.f) - v);
+        const FloatV cos_a = sin2_t / simd::vsqrt(sin2_max) +
+                             cos_t * simd::vsqrt(simd::vmax(one - sin2_t / sin2_max, zero));
+        const FloatV sin_a = simd::vsqrt(simd::vmax(one - cos_a * cos_a, zero));
+        FloatV sin_p, cos_p;
+        sincos_turn(l.in(kDvLu1), sin_p, cos_p);
+        V3 fs, ft;
+        shading_frame(wc, fs, ft);
+        const FloatV lx = sin_a * cos_p, ly = sin_a * sin_p, lz = neg(cos_a);
+        const V3 n = V3{(fs.x * lx + ft.x * ly) + wc.x * lz, (fs.y * lx + ft.y * ly) + wc.y * lz,
+                        (fs.z * lx + ft.z * ly) + wc.z * lz};
+        const V3 qs = c + n * r;
+        const V3 to = qs - p;
+        const FloatV ds = simd::vsqrt(dot(to, to));
+        const FloatV pdf = one / (FloatV(2.f * kDiffusePi) * omc);
+        const MaskV ok = outside & (pdf > zero) & (ds > zero);
+        pl = xsimd::select(sphere, xsimd::select(ok, pl * pdf, zero), pl);
+        dist = xsimd::select(sphere, ds, dist);
+        lw = select(sphere, to * (one / ds), lw);
+        nq = select(sphere, n, nq);
+        q = select(sphere, qs, q);
     }
 
     // Next event estimation.

@@ -25,4 +25,18 @@ inline void sincos_quarter(const T& x, T& s, T& c) {
         T(0.5f) * z + T(1.f);
 }
 
+// sin and cos of 2 pi u for u in [0, 1): the turn split into quarters around k pi / 2
+// (k = 0..4, counted by comparisons, so no conversion rounds differently in the kernel and
+// its twin) and sincos_quarter of the rest, rotated into its quadrant.
+inline void sincos_turn(float u, float& s, float& c) {
+    const float x4 = u * 4.f;
+    const float k =
+        ((float(x4 >= 0.5f) + float(x4 >= 1.5f)) + float(x4 >= 2.5f)) + float(x4 >= 3.5f);
+    float sr, cr;
+    sincos_quarter((x4 - k) * 1.57079632679489661923f, sr, cr);
+    const int quadrant = int(k) & 3;
+    s = quadrant == 0 ? sr : quadrant == 1 ? cr : quadrant == 2 ? -sr : -cr;
+    c = quadrant == 0 ? cr : quadrant == 1 ? -sr : quadrant == 2 ? -cr : sr;
+}
+
 }  // namespace foton::kern

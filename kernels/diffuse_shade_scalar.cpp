@@ -62,18 +62,69 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
         const V3 wo{dot(wo_world, s), dot(wo_world, t), wo_z};
         const float on_a = v.col(kDvOnA)[i], on_b = v.col(kDvOnB)[i];
 
-        // A rectangle light's sample: a point uniform on its area, its solid-angle density.
+        // A rectangle's or a triangle's sample: a point uniform on its area, its solid-angle
+        // density.
         float pl = v.col(kDvLightPdf)[i], dist = v.col(kDvLdist)[i];
         V3 lw = in3(kDvLwx, i), q = in3(kDvLpx, i), nq = in3(kDvLnx, i);
-        if (v.col(kDvLrect)[i] != 0.f) {
-            q = (q + in3(kDvLe1x, i) * v.col(kDvLu0)[i]) + in3(kDvLe2x, i) * v.col(kDvLu1)[i];
+        const float kind = v.col(kDvLkind)[i];
+        if (kind == kLightParallelogram || kind == kLightTriangle) {
+            const float a = v.col(kDvLu0)[i], b = v.col(kDvLu1)[i];
+            const V3 c1 = in3(kDvLe1x, i), c2 = in3(kDvLe2x, i);
+            if (kind == kLightTriangle) {
+                // warp::uniform_triangle, then the corners weighted as sample_li weighs them.
+                float b0, b1;
+                if (a < b) {
+                    b0 = 0.5f * a;
+                    b1 = b - b0;
+                } else {
+                    b1 = 0.5f * b;
+                    b0 = a - b1;
+                }
+                const float bx = b1, by = (1.f - b0) - b1;
+                q = (q * ((1.f - bx) - by) + c1 * bx) + c2 * by;
+            } else {
+                q = (q + c1 * a) + c2 * b;
+            }
             const V3 to = q - p;
             const float d2 = dot(to, to);
             dist = std::sqrt(d2);
             lw = to * (1.f / dist);
-            const float cos_r = -dot(nq, lw);
+            float cos_r = -dot(nq, lw);
+            if (v.col(kDvLtwoSided)[i] != 0.f) cos_r = std::fabs(cos_r);
             pl = d2 != 0.f && cos_r > 0.f ? pl * (d2 / (cos_r * v.col(kDvLarea)[i])) : 0.f;
             if (dot(nq, lw) >= 0.f) nq = nq * -1.f;
+        }
+
+        // An emitting sphere's sample: uniform in the cone it subtends (none from inside).
+        if (kind == kLightSphere) {
+            const V3 c = in3(kDvLpx, i);
+            const float r = v.col(kDvLe1x)[i];
+            const V3 to_c = c - p;
+            const float dc2 = dot(to_c, to_c);
+            const float r2 = r * r;
+            const bool outside = dc2 > r2 * 1.0001f;
+            const V3 wc = to_c * (1.f / std::sqrt(dc2));
+            const float sin2_max = r2 / dc2;
+            const float omc = sin2_max / (1.f + std::sqrt(std::max(0.f, 1.f - sin2_max)));
+            const float vv = v.col(kDvLu0)[i] * omc;
+            const float cos_t = 1.f - vv, sin2_t = vv * (2.f - vv);
+            const float cos_a = sin2_t / std::sqrt(sin2_max) +
+                                cos_t * std::sqrt(std::max(0.f, 1.f - sin2_t / sin2_max));
+            const float sin_a = std::sqrt(std::max(0.f, 1.f - cos_a * cos_a));
+            float sin_p, cos_p;
+            sincos_turn(v.col(kDvLu1)[i], sin_p, cos_p);
+            V3 fs, ft;
+            shading_frame(wc, fs, ft);
+            const float lx = sin_a * cos_p, ly = sin_a * sin_p, lz = -cos_a;
+            const V3 n{(fs.x * lx + ft.x * ly) + wc.x * lz, (fs.y * lx + ft.y * ly) + wc.y * lz,
+                       (fs.z * lx + ft.z * ly) + wc.z * lz};
+            q = c + n * r;
+            const V3 to = q - p;
+            dist = std::sqrt(dot(to, to));
+            const float pdf = 1.f / ((2.f * kDiffusePi) * omc);
+            pl = outside && pdf > 0.f && dist > 0.f ? pl * pdf : 0.f;
+            lw = to * (1.f / dist);
+            nq = n;
         }
 
         // Next event estimation.

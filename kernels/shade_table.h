@@ -9,6 +9,9 @@ namespace foton::kern {
 
 // The columns of a ShadeTable (each `stride` floats, stride a multiple of the SIMD width).
 // kDv: a vertex's column; every shading kernel reads and writes its own subset.
+// kDvLkind's values.
+inline constexpr float kLightParallelogram = 1.f, kLightTriangle = 2.f, kLightSphere = 3.f;
+
 enum ShadeColumn : uint32_t {
     // The surface: position, geometric and shading normals (unit, facing the incoming ray),
     // the offset for rays leaving it, the unit direction back towards the viewer.
@@ -85,11 +88,18 @@ enum ShadeColumn : uint32_t {
     kDvLiR,
     kDvLiG,
     kDvLiB,
-    // Or a rectangle light the kernel samples itself (kDvLrect = 1): kDvLightPdf is then the
-    // light's selection probability alone, kDvLp its corner, kDvLn its normal (the side it
-    // emits to), kDvLi its radiance, and these its edges, area and the two numbers that place
-    // the point (LightSet::sample_li's arithmetic).
-    kDvLrect,
+    // Or a light the kernel samples itself (kDvLkind: 0 none, the sample above is given;
+    // kLightParallelogram, a rectangle light; kLightTriangle, one triangle of an emissive
+    // mesh; kLightSphere, a one-sided emitting sphere sampled in the cone it subtends, kDvLp
+    // its centre and kDvLe1x its radius): kDvLightPdf is then the light's selection probability
+    // alone, kDvLp its corner,
+    // kDvLn its normal (the side it emits to), kDvLi its radiance, and these its edges (a
+    // triangle's
+    // other two corners), the area the point is uniform over (the whole mesh's when its triangles
+    // are chosen by
+    // area), whether it emits on both sides, and the two numbers that place the point
+    // (LightSet::sample_li's arithmetic).
+    kDvLkind,
     kDvLe1x,
     kDvLe1y,
     kDvLe1z,
@@ -97,6 +107,7 @@ enum ShadeColumn : uint32_t {
     kDvLe2y,
     kDvLe2z,
     kDvLarea,
+    kDvLtwoSided,
     kDvLu0,
     kDvLu1,
     // Uniform numbers: the BSDF direction (2), Russian roulette.

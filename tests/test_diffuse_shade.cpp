@@ -119,7 +119,7 @@ Table random_vertices(std::size_t n, uint32_t seed) {
             const Vec3 e1 = random_unit(g) * (20.f + 80.f * u01(g));
             const Vec3 e2 = normalize(cross(e1, random_unit(g))) * (20.f + 80.f * u01(g));
             const Vec3 n_rect = normalize(cross(e1, e2));
-            t.at(kDvLrect, i) = 1.f;
+            t.at(kDvLkind, i) = 1.f;
             t.set3(kDvLpx, i, q);
             t.set3(kDvLnx, i, i % 2 ? n_rect : -n_rect);
             t.set3(kDvLe1x, i, e1);
@@ -127,6 +127,33 @@ Table random_vertices(std::size_t n, uint32_t seed) {
             t.at(kDvLarea, i) = length(cross(e1, e2));
             t.at(kDvLu0, i) = u01(g);
             t.at(kDvLu1, i) = u01(g);
+            t.at(kDvLdist, i) = 0.f;
+        }
+        // Every sixth lane a triangle of an emissive mesh (one- or two-sided, facing either
+        // way), with its own area or a whole mesh's in the density.
+        if (i % 6 == 2) {
+            const Vec3 e1 = random_unit(g) * (5.f + 60.f * u01(g));
+            const Vec3 e2 = random_unit(g) * (5.f + 60.f * u01(g));
+            const Vec3 n_tri = normalize(cross(e1, e2));
+            t.at(kDvLkind, i) = kLightTriangle;
+            t.set3(kDvLpx, i, q);
+            t.set3(kDvLnx, i, i % 4 ? n_tri : -n_tri);
+            t.set3(kDvLe1x, i, q + e1);  // a triangle's other corners
+            t.set3(kDvLe2x, i, q + e2);
+            t.at(kDvLarea, i) = 0.5f * length(cross(e1, e2)) * (i % 5 == 0 ? 7.f : 1.f);
+            t.at(kDvLtwoSided, i) = i % 7 < 3 ? 1.f : 0.f;
+            t.at(kDvLu0, i) = i % 11 == 0 ? 0.5f : u01(g);
+            t.at(kDvLu1, i) = i % 11 == 0 ? 0.5f : u01(g);
+            t.at(kDvLdist, i) = 0.f;
+        }
+        // Every sixth lane an emitting sphere sampled by its cone; some hold the point.
+        if (i % 6 == 4) {
+            const float r = 0.5f + 30.f * u01(g);
+            t.at(kDvLkind, i) = kLightSphere;
+            t.set3(kDvLpx, i, i % 5 == 0 ? p + random_unit(g) * (0.5f * r) : q);
+            t.at(kDvLe1x, i) = r;
+            t.at(kDvLu0, i) = i % 11 == 0 ? 0.f : u01(g);
+            t.at(kDvLu1, i) = i % 13 == 0 ? 0.75f : u01(g);
             t.at(kDvLdist, i) = 0.f;
         }
         // The disc's centre and its diagonals, besides random numbers.
@@ -288,6 +315,13 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"cornell-caustics.xml", {{"rr_depth", "1"}}},
         {"cornell-box.xml", {{"mis", "power"}}},
         {"materials.xml", {{"mis", "balance"}}},
+        // Triangles of emissive meshes sampled in the kernel: chosen by area within the mesh,
+        // and each its own light under the light BVH.
+        {"textured-meshes.xml", {{"mis", "power"}}},
+        {"textured-meshes.xml", {{"light_selection", "bvh"}}},
+        {"cornell-diffuse.xml", {{"light_selection", "bvh"}}},
+        // Spheres sampled in the kernel by the cone they subtend.
+        {"mis-plates.xml", {{"mis", "power"}}},
     };
     for (const auto& [scene_name, settings] : cases) {
         RendererOverrides simd = settings, scalar = settings;

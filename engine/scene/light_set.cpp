@@ -168,13 +168,7 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
         q = e.p + n * e.radius;
         return e.area;
     }
-    uint32_t t = tri;
-    if (tri == kWholeEmitter) {
-        const float target = uc * e.area;
-        const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
-        t = uint32_t(
-            std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
-    }
+    const uint32_t t = tri == kWholeEmitter ? triangle_by_area(e, uc) : tri;
     Vec3 p0, p1, p2;
     scene_->world_corners(e.geom, t, p0, p1, p2);
     const Point2 b = warp::uniform_triangle(u);
@@ -182,6 +176,13 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     const Vec3 c = cross(p1 - p0, p2 - p0);
     n = normalize(c);
     return tri == kWholeEmitter ? e.area : 0.5f * length(c);
+}
+
+uint32_t LightSet::triangle_by_area(const Emitter& e, float uc) const {
+    const float target = uc * e.area;
+    const auto it = std::upper_bound(e.tri_cdf.begin(), e.tri_cdf.end(), target);
+    return uint32_t(
+        std::min<std::ptrdiff_t>(it - e.tri_cdf.begin(), std::ptrdiff_t(e.tri_cdf.size()) - 1));
 }
 
 float LightSet::triangle_area(const Emitter& e, uint32_t tri) const {

@@ -166,6 +166,10 @@ class LightSet {
     // direction (1 for directional). For an environment q is ignored and `dir` is the
     // direction the light travels. What bidirectional MIS weighs a light vertex by.
     void pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_pos, float& pdf_dir) const;
+    // The triangle of mesh emitter e that uc chooses by area (as sample_li does without a
+    // given triangle), and a triangle's area in the world (e's whole area for kWholeEmitter).
+    uint32_t triangle_by_area(const Emitter& e, float uc) const;
+    float triangle_area(const Emitter& e, uint32_t tri) const;
     // The scene's bounding sphere (what light from infinity is emitted across).
     float scene_radius() const { return radius_; }
     // The start of a light path or photon: an emitter chosen by power with u_select, its
@@ -179,7 +183,6 @@ class LightSet {
     // area it is uniform over.
     float sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n,
                             uint32_t tri = kWholeEmitter) const;
-    float triangle_area(const Emitter& e, uint32_t tri) const;
     // The light BVH's primitives and tree (light_pick.cpp).
     void build_bvh();
 

@@ -1,7 +1,8 @@
 // The lanes of the path tracer's Lambertian and Oren–Nayar vertices for kern::shade_diffuse:
 // the hit, throughput, material, the light and the random numbers (path_lanes.cpp runs the
-// chunks and reads them back). What stays scalar here: choosing the light, sampling lights
-// other than rectangles (and then the surface point they need), instances' surfaces.
+// chunks and reads them back). What stays scalar here: choosing the light, placing a mesh
+// light's triangle, sampling lights other than rectangles, triangles and one-sided spheres
+// (and then the surface point they need), instances' surfaces.
 #include <algorithm>
 #include <cmath>
 
@@ -39,21 +40,52 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     }
     const uint32_t li = pick.light;
     const Emitter* e = picked ? &ctx_.lights.emitter(li) : nullptr;
+    // Rectangles and the triangles of emissive meshes the kernel samples; other lights here.
     const bool rect = e && e->type == EmitterType::Rect;
-    if (!made) put_surface(lane, i, ws, e && !rect, sp);
+    const bool tri = e && e->type == EmitterType::Mesh;
+    // A one-sided sphere sampled by its cone (from inside it gives nothing, as sample_li).
+    const bool sphere = e && e->type == EmitterType::Sphere && e->solid_angle && !e->two_sided;
+    if (!made) put_surface(lane, i, ws, e && !rect && !tri && !sphere, sp);
     float pdf = 0.f, full = 1.f;
     const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
     LightSample ls;
-    if (rect) {
+    if (rect || tri) {
+        const Point2 ul = draw2(KernelLanes::kRandLight, kPathDimLight);
+        pdf = pick.pmf;
+        full = no_mis ? 1.f : 0.f;
+        ls.Li = e->value;
+        if (rect) {
+            ls.p_light = e->p;
+            ls.n_light = e->n;
+            L.put3(kern::kDvLe1x, lane, e->e1);
+            L.put3(kern::kDvLe2x, lane, e->e2);
+            L.col(kern::kDvLarea)[lane] = e->area;
+        } else {
+            // The triangle the pick chose (light BVH), or one by area as sample_li picks it,
+            // with the whole mesh's area in the density then.
+            const uint32_t t = pick.tri != kWholeEmitter
+                                   ? pick.tri
+                                   : ctx_.lights.triangle_by_area(
+                                         *e, draw(KernelLanes::kRandLightUc, kPathDimLight + 2));
+            Vec3 p0, p1, p2;
+            ctx_.scene.world_corners(e->geom, t, p0, p1, p2);
+            const Vec3 c = cross(p1 - p0, p2 - p0);
+            ls.p_light = p0;
+            ls.n_light = normalize(c);
+            L.put3(kern::kDvLe1x, lane, p1);
+            L.put3(kern::kDvLe2x, lane, p2);
+            L.col(kern::kDvLarea)[lane] = pick.tri != kWholeEmitter ? 0.5f * length(c) : e->area;
+        }
+        L.col(kern::kDvLtwoSided)[lane] = e->two_sided ? 1.f : 0.f;
+        L.col(kern::kDvLu0)[lane] = ul.x;
+        L.col(kern::kDvLu1)[lane] = ul.y;
+    } else if (sphere) {
         const Point2 ul = draw2(KernelLanes::kRandLight, kPathDimLight);
         pdf = pick.pmf;
         full = no_mis ? 1.f : 0.f;
         ls.p_light = e->p;
-        ls.n_light = e->n;
         ls.Li = e->value;
-        L.put3(kern::kDvLe1x, lane, e->e1);
-        L.put3(kern::kDvLe2x, lane, e->e2);
-        L.col(kern::kDvLarea)[lane] = e->area;
+        L.col(kern::kDvLe1x)[lane] = e->radius;
         L.col(kern::kDvLu0)[lane] = ul.x;
         L.col(kern::kDvLu1)[lane] = ul.y;
     } else if (e && ctx_.lights.sample_li(li, sp.p, draw2(KernelLanes::kRandLight, kPathDimLight),
@@ -62,7 +94,10 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         pdf = pick.pmf * ls.pdf;
         full = no_mis || e->is_delta() ? 1.f : 0.f;
     }
-    L.col(kern::kDvLrect)[lane] = rect ? 1.f : 0.f;
+    L.col(kern::kDvLkind)[lane] = rect     ? kern::kLightParallelogram
+                                  : tri    ? kern::kLightTriangle
+                                  : sphere ? kern::kLightSphere
+                                           : 0.f;
     L.col(kern::kDvLightPdf)[lane] = pdf;
     L.col(kern::kDvLightFull)[lane] = full;
     L.put3(kern::kDvLwx, lane, ls.wi);
