@@ -260,6 +260,8 @@ void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
     const float* shadow_valid = L.col(kern::kDvShadowValid);
     const float* next_valid = L.col(kern::kDvNextValid);
     std::size_t shadows = 0, nexts = 0;
+    // The vertex's normal is only read where the light BVH weighs an emitter hit's pick.
+    const bool keep_normal = ctx_.lights.selection() == LightSelection::Bvh;
     for (std::size_t k = 0; k < L.size; ++k) {
         shadows += shadow_valid[k] != 0.f;
         nexts += next_valid[k] != 0.f;
@@ -282,7 +284,7 @@ void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
         ws.beta[slot] = RGB{b.x, b.y, b.z};
         ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[k];
         ws.p_prev[slot] = L.get3(kern::kDvPx, k);
-        ws.n_prev[slot] = L.get3(kern::kDvNgx, k);
+        if (keep_normal) ws.n_prev[slot] = L.get3(kern::kDvNgx, k);
         // shade_vertex's bookkeeping: a delta bounce after the first non-specular vertex
         // makes what it finds a caustic there; any other bounce counts one more vertex.
         ws.specular_prev[slot] = delta;
