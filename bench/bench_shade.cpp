@@ -15,6 +15,7 @@
 #include "engine/scene/light_bvh.h"
 #include "kernels/counter_hash.h"
 #include "kernels/diffuse_shade.h"
+#include "kernels/halton_net.h"
 #include "kernels/light_tree.h"
 #include "kernels/sobol_net.h"
 #include "kernels/specular_shade.h"
@@ -118,7 +119,8 @@ void BM_ShadeSpecular(benchmark::State& state) {
 }
 
 // A bounce's eight numbers for 128 paths: counter-based (0), Sobol' (1), Z-Sobol' (2; the
-// paths of one render pass, which share the pass's key).
+// paths of one render pass, which share the pass's key), Halton (3; dimensions 10-17, bases
+// 31 to 61).
 template <int kKind, bool kSimd>
 void BM_NumberTable(benchmark::State& state) {
     std::mt19937_64 g(3);
@@ -145,6 +147,14 @@ void BM_NumberTable(benchmark::State& state) {
             else
                 sobol::sample_table_scalar(1, index.data(), count.data(), keys.data(), kLanes,
                                            pairs, 4, out.data(), kLanes);
+        } else if (kKind == 3) {
+            const uint32_t hdims[8] = {10, 11, 12, 13, 14, 15, 16, 17};
+            if (kSimd)
+                halton::sample_table(1, index.data(), keys.data(), kLanes, hdims, 8, out.data(),
+                                     kLanes);
+            else
+                halton::sample_table_scalar(1, index.data(), keys.data(), kLanes, hdims, 8,
+                                            out.data(), kLanes);
         } else {
             if (kSimd)
                 zsobol::sample_table(zindex.data(), bits.data(), keys.data(), kLanes, pairs, 4,
@@ -210,5 +220,7 @@ BENCHMARK_TEMPLATE(BM_NumberTable, 1, true)->Name("numbers_sobol/simd");
 BENCHMARK_TEMPLATE(BM_NumberTable, 1, false)->Name("numbers_sobol/scalar");
 BENCHMARK_TEMPLATE(BM_NumberTable, 2, true)->Name("numbers_zsobol/simd");
 BENCHMARK_TEMPLATE(BM_NumberTable, 2, false)->Name("numbers_zsobol/scalar");
+BENCHMARK_TEMPLATE(BM_NumberTable, 3, true)->Name("numbers_halton/simd");
+BENCHMARK_TEMPLATE(BM_NumberTable, 3, false)->Name("numbers_halton/scalar");
 BENCHMARK_TEMPLATE(BM_LightPick, true)->Name("light_pick/simd");
 BENCHMARK_TEMPLATE(BM_LightPick, false)->Name("light_pick/scalar");

@@ -53,16 +53,32 @@ inline __m512i bit_reverse(__m512i i) {
     return swap(i, 1, 0x55555555u);
 }
 
-inline __m512i dim1_lanes(__m512i i) {
-    const int* t = reinterpret_cast<const int*>(sobol::dim1_tables());
-    const __m512i byte = set32(0xff);
-    __m512i out = _mm512_setzero_si512();
-    for (unsigned b = 0; b < 4; ++b) {
-        const __m512i idx =
-            _mm512_add_epi32(_mm512_and_si512(shr32(i, 8 * b), byte), set32(256 * b));
-        out = _mm512_xor_si512(
-            out, _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), kAll, idx, t, 4));
-    }
+// The second dimension's generator matrix times the index, nibble by nibble: eight lookups in
+// 16-entry tables held in registers (one permute each), not four gathers from the byte
+// tables (the product is linear, so nibble n's table is the byte table's entries for it).
+struct Dim1Nibbles {
+    __m512i t[8];
+};
+const Dim1Nibbles& dim1_nibbles() {
+    static const Dim1Nibbles d = [] {
+        Dim1Nibbles out;
+        const uint32_t* bytes = sobol::dim1_tables();
+        for (uint32_t n = 0; n < 8; ++n) {
+            alignas(64) uint32_t w[16];
+            for (uint32_t v = 0; v < 16; ++v) w[v] = bytes[(n / 2) * 256 + (n % 2 ? v << 4 : v)];
+            out.t[n] = _mm512_load_si512(w);
+        }
+        return out;
+    }();
+    return d;
+}
+
+inline __m512i dim1_lanes(__m512i i, const Dim1Nibbles& nib) {
+    const __m512i nibble = set32(15);
+    __m512i out = _mm512_maskz_permutexvar_epi32(kAll, _mm512_and_si512(i, nibble), nib.t[0]);
+    for (unsigned n = 1; n < 8; ++n)
+        out = _mm512_xor_si512(out, _mm512_maskz_permutexvar_epi32(
+                                        kAll, _mm512_and_si512(shr32(i, 4 * n), nibble), nib.t[n]));
     return out;
 }
 
@@ -152,6 +168,7 @@ void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* k
         const bool one_length =
             std::all_of(bits + s, bits + s + kGroup, [&](uint32_t b) { return b == max_bits; });
         const __m512i idx = load_low32(index + s);
+        const Dim1Nibbles& nibbles = dim1_nibbles();
         const __m512i nbits = _mm512_loadu_si512(bits + s);
         for (std::size_t p = 0; p < n_pairs; ++p) {
             // Indices of 32 bits or fewer: the scramble's key is the pair's (scrambled() in
@@ -159,7 +176,7 @@ void sample_table(const uint64_t* index, const uint32_t* bits, const uint64_t* k
             const uint64_t pk = pair_key(key[s], pairs[p]);
             const __m512i j = permute_lanes(idx, nbits, max_bits, one_length, fold32(pk));
             const __m512i x = owen_reversed(j, pk + 1);
-            const __m512i y = owen_reversed(bit_reverse(dim1_lanes(j)), pk + 2);
+            const __m512i y = owen_reversed(bit_reverse(dim1_lanes(j, nibbles)), pk + 2);
             _mm512_storeu_ps(out + 2 * p * stride + s, unit_float(x));
             _mm512_storeu_ps(out + (2 * p + 1) * stride + s, unit_float(y));
         }

@@ -320,6 +320,10 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"textured-meshes.xml", {{"mis", "power"}}},
         {"textured-meshes.xml", {{"light_selection", "bvh"}}},
         {"cornell-diffuse.xml", {{"light_selection", "bvh"}}},
+        // The samplers' tables: Halton, Sobol', Z-Sobol'.
+        {"cornell-diffuse.xml", {{"sampler", "halton"}}},
+        {"cornell-diffuse.xml", {{"sampler", "sobol"}}},
+        {"cornell-diffuse.xml", {{"sampler", "zsobol"}}},
         // Spheres sampled in the kernel by the cone they subtend.
         {"mis-plates.xml", {{"mis", "power"}}},
     };

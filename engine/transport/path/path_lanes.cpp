@@ -4,6 +4,7 @@
 
 #include "engine/transport/common/surface.h"
 #include "kernels/counter_hash.h"
+#include "kernels/halton_net.h"
 #include "kernels/sobol_net.h"
 #include "kernels/specular_shade.h"
 #include "kernels/zsobol_net.h"
@@ -181,19 +182,20 @@ Point2 PathIntegrator::lane_number2(const PathWorkspace& ws, std::size_t lane, u
 }
 
 // The chunk's random numbers as one table when every lane's sampler is counter-based
-// (kern::uniform_table), Sobol' (kern::sobol::sample_table) or Z-Sobol'
-// (kern::zsobol::sample_table): the same numbers rand() gives one at a time. Halton draws
-// them one at a time in the fill.
+// (kern::uniform_table), Sobol' (kern::sobol::sample_table), Z-Sobol'
+// (kern::zsobol::sample_table) or Halton (kern::halton::sample_table): the same numbers
+// rand() gives one at a time.
 void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const {
     KernelLanes& L = ws.lanes;
     L.drawn = false;
     const PathSampler& first = ws.samplers[ws.rays.id[L.entry[0]]];
-    const bool uniform = first.counter_based(), sobol = first.sobol(), z = first.zsobol();
-    if (!uniform && !sobol && !z) return;
+    const bool uniform = first.counter_based(), sobol = first.sobol(), z = first.zsobol(),
+               halton = first.halton();
+    if (!uniform && !sobol && !z && !halton) return;
     for (std::size_t k = 0; k < L.size; ++k) {
         const PathSampler& ps = ws.samplers[ws.rays.id[L.entry[k]]];
         if (ps.counter_based() != uniform || ps.sobol() != sobol || ps.zsobol() != z ||
-            (uniform && ps.prefix() != first.prefix()))
+            ps.halton() != halton || (uniform && ps.prefix() != first.prefix()))
             return;
         if (z) {
             L.z_index[k] = ps.z_index().index;
@@ -216,16 +218,22 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
     }
     const uint32_t p0 = 1 + depth * 4;
     const uint32_t pairs[4] = {p0, p0 + 1, p0 + 2, p0 + 3};
+    // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
+    // triangle, lobe, roulette.
+    const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
+    const uint64_t dims[KernelLanes::kRandRows] = {
+        base + kPathDimLight,    base + kPathDimLight + 1,   base + kPathDimBsdf + 1,
+        base + kPathDimBsdf + 2, base + kPathDimLightSelect, base + kPathDimLight + 2,
+        base + kPathDimBsdf,     base + kPathDimRoulette};
     if (uniform) {
-        // The rows' dimensions (path_sampler.h): light point, BSDF direction, light choice,
-        // triangle, lobe, roulette.
-        const uint64_t base = uint64_t(depth) * kPathDimsPerBounce;
-        const uint64_t dims[KernelLanes::kRandRows] = {
-            base + kPathDimLight,    base + kPathDimLight + 1,   base + kPathDimBsdf + 1,
-            base + kPathDimBsdf + 2, base + kPathDimLightSelect, base + kPathDimLight + 2,
-            base + kPathDimBsdf,     base + kPathDimRoulette};
         kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, KernelLanes::kRandRows,
                             L.rand.data(), KernelLanes::kLanes);
+    } else if (halton) {
+        // The path's dimensions follow the pixel's two (PathSampler::get1).
+        uint32_t hdims[KernelLanes::kRandRows];
+        for (uint32_t r = 0; r < KernelLanes::kRandRows; ++r) hdims[r] = uint32_t(2 + dims[r]);
+        kern::halton::sample_table(ctx_.seed, L.pattern_index.data(), L.keys.data(), L.size, hdims,
+                                   KernelLanes::kRandRows, L.rand.data(), KernelLanes::kLanes);
     } else if (sobol) {
         kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
                                   L.keys.data(), L.size, pairs, 4, L.rand.data(),

@@ -65,6 +65,9 @@ class PathSampler {
     bool sobol() const { return kind_ == Kind::Sobol; }
     // Z-Sobol': the same pairs of the sample's place in the image-wide sequence.
     bool zsobol() const { return kind_ == Kind::ZSobol; }
+    // Halton: number k of bounce d is dimension 2 + d * kPathDimsPerBounce + k of point
+    // pattern_index() keyed by key() (kern::halton::sample_table draws them for many paths).
+    bool halton() const { return kind_ == Kind::Halton; }
     const zsobol::Index& z_index() const { return z_; }
     uint32_t pattern_index() const { return i_; }
     uint32_t pattern_count() const { return n_; }

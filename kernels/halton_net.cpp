@@ -1,11 +1,11 @@
-#include "halton.h"
+#include "halton_net.h"
 
 #include <array>
 
-#include "rng.h"
-#include "sobol.h"
+#include "counter_hash.h"
+#include "sobol_net.h"
 
-namespace foton::halton {
+namespace foton::kern::halton {
 
 namespace {
 
@@ -45,7 +45,7 @@ float scrambled_radical_inverse(uint32_t i, uint32_t b, uint64_t scramble) {
     if (b == 2) return float(sobol::owen_scramble(sobol::dim0(i), scramble) >> 8) * 0x1p-24f;
     const double inv = 1.0 / b;
     double f = inv, r = 0.0;
-    uint64_t prefix = rng::mix64(scramble);
+    uint64_t prefix = mix64(scramble);
     for (; f > kFinest; f *= inv) {
         uint32_t d = 0;
         if (i > 0) {
@@ -59,15 +59,24 @@ float scrambled_radical_inverse(uint32_t i, uint32_t b, uint64_t scramble) {
         const uint32_t a = 1 + uint32_t((lo * (b - 1)) >> 32);
         const uint32_t c = uint32_t((hi * b) >> 32);
         r += double(d == 0 ? c : (a * d + c) % b) * f;
-        prefix = rng::mix64(prefix ^ (d + 0x9e3779b97f4a7c15ull));
+        prefix = mix64(prefix ^ (d + 0x9e3779b97f4a7c15ull));
     }
     // Below 1 even where every scrambled digit is b - 1.
     return float(r < 1.0 ? r : 0x1.fffffep-1);
 }
 
 float sample(uint32_t i, uint64_t seed, uint64_t key, uint32_t dim) {
-    if (dim >= kDims) return rng::uniform(seed, key, i, 0x4a10000ull + dim);
-    return scrambled_radical_inverse(i, kPrimes[dim], rng::hash(seed, key, dim, 0x4a19));
+    if (dim >= kDims)
+        return to_unit_float(hash_from(stream_prefix(seed, key), i, 0x4a10000ull + dim));
+    return scrambled_radical_inverse(i, kPrimes[dim],
+                                     hash_from(stream_prefix(seed, key), dim, 0x4a19));
 }
 
-}  // namespace foton::halton
+void sample_table_scalar(uint64_t seed, const uint32_t* index, const uint64_t* key, std::size_t n,
+                         const uint32_t* dims, std::size_t n_dims, float* out, std::size_t stride) {
+    for (std::size_t d = 0; d < n_dims; ++d)
+        for (std::size_t s = 0; s < n; ++s)
+            out[d * stride + s] = sample(index[s], seed, key[s], dims[d]);
+}
+
+}  // namespace foton::kern::halton
