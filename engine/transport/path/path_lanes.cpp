@@ -345,9 +345,11 @@ void PathIntegrator::shade_lanes(uint32_t depth, KernelKind kind, PathWorkspace&
                 fill_specular_lane(depth, k, ws);
         }
         // The lanes past the last up to the SIMD width: zeros, which make no rays.
+        // (A full chunk has none: no call per column then.)
         const std::size_t padded = (L.size + width - 1) / width * width;
-        for (uint32_t c = 0; c < kern::kShadeColumns; ++c)
-            std::fill(L.col(c) + L.size, L.col(c) + padded, 0.f);
+        if (padded > L.size)
+            for (uint32_t c = 0; c < kern::kShadeColumns; ++c)
+                std::fill(L.col(c) + L.size, L.col(c) + padded, 0.f);
         if (kind == KernelKind::Diffuse)
             kern::shade_diffuse(L.table(), L.size, rules);
         else
