@@ -129,6 +129,9 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     KernelKind kernel_of(const PathWorkspace& ws, std::size_t i) const;
     bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
     void pick_lane_lights(uint32_t depth, PathWorkspace& ws) const;
+    static float kernel_light_kind(const Emitter& e);
+    void put_kernel_light(uint32_t depth, std::size_t lane, const Emitter& e, const LightPick& pick,
+                          LightSample& ls, PathWorkspace& ws) const;
     bool put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws, bool need_point,
                      struct SurfacePoint& sp) const;
     void draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const;

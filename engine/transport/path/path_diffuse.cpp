@@ -11,6 +11,61 @@
 
 namespace foton {
 
+// The lights the kernel samples itself: rectangles, the triangles of emissive meshes, and
+// one-sided spheres by their cone (from inside one it gives nothing, as sample_li); 0 for the
+// others, sampled before the kernel.
+float PathIntegrator::kernel_light_kind(const Emitter& e) {
+    switch (e.type) {
+        case EmitterType::Rect:
+            return kern::kLightParallelogram;
+        case EmitterType::Mesh:
+            return kern::kLightTriangle;
+        case EmitterType::Sphere:
+            return e.solid_angle && !e.two_sided ? kern::kLightSphere : 0.f;
+        default:
+            return 0.f;
+    }
+}
+
+// Such a light's columns: its corner or centre, normal and radiance (in ls), its edges, a
+// triangle's other corners or the radius, the area its point is uniform over, and the two
+// numbers that place the point.
+void PathIntegrator::put_kernel_light(uint32_t depth, std::size_t lane, const Emitter& e,
+                                      const LightPick& pick, LightSample& ls,
+                                      PathWorkspace& ws) const {
+    KernelLanes& L = ws.lanes;
+    const Point2 ul = lane_number2(ws, lane, KernelLanes::kRandLight, depth, kPathDimLight);
+    L.col(kern::kDvLu0)[lane] = ul.x;
+    L.col(kern::kDvLu1)[lane] = ul.y;
+    L.col(kern::kDvLtwoSided)[lane] = e.two_sided ? 1.f : 0.f;
+    ls.Li = e.value;
+    ls.p_light = e.p;
+    if (e.type == EmitterType::Sphere) {
+        L.col(kern::kDvLe1x)[lane] = e.radius;
+    } else if (e.type == EmitterType::Rect) {
+        ls.n_light = e.n;
+        L.put3(kern::kDvLe1x, lane, e.e1);
+        L.put3(kern::kDvLe2x, lane, e.e2);
+        L.col(kern::kDvLarea)[lane] = e.area;
+    } else {
+        // The triangle the pick chose (light BVH), or one by area as sample_li picks it, with
+        // the whole mesh's area in the density then.
+        const uint32_t t =
+            pick.tri != kWholeEmitter
+                ? pick.tri
+                : ctx_.lights.triangle_by_area(e, lane_number(ws, lane, KernelLanes::kRandLightUc,
+                                                              depth, kPathDimLight + 2));
+        Vec3 p0, p1, p2;
+        ctx_.scene.world_corners(e.geom, t, p0, p1, p2);
+        const Vec3 c = cross(p1 - p0, p2 - p0);
+        ls.p_light = p0;
+        ls.n_light = normalize(c);
+        L.put3(kern::kDvLe1x, lane, p1);
+        L.put3(kern::kDvLe2x, lane, p2);
+        L.col(kern::kDvLarea)[lane] = pick.tri != kWholeEmitter ? 0.5f * length(c) : e.area;
+    }
+}
+
 void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWorkspace& ws) const {
     KernelLanes& L = ws.lanes;
     const std::size_t i = L.entry[lane];
@@ -38,66 +93,23 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         picked = ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), sp.p,
                                   sp.ng, pick);
     }
-    const uint32_t li = pick.light;
-    const Emitter* e = picked ? &ctx_.lights.emitter(li) : nullptr;
-    // Rectangles and the triangles of emissive meshes the kernel samples; other lights here.
-    const bool rect = e && e->type == EmitterType::Rect;
-    const bool tri = e && e->type == EmitterType::Mesh;
-    // A one-sided sphere sampled by its cone (from inside it gives nothing, as sample_li).
-    const bool sphere = e && e->type == EmitterType::Sphere && e->solid_angle && !e->two_sided;
-    if (!made) put_surface(lane, i, ws, e && !rect && !tri && !sphere, sp);
+    const Emitter* e = picked ? &ctx_.lights.emitter(pick.light) : nullptr;
+    const float kind = e ? kernel_light_kind(*e) : 0.f;
+    if (!made) put_surface(lane, i, ws, e && kind == 0.f, sp);
     float pdf = 0.f, full = 1.f;
     const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
     LightSample ls;
-    if (rect || tri) {
-        const Point2 ul = draw2(KernelLanes::kRandLight, kPathDimLight);
+    if (kind != 0.f) {
         pdf = pick.pmf;
         full = no_mis ? 1.f : 0.f;
-        ls.Li = e->value;
-        if (rect) {
-            ls.p_light = e->p;
-            ls.n_light = e->n;
-            L.put3(kern::kDvLe1x, lane, e->e1);
-            L.put3(kern::kDvLe2x, lane, e->e2);
-            L.col(kern::kDvLarea)[lane] = e->area;
-        } else {
-            // The triangle the pick chose (light BVH), or one by area as sample_li picks it,
-            // with the whole mesh's area in the density then.
-            const uint32_t t = pick.tri != kWholeEmitter
-                                   ? pick.tri
-                                   : ctx_.lights.triangle_by_area(
-                                         *e, draw(KernelLanes::kRandLightUc, kPathDimLight + 2));
-            Vec3 p0, p1, p2;
-            ctx_.scene.world_corners(e->geom, t, p0, p1, p2);
-            const Vec3 c = cross(p1 - p0, p2 - p0);
-            ls.p_light = p0;
-            ls.n_light = normalize(c);
-            L.put3(kern::kDvLe1x, lane, p1);
-            L.put3(kern::kDvLe2x, lane, p2);
-            L.col(kern::kDvLarea)[lane] = pick.tri != kWholeEmitter ? 0.5f * length(c) : e->area;
-        }
-        L.col(kern::kDvLtwoSided)[lane] = e->two_sided ? 1.f : 0.f;
-        L.col(kern::kDvLu0)[lane] = ul.x;
-        L.col(kern::kDvLu1)[lane] = ul.y;
-    } else if (sphere) {
-        const Point2 ul = draw2(KernelLanes::kRandLight, kPathDimLight);
-        pdf = pick.pmf;
-        full = no_mis ? 1.f : 0.f;
-        ls.p_light = e->p;
-        ls.Li = e->value;
-        L.col(kern::kDvLe1x)[lane] = e->radius;
-        L.col(kern::kDvLu0)[lane] = ul.x;
-        L.col(kern::kDvLu1)[lane] = ul.y;
-    } else if (e && ctx_.lights.sample_li(li, sp.p, draw2(KernelLanes::kRandLight, kPathDimLight),
-                                          draw(KernelLanes::kRandLightUc, kPathDimLight + 2), ls,
-                                          pick.tri)) {
+        put_kernel_light(depth, lane, *e, pick, ls, ws);
+    } else if (e && ctx_.lights.sample_li(
+                        pick.light, sp.p, draw2(KernelLanes::kRandLight, kPathDimLight),
+                        draw(KernelLanes::kRandLightUc, kPathDimLight + 2), ls, pick.tri)) {
         pdf = pick.pmf * ls.pdf;
         full = no_mis || e->is_delta() ? 1.f : 0.f;
     }
-    L.col(kern::kDvLkind)[lane] = rect     ? kern::kLightParallelogram
-                                  : tri    ? kern::kLightTriangle
-                                  : sphere ? kern::kLightSphere
-                                           : 0.f;
+    L.col(kern::kDvLkind)[lane] = kind;
     L.col(kern::kDvLightPdf)[lane] = pdf;
     L.col(kern::kDvLightFull)[lane] = full;
     L.put3(kern::kDvLwx, lane, ls.wi);
