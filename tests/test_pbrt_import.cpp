@@ -357,6 +357,29 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     CHECK(said);
 }
 
+TEST_CASE("pbrt-v4: the path integrator's lightsampler is foton's light_selection",
+          "[pbrt][lights][fast]") {
+    // pbrt-v4's default is its BVH light sampler; exhaustive is rendered with the tree.
+    const std::pair<std::string, std::string> cases[] = {
+        {"", "bvh"},
+        {"\"string lightsampler\" \"bvh\"", "bvh"},
+        {"\"string lightsampler\" \"power\"", "power"},
+        {"\"string lightsampler\" \"uniform\"", "uniform"},
+        {"\"string lightsampler\" \"exhaustive\"", "bvh"}};
+    for (const auto& [param, selection] : cases) {
+        const Scene s = world("Integrator \"path\" " + param, R"(Shape "sphere")");
+        INFO(param);
+        CHECK(s.renderer.text("light_selection") == selection);
+        CHECK(render_settings(s).light_selection == (selection == "bvh" ? LightSelection::Bvh
+                                                     : selection == "power"
+                                                         ? LightSelection::Power
+                                                         : LightSelection::Uniform));
+    }
+    const std::string bad = error_of(
+        "Integrator \"path\" \"string lightsampler\" \"nearest\"\nWorldBegin\nShape \"sphere\"");
+    CHECK(bad.find("test.pbrt:1: lightsampler \"nearest\"") != std::string::npos);
+}
+
 TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]") {
     const std::string shape = "\nShape \"sphere\"\n";
     const std::pair<std::string, std::string> cases[] = {

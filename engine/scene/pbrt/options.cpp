@@ -140,8 +140,17 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
         depth();
         if (p.has("regularize") && p.boolean("regularize", false))
             warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
-        if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
-            warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
+        // pbrt-v4's light samplers are foton's light_selection (its default is the BVH).
+        std::string sampler = p.text("lightsampler", "bvh");
+        if (sampler == "exhaustive") {
+            warn(here, t.line,
+                 "lightsampler \"exhaustive\" is rendered with \"bvh\" (the same tree; "
+                 "foton does not sum over every light)");
+            sampler = "bvh";
+        }
+        if (sampler != "bvh" && sampler != "power" && sampler != "uniform")
+            fail(t, "lightsampler \"" + sampler + "\": expected bvh, power, uniform or exhaustive");
+        renderer_.set("light_selection", sampler, here, t.line);
         for (const char* other :
              {"bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma",
               "visualizestrategies", "visualizeweights", "samplelights", "samplebsdf"})
