@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_invoke.h>
+
 namespace foton {
 
 namespace {
@@ -14,6 +16,8 @@ constexpr uint32_t kNoLeaf = 0xffffffffu;
 // bounded however the cost buckets fall.
 constexpr int kMaxCostDepth = 48;
 constexpr int kBuckets = 12;
+// Subtrees of more lights than this build in parallel.
+constexpr std::ptrdiff_t kParallelLights = 16384;
 
 float safe_acos(float c) {
     return std::acos(std::clamp(c, -1.f, 1.f));
@@ -94,6 +98,49 @@ LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b) {
     return u;
 }
 
+namespace {
+
+// A bucket of lights as the split cost sees it: box, power, cos_e and sidedness exactly, the
+// cone around the sum of the lights' axes, each light's own cone inside it. A bounding cone,
+// not the smallest one: a few multiplies per light where cone_union's inverse trigonometry
+// made the build of an emissive mesh of 871,000 triangles take 9 s.
+struct Bucket {
+    Bounds3 box;
+    Vec3 axis_sum;
+    float phi = 0.f, cos_e = 1.f, cos_o = 1.f;
+    bool two_sided = false;
+    uint32_t count = 0;
+    LightBounds bounds() const {
+        LightBounds b;
+        if (count == 0) return b;
+        b.box = box;
+        const float len = length(axis_sum);
+        b.axis = len > 0.f ? axis_sum / len : Vec3{0.f, 0.f, 1.f};
+        b.cos_o = len > 0.f ? cos_o : -1.f;
+        b.cos_e = cos_e;
+        b.phi = phi;
+        b.two_sided = two_sided;
+        return b;
+    }
+};
+
+// cos(angle between unit a and b + theta) for theta's cosine and sine, -1 past pi.
+float cos_angle_plus(const Vec3& a, const Vec3& b, float cos_t, float sin_t) {
+    const float d = std::clamp(dot(a, b), -1.f, 1.f);
+    const float sd = std::sqrt(std::max(0.f, 1.f - d * d));
+    if (sd * cos_t + d * sin_t < 0.f) return -1.f;  // the sum passed pi
+    return d * cos_t - sd * sin_t;
+}
+
+}  // namespace
+
+struct LightBvh::Build {
+    const std::vector<LightBounds>& bounds;
+    std::vector<Vec3> centre;
+    std::vector<float> sin_o;
+    std::vector<uint8_t> bucket_of;
+};
+
 void LightBvh::build(const std::vector<LightBounds>& bounds) {
     tree_.nodes.clear();
     leaf_of_.assign(bounds.size(), kNoLeaf);
@@ -101,8 +148,19 @@ void LightBvh::build(const std::vector<LightBounds>& bounds) {
     for (uint32_t i = 0; i < bounds.size(); ++i)
         if (bounds[i].phi > 0.f) order.push_back(i);
     if (order.empty()) return;
-    tree_.nodes.reserve(2 * order.size() * kern::LightTree::kFields);
-    build_range(bounds, order.data(), order.data() + order.size(), 0, 0);
+    Build b{bounds, {}, {}, {}};
+    b.centre.resize(bounds.size());
+    b.sin_o.resize(bounds.size());
+    b.bucket_of.resize(bounds.size());
+    for (std::size_t i = 0; i < bounds.size(); ++i) {
+        b.centre[i] = bounds[i].box.center();
+        b.sin_o[i] = std::sqrt(std::max(0.f, 1.f - bounds[i].cos_o * bounds[i].cos_o));
+    }
+    // 2 n - 1 nodes, each subtree at a range of its own (the left child follows its parent,
+    // the right one after the left subtree's 2 n_left - 1 nodes): large subtrees build in
+    // parallel and the tree is the same on any number of threads.
+    tree_.nodes.assign((2 * order.size() - 1) * kern::LightTree::kFields, 0.f);
+    build_range(b, order.data(), order.data() + order.size(), 0, 0, 0);
 }
 
 void LightBvh::put(uint32_t node, const LightBounds& b, uint32_t next, bool leaf, uint32_t parent) {
@@ -127,47 +185,74 @@ void LightBvh::put(uint32_t node, const LightBounds& b, uint32_t next, bool leaf
     r[F::kParent] = float(parent);
 }
 
-uint32_t LightBvh::build_range(const std::vector<LightBounds>& bounds, uint32_t* first,
-                               uint32_t* last, uint32_t parent, int depth) {
-    const uint32_t self = uint32_t(tree_.size());
-    tree_.nodes.resize(tree_.nodes.size() + kern::LightTree::kFields);
-    if (self == 0) parent = 0;
+LightBounds LightBvh::build_range(Build& b, uint32_t* first, uint32_t* last, uint32_t parent,
+                                  int depth, uint32_t self) {
+    const std::vector<LightBounds>& bounds = b.bounds;
     if (last - first == 1) {
         put(self, bounds[*first], *first, true, parent);
         leaf_of_[*first] = self;
-        return self;
+        return bounds[*first];
     }
-    LightBounds all;
-    Bounds3 centres;
+    Bounds3 box, centres;
     for (const uint32_t* i = first; i != last; ++i) {
-        all = light_bounds_union(all, bounds[*i]);
-        centres.extend(bounds[*i].box.center());
+        box.extend(bounds[*i].box);
+        centres.extend(b.centre[*i]);
     }
     // The cheapest of the bucket boundaries on the three axes.
     float best_cost = std::numeric_limits<float>::infinity();
     int best_axis = -1, best_bucket = 0;
-    const Vec3 diag = all.box.diagonal();
+    const Vec3 diag = box.diagonal();
     const float longest = std::max({diag.x, diag.y, diag.z});
     const Vec3 extent = centres.diagonal();
+    const Vec3 scale{float(kBuckets) / extent.x, float(kBuckets) / extent.y,
+                     float(kBuckets) / extent.z};
+    auto bucket_index = [&](uint32_t i, int axis) {
+        return std::min(kBuckets - 1, int((b.centre[i][axis] - centres.lo[axis]) * scale[axis]));
+    };
     if (depth < kMaxCostDepth) {
         for (int axis = 0; axis < 3; ++axis) {
             if (!(extent[axis] > 0.f)) continue;
-            std::array<LightBounds, kBuckets> bucket{};
-            auto bucket_of = [&](uint32_t i) {
-                const float t = (bounds[i].box.center()[axis] - centres.lo[axis]) / extent[axis];
-                return std::min(kBuckets - 1, int(t * kBuckets));
-            };
-            for (const uint32_t* i = first; i != last; ++i)
-                bucket[std::size_t(bucket_of(*i))] =
-                    light_bounds_union(bucket[std::size_t(bucket_of(*i))], bounds[*i]);
+            std::array<Bucket, kBuckets> bucket{};
+            for (const uint32_t* i = first; i != last; ++i) {
+                const int k = bucket_index(*i, axis);
+                b.bucket_of[*i] = uint8_t(k);
+                Bucket& bk = bucket[std::size_t(k)];
+                const LightBounds& l = bounds[*i];
+                bk.box.extend(l.box);
+                bk.axis_sum = bk.axis_sum + l.axis;
+                bk.phi += l.phi;
+                bk.cos_e = std::min(bk.cos_e, l.cos_e);
+                bk.two_sided = bk.two_sided || l.two_sided;
+                ++bk.count;
+            }
+            // Each light's cone inside its bucket's: the widest angle to the bucket's axis.
+            std::array<Vec3, kBuckets> axis_of;
+            for (int k = 0; k < kBuckets; ++k)
+                axis_of[std::size_t(k)] = bucket[std::size_t(k)].bounds().axis;
+            for (const uint32_t* i = first; i != last; ++i) {
+                Bucket& bk = bucket[b.bucket_of[*i]];
+                bk.cos_o =
+                    std::min(bk.cos_o, cos_angle_plus(axis_of[b.bucket_of[*i]], bounds[*i].axis,
+                                                      bounds[*i].cos_o, b.sin_o[*i]));
+            }
+            // Costs of every boundary from the running unions below and above it.
+            std::array<LightBounds, kBuckets> below, above;
+            LightBounds acc;
+            for (int k = 0; k < kBuckets; ++k)
+                below[std::size_t(k)] = acc =
+                    light_bounds_union(acc, bucket[std::size_t(k)].bounds());
+            acc = LightBounds{};
+            for (int k = kBuckets - 1; k >= 0; --k)
+                above[std::size_t(k)] = acc =
+                    light_bounds_union(acc, bucket[std::size_t(k)].bounds());
             const float regular = diag[axis] > 0.f ? longest / diag[axis] : 1.f;
             for (int split = 0; split < kBuckets - 1; ++split) {
-                LightBounds below, above;
-                for (int k = 0; k <= split; ++k) below = light_bounds_union(below, bucket[k]);
-                for (int k = split + 1; k < kBuckets; ++k)
-                    above = light_bounds_union(above, bucket[k]);
-                if (below.phi == 0.f || above.phi == 0.f) continue;
-                const float cost = split_cost(below, regular) + split_cost(above, regular);
+                // Past an empty bucket the boundary parts the lights as the one before it.
+                if (bucket[std::size_t(split)].count == 0) continue;
+                const LightBounds& lo = below[std::size_t(split)];
+                const LightBounds& hi = above[std::size_t(split + 1)];
+                if (lo.phi == 0.f || hi.phi == 0.f) continue;
+                const float cost = split_cost(lo, regular) + split_cost(hi, regular);
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = axis;
@@ -179,10 +264,8 @@ uint32_t LightBvh::build_range(const std::vector<LightBounds>& bounds, uint32_t*
     uint32_t* middle = nullptr;
     if (best_axis >= 0) {
         const int axis = best_axis;
-        middle = std::partition(first, last, [&](uint32_t i) {
-            const float t = (bounds[i].box.center()[axis] - centres.lo[axis]) / extent[axis];
-            return std::min(kBuckets - 1, int(t * kBuckets)) <= best_bucket;
-        });
+        middle = std::partition(first, last,
+                                [&](uint32_t i) { return bucket_index(i, axis) <= best_bucket; });
     }
     if (middle == nullptr || middle == first || middle == last) {
         // No boundary parts them (one centre, or too deep): halve the count along the
@@ -191,14 +274,24 @@ uint32_t LightBvh::build_range(const std::vector<LightBounds>& bounds, uint32_t*
                          : extent.y >= extent.z                       ? 1
                                                                       : 2;
         middle = first + (last - first) / 2;
-        std::nth_element(first, middle, last, [&](uint32_t a, uint32_t b) {
-            return bounds[a].box.center()[axis] < bounds[b].box.center()[axis];
+        std::nth_element(first, middle, last, [&](uint32_t x, uint32_t y) {
+            return b.centre[x][axis] < b.centre[y][axis];
         });
     }
-    build_range(bounds, first, middle, self, depth + 1);
-    const uint32_t second = build_range(bounds, middle, last, self, depth + 1);
-    put(self, all, second, false, parent);
-    return self;
+    // The node's bound is its children's, exactly (cone_union once per node, bottom-up).
+    const uint32_t left = self + 1, right = self + 2 * uint32_t(middle - first);
+    LightBounds lb, rb;
+    auto build_left = [&] { lb = build_range(b, first, middle, self, depth + 1, left); };
+    auto build_right = [&] { rb = build_range(b, middle, last, self, depth + 1, right); };
+    if (last - first > kParallelLights) {
+        tbb::parallel_invoke(build_left, build_right);
+    } else {
+        build_left();
+        build_right();
+    }
+    const LightBounds all = light_bounds_union(lb, rb);
+    put(self, all, right, false, parent);
+    return all;
 }
 
 bool LightBvh::sample(float u, const Vec3& p, const Vec3& n, uint32_t& prim, float& pmf) const {

@@ -48,8 +48,10 @@ class LightBvh {
     const kern::LightTree& tree() const { return tree_; }
 
   private:
-    uint32_t build_range(const std::vector<LightBounds>& bounds, uint32_t* first, uint32_t* last,
-                         uint32_t parent, int depth);
+    struct Build;  // the lights' centres, cone sines and bucket numbers while building
+    // Builds the subtree of [first, last) at node `self`; returns its bound.
+    LightBounds build_range(Build& b, uint32_t* first, uint32_t* last, uint32_t parent, int depth,
+                            uint32_t self);
     void put(uint32_t node, const LightBounds& b, uint32_t next, bool leaf, uint32_t parent);
 
     kern::LightTree tree_;
