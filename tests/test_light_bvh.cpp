@@ -76,7 +76,8 @@ std::vector<Receiver> receivers(uint32_t seed, int count) {
 
 }  // namespace
 
-TEST_CASE("Light BVH: probabilities sum to one and a pick's equals pick_pmf", "[lights][bvh]") {
+TEST_CASE("Light BVH: probabilities sum to one and a pick's equals pick_pmf",
+          "[lights][bvh][fast]") {
     const Scene scene = many_kinds();
     for (const LightSelection sel :
          {LightSelection::Power, LightSelection::Uniform, LightSelection::Bvh}) {
@@ -167,7 +168,7 @@ TEST_CASE("Light BVH: picks follow their probabilities (chi-square)", "[lights][
     }
 }
 
-TEST_CASE("Light BVH: no light that reaches a point is left out", "[lights][bvh]") {
+TEST_CASE("Light BVH: no light that reaches a point is left out", "[lights][bvh][fast]") {
     // A light left out of the choice would be missing from an estimate without MIS (final
     // gather, the irradiance cache's records): every light that sample_li can join to the
     // point, on the side its normal faces, must have a probability.
@@ -252,7 +253,7 @@ TEST_CASE("Light BVH: the same image on 1 and 2 threads", "[lights][render]") {
     CHECK(e.max_abs == 0.0);
 }
 
-TEST_CASE("Light BVH: the SIMD descent equals its scalar twin bit for bit", "[lights][bvh]") {
+TEST_CASE("Light BVH: the SIMD descent equals its scalar twin bit for bit", "[lights][bvh][fast]") {
     // Through LightSet (lights at infinity, triangles of a mesh) and on a bare tree of 3,000
     // random lights of every kind of bound: one-sided, two-sided, points, spots.
     const Scene scene = many_kinds();
