@@ -148,9 +148,15 @@ LightSet::LightSet(const Scene& scene, LightSelection selection)
 }
 
 uint32_t LightSet::select(float u, float& pmf) const {
-    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-    uint32_t i =
-        uint32_t(std::min<std::ptrdiff_t>(it - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));
+    // The first step above u: a scan for a handful of lights (the usual scene), else a
+    // binary search; the same index either way.
+    std::size_t at = 0;
+    if (cdf_.size() <= 8) {
+        while (at < cdf_.size() && !(u < cdf_[at])) ++at;
+    } else {
+        at = std::size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
+    }
+    uint32_t i = uint32_t(std::min(at, cdf_.size() - 1));
     while (pmf_[i] == 0.f && i > 0) --i;  // u on a zero-width step
     pmf = pmf_[i];
     return i;
