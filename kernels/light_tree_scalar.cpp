@@ -41,9 +41,9 @@ float light_importance(const LightTree& tree, uint32_t node, const float p[3], c
     // Strictly outside: a spot's cos_e is 1, and p inside its cone has cos_t = 1.
     if (cos_t < b[F::kCosE]) return 0.f;
     // Not below a quarter of the bound's radius, squared: a point at a node's centre must not
-    // take every sample from its sibling. Conty Estevez and Kulla clamp at the radius itself,
-    // which flattens the nodes of a large scene's upper levels over their whole extent: on
-    // the many-lights plaza that starved the lamps over a point of ~13x the probability they
+    // take every sample from its sibling. A clamp at the radius itself (our first version)
+    // flattens the nodes of a large scene's upper levels over their whole extent: on the
+    // many-lights plaza that starved the lamps over a point of ~13x the probability they
     // deserve (docs/shading.md).
     const float d2 = std::max(std::max(dist2, b[F::kRadius2] * (1.f / 16.f)), 1e-12f);
     float imp = b[F::kPhi] * cos_t / d2;
