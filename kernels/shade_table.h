@@ -89,16 +89,15 @@ enum ShadeColumn : uint32_t {
     kDvLiG,
     kDvLiB,
     // Or a light the kernel samples itself (kDvLkind: 0 none, the sample above is given;
-    // kLightParallelogram, a rectangle light; kLightTriangle, one triangle of an emissive
-    // mesh; kLightSphere, a one-sided emitting sphere sampled in the cone it subtends, kDvLp
-    // its centre and kDvLe1x its radius): kDvLightPdf is then the light's selection probability
-    // alone, kDvLp its corner,
-    // kDvLn its normal (the side it emits to), kDvLi its radiance, and these its edges (a
-    // triangle's
-    // other two corners), the area the point is uniform over (the whole mesh's when its triangles
-    // are chosen by
-    // area), whether it emits on both sides, and the two numbers that place the point
-    // (LightSet::sample_li's arithmetic).
+    // kLightParallelogram, a rectangle light; kLightTriangle, one triangle of an emissive mesh;
+    // kLightSphere, a one-sided emitting sphere sampled in the cone it subtends). kDvLightPdf
+    // is then the light's selection probability alone, kDvLi its radiance, kDvLp a
+    // rectangle's or triangle's first corner (a sphere's centre), kDvLn its normal (the side
+    // it emits to), kDvLe1/kDvLe2 a rectangle's edges or a triangle's other two corners
+    // (kDvLe1x a sphere's radius), kDvLarea the area the point is uniform over (a whole
+    // mesh's when its triangles are chosen by area), kDvLtwoSided whether it emits on both
+    // sides, and kDvLu0/kDvLu1 the two numbers that place the point (LightSet::sample_li's
+    // arithmetic).
     kDvLkind,
     kDvLe1x,
     kDvLe1y,

@@ -2,7 +2,7 @@
 """Writes the many-lights scene: a 40 x 40 plaza of stone blocks under 4,096 small lamps
 (downward-facing triangles, 8 colours whose radiance spans 20x), for timing next event
 estimation's light choice (light_selection="power|uniform|bvh"). The lamps are generated,
-not committed (the OBJ is 300 KB); bench/many_lights runs this first.
+not committed (the OBJ is 350 KB); bench/many_lights runs this first.
 
     scripts/make_many_lights.py [--lamps 4096] [--out out/many-lights]
 

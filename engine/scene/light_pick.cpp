@@ -121,21 +121,28 @@ bool LightSet::pick(float u, const Vec3& p, const Vec3& n, LightPick& out) const
         case LightSelection::Bvh:
             break;
     }
+    if (pick_infinite(u, out)) return true;
+    uint32_t prim;
+    float pmf;
+    if (!bvh_.sample(u, p, n, prim, pmf)) return false;
+    out = tree_pick(prim, pmf);
+    return true;
+}
+
+bool LightSet::pick_infinite(float& u, LightPick& out) const {
     if (u < p_infinite_) {
         const std::size_t count = infinite_.size();
-        const float v = u / p_infinite_;
-        out.light = infinite_[std::min(count - 1, std::size_t(v * float(count)))];
+        out.light = infinite_[std::min(count - 1, std::size_t(u / p_infinite_ * float(count)))];
+        out.tri = kWholeEmitter;
         out.pmf = p_infinite_ / float(count);
         return true;
     }
-    const float v = std::min((u - p_infinite_) / (1.f - p_infinite_), 0x1.fffffep-1f);
-    uint32_t prim;
-    float pmf;
-    if (!bvh_.sample(v, p, n, prim, pmf)) return false;
-    out.light = prim_emitter_[prim];
-    out.tri = prim_tri_[prim];
-    out.pmf = pmf * (1.f - p_infinite_);
-    return true;
+    u = std::min((u - p_infinite_) / (1.f - p_infinite_), 0x1.fffffep-1f);
+    return false;
+}
+
+LightPick LightSet::tree_pick(uint32_t prim, float pmf) const {
+    return {prim_emitter_[prim], prim_tri_[prim], pmf * (1.f - p_infinite_)};
 }
 
 void LightPickLanes::resize(std::size_t n) {
@@ -155,31 +162,16 @@ void LightSet::pick_lanes(LightPickLanes& lanes, std::size_t count) const {
     }
     // Lights at infinity here, the tree's share through the descent kernel with u rescaled
     // as pick() rescales it.
-    std::vector<LightPick>& out = lanes.out;
-    for (std::size_t i = 0; i < count; ++i) {
-        const float u = lanes.u[i];
-        out[i].tri = kWholeEmitter;
-        if (u < p_infinite_) {
-            const std::size_t n = infinite_.size();
-            out[i].light = infinite_[std::min(n - 1, std::size_t(u / p_infinite_ * float(n)))];
-            out[i].pmf = p_infinite_ / float(n);
+    for (std::size_t i = 0; i < count; ++i)
+        if (pick_infinite(lanes.u[i], lanes.out[i]))
             lanes.u[i] = -1.f;  // taken: the kernel's pick for it is not read
-        } else {
-            lanes.u[i] = std::min((u - p_infinite_) / (1.f - p_infinite_), 0x1.fffffep-1f);
-        }
-    }
     if (bvh_.empty()) return;
     const kern::LightQueries q{lanes.px.data(), lanes.py.data(),    lanes.pz.data(),
                                lanes.nx.data(), lanes.ny.data(),    lanes.nz.data(),
                                lanes.u.data(),  lanes.light.data(), lanes.pmf.data()};
     kern::pick_lights(bvh_.tree(), q, count);
-    for (std::size_t i = 0; i < count; ++i) {
-        if (lanes.u[i] < 0.f) continue;
-        const uint32_t prim = lanes.light[i];
-        out[i].light = prim_emitter_[prim];
-        out[i].tri = prim_tri_[prim];
-        out[i].pmf = lanes.pmf[i] == 0.f ? 0.f : lanes.pmf[i] * (1.f - p_infinite_);
-    }
+    for (std::size_t i = 0; i < count; ++i)
+        if (lanes.u[i] >= 0.f) lanes.out[i] = tree_pick(lanes.light[i], lanes.pmf[i]);
 }
 
 float LightSet::pick_pmf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n) const {

@@ -96,6 +96,7 @@ struct LightPickLanes {
     std::vector<float> u, px, py, pz, nx, ny, nz, pmf;
     std::vector<uint32_t> light;
     std::vector<LightPick> out;
+    explicit LightPickLanes(std::size_t n = 0) { resize(n); }
     void resize(std::size_t n);
     void put(std::size_t i, float ui, const Vec3& p, const Vec3& n) {
         u[i] = ui;
@@ -178,6 +179,10 @@ class LightSet {
     bool sample_ray(float u_select, Point2 u_pos, Point2 u_dir, float uc, EmittedRay& r) const;
 
   private:
+    // bvh: the pick of a light at infinity when u falls in their share (else u rescaled to
+    // the tree's share, as the descent takes it), and the tree's pick of primitive `prim`.
+    bool pick_infinite(float& u, LightPick& out) const;
+    LightPick tree_pick(uint32_t prim, float pmf) const;
     // A point uniform over the area of a rectangle, sphere or mesh emitter (or one triangle of
     // it), with the geometry's own normal there (u, and uc for a mesh's triangle), and the
     // area it is uniform over.

@@ -61,10 +61,11 @@ struct KernelLanes {
     AlignedVector<uint32_t> pattern_count = AlignedVector<uint32_t>(kLanes);
     AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandRows) * kLanes);
     bool drawn = false;
-    // Under the light BVH: the lanes' surfaces, made first so that the chunk's lights are
-    // picked in one descent-kernel call (`picked` says whether they were).
+    // The lanes' surfaces where the CPU side makes them (surface_at): for a light sampled
+    // before the kernel, and under the light BVH for every lane, first, so that the chunk's
+    // lights are picked in one descent-kernel call (`picked` says whether they were).
     SurfacePoint surface[kLanes];
-    LightPickLanes picks;
+    LightPickLanes picks = LightPickLanes(kLanes);
     bool picked = false;
 
     kern::ShadeTable table() { return {data.data(), kLanes}; }

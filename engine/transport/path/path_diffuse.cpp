@@ -76,26 +76,25 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     L.put3(kern::kDvRhoR, lane, kernels_.rho[material]);
     L.col(kern::kDvOnA)[lane] = kernels_.on_a[material];
     L.col(kern::kDvOnB)[lane] = kernels_.on_b[material];
-    // The light, as shade_vertex's next event estimation chooses it. The kernel samples a
-    // rectangle and makes the surface itself; any other light is sampled here, from the
-    // surface point surface_at makes here, which the light BVH also picks from.
+    // The light, as shade_vertex's next event estimation chooses it. The kernel samples
+    // rectangles, triangles and one-sided spheres and makes the surface itself; any other
+    // light is sampled here, from the surface point surface_at makes here. Under the light
+    // BVH, whose pick needs that point, pick_lane_lights has made it and picked already.
     const bool nee = rules_.nee && !ctx_.lights.empty();
-    SurfacePoint sp;
+    SurfacePoint& sp = L.surface[lane];
     LightPick pick;
-    bool made = false, picked = false;
+    bool picked = false;
     if (L.picked) {
-        // pick_lane_lights made the surface and picked the light.
-        sp = L.surface[lane];
         pick = L.picks.out[lane];
-        made = true;
         picked = pick.pmf > 0.f;
     } else if (nee) {
-        picked = ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), sp.p,
-                                  sp.ng, pick);
+        // Power and uniform selection do not look at the receiver.
+        picked = ctx_.lights.pick(draw(KernelLanes::kRandLightSelect, kPathDimLightSelect), Vec3{},
+                                  Vec3{}, pick);
     }
     const Emitter* e = picked ? &ctx_.lights.emitter(pick.light) : nullptr;
     const float kind = e ? kernel_light_kind(*e) : 0.f;
-    if (!made) put_surface(lane, i, ws, e && kind == 0.f, sp);
+    if (!L.picked) put_surface(lane, i, ws, e && kind == 0.f, sp);
     float pdf = 0.f, full = 1.f;
     const bool no_mis = rules_.mis.heuristic == MisHeuristic::None;
     LightSample ls;

@@ -313,7 +313,6 @@ void PathIntegrator::pick_lane_lights(uint32_t depth, PathWorkspace& ws) const {
     KernelLanes& L = ws.lanes;
     if (!rules_.nee || ctx_.lights.empty() || ctx_.lights.selection() != LightSelection::Bvh)
         return;
-    if (L.picks.out.size() < KernelLanes::kLanes) L.picks.resize(KernelLanes::kLanes);
     for (std::size_t k = 0; k < L.size; ++k) {
         SurfacePoint& sp = L.surface[k];
         put_surface(k, L.entry[k], ws, true, sp);
