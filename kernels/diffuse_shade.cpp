@@ -4,29 +4,13 @@
 
 #include <limits>
 
-#include "shade_lanes.h"
+#include "glossy_lanes.h"
 
 namespace foton::kern {
 
 namespace {
 
 using namespace lanes;
-
-namespace {
-// sincos_turn (diffuse_shade_math.h) for W lanes: the same comparisons, polynomial and
-// quadrant rotation.
-void sincos_turn(const FloatV& u, FloatV& s, FloatV& c) {
-    const FloatV zero(0.f), one(1.f);
-    const FloatV x4 = u * FloatV(4.f);
-    auto step = [&](float edge) { return xsimd::select(x4 >= FloatV(edge), one, zero); };
-    const FloatV k = ((step(0.5f) + step(1.5f)) + step(2.5f)) + step(3.5f);
-    FloatV sr, cr;
-    sincos_quarter((x4 - k) * FloatV(1.57079632679489661923f), sr, cr);
-    const MaskV q1 = k == one, q2 = k == FloatV(2.f), q3 = k == FloatV(3.f);
-    s = xsimd::select(q1, cr, xsimd::select(q2, neg(sr), xsimd::select(q3, neg(cr), sr)));
-    c = xsimd::select(q1, neg(sr), xsimd::select(q2, neg(cr), xsimd::select(q3, sr, cr)));
-}
-}  // namespace
 
 FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     const FloatV zero(0.f), one(1.f);
@@ -158,11 +142,39 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV cos_l = dot(lw, ns);
     MaskV shadow = (pl > zero) & (dot(lw, ng) > zero) & (wo_z * cos_l > zero);
     const FloatV pb = xsimd::abs(cos_l) * inv_pi;
-    const FloatV w = xsimd::select(l.in(kDvLightFull) != zero, one, mis_weight(rules, pl, pb));
+    const MaskV full = l.in(kDvLightFull) != zero;
+    const FloatV w = xsimd::select(full, one, mis_weight(rules, pl, pb));
     const FloatV k = xsimd::abs(cos_l) * w / pl;
     const V3 li = l.in3(kDvLiR);
-    const V3 fl = f_at(V3{dot(lw, s), dot(lw, t), cos_l});
+    const V3 wl{dot(lw, s), dot(lw, t), cos_l};
+    const V3 fl = f_at(wl);
     V3 value{beta.x * fl.x * li.x * k, beta.y * fl.y * li.y * k, beta.z * fl.z * li.z * k};
+    // Lanes with a glossy lobe: f and pdf are the two lobes' (Bsdf::f and Bsdf::pdf: the sum,
+    // and the densities mixed by the sampling weights).
+    const MaskV glossy = l.in(kDvGlossKind) != zero;
+    const bool any_glossy = xsimd::any(glossy);
+    const GlossyLanes g = any_glossy ? GlossyLanes(l) : GlossyLanes();
+    const FloatV wd = l.in(kDvDiffuseWeight), wg = l.in(kDvGlossWeight);
+    auto mixed = [&](const V3& wi, const V3& fd, V3& f_sum, FloatV& pdf_d, FloatV& pdf_g) {
+        V3 fg;
+        glossy_eval(g, wo, wi, fg, pdf_g);
+        const MaskV same = wo_z * wi.z > zero;
+        const V3 fds = select(same, fd, V3{zero, zero, zero});
+        f_sum = fds + fg;
+        pdf_d = xsimd::select(same, xsimd::abs(wi.z) * inv_pi, zero);
+        return (wd * pdf_d + wg * pdf_g) / (wd + wg);
+    };
+    if (any_glossy) {
+        V3 fm;
+        FloatV pdf_d, pdf_g;
+        const FloatV pm = mixed(wl, fl, fm, pdf_d, pdf_g);
+        const FloatV km =
+            xsimd::abs(cos_l) * xsimd::select(full, one, mis_weight(rules, pl, pm)) / pl;
+        const V3 vm{beta.x * fm.x * li.x * km, beta.y * fm.y * li.y * km,
+                    beta.z * fm.z * li.z * km};
+        value = select(glossy, vm, value);
+        shadow = select_mask(glossy, (pl > zero) & (dot(lw, ng) > zero), shadow);
+    }
     shadow = shadow & ((value.x != zero) | (value.y != zero) | (value.z != zero));
     value = select(shadow, value, V3{zero, zero, zero});
     l.out(kDvShadowValid, xsimd::select(shadow, one, zero));
@@ -197,13 +209,40 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     FloatV lz = simd::vsqrt(simd::vmax(one - lx * lx - ly * ly, zero));
     lz = xsimd::select(wo_z < zero, neg(lz), lz);
     const FloatV cz = xsimd::abs(lz);
-    const V3 wi = s * lx + t * ly + ns * lz;
-    const FloatV pdf = cz * inv_pi;
+    V3 wi = s * lx + t * ly + ns * lz;
+    FloatV pdf = cz * inv_pi;
     const FloatV kn = cz / pdf;
     const V3 fn = f_at(V3{lx, ly, lz});
     V3 nb{beta.x * (fn.x * kn), beta.y * (fn.y * kn), beta.z * (fn.z * kn)};
-    MaskV next = (wo_z * lz > zero) & (dot(wi, ng) > zero) &
-                 ((nb.x != zero) | (nb.y != zero) | (nb.z != zero));
+    MaskV next = (wo_z * lz > zero) & (dot(wi, ng) > zero);
+    if (any_glossy) {
+        // Bsdf::sample: the lobe by kDvUChoice in the BSDF's order, its direction, then the
+        // mixture's f and pdf there.
+        const MaskV glossy_first = l.in(kDvGlossFirst) != zero;
+        const FloatV w_first = xsimd::select(glossy_first, wg, wd);
+        const FloatV w_second = xsimd::select(glossy_first, wd, wg);
+        const FloatV target = l.in(kDvUChoice) * (wd + wg);
+        const MaskV first = (w_first > zero) & ((target < w_first) | ~(w_second > zero));
+        const MaskV take_glossy = (glossy_first & first) | (~glossy_first & ~first);
+        MaskV sampled = glossy;
+        const V3 wg_local = glossy_sample(g, wo, l.in(kDvU0), l.in(kDvU1), sampled);
+        MaskV ok = select_mask(take_glossy, sampled, glossy);
+        const V3 wl_next = select(take_glossy, wg_local, V3{lx, ly, lz});
+        V3 fm;
+        FloatV pdf_d, pdf_g;
+        const FloatV pm = mixed(wl_next, f_at(wl_next), fm, pdf_d, pdf_g);
+        ok = ok & select_mask(take_glossy, pdf_g > zero, pdf_d > zero) & (pm > zero);
+        const V3 wm = s * wl_next.x + t * wl_next.y + ns * wl_next.z;
+        const FloatV cm = xsimd::abs(wl_next.z);
+        const FloatV km = cm / pm;
+        const V3 nm{beta.x * (fm.x * km), beta.y * (fm.y * km), beta.z * (fm.z * km)};
+        ok = ok & (dot(wm, ng) > zero);
+        wi = select(glossy, wm, wi);
+        nb = select(glossy, nm, nb);
+        pdf = xsimd::select(glossy, pm, pdf);
+        next = select_mask(glossy, ok, next);
+    }
+    next = next & ((nb.x != zero) | (nb.y != zero) | (nb.z != zero));
     if (rules.roulette) {
         const FloatV qr = simd::vmin(max3(nb.x, nb.y, nb.z) * l.in(kDvEtaScale), one);
         next = next & (l.in(kDvURoulette) < qr);

@@ -14,6 +14,12 @@
 //     shading normal, beta *= f |cos| / pdf, Russian roulette on max(beta) * eta_scale, the
 //     ray's origin pushed off the surface to the side it leaves by.
 //
+// A lane may carry a glossy lobe too (kDvGlossKind: modified Phong, Beckmann or cos^e
+// microfacets with a Fresnel term; glossy_lanes.h), alone or beside the diffuse lobe: f is
+// then the lobes' sum and the pdf their densities mixed by the sampling weights (Bsdf::f,
+// Bsdf::pdf), and the continuation picks a lobe by kDvUChoice in the BSDF's order and samples
+// it (Bsdf::sample). Its powers, exponentials and logarithms are glossy_math.h's polynomials.
+//
 // Per vertex, first (unless given) the surface: the point, geometric and shading normals
 // facing the ray and the offset, from a triangle's corners or a sphere.
 //

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "diffuse_shade.h"
+#include "glossy_scalar.h"
 #include "shade_scalar.h"
 
 namespace foton::kern {
@@ -127,11 +128,39 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
             nq = n;
         }
 
+        // A glossy lobe beside the diffuse one: f is the two lobes' sum, the pdf their
+        // densities mixed by the sampling weights (Bsdf::f, Bsdf::pdf).
+        const bool glossy = v.col(kDvGlossKind)[i] != 0.f;
+        const GlossyLane g(v, i);
+        const float wd = v.col(kDvDiffuseWeight)[i], wg = v.col(kDvGlossWeight)[i];
+        auto mixed = [&](V3 wi, V3& f_sum, float& pdf_d, float& pdf_g) {
+            V3 fg;
+            glossy_eval(g, wo, wi, fg, pdf_g);
+            V3 fd{0.f, 0.f, 0.f};
+            pdf_d = 0.f;
+            if (wo_z * wi.z > 0.f) {
+                const float fk = oren_nayar(wo, wi, on_a, on_b);
+                fd = V3{rho.x * fk, rho.y * fk, rho.z * fk};
+                pdf_d = std::fabs(wi.z) * kDiffuseInvPi;
+            }
+            f_sum = fd + fg;
+            return (wd * pdf_d + wg * pdf_g) / (wd + wg);
+        };
+
         // Next event estimation.
         const float cos_l = dot(lw, ns);
-        bool shadow = pl > 0.f && dot(lw, ng) > 0.f && wo_z * cos_l > 0.f;
+        bool shadow = pl > 0.f && dot(lw, ng) > 0.f && (glossy || wo_z * cos_l > 0.f);
         V3 value{0.f, 0.f, 0.f};
-        if (shadow) {
+        if (shadow && glossy) {
+            V3 fm;
+            float pdf_d, pdf_g;
+            const float pm = mixed(V3{dot(lw, s), dot(lw, t), cos_l}, fm, pdf_d, pdf_g);
+            const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pm);
+            const float k = std::fabs(cos_l) * w / pl;
+            const V3 li = in3(kDvLiR, i);
+            value = {beta.x * fm.x * li.x * k, beta.y * fm.y * li.y * k, beta.z * fm.z * li.z * k};
+            shadow = value.x != 0.f || value.y != 0.f || value.z != 0.f;
+        } else if (shadow) {
             const float pb = std::fabs(cos_l) * kDiffuseInvPi;
             const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pb);
             const float k = std::fabs(cos_l) * w / pl;
@@ -178,17 +207,44 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
         }
         float lz = std::sqrt(std::max(0.f, 1.f - lx * lx - ly * ly));
         if (wo_z < 0.f) lz = -lz;
-        const float cz = std::fabs(lz);
-        bool next = wo_z * lz > 0.f;
-        const V3 wi = s * lx + t * ly + ns * lz;
-        next = next && dot(wi, ng) > 0.f;
-        // f |cos| / pdf = (rho / pi) |cos| / (|cos| / pi): the division kept as the BSDF
-        // path does it.
-        const float pdf = cz * kDiffuseInvPi;
-        const float k = cz / pdf;
-        const float fk = oren_nayar(wo, V3{lx, ly, lz}, on_a, on_b);
-        V3 nb{beta.x * ((rho.x * fk) * k), beta.y * ((rho.y * fk) * k),
-              beta.z * ((rho.z * fk) * k)};
+        bool next;
+        V3 wi, nb;
+        float pdf;
+        if (glossy) {
+            // Bsdf::sample: the lobe by kDvUChoice in the BSDF's order, its direction, then
+            // the mixture's f and pdf there.
+            const bool glossy_first = v.col(kDvGlossFirst)[i] != 0.f;
+            const float w_first = glossy_first ? wg : wd, w_second = glossy_first ? wd : wg;
+            const float target = v.col(kDvUChoice)[i] * (wd + wg);
+            const bool first = w_first > 0.f && (target < w_first || !(w_second > 0.f));
+            const bool take_glossy = glossy_first == first;
+            V3 wl{lx, ly, lz};
+            next = true;
+            if (take_glossy) next = glossy_sample(g, wo, v.col(kDvU0)[i], v.col(kDvU1)[i], wl);
+            V3 fm{0.f, 0.f, 0.f};
+            float pdf_d = 0.f, pdf_g = 0.f;
+            pdf = 0.f;
+            if (next) {
+                pdf = mixed(wl, fm, pdf_d, pdf_g);
+                next = (take_glossy ? pdf_g > 0.f : pdf_d > 0.f) && pdf > 0.f;
+            }
+            wi = s * wl.x + t * wl.y + ns * wl.z;
+            const float k = std::fabs(wl.z) / pdf;
+            nb = V3{beta.x * (fm.x * k), beta.y * (fm.y * k), beta.z * (fm.z * k)};
+            next = next && dot(wi, ng) > 0.f;
+        } else {
+            const float cz = std::fabs(lz);
+            next = wo_z * lz > 0.f;
+            wi = s * lx + t * ly + ns * lz;
+            next = next && dot(wi, ng) > 0.f;
+            // f |cos| / pdf = (rho / pi) |cos| / (|cos| / pi): the division kept as the BSDF
+            // path does it.
+            pdf = cz * kDiffuseInvPi;
+            const float k = cz / pdf;
+            const float fk = oren_nayar(wo, V3{lx, ly, lz}, on_a, on_b);
+            nb = V3{beta.x * ((rho.x * fk) * k), beta.y * ((rho.y * fk) * k),
+                    beta.z * ((rho.z * fk) * k)};
+        }
         next = next && (nb.x != 0.f || nb.y != 0.f || nb.z != 0.f);
         if (rules.roulette) {
             const float q = std::min(1.f, std::max({nb.x, nb.y, nb.z}) * v.col(kDvEtaScale)[i]);

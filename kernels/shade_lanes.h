@@ -8,6 +8,7 @@
 
 #include "diffuse_shade.h"
 #include "diffuse_shade_math.h"
+#include "glossy_math.h"
 #include "simd.h"
 
 namespace foton::kern::lanes {
@@ -39,6 +40,10 @@ inline FloatV dot(const V3& a, const V3& b) {
 }
 inline V3 select(const MaskV& m, const V3& a, const V3& b) {
     return {xsimd::select(m, a.x, b.x), xsimd::select(m, a.y, b.y), xsimd::select(m, a.z, b.z)};
+}
+// A mask's lanes from a where m holds, from b elsewhere.
+inline MaskV select_mask(const MaskV& m, const MaskV& a, const MaskV& b) {
+    return (m & a) | (~m & b);
 }
 inline FloatV max3(const FloatV& a, const FloatV& b, const FloatV& c) {
     return simd::vmax(simd::vmax(a, b), c);
@@ -116,6 +121,94 @@ inline void shading_frame(const V3& ns, V3& s, V3& t) {
     const FloatV b = ns.x * ns.y * a;
     s = V3{one + sign * ns.x * ns.x * a, sign * b, neg(sign) * ns.x};
     t = V3{b, sign + ns.y * ns.y * a, neg(ns.y)};
+}
+
+// std::clamp(x, 0, 1): x < 0 ? 0 : (1 < x ? 1 : x).
+inline FloatV clamp01(const FloatV& x) {
+    const FloatV zero(0.f), one(1.f);
+    return xsimd::select(x < zero, zero, xsimd::select(one < x, one, x));
+}
+// std::max(0.f, x): 0 < x ? x : 0.
+inline FloatV pos(const FloatV& x) {
+    return simd::vmax(x, FloatV(0.f));
+}
+
+inline FloatV fresnel_dielectric(FloatV cos_i, const FloatV& eta_i, const FloatV& eta_t) {
+    const FloatV one(1.f);
+    cos_i = clamp01(cos_i);
+    const FloatV sin_i = simd::vsqrt(pos(one - cos_i * cos_i));
+    const FloatV sin_t = eta_i / eta_t * sin_i;
+    const FloatV cos_t = simd::vsqrt(pos(one - sin_t * sin_t));
+    const FloatV r_par = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+    const FloatV r_perp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+    return xsimd::select(sin_t >= one, one, FloatV(0.5f) * (r_par * r_par + r_perp * r_perp));
+}
+
+inline FloatV fresnel_conductor(FloatV cos_i, const FloatV& eta, const FloatV& k) {
+    const FloatV one(1.f), half(0.5f), two(2.f);
+    cos_i = clamp01(cos_i);
+    const FloatV cos2 = cos_i * cos_i, sin2 = one - cos2;
+    const FloatV eta2 = eta * eta, k2 = k * k;
+    const FloatV t0 = eta2 - k2 - sin2;
+    const FloatV a2b2 = simd::vsqrt(pos(t0 * t0 + FloatV(4.f) * eta2 * k2));
+    const FloatV a = simd::vsqrt(pos(half * (a2b2 + t0)));
+    const FloatV t1 = a2b2 + cos2, t2 = two * cos_i * a;
+    const FloatV rs = (t1 - t2) / (t1 + t2);
+    const FloatV t3 = cos2 * a2b2 + sin2 * sin2, t4 = t2 * sin2;
+    const FloatV rp = rs * (t3 - t4) / (t3 + t4);
+    return half * (rs + rp);
+}
+
+// sincos_turn (diffuse_shade_math.h) for W lanes: the same comparisons, polynomial and
+// quadrant rotation.
+inline void sincos_turn(const FloatV& u, FloatV& s, FloatV& c) {
+    const FloatV zero(0.f), one(1.f);
+    const FloatV x4 = u * FloatV(4.f);
+    auto step = [&](float edge) { return xsimd::select(x4 >= FloatV(edge), one, zero); };
+    const FloatV k = ((step(0.5f) + step(1.5f)) + step(2.5f)) + step(3.5f);
+    FloatV sr, cr;
+    sincos_quarter((x4 - k) * FloatV(1.57079632679489661923f), sr, cr);
+    const MaskV q1 = k == one, q2 = k == FloatV(2.f), q3 = k == FloatV(3.f);
+    s = xsimd::select(q1, cr, xsimd::select(q2, neg(sr), xsimd::select(q3, neg(cr), sr)));
+    c = xsimd::select(q1, neg(sr), xsimd::select(q2, neg(cr), xsimd::select(q3, sr, cr)));
+}
+
+// glossy_math.h's log2_poly, exp2_poly, pow_poly, exp_poly and log_poly for W lanes: the same
+// polynomials, the same exact splits and joins by bitwise casts.
+using IntV = xsimd::batch<int32_t, simd::Arch>;
+
+inline FloatV log2_poly(FloatV x) {
+    const FloatV tiny(0x1p-126f), one(1.f);
+    x = xsimd::select(x < tiny, tiny, x);
+    const IntV bits = xsimd::bitwise_cast<IntV>(x);
+    FloatV e = simd::to_float(bits & IntV(0x7f800000)) * FloatV(0x1p-23f) - FloatV(126.f);
+    const FloatV m = xsimd::bitwise_cast<FloatV>((bits & IntV(0x007fffff)) | IntV(0x3f000000));
+    const MaskV low = m < FloatV(kSqrtHalf);
+    e = xsimd::select(low, e - one, e);
+    const FloatV r = xsimd::select(low, (m + m) - one, m - one);
+    return log2_reduced(r, e);
+}
+
+inline FloatV exp2_poly(FloatV x) {
+    const MaskV in_range = x >= FloatV(kExp2Min);
+    x = xsimd::select(x > FloatV(kExp2Max), FloatV(kExp2Max), x);
+    const FloatV n = simd::vfloor(x + FloatV(0.5f));
+    const FloatV p = exp2_reduced(x - n);
+    const FloatV scale =
+        xsimd::bitwise_cast<FloatV>(simd::to_int((n + FloatV(127.f)) * FloatV(0x1p23f)));
+    return xsimd::select(in_range, p * scale, FloatV(0.f));
+}
+
+inline FloatV pow_poly(const FloatV& x, const FloatV& y) {
+    return xsimd::select(x > FloatV(0.f), exp2_poly(y * log2_poly(x)), FloatV(0.f));
+}
+
+inline FloatV exp_poly(const FloatV& x) {
+    return exp2_poly(x * FloatV(kLog2e));
+}
+
+inline FloatV log_poly(const FloatV& x) {
+    return log2_poly(x) * FloatV(kLn2);
 }
 
 }  // namespace foton::kern::lanes

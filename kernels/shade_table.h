@@ -11,6 +11,8 @@ namespace foton::kern {
 // kDv: a vertex's column; every shading kernel reads and writes its own subset.
 // kDvLkind's values.
 inline constexpr float kLightParallelogram = 1.f, kLightTriangle = 2.f, kLightSphere = 3.f;
+// kDvGlossKind's values.
+inline constexpr float kGlossPhong = 1.f, kGlossBeckmann = 2.f, kGlossCosPower = 3.f;
 
 enum ShadeColumn : uint32_t {
     // The surface: position, geometric and shading normals (unit, facing the incoming ray),
@@ -70,6 +72,23 @@ enum ShadeColumn : uint32_t {
     // Oren–Nayar's A and B (a Lambertian material: 1 and 0, which is Lambert's f exactly).
     kDvOnA,
     kDvOnB,
+    // A glossy lobe beside (or instead of) the diffuse one, kDvGlossKind: 0 none, 1 modified
+    // Phong, 2 a Beckmann microfacet lobe, 3 a cos^e microfacet lobe (Blinn: nu = nv;
+    // Ashikhmin–Shirley: nu along the shading frame's first tangent). Its tint (the
+    // microfacet's Fresnel term in kDvFresnel.. below), Phong's exponent or Beckmann's slope
+    // in kDvGlossNu, the cos^e exponents in kDvGlossNu and kDvGlossNv; both lobes' sampling
+    // weights (a material without a diffuse lobe: 0 and rho 0) and 1 when the glossy lobe
+    // comes first in the BSDF's order (Bsdf::sample's choice walks that order with
+    // kDvUChoice).
+    kDvGlossKind,
+    kDvGlossR,
+    kDvGlossG,
+    kDvGlossB,
+    kDvGlossNu,
+    kDvGlossNv,
+    kDvDiffuseWeight,
+    kDvGlossWeight,
+    kDvGlossFirst,
     // The light sample: its pdf with the light's selection (0: none), 1 when it takes full
     // weight (a delta light, or no MIS), the unit direction to it, the distance (infinite for
     // a light at infinity), the sampled point and its normal facing the vertex, the radiance.

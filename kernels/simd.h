@@ -153,6 +153,31 @@ inline xsimd::batch<int32_t, A> to_int(const xsimd::batch<float, A>& a) {
         return xsimd::to_int(a);
 }
 
+// Lane-wise floor (xsimd::floor's AVX-512 form draws the same GCC 12 warning).
+template <class A>
+inline xsimd::batch<float, A> vfloor(const xsimd::batch<float, A>& a) {
+#if defined(__AVX512F__)
+    if constexpr (xsimd::batch<float, A>::size == 16)
+        return xsimd::batch<float, A>(_mm512_mask_roundscale_ps(
+            static_cast<__m512>(a), __mmask16(0xffff), static_cast<__m512>(a),
+            _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
+    else
+#endif
+        return xsimd::floor(a);
+}
+
+// Lane-wise int32 to float (xsimd::to_float's AVX-512 form draws the same GCC 12 warning).
+template <class A>
+inline xsimd::batch<float, A> to_float(const xsimd::batch<int32_t, A>& a) {
+#if defined(__AVX512F__)
+    if constexpr (xsimd::batch<float, A>::size == 16)
+        return xsimd::batch<float, A>(
+            _mm512_maskz_cvtepi32_ps(__mmask16(0xffff), static_cast<__m512i>(a)));
+    else
+#endif
+        return xsimd::to_float(a);
+}
+
 // Lane-wise gather of base[index] (xsimd 8.1 gathers element by element on AVX-512).
 template <class A>
 inline xsimd::batch<float, A> gather(const float* base, const xsimd::batch<int32_t, A>& index) {

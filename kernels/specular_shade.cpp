@@ -11,42 +11,6 @@ namespace {
 
 using namespace lanes;
 
-// std::clamp(x, 0, 1): x < 0 ? 0 : (1 < x ? 1 : x).
-inline FloatV clamp01(const FloatV& x) {
-    const FloatV zero(0.f), one(1.f);
-    return xsimd::select(x < zero, zero, xsimd::select(one < x, one, x));
-}
-// std::max(0.f, x): 0 < x ? x : 0.
-inline FloatV pos(const FloatV& x) {
-    return simd::vmax(x, FloatV(0.f));
-}
-
-FloatV fresnel_dielectric(FloatV cos_i, const FloatV& eta_i, const FloatV& eta_t) {
-    const FloatV one(1.f);
-    cos_i = clamp01(cos_i);
-    const FloatV sin_i = simd::vsqrt(pos(one - cos_i * cos_i));
-    const FloatV sin_t = eta_i / eta_t * sin_i;
-    const FloatV cos_t = simd::vsqrt(pos(one - sin_t * sin_t));
-    const FloatV r_par = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-    const FloatV r_perp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-    return xsimd::select(sin_t >= one, one, FloatV(0.5f) * (r_par * r_par + r_perp * r_perp));
-}
-
-FloatV fresnel_conductor(FloatV cos_i, const FloatV& eta, const FloatV& k) {
-    const FloatV one(1.f), half(0.5f), two(2.f);
-    cos_i = clamp01(cos_i);
-    const FloatV cos2 = cos_i * cos_i, sin2 = one - cos2;
-    const FloatV eta2 = eta * eta, k2 = k * k;
-    const FloatV t0 = eta2 - k2 - sin2;
-    const FloatV a2b2 = simd::vsqrt(pos(t0 * t0 + FloatV(4.f) * eta2 * k2));
-    const FloatV a = simd::vsqrt(pos(half * (a2b2 + t0)));
-    const FloatV t1 = a2b2 + cos2, t2 = two * cos_i * a;
-    const FloatV rs = (t1 - t2) / (t1 + t2);
-    const FloatV t3 = cos2 * a2b2 + sin2 * sin2, t4 = t2 * sin2;
-    const FloatV rp = rs * (t3 - t4) / (t3 + t4);
-    return half * (rs + rp);
-}
-
 void specular_lanes(const Lanes& l, bool roulette) {
     reconstruct_surface(l);
     const FloatV zero(0.f), one(1.f);

@@ -17,154 +17,17 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "kernels/diffuse_shade.h"
 #include "kernels/specular_shade.h"
+#include "shade_vertices.h"
 #include "test_util.h"
 
 using namespace foton;
 using namespace foton::kern;
+using test::bits;
+using test::random_unit;
+using test::random_vertices;
+using test::Table;
 
 namespace {
-
-struct Table {
-    AlignedVector<float> data;
-    std::size_t stride;
-    explicit Table(std::size_t n)
-        : data(std::size_t(kShadeColumns) *
-               ((n + shade_width() - 1) / shade_width() * shade_width())),
-          stride(data.size() / kShadeColumns) {}
-    ShadeTable view() { return {data.data(), stride}; }
-    float& at(uint32_t c, std::size_t i) { return data[c * stride + i]; }
-    void set3(uint32_t c, std::size_t i, const Vec3& v) {
-        at(c, i) = v.x;
-        at(c + 1, i) = v.y;
-        at(c + 2, i) = v.z;
-    }
-};
-
-Vec3 random_unit(std::mt19937& g) {
-    std::normal_distribution<float> n;
-    for (;;) {
-        const Vec3 v{n(g), n(g), n(g)};
-        if (length(v) > 1e-3f) return normalize(v);
-    }
-}
-
-// n random vertices; every fifth lane takes an edge value somewhere.
-Table random_vertices(std::size_t n, uint32_t seed) {
-    std::mt19937 g(seed);
-    std::uniform_real_distribution<float> u01(0.f, 1.f), coord(-300.f, 300.f);
-    Table t(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool edge = i % 5 == 0;
-        const Vec3 p{coord(g), coord(g), coord(g)};
-        const Vec3 ng = random_unit(g);
-        // A shading normal leaning off the geometric one (sometimes past the horizon).
-        const Vec3 ns = normalize(ng + random_unit(g) * (edge ? 1.2f : 0.3f));
-        Vec3 wo = random_unit(g);
-        if (dot(wo, ns) < 0.f && !edge) wo = -wo;
-        t.set3(kDvPx, i, p);
-        t.set3(kDvNgx, i, ng);
-        t.set3(kDvNsx, i, ns);
-        t.at(kDvEps, i) = 2e-5f * 300.f;
-        t.set3(kDvWox, i, wo);
-        t.set3(kDvRhoR, i, {u01(g), u01(g), edge && i % 3 == 0 ? 0.f : u01(g)});
-        t.set3(kDvBetaR, i, {u01(g) * 2.f, u01(g), u01(g)});
-        t.at(kDvEtaScale, i) = edge ? 2.25f : 1.f;
-        // Lambert (A = 1, B = 0), or Oren–Nayar of some roughness on every third lane.
-        const Lobe on = Lobe::oren_nayar(RGB{1.f}, 0.1f + 0.5f * u01(g));
-        t.at(kDvOnA, i) = i % 3 == 2 ? on.on_a : 1.f;
-        t.at(kDvOnB, i) = i % 3 == 2 ? on.on_b : 0.f;
-        // The light sample: a point on a light, or a direction to one at infinity.
-        const Vec3 q = p + random_unit(g) * (10.f + 200.f * u01(g));
-        const bool infinite = i % 7 == 3;
-        const Vec3 to = q - p;
-        const float dist = length(to);
-        t.at(kDvLightPdf, i) = i % 11 == 0 ? 0.f : 0.01f + u01(g);
-        t.at(kDvLightFull, i) = i % 13 == 0 ? 1.f : 0.f;
-        t.set3(kDvLwx, i, infinite ? random_unit(g) : to / dist);
-        t.at(kDvLdist, i) = infinite ? kInfinity : dist;
-        t.set3(kDvLpx, i, q);
-        t.set3(kDvLnx, i, random_unit(g));
-        t.set3(kDvLiR, i, {15.f * u01(g), 15.f, edge ? 0.f : 3.f});
-        // Lanes whose surface the kernel makes: flat and smooth triangles, spheres.
-        if (i % 4 != 0) {
-            const float kind = float(i % 4);
-            const float tt = 1.f + 100.f * u01(g);
-            t.at(kDvSurface, i) = kind;
-            t.at(kDvT, i) = tt;
-            const Vec3 dir = -wo;
-            if (kind == 3.f) {
-                const Vec3 o = p - dir * tt;
-                const float r = 1.f + 50.f * u01(g);
-                t.set3(kDvOx, i, o);
-                t.set3(kDvA0x, i, p - random_unit(g) * r);
-                t.at(kDvA1x, i) = r;
-            } else {
-                const float bu = u01(g), bv = (1.f - bu) * u01(g);
-                t.at(kDvU, i) = bu;
-                t.at(kDvV, i) = bv;
-                for (uint32_t c : {kDvA0x, kDvA1x, kDvA2x})
-                    t.set3(c, i, p + random_unit(g) * (5.f + 40.f * u01(g)));
-                // An axis-aligned triangle (a Cornell box wall): its normal has exact zeros,
-                // whose signs pick the shading frame.
-                if (i % 8 == 1) {
-                    t.set3(kDvA0x, i, p);
-                    t.set3(kDvA1x, i, p + Vec3{0.f, 10.f, 0.f});
-                    t.set3(kDvA2x, i, p + Vec3{0.f, 0.f, 10.f});
-                }
-                for (uint32_t c : {kDvN0x, kDvN1x, kDvN2x}) t.set3(c, i, random_unit(g));
-            }
-        }
-        // Every third lane a rectangle light for the kernel to sample (facing either way).
-        if (i % 3 == 1) {
-            const Vec3 e1 = random_unit(g) * (20.f + 80.f * u01(g));
-            const Vec3 e2 = normalize(cross(e1, random_unit(g))) * (20.f + 80.f * u01(g));
-            const Vec3 n_rect = normalize(cross(e1, e2));
-            t.at(kDvLkind, i) = 1.f;
-            t.set3(kDvLpx, i, q);
-            t.set3(kDvLnx, i, i % 2 ? n_rect : -n_rect);
-            t.set3(kDvLe1x, i, e1);
-            t.set3(kDvLe2x, i, e2);
-            t.at(kDvLarea, i) = length(cross(e1, e2));
-            t.at(kDvLu0, i) = u01(g);
-            t.at(kDvLu1, i) = u01(g);
-            t.at(kDvLdist, i) = 0.f;
-        }
-        // Every sixth lane a triangle of an emissive mesh (one- or two-sided, facing either
-        // way), with its own area or a whole mesh's in the density.
-        if (i % 6 == 2) {
-            const Vec3 e1 = random_unit(g) * (5.f + 60.f * u01(g));
-            const Vec3 e2 = random_unit(g) * (5.f + 60.f * u01(g));
-            const Vec3 n_tri = normalize(cross(e1, e2));
-            t.at(kDvLkind, i) = kLightTriangle;
-            t.set3(kDvLpx, i, q);
-            t.set3(kDvLnx, i, i % 4 ? n_tri : -n_tri);
-            t.set3(kDvLe1x, i, q + e1);  // a triangle's other corners
-            t.set3(kDvLe2x, i, q + e2);
-            t.at(kDvLarea, i) = 0.5f * length(cross(e1, e2)) * (i % 5 == 0 ? 7.f : 1.f);
-            t.at(kDvLtwoSided, i) = i % 7 < 3 ? 1.f : 0.f;
-            t.at(kDvLu0, i) = i % 11 == 0 ? 0.5f : u01(g);
-            t.at(kDvLu1, i) = i % 11 == 0 ? 0.5f : u01(g);
-            t.at(kDvLdist, i) = 0.f;
-        }
-        // Every sixth lane an emitting sphere sampled by its cone; some hold the point.
-        if (i % 6 == 4) {
-            const float r = 0.5f + 30.f * u01(g);
-            t.at(kDvLkind, i) = kLightSphere;
-            t.set3(kDvLpx, i, i % 5 == 0 ? p + random_unit(g) * (0.5f * r) : q);
-            t.at(kDvLe1x, i) = r;
-            t.at(kDvLu0, i) = i % 11 == 0 ? 0.f : u01(g);
-            t.at(kDvLu1, i) = i % 13 == 0 ? 0.75f : u01(g);
-            t.at(kDvLdist, i) = 0.f;
-        }
-        // The disc's centre and its diagonals, besides random numbers.
-        const float u0 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);
-        const float u1 = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.25f : u01(g);
-        t.at(kDvU0, i) = u0;
-        t.at(kDvU1, i) = u1;
-        t.at(kDvURoulette, i) = u01(g);
-    }
-    return t;
-}
 
 Film render_path(const std::string& scene_file, const RendererOverrides& settings) {
     Scene scene = load_scene(test::source_path("scenes/" + scene_file), settings);
@@ -217,12 +80,6 @@ void make_specular(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bs
         t.at(kDvSurface, i) = 0.f;  // the random surface columns as they are
         t.at(kDvFront, i) = i % 4 == 1 ? 0.f : 1.f;
     }
-}
-
-uint32_t bits(float x) {
-    uint32_t b;
-    std::memcpy(&b, &x, 4);
-    return b;
 }
 
 }  // namespace

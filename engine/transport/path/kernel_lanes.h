@@ -17,7 +17,8 @@ namespace foton {
 // Which shading kernel takes a material's vertices.
 enum class KernelKind : uint8_t {
     None,      // shade_vertex, one at a time
-    Diffuse,   // kern::shade_diffuse: Lambertian lobes only, or one Oren–Nayar lobe
+    Diffuse,   // kern::shade_diffuse: Lambertian lobes, or one Oren–Nayar or Lambertian lobe
+               // with one Phong or microfacet lobe, or that glossy lobe alone
     Specular,  // kern::shade_specular: one mirror or dielectric lobe
 };
 
@@ -31,12 +32,29 @@ struct SpecularMaterial {
     float weight = 1.f;
 };
 
+// A diffuse kernel material's glossy lobe as kern::shade_diffuse reads it (the kDvGloss..
+// columns, the Fresnel term in the kDvFresnel.. columns).
+struct GlossyMaterial {
+    float kind = 0.f;  // 0 none, kern::kGlossPhong, kGlossBeckmann, kGlossCosPower
+    RGB color;
+    float nu = 0.f, nv = 0.f;  // Phong's exponent or Beckmann's alpha; cos^e's exponents
+    float diffuse_weight = 0.f, glossy_weight = 0.f;
+    float glossy_first = 0.f;  // 1 when it comes before the diffuse lobe in the BSDF
+    float fresnel = 0.f;       // 0 none, 1 conductor, 2 dielectric
+    float ior = 1.f;
+    RGB eta, k;
+};
+
 struct KernelMaterials {
     bool enabled = false;            // the settings and the vertex rules allow the kernels at all
     std::vector<KernelKind> kernel;  // per material; untextured and not emitting ones only
     std::vector<RGB> rho;            // Diffuse: the lobes' summed reflectance
     std::vector<float> on_a, on_b;   // ... and Oren–Nayar's A, B (Lambert: 1, 0)
     std::vector<SpecularMaterial> specular;
+    std::vector<GlossyMaterial> glossy;  // Diffuse: a glossy lobe beside the diffuse one
+    // Diffuse with Lambertian lobes alone: the irradiance cache takes its first vertex
+    // (PathIntegrator::shade_cached).
+    std::vector<uint8_t> lambertian;
     kern::DiffuseRules rules;
 };
 

@@ -1,5 +1,6 @@
 // What the path tracer's shading kernels share (path_diffuse.cpp, path_specular.cpp): which
-// kernel takes a material, the surface and the random numbers of a chunk of lanes.
+// kernel takes a hit, the surface and the random numbers of a chunk of lanes, the chunk loop
+// and the read-back (which kernel takes a material: kernel_materials.cpp).
 #include <algorithm>
 
 #include "engine/transport/common/surface.h"
@@ -12,92 +13,14 @@
 
 namespace foton {
 
-namespace {
-
-kern::DiffuseMis kernel_mis(MisHeuristic h) {
-    switch (h) {
-        case MisHeuristic::Balance:
-            return kern::DiffuseMis::Balance;
-        case MisHeuristic::Power:
-            return kern::DiffuseMis::Power;
-        case MisHeuristic::Maximum:
-            return kern::DiffuseMis::Maximum;
-        case MisHeuristic::None:
-            break;
-    }
-    return kern::DiffuseMis::None;
-}
-
-// Which kernel shades a material's vertices as shade_vertex would: untextured, not emitting,
-// and every lobe Lambertian (their sum is one Lambertian lobe of the summed reflectance), one
-// Oren–Nayar lobe, or one mirror or dielectric lobe.
-KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b,
-                           SpecularMaterial& spec) {
-    if (m.texture >= 0 || !m.emission.is_black() || m.bsdf.empty()) return KernelKind::None;
-    const Lobe& first = m.bsdf.lobe(0);
-    if (m.bsdf.size() == 1 && m.bsdf.weight(0) > 0.f &&
-        (first.type == LobeType::Mirror || first.type == LobeType::Dielectric)) {
-        spec.kind = first.type == LobeType::Mirror ? 1.f : 2.f;
-        spec.color = first.color;
-        spec.transmit = first.transmit;
-        spec.fresnel = first.fresnel.kind == FresnelKind::Conductor    ? 1.f
-                       : first.fresnel.kind == FresnelKind::Dielectric ? 2.f
-                                                                       : 0.f;
-        spec.ior = first.fresnel.ior;
-        spec.eta = first.fresnel.eta;
-        spec.k = first.fresnel.k;
-        spec.weight = m.bsdf.weight(0);
-        return KernelKind::Specular;
-    }
-    on_a = 1.f;
-    on_b = 0.f;
-    if (m.bsdf.size() == 1 && first.type == LobeType::OrenNayar) {
-        rho = first.color;
-        on_a = first.on_a;
-        on_b = first.on_b;
-        return KernelKind::Diffuse;
-    }
-    rho = RGB{0.f};
-    for (int i = 0; i < m.bsdf.size(); ++i) {
-        const Lobe& l = m.bsdf.lobe(i);
-        if (l.type != LobeType::Lambert) return KernelKind::None;
-        rho += l.color;
-    }
-    return KernelKind::Diffuse;
-}
-
-}  // namespace
-
-KernelMaterials PathIntegrator::kernel_materials() const {
-    KernelMaterials d;
-    const RenderSettings& rs = ctx_.settings;
-    const VertexRules plain = VertexRules::path(rs);
-    // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
-    // lighting split and power heuristics of another exponent than 2 keep their own rules in
-    // shade_vertex.
-    const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
-    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
-                !rules_.glossy_by_sampling && !rules_.emission_whole &&
-                rules_.continue_lobes == plain.continue_lobes && !guide_ &&
-                rs.lighting == Lighting::All && power2;
-    d.rules.mis = kernel_mis(rules_.mis.heuristic);
-    const std::vector<Material>& ms = ctx_.scene.materials;
-    d.kernel.assign(ms.size(), KernelKind::None);
-    d.rho.assign(ms.size(), RGB{0.f});
-    d.on_a.assign(ms.size(), 1.f);
-    d.on_b.assign(ms.size(), 0.f);
-    d.specular.assign(ms.size(), SpecularMaterial{});
-    for (std::size_t k = 0; k < ms.size(); ++k)
-        d.kernel[k] = kernel_material(ms[k], d.rho[k], d.on_a[k], d.on_b[k], d.specular[k]);
-    return d;
-}
-
 KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) const {
     const uint32_t geom = ws.hits.geom[i];
     if (geom == kNoHit) return KernelKind::None;
-    const KernelKind k = kernels_.kernel[ctx_.scene.objects[geom].material];
-    // The cache's first diffuse vertex is shade_cached's.
-    if (k == KernelKind::Diffuse && cache_ && ws.chain_specular[ws.rays.id[i]])
+    const uint32_t m = ctx_.scene.objects[geom].material;
+    const KernelKind k = kernels_.kernel[m];
+    // The cache's first Lambertian vertex is shade_cached's.
+    if (k == KernelKind::Diffuse && cache_ && ws.chain_specular[ws.rays.id[i]] &&
+        kernels_.lambertian[m])
         return KernelKind::None;
     return k;
 }
