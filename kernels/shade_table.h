@@ -126,11 +126,17 @@ enum ShadeColumn : uint32_t {
     kDvLe2z,
     kDvLarea,
     kDvLtwoSided,
+    // The vertex's uniform numbers, in the order of the path tracer's number table (its rows
+    // are these columns): the two that place a light's point, the BSDF direction's two, the
+    // light's choice (read by the caller), the triangle of a mesh light chosen by area (the
+    // caller's), the lobe's choice, Russian roulette.
     kDvLu0,
     kDvLu1,
-    // Uniform numbers: the BSDF direction (2), Russian roulette.
     kDvU0,
     kDvU1,
+    kDvULightSelect,
+    kDvULightUc,
+    kDvUChoice,
     kDvURoulette,
     // Out, the shadow ray and what it adds unoccluded (valid: 1 or 0).
     kDvShadowValid,
@@ -147,8 +153,8 @@ enum ShadeColumn : uint32_t {
     // A specular vertex's material (specular_shade.h): 1 = a mirror, 2 = a dielectric; its
     // reflectance tint, a dielectric's transmission tint, the mirror's Fresnel term (0 none,
     // 1 conductor of index eta + i k per channel, 2 dielectric of index kDvIor), a
-    // dielectric's index, the lobe's sampling weight, and the number that chooses between
-    // reflection and refraction.
+    // dielectric's index, the lobe's sampling weight (kDvUChoice chooses between reflection
+    // and refraction).
     kDvSpecKind,
     kDvSpecR,
     kDvSpecG,
@@ -165,7 +171,6 @@ enum ShadeColumn : uint32_t {
     kDvKG,
     kDvKB,
     kDvLobeWeight,
-    kDvUChoice,
     // Out, the continuation (valid: 1 or 0), its throughput and solid-angle pdf.
     kDvNextValid,
     kDvNox,

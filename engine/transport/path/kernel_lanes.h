@@ -64,11 +64,14 @@ struct KernelLanes {
     static constexpr std::size_t kLanes = 64;
     AlignedVector<float> data = AlignedVector<float>(std::size_t(kern::kShadeColumns) * kLanes);
     uint32_t entry[kLanes];  // the batch entry each lane came from
+    // The read-back's scratch: each lane's path slot, and the shadow rays' values packed.
+    alignas(64) uint32_t slots[kLanes];
+    alignas(64) uint32_t packed[3][kLanes];
     std::size_t size = 0;
     // The lanes' random numbers of this bounce, drawn as one table when every lane's sampler
-    // is counter-based, Sobol' or Z-Sobol' (kRandRows rows of kLanes; `drawn` says whether they
-    // are). The rows are the Sobol' table's: the pairs (light point), (BSDF direction), (light
-    // choice, mesh triangle), (lobe, roulette).
+    // is counter-based, Sobol', Z-Sobol' or Halton (kRandRows rows of kLanes, the columns
+    // kDvLu0.. of `data`; `drawn` says whether they are). The rows are the Sobol' table's: the
+    // pairs (light point), (BSDF direction), (light choice, mesh triangle), (lobe, roulette).
     static constexpr uint32_t kRandRows = 8;
     static constexpr uint32_t kRandLight = 0, kRandBsdf = 2, kRandLightSelect = 4, kRandLightUc = 5,
                               kRandLobe = 6, kRandRoulette = 7;
@@ -77,7 +80,6 @@ struct KernelLanes {
     AlignedVector<uint32_t> z_bits = AlignedVector<uint32_t>(kLanes);
     AlignedVector<uint32_t> pattern_index = AlignedVector<uint32_t>(kLanes);
     AlignedVector<uint32_t> pattern_count = AlignedVector<uint32_t>(kLanes);
-    AlignedVector<float> rand = AlignedVector<float>(std::size_t(kRandRows) * kLanes);
     bool drawn = false;
     // The lanes' surfaces where the CPU side makes them (surface_at): for a light sampled
     // before the kernel, and under the light BVH for every lane, first, so that the chunk's
@@ -85,6 +87,17 @@ struct KernelLanes {
     SurfacePoint surface[kLanes];
     LightPickLanes picks = LightPickLanes(kLanes);
     bool picked = false;
+
+    // The number table's rows are the table's columns from kDvLu0 on, in the same order: the
+    // kernels read the numbers where they were drawn.
+    static_assert(kern::kDvLu0 + kRandLight == kern::kDvLu0 &&
+                  kern::kDvLu0 + kRandBsdf == kern::kDvU0 &&
+                  kern::kDvLu0 + kRandLightSelect == kern::kDvULightSelect &&
+                  kern::kDvLu0 + kRandLightUc == kern::kDvULightUc &&
+                  kern::kDvLu0 + kRandLobe == kern::kDvUChoice &&
+                  kern::kDvLu0 + kRandRoulette == kern::kDvURoulette && kRandRows == 8);
+    float* rand() { return col(kern::kDvLu0); }
+    const float* rand() const { return data.data() + std::size_t(kern::kDvLu0) * kLanes; }
 
     kern::ShadeTable table() { return {data.data(), kLanes}; }
     float* col(uint32_t c) { return data.data() + std::size_t(c) * kLanes; }

@@ -34,9 +34,11 @@ void PathIntegrator::put_kernel_light(uint32_t depth, std::size_t lane, const Em
                                       const LightPick& pick, LightSample& ls,
                                       PathWorkspace& ws) const {
     KernelLanes& L = ws.lanes;
-    const Point2 ul = lane_number2(ws, lane, KernelLanes::kRandLight, depth, kPathDimLight);
-    L.col(kern::kDvLu0)[lane] = ul.x;
-    L.col(kern::kDvLu1)[lane] = ul.y;
+    if (!L.drawn) {
+        const Point2 ul = lane_number2(ws, lane, KernelLanes::kRandLight, depth, kPathDimLight);
+        L.col(kern::kDvLu0)[lane] = ul.x;
+        L.col(kern::kDvLu1)[lane] = ul.y;
+    }
     L.col(kern::kDvLtwoSided)[lane] = e.two_sided ? 1.f : 0.f;
     ls.Li = e.value;
     ls.p_light = e.p;
@@ -89,7 +91,7 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
         L.col(kern::kDvIor)[lane] = g.ior;
         L.put3(kern::kDvEtaR, lane, g.eta);
         L.put3(kern::kDvKR, lane, g.k);
-        L.col(kern::kDvUChoice)[lane] = draw(KernelLanes::kRandLobe, kPathDimBsdf);
+        if (!L.drawn) L.col(kern::kDvUChoice)[lane] = draw(KernelLanes::kRandLobe, kPathDimBsdf);
     }
     // The light, as shade_vertex's next event estimation chooses it. The kernel samples
     // rectangles, triangles and one-sided spheres and makes the surface itself; any other
@@ -126,17 +128,21 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     L.col(kern::kDvLkind)[lane] = kind;
     L.col(kern::kDvLightPdf)[lane] = pdf;
     L.col(kern::kDvLightFull)[lane] = full;
-    L.put3(kern::kDvLwx, lane, ls.wi);
-    L.col(kern::kDvLdist)[lane] = ls.dist;
+    if (kind == 0.f) {  // the kernel's own lights make these
+        L.put3(kern::kDvLwx, lane, ls.wi);
+        L.col(kern::kDvLdist)[lane] = ls.dist;
+    }
     L.put3(kern::kDvLpx, lane, ls.p_light);
     L.put3(kern::kDvLnx, lane, ls.n_light);
     L.put3(kern::kDvLiR, lane, ls.Li);
-    const Point2 u = draw2(KernelLanes::kRandBsdf, kPathDimBsdf + 1);
-    L.col(kern::kDvU0)[lane] = u.x;
-    L.col(kern::kDvU1)[lane] = u.y;
-    L.col(kern::kDvURoulette)[lane] = depth + 1 >= ctx_.settings.rr_depth
-                                          ? draw(KernelLanes::kRandRoulette, kPathDimRoulette)
-                                          : 0.f;
+    // The numbers the kernel reads are in the table already when they were drawn as one.
+    if (!L.drawn) {
+        const Point2 u = draw2(KernelLanes::kRandBsdf, kPathDimBsdf + 1);
+        L.col(kern::kDvU0)[lane] = u.x;
+        L.col(kern::kDvU1)[lane] = u.y;
+        if (depth + 1 >= ctx_.settings.rr_depth)
+            L.col(kern::kDvURoulette)[lane] = draw(KernelLanes::kRandRoulette, kPathDimRoulette);
+    }
 }
 
 }  // namespace foton

@@ -2,10 +2,12 @@
 // kernel takes a hit, the surface and the random numbers of a chunk of lanes, the chunk loop
 // and the read-back (which kernel takes a material: kernel_materials.cpp).
 #include <algorithm>
+#include <bit>
 
 #include "engine/transport/common/surface.h"
 #include "kernels/counter_hash.h"
 #include "kernels/halton_net.h"
+#include "kernels/lane_compress.h"
 #include "kernels/sobol_net.h"
 #include "kernels/specular_shade.h"
 #include "kernels/zsobol_net.h"
@@ -92,7 +94,7 @@ uint32_t PathIntegrator::put_path(std::size_t lane, PathWorkspace& ws) const {
 float PathIntegrator::lane_number(const PathWorkspace& ws, std::size_t lane, uint32_t row,
                                   uint32_t depth, uint32_t k) const {
     const KernelLanes& L = ws.lanes;
-    return L.drawn ? L.rand[row * KernelLanes::kLanes + lane]
+    return L.drawn ? L.rand()[row * KernelLanes::kLanes + lane]
                    : rand(ws, ws.rays.id[L.entry[lane]], depth, k);
 }
 
@@ -100,8 +102,8 @@ Point2 PathIntegrator::lane_number2(const PathWorkspace& ws, std::size_t lane, u
                                     uint32_t depth, uint32_t k) const {
     const KernelLanes& L = ws.lanes;
     if (!L.drawn) return rand2(ws, ws.rays.id[L.entry[lane]], depth, k);
-    return {L.rand[row * KernelLanes::kLanes + lane],
-            L.rand[(row + 1) * KernelLanes::kLanes + lane]};
+    return {L.rand()[row * KernelLanes::kLanes + lane],
+            L.rand()[(row + 1) * KernelLanes::kLanes + lane]};
 }
 
 // The chunk's random numbers as one table when every lane's sampler is counter-based
@@ -150,67 +152,77 @@ void PathIntegrator::draw_lane_numbers(uint32_t depth, PathWorkspace& ws) const 
         base + kPathDimBsdf,     base + kPathDimRoulette};
     if (uniform) {
         kern::uniform_table(first.prefix(), L.keys.data(), L.size, dims, KernelLanes::kRandRows,
-                            L.rand.data(), KernelLanes::kLanes);
+                            L.rand(), KernelLanes::kLanes);
     } else if (halton) {
         // The path's dimensions follow the pixel's two (PathSampler::get1).
         uint32_t hdims[KernelLanes::kRandRows];
         for (uint32_t r = 0; r < KernelLanes::kRandRows; ++r) hdims[r] = uint32_t(2 + dims[r]);
         kern::halton::sample_table(ctx_.seed, L.pattern_index.data(), L.keys.data(), L.size, hdims,
-                                   KernelLanes::kRandRows, L.rand.data(), KernelLanes::kLanes);
+                                   KernelLanes::kRandRows, L.rand(), KernelLanes::kLanes);
     } else if (sobol) {
         kern::sobol::sample_table(ctx_.seed, L.pattern_index.data(), L.pattern_count.data(),
-                                  L.keys.data(), L.size, pairs, 4, L.rand.data(),
-                                  KernelLanes::kLanes);
+                                  L.keys.data(), L.size, pairs, 4, L.rand(), KernelLanes::kLanes);
     } else {
         kern::zsobol::sample_table(L.z_index.data(), L.z_bits.data(), L.keys.data(), L.size, pairs,
-                                   4, L.rand.data(), KernelLanes::kLanes);
+                                   4, L.rand(), KernelLanes::kLanes);
     }
     L.drawn = true;
 }
-
-namespace {
-
-// Lane k's ray (origin and direction columns from o and d) into entry `at` of `batch`.
-void take_ray(RayBatch& batch, std::size_t at, KernelLanes& L, std::size_t k, uint32_t o,
-              uint32_t d, float tmax, uint32_t slot) {
-    batch.ox[at] = L.col(o)[k];
-    batch.oy[at] = L.col(o + 1)[k];
-    batch.oz[at] = L.col(o + 2)[k];
-    batch.dx[at] = L.col(d)[k];
-    batch.dy[at] = L.col(d + 1)[k];
-    batch.dz[at] = L.col(d + 2)[k];
-    batch.tmin[at] = 0.f;
-    batch.tmax[at] = tmax;
-    batch.id[at] = slot;
-}
-
-}  // namespace
 
 void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
     KernelLanes& L = ws.lanes;
     const float* shadow_valid = L.col(kern::kDvShadowValid);
     const float* next_valid = L.col(kern::kDvNextValid);
-    std::size_t shadows = 0, nexts = 0;
     // The vertex's normal is only read where the light BVH weighs an emitter hit's pick.
     const bool keep_normal = ctx_.lights.selection() == LightSelection::Bvh;
+    std::size_t shadows = 0, nexts = 0;
     for (std::size_t k = 0; k < L.size; ++k) {
         shadows += shadow_valid[k] != 0.f;
         nexts += next_valid[k] != 0.f;
+        L.slots[k] = ws.rays.id[L.entry[k]];
     }
-    // Both batches grown once and written column by column (not a push per ray).
-    std::size_t s = ws.shadow.size(), n = ws.next.size();
+    auto words = [&](uint32_t c) { return reinterpret_cast<const uint32_t*>(L.col(c)); };
+    auto out = [](AlignedVector<float>& v, std::size_t at) {
+        return reinterpret_cast<uint32_t*>(v.data() + at);
+    };
+    // Both batches grown once and the valid lanes packed into them, column by column.
+    const std::size_t s = ws.shadow.size(), n = ws.next.size();
     ws.shadow.resize(s + shadows);
-    ws.shadow_value.resize(s + shadows);
     ws.next.resize(n + nexts);
+    RayBatch& sh = ws.shadow;
+    const uint32_t* shadow_src[11] = {
+        words(kern::kDvSox), words(kern::kDvSoy), words(kern::kDvSoz),   words(kern::kDvSdx),
+        words(kern::kDvSdy), words(kern::kDvSdz), words(kern::kDvStmax), L.slots,
+        words(kern::kDvSvR), words(kern::kDvSvG), words(kern::kDvSvB)};
+    uint32_t* value[3] = {L.packed[0], L.packed[1], L.packed[2]};
+    uint32_t* const shadow_dst[11] = {out(sh.ox, s),   out(sh.oy, s),    out(sh.oz, s),
+                                      out(sh.dx, s),   out(sh.dy, s),    out(sh.dz, s),
+                                      out(sh.tmax, s), sh.id.data() + s, value[0],
+                                      value[1],        value[2]};
+    kern::compress_lanes(shadow_valid, L.size, shadow_src, shadow_dst, 11);
+    std::fill(sh.tmin.begin() + std::ptrdiff_t(s), sh.tmin.end(), 0.f);
+    ws.shadow_value.resize(s + shadows);
+    for (std::size_t j = 0; j < shadows; ++j)
+        ws.shadow_value[s + j] =
+            RGB{std::bit_cast<float>(value[0][j]), std::bit_cast<float>(value[1][j]),
+                std::bit_cast<float>(value[2][j])};
+    RayBatch& nx = ws.next;
+    const uint32_t* next_src[7] = {words(kern::kDvNox),
+                                   words(kern::kDvNoy),
+                                   words(kern::kDvNoz),
+                                   words(kern::kDvNdx),
+                                   words(kern::kDvNdy),
+                                   words(kern::kDvNdz),
+                                   L.slots};
+    uint32_t* const next_dst[7] = {out(nx.ox, n), out(nx.oy, n), out(nx.oz, n),   out(nx.dx, n),
+                                   out(nx.dy, n), out(nx.dz, n), nx.id.data() + n};
+    kern::compress_lanes(next_valid, L.size, next_src, next_dst, 7);
+    std::fill(nx.tmin.begin() + std::ptrdiff_t(n), nx.tmin.end(), 0.f);
+    std::fill(nx.tmax.begin() + std::ptrdiff_t(n), nx.tmax.end(), kInfinity);
+    // The continuing paths' state.
     for (std::size_t k = 0; k < L.size; ++k) {
-        const uint32_t slot = ws.rays.id[L.entry[k]];
-        if (shadow_valid[k] != 0.f) {
-            take_ray(ws.shadow, s, L, k, kern::kDvSox, kern::kDvSdx, L.col(kern::kDvStmax)[k],
-                     slot);
-            const Vec3 v = L.get3(kern::kDvSvR, k);
-            ws.shadow_value[s++] = RGB{v.x, v.y, v.z};
-        }
         if (next_valid[k] == 0.f) continue;
+        const uint32_t slot = L.slots[k];
         const Vec3 b = L.get3(kern::kDvNbetaR, k);
         ws.beta[slot] = RGB{b.x, b.y, b.z};
         ws.pdf_prev[slot] = L.col(kern::kDvNpdf)[k];
@@ -226,7 +238,6 @@ void PathIntegrator::read_lanes(PathWorkspace& ws, bool delta) const {
             ws.nondelta[slot] = uint8_t(std::min(2, ws.nondelta[slot] + 1));
             ws.chain_specular[slot] = 0;
         }
-        take_ray(ws.next, n++, L, k, kern::kDvNox, kern::kDvNdx, kInfinity, slot);
     }
 }
 

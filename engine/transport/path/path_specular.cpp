@@ -21,12 +21,14 @@ void PathIntegrator::fill_specular_lane(uint32_t depth, std::size_t lane, PathWo
     L.put3(kern::kDvEtaR, lane, m.eta);
     L.put3(kern::kDvKR, lane, m.k);
     L.col(kern::kDvLobeWeight)[lane] = m.weight;
-    L.col(kern::kDvUChoice)[lane] =
-        lane_number(ws, lane, KernelLanes::kRandLobe, depth, kPathDimBsdf);
-    L.col(kern::kDvURoulette)[lane] =
-        depth + 1 >= ctx_.settings.rr_depth
-            ? lane_number(ws, lane, KernelLanes::kRandRoulette, depth, kPathDimRoulette)
-            : 0.f;
+    // The numbers the kernel reads are in the table already when they were drawn as one.
+    if (!L.drawn) {
+        L.col(kern::kDvUChoice)[lane] =
+            lane_number(ws, lane, KernelLanes::kRandLobe, depth, kPathDimBsdf);
+        if (depth + 1 >= ctx_.settings.rr_depth)
+            L.col(kern::kDvURoulette)[lane] =
+                lane_number(ws, lane, KernelLanes::kRandRoulette, depth, kPathDimRoulette);
+    }
 }
 
 }  // namespace foton
