@@ -55,6 +55,9 @@ struct KernelMaterials {
     // Diffuse with Lambertian lobes alone: the irradiance cache takes its first vertex
     // (PathIntegrator::shade_cached).
     std::vector<uint8_t> lambertian;
+    // The same by scene object (its material's), so grouping a hit is one lookup.
+    std::vector<KernelKind> object_kernel;
+    std::vector<uint8_t> object_lambertian;
     kern::DiffuseRules rules;
 };
 

@@ -133,6 +133,10 @@ KernelMaterials PathIntegrator::kernel_materials() const {
         RGB rho;
         d.lambertian[k] = d.kernel[k] == KernelKind::Diffuse && ms[k].bsdf.lambert_albedo(rho);
     }
+    for (const Object& o : ctx_.scene.objects) {
+        d.object_kernel.push_back(d.kernel[o.material]);
+        d.object_lambertian.push_back(d.lambertian[o.material]);
+    }
     return d;
 }
 
