@@ -1,5 +1,5 @@
 // Google Benchmark: the shading kernels against their scalar twins on the same 128-lane table
-// (vertices per second): Lambertian (kernels/diffuse_shade.h) and specular
+// (vertices per second): Lambertian and glossy (kernels/diffuse_shade.h) and specular
 // (kernels/specular_shade.h) vertices, and the random-number tables the path tracer draws
 // for them (counter-based, Sobol', Z-Sobol'; numbers per second), and the light BVH's descent
 // (kernels/light_tree.h; picks per second, on a plaza of 4,096 lamps as bench/many_lights
@@ -90,6 +90,49 @@ void BM_ShadeDiffuse(benchmark::State& state) {
     state.counters["vertices/s"] =
         benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
     state.counters["width"] = double(kSimd ? shade_width() : 1);
+}
+
+// Glossy vertices on the diffuse table (kernels/glossy_lanes.h), a quarter each: Lambert +
+// modified Phong (exponent 40, the thesis' Phong), Lambert + Beckmann plastic (Cook-Torrance,
+// dielectric Fresnel), rough gold (Beckmann alone, conductor Fresnel), brushed aluminium
+// (Ashikhmin-Shirley 20 x 800, conductor Fresnel).
+template <bool kSimd>
+void BM_ShadeGlossy(benchmark::State& state) {
+    Table t;
+    std::mt19937 g(9);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (std::size_t i = 0; i < kLanes; ++i) {
+        const std::size_t kind = (i / 32) % 4;
+        t.col(kDvGlossKind)[i] = kind == 0   ? kGlossPhong
+                                 : kind == 3 ? kGlossCosPower
+                                             : kGlossBeckmann;
+        for (uint32_t c = kDvGlossR; c <= kDvGlossB; ++c) t.col(c)[i] = 0.8f;
+        t.col(kDvGlossNu)[i] = kind == 0 ? 40.f : kind == 3 ? 20.f : 0.15f;
+        t.col(kDvGlossNv)[i] = kind == 0 ? 40.f : kind == 3 ? 800.f : 0.15f;
+        t.col(kDvDiffuseWeight)[i] = kind < 2 ? 0.5f : 0.f;
+        if (kind >= 2)
+            for (uint32_t c = kDvRhoR; c <= kDvRhoB; ++c) t.col(c)[i] = 0.f;
+        t.col(kDvGlossWeight)[i] = 0.8f;
+        t.col(kDvGlossFirst)[i] = kind < 2 ? 0.f : 1.f;
+        t.col(kDvFresnel)[i] = kind == 1 ? 2.f : kind >= 2 ? 1.f : 0.f;
+        t.col(kDvIor)[i] = 1.5f;
+        t.col(kDvEtaR)[i] = 0.2f;
+        t.col(kDvEtaG)[i] = 0.4f;
+        t.col(kDvEtaB)[i] = 1.4f;
+        for (uint32_t c = kDvKR; c <= kDvKB; ++c) t.col(c)[i] = 3.f;
+        t.col(kDvUChoice)[i] = u(g);
+    }
+    const ShadeTable v{t.data.data(), kLanes};
+    const DiffuseRules rules{DiffuseMis::Power, true};
+    for (auto _ : state) {
+        if (kSimd)
+            shade_diffuse(v, kLanes, rules);
+        else
+            shade_diffuse_scalar(v, kLanes, rules);
+        benchmark::ClobberMemory();
+    }
+    state.counters["vertices/s"] =
+        benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // Mirrors and dielectrics alternating, on the diffuse table's surfaces.
@@ -212,6 +255,8 @@ void BM_LightPick(benchmark::State& state) {
 
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, true)->Name("shade_diffuse/simd");
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, false)->Name("shade_diffuse/scalar");
+BENCHMARK_TEMPLATE(BM_ShadeGlossy, true)->Name("shade_glossy/simd");
+BENCHMARK_TEMPLATE(BM_ShadeGlossy, false)->Name("shade_glossy/scalar");
 BENCHMARK_TEMPLATE(BM_ShadeSpecular, true)->Name("shade_specular/simd");
 BENCHMARK_TEMPLATE(BM_ShadeSpecular, false)->Name("shade_specular/scalar");
 BENCHMARK_TEMPLATE(BM_NumberTable, 0, true)->Name("numbers_uniform/simd");

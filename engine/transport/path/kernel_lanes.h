@@ -22,6 +22,10 @@ enum class KernelKind : uint8_t {
     Specular,  // kern::shade_specular: one mirror or dielectric lobe
 };
 
+// The diffuse kernel's lanes are grouped by their glossy lobe's kind (0: none), so that SIMD
+// registers hold one kind's lanes (Áfra et al.'s coherence extraction, by a counting sort).
+inline constexpr std::size_t kKernelGroups = 4;
+
 // A specular material as kern::shade_specular reads it (the kDvSpec.. columns).
 struct SpecularMaterial {
     float kind = 0.f;     // 1 mirror, 2 dielectric
@@ -58,6 +62,7 @@ struct KernelMaterials {
     // The same by scene object (its material's), so grouping a hit is one lookup.
     std::vector<KernelKind> object_kernel;
     std::vector<uint8_t> object_lambertian;
+    std::vector<uint8_t> object_group;  // a Diffuse object's glossy kind, < kKernelGroups
     kern::DiffuseRules rules;
 };
 

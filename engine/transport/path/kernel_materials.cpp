@@ -136,6 +136,7 @@ KernelMaterials PathIntegrator::kernel_materials() const {
     for (const Object& o : ctx_.scene.objects) {
         d.object_kernel.push_back(d.kernel[o.material]);
         d.object_lambertian.push_back(d.lambertian[o.material]);
+        d.object_group.push_back(uint8_t(d.glossy[o.material].kind));
     }
     return d;
 }

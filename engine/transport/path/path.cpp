@@ -95,10 +95,11 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
     const bool kernels = kernels_.enabled && depth < ctx_.settings.max_depth;
     ws.diffuse_entries.clear();
     ws.specular_entries.clear();
+    for (std::vector<uint32_t>& g : ws.diffuse_groups) g.clear();
     for (std::size_t i = 0; i < ws.rays.size(); ++i) {
         switch (kernels ? kernel_of(ws, i) : KernelKind::None) {
             case KernelKind::Diffuse:
-                ws.diffuse_entries.push_back(uint32_t(i));
+                ws.diffuse_groups[kernels_.object_group[ws.hits.geom[i]]].push_back(uint32_t(i));
                 break;
             case KernelKind::Specular:
                 ws.specular_entries.push_back(uint32_t(i));
@@ -108,6 +109,9 @@ void PathIntegrator::shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& 
                 break;
         }
     }
+    // Each glossy kind's lanes together (the order of lanes changes no path's result).
+    for (const std::vector<uint32_t>& g : ws.diffuse_groups)
+        ws.diffuse_entries.insert(ws.diffuse_entries.end(), g.begin(), g.end());
     shade_lanes(depth, KernelKind::Diffuse, ws);
     shade_lanes(depth, KernelKind::Specular, ws);
 }
