@@ -2,6 +2,7 @@
 // (several parameters, normal to grazing incidence), directional albedo (at most 1, equal to
 // the parameter for Lambert), Helmholtz reciprocity, and the delta lobes' discrete choices.
 #include <catch2/catch.hpp>
+#include <tuple>
 
 #include "chi_square.h"
 #include "engine/core/optics.h"
@@ -57,6 +58,12 @@ std::vector<NamedBsdf> continuous_models() {
     v.push_back({"ashikhmin_shirley 300/3",
                  single(Lobe::microfacet(
                      RGB{1.f}, MicrofacetDistribution::ashikhmin_shirley(300, 3), none))});
+    for (const auto& [name, ax, ay] :
+         {std::tuple{"ggx 0.06", 0.06f, 0.06f}, std::tuple{"ggx 0.3", 0.3f, 0.3f},
+          std::tuple{"ggx 0.9", 0.9f, 0.9f}, std::tuple{"ggx 0.05/0.5", 0.05f, 0.5f},
+          std::tuple{"ggx 0.7/0.1", 0.7f, 0.1f}})
+        v.push_back({name, single(Lobe::microfacet(
+                               RGB{1.f}, MicrofacetDistribution::trowbridge_reitz(ax, ay), none))});
     Bsdf plastic;
     plastic.add(Lobe::lambert(RGB{0.5f, 0.3f, 0.2f}));
     plastic.add(
@@ -72,6 +79,14 @@ std::vector<NamedBsdf> continuous_models() {
     gold.k = {3.983f, 2.385f, 1.603f};
     v.push_back({"rough gold (beckmann 0.2, conductor)",
                  single(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(0.2f), gold))});
+    v.push_back({"rough gold (ggx 0.2, conductor)",
+                 single(Lobe::microfacet(
+                     RGB{1.f}, MicrofacetDistribution::trowbridge_reitz(0.2f, 0.2f), gold))});
+    Bsdf ggx_plastic;
+    ggx_plastic.add(Lobe::lambert(RGB{0.5f, 0.3f, 0.2f}));
+    ggx_plastic.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::trowbridge_reitz(0.1f, 0.1f),
+                                     dielectric_f(1.5f)));
+    v.push_back({"plastic (lambert + ggx)", ggx_plastic});
     return v;
 }
 
@@ -196,7 +211,10 @@ TEST_CASE("microfacet distributions are normalised: D(h) cos(theta_h) integrates
                                          MicrofacetDistribution::beckmann(0.1f),
                                          MicrofacetDistribution::beckmann(0.7f),
                                          MicrofacetDistribution::ashikhmin_shirley(5, 80),
-                                         MicrofacetDistribution::ashikhmin_shirley(100, 10)};
+                                         MicrofacetDistribution::ashikhmin_shirley(100, 10),
+                                         MicrofacetDistribution::trowbridge_reitz(0.1f, 0.1f),
+                                         MicrofacetDistribution::trowbridge_reitz(0.8f, 0.8f),
+                                         MicrofacetDistribution::trowbridge_reitz(0.5f, 0.05f)};
     for (const MicrofacetDistribution& d : ds) {
         double sum = 0.0;
         const int nz = 4000, np = 256;
@@ -314,4 +332,77 @@ TEST_CASE("chi-square has the power to reject a slightly wrong pdf", "[bsdf]") {
         [&](const Vec3& wi) { return double(lobe_pdf(claimed, wo, wi, {})); });
     INFO(r.summary());
     CHECK(r.p_value < 1e-6);
+}
+
+TEST_CASE("Trowbridge-Reitz: Smith's masking is consistent with D, and the lobe's energy loss",
+          "[bsdf]") {
+    // The weak white furnace (Heitz 2014): the visible normals' density
+    // G1(wo) D(h) max(0, wo.h) / wo.z integrates to one over the hemisphere for every wo.
+    for (const auto& [ax, ay] : {std::pair{0.1f, 0.1f}, std::pair{0.6f, 0.6f},
+                                 std::pair{0.05f, 0.5f}, std::pair{1.5f, 0.8f}}) {
+        const MicrofacetDistribution d = MicrofacetDistribution::trowbridge_reitz(ax, ay);
+        for (float theta : {0.f, 45.f, 80.f}) {
+            const Vec3 wo = direction(theta, 0.4f);
+            double sum = 0.0;
+            const int nz = 3000, np = 512;
+            for (int i = 0; i < nz; ++i)
+                for (int j = 0; j < np; ++j) {
+                    const double z = (i + 0.5) / nz, phi = 2.0 * kPi * (j + 0.5) / np;
+                    const double r = std::sqrt(1.0 - z * z);
+                    const Vec3 h{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)};
+                    const double oh = std::max(0.f, dot(wo, h));
+                    sum += d.g1(wo) * d.D(h) * oh / wo.z * (1.0 / nz) * (2.0 * kPi / np);
+                }
+            INFO("alpha " << ax << "/" << ay << " at " << theta << " deg: " << sum);
+            CHECK(sum == Approx(1.0).epsilon(5e-3));
+        }
+    }
+    // The white furnace: a lobe without Fresnel term reflects what single scattering keeps,
+    // estimated by its own sampling and, independently, by quadrature of f cos. Smooth lobes
+    // keep almost all; rough ones lose what would scatter again among the microfacets or
+    // leave below the horizon (pbrt-v4's lobe loses the same: neither models multiple
+    // scattering). Measured: alpha 0.05: 0.9995 at normal incidence; 0.3: 0.877; 1: 0.307
+    // (half of the normals of alpha 1 lean past 45 degrees and reflect below the horizon).
+    auto lobe_of = [](float alpha) {
+        return Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::trowbridge_reitz(alpha, alpha),
+                                {});
+    };
+    auto sampled = [&](float alpha, float theta) {
+        const Lobe l = lobe_of(alpha);
+        const Vec3 wo = direction(theta, 0.2f);
+        const int n = 200000;
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) {
+            BsdfSample s;
+            if (lobe_sample(
+                    l, wo, 0.f,
+                    {rng::uniform(9, 2, uint64_t(i), 0), rng::uniform(9, 2, uint64_t(i), 1)}, {},
+                    s))
+                sum += s.f.r * std::fabs(s.wi.z) / s.pdf;
+        }
+        return sum / n;
+    };
+    auto quadrature = [&](float alpha, float theta) {
+        const Lobe l = lobe_of(alpha);
+        const Vec3 wo = direction(theta, 0.2f);
+        double a = 0.0;
+        const int nz = 4000, np = 512;
+        for (int i = 0; i < nz; ++i)
+            for (int j = 0; j < np; ++j) {
+                const double z = (i + 0.5) / nz, phi = 2.0 * kPi * (j + 0.5) / np;
+                const double r = std::sqrt(1.0 - z * z);
+                const Vec3 wi{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)};
+                a += lobe_f(l, wo, wi, {}).r * z * (1.0 / nz) * (2.0 * kPi / np);
+            }
+        return a;
+    };
+    for (const float alpha : {0.3f, 1.f})
+        for (const float theta : {0.f, 60.f}) {
+            INFO("alpha " << alpha << " at " << theta << " deg");
+            CHECK(sampled(alpha, theta) == Approx(quadrature(alpha, theta)).epsilon(1e-2));
+        }
+    CHECK(sampled(0.05f, 0.f) > 0.995);
+    CHECK(sampled(0.05f, 60.f) > 0.99);
+    CHECK(quadrature(0.3f, 0.f) == Approx(0.877).margin(0.01));
+    CHECK(quadrature(1.f, 0.f) == Approx(0.307).margin(0.01));
 }

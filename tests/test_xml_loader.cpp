@@ -230,9 +230,10 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
         obj(R"(<material type="microfacet" model="cook_torrance" kd="0.7" ks="0.3"><diffuse r="0.5" g="0.5" b="0.5"/></material>)") +
         obj(R"(<material type="mix"><material type="lambert" weight="0.5"/><material type="conductor" weight="0.4"/>
                                  <emission r="1" g="2" b="3" two_sided="true"/></material>)") +
+        obj(R"(<material type="microfacet" distribution="ggx" roughness="0.1" roughness_v="0.4" fresnel="conductor" preset="gold"/>)") +
         R"(</objects><renderer type="path" spp="7" mis="max" nee="false" rr_depth="5" time="12">
                               <adaptive pilot="4" max_spp="64" threshold="0.05" unbiased="true"/></renderer></scene>)");
-    REQUIRE(s.materials.size() == 8);
+    REQUIRE(s.materials.size() == 9);
     CHECK(s.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
     CHECK(s.materials[0].bsdf.lobe(0).color.b == 0.6f);
     CHECK(s.materials[1].bsdf.lobe(0).type == LobeType::OrenNayar);
@@ -248,6 +249,10 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     REQUIRE(s.materials[7].bsdf.size() == 2);
     CHECK(s.materials[7].bsdf.lobe(0).color.r == Approx(0.25f));  // 0.5 x the default 0.5
     CHECK(s.materials[7].emission.b == 3.f);
+    const MicrofacetDistribution& ggx = s.materials[8].bsdf.lobe(0).dist;
+    CHECK(ggx.kind == MicrofacetKind::TrowbridgeReitz);
+    CHECK(ggx.alpha == 0.1f);
+    CHECK(ggx.alpha_y == 0.4f);
     CHECK(s.materials[7].emission_two_sided);
     CHECK(s.render.integrator == "path");
     CHECK(s.render.run.spp == 7);
@@ -271,8 +276,10 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
                "</sphere></objects></scene>";
     };
     expect_error(mat(R"(<material type="velvet"/>)"), 5, "unknown material type 'velvet'");
-    expect_error(mat(R"(<material type="microfacet" distribution="ggx"/>)"), 5,
-                 "unknown distribution 'ggx'");
+    expect_error(mat(R"(<material type="microfacet" distribution="cauchy"/>)"), 5,
+                 "unknown distribution 'cauchy'");
+    expect_error(mat(R"(<material type="microfacet" distribution="ggx" roughness_v="3"/>)"), 5,
+                 "roughness_v must be in [0.002, 2]");
     expect_error(mat(R"(<material type="microfacet" model="phong"/>)"), 5,
                  "unknown microfacet model");
     expect_error(mat(R"(<material type="microfacet" model="cook_torrance" kd="0.8" ks="0.5"/>)"), 5,

@@ -136,7 +136,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
         case LobeType::Microfacet: {
             if (wo.z <= 0.f || wi.z <= 0.f) return RGB{0.f};
             const Vec3 h = normalize(wo + wi);
-            const float g = vcavity_g(wo, wi, h);
+            const float g =
+                l.dist.visible_normals() ? l.dist.smith_g(wo, wi) : vcavity_g(wo, wi, h);
             return l.color * l.fresnel.eval(dot(wi, h)) * (l.dist.D(h) * g / (4.f * wo.z * wi.z));
         }
         case LobeType::Mirror:
@@ -159,6 +160,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
         case LobeType::Microfacet: {
             if (wo.z <= 0.f || wi.z <= 0.f) return 0.f;
             const Vec3 h = normalize(wo + wi);
+            // Visible normals: G1(wo) D(h) (wo.h) / wo.z, over the reflection's 4 (wo.h).
+            if (l.dist.visible_normals()) return l.dist.g1(wo) * l.dist.D(h) / (4.f * wo.z);
             return l.dist.pdf_h(h) / (4.f * dot(wo, h));
         }
         case LobeType::Mirror:
@@ -195,7 +198,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
         }
         case LobeType::Microfacet: {
             if (wo.z <= 0.f) return false;
-            const Vec3 h = l.dist.sample_h(u);
+            const Vec3 h =
+                l.dist.visible_normals() ? l.dist.sample_visible(wo, u) : l.dist.sample_h(u);
             const float oh = dot(wo, h);
             if (oh <= 0.f) return false;
             s.wi = h * (2.f * oh) - wo;

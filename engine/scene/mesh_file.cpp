@@ -161,15 +161,17 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
             m.bsdf.add(Lobe::phong(ks, f.exponent));
         }
         if (metal > 0.f) {
-            // glTF's metal: the base colour as a conductor's normal reflectance, GGX alpha =
-            // roughness^2 rendered as Beckmann (foton's microfacet model) of that alpha.
+            // glTF's metal: the base colour as a conductor's normal reflectance, GGX
+            // (Trowbridge–Reitz) of alpha = roughness^2.
             const Fresnel fr = conductor_from_reflectance(f.diffuse);
             const float alpha = f.roughness * f.roughness;
             if (alpha < 0.002f)
                 m.bsdf.add(Lobe::mirror(RGB{metal}, fr));
             else
-                m.bsdf.add(Lobe::microfacet(
-                    RGB{metal}, MicrofacetDistribution::beckmann(std::min(alpha, 2.f)), fr));
+                m.bsdf.add(Lobe::microfacet(RGB{metal},
+                                            MicrofacetDistribution::trowbridge_reitz(
+                                                std::min(alpha, 2.f), std::min(alpha, 2.f)),
+                                            fr));
         }
     }
     scene.materials.push_back(m);

@@ -139,27 +139,21 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
     m.c_diffuse = 0.f;
     m.base_color = RGB{0.f};
     const std::string what = "Material \"" + type + "\"";
-    // Rough lobes: pbrt's Trowbridge–Reitz alpha, rendered with foton's Beckmann of the same
-    // alpha (their widths agree; the tails differ). Below pbrt's smoothness limit: specular.
-    auto alpha = [&](bool& smooth) {
+    // Rough lobes: pbrt's Trowbridge–Reitz of alpha_x, alpha_y (remapped from roughness as
+    // pbrt-v4's remaproughness does). Below pbrt's smoothness limit (both under 1e-3):
+    // specular.
+    auto distribution = [&](bool& smooth) {
         const bool remap = p.boolean("remaproughness", true);
         float u = float_value(p, "roughness", 0.f), v = u;
         if (p.has("uroughness") || p.has("vroughness")) {
             u = float_value(p, "uroughness", u);
             v = float_value(p, "vroughness", v);
-            if (u != v)
-                warn(file(), t.line, what + ": anisotropic roughness rendered isotropic (mean)");
         }
-        const float a = alpha_of(0.5f * (u + v), remap);
-        smooth = a < 1e-3f;
-        if (!smooth && a > 2.f) fail(t, what + ": roughness gives alpha above 2");
-        if (!smooth) {
-            warn(file(), t.line,
-                 what +
-                     ": Trowbridge-Reitz roughness rendered with a Beckmann distribution of "
-                     "the same alpha");
-        }
-        return std::clamp(a, 0.002f, 2.f);
+        const float ax = alpha_of(u, remap), ay = alpha_of(v, remap);
+        smooth = std::max(ax, ay) < 1e-3f;
+        if (!smooth && std::max(ax, ay) > 2.f) fail(t, what + ": roughness gives alpha above 2");
+        return MicrofacetDistribution::trowbridge_reitz(std::clamp(ax, 1e-4f, 2.f),
+                                                        std::clamp(ay, 1e-4f, 2.f));
     };
     if (type == "diffuse") {
         const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
@@ -182,11 +176,11 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                 fail(t, what + ": eta must be positive");
         }
         bool smooth = true;
-        const float a = alpha(smooth);
+        const MicrofacetDistribution d = distribution(smooth);
         if (smooth)
             m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
         else
-            m.bsdf.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(a), f));
+            m.bsdf.add(Lobe::microfacet(RGB{1.f}, d, f));
     } else if (type == "dielectric") {
         float eta = 1.5f;
         if (const Param* q = p.find("eta")) {
@@ -200,7 +194,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         }
         if (!(eta > 0.f)) fail(t, what + ": eta must be positive");
         bool smooth = true;
-        alpha(smooth);
+        distribution(smooth);
         if (!smooth) fail(t, what + ": rough dielectrics are not supported (roughness must be 0)");
         m.ior = eta;
         m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
@@ -213,7 +207,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         const float eta = p.real("eta", 1.5f);
         if (!(eta > 1.f)) fail(t, what + ": eta must be above 1");
         bool smooth = true;
-        const float a = alpha(smooth);
+        const MicrofacetDistribution d = distribution(smooth);
         Fresnel f;
         f.kind = FresnelKind::Dielectric;
         f.ior = eta;
@@ -229,7 +223,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         if (smooth)
             m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
         else
-            m.bsdf.add(Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::beckmann(a), f));
+            m.bsdf.add(Lobe::microfacet(RGB{1.f}, d, f));
         for (const char* layer : {"thickness", "albedo", "g", "maxdepth", "nsamples"})
             if (p.has(layer))
                 warn(file(), t.line, what + ": '" + layer + "' ignored by the approximation");

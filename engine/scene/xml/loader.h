@@ -189,7 +189,7 @@ class Loader {
     void material_texture(const pugi::xml_node& n, Material& m);
     void material_emission(const pugi::xml_node& n, Material& m) const;
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
-    float roughness(const pugi::xml_node& n) const;
+    float roughness(const pugi::xml_node& n, const char* attr = "roughness") const;
     float exponent(const pugi::xml_node& n, const char* attr, float fallback) const;
     MicrofacetDistribution distribution(const pugi::xml_node& n, const char* fallback) const;
     Affine parse_transform(const pugi::xml_node& object) const;

@@ -81,7 +81,8 @@ void Loader::lambert_material(const pugi::xml_node& n, bool top, Material& m) {
 
 void Loader::conductor_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
-    check_material(n, top, {"preset", "roughness", "distribution", "exponent", "nu", "nv"},
+    check_material(n, top,
+                   {"preset", "roughness", "roughness_v", "distribution", "exponent", "nu", "nv"},
                    {"eta", "k", "reflectance"});
     const Fresnel f = conductor_fresnel(n);
     const bool rough = n.attribute("roughness") && number(n, "roughness") > 0.f;
@@ -105,8 +106,8 @@ void Loader::dielectric_material(const pugi::xml_node& n, bool top, Material& m)
 void Loader::microfacet_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
     check_material(n, top,
-                   {"model", "distribution", "roughness", "exponent", "nu", "nv", "fresnel", "ior",
-                    "preset", "kd", "ks"},
+                   {"model", "distribution", "roughness", "roughness_v", "exponent", "nu", "nv",
+                    "fresnel", "ior", "preset", "kd", "ks"},
                    {"specular", "diffuse", "eta", "k", "reflectance"});
     const std::string model =
         n.attribute("model") ? n.attribute("model").value() : "torrance_sparrow";

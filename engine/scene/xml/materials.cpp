@@ -46,12 +46,12 @@ Fresnel Loader::conductor_fresnel(const pugi::xml_node& n) const {
 
 // The limits that keep every lobe finite in float (documented in scenes/README.md): a
 // microfacet roughness in [2e-3, 2] (smoother is a specular lobe), an exponent in (0, 1e6].
-float Loader::roughness(const pugi::xml_node& n) const {
-    const float a = positive(n, "roughness", 0.2f);
+float Loader::roughness(const pugi::xml_node& n, const char* attr) const {
+    const float a = positive(n, attr, 0.2f);
     if (a < 2e-3f || a > 2.f)
-        fail(n,
-             "roughness must be in [0.002, 2] (use a specular conductor or dielectric for "
-             "smoother surfaces)");
+        fail(n, std::string(attr) +
+                    " must be in [0.002, 2] (use a specular conductor or dielectric for "
+                    "smoother surfaces)");
     return a;
 }
 
@@ -76,11 +76,17 @@ MicrofacetDistribution Loader::distribution(const pugi::xml_node& n, const char*
         return MicrofacetDistribution::blinn(e);
     }
     if (d == "beckmann") return MicrofacetDistribution::beckmann(roughness(n));
+    if (d == "ggx" || d == "trowbridge_reitz") {
+        // alpha along the tangent, and across it when roughness_v is given (anisotropic).
+        const float ax = roughness(n);
+        const float ay = n.attribute("roughness_v") ? roughness(n, "roughness_v") : ax;
+        return MicrofacetDistribution::trowbridge_reitz(ax, ay);
+    }
     if (d == "ashikhmin_shirley" || d == "anisotropic") {
         return MicrofacetDistribution::ashikhmin_shirley(exponent(n, "nu", 100.f),
                                                          exponent(n, "nv", 100.f));
     }
-    fail(n, "unknown distribution '" + d + "' (blinn, beckmann, ashikhmin_shirley)");
+    fail(n, "unknown distribution '" + d + "' (blinn, beckmann, ashikhmin_shirley, ggx)");
 }
 
 // The readers of each type, in the order the unknown-type message lists them.

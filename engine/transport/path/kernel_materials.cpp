@@ -33,10 +33,13 @@ bool glossy_lobe(const Lobe& l, GlossyMaterial& g) {
         if (l.dist.kind == MicrofacetKind::Beckmann) {
             g.kind = kern::kGlossBeckmann;
             g.nu = g.nv = l.dist.alpha;
-        } else {
+        } else if (l.dist.kind == MicrofacetKind::Blinn ||
+                   l.dist.kind == MicrofacetKind::AshikhminShirley) {
             g.kind = kern::kGlossCosPower;
             g.nu = l.dist.nu;
             g.nv = l.dist.nv;
+        } else {
+            return false;  // Trowbridge–Reitz: shade_vertex's, for now
         }
     } else {
         return false;
