@@ -3,6 +3,8 @@
 // lobes of engine/scene/bsdf.cpp and microfacet.cpp, operation for operation, with powers,
 // exponentials and logarithms by glossy_math.h's polynomials): its f and pdf at a pair of
 // local directions and a sampled direction. The scalar twin is glossy_scalar.h.
+#include <limits>
+
 #include "shade_lanes.h"
 
 namespace foton::kern::lanes {
@@ -13,8 +15,8 @@ struct GlossyLanes {
     V3 color;
     FloatV fresnel, ior;
     V3 eta, k;
-    MaskV phong, beckmann, cos_power;
-    bool any_phong = false, any_microfacet = false, any_anisotropic = false;
+    MaskV phong, beckmann, cos_power, ggx;
+    bool any_phong = false, any_microfacet = false, any_anisotropic = false, any_ggx = false;
 
     GlossyLanes() = default;
     explicit GlossyLanes(const Lanes& l)
@@ -29,9 +31,12 @@ struct GlossyLanes {
           phong(kind == FloatV(kGlossPhong)),
           beckmann(kind == FloatV(kGlossBeckmann)),
           cos_power(kind == FloatV(kGlossCosPower)),
+          ggx(kind == FloatV(kGlossGgx)),
           any_phong(xsimd::any(phong)),
-          any_microfacet(xsimd::any(beckmann | cos_power)),
-          any_anisotropic(xsimd::any(cos_power & (nu != nv))) {}
+          any_microfacet(xsimd::any(beckmann | cos_power | ggx)),
+          any_anisotropic(xsimd::any(cos_power & (nu != nv))),
+          any_ggx(xsimd::any(ggx)) {}
+    MaskV microfacet() const { return beckmann | cos_power | ggx; }
 };
 
 // Fresnel::eval: 1, a dielectric's (from outside, index ior) or a conductor's per channel.
@@ -69,7 +74,22 @@ inline FloatV glossy_d(const GlossyLanes& g, const V3& h) {
                           FloatV(0.5f * kDiffuseInvPi) * pow_poly(c, e);
         d = xsimd::select(g.cos_power, dc, d);
     }
+    if (g.any_ggx) {
+        const FloatV x = h.x / g.nu, y = h.y / g.nv;
+        const FloatV s = c * c + x * x + y * y;
+        const FloatV dg = one / ((((FloatV(kDiffusePi) * g.nu) * g.nv) * s) * s);
+        d = xsimd::select(g.ggx, dg, d);
+    }
     return xsimd::select(c > zero, d, zero);
+}
+
+// Trowbridge–Reitz's Smith Lambda (microfacet.cpp): infinite at the horizon.
+inline FloatV ggx_lambda(const GlossyLanes& g, const V3& w) {
+    const FloatV one(1.f), z2 = w.z * w.z;
+    const FloatV ax = w.x * g.nu, ay = w.y * g.nv;
+    const FloatV a2t2 = (ax * ax + ay * ay) / z2;
+    return xsimd::select(z2 == FloatV(0.f), FloatV(std::numeric_limits<float>::infinity()),
+                         FloatV(0.5f) * (simd::vsqrt(one + a2t2) - one));
 }
 
 // lobe_f and lobe_pdf of the glossy lobe at local wo, wi (0 where it has none).
@@ -99,13 +119,43 @@ inline void glossy_eval(const GlossyLanes& g, const V3& wo, const V3& wi, V3& f,
             simd::vmin(kg * xsimd::abs(wi.z), simd::vmin(kg * xsimd::abs(wo.z), one)));
         const V3 fr = glossy_fresnel(g, dot(wi, h));
         const FloatV d = glossy_d(g, h);
-        const FloatV kf = d * gv / ((FloatV(4.f) * wo.z) * wi.z);
+        FloatV shadowing = gv;
+        FloatV pm = (d * xsimd::abs(h.z)) / (FloatV(4.f) * oh_signed);
+        if (g.any_ggx) {
+            // Smith's height-correlated G, and the visible normals' pdf G1(wo) D / (4 wo.z).
+            const FloatV lo = ggx_lambda(g, wo), li = ggx_lambda(g, wi);
+            shadowing = xsimd::select(g.ggx, one / ((one + lo) + li), shadowing);
+            pm = xsimd::select(g.ggx, ((one / (one + lo)) * d) / (FloatV(4.f) * wo.z), pm);
+        }
+        const FloatV kf = d * shadowing / ((FloatV(4.f) * wo.z) * wi.z);
         const V3 fm{(g.color.x * fr.x) * kf, (g.color.y * fr.y) * kf, (g.color.z * fr.z) * kf};
-        const FloatV pm = (d * xsimd::abs(h.z)) / (FloatV(4.f) * oh_signed);
-        const MaskV on = (g.beckmann | g.cos_power) & up;
+        const MaskV on = g.microfacet() & up;
         f = select(on, fm, f);
         pdf = xsimd::select(on, pm, pdf);
     }
+}
+
+// MicrofacetDistribution::sample_visible for W lanes (Heitz 2018), the azimuth's sine and
+// cosine given.
+inline V3 ggx_visible_normal(const GlossyLanes& g, const V3& wo, const FloatV& u0,
+                             const FloatV& sin_p, const FloatV& cos_p) {
+    const FloatV zero(0.f), one(1.f);
+    const V3 ws{g.nu * wo.x, g.nv * wo.y, wo.z};
+    const V3 wh = ws * (one / simd::vsqrt(dot(ws, ws)));
+    const FloatV l2 = wh.x * wh.x + wh.y * wh.y;
+    const FloatV il = one / simd::vsqrt(l2);
+    const MaskV tilted = l2 > zero;
+    const V3 t1{xsimd::select(tilted, neg(wh.y) * il, one), xsimd::select(tilted, wh.x * il, zero),
+                zero};
+    const V3 t2 = cross(wh, t1);
+    const FloatV r = simd::vsqrt(u0);
+    const FloatV p1 = r * cos_p;
+    const FloatV s = FloatV(0.5f) * (one + wh.z);
+    const FloatV p2 = (one - s) * simd::vsqrt(simd::vmax(one - p1 * p1, zero)) + s * (r * sin_p);
+    const FloatV pz = simd::vsqrt(simd::vmax((one - p1 * p1) - p2 * p2, zero));
+    const V3 nh = (t1 * p1 + t2 * p2) + wh * pz;
+    const V3 hs{g.nu * nh.x, g.nv * nh.y, simd::vmax(FloatV(1e-6f), nh.z)};
+    return hs * (one / simd::vsqrt(dot(hs, hs)));
 }
 
 // lobe_sample's direction for the glossy lobe from u (local; `ok` false where it gives none):
@@ -159,10 +209,11 @@ inline V3 glossy_sample(const GlossyLanes& g, const V3& wo, const FloatV& u0, co
             cos_t = xsimd::select(g.cos_power, pow_poly(u0, one / (e + two)), cos_t);
         }
         const FloatV sin_t = simd::vsqrt(simd::vmax(one - cos_t * cos_t, zero));
-        const V3 h{sin_t * cp, sin_t * sp, cos_t};
+        V3 h{sin_t * cp, sin_t * sp, cos_t};
+        if (g.any_ggx) h = select(g.ggx, ggx_visible_normal(g, wo, u0, sin_p, cos_p), h);
         const FloatV oh = dot(wo, h);
         const V3 wm = h * (two * oh) - wo;
-        const MaskV micro = g.beckmann | g.cos_power;
+        const MaskV micro = g.microfacet();
         wi = select(micro, wm, wi);
         ok = ok & (~micro | (oh > zero));
     }

@@ -12,7 +12,8 @@ namespace foton::kern {
 // kDvLkind's values.
 inline constexpr float kLightParallelogram = 1.f, kLightTriangle = 2.f, kLightSphere = 3.f;
 // kDvGlossKind's values.
-inline constexpr float kGlossPhong = 1.f, kGlossBeckmann = 2.f, kGlossCosPower = 3.f;
+inline constexpr float kGlossPhong = 1.f, kGlossBeckmann = 2.f, kGlossCosPower = 3.f,
+                       kGlossGgx = 4.f;
 
 enum ShadeColumn : uint32_t {
     // The surface: position, geometric and shading normals (unit, facing the incoming ray),
@@ -74,7 +75,9 @@ enum ShadeColumn : uint32_t {
     kDvOnB,
     // A glossy lobe beside (or instead of) the diffuse one, kDvGlossKind: 0 none, 1 modified
     // Phong, 2 a Beckmann microfacet lobe, 3 a cos^e microfacet lobe (Blinn: nu = nv;
-    // Ashikhmin–Shirley: nu along the shading frame's first tangent). Its tint (the
+    // Ashikhmin–Shirley: nu along the shading frame's first tangent), 4 a Trowbridge–Reitz
+    // (GGX) microfacet lobe (alpha_x in kDvGlossNu, alpha_y in kDvGlossNv; Smith's shadowing,
+    // visible-normal sampling). Its tint (the
     // microfacet's Fresnel term in kDvFresnel.. below), Phong's exponent or Beckmann's slope
     // in kDvGlossNu, the cos^e exponents in kDvGlossNu and kDvGlossNv; both lobes' sampling
     // weights (a material without a diffuse lobe: 0 and rho 0) and 1 when the glossy lobe

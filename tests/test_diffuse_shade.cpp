@@ -173,6 +173,8 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"cornell-caustics.xml", {{"rr_depth", "1"}}},
         {"cornell-box.xml", {{"mis", "power"}}},
         {"materials.xml", {{"mis", "balance"}}},
+        // GGX lobes (isotropic and anisotropic, conductor and plastic) in the glossy lanes.
+        {"ggx-spheres.xml", {{"mis", "power"}}},
         // Triangles of emissive meshes sampled in the kernel: chosen by area within the mesh,
         // and each its own light under the light BVH.
         {"textured-meshes.xml", {{"mis", "power"}}},

@@ -1,6 +1,6 @@
 // The glossy lobes of the diffuse shading kernel (kernels/glossy_lanes.h): the log2/exp2
 // polynomials they use against libm, the SIMD kernel bit for bit equal to its scalar twin on
-// random vertices carrying Phong, Beckmann, Blinn and Ashikhmin–Shirley lobes (alone or
+// random vertices carrying Phong, Beckmann, Blinn, Ashikhmin–Shirley and GGX lobes (alone or
 // beside a Lambertian or Oren–Nayar lobe, in either order, with each Fresnel term), and the
 // twin's continuation and light sample equal to the engine's Bsdf::sample, f and pdf up to
 // the polynomials' rounding.
@@ -55,7 +55,7 @@ void make_glossy(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bsdf
         }
         const RGB tint{0.3f + 0.7f * u01(g), 0.8f, 0.2f + 0.8f * u01(g)};
         Lobe glossy;
-        switch (i % 5) {
+        switch (i % 6) {
             case 0:
                 glossy = Lobe::phong(tint, 1.f + 500.f * u01(g) * u01(g));
                 break;
@@ -68,6 +68,13 @@ void make_glossy(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bsdf
                 glossy = Lobe::microfacet(tint, MicrofacetDistribution::blinn(e), fr);
                 break;
             }
+            case 4:
+                glossy = Lobe::microfacet(
+                    tint,
+                    MicrofacetDistribution::trowbridge_reitz(
+                        0.02f + 0.8f * u01(g) * u01(g), i % 12 == 4 ? 0.3f : 0.02f + 0.8f * u01(g)),
+                    fr);
+                break;
             default:
                 glossy = Lobe::microfacet(
                     tint,
@@ -80,16 +87,21 @@ void make_glossy(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bsdf
         if (!alone) bsdfs[i].add(diffuse);
         if (!first && !alone) bsdfs[i].add(glossy);
         const int gi = first || alone ? 0 : 1;
-        t.at(kDvGlossKind, i) = glossy.type == LobeType::Phong                 ? kGlossPhong
-                                : glossy.dist.kind == MicrofacetKind::Beckmann ? kGlossBeckmann
-                                                                               : kGlossCosPower;
+        const MicrofacetKind mk = glossy.dist.kind;
+        const bool alpha_kind =
+            mk == MicrofacetKind::Beckmann || mk == MicrofacetKind::TrowbridgeReitz;
+        t.at(kDvGlossKind, i) = glossy.type == LobeType::Phong          ? kGlossPhong
+                                : mk == MicrofacetKind::Beckmann        ? kGlossBeckmann
+                                : mk == MicrofacetKind::TrowbridgeReitz ? kGlossGgx
+                                                                        : kGlossCosPower;
         t.set3(kDvGlossR, i, {tint.r, tint.g, tint.b});
-        t.at(kDvGlossNu, i) = glossy.type == LobeType::Phong                 ? glossy.exponent
-                              : glossy.dist.kind == MicrofacetKind::Beckmann ? glossy.dist.alpha
-                                                                             : glossy.dist.nu;
-        t.at(kDvGlossNv, i) = glossy.type == LobeType::Phong                 ? glossy.exponent
-                              : glossy.dist.kind == MicrofacetKind::Beckmann ? glossy.dist.alpha
-                                                                             : glossy.dist.nv;
+        t.at(kDvGlossNu, i) = glossy.type == LobeType::Phong ? glossy.exponent
+                              : alpha_kind                   ? glossy.dist.alpha
+                                                             : glossy.dist.nu;
+        t.at(kDvGlossNv, i) = glossy.type == LobeType::Phong          ? glossy.exponent
+                              : mk == MicrofacetKind::Beckmann        ? glossy.dist.alpha
+                              : mk == MicrofacetKind::TrowbridgeReitz ? glossy.dist.alpha_y
+                                                                      : glossy.dist.nv;
         t.at(kDvDiffuseWeight, i) = alone ? 0.f : bsdfs[i].weight(1 - gi);
         t.at(kDvGlossWeight, i) = bsdfs[i].weight(gi);
         t.at(kDvGlossFirst, i) = gi == 0 ? 1.f : 0.f;
@@ -196,7 +208,7 @@ TEST_CASE("Glossy shading lanes: the twin samples and weighs as the engine's BSD
     // The light samples as given (the kernel's own light sampling is the diffuse tests').
     for (std::size_t i = 0; i < n; ++i) t.at(kDvLkind, i) = 0.f;
     shade_diffuse_scalar(t.view(), n, DiffuseRules{DiffuseMis::Balance, false});
-    std::size_t compared = 0, lit = 0, disagree = 0, per_kind[4] = {0, 0, 0, 0};
+    std::size_t compared = 0, lit = 0, disagree = 0, per_kind[5] = {0, 0, 0, 0, 0};
     for (std::size_t i = 0; i < n; ++i) {
         if (t.at(kDvGlossKind, i) == 0.f) continue;
         const Vec3 ns = get3(t, kDvNsx, i), ng = get3(t, kDvNgx, i), wo = get3(t, kDvWox, i);
@@ -249,5 +261,5 @@ TEST_CASE("Glossy shading lanes: the twin samples and weighs as the engine's BSD
     CHECK(disagree <= n / 500);
     CHECK(compared > n / 5);
     CHECK(lit > n / 10);
-    for (std::size_t k = 1; k <= 3; ++k) CHECK(per_kind[k] > n / 50);
+    for (std::size_t k = 1; k <= 4; ++k) CHECK(per_kind[k] > n / 50);
 }

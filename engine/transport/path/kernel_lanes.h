@@ -24,7 +24,7 @@ enum class KernelKind : uint8_t {
 
 // The diffuse kernel's lanes are grouped by their glossy lobe's kind (0: none), so that SIMD
 // registers hold one kind's lanes (Áfra et al.'s coherence extraction, by a counting sort).
-inline constexpr std::size_t kKernelGroups = 4;
+inline constexpr std::size_t kKernelGroups = 5;
 
 // A specular material as kern::shade_specular reads it (the kDvSpec.. columns).
 struct SpecularMaterial {
@@ -39,9 +39,10 @@ struct SpecularMaterial {
 // A diffuse kernel material's glossy lobe as kern::shade_diffuse reads it (the kDvGloss..
 // columns, the Fresnel term in the kDvFresnel.. columns).
 struct GlossyMaterial {
-    float kind = 0.f;  // 0 none, kern::kGlossPhong, kGlossBeckmann, kGlossCosPower
+    float kind = 0.f;  // 0 none, kern::kGlossPhong, kGlossBeckmann, kGlossCosPower, kGlossGgx
     RGB color;
-    float nu = 0.f, nv = 0.f;  // Phong's exponent or Beckmann's alpha; cos^e's exponents
+    float nu = 0.f, nv = 0.f;  // Phong's exponent or Beckmann's alpha; cos^e's exponents;
+                               // GGX's alpha_x, alpha_y
     float diffuse_weight = 0.f, glossy_weight = 0.f;
     float glossy_first = 0.f;  // 1 when it comes before the diffuse lobe in the BSDF
     float fresnel = 0.f;       // 0 none, 1 conductor, 2 dielectric

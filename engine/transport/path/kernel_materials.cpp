@@ -39,7 +39,9 @@ bool glossy_lobe(const Lobe& l, GlossyMaterial& g) {
             g.nu = l.dist.nu;
             g.nv = l.dist.nv;
         } else {
-            return false;  // Trowbridge–Reitz: shade_vertex's, for now
+            g.kind = kern::kGlossGgx;
+            g.nu = l.dist.alpha;
+            g.nv = l.dist.alpha_y;
         }
     } else {
         return false;

@@ -101,7 +101,7 @@ struct PathWorkspace : IntegratorWorkspace {
     CacheWorkspace* cache_workspace() override { return &cache; }
     // The bounce's hits the SIMD kernels shade (batch entries), and their lanes.
     std::vector<uint32_t> diffuse_entries, specular_entries;
-    // The diffuse kernel's hits by lobe group (plain diffuse, Phong, Beckmann, cos^e), joined
+    // The diffuse kernel's hits by lobe group (plain diffuse, Phong, Beckmann, cos^e, GGX), joined
     // into diffuse_entries so that a register's lanes mostly run one glossy lobe's code.
     std::vector<uint32_t> diffuse_groups[kKernelGroups];
     KernelLanes lanes;
