@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
+#include <tuple>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
@@ -330,7 +331,7 @@ TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
 
 TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fast]") {
     const Scene s = world(R"(PixelFilter "gaussian"
-        Sampler "halton" "integer pixelsamples" 8
+        Sampler "pmj02bn" "integer pixelsamples" 8
         Integrator "volpath" "integer maxdepth" 3 "float foo" 1)",
                           R"(Material "diffuse" "float sigma" [ 0 ]
         Shape "sphere")");
@@ -340,7 +341,7 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
         return false;
     };
     CHECK(has("test.pbrt:1: PixelFilter \"gaussian\""));
-    CHECK(has("test.pbrt:2: Sampler \"halton\""));
+    CHECK(has("test.pbrt:2: Sampler \"pmj02bn\""));
     CHECK(has("test.pbrt:3: unsupported parameter 'float foo' of Integrator \"volpath\""));
     CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));
     CHECK(s.renderer.text("spp") == "8");
@@ -355,6 +356,29 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     for (const std::string& w : b.warnings)
         said |= w.find("visualizeweights ignored") != std::string::npos;
     CHECK(said);
+}
+
+TEST_CASE("pbrt-v4: the low-discrepancy samplers are foton's", "[pbrt][fast]") {
+    const std::vector<std::tuple<std::string, std::string, bool>> cases = {
+        {"\"sobol\"", "sobol", false},
+        {"\"zsobol\"", "zsobol", false},
+        {"\"halton\"", "halton", false},
+        {"\"sobol\" \"string randomization\" \"owen\"", "sobol", false},
+        {"\"halton\" \"string randomization\" \"permutedigits\"", "halton", false},
+        {"\"paddedsobol\"", "sobol", true},
+        {"\"zsobol\" \"string randomization\" \"none\"", "zsobol", true},
+        {"\"pmj02bn\"", "jittered", true},
+        {"\"independent\"", "random", false},
+        {"\"stratified\" \"bool jitter\" false", "regular", false}};
+    for (const auto& [decl, ours, warned] : cases) {
+        const Scene s =
+            world("Sampler " + decl + " \"integer pixelsamples\" 4", "Shape \"sphere\"");
+        INFO(decl);
+        CHECK(s.renderer.text("sampler") == ours);
+        bool said = false;
+        for (const std::string& w : s.warnings) said |= w.find("Sampler") != std::string::npos;
+        CHECK(said == warned);
+    }
 }
 
 TEST_CASE("pbrt-v4: the path integrator's lightsampler is foton's light_selection",

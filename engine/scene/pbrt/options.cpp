@@ -79,12 +79,26 @@ void Importer::sampler(const Token& t, const std::string& type, const ParamList&
                       t.line);
     } else if (type == "independent") {
         renderer_.set("sampler", "random", file(), t.line);
-    } else if (type == "halton" || type == "sobol" || type == "zsobol" || type == "paddedsobol" ||
-               type == "pmj02bn") {
+    } else if (type == "halton" || type == "sobol" || type == "zsobol" || type == "paddedsobol") {
+        // foton's own low-discrepancy samplers; paddedsobol's per-dimension padding is
+        // rendered with the Sobol' sampler's (global) sequence.
+        const std::string ours = type == "paddedsobol" ? "sobol" : type;
+        if (type == "paddedsobol")
+            warn(file(), t.line, "Sampler \"paddedsobol\" is rendered with foton's sobol sampler");
+        renderer_.set("sampler", ours, file(), t.line);
+        // pbrt-v4 scrambles by default (Owen for the Sobol' family, digit permutations for
+        // Halton), as foton always does; other randomizations are not available.
+        const std::string def = type == "halton" ? "permutedigits" : "fastowen";
+        const std::string r = p.text("randomization", def);
+        const bool same = r == def || (type != "halton" && r == "owen");
+        if (!same)
+            warn(file(), t.line,
+                 "Sampler \"" + type + "\": randomization \"" + r + "\" is rendered with foton's " +
+                     (type == "halton" ? "digit permutations" : "Owen scrambling"));
+    } else if (type == "pmj02bn") {
         warn(file(), t.line,
-             "Sampler \"" + type + "\" is not available: foton's jittered sampler is used");
+             "Sampler \"pmj02bn\" is not available: foton's jittered sampler is used");
         renderer_.set("sampler", "jittered", file(), t.line);
-        p.has("randomization");  // a setting of the sampler replaced above
     } else {
         fail(t, "unknown sampler '" + type + "'");
     }
