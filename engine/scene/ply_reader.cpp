@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "engine/core/decompress.h"
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
 
@@ -332,7 +333,8 @@ TriangleMesh parse_ply(const std::string& bytes, const std::string& name) {
 }
 
 TriangleMesh load_ply(const std::string& path) {
-    return parse_ply(read_input_file(path, kMaxMeshFileBytes, "mesh file"), path);
+    // .ply.gz and .ply.xz as public scene collections ship them.
+    return parse_ply(read_input_file_decompressed(path, kMaxMeshFileBytes, "mesh file"), path);
 }
 
 }  // namespace foton

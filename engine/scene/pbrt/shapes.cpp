@@ -101,9 +101,12 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         if (rel.empty()) fail(t, what + " needs \"string filename\"");
         if (p.has("displacement")) fail(t, what + ": displacement is not supported");
         const std::string path = input_path(t, "mesh file", rel, kMaxMeshFileBytes);
-        if (std::filesystem::path(path).extension() == ".gz")
-            fail(t, "compressed PLY files (.ply.gz) are not supported");
-        m = load_ply(path);
+        try {
+            m = load_ply(path);
+        } catch (const InputError& e) {
+            // The mesh's own problem (a corrupt .ply.gz, a bad header), at the Shape's line.
+            fail(t, e.what());
+        }
         m.name = rel;
         for (std::size_t i = 0; i < m.normals.size(); i += 3)
             normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
