@@ -7,6 +7,7 @@
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
 #include "engine/film/image_io.h"
+#include "engine/film/pfm_reader.h"
 
 namespace foton {
 
@@ -71,17 +72,18 @@ TextureImage load_texture_image(const std::string& path, bool linear) {
     TextureImage img;
     img.path = path;
     const std::string ext = lower_extension(path);
-    if (ext == ".exr") {
-        const Film f = read_exr(path);
+    if (ext == ".exr" || ext == ".pfm") {
+        const Film f = ext == ".exr" ? read_exr(path) : read_pfm(path);
         img.width = f.width;
         img.height = f.height;
         img.texels = f.pixels;
     } else {
         int w = 0, h = 0, c = 0;
         if (!stbi_info(path.c_str(), &w, &h, &c))
-            throw InputError(path, 0,
-                             std::string("not a readable image (EXR, HDR, PNG, JPEG, BMP, TGA): ") +
-                                 stbi_failure_reason());
+            throw InputError(
+                path, 0,
+                std::string("not a readable image (EXR, PFM, HDR, PNG, JPEG, BMP, TGA): ") +
+                    stbi_failure_reason());
         check_claimed_size(path, w, h, 2048);
         img.width = w;
         img.height = h;
