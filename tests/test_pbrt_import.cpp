@@ -358,6 +358,37 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     CHECK(said);
 }
 
+TEST_CASE("pbrt-v4: the sensor's ISO and exposure time scale every emitter", "[pbrt][fast]") {
+    // imaging ratio = (shutterclose - shutteropen) x iso / 100 = 0.5 x 400 / 100 = 2.
+    const std::string lights = R"(LightSource "point" "rgb I" [1 2 3]
+        AttributeBegin AreaLightSource "diffuse" "rgb L" [4 5 6]
+        Shape "sphere" "float radius" 0.5 AttributeEnd)";
+    const Scene base = world("", lights);
+    const Scene bright = world(R"(Film "rgb" "float iso" 400
+        Camera "perspective" "float shutteropen" 0.25 "float shutterclose" 0.75)",
+                               lights);
+    REQUIRE(bright.lights.points.size() == 1);
+    CHECK(bright.lights.points[0].intensity.g == Approx(2.f * base.lights.points[0].intensity.g));
+    auto emission = [](const Scene& s) {
+        for (const Object& o : s.objects)
+            if (o.kind == ObjectKind::Sphere) return s.materials[o.material].emission;
+        return RGB{0.f};
+    };
+    CHECK(emission(base).b == Approx(6.f));
+    CHECK(emission(bright).b == Approx(12.f));
+    bool quiet = true;  // the shutter is read, not ignored
+    for (const std::string& w : bright.warnings) quiet &= w.find("shutter") == std::string::npos;
+    CHECK(quiet);
+    const Scene wb = world(R"(Film "rgb" "float whitebalance" 6500)", "");
+    bool said = false;
+    for (const std::string& w : wb.warnings)
+        said |= w.find("whitebalance ignored") != std::string::npos;
+    CHECK(said);
+    CHECK_THAT(error_of(R"(Film "rgb" "float iso" 0
+        WorldBegin Shape "sphere")"),
+               Catch::Contains("iso must be positive"));
+}
+
 TEST_CASE("pbrt-v4: the low-discrepancy samplers are foton's", "[pbrt][fast]") {
     const std::vector<std::tuple<std::string, std::string, bool>> cases = {
         {"\"sobol\"", "sobol", false},

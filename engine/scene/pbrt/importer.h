@@ -136,6 +136,10 @@ class Importer {
     Affine camera_from_world_;
     std::string camera_type_ = "perspective";
     float fov_ = 90.f, lens_radius_ = 0.f, focal_distance_ = 1e6f;
+    // pbrt-v4's sensor imaging ratio, exposure time (the camera's shutter interval) x ISO /
+    // 100: it scales the film, so every emitter is scaled by it (transport is linear).
+    float exposure_time_ = 1.f, iso_ = 100.f;
+    float imaging_ratio() const { return exposure_time_ * iso_ / 100.f; }
     std::optional<std::vector<float>> screen_window_;
     int camera_line_ = 0;
     std::string camera_file_;

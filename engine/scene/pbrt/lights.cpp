@@ -27,8 +27,8 @@ double pole_illuminance(const TextureImage& m) {
 
 void Importer::light_source(const Token& t, const std::string& type, const ParamList& p) {
     const std::string what = "LightSource \"" + type + "\"";
-    const float scale = p.real("scale", 1.f);
-    if (scale < 0.f) fail(t, what + ": scale must not be negative");
+    if (p.real("scale", 1.f) < 0.f) fail(t, what + ": scale must not be negative");
+    const float scale = p.real("scale", 1.f) * imaging_ratio();
     // What the light emits, checked: sums of its samples must stay finite (light.h).
     auto emitted = [&](const RGB& v) {
         if (const std::string why = emission_problem(v); !why.empty())
@@ -136,8 +136,8 @@ void Importer::area_light(const Token& t, const std::string& type, const ParamLi
         fail(t, "area lights inside an object definition are not supported (as in pbrt-v4)");
     if (p.has("filename")) fail(t, "image area lights are not supported");
     if (p.has("power")) fail(t, "\"power\" on area lights is not supported: give L and scale");
-    const float scale = p.real("scale", 1.f);
-    if (scale < 0.f) fail(t, "scale must not be negative");
+    if (p.real("scale", 1.f) < 0.f) fail(t, "scale must not be negative");
+    const float scale = p.real("scale", 1.f) * imaging_ratio();
     const auto radiance = p.color("L", true);
     gs_.area.radiance = (radiance ? *radiance : RGB{1.f}) * scale;
     if (const std::string why = emission_problem(gs_.area.radiance); !why.empty())

@@ -31,9 +31,10 @@ void Importer::camera(const Token& t, const std::string& type, const ParamList& 
             fail(t, "screenwindow takes four numbers: xmin xmax ymin ymax");
         screen_window_ = sw;
     }
-    for (const char* ignored : {"shutteropen", "shutterclose"})
-        if (p.has(ignored))
-            warn(file(), t.line, std::string(ignored) + " ignored (no motion blur)");
+    // The shutter interval is the sensor's exposure time (no motion blur is rendered).
+    const float open = p.real("shutteropen", 0.f), close = p.real("shutterclose", 1.f);
+    if (!(close > open)) fail(t, "shutterclose must be after shutteropen");
+    exposure_time_ = close - open;
     warn_unused(p, "Camera \"" + type + "\"");
     count("Camera " + type);
 }
@@ -42,6 +43,15 @@ void Importer::film(const Token& t, const std::string& type, const ParamList& p)
     if (type != "rgb" && type != "gbuffer" && type != "spectral")
         fail(t, "unsupported film '" + type + "' (rgb)");
     if (type != "rgb") warn(file(), t.line, "Film \"" + type + "\" is rendered as an rgb film");
+    // The sensor: the imaging ratio's ISO; pbrt-v4's default sensor (cie1931) alone.
+    iso_ = p.real("iso", 100.f);
+    if (!(iso_ > 0.f)) fail(t, "iso must be positive");
+    const std::string sensor = p.text("sensor", "cie1931");
+    if (sensor != "cie1931")
+        warn(file(), t.line,
+             "Film sensor \"" + sensor + "\" is rendered with the cie1931 sensor (XYZ matching)");
+    if (p.real("whitebalance", 0.f) != 0.f)
+        warn(file(), t.line, "Film whitebalance ignored (no chromatic adaptation)");
     width_ = p.integer("xresolution", 1280);
     height_ = p.integer("yresolution", 720);
     if (width_ < 1 || height_ < 1) fail(t, "xresolution and yresolution must be positive");
