@@ -21,6 +21,8 @@ FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
             return pa * pa / (pa * pa + pb * pb);
         case DiffuseMis::Maximum:
             return xsimd::select(pa * FloatV(kDiffuseMaxTie) >= pb, one, zero);
+        case DiffuseMis::Mean:
+            return xsimd::select(pb > zero, FloatV(0.5f), one);
         case DiffuseMis::None:
             break;
     }

@@ -36,7 +36,7 @@
 namespace foton::kern {
 
 // How the light sample is weighed against BSDF sampling (engine/transport/common/mis.h).
-enum class DiffuseMis : uint8_t { Balance, Power, Maximum, None };
+enum class DiffuseMis : uint8_t { Balance, Power, Maximum, Mean, None };
 
 struct DiffuseRules {
     DiffuseMis mis = DiffuseMis::Power;  // Power: exponent 2

@@ -21,6 +21,8 @@ float mis_weight(const DiffuseRules& r, float pa, float pb) {
             return pa * pa / (pa * pa + pb * pb);
         case DiffuseMis::Maximum:
             return pa * kDiffuseMaxTie >= pb ? 1.f : 0.f;
+        case DiffuseMis::Mean:
+            return pb > 0.f ? 0.5f : 1.f;
         case DiffuseMis::None:
             break;
     }

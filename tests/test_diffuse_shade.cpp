@@ -89,7 +89,8 @@ TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
           "[kernel][shade][fast]") {
     const std::size_t n = 4099;  // not a multiple of any SIMD width
     for (const DiffuseMis mis :
-         {DiffuseMis::Balance, DiffuseMis::Power, DiffuseMis::Maximum, DiffuseMis::None}) {
+         {DiffuseMis::Balance, DiffuseMis::Power, DiffuseMis::Maximum, DiffuseMis::Mean,
+          DiffuseMis::None}) {
         for (const bool roulette : {false, true}) {
             Table a = random_vertices(n, 7u + uint32_t(mis)), b = a;
             const DiffuseRules rules{mis, roulette};
@@ -167,6 +168,7 @@ TEST_CASE("Diffuse shading kernel: path renders equal the scalar shading's up to
         {"cornell-diffuse.xml", {{"mis", "power"}}},
         {"cornell-diffuse.xml", {{"mis", "balance"}, {"rr_depth", "1"}}},
         {"cornell-diffuse.xml", {{"mis", "max"}}},
+        {"cornell-diffuse.xml", {{"mis", "mean"}}},
         {"cornell-diffuse.xml", {{"mis", "none"}}},
         {"cornell-diffuse.xml", {{"nee", "false"}}},
         {"smallvcm-box.xml", {{"mis", "power"}}},

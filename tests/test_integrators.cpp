@@ -65,6 +65,7 @@ TEST_CASE("white furnace: an emitting closed sphere converges to Le / (1 - a)", 
                           R"(<renderer type="path" mis="power" max_depth="100"/>)",
                           R"(<renderer type="path" mis="power" mis_beta="3.5" max_depth="100"/>)",
                           R"(<renderer type="path" mis="max" max_depth="100"/>)",
+                          R"(<renderer type="path" mis="mean" max_depth="100"/>)",
                           R"(<renderer type="path" mis="none" max_depth="100"/>)",
                           R"(<renderer type="path" nee="false" max_depth="100"/>)",
                           R"(<renderer type="light" max_depth="100"/>)"}) {
@@ -94,6 +95,18 @@ TEST_CASE("MIS weights: each pair sums to 1, beta 1 is balance, large beta nears
                 if (beta == 1.f)
                     CHECK(wa == Approx(mis_weight(Mis{MisHeuristic::Balance}, a, b)).epsilon(1e-5));
             }
+    // The arithmetic mean (the photon-mapping thesis, 3.2.3): 1/2 each where both techniques
+    // can produce the sample, all of it where only one can; the pair sums to one.
+    for (float a : pdfs)
+        for (float b : pdfs) {
+            if (a == 0.f && b == 0.f) continue;
+            const Mis m{MisHeuristic::Mean};
+            const float wa = a > 0.f ? mis_weight(m, a, b) : 0.f;
+            const float wb = b > 0.f ? mis_weight_bsdf(m, b, a) : 0.f;
+            INFO("mean: pa " << a << " pb " << b);
+            CHECK(wa + wb == 1.f);
+            CHECK(wa == (a > 0.f ? (b > 0.f ? 0.5f : 1.f) : 0.f));
+        }
     CHECK(mis_weight(Mis{MisHeuristic::Power, 16.f}, 2.f, 1.f) > 0.9999f);
     CHECK(mis_weight(Mis{MisHeuristic::Power, 2.f}, 2.f, 1.f) == Approx(0.8f));
     // mis_beta is a setting of the power heuristic only, in [1, 16].

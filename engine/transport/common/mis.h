@@ -37,6 +37,10 @@ inline float mis_weight(const Mis& m, float pa, float pb) {
             // vs hit), so a tie must be declared with a tolerance above float noise, or both
             // weights can be zero.
             return pa * kMaxTieTolerance >= pb ? 1.f : 0.f;
+        case MisHeuristic::Mean:
+            // The average of the techniques that can produce the sample: 1/2 each where both
+            // can, all of it where the other cannot (the weights still sum to one).
+            return pb > 0.f ? 0.5f : 1.f;
         case MisHeuristic::None:
             return 1.f;
     }

@@ -42,12 +42,15 @@ struct IntegratorTraits {
 };
 
 // How next event estimation and BSDF sampling are combined (common/mis.h weighs them).
-enum class MisHeuristic { Balance, Power, Maximum, None };
+// Mean: the photon-mapping thesis' arithmetic mean (3.2.3), each technique that can produce
+// the sample weighted equally.
+enum class MisHeuristic { Balance, Power, Maximum, Mean, None };
 inline const EnumTable<MisHeuristic>& mis_names() {
     static const EnumTable<MisHeuristic> t{{{"balance", MisHeuristic::Balance},
                                             {"power", MisHeuristic::Power},
                                             {"max", MisHeuristic::Maximum},
                                             {"maximum", MisHeuristic::Maximum},
+                                            {"mean", MisHeuristic::Mean},
                                             {"none", MisHeuristic::None}}};
     return t;
 }

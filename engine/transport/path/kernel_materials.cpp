@@ -14,6 +14,8 @@ kern::DiffuseMis kernel_mis(MisHeuristic h) {
             return kern::DiffuseMis::Power;
         case MisHeuristic::Maximum:
             return kern::DiffuseMis::Maximum;
+        case MisHeuristic::Mean:
+            return kern::DiffuseMis::Mean;
         case MisHeuristic::None:
             break;
     }
