@@ -309,6 +309,52 @@ TEST_CASE("conductor Fresnel: k = 0 is a dielectric, reflectance form, metals", 
     CHECK(s.f.g * s.wi.z / s.pdf == Approx(fresnel_conductor(wo.z, 0.2f, 3.9f)));
 }
 
+TEST_CASE("Schlick's Fresnel approximation: exact head-on, within its known error elsewhere",
+          "[bsdf][fast]") {
+    // Dielectrics: F0 = ((n - 1) / (n + 1))^2; the approximation's largest error over the
+    // cosines is 0.036 for n = 1.5 and 0.060 for water (near grazing).
+    for (const auto& [n, bound] : {std::pair{1.5f, 0.04f}, std::pair{1.33f, 0.065f}}) {
+        const float r = (n - 1.f) / (n + 1.f);
+        const Fresnel f = Fresnel::schlick(RGB{r * r});
+        CHECK(f.eval(1.f).g == Approx(fresnel_dielectric(1.f, 1.f, n)).epsilon(1e-5));
+        CHECK(f.eval(0.f).g == 1.f);
+        float worst = 0.f;
+        for (int i = 0; i <= 1000; ++i) {
+            const float c = float(i) / 1000.f;
+            worst = std::max(worst, std::fabs(f.eval(c).g - fresnel_dielectric(c, 1.f, n)));
+        }
+        INFO("n " << n << ": largest error " << worst);
+        CHECK(worst < bound);
+        CHECK(worst > 0.5f * bound);  // the error is real: the approximation is not exact
+    }
+    // Conductors: F0 the exact normal-incidence reflectance; gold's blue channel (eta 1.442,
+    // k 1.603) deviates most, 0.029.
+    const RGB eta{0.143f, 0.374f, 1.442f}, k{3.983f, 2.385f, 1.603f};
+    const RGB f0{fresnel_conductor(1.f, eta.r, k.r), fresnel_conductor(1.f, eta.g, k.g),
+                 fresnel_conductor(1.f, eta.b, k.b)};
+    const Fresnel gold = Fresnel::schlick(f0);
+    float worst = 0.f;
+    for (int i = 1; i <= 1000; ++i) {
+        const float c = float(i) / 1000.f;
+        worst = std::max(worst, std::fabs(gold.eval(c).b - fresnel_conductor(c, eta.b, k.b)));
+    }
+    CHECK(worst < 0.035f);
+    // As a microfacet lobe's term it stays a valid BSDF: albedo at most one (sampled).
+    const Lobe l =
+        Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::trowbridge_reitz(0.2f, 0.2f), gold);
+    double sum = 0.0;
+    const int n = 50000;
+    for (int i = 0; i < n; ++i) {
+        BsdfSample s;
+        if (lobe_sample(l, direction(30.f, 0.f), 0.f,
+                        {rng::uniform(4, 4, uint64_t(i), 0), rng::uniform(4, 4, uint64_t(i), 1)},
+                        {}, s))
+            sum += s.f.r * std::fabs(s.wi.z) / s.pdf;
+    }
+    CHECK(sum / n < 1.0);
+    CHECK(sum / n > 0.8);  // red: gold reflects 0.96 of it head-on
+}
+
 TEST_CASE("chi-square has the power to reject a slightly wrong pdf", "[bsdf]") {
     // Blinn exponent 20 sampled, exponent 23 claimed: the test must notice.
     const Lobe sampled = Lobe::microfacet(RGB{1.f}, MicrofacetDistribution::blinn(20), Fresnel{});

@@ -88,9 +88,8 @@ void make_specular(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bs
 TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
           "[kernel][shade][fast]") {
     const std::size_t n = 4099;  // not a multiple of any SIMD width
-    for (const DiffuseMis mis :
-         {DiffuseMis::Balance, DiffuseMis::Power, DiffuseMis::Maximum, DiffuseMis::Mean,
-          DiffuseMis::None}) {
+    for (const DiffuseMis mis : {DiffuseMis::Balance, DiffuseMis::Power, DiffuseMis::Maximum,
+                                 DiffuseMis::Mean, DiffuseMis::None}) {
         for (const bool roulette : {false, true}) {
             Table a = random_vertices(n, 7u + uint32_t(mis)), b = a;
             const DiffuseRules rules{mis, roulette};

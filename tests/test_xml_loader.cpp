@@ -231,9 +231,11 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
         obj(R"(<material type="mix"><material type="lambert" weight="0.5"/><material type="conductor" weight="0.4"/>
                                  <emission r="1" g="2" b="3" two_sided="true"/></material>)") +
         obj(R"(<material type="microfacet" distribution="ggx" roughness="0.1" roughness_v="0.4" fresnel="conductor" preset="gold"/>)") +
+        obj(R"(<material type="microfacet" distribution="ggx" roughness="0.2" fresnel="schlick" ior="1.5"/>)") +
+        obj(R"(<material type="microfacet" distribution="ggx" roughness="0.2" fresnel="schlick" preset="gold"/>)") +
         R"(</objects><renderer type="path" spp="7" mis="max" nee="false" rr_depth="5" time="12">
                               <adaptive pilot="4" max_spp="64" threshold="0.05" unbiased="true"/></renderer></scene>)");
-    REQUIRE(s.materials.size() == 9);
+    REQUIRE(s.materials.size() == 11);
     CHECK(s.materials[0].bsdf.lobe(0).type == LobeType::Lambert);
     CHECK(s.materials[0].bsdf.lobe(0).color.b == 0.6f);
     CHECK(s.materials[1].bsdf.lobe(0).type == LobeType::OrenNayar);
@@ -253,6 +255,12 @@ TEST_CASE("XML: physically based materials, emission, integrator settings", "[xm
     CHECK(ggx.kind == MicrofacetKind::TrowbridgeReitz);
     CHECK(ggx.alpha == 0.1f);
     CHECK(ggx.alpha_y == 0.4f);
+    const Fresnel& glass = s.materials[9].bsdf.lobe(0).fresnel;
+    CHECK(glass.kind == FresnelKind::Schlick);
+    CHECK(glass.f0.g == Approx(0.04f));
+    const Fresnel& metal = s.materials[10].bsdf.lobe(0).fresnel;
+    CHECK(metal.kind == FresnelKind::Schlick);
+    CHECK(metal.f0.r > metal.f0.b);  // gold: red reflects more than blue head-on
     CHECK(s.materials[7].emission_two_sided);
     CHECK(s.render.integrator == "path");
     CHECK(s.render.run.spp == 7);

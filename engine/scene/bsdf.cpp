@@ -1,5 +1,6 @@
 #include "bsdf.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/core/optics.h"
@@ -38,8 +39,20 @@ RGB Fresnel::eval(float cos_i) const {
         case FresnelKind::Conductor:
             return {fresnel_conductor(cos_i, eta.r, k.r), fresnel_conductor(cos_i, eta.g, k.g),
                     fresnel_conductor(cos_i, eta.b, k.b)};
+        case FresnelKind::Schlick: {
+            const float m = 1.f - std::clamp(cos_i, 0.f, 1.f);
+            const float m2 = m * m;
+            return f0 + (RGB{1.f} - f0) * (m2 * m2 * m);
+        }
     }
     return RGB{1.f};
+}
+
+Fresnel Fresnel::schlick(const RGB& f0) {
+    Fresnel f;
+    f.kind = FresnelKind::Schlick;
+    f.f0 = f0;
+    return f;
 }
 
 uint8_t Lobe::flags() const {

@@ -36,13 +36,17 @@ enum LobeFlags : uint8_t {
     kTransmission = 16,
 };
 
-enum class FresnelKind : uint8_t { None, Dielectric, Conductor };
+// Schlick: the ray-tracing thesis' approximation (3.2.2), F0 + (1 - F0) (1 - cos)^5, with F0
+// a dielectric's ((n - 1) / (n + 1))^2 or a conductor's exact normal-incidence reflectance.
+enum class FresnelKind : uint8_t { None, Dielectric, Conductor, Schlick };
 
 struct Fresnel {
     FresnelKind kind = FresnelKind::None;
     float ior = 1.5f;      // dielectric
     RGB eta{1.f}, k{0.f};  // conductor, per channel
+    RGB f0{0.04f};         // Schlick's reflectance at normal incidence
     RGB eval(float cos_i) const;
+    static Fresnel schlick(const RGB& f0);
 };
 
 enum class LobeType : uint8_t {

@@ -120,8 +120,19 @@ void Loader::microfacet_material(const pugi::xml_node& n, bool top, Material& m)
         f.ior = positive(n, "ior", 1.5f);
     } else if (fk == "conductor") {
         f = conductor_fresnel(n);
+    } else if (fk == "schlick") {
+        // F0 of the conductor the element describes, or of a dielectric of index ior.
+        const bool metal =
+            n.attribute("preset") || n.child("eta") || n.child("k") || n.child("reflectance");
+        if (metal) {
+            f = Fresnel::schlick(conductor_fresnel(n).eval(1.f));
+        } else {
+            const float ior = positive(n, "ior", 1.5f);
+            const float r = (ior - 1.f) / (ior + 1.f);
+            f = Fresnel::schlick(RGB{r * r});
+        }
     } else if (fk != "none") {
-        fail(n, "unknown fresnel '" + fk + "' (dielectric, conductor, none)");
+        fail(n, "unknown fresnel '" + fk + "' (dielectric, conductor, schlick, none)");
     }
     const MicrofacetDistribution d =
         distribution(n, model == "cook_torrance" ? "beckmann" : "blinn");

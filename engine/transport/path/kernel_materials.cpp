@@ -26,8 +26,10 @@ float fresnel_code(const Fresnel& f) {
     return f.kind == FresnelKind::Conductor ? 1.f : f.kind == FresnelKind::Dielectric ? 2.f : 0.f;
 }
 
-// A Phong or microfacet lobe for the diffuse kernel's glossy columns; false for any other.
+// A Phong or microfacet lobe for the diffuse kernel's glossy columns; false for any other
+// (and for Schlick's Fresnel approximation, which the kernels do not compute).
 bool glossy_lobe(const Lobe& l, GlossyMaterial& g) {
+    if (l.fresnel.kind == FresnelKind::Schlick) return false;
     if (l.type == LobeType::Phong) {
         g.kind = kern::kGlossPhong;
         g.nu = g.nv = l.exponent;
@@ -65,6 +67,7 @@ KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b
     if (m.texture >= 0 || !m.emission.is_black() || m.bsdf.empty()) return KernelKind::None;
     const Lobe& first = m.bsdf.lobe(0);
     if (m.bsdf.size() == 1 && m.bsdf.weight(0) > 0.f &&
+        first.fresnel.kind != FresnelKind::Schlick &&
         (first.type == LobeType::Mirror || first.type == LobeType::Dielectric)) {
         spec.kind = first.type == LobeType::Mirror ? 1.f : 2.f;
         spec.color = first.color;
