@@ -97,6 +97,23 @@ TEST_CASE("photon filters integrate to one over the disc", "[photon]") {
             CHECK(sum == Approx(1.0).epsilon(1e-4));
         }
     }
+    // The thesis' own Gauss filter (6.1.2, alpha 0.918, beta 1.953, over pi r^2) is not
+    // normalised: 0.531 of the disc, its weight 0.918 at the centre and 0.251 at the rim (the
+    // exponent's d^2 / (2 r^2) stops at half of beta).
+    EstimateParams p;
+    p.filter = PhotonFilter::GaussThesis;
+    const int n = 20000;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const float s = (i + 0.5f) / n;
+        sum += filter_weight(p, s * 2.f, 2.f) * 2.0 * s / n;
+    }
+    CHECK(sum == Approx(0.531).epsilon(2e-3));
+    CHECK(filter_weight(p, 0.f, 2.f) == Approx(0.918f));
+    CHECK(filter_weight(p, 2.f, 2.f) == Approx(0.2511f).epsilon(1e-3));
+    EstimateParams g;
+    g.filter = PhotonFilter::Gauss;
+    CHECK(filter_weight(g, 0.7f, 2.f) == Approx(filter_weight(p, 0.7f, 2.f) / sum).epsilon(1e-3));
 }
 
 TEST_CASE("density estimation converges to a point light's analytic irradiance", "[photon]") {

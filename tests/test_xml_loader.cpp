@@ -321,7 +321,7 @@ TEST_CASE("XML: renderer settings are typed and checked by name, with their line
                  "setting 'cache_levels' must be an integer in [1, 8], not 9");
     expect_error(scene_xml("\n<renderer alpha=\"1.5\"/>"), 5, "alpha must be in (0, 1]");
     expect_error(scene_xml("\n<renderer filter=\"box\"/>"), 5,
-                 "unknown filter 'box' (none, cone, gauss, simpson)");
+                 "unknown filter 'box' (none, cone, gauss, simpson, gauss_thesis)");
     expect_error(scene_xml("\n<renderer nee=\"maybe\"/>"), 5, "must be true or false");
     expect_error(scene_xml("\n<renderer>\n<adaptive pilot=\"0\"/></renderer>"), 6,
                  "setting 'adaptive_pilot' must be a positive integer");

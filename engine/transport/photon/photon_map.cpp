@@ -25,11 +25,12 @@ float filter_weight(const EstimateParams& p, float d, float r) {
         case PhotonFilter::Cone:
             // w = 1 - d / (k r), whose integral over the disc is (1 - 2 / (3k)) pi r^2.
             return (1.f - s / p.cone_k) / (1.f - 2.f / (3.f * p.cone_k));
-        case PhotonFilter::Gauss: {
+        case PhotonFilter::Gauss:
+        case PhotonFilter::GaussThesis: {
             static const float norm = float(gauss_integral());
             const float w = kGaussAlpha * (1.f - (1.f - std::exp(-kGaussBeta * s * s * 0.5f)) /
                                                      (1.f - std::exp(-kGaussBeta)));
-            return w / norm;
+            return p.filter == PhotonFilter::Gauss ? w / norm : w;
         }
         case PhotonFilter::Simpson: {
             // Silverman's biweight ("Simpson's") kernel 3/pi (1 - s^2)^2, times pi.

@@ -11,7 +11,8 @@ const EnumTable<PhotonFilter>& filter_names() {
     static const EnumTable<PhotonFilter> t{{{"none", PhotonFilter::None},
                                             {"cone", PhotonFilter::Cone},
                                             {"gauss", PhotonFilter::Gauss},
-                                            {"simpson", PhotonFilter::Simpson}}};
+                                            {"simpson", PhotonFilter::Simpson},
+                                            {"gauss_thesis", PhotonFilter::GaussThesis}}};
     return t;
 }
 const char* filter_name(PhotonFilter f) {

@@ -9,7 +9,10 @@ namespace foton {
 // The photon estimate's envelope (the thesis' sphere, or its flattened ellipsoid: a disc) and
 // its filters (none, cone, Gauss, Simpson), used by photon_map.h.
 enum class PhotonEnvelope : uint8_t { Sphere, Disc };
-enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson };
+// GaussThesis: the photon-mapping thesis' Gauss filter as printed (6.1.2), its weights used
+// with 1 / (pi r^2) and not normalised: it integrates to 0.531 over the disc, the darkening
+// chapter 7 reports. Gauss is the same shape normalised to one.
+enum class PhotonFilter : uint8_t { None, Cone, Gauss, Simpson, GaussThesis };
 const EnumTable<PhotonEnvelope>& envelope_names();
 const EnumTable<PhotonFilter>& filter_names();
 const char* filter_name(PhotonFilter f);
