@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
 
 #include "engine/scene/camera.h"
 
@@ -54,6 +56,44 @@ TEST_CASE("orthographic camera rays are parallel and offset on the view plane", 
     CHECK(d.z == Approx(1.f));
     CHECK(o.x == Approx(278.f + 256 * 0.004f));  // image left is +x
     CHECK(o.y == Approx(277.5f + 128 * 0.004f));
+}
+
+TEST_CASE("panoramic cameras: equirectangular and fisheye directions are analytic",
+          "[camera][fast]") {
+    // The view axis is +z, the image's right -x (u), up +y (v); see the perspective case.
+    Camera e = make(CameraType::Equirectangular);
+    Vec3 o, d;
+    auto near = [](const Vec3& a, const Vec3& b) { return length(a - b) < 1e-5f; };
+    e.generate(256.f, 128.f, o, d);
+    CHECK(o == e.eye);
+    CHECK(near(d, e.w));
+    e.generate(384.f, 128.f, o, d);  // a quarter turn to the right: longitude pi/2
+    CHECK(near(d, e.u));
+    e.generate(0.f, 128.f, o, d);  // the left edge looks backwards
+    CHECK(near(d, -e.w));
+    e.generate(256.f, 0.f, o, d);  // the top row looks straight up
+    CHECK(near(d, e.v));
+    e.generate(128.f, 64.f, o, d);  // longitude -pi/2, latitude pi/4
+    CHECK(near(d, normalize(e.v - e.u)));
+    CHECK(e.footprint(10.f) == Approx(10.f * 2.f * kPi / 512.f));
+    // Equidistant fisheye of 180 degrees across the diagonal: the angle from the view axis
+    // grows linearly with the distance from the centre, 90 degrees at the corners.
+    Camera f = make(CameraType::Fisheye);
+    f.fisheye_fov = kPi;
+    f.generate(256.f, 128.f, o, d);
+    CHECK(near(d, f.w));
+    f.generate(0.f, 0.f, o, d);
+    const float half_diagonal = std::sqrt(256.f * 256.f + 128.f * 128.f);
+    CHECK(dot(d, f.w) == Approx(0.f).margin(1e-6));
+    CHECK(near(d, normalize(f.u * -256.f + f.v * 128.f)));
+    f.generate(256.f + 0.5f * half_diagonal, 128.f, o, d);  // halfway out: 45 degrees
+    CHECK(near(d, normalize(f.w + f.u)));
+    CHECK(f.pixel_angle() == Approx(0.5f * kPi / half_diagonal));
+    // Nothing projects onto them: the light tracer's connection finds no pixel.
+    float fx, fy;
+    CHECK_FALSE(e.project(e.eye + e.w * 5.f, fx, fy));
+    CHECK_FALSE(f.project(f.eye + f.w * 5.f, fx, fy));
+    CHECK(std::string(camera_type_name(CameraType::Fisheye)) == "fisheye");
 }
 
 TEST_CASE("thin lens: every ray of a pixel meets the pinhole ray on the plane in focus",

@@ -345,3 +345,26 @@ TEST_CASE("XML: renderer settings are typed and checked by name, with their line
     CHECK(TestScene(parse_scene(scene_xml("\n<renderer type=\"whitted\"/>"), "s.xml", "."))
               .render.integrator == "raytracer");
 }
+
+TEST_CASE("XML: panoramic cameras", "[xml][camera][fast]") {
+    auto with_camera = [](const std::string& camera) {
+        return std::string("<scene><film width=\"64\" height=\"32\"/>\n") + camera +
+               "<eye x=\"0\" y=\"0\" z=\"5\"/><target x=\"0\" y=\"0\" z=\"0\"/></camera>" +
+               kSphere + "</scene>";
+    };
+    const Scene e = parse(with_camera(R"(<camera type="equirectangular">)"));
+    CHECK(e.camera.type == CameraType::Equirectangular);
+    CHECK(parse(with_camera(R"(<camera type="panoramic">)")).camera.type ==
+          CameraType::Equirectangular);
+    const Scene f = parse(with_camera(R"(<camera type="fisheye" fov="200">)"));
+    CHECK(f.camera.type == CameraType::Fisheye);
+    CHECK(f.camera.fisheye_fov == Approx(200.f * kPi / 180.f));
+    CHECK(parse(with_camera(R"(<camera type="fisheye">)")).camera.fisheye_fov == Approx(kPi));
+    expect_error(with_camera(R"(<camera type="fisheye" fov="400">)"), 2,
+                 "a fisheye's fov must be in (0, 360] degrees");
+    expect_error(with_camera(R"(<camera type="equirectangular" fov="90">)"), 2,
+                 "fov applies to perspective cameras only");
+    expect_error(with_camera(R"(<camera type="spherical">)"), 2,
+                 "unknown camera type 'spherical' (perspective, orthographic, equirectangular, "
+                 "fisheye)");
+}

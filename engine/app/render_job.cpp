@@ -98,7 +98,8 @@ ExrRenderInfo job_exr_info(const Scene& scene, double seconds, double spp) {
     info.render_seconds = float(seconds);
     info.samples_per_pixel = whole ? int(spp) : -1;
     info.world_to_camera = scene.camera.world_to_camera();
-    info.world_to_ndc = scene.camera.world_to_ndc();
+    // Panoramic cameras have no normalised device coordinates (no projection).
+    if (!scene.camera.panoramic()) info.world_to_ndc = scene.camera.world_to_ndc();
     info.x0 = scene.film.x0;
     info.y0 = scene.film.y0;
     info.display_width = scene.film.full_width;

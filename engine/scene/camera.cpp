@@ -14,7 +14,56 @@ void Camera::setup() {
     v = mirror ? cross(w, u) : cross(u, w);
 }
 
+const char* camera_type_name(CameraType t) {
+    switch (t) {
+        case CameraType::Perspective:
+            return "perspective";
+        case CameraType::Orthographic:
+            return "orthographic";
+        case CameraType::Equirectangular:
+            return "equirectangular";
+        case CameraType::Fisheye:
+            return "fisheye";
+    }
+    return "?";
+}
+
+float Camera::pixel_angle() const {
+    if (type == CameraType::Equirectangular) return 2.f * kPi / float(width);
+    const float half_diagonal =
+        0.5f * std::sqrt(float(width) * float(width) + float(height) * float(height));
+    return 0.5f * fisheye_fov / half_diagonal;
+}
+
 void Camera::generate(float fx, float fy, Vec3& origin, Vec3& dir) const {
+    if (panoramic()) {
+        origin = eye;
+        float sin_a, cos_a, sin_b, cos_b;
+        if (type == CameraType::Equirectangular) {
+            // Longitude from -pi (left edge) through 0 (the view direction) to pi; latitude
+            // from pi/2 (top) to -pi/2.
+            const float lon = kPi * (2.f * fx / float(width) - 1.f);
+            const float lat = 0.5f * kPi * (1.f - 2.f * fy / float(height));
+            sin_a = std::sin(lon);
+            cos_a = std::cos(lon);
+            sin_b = std::sin(lat);
+            cos_b = std::cos(lat);
+            dir = normalize(w * (cos_b * cos_a) + u * (cos_b * sin_a) + v * sin_b);
+            return;
+        }
+        // Equidistant fisheye: the angle from w grows with the distance from the centre.
+        const float x = fx - 0.5f * float(width), y = 0.5f * float(height) - fy;
+        const float r = std::sqrt(x * x + y * y);
+        const float theta = r * pixel_angle();
+        if (r == 0.f) {
+            dir = w;
+            return;
+        }
+        sin_a = std::sin(theta);
+        cos_a = std::cos(theta);
+        dir = normalize(w * cos_a + (u * (x / r) + v * (y / r)) * sin_a);
+        return;
+    }
     const float px = pixel_size * (fx - 0.5f * float(width));
     const float py = pixel_size * (0.5f * float(height) - fy);
     if (type == CameraType::Perspective) {

@@ -2,6 +2,11 @@
 // Pinhole perspective and orthographic cameras of the first thesis: a view plane of
 // width x height pixels of edge `pixel_size`, at distance d in front of the eye (perspective),
 // with the orthonormal basis u (right), v (up), w (forward) built from eye, target and up.
+// And its panoramic ones (4): equirectangular (longitude across the image, 360 degrees,
+// latitude down it, 180, the view direction at the centre) and a full-frame equidistant
+// fisheye (the angle from the view direction proportional to the distance from the image's
+// centre, `fisheye_fov` across its diagonal). Panoramic cameras have no view plane: nothing
+// projects onto them (the light tracer and the bidirectional integrators refuse them).
 #include <algorithm>
 #include <array>
 
@@ -10,7 +15,8 @@
 
 namespace foton {
 
-enum class CameraType { Perspective, Orthographic };
+enum class CameraType { Perspective, Orthographic, Equirectangular, Fisheye };
+const char* camera_type_name(CameraType t);
 
 struct Camera {
     CameraType type = CameraType::Perspective;
@@ -35,6 +41,13 @@ struct Camera {
     // focus along the view direction. lens_radius = 0 is the pinhole.
     float lens_radius = 0.f;
     float focal_distance = 1.f;
+    // The fisheye's field of view across the image diagonal, in radians (up to 2 pi).
+    float fisheye_fov = kPi;
+    bool panoramic() const {
+        return type == CameraType::Equirectangular || type == CameraType::Fisheye;
+    }
+    // The angle one pixel spans at the centre of a panoramic image.
+    float pixel_angle() const;
 
     // The image's x axis reversed (u = up x w): pbrt's left-handed camera space.
     bool mirror = false;
@@ -69,6 +82,7 @@ struct Camera {
     float importance(float cos_theta, float dist) const;
     // Edge of a pixel's footprint at `distance` along a camera ray (scene units).
     float footprint(float distance) const {
+        if (panoramic()) return distance * pixel_angle();
         return type == CameraType::Perspective ? distance * pixel_size / d : pixel_size;
     }
     // Vertical field of view in degrees implied by d, pixel size and height.

@@ -252,8 +252,7 @@ std::string Scene::summary() const {
                   double(memory_bytes()) / (1024.0 * 1024.0));
     s += buf;
     std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), vertical fov %.2f deg\n",
-                  camera.type == CameraType::Perspective ? "perspective" : "orthographic",
-                  camera.eye.x, camera.eye.y, camera.eye.z,
+                  camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
                   camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
     s += buf;
     std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g\n", film.width, film.height,

@@ -19,7 +19,7 @@ const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'foton-web-'));
 const badDir = path.join(tmp, 'bad');
 fs.mkdirSync(badDir);
 fs.writeFileSync(path.join(badDir, 'broken.xml'),
-                 '<scene>\n<film width="8" height="8"/>\n<camera type="fisheye"/>\n</scene>\n');
+                 '<scene>\n<film width="8" height="8"/>\n<camera type="spherical"/>\n</scene>\n');
 
 // A scene whose mesh names a material library outside the served folders (defect 17: its
 // first line once reached the error that /api/status publishes).
@@ -89,7 +89,7 @@ try {
   await page.click('#start');
   await page.waitForSelector('#state[data-state="error"]');
   const error = await page.textContent('#error');
-  assert.match(error, /broken\.xml:3: .*fisheye/, error);
+  assert.match(error, /broken\.xml:3: .*spherical/, error);
   // A file outside the served folders is refused unread: nothing of it in the message.
   await page.selectOption('#scene', 'bad/leak.xml');
   await page.click('#start');

@@ -127,8 +127,19 @@ void Loader::parse_camera(const pugi::xml_node& n) {
         c.type = CameraType::Perspective;
     else if (type == "orthographic")
         c.type = CameraType::Orthographic;
+    else if (type == "equirectangular" || type == "panoramic")
+        c.type = CameraType::Equirectangular;
+    else if (type == "fisheye")
+        c.type = CameraType::Fisheye;
     else
-        fail(n, "unknown camera type '" + type + "' (perspective, orthographic)");
+        fail(n, "unknown camera type '" + type +
+                    "' (perspective, orthographic, equirectangular, fisheye)");
+    if (c.type == CameraType::Fisheye) {
+        // The field of view across the image diagonal, in degrees (default 180).
+        const float fov = n.attribute("fov") ? number(n, "fov") : 180.f;
+        if (!(fov > 0.f && fov <= 360.f)) fail(n, "a fisheye's fov must be in (0, 360] degrees");
+        c.fisheye_fov = fov * kPi / 180.f;
+    }
     c.eye = xyz_child(n, "eye");
     c.target = xyz_child(n, "target");
     c.up = n.child("up") ? xyz_child(n, "up") : Vec3{0, 1, 0};
@@ -136,7 +147,7 @@ void Loader::parse_camera(const pugi::xml_node& n) {
     c.exposure = positive(n, "exposure", 1.f);
     c.width = scene_.film.width;
     c.height = scene_.film.height;
-    if (n.attribute("fov")) {
+    if (n.attribute("fov") && c.type != CameraType::Fisheye) {
         // Convenience: a vertical field of view in degrees sets the pixel size.
         const float fov = number(n, "fov");
         if (!(fov > 0.f && fov < 180.f)) fail(n, "fov must be in (0, 180) degrees");
