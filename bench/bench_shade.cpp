@@ -75,9 +75,9 @@ struct Table {
     }
 };
 
+// The diffuse kernel (or its twin) over the table's lanes, timed: vertices per second.
 template <bool kSimd>
-void BM_ShadeDiffuse(benchmark::State& state) {
-    Table t;
+void run_shade_diffuse(benchmark::State& state, Table& t) {
     const ShadeTable v{t.data.data(), kLanes};
     const DiffuseRules rules{DiffuseMis::Power, true};
     for (auto _ : state) {
@@ -90,6 +90,12 @@ void BM_ShadeDiffuse(benchmark::State& state) {
     state.counters["vertices/s"] =
         benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
     state.counters["width"] = double(kSimd ? shade_width() : 1);
+}
+
+template <bool kSimd>
+void BM_ShadeDiffuse(benchmark::State& state) {
+    Table t;
+    run_shade_diffuse<kSimd>(state, t);
 }
 
 // Glossy vertices on the diffuse table (kernels/glossy_lanes.h), a quarter each: Lambert +
@@ -122,17 +128,7 @@ void BM_ShadeGlossy(benchmark::State& state) {
         for (uint32_t c = kDvKR; c <= kDvKB; ++c) t.col(c)[i] = 3.f;
         t.col(kDvUChoice)[i] = u(g);
     }
-    const ShadeTable v{t.data.data(), kLanes};
-    const DiffuseRules rules{DiffuseMis::Power, true};
-    for (auto _ : state) {
-        if (kSimd)
-            shade_diffuse(v, kLanes, rules);
-        else
-            shade_diffuse_scalar(v, kLanes, rules);
-        benchmark::ClobberMemory();
-    }
-    state.counters["vertices/s"] =
-        benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
+    run_shade_diffuse<kSimd>(state, t);
 }
 
 // Mirrors and dielectrics alternating, on the diffuse table's surfaces.

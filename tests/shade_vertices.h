@@ -163,4 +163,41 @@ inline uint32_t bits(float x) {
     return b;
 }
 
+// A SIMD kernel's table `a` against its scalar twin's `b` over n lanes: lanes whose shadow or
+// continuation validity differ, and bits that differ in the surface columns and in the rays
+// (and values) the valid lanes make.
+struct TwinComparison {
+    std::size_t validity_mismatches = 0, bit_mismatches = 0, shadows = 0, nexts = 0;
+    std::size_t first_bad_lane = ~std::size_t(0);
+};
+
+inline TwinComparison compare_twin(Table& a, Table& b, std::size_t n) {
+    TwinComparison r;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t before = r.validity_mismatches + r.bit_mismatches;
+        if (a.at(kDvShadowValid, i) != b.at(kDvShadowValid, i) ||
+            a.at(kDvNextValid, i) != b.at(kDvNextValid, i)) {
+            ++r.validity_mismatches;
+        } else {
+            auto same = [&](uint32_t from, uint32_t to) {
+                for (uint32_t c = from; c <= to; ++c)
+                    if (bits(a.at(c, i)) != bits(b.at(c, i))) ++r.bit_mismatches;
+            };
+            same(kDvPx, kDvEps);
+            if (a.at(kDvShadowValid, i) != 0.f) {
+                ++r.shadows;
+                same(kDvSox, kDvSvB);
+            }
+            if (a.at(kDvNextValid, i) != 0.f) {
+                ++r.nexts;
+                same(kDvNox, kDvNpdf);
+            }
+        }
+        if (r.first_bad_lane == ~std::size_t(0) &&
+            r.validity_mismatches + r.bit_mismatches > before)
+            r.first_bad_lane = i;
+    }
+    return r;
+}
+
 }  // namespace foton::test

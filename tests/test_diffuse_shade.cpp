@@ -95,30 +95,15 @@ TEST_CASE("Diffuse shading kernel: SIMD equals its scalar twin bit for bit",
             const DiffuseRules rules{mis, roulette};
             shade_diffuse(a.view(), n, rules);
             shade_diffuse_scalar(b.view(), n, rules);
-            std::size_t shadows = 0, nexts = 0, mismatches = 0;
-            for (std::size_t i = 0; i < n; ++i) {
-                REQUIRE(a.at(kDvShadowValid, i) == b.at(kDvShadowValid, i));
-                REQUIRE(a.at(kDvNextValid, i) == b.at(kDvNextValid, i));
-                auto same = [&](uint32_t from, uint32_t to) {
-                    for (uint32_t c = from; c <= to; ++c)
-                        if (bits(a.at(c, i)) != bits(b.at(c, i))) ++mismatches;
-                };
-                same(kDvPx, kDvEps);
-                if (a.at(kDvShadowValid, i) != 0.f) {
-                    ++shadows;
-                    same(kDvSox, kDvSvB);
-                }
-                if (a.at(kDvNextValid, i) != 0.f) {
-                    ++nexts;
-                    same(kDvNox, kDvNpdf);
-                }
-            }
-            CHECK(mismatches == 0);
+            const test::TwinComparison r = test::compare_twin(a, b, n);
+            INFO("first lane that differs: " << r.first_bad_lane);
+            CHECK(r.validity_mismatches == 0);
+            CHECK(r.bit_mismatches == 0);
             // The sets exercise both outcomes of both tests.
-            CHECK(shadows > n / 5);
-            CHECK(shadows < n);
-            CHECK(nexts > n / 3);
-            CHECK(nexts < n);
+            CHECK(r.shadows > n / 5);
+            CHECK(r.shadows < n);
+            CHECK(r.nexts > n / 3);
+            CHECK(r.nexts < n);
         }
     }
 }

@@ -16,7 +16,6 @@
 
 using namespace foton;
 using namespace foton::kern;
-using test::bits;
 using test::random_unit;
 using test::random_vertices;
 using test::Table;
@@ -170,31 +169,17 @@ TEST_CASE("Glossy shading lanes: SIMD equals its scalar twin bit for bit",
             const DiffuseRules rules{mis, roulette};
             shade_diffuse(a.view(), n, rules);
             shade_diffuse_scalar(b.view(), n, rules);
-            std::size_t shadows = 0, nexts = 0, mismatches = 0;
-            for (std::size_t i = 0; i < n; ++i) {
-                INFO("lane " << i << " kind " << a.at(kDvGlossKind, i) << " first "
-                             << a.at(kDvGlossFirst, i) << " wd " << a.at(kDvDiffuseWeight, i)
-                             << " pdf " << a.at(kDvNpdf, i) << " " << b.at(kDvNpdf, i));
-                REQUIRE(a.at(kDvShadowValid, i) == b.at(kDvShadowValid, i));
-                REQUIRE(a.at(kDvNextValid, i) == b.at(kDvNextValid, i));
-                auto same = [&](uint32_t from, uint32_t to) {
-                    for (uint32_t c = from; c <= to; ++c)
-                        if (bits(a.at(c, i)) != bits(b.at(c, i))) ++mismatches;
-                };
-                if (a.at(kDvShadowValid, i) != 0.f) {
-                    ++shadows;
-                    same(kDvSox, kDvSvB);
-                }
-                if (a.at(kDvNextValid, i) != 0.f) {
-                    ++nexts;
-                    same(kDvNox, kDvNpdf);
-                }
-            }
-            CHECK(mismatches == 0);
-            CHECK(shadows > n / 6);
-            CHECK(shadows < n);
-            CHECK(nexts > n / 4);
-            CHECK(nexts < n);
+            const test::TwinComparison r = test::compare_twin(a, b, n);
+            const std::size_t i = r.first_bad_lane < n ? r.first_bad_lane : 0;
+            INFO("first lane that differs: " << r.first_bad_lane << " kind "
+                                             << a.at(kDvGlossKind, i) << " first "
+                                             << a.at(kDvGlossFirst, i));
+            CHECK(r.validity_mismatches == 0);
+            CHECK(r.bit_mismatches == 0);
+            CHECK(r.shadows > n / 6);
+            CHECK(r.shadows < n);
+            CHECK(r.nexts > n / 4);
+            CHECK(r.nexts < n);
         }
     }
 }

@@ -57,10 +57,9 @@ struct KernelMaterials {
     std::vector<float> on_a, on_b;   // ... and Oren–Nayar's A, B (Lambert: 1, 0)
     std::vector<SpecularMaterial> specular;
     std::vector<GlossyMaterial> glossy;  // Diffuse: a glossy lobe beside the diffuse one
-    // Diffuse with Lambertian lobes alone: the irradiance cache takes its first vertex
-    // (PathIntegrator::shade_cached).
-    std::vector<uint8_t> lambertian;
-    // The same by scene object (its material's), so grouping a hit is one lookup.
+    // By scene object (its material's), so grouping a hit is one lookup: the kernel, and
+    // whether it is Diffuse with Lambertian lobes alone (the irradiance cache then takes its
+    // first vertex, PathIntegrator::shade_cached).
     std::vector<KernelKind> object_kernel;
     std::vector<uint8_t> object_lambertian;
     std::vector<uint8_t> object_group;  // a Diffuse object's glossy kind, < kKernelGroups

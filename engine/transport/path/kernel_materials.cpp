@@ -136,16 +136,14 @@ KernelMaterials PathIntegrator::kernel_materials() const {
     d.on_b.assign(ms.size(), 0.f);
     d.specular.assign(ms.size(), SpecularMaterial{});
     d.glossy.assign(ms.size(), GlossyMaterial{});
-    d.lambertian.assign(ms.size(), 0);
-    for (std::size_t k = 0; k < ms.size(); ++k) {
+    for (std::size_t k = 0; k < ms.size(); ++k)
         d.kernel[k] =
             kernel_material(ms[k], d.rho[k], d.on_a[k], d.on_b[k], d.specular[k], d.glossy[k]);
-        RGB rho;
-        d.lambertian[k] = d.kernel[k] == KernelKind::Diffuse && ms[k].bsdf.lambert_albedo(rho);
-    }
     for (const Object& o : ctx_.scene.objects) {
+        RGB rho;
         d.object_kernel.push_back(d.kernel[o.material]);
-        d.object_lambertian.push_back(d.lambertian[o.material]);
+        d.object_lambertian.push_back(d.kernel[o.material] == KernelKind::Diffuse &&
+                                      ms[o.material].bsdf.lambert_albedo(rho));
         d.object_group.push_back(uint8_t(d.glossy[o.material].kind));
     }
     return d;
