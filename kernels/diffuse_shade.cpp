@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "glossy_lanes.h"
+#include "diffuse_lobes.h"
 
 namespace foton::kern {
 
@@ -29,41 +29,17 @@ FloatV mis_weight(const DiffuseRules& r, const FloatV& pa, const FloatV& pb) {
     return one;
 }
 
-// Oren–Nayar's f / rho for local directions wo, wi on one side (bsdf.cpp's lobe_f, operation
-// for operation); B = 0 gives 1 / pi exactly, Lambert's.
-FloatV oren_nayar(const V3& wo, const V3& wi, const FloatV& a, const FloatV& b) {
-    const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi), tiny(1e-4f);
-    const FloatV ci = xsimd::abs(wi.z), co = xsimd::abs(wo.z);
-    const FloatV si = simd::vsqrt(simd::vmax(one - ci * ci, zero));
-    const FloatV so = simd::vsqrt(simd::vmax(one - co * co, zero));
-    const FloatV cos_dphi = xsimd::select(
-        (si > tiny) & (so > tiny), simd::vmax((wi.x * wo.x + wi.y * wo.y) / (si * so), zero), zero);
-    // alpha = the larger polar angle, beta = the smaller.
-    const FloatV sin_alpha = xsimd::select(ci > co, so, si);
-    const FloatV tan_beta = xsimd::select(ci > co, si / ci, so / co);
-    return xsimd::select(b == zero, inv_pi, inv_pi * (a + b * cos_dphi * sin_alpha * tan_beta));
-}
-
 void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     reconstruct_surface(l);
     const FloatV zero(0.f), one(1.f), inv_pi(kDiffuseInvPi);
     const V3 p = l.in3(kDvPx), ng = l.in3(kDvNgx), ns = l.in3(kDvNsx);
     const FloatV eps = l.in(kDvEps);
-    const V3 rho = l.in3(kDvRhoR), beta = l.in3(kDvBetaR);
-    const V3 f{rho.x * inv_pi, rho.y * inv_pi, rho.z * inv_pi};
+    const V3 beta = l.in3(kDvBetaR);
     V3 s, t;
     shading_frame(ns, s, t);
     const V3 wo_world = l.in3(kDvWox);
     const FloatV wo_z = dot(wo_world, ns);
-    // Oren–Nayar lanes: f depends on the directions (else f = rho / pi).
-    const FloatV on_a = l.in(kDvOnA), on_b = l.in(kDvOnB);
-    const bool rough = xsimd::any(on_b != zero);
-    const V3 wo{dot(wo_world, s), dot(wo_world, t), wo_z};
-    auto f_at = [&](const V3& wi) {
-        if (!rough) return f;
-        const FloatV k = oren_nayar(wo, wi, on_a, on_b);
-        return V3{rho.x * k, rho.y * k, rho.z * k};
-    };
+    const DiffuseLobes lobes(l, V3{dot(wo_world, s), dot(wo_world, t), wo_z});
 
     // A rectangle's or a triangle's sample: a point uniform on its area (a triangle's by the
     // low-distortion square-to-triangle map of warp::uniform_triangle), its solid-angle
@@ -149,27 +125,15 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     const FloatV k = xsimd::abs(cos_l) * w / pl;
     const V3 li = l.in3(kDvLiR);
     const V3 wl{dot(lw, s), dot(lw, t), cos_l};
-    const V3 fl = f_at(wl);
+    const V3 fl = lobes.diffuse_f(wl);
     V3 value{beta.x * fl.x * li.x * k, beta.y * fl.y * li.y * k, beta.z * fl.z * li.z * k};
     // Lanes with a glossy lobe: f and pdf are the two lobes' (Bsdf::f and Bsdf::pdf: the sum,
     // and the densities mixed by the sampling weights).
-    const MaskV glossy = l.in(kDvGlossKind) != zero;
-    const bool any_glossy = xsimd::any(glossy);
-    const GlossyLanes g = any_glossy ? GlossyLanes(l) : GlossyLanes();
-    const FloatV wd = l.in(kDvDiffuseWeight), wg = l.in(kDvGlossWeight);
-    auto mixed = [&](const V3& wi, const V3& fd, V3& f_sum, FloatV& pdf_d, FloatV& pdf_g) {
-        V3 fg;
-        glossy_eval(g, wo, wi, fg, pdf_g);
-        const MaskV same = wo_z * wi.z > zero;
-        const V3 fds = select(same, fd, V3{zero, zero, zero});
-        f_sum = fds + fg;
-        pdf_d = xsimd::select(same, xsimd::abs(wi.z) * inv_pi, zero);
-        return (wd * pdf_d + wg * pdf_g) / (wd + wg);
-    };
-    if (any_glossy) {
+    const MaskV glossy = lobes.glossy;
+    if (lobes.any_glossy) {
         V3 fm;
         FloatV pdf_d, pdf_g;
-        const FloatV pm = mixed(wl, fl, fm, pdf_d, pdf_g);
+        const FloatV pm = lobes.mixed(wl, fl, fm, pdf_d, pdf_g);
         const FloatV km =
             xsimd::abs(cos_l) * xsimd::select(full, one, mis_weight(rules, pl, pm)) / pl;
         const V3 vm{beta.x * fm.x * li.x * km, beta.y * fm.y * li.y * km,
@@ -196,54 +160,13 @@ void shade_lanes(const Lanes& l, const DiffuseRules& rules) {
     l.out(kDvStmax, xsimd::select(at_infinity, FloatV(std::numeric_limits<float>::infinity()),
                                   len * FloatV(1.f - 1e-4f)));
 
-    // The continuation: a cosine-weighted direction.
-    const FloatV da = FloatV(2.f) * l.in(kDvU0)-one, db = FloatV(2.f) * l.in(kDvU1)-one;
-    const MaskV centre = (da == zero) & (db == zero);
-    const MaskV wide = xsimd::abs(da) > xsimd::abs(db);
-    const FloatV quarter_pi(0.25f * kDiffusePi);
-    const FloatV r = xsimd::select(wide, da, db);
-    const FloatV x = quarter_pi * xsimd::select(wide, db / da, da / db);
-    FloatV sx, cx;
-    sincos_quarter(x, sx, cx);
-    // Beyond pi/4 the angle is pi/2 - x: cosine and sine swap.
-    const FloatV lx = xsimd::select(centre, zero, r * xsimd::select(wide, cx, sx));
-    const FloatV ly = xsimd::select(centre, zero, r * xsimd::select(wide, sx, cx));
-    FloatV lz = simd::vsqrt(simd::vmax(one - lx * lx - ly * ly, zero));
-    lz = xsimd::select(wo_z < zero, neg(lz), lz);
-    const FloatV cz = xsimd::abs(lz);
-    V3 wi = s * lx + t * ly + ns * lz;
-    FloatV pdf = cz * inv_pi;
-    const FloatV kn = cz / pdf;
-    const V3 fn = f_at(V3{lx, ly, lz});
-    V3 nb{beta.x * (fn.x * kn), beta.y * (fn.y * kn), beta.z * (fn.z * kn)};
-    MaskV next = (wo_z * lz > zero) & (dot(wi, ng) > zero);
-    if (any_glossy) {
-        // Bsdf::sample: the lobe by kDvUChoice in the BSDF's order, its direction, then the
-        // mixture's f and pdf there.
-        const MaskV glossy_first = l.in(kDvGlossFirst) != zero;
-        const FloatV w_first = xsimd::select(glossy_first, wg, wd);
-        const FloatV w_second = xsimd::select(glossy_first, wd, wg);
-        const FloatV target = l.in(kDvUChoice) * (wd + wg);
-        const MaskV first = (w_first > zero) & ((target < w_first) | ~(w_second > zero));
-        const MaskV take_glossy = (glossy_first & first) | (~glossy_first & ~first);
-        MaskV sampled = glossy;
-        const V3 wg_local = glossy_sample(g, wo, l.in(kDvU0), l.in(kDvU1), sampled);
-        MaskV ok = select_mask(take_glossy, sampled, glossy);
-        const V3 wl_next = select(take_glossy, wg_local, V3{lx, ly, lz});
-        V3 fm;
-        FloatV pdf_d, pdf_g;
-        const FloatV pm = mixed(wl_next, f_at(wl_next), fm, pdf_d, pdf_g);
-        ok = ok & select_mask(take_glossy, pdf_g > zero, pdf_d > zero) & (pm > zero);
-        const V3 wm = s * wl_next.x + t * wl_next.y + ns * wl_next.z;
-        const FloatV cm = xsimd::abs(wl_next.z);
-        const FloatV km = cm / pm;
-        const V3 nm{beta.x * (fm.x * km), beta.y * (fm.y * km), beta.z * (fm.z * km)};
-        ok = ok & (dot(wm, ng) > zero);
-        wi = select(glossy, wm, wi);
-        nb = select(glossy, nm, nb);
-        pdf = xsimd::select(glossy, pm, pdf);
-        next = select_mask(glossy, ok, next);
-    }
+    // The continuation (Bsdf::sample), throughput f |cos| / pdf.
+    const LobeSample smp = sample_lobes(lobes, l);
+    const V3 wi = s * smp.wi.x + t * smp.wi.y + ns * smp.wi.z;
+    const FloatV pdf = smp.pdf;
+    const FloatV kn = xsimd::abs(smp.wi.z) / pdf;
+    V3 nb{beta.x * (smp.f.x * kn), beta.y * (smp.f.y * kn), beta.z * (smp.f.z * kn)};
+    MaskV next = smp.ok & (dot(wi, ng) > zero);
     next = next & ((nb.x != zero) | (nb.y != zero) | (nb.z != zero));
     if (rules.roulette) {
         const FloatV qr = simd::vmin(max3(nb.x, nb.y, nb.z) * l.in(kDvEtaScale), one);

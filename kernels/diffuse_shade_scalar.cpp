@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "diffuse_lobes_scalar.h"
 #include "diffuse_shade.h"
-#include "glossy_scalar.h"
 #include "shade_scalar.h"
 
 namespace foton::kern {
@@ -29,19 +29,6 @@ float mis_weight(const DiffuseRules& r, float pa, float pb) {
     return 1.f;
 }
 
-// Oren–Nayar's f / rho (bsdf.cpp's lobe_f); B = 0: Lambert's 1 / pi.
-float oren_nayar(V3 wo, V3 wi, float a, float b) {
-    if (b == 0.f) return kDiffuseInvPi;
-    const float ci = std::fabs(wi.z), co = std::fabs(wo.z);
-    const float si = std::sqrt(std::max(0.f, 1.f - ci * ci));
-    const float so = std::sqrt(std::max(0.f, 1.f - co * co));
-    float cos_dphi = 0.f;
-    if (si > 1e-4f && so > 1e-4f) cos_dphi = std::max(0.f, (wi.x * wo.x + wi.y * wo.y) / (si * so));
-    const float sin_alpha = ci > co ? so : si;
-    const float tan_beta = ci > co ? si / ci : so / co;
-    return kDiffuseInvPi * (a + b * cos_dphi * sin_alpha * tan_beta);
-}
-
 }  // namespace
 
 void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules& rules) {
@@ -57,13 +44,12 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
         reconstruct_surface_scalar(v, i);
         const V3 p = in3(kDvPx, i), ng = in3(kDvNgx, i), ns = in3(kDvNsx, i);
         const float eps = v.col(kDvEps)[i];
-        const V3 rho = in3(kDvRhoR, i), beta = in3(kDvBetaR, i);
+        const V3 beta = in3(kDvBetaR, i);
         V3 s, t;
         shading_frame(ns, s, t);
         const V3 wo_world = in3(kDvWox, i);
         const float wo_z = dot(wo_world, ns);
-        const V3 wo{dot(wo_world, s), dot(wo_world, t), wo_z};
-        const float on_a = v.col(kDvOnA)[i], on_b = v.col(kDvOnB)[i];
+        const DiffuseLobes lobes(v, i, V3{dot(wo_world, s), dot(wo_world, t), wo_z});
 
         // A rectangle's or a triangle's sample: a point uniform on its area, its solid-angle
         // density.
@@ -132,23 +118,7 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
 
         // A glossy lobe beside the diffuse one: f is the two lobes' sum, the pdf their
         // densities mixed by the sampling weights (Bsdf::f, Bsdf::pdf).
-        const bool glossy = v.col(kDvGlossKind)[i] != 0.f;
-        const GlossyLane g(v, i);
-        const float wd = v.col(kDvDiffuseWeight)[i], wg = v.col(kDvGlossWeight)[i];
-        auto mixed = [&](V3 wi, V3& f_sum, float& pdf_d, float& pdf_g) {
-            V3 fg;
-            glossy_eval(g, wo, wi, fg, pdf_g);
-            V3 fd{0.f, 0.f, 0.f};
-            pdf_d = 0.f;
-            if (wo_z * wi.z > 0.f) {
-                const float fk = oren_nayar(wo, wi, on_a, on_b);
-                fd = V3{rho.x * fk, rho.y * fk, rho.z * fk};
-                pdf_d = std::fabs(wi.z) * kDiffuseInvPi;
-            }
-            f_sum = fd + fg;
-            return (wd * pdf_d + wg * pdf_g) / (wd + wg);
-        };
-
+        const bool glossy = lobes.glossy;
         // Next event estimation.
         const float cos_l = dot(lw, ns);
         bool shadow = pl > 0.f && dot(lw, ng) > 0.f && (glossy || wo_z * cos_l > 0.f);
@@ -156,7 +126,7 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
         if (shadow && glossy) {
             V3 fm;
             float pdf_d, pdf_g;
-            const float pm = mixed(V3{dot(lw, s), dot(lw, t), cos_l}, fm, pdf_d, pdf_g);
+            const float pm = lobes.mixed(V3{dot(lw, s), dot(lw, t), cos_l}, fm, pdf_d, pdf_g);
             const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pm);
             const float k = std::fabs(cos_l) * w / pl;
             const V3 li = in3(kDvLiR, i);
@@ -167,9 +137,8 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
             const float w = v.col(kDvLightFull)[i] != 0.f ? 1.f : mis_weight(rules, pl, pb);
             const float k = std::fabs(cos_l) * w / pl;
             const V3 li = in3(kDvLiR, i);
-            const float fk = oren_nayar(wo, V3{dot(lw, s), dot(lw, t), cos_l}, on_a, on_b);
-            value = {beta.x * (rho.x * fk) * li.x * k, beta.y * (rho.y * fk) * li.y * k,
-                     beta.z * (rho.z * fk) * li.z * k};
+            const V3 fl = lobes.diffuse_f(V3{dot(lw, s), dot(lw, t), cos_l});
+            value = {beta.x * fl.x * li.x * k, beta.y * fl.y * li.y * k, beta.z * fl.z * li.z * k};
             shadow = value.x != 0.f || value.y != 0.f || value.z != 0.f;
         }
         v.col(kDvShadowValid)[i] = shadow ? 1.f : 0.f;
@@ -191,62 +160,14 @@ void shade_diffuse_scalar(const ShadeTable& v, std::size_t n, const DiffuseRules
             v.col(kDvStmax)[i] = len * (1.f - 1e-4f);
         }
 
-        // The continuation: a cosine-weighted direction.
-        const float da = 2.f * v.col(kDvU0)[i] - 1.f, db = 2.f * v.col(kDvU1)[i] - 1.f;
-        float lx = 0.f, ly = 0.f;
-        if (da != 0.f || db != 0.f) {
-            float sx, cx;
-            if (std::fabs(da) > std::fabs(db)) {
-                sincos_quarter(0.25f * kDiffusePi * (db / da), sx, cx);
-                lx = da * cx;
-                ly = da * sx;
-            } else {
-                // The angle pi/2 - x: cosine and sine swap.
-                sincos_quarter(0.25f * kDiffusePi * (da / db), sx, cx);
-                lx = db * sx;
-                ly = db * cx;
-            }
-        }
-        float lz = std::sqrt(std::max(0.f, 1.f - lx * lx - ly * ly));
-        if (wo_z < 0.f) lz = -lz;
-        bool next;
-        V3 wi, nb;
+        // The continuation (Bsdf::sample), throughput f |cos| / pdf.
+        V3 wl, f;
         float pdf;
-        if (glossy) {
-            // Bsdf::sample: the lobe by kDvUChoice in the BSDF's order, its direction, then
-            // the mixture's f and pdf there.
-            const bool glossy_first = v.col(kDvGlossFirst)[i] != 0.f;
-            const float w_first = glossy_first ? wg : wd, w_second = glossy_first ? wd : wg;
-            const float target = v.col(kDvUChoice)[i] * (wd + wg);
-            const bool first = w_first > 0.f && (target < w_first || !(w_second > 0.f));
-            const bool take_glossy = glossy_first == first;
-            V3 wl{lx, ly, lz};
-            next = true;
-            if (take_glossy) next = glossy_sample(g, wo, v.col(kDvU0)[i], v.col(kDvU1)[i], wl);
-            V3 fm{0.f, 0.f, 0.f};
-            float pdf_d = 0.f, pdf_g = 0.f;
-            pdf = 0.f;
-            if (next) {
-                pdf = mixed(wl, fm, pdf_d, pdf_g);
-                next = (take_glossy ? pdf_g > 0.f : pdf_d > 0.f) && pdf > 0.f;
-            }
-            wi = s * wl.x + t * wl.y + ns * wl.z;
-            const float k = std::fabs(wl.z) / pdf;
-            nb = V3{beta.x * (fm.x * k), beta.y * (fm.y * k), beta.z * (fm.z * k)};
-            next = next && dot(wi, ng) > 0.f;
-        } else {
-            const float cz = std::fabs(lz);
-            next = wo_z * lz > 0.f;
-            wi = s * lx + t * ly + ns * lz;
-            next = next && dot(wi, ng) > 0.f;
-            // f |cos| / pdf = (rho / pi) |cos| / (|cos| / pi): the division kept as the BSDF
-            // path does it.
-            pdf = cz * kDiffuseInvPi;
-            const float k = cz / pdf;
-            const float fk = oren_nayar(wo, V3{lx, ly, lz}, on_a, on_b);
-            nb = V3{beta.x * ((rho.x * fk) * k), beta.y * ((rho.y * fk) * k),
-                    beta.z * ((rho.z * fk) * k)};
-        }
+        bool next = sample_lobes(lobes, v, i, wl, f, pdf);
+        const V3 wi = s * wl.x + t * wl.y + ns * wl.z;
+        const float k = std::fabs(wl.z) / pdf;
+        V3 nb{beta.x * (f.x * k), beta.y * (f.y * k), beta.z * (f.z * k)};
+        next = next && dot(wi, ng) > 0.f;
         next = next && (nb.x != 0.f || nb.y != 0.f || nb.z != 0.f);
         if (rules.roulette) {
             const float q = std::min(1.f, std::max({nb.x, nb.y, nb.z}) * v.col(kDvEtaScale)[i]);

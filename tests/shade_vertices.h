@@ -1,10 +1,11 @@
 #pragma once
 // Random vertex tables for the shading kernels' tests (test_diffuse_shade.cpp,
-// test_glossy_shade.cpp): surfaces, throughputs and light samples with every edge the engine
-// produces.
+// test_glossy_shade.cpp, test_importance_shade.cpp): surfaces, throughputs, light samples and
+// glossy lobes with every edge the engine produces.
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include "engine/core/aligned.h"
 #include "engine/core/math.h"
@@ -155,6 +156,98 @@ inline Table random_vertices(std::size_t n, uint32_t seed) {
         t.at(kDvURoulette, i) = u01(g);
     }
     return t;
+}
+
+// Makes most lanes of `t` glossy (every seventh stays Lambertian or Oren–Nayar) and gives
+// each lane's BSDF as the engine builds it: the diffuse lobe the table holds (rho, A, B)
+// and a glossy lobe, before or after it.
+inline void make_glossy(Table& t, std::size_t n, uint32_t seed, std::vector<Bsdf>& bsdfs) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    bsdfs.assign(n, Bsdf{});
+    for (std::size_t i = 0; i < n; ++i) {
+        const RGB rho{t.at(kDvRhoR, i), t.at(kDvRhoG, i), t.at(kDvRhoB, i)};
+        Lobe diffuse = Lobe::lambert(rho);
+        if (t.at(kDvOnB, i) != 0.f) {
+            diffuse.type = LobeType::OrenNayar;
+            diffuse.on_a = t.at(kDvOnA, i);
+            diffuse.on_b = t.at(kDvOnB, i);
+        }
+        t.at(kDvUChoice, i) = u01(g);
+        if (i % 7 == 0) {
+            t.at(kDvGlossKind, i) = 0.f;
+            bsdfs[i].add(diffuse);
+            continue;
+        }
+        Fresnel fr;
+        if (i % 3 == 1) {
+            fr.kind = FresnelKind::Conductor;
+            fr.eta = RGB{0.2f + u01(g), 0.9f, 1.1f};
+            fr.k = RGB{2.f + 2.f * u01(g), 2.5f, 2.f};
+        } else if (i % 3 == 2) {
+            fr.kind = FresnelKind::Dielectric;
+            fr.ior = 1.3f + u01(g);
+        }
+        const RGB tint{0.3f + 0.7f * u01(g), 0.8f, 0.2f + 0.8f * u01(g)};
+        Lobe glossy;
+        switch (i % 6) {
+            case 0:
+                glossy = Lobe::phong(tint, 1.f + 500.f * u01(g) * u01(g));
+                break;
+            case 1:
+                glossy = Lobe::microfacet(
+                    tint, MicrofacetDistribution::beckmann(0.03f + 0.6f * u01(g)), fr);
+                break;
+            case 2: {
+                const float e = 2.f + 800.f * u01(g) * u01(g);
+                glossy = Lobe::microfacet(tint, MicrofacetDistribution::blinn(e), fr);
+                break;
+            }
+            case 4:
+                glossy = Lobe::microfacet(
+                    tint,
+                    MicrofacetDistribution::trowbridge_reitz(
+                        0.02f + 0.8f * u01(g) * u01(g), i % 12 == 4 ? 0.3f : 0.02f + 0.8f * u01(g)),
+                    fr);
+                break;
+            default:
+                glossy = Lobe::microfacet(
+                    tint,
+                    MicrofacetDistribution::ashikhmin_shirley(1.f + 900.f * u01(g) * u01(g),
+                                                              1.f + 900.f * u01(g) * u01(g)),
+                    fr);
+        }
+        const bool alone = i % 11 == 4, first = i % 4 >= 2;
+        if (first || alone) bsdfs[i].add(glossy);
+        if (!alone) bsdfs[i].add(diffuse);
+        if (!first && !alone) bsdfs[i].add(glossy);
+        const int gi = first || alone ? 0 : 1;
+        const MicrofacetKind mk = glossy.dist.kind;
+        const bool alpha_kind =
+            mk == MicrofacetKind::Beckmann || mk == MicrofacetKind::TrowbridgeReitz;
+        t.at(kDvGlossKind, i) = glossy.type == LobeType::Phong          ? kGlossPhong
+                                : mk == MicrofacetKind::Beckmann        ? kGlossBeckmann
+                                : mk == MicrofacetKind::TrowbridgeReitz ? kGlossGgx
+                                                                        : kGlossCosPower;
+        t.set3(kDvGlossR, i, {tint.r, tint.g, tint.b});
+        t.at(kDvGlossNu, i) = glossy.type == LobeType::Phong ? glossy.exponent
+                              : alpha_kind                   ? glossy.dist.alpha
+                                                             : glossy.dist.nu;
+        t.at(kDvGlossNv, i) = glossy.type == LobeType::Phong          ? glossy.exponent
+                              : mk == MicrofacetKind::Beckmann        ? glossy.dist.alpha
+                              : mk == MicrofacetKind::TrowbridgeReitz ? glossy.dist.alpha_y
+                                                                      : glossy.dist.nv;
+        t.at(kDvDiffuseWeight, i) = alone ? 0.f : bsdfs[i].weight(1 - gi);
+        t.at(kDvGlossWeight, i) = bsdfs[i].weight(gi);
+        t.at(kDvGlossFirst, i) = gi == 0 ? 1.f : 0.f;
+        if (alone) t.set3(kDvRhoR, i, {0.f, 0.f, 0.f});
+        t.at(kDvFresnel, i) = fr.kind == FresnelKind::Conductor    ? 1.f
+                              : fr.kind == FresnelKind::Dielectric ? 2.f
+                                                                   : 0.f;
+        t.at(kDvIor, i) = fr.ior;
+        t.set3(kDvEtaR, i, {fr.eta.r, fr.eta.g, fr.eta.b});
+        t.set3(kDvKR, i, {fr.k.r, fr.k.g, fr.k.b});
+    }
 }
 
 inline uint32_t bits(float x) {

@@ -23,12 +23,12 @@
 #include "engine/core/ray_batch.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/kernel_materials.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_context.h"
 #include "engine/transport/run/render_options.h"
-#include "kernel_lanes.h"
 #include "path_sampler.h"
 
 namespace foton {
@@ -130,7 +130,6 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     // The SIMD kernels' part (path_lanes.cpp, path_diffuse.cpp, path_specular.cpp).
     KernelMaterials kernel_materials() const;
     KernelKind kernel_of(const PathWorkspace& ws, std::size_t i) const;
-    bool put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const;
     void pick_lane_lights(uint32_t depth, PathWorkspace& ws) const;
     static float kernel_light_kind(const Emitter& e);
     void put_kernel_light(uint32_t depth, std::size_t lane, const Emitter& e, const LightPick& pick,

@@ -75,24 +75,9 @@ void PathIntegrator::fill_diffuse_lane(uint32_t depth, std::size_t lane, PathWor
     auto draw = [&](uint32_t row, uint32_t k) { return lane_number(ws, lane, row, depth, k); };
     auto draw2 = [&](uint32_t row, uint32_t k) { return lane_number2(ws, lane, row, depth, k); };
     const uint32_t material = ctx_.scene.objects[ws.hits.geom[i]].material;
-    L.put3(kern::kDvRhoR, lane, kernels_.rho[material]);
-    L.col(kern::kDvOnA)[lane] = kernels_.on_a[material];
-    L.col(kern::kDvOnB)[lane] = kernels_.on_b[material];
-    const GlossyMaterial& g = kernels_.glossy[material];
-    L.col(kern::kDvGlossKind)[lane] = g.kind;
-    if (g.kind != 0.f) {
-        L.put3(kern::kDvGlossR, lane, g.color);
-        L.col(kern::kDvGlossNu)[lane] = g.nu;
-        L.col(kern::kDvGlossNv)[lane] = g.nv;
-        L.col(kern::kDvDiffuseWeight)[lane] = g.diffuse_weight;
-        L.col(kern::kDvGlossWeight)[lane] = g.glossy_weight;
-        L.col(kern::kDvGlossFirst)[lane] = g.glossy_first;
-        L.col(kern::kDvFresnel)[lane] = g.fresnel;
-        L.col(kern::kDvIor)[lane] = g.ior;
-        L.put3(kern::kDvEtaR, lane, g.eta);
-        L.put3(kern::kDvKR, lane, g.k);
-        if (!L.drawn) L.col(kern::kDvUChoice)[lane] = draw(KernelLanes::kRandLobe, kPathDimBsdf);
-    }
+    put_diffuse_material(L, lane, kernels_, material);
+    if (kernels_.glossy[material].kind != 0.f && !L.drawn)
+        L.col(kern::kDvUChoice)[lane] = draw(KernelLanes::kRandLobe, kPathDimBsdf);
     // The light, as shade_vertex's next event estimation chooses it. The kernel samples
     // rectangles, triangles and one-sided spheres and makes the surface itself; any other
     // light is sampled here, from the surface point surface_at makes here. Under the light

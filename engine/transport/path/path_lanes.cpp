@@ -1,6 +1,6 @@
 // What the path tracer's shading kernels share (path_diffuse.cpp, path_specular.cpp): which
 // kernel takes a hit, the surface and the random numbers of a chunk of lanes, the chunk loop
-// and the read-back (which kernel takes a material: kernel_materials.cpp).
+// and the read-back (which kernel takes a material: common/kernel_materials.cpp).
 #include <algorithm>
 #include <bit>
 
@@ -14,6 +14,43 @@
 #include "path.h"
 
 namespace foton {
+
+namespace {
+
+kern::DiffuseMis kernel_mis(MisHeuristic h) {
+    switch (h) {
+        case MisHeuristic::Balance:
+            return kern::DiffuseMis::Balance;
+        case MisHeuristic::Power:
+            return kern::DiffuseMis::Power;
+        case MisHeuristic::Maximum:
+            return kern::DiffuseMis::Maximum;
+        case MisHeuristic::Mean:
+            return kern::DiffuseMis::Mean;
+        case MisHeuristic::None:
+            break;
+    }
+    return kern::DiffuseMis::None;
+}
+
+}  // namespace
+
+// The scene's kernel materials, and whether this tracer's vertex rules let the kernels shade.
+KernelMaterials PathIntegrator::kernel_materials() const {
+    KernelMaterials d = foton::kernel_materials(ctx_.scene);
+    const RenderSettings& rs = ctx_.settings;
+    const VertexRules plain = VertexRules::path(rs);
+    // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
+    // lighting split and power heuristics of another exponent than 2 keep their own rules in
+    // shade_vertex.
+    const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
+    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
+                !rules_.glossy_by_sampling && !rules_.emission_whole &&
+                rules_.continue_lobes == plain.continue_lobes && !guide_ &&
+                rs.lighting == Lighting::All && power2;
+    d.rules.mis = kernel_mis(rules_.mis.heuristic);
+    return d;
+}
 
 KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) const {
     const uint32_t geom = ws.hits.geom[i];
@@ -31,51 +68,9 @@ KernelKind PathIntegrator::kernel_of(const PathWorkspace& ws, std::size_t i) con
 // holds it.
 bool PathIntegrator::put_surface(std::size_t lane, std::size_t i, PathWorkspace& ws,
                                  bool need_point, SurfacePoint& sp) const {
-    if (!need_point && put_hit(lane, i, ws)) return false;
-    KernelLanes& L = ws.lanes;
+    if (!need_point && put_hit(ws.lanes, lane, ctx_.scene, ws.rays, ws.hits, i)) return false;
     sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
-    L.col(kern::kDvSurface)[lane] = 0.f;
-    L.put3(kern::kDvPx, lane, sp.p);
-    L.put3(kern::kDvNgx, lane, sp.ng);
-    L.put3(kern::kDvNsx, lane, sp.ns);
-    L.col(kern::kDvEps)[lane] = sp.epsilon;
-    L.col(kern::kDvFront)[lane] = sp.front_face ? 1.f : 0.f;
-    return true;
-}
-
-// The hit's geometry for the kernel to reconstruct the surface from (flat and smooth
-// triangles of meshes placed as they are, spheres); false for an instance, whose surface
-// surface_at makes here.
-bool PathIntegrator::put_hit(std::size_t lane, std::size_t i, PathWorkspace& ws) const {
-    KernelLanes& L = ws.lanes;
-    const Scene& scene = ctx_.scene;
-    const Object& obj = scene.objects[ws.hits.geom[i]];
-    if (obj.instance >= 0) return false;
-    float kind;
-    if (obj.kind == ObjectKind::Mesh) {
-        const TriangleMesh& m = scene.meshes[obj.index];
-        const uint32_t* ix = &m.indices[3 * std::size_t(ws.hits.prim[i])];
-        L.put3(kern::kDvA0x, lane, m.vertex(ix[0]));
-        L.put3(kern::kDvA1x, lane, m.vertex(ix[1]));
-        L.put3(kern::kDvA2x, lane, m.vertex(ix[2]));
-        kind = 1.f;
-        if (obj.smooth) {
-            L.put3(kern::kDvN0x, lane, m.vertex_normal(ix[0]));
-            L.put3(kern::kDvN1x, lane, m.vertex_normal(ix[1]));
-            L.put3(kern::kDvN2x, lane, m.vertex_normal(ix[2]));
-            kind = 2.f;
-        }
-    } else {
-        const Sphere& sph = scene.spheres[obj.index];
-        L.put3(kern::kDvA0x, lane, sph.center);
-        L.col(kern::kDvA1x)[lane] = sph.radius;
-        L.put3(kern::kDvOx, lane, ws.rays.origin(i));
-        kind = 3.f;
-    }
-    L.col(kern::kDvSurface)[lane] = kind;
-    L.col(kern::kDvT)[lane] = ws.hits.t[i];
-    L.col(kern::kDvU)[lane] = ws.hits.u[i];
-    L.col(kern::kDvV)[lane] = ws.hits.v[i];
+    foton::put_surface(ws.lanes, lane, sp);
     return true;
 }
 

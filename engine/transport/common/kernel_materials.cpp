@@ -1,26 +1,10 @@
-// Which shading kernel takes each material (kernel_lanes.h's KernelMaterials), decided once
-// when the path tracer is made: the material's lobes as the kernels' columns read them.
-#include "path.h"
+// Which shading kernel takes each material (kernel_materials.h), decided once when an
+// integrator is made: the material's lobes as the kernels' columns read them.
+#include "kernel_materials.h"
 
 namespace foton {
 
 namespace {
-
-kern::DiffuseMis kernel_mis(MisHeuristic h) {
-    switch (h) {
-        case MisHeuristic::Balance:
-            return kern::DiffuseMis::Balance;
-        case MisHeuristic::Power:
-            return kern::DiffuseMis::Power;
-        case MisHeuristic::Maximum:
-            return kern::DiffuseMis::Maximum;
-        case MisHeuristic::Mean:
-            return kern::DiffuseMis::Mean;
-        case MisHeuristic::None:
-            break;
-    }
-    return kern::DiffuseMis::None;
-}
 
 float fresnel_code(const Fresnel& f) {
     return f.kind == FresnelKind::Conductor ? 1.f : f.kind == FresnelKind::Dielectric ? 2.f : 0.f;
@@ -116,20 +100,9 @@ KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b
 
 }  // namespace
 
-KernelMaterials PathIntegrator::kernel_materials() const {
+KernelMaterials kernel_materials(const Scene& scene) {
     KernelMaterials d;
-    const RenderSettings& rs = ctx_.settings;
-    const VertexRules plain = VertexRules::path(rs);
-    // Only the plain path tracer's vertices: the distributed tracer, guided paths, the
-    // lighting split and power heuristics of another exponent than 2 keep their own rules in
-    // shade_vertex.
-    const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
-    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
-                !rules_.glossy_by_sampling && !rules_.emission_whole &&
-                rules_.continue_lobes == plain.continue_lobes && !guide_ &&
-                rs.lighting == Lighting::All && power2;
-    d.rules.mis = kernel_mis(rules_.mis.heuristic);
-    const std::vector<Material>& ms = ctx_.scene.materials;
+    const std::vector<Material>& ms = scene.materials;
     d.kernel.assign(ms.size(), KernelKind::None);
     d.rho.assign(ms.size(), RGB{0.f});
     d.on_a.assign(ms.size(), 1.f);
@@ -139,7 +112,7 @@ KernelMaterials PathIntegrator::kernel_materials() const {
     for (std::size_t k = 0; k < ms.size(); ++k)
         d.kernel[k] =
             kernel_material(ms[k], d.rho[k], d.on_a[k], d.on_b[k], d.specular[k], d.glossy[k]);
-    for (const Object& o : ctx_.scene.objects) {
+    for (const Object& o : scene.objects) {
         RGB rho;
         d.object_kernel.push_back(d.kernel[o.material]);
         d.object_lambertian.push_back(d.kernel[o.material] == KernelKind::Diffuse &&
@@ -147,6 +120,26 @@ KernelMaterials PathIntegrator::kernel_materials() const {
         d.object_group.push_back(uint8_t(d.glossy[o.material].kind));
     }
     return d;
+}
+
+void put_diffuse_material(KernelLanes& L, std::size_t lane, const KernelMaterials& km,
+                          uint32_t material) {
+    L.put3(kern::kDvRhoR, lane, km.rho[material]);
+    L.col(kern::kDvOnA)[lane] = km.on_a[material];
+    L.col(kern::kDvOnB)[lane] = km.on_b[material];
+    const GlossyMaterial& g = km.glossy[material];
+    L.col(kern::kDvGlossKind)[lane] = g.kind;
+    if (g.kind == 0.f) return;
+    L.put3(kern::kDvGlossR, lane, g.color);
+    L.col(kern::kDvGlossNu)[lane] = g.nu;
+    L.col(kern::kDvGlossNv)[lane] = g.nv;
+    L.col(kern::kDvDiffuseWeight)[lane] = g.diffuse_weight;
+    L.col(kern::kDvGlossWeight)[lane] = g.glossy_weight;
+    L.col(kern::kDvGlossFirst)[lane] = g.glossy_first;
+    L.col(kern::kDvFresnel)[lane] = g.fresnel;
+    L.col(kern::kDvIor)[lane] = g.ior;
+    L.put3(kern::kDvEtaR, lane, g.eta);
+    L.put3(kern::kDvKR, lane, g.k);
 }
 
 }  // namespace foton

@@ -1,70 +1,20 @@
 #pragma once
-// What the path tracer's shading kernels keep (path_lanes.cpp): which kernel takes each
-// material, fixed when the integrator is made, and a workspace's table of lanes, the kernels'
-// columns (kernels/shade_table.h).
+// A workspace's table of lanes for the shading kernels (kernels/shade_table.h's columns), as
+// the path tracer (path/path_lanes.cpp) and the light tracer (light/light_tracer.cpp) fill
+// and read it, and the hit's part of a lane that both write the same way.
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/aligned.h"
 #include "engine/core/math.h"
+#include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/light_set.h"
+#include "engine/scene/scene.h"
 #include "engine/transport/common/surface.h"
 #include "kernels/diffuse_shade.h"
 
 namespace foton {
-
-// Which shading kernel takes a material's vertices.
-enum class KernelKind : uint8_t {
-    None,      // shade_vertex, one at a time
-    Diffuse,   // kern::shade_diffuse: Lambertian lobes, or one Oren–Nayar or Lambertian lobe
-               // with one Phong or microfacet lobe, or that glossy lobe alone
-    Specular,  // kern::shade_specular: one mirror or dielectric lobe
-};
-
-// The diffuse kernel's lanes are grouped by their glossy lobe's kind (0: none), so that SIMD
-// registers hold one kind's lanes (Áfra et al.'s coherence extraction, by a counting sort).
-inline constexpr std::size_t kKernelGroups = 5;
-
-// A specular material as kern::shade_specular reads it (the kDvSpec.. columns).
-struct SpecularMaterial {
-    float kind = 0.f;     // 1 mirror, 2 dielectric
-    RGB color, transmit;  // reflection and transmission tints
-    float fresnel = 0.f;  // 0 none, 1 conductor, 2 dielectric
-    float ior = 1.f;
-    RGB eta, k;  // a conductor's complex index
-    float weight = 1.f;
-};
-
-// A diffuse kernel material's glossy lobe as kern::shade_diffuse reads it (the kDvGloss..
-// columns, the Fresnel term in the kDvFresnel.. columns).
-struct GlossyMaterial {
-    float kind = 0.f;  // 0 none, kern::kGlossPhong, kGlossBeckmann, kGlossCosPower, kGlossGgx
-    RGB color;
-    float nu = 0.f, nv = 0.f;  // Phong's exponent or Beckmann's alpha; cos^e's exponents;
-                               // GGX's alpha_x, alpha_y
-    float diffuse_weight = 0.f, glossy_weight = 0.f;
-    float glossy_first = 0.f;  // 1 when it comes before the diffuse lobe in the BSDF
-    float fresnel = 0.f;       // 0 none, 1 conductor, 2 dielectric
-    float ior = 1.f;
-    RGB eta, k;
-};
-
-struct KernelMaterials {
-    bool enabled = false;            // the settings and the vertex rules allow the kernels at all
-    std::vector<KernelKind> kernel;  // per material; untextured and not emitting ones only
-    std::vector<RGB> rho;            // Diffuse: the lobes' summed reflectance
-    std::vector<float> on_a, on_b;   // ... and Oren–Nayar's A, B (Lambert: 1, 0)
-    std::vector<SpecularMaterial> specular;
-    std::vector<GlossyMaterial> glossy;  // Diffuse: a glossy lobe beside the diffuse one
-    // By scene object (its material's), so grouping a hit is one lookup: the kernel, and
-    // whether it is Diffuse with Lambertian lobes alone (the irradiance cache then takes its
-    // first vertex, PathIntegrator::shade_cached).
-    std::vector<KernelKind> object_kernel;
-    std::vector<uint8_t> object_lambertian;
-    std::vector<uint8_t> object_group;  // a Diffuse object's glossy kind, < kKernelGroups
-    kern::DiffuseRules rules;
-};
 
 struct KernelLanes {
     // Lanes per kernel call: the table (95 columns, 24 KB) stays in the first-level cache
@@ -120,5 +70,13 @@ struct KernelLanes {
         return Vec3{col(c)[lane], col(c + 1)[lane], col(c + 2)[lane]};
     }
 };
+
+// The hit's geometry for the kernel to reconstruct the surface from (flat and smooth triangles
+// of meshes placed as they are, spheres); false for an instance, whose surface the caller
+// makes with surface_at and writes with put_surface.
+bool put_hit(KernelLanes& L, std::size_t lane, const Scene& scene, const RayBatch& rays,
+             const HitBatch& hits, std::size_t i);
+// A surface made on the CPU side, written whole (kDvSurface 0).
+void put_surface(KernelLanes& L, std::size_t lane, const SurfacePoint& sp);
 
 }  // namespace foton
