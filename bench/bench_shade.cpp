@@ -1,10 +1,10 @@
 // Google Benchmark: the shading kernels against their scalar twins on the same 128-lane table
-// (vertices per second): Lambertian and glossy (kernels/diffuse_shade.h) and specular
-// (kernels/specular_shade.h) vertices, and the random-number tables the path tracer draws
-// for them (counter-based, Sobol', Z-Sobol'; numbers per second), and the light BVH's descent
-// (kernels/light_tree.h; picks per second, on a plaza of 4,096 lamps as bench/many_lights
-// renders). What the SIMD parts of the shade stage cost, without the filling and reading back
-// around them.
+// (vertices per second): Lambertian and glossy (kernels/diffuse_shade.h), the light tracer's
+// (kernels/importance_shade.h) and specular (kernels/specular_shade.h) vertices, and the
+// random-number tables the path tracer draws for them (counter-based, Sobol', Z-Sobol'; numbers per
+// second), and the light BVH's descent (kernels/light_tree.h; picks per second, on a plaza of 4,096
+// lamps as bench/many_lights renders). What the SIMD parts of the shade stage cost, without the
+// filling and reading back around them.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -16,6 +16,7 @@
 #include "kernels/counter_hash.h"
 #include "kernels/diffuse_shade.h"
 #include "kernels/halton_net.h"
+#include "kernels/importance_shade.h"
 #include "kernels/light_tree.h"
 #include "kernels/sobol_net.h"
 #include "kernels/specular_shade.h"
@@ -129,6 +130,24 @@ void BM_ShadeGlossy(benchmark::State& state) {
         t.col(kDvUChoice)[i] = u(g);
     }
     run_shade_diffuse<kSimd>(state, t);
+}
+
+// The light tracer's vertices (kernels/importance_shade.h) on the diffuse table's Lambertian
+// surfaces, the eye at the ceiling light's corner: the connection and the continuation.
+template <bool kSimd>
+void BM_ShadeImportance(benchmark::State& state) {
+    Table t;
+    const ShadeTable v{t.data.data(), kLanes};
+    for (auto _ : state) {
+        if (kSimd)
+            shade_importance(v, kLanes, true);
+        else
+            shade_importance_scalar(v, kLanes, true);
+        benchmark::ClobberMemory();
+    }
+    state.counters["vertices/s"] =
+        benchmark::Counter(double(kLanes), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["width"] = double(kSimd ? shade_width() : 1);
 }
 
 // Mirrors and dielectrics alternating, on the diffuse table's surfaces.
@@ -253,6 +272,8 @@ BENCHMARK_TEMPLATE(BM_ShadeDiffuse, true)->Name("shade_diffuse/simd");
 BENCHMARK_TEMPLATE(BM_ShadeDiffuse, false)->Name("shade_diffuse/scalar");
 BENCHMARK_TEMPLATE(BM_ShadeGlossy, true)->Name("shade_glossy/simd");
 BENCHMARK_TEMPLATE(BM_ShadeGlossy, false)->Name("shade_glossy/scalar");
+BENCHMARK_TEMPLATE(BM_ShadeImportance, true)->Name("shade_importance/simd");
+BENCHMARK_TEMPLATE(BM_ShadeImportance, false)->Name("shade_importance/scalar");
 BENCHMARK_TEMPLATE(BM_ShadeSpecular, true)->Name("shade_specular/simd");
 BENCHMARK_TEMPLATE(BM_ShadeSpecular, false)->Name("shade_specular/scalar");
 BENCHMARK_TEMPLATE(BM_NumberTable, 0, true)->Name("numbers_uniform/simd");

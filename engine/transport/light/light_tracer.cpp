@@ -10,43 +10,104 @@
 namespace foton {
 
 namespace {
-// Random dimensions: light choice, position (2), direction (2), triangle; then per bounce
-// the BSDF lobe and direction (3) and Russian roulette.
-constexpr uint32_t kDimLightSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5,
-                   kDimFirstBounce = 8, kDimsPerBounce = 4;
+// The path's first random dimensions (the bounces' follow: light_tracer.h).
+constexpr uint32_t kDimLightSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5;
 }  // namespace
+
+LightTracer::LightTracer(const RenderContext& ctx)
+    : ctx_(ctx), kernels_([&] {
+          KernelMaterials k = kernel_materials(ctx.scene);
+          k.enabled = ctx.settings.simd_shading;
+          return k;
+      }()) {}
 
 float LightTracer::rand(uint64_t path, uint32_t dim) const {
     return rng::uniform(ctx_.seed, kLightPathStream, path, dim);
 }
 
+bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+                          uint32_t& pixel, RGB& splat) const {
+    const Camera& cam = ctx_.scene.camera;
+    float fx, fy;
+    if (!cam.project(p, fx, fy)) return false;
+    splat = value * cam.importance(-dot(wc, cam.w), dist);
+    if (splat.is_black()) return false;
+    pixel = cam.film_pixel(fx, fy);
+    return true;
+}
+
+void LightTracer::push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,
+                                  uint32_t pixel, uint32_t slot, LightTracerWorkspace& ws) const {
+    ws.shadow.push(o, wc, 0.f, tmax, slot);
+    ws.shadow_value.push_back(splat);
+    ws.shadow_pixel.push_back(pixel);
+}
+
+void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
+                               LightTracerWorkspace& ws) const {
+    const Camera& cam = ctx_.scene.camera;
+    const RenderSettings& rs = ctx_.settings;
+    const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
+    const uint32_t geom = ws.hits.geom[i];
+    const uint32_t slot = ws.rays.id[i];
+    const uint64_t path = first + slot;
+    const Vec3 d = ws.rays.direction(i);
+    const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+    std::optional<Material> scratch;
+    const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+    if (m.bsdf.empty() || vertex > rs.max_depth) return;
+    RGB& beta = ws.beta[slot];
+    const warp::Frame frame(sp.ns);
+    const Vec3 wl = -d;  // towards the light
+    const Vec3 wo = frame.to_local(wl);
+    const BsdfContext ctx{sp.front_face, Transport::Importance};
+    const float wl_ng = std::fabs(dot(wl, sp.ng));
+    if (wl_ng == 0.f) return;
+    // Veach's adjoint correction for shading normals: |wl.ns| |w.ng| / (|wl.ng| |w.ns|).
+    const float adj = std::fabs(wo.z) / wl_ng;
+
+    if (m.bsdf.has_non_delta()) {
+        const Vec3 to = cam.eye - sp.p;
+        const float dist = length(to);
+        const Vec3 wc = to / dist;
+        const float c_ng = dot(wc, sp.ng);
+        if (c_ng > 0.f) {
+            const RGB f = m.bsdf.f(wo, frame.to_local(wc), ctx);
+            uint32_t pixel;
+            RGB splat;
+            if (!f.is_black() && to_film(sp.p, wc, dist, beta * f * (adj * c_ng), pixel, splat)) {
+                const Vec3 o = offset_origin(sp, wc);
+                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, pixel, slot, ws);
+            }
+        }
+    }
+    if (vertex >= rs.max_depth) return;
+    const uint32_t dim = kLightDimFirstBounce + depth * kLightDimsPerBounce;
+    BsdfSample bs;
+    if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)}, ctx, bs))
+        return;
+    const Vec3 wi = frame.to_world(bs.wi);
+    const float side = dot(wi, sp.ng);
+    if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
+    beta *= bs.f * (adj * std::fabs(side) / bs.pdf);
+    if (beta.is_black()) return;
+    if (vertex >= rs.rr_depth) {
+        const float q = std::min(1.f, beta.max_component());
+        if (rand(path, dim + 3) >= q) return;
+        beta *= 1.f / q;
+    }
+    ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+}
+
 void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws,
                         std::vector<Splat>& splats, RenderStats& stats) const {
     const Camera& cam = ctx_.scene.camera;
-    const RenderSettings& rs = ctx_.settings;
     StageClock clock;
     ws.rays.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
     ws.shadow_pixel.clear();
     ws.beta.assign(count, RGB{0.f});
-
-    // Joins point p (offset origin o) to the eye; `value` already holds everything but the
-    // camera's importance.
-    auto connect = [&](const Vec3& p, const Vec3& o, const RGB& value, uint32_t slot) {
-        float fx, fy;
-        if (!cam.project(p, fx, fy)) return;
-        const Vec3 to = cam.eye - p;
-        const float dist = length(to);
-        const Vec3 wc = to / dist;
-        const float cos_cam = -dot(wc, cam.w);
-        const RGB v = value * cam.importance(cos_cam, dist);
-        if (v.is_black()) return;
-        const uint32_t pixel = cam.film_pixel(fx, fy);
-        ws.shadow.push(o, wc, 0.f, length(cam.eye - o) * (1.f - 1e-4f), slot);
-        ws.shadow_value.push_back(v);
-        ws.shadow_pixel.push_back(pixel);
-    };
 
     for (uint32_t k = 0; k < count; ++k) {
         const uint64_t path = first + k;
@@ -59,13 +120,19 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         const EmissionSample& es = er.emission;
         if (!em.is_delta() && !em.is_infinite()) {
             // The emitting point itself, seen by the camera.
-            const Vec3 wc = normalize(cam.eye - es.p);
+            const Vec3 to = cam.eye - es.p;
+            const float dist = length(to);
+            const Vec3 wc = to / dist;
             const float c = dot(es.n, wc);
             const float cos_l = em.two_sided ? std::fabs(c) : c;
             const float eps = offset_epsilon(es.p, 0.f);
-            if (cos_l > 0.f)
-                connect(es.p, es.p + es.n * (c > 0.f ? eps : -eps),
-                        es.Le * (cos_l / (er.pmf * es.pdf_pos)), k);
+            uint32_t pixel;
+            RGB splat;
+            if (cos_l > 0.f &&
+                to_film(es.p, wc, dist, es.Le * (cos_l / (er.pmf * es.pdf_pos)), pixel, splat)) {
+                const Vec3 o = es.p + es.n * (c > 0.f ? eps : -eps);
+                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, pixel, k, ws);
+            }
         }
         ws.beta[k] = er.beta;
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
@@ -74,54 +141,22 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     stats.add(Stage::Generate, count, clock);
 
     run_wavefront(ctx_.accel, ws.rays, ws.next, ws.hits, 0, stats, clock, [&](uint32_t depth) {
-        const uint32_t vertex = depth + 1;  // scattering vertices so far, this one included
+        // The hits on the kernel's materials through shade_lanes, grouped by glossy kind; the
+        // others one at a time.
+        const bool kernels = kernels_.enabled && depth + 1 <= ctx_.settings.max_depth;
+        for (std::vector<uint32_t>& g : ws.kernel_groups) g.clear();
         for (std::size_t i = 0; i < ws.rays.size(); ++i) {
             const uint32_t geom = ws.hits.geom[i];
             if (geom == kNoHit) continue;
-            const uint32_t slot = ws.rays.id[i];
-            const uint64_t path = first + slot;
-            const Vec3 d = ws.rays.direction(i);
-            const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
-            std::optional<Material> scratch;
-            const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
-            if (m.bsdf.empty() || vertex > rs.max_depth) continue;
-            RGB& beta = ws.beta[slot];
-            const warp::Frame frame(sp.ns);
-            const Vec3 wl = -d;  // towards the light
-            const Vec3 wo = frame.to_local(wl);
-            const BsdfContext ctx{sp.front_face, Transport::Importance};
-            const float wl_ng = std::fabs(dot(wl, sp.ng));
-            if (wl_ng == 0.f) continue;
-            // Veach's adjoint correction for shading normals: |wl.ns| |w.ng| / (|wl.ng| |w.ns|).
-            const float adj = std::fabs(wo.z) / wl_ng;
-
-            if (m.bsdf.has_non_delta()) {
-                const Vec3 wc = normalize(cam.eye - sp.p);
-                const float c_ng = dot(wc, sp.ng);
-                if (c_ng > 0.f) {
-                    const RGB f = m.bsdf.f(wo, frame.to_local(wc), ctx);
-                    if (!f.is_black())
-                        connect(sp.p, offset_origin(sp, wc), beta * f * (adj * c_ng), slot);
-                }
-            }
-            if (vertex >= rs.max_depth) continue;
-            const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
-            BsdfSample bs;
-            if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)}, ctx,
-                               bs))
-                continue;
-            const Vec3 wi = frame.to_world(bs.wi);
-            const float side = dot(wi, sp.ng);
-            if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
-            beta *= bs.f * (adj * std::fabs(side) / bs.pdf);
-            if (beta.is_black()) continue;
-            if (vertex >= rs.rr_depth) {
-                const float q = std::min(1.f, beta.max_component());
-                if (rand(path, dim + 3) >= q) continue;
-                beta *= 1.f / q;
-            }
-            ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+            if (kernels && kernels_.object_kernel[geom] == KernelKind::Diffuse)
+                ws.kernel_groups[kernels_.object_group[geom]].push_back(uint32_t(i));
+            else
+                shade_vertex(first, depth, i, ws);
         }
+        ws.kernel_entries.clear();
+        for (const std::vector<uint32_t>& g : ws.kernel_groups)
+            ws.kernel_entries.insert(ws.kernel_entries.end(), g.begin(), g.end());
+        if (!ws.kernel_entries.empty()) shade_lanes(first, depth, ws);
     });
 
     // The connections, tested at once. Splats keep the order the connections were made in,

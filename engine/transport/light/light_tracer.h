@@ -16,18 +16,27 @@
 #include "engine/core/stats.h"
 #include "engine/film/pixel_sums.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/kernel_materials.h"
 #include "engine/transport/common/wavefront.h"
 #include "engine/transport/run/render_context.h"
 
 namespace foton {
 
+// The light paths' random dimensions: light choice, position (2), direction (2), triangle;
+// then per bounce the BSDF lobe and direction (3) and Russian roulette.
+inline constexpr uint32_t kLightDimFirstBounce = 8, kLightDimsPerBounce = 4;
+
 struct LightTracerWorkspace : WavefrontBuffers {
     std::vector<uint32_t> shadow_pixel;  // the film pixel each shadow ray's splat lands on
+    // A bounce's hits the importance kernel shades (batch entries), by glossy kind first so
+    // that a register's lanes mostly run one lobe's code, and their lanes.
+    std::vector<uint32_t> kernel_groups[kKernelGroups], kernel_entries;
+    KernelLanes lanes;
 };
 
 class LightTracer {
   public:
-    explicit LightTracer(const RenderContext& ctx) : ctx_(ctx) {}
+    explicit LightTracer(const RenderContext& ctx);
     // Traces paths [first, first + count) and appends their (unoccluded) splats. A splat's
     // value is one path's contribution: the pixel estimate is the splat sum over the number
     // of paths traced.
@@ -36,8 +45,21 @@ class LightTracer {
 
   private:
     float rand(uint64_t path, uint32_t dim) const;
+    // What a connection from p (unit direction wc to the eye at distance dist) carrying
+    // `value` adds, and to which pixel; false when p projects off the film or nothing
+    // arrives.
+    bool to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value, uint32_t& pixel,
+                 RGB& splat) const;
+    // The scalar vertex of a hit (light_tracer.cpp) and the kernel's lanes (light_lanes.cpp):
+    // the connection to the eye into the shadow batch, the continuation into `next`.
+    void shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
+                      LightTracerWorkspace& ws) const;
+    void shade_lanes(uint64_t first, uint32_t depth, LightTracerWorkspace& ws) const;
+    void push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,
+                         uint32_t pixel, uint32_t slot, LightTracerWorkspace& ws) const;
 
     const RenderContext ctx_;
+    const KernelMaterials kernels_;  // enabled: the settings let the kernel shade
 };
 
 }  // namespace foton
