@@ -68,6 +68,22 @@ struct DiffuseLobes {
         return (wd * pdf_d + wg * pdf_g) / (wd + wg);
     }
 
+    // Bsdf::f and Bsdf::pdf at wi: the diffuse lobe on wo's side, the mixture on glossy lanes.
+    void eval(const V3& wi, V3& fv, FloatV& pdf) const {
+        const FloatV zero(0.f);
+        const MaskV same = wo.z * wi.z > zero;
+        const V3 fd = diffuse_f(wi);
+        fv = select(same, fd, V3{zero, zero, zero});
+        pdf = xsimd::select(same, xsimd::abs(wi.z) * FloatV(kDiffuseInvPi), zero);
+        if (any_glossy) {
+            V3 fm;
+            FloatV pdf_d, pdf_g;
+            const FloatV pm = mixed(wi, fd, fm, pdf_d, pdf_g);
+            fv = select(glossy, fm, fv);
+            pdf = xsimd::select(glossy, pm, pdf);
+        }
+    }
+
     // Bsdf::f at wi: the diffuse lobe on wo's side, the mixture on glossy lanes.
     V3 f(const V3& wi) const {
         const FloatV zero(0.f);

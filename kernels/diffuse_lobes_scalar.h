@@ -59,6 +59,22 @@ struct DiffuseLobes {
         return (wd * pdf_d + wg * pdf_g) / (wd + wg);
     }
 
+    // Bsdf::f and Bsdf::pdf at wi.
+    V3 eval(V3 wi, float& pdf) const {
+        if (glossy) {
+            V3 fm;
+            float pdf_d, pdf_g;
+            pdf = mixed(wi, fm, pdf_d, pdf_g);
+            return fm;
+        }
+        if (!(wo.z * wi.z > 0.f)) {
+            pdf = 0.f;
+            return V3{0.f, 0.f, 0.f};
+        }
+        pdf = std::fabs(wi.z) * kDiffuseInvPi;
+        return diffuse_f(wi);
+    }
+
     // Bsdf::f at wi.
     V3 f(V3 wi) const {
         if (glossy) {

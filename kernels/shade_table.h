@@ -190,6 +190,8 @@ enum ShadeColumn : uint32_t {
     // refracted.
     kDvNetaScale,
     kDvNtransmit,
+    // Out, of kern::eval_lobes (lobe_eval.h): the density of sampling wo from wi.
+    kDvPdfRev,
     kShadeColumns
 };
 

@@ -7,6 +7,7 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
+#include "vcm_joins.h"
 
 namespace foton {
 
@@ -42,6 +43,50 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     auto rand = [&](uint32_t slot, uint32_t depth, uint32_t k) {
         return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + ws.path[slot],
                             uint64_t(depth) * kDimsPerBounce + k);
+    };
+
+    // The vertices whose joins go through the lobe-pair kernel: untextured materials the
+    // diffuse kernel takes.
+    const KernelMaterials* kernels = c.kernels && c.kernels->enabled ? c.kernels : nullptr;
+    auto kernel_vertex = [&](uint32_t geom) {
+        return kernels && kernels->object_kernel[geom] == KernelKind::Diffuse;
+    };
+    auto material_of = [&](uint32_t geom) { return scene.objects[geom].material; };
+    auto push_connection = [&](const SurfacePoint& sp, const LightVertices& v, uint32_t j,
+                               float dist, const RGB& value, uint32_t slot) {
+        const Vec3 q = v.position(j);
+        const ShadowRay r = shadow_ray_to(sp, q, v.ng[j], offset_epsilon(q, dist));
+        ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
+        ws.shadow_value.push_back(value);
+    };
+    // The bounce's queued joins: every lobe pair through the kernel, then the connections'
+    // shadow rays and the merges' sums, in the order they were queued.
+    auto join_batched = [&] {
+        if (ws.pairs.size() == 0) return;
+        ws.pairs.evaluate(*kernels);
+        auto eval = [&](uint32_t k) {
+            return LobeEval{ws.pairs.f[k], ws.pairs.pdf[k], ws.pairs.pdf_rev[k]};
+        };
+        for (const QueuedConnection& qc : ws.connections) {
+            const QueuedVertex& v = ws.vertices[qc.vertex];
+            const float ql = scene.materials[material_of(lv.geom[qc.j])].bsdf.continuation();
+            const RGB value = connection_value(W, v.m, v.beta, v.t, lv, qc.j, eval(qc.pair), v.q,
+                                               eval(qc.pair + 1), ql, qc.dist2, qc.cos_c, qc.cos_l,
+                                               qc.cos_shading);
+            if (!value.is_black())
+                push_connection(v.sp, lv, qc.j, std::sqrt(qc.dist2), value, v.slot);
+        }
+        RGB sum{0.f};
+        for (std::size_t k = 0; k < ws.merges.size(); ++k) {
+            const QueuedMerge& qm = ws.merges[k];
+            const QueuedVertex& v = ws.vertices[qm.vertex];
+            const LobeEval e = eval(qm.pair);
+            if (!e.f.is_black()) sum += merge_term(W, v.m, lv, qm.j, e, v.q);
+            if (k + 1 == ws.merges.size() || ws.merges[k + 1].vertex != qm.vertex) {
+                radiance[v.slot] += v.beta * sum * W.vm_norm;
+                sum = RGB{0.f};
+            }
+        }
     };
 
     radiance.assign(count, RGB{0.f});
@@ -82,6 +127,10 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
         [&](uint32_t depth) {
             ws.shadow.clear();
             ws.shadow_value.clear();
+            ws.pairs.clear();
+            ws.vertices.clear();
+            ws.connections.clear();
+            ws.merges.clear();
             const uint32_t len = depth + 1;  // segments from the camera to this vertex
             const int t = int(len) + 1;      // camera vertices of a strategy ending here
             for (std::size_t i = 0; i < ws.rays.size(); ++i) {
@@ -188,7 +237,15 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             }
                         }
                     }
-                    // s >= 2: connections to the pixel's light path.
+                    // s >= 2: connections to the pixel's light path; then merges with every
+                    // light vertex within the radius. On the kernel's materials queued for
+                    // one batch of lobe pairs (join_batched), else evaluated here.
+                    const bool batched = kernel_vertex(geom);
+                    uint32_t vertex = 0;
+                    if (batched) {
+                        vertex = uint32_t(ws.vertices.size());
+                        ws.vertices.push_back({slot, t, q, beta, m, sp});
+                    }
                     const uint32_t path = ws.path[slot];
                     if (W.connect)
                         for (uint32_t j = store.first[path]; j < store.first[path + 1]; ++j) {
@@ -201,6 +258,15 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const float cos_c = dot(dir, sp.ng), cos_l = -dot(dir, lv.ng[j]);
                             if (cos_c <= 0.f || cos_l <= 0.f) continue;
                             const Vec3 dc = frame.to_local(dir);
+                            if (batched && kernel_vertex(lv.geom[j])) {
+                                const warp::Frame lf(lv.ns[j]);
+                                const uint32_t cam_pair = ws.pairs.add(material_of(geom), wo, dc);
+                                ws.pairs.add(material_of(lv.geom[j]), lf.to_local(lv.wo[j]),
+                                             lf.to_local(-dir));
+                                ws.connections.push_back(
+                                    {vertex, j, cam_pair, dist2, cos_c, cos_l, std::fabs(dc.z)});
+                                continue;
+                            }
                             const RGB fc = mat.bsdf.f(wo, dc, ctx);
                             if (fc.is_black()) continue;
                             const LightVertexBsdf lb(scene, lv, j);
@@ -209,43 +275,32 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const BsdfContext lrctx{lv.front[j] != 0, Transport::Radiance};
                             const RGB fl = lb.m.bsdf.f(lb.wo, dl, lctx);
                             if (fl.is_black()) continue;
-                            const float ql = lb.m.bsdf.continuation();
-                            const float cam_pdf_a = mat.bsdf.pdf(wo, dc, ctx) * q * cos_l / dist2;
-                            const float light_pdf_a =
-                                lb.m.bsdf.pdf(lb.wo, dl, lctx) * ql * cos_c / dist2;
-                            const float w_light =
-                                W.mis(cam_pdf_a) *
-                                (W.vm_weight + lv.dvcm[j] +
-                                 lv.dvc[j] * W.mis(lb.m.bsdf.pdf(dl, lb.wo, lrctx) * ql));
-                            const float w_camera = W.mis(light_pdf_a) *
-                                                   (W.vm_weight + m.dvcm +
-                                                    m.dvc * W.mis(mat.bsdf.pdf(dc, wo, ictx) * q));
-                            const float w = W.strategy(int(lv.length[j]) + 1, t,
-                                                       1.f / (w_light + 1.f + w_camera));
-                            const RGB value = beta * fc * lv.beta[j] * fl *
-                                              (std::fabs(dc.z) * lv.adj[j] * cos_l * w / dist2);
-                            if (value.is_black()) continue;
-                            const Vec3 q = lv.position(j);
-                            const ShadowRay r =
-                                shadow_ray_to(sp, q, lv.ng[j], offset_epsilon(q, dist));
-                            ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
-                            ws.shadow_value.push_back(value);
+                            const LobeEval ce{fc, mat.bsdf.pdf(wo, dc, ctx),
+                                              mat.bsdf.pdf(dc, wo, ictx)};
+                            const LobeEval le{fl, lb.m.bsdf.pdf(lb.wo, dl, lctx),
+                                              lb.m.bsdf.pdf(dl, lb.wo, lrctx)};
+                            const RGB value = connection_value(W, m, beta, t, lv, j, ce, q, le,
+                                                               lb.m.bsdf.continuation(), dist2,
+                                                               cos_c, cos_l, std::fabs(dc.z));
+                            if (!value.is_black()) push_connection(sp, lv, j, dist, value, slot);
                         }
-                    // Merges with every light vertex within the radius.
                     if (W.merge) {
                         RGB sum{0.f};
                         store.merge_candidates(sp.p, [&](uint32_t j) {
                             if (lv.length[j] + len > c.max_segments) return;
                             const Vec3 wl = frame.to_local(lv.wo[j]);
+                            if (batched) {
+                                ws.merges.push_back(
+                                    {vertex, j, ws.pairs.add(material_of(geom), wo, wl)});
+                                return;
+                            }
                             const RGB f = mat.bsdf.f(wo, wl, ctx);
                             if (f.is_black()) return;
-                            const float w_light = lv.dvcm[j] * W.vc_weight +
-                                                  lv.dvm[j] * W.mis(mat.bsdf.pdf(wo, wl, ctx) * q);
-                            const float w_camera = m.dvcm * W.vc_weight +
-                                                   m.dvm * W.mis(mat.bsdf.pdf(wl, wo, ictx) * q);
-                            sum += f * lv.beta[j] * (1.f / (w_light + 1.f + w_camera));
+                            const LobeEval ce{f, mat.bsdf.pdf(wo, wl, ctx),
+                                              mat.bsdf.pdf(wl, wo, ictx)};
+                            sum += merge_term(W, m, lv, j, ce, q);
                         });
-                        radiance[slot] += beta * sum * W.vm_norm;
+                        if (!batched) radiance[slot] += beta * sum * W.vm_norm;
                     }
                 }
 
@@ -271,6 +326,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 ws.p_prev[slot] = sp.p;
                 ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             }
+            join_batched();
         },
         [&](uint32_t) {
             if (ws.shadow.empty()) return;

@@ -3,12 +3,17 @@
 // each vertex it gathers every strategy that ends there: the light found by the ray (s = 0),
 // a light sample (s = 1), connections to the vertices of the pixel's own light path (s >= 2)
 // and merges with the vertices of all light paths within the radius, each with its MIS
-// weight (vcm_mis.h). The connections' shadow rays of a bounce are tested as one batch.
+// weight (vcm_mis.h). The connections' shadow rays of a bounce are tested as one batch. At
+// vertices on the materials the diffuse kernel takes, the BSDF values and densities the
+// connections and merges need are queued and evaluated as one batch of lobe pairs
+// (common/lobe_pairs.h) after the bounce's hits.
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
+#include "engine/transport/common/lobe_pairs.h"
+#include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
 #include "kernels/point_kdtree.h"
 #include "light_vertices.h"
@@ -17,11 +22,36 @@
 
 namespace foton {
 
+// A bounce's camera vertex whose joins wait for the lobe-pair kernel: its state before the
+// continuation changes it.
+struct QueuedVertex {
+    uint32_t slot;
+    int t;    // camera vertices of a strategy ending here
+    float q;  // its continuation probability
+    RGB beta;
+    SubpathMis m;
+    SurfacePoint sp;
+};
+// A connection to light vertex j: the camera side's lobe pair `pair`, the light side's
+// pair + 1.
+struct QueuedConnection {
+    uint32_t vertex, j, pair;
+    float dist2, cos_c, cos_l, cos_shading;
+};
+struct QueuedMerge {
+    uint32_t vertex, j, pair;
+};
+
 struct CameraSubpathWorkspace : WavefrontBuffers {
     std::vector<SubpathMis> mis;
     std::vector<Vec3> p_prev;
     std::vector<uint8_t> specular;  // every vertex so far was sampled from a delta lobe
     std::vector<uint32_t> path;     // the pixel's light path: its index in the full image
+    // The bounce's joins through the lobe-pair kernel (kern::eval_lobes).
+    LobePairs pairs;
+    std::vector<QueuedVertex> vertices;
+    std::vector<QueuedConnection> connections;
+    std::vector<QueuedMerge> merges;
 };
 
 // The light vertices of the iteration and where each path's begin.
@@ -37,7 +67,7 @@ struct LightPathStore {
     // Calls visit(i) for every light vertex i within the merge radius of p.
     template <class Visit>
     void merge_candidates(const Vec3& p, Visit&& visit) const {
-        if (!use_kdtree) return grid.query(vertices, p, visit);
+        if (!use_kdtree) return grid.query(p, visit);
         const float q[3] = {p.x, p.y, p.z};
         kdtree.for_each_in_radius(q, radius * radius, [&](uint32_t i, float) { visit(i); });
     }

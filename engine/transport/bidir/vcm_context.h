@@ -6,6 +6,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/rng_streams.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/kernel_materials.h"
 #include "engine/transport/run/render_settings.h"
 #include "vcm_mis.h"
 
@@ -28,6 +29,8 @@ struct VcmContext {
     uint32_t light_paths = 0;  // N: one per pixel of the film
     float radius = 0.f;        // merge radius
     VcmWeights weights;
+    // The materials whose joins go through the lobe-pair kernel (null or not enabled: none).
+    const KernelMaterials* kernels = nullptr;
 };
 
 }  // namespace foton

@@ -51,6 +51,9 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     ctx.weights.beta = settings.mis == MisHeuristic::Balance ? 1.f : settings.mis_beta;
     ctx.weights.only_s = settings.bidir.only_s;
     ctx.weights.only_t = settings.bidir.only_t;
+    KernelMaterials kernels = kernel_materials(scene);
+    kernels.enabled = settings.simd_shading;
+    ctx.kernels = &kernels;
     const float radius0 = settings.photon.initial_radius > 0.f ? settings.photon.initial_radius
                                                                : 0.005f * lights.scene_radius();
     const float alpha = settings.photon.alpha;
@@ -134,7 +137,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                         tbb::parallel_invoke(a, b);
                     });
             else
-                store.grid.build(v, ctx.radius);
+                store.grid.build(v, ctx.radius, settings.simd_shading);
         }
         stats.local().add(Stage::LightVertices, v.size(), clock);
         return v.size();

@@ -4,7 +4,8 @@
 
 namespace foton {
 
-void VertexGrid::build(const LightVertices& v, float radius) {
+void VertexGrid::build(const LightVertices& v, float radius, bool simd) {
+    simd_ = simd;
     start_.clear();
     index_.clear();
     if (v.size() == 0) return;
@@ -27,6 +28,15 @@ void VertexGrid::build(const LightVertices& v, float radius) {
     index_.resize(v.size());
     std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < v.size(); ++i) index_[fill[cell[i]]++] = uint32_t(i);
+    const std::size_t padded = v.size() + simd::kWidth;
+    x_.assign(padded, 0.f);
+    y_.assign(padded, 0.f);
+    z_.assign(padded, 0.f);
+    for (std::size_t j = 0; j < v.size(); ++j) {
+        x_[j] = v.px[index_[j]];
+        y_[j] = v.py[index_[j]];
+        z_[j] = v.pz[index_[j]];
+    }
 }
 
 }  // namespace foton

@@ -3,22 +3,25 @@
 // edge 2r, so the vertices within r of a point lie in the 2 x 2 x 2 cells nearest it. Built
 // by a counting sort of the vertices by cell hash (the vertices' order inside a bucket is
 // their order in the store, so queries are deterministic). Colliding cells share a bucket;
-// a query visits each bucket once and checks the distance.
+// a query visits each bucket once and checks the distance. The vertices' coordinates are
+// copied in bucket order, so a bucket's check is one SIMD scan of sequential loads
+// (kern::radius_scan; `simd` false: its scalar twin, which visits the same vertices).
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/math.h"
+#include "kernels/radius_scan.h"
 #include "light_vertices.h"
 
 namespace foton {
 
 class VertexGrid {
   public:
-    void build(const LightVertices& v, float radius);
+    void build(const LightVertices& v, float radius, bool simd = true);
 
     // Calls visit(i) for every vertex i within the radius of p.
     template <class Visit>
-    void query(const LightVertices& v, const Vec3& p, Visit&& visit) const {
+    void query(const Vec3& p, Visit&& visit) const {
         if (start_.empty()) return;
         const float gx = (p.x - lo_.x) * inv_cell_ - 0.5f, gy = (p.y - lo_.y) * inv_cell_ - 0.5f,
                     gz = (p.z - lo_.z) * inv_cell_ - 0.5f;
@@ -33,12 +36,15 @@ class VertexGrid {
                     for (int k = 0; k < n; ++k) seen |= buckets[k] == b;
                     if (!seen) buckets[n++] = b;
                 }
-        for (int k = 0; k < n; ++k)
-            for (uint32_t j = start_[buckets[k]]; j < start_[buckets[k] + 1]; ++j) {
-                const uint32_t i = index_[j];
-                const float ex = v.px[i] - p.x, ey = v.py[i] - p.y, ez = v.pz[i] - p.z;
-                if (ex * ex + ey * ey + ez * ez <= r2_) visit(i);
-            }
+        const float q[3] = {p.x, p.y, p.z};
+        auto hit = [&](uint32_t j) { visit(index_[j]); };
+        for (int k = 0; k < n; ++k) {
+            const uint32_t begin = start_[buckets[k]], end = start_[buckets[k] + 1];
+            if (simd_)
+                kern::radius_scan(x_.data(), y_.data(), z_.data(), begin, end, q, r2_, hit);
+            else
+                kern::radius_scan_scalar(x_.data(), y_.data(), z_.data(), begin, end, q, r2_, hit);
+        }
     }
 
   private:
@@ -50,6 +56,9 @@ class VertexGrid {
     Vec3 lo_;
     float inv_cell_ = 1.f, r2_ = 0.f;
     std::vector<uint32_t> start_, index_;
+    // Bucket order: vertex index_[j]'s coordinates at j, padded by the SIMD width.
+    std::vector<float> x_, y_, z_;
+    bool simd_ = true;
 };
 
 }  // namespace foton
