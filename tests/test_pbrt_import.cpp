@@ -465,7 +465,6 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
         {"Camera \"realistic\"\nWorldBegin" + shape, "test.pbrt:1: unsupported camera"},
         {"Film \"rgb\" \"integer xresolution\" [ 100000 ]\nWorldBegin" + shape, "test.pbrt:1:"},
         {"WorldBegin\nMakeNamedMedium \"fog\"" + shape, "participating media"},
-        {"WorldBegin\nMaterial \"dielectric\" \"float roughness\" 0.3" + shape, "rough dielectric"},
         {"WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"" + shape,
          "test.pbrt:2: environment map 'sky.exr': file not found"},
         {"WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1] \"string filename\" \"a.exr\"" +

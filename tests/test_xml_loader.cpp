@@ -292,8 +292,12 @@ TEST_CASE("XML: bad physically based materials and renderer settings", "[xml][ba
                  "unknown microfacet model");
     expect_error(mat(R"(<material type="microfacet" model="cook_torrance" kd="0.8" ks="0.5"/>)"), 5,
                  "kd + ks must be at most 1");
-    expect_error(mat(R"(<material type="dielectric" roughness="0.2"/>)"), 5,
-                 "rough dielectrics are not supported");
+    expect_error(mat(R"(<material type="dielectric" roughness="0.2" distribution="blinn"/>)"), 5,
+                 "a rough dielectric takes distribution=\"ggx\"");
+    expect_error(mat(R"(<material type="dielectric" roughness="3"/>)"), 5,
+                 "roughness must be in [0.002, 2]");
+    expect_error(mat(R"(<material type="dielectric" distribution="ggx"/>)"), 5,
+                 "a distribution needs a roughness above 0");
     expect_error(mat(R"(<material type="conductor" preset="unobtainium"/>)"), 5,
                  "unknown conductor preset");
     expect_error(mat(R"(<material type="mix"><material type="lambert" weight="0.7"/>

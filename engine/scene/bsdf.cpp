@@ -22,7 +22,7 @@ Vec3 mirror_dir(const Vec3& wo) {
 // The sampling weight of a lobe: its colour's luminance (the Fresnel term is left out so that
 // a plastic's highlight is not starved by its 4 % normal-incidence reflectance).
 float sampling_weight(const Lobe& l) {
-    const float w = l.type == LobeType::Dielectric
+    const float w = l.flags() & kTransmission
                         ? std::max(l.color.luminance(), l.transmit.luminance())
                         : l.color.luminance();
     return w > 0.f ? std::max(w, 1e-3f) : 0.f;
@@ -30,100 +30,7 @@ float sampling_weight(const Lobe& l) {
 
 }  // namespace
 
-RGB Fresnel::eval(float cos_i) const {
-    switch (kind) {
-        case FresnelKind::None:
-            return RGB{1.f};
-        case FresnelKind::Dielectric:
-            return RGB{fresnel_dielectric(cos_i, 1.f, ior)};
-        case FresnelKind::Conductor:
-            return {fresnel_conductor(cos_i, eta.r, k.r), fresnel_conductor(cos_i, eta.g, k.g),
-                    fresnel_conductor(cos_i, eta.b, k.b)};
-        case FresnelKind::Schlick: {
-            const float m = 1.f - std::clamp(cos_i, 0.f, 1.f);
-            const float m2 = m * m;
-            return f0 + (RGB{1.f} - f0) * (m2 * m2 * m);
-        }
-    }
-    return RGB{1.f};
-}
-
-Fresnel Fresnel::schlick(const RGB& f0) {
-    Fresnel f;
-    f.kind = FresnelKind::Schlick;
-    f.f0 = f0;
-    return f;
-}
-
-uint8_t Lobe::flags() const {
-    switch (type) {
-        case LobeType::Lambert:
-        case LobeType::OrenNayar:
-            return kDiffuse | kReflection;
-        case LobeType::Phong:
-        case LobeType::Microfacet:
-            return kGlossy | kReflection;
-        case LobeType::Mirror:
-            return kSpecular | kReflection;
-        case LobeType::Dielectric:
-            return kSpecular | kReflection | kTransmission;
-    }
-    return 0;
-}
-
-Lobe Lobe::lambert(const RGB& r) {
-    Lobe l;
-    l.type = LobeType::Lambert;
-    l.color = r;
-    return l;
-}
-
-Lobe Lobe::oren_nayar(const RGB& r, float sigma) {
-    Lobe l;
-    l.type = LobeType::OrenNayar;
-    l.color = r;
-    const float s2 = sigma * sigma;
-    l.on_a = 1.f - s2 / (2.f * (s2 + 0.33f));
-    l.on_b = 0.45f * s2 / (s2 + 0.09f);
-    return l;
-}
-
-Lobe Lobe::phong(const RGB& ks, float exponent) {
-    Lobe l;
-    l.type = LobeType::Phong;
-    l.color = ks;
-    l.exponent = exponent;
-    return l;
-}
-
-Lobe Lobe::mirror(const RGB& r, const Fresnel& f) {
-    Lobe l;
-    l.type = LobeType::Mirror;
-    l.color = r;
-    l.fresnel = f;
-    return l;
-}
-
-Lobe Lobe::dielectric(float ior, const RGB& reflect, const RGB& transmit) {
-    Lobe l;
-    l.type = LobeType::Dielectric;
-    l.color = reflect;
-    l.transmit = transmit;
-    l.fresnel.kind = FresnelKind::Dielectric;
-    l.fresnel.ior = ior;
-    return l;
-}
-
-Lobe Lobe::microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f) {
-    Lobe l;
-    l.type = LobeType::Microfacet;
-    l.color = tint;
-    l.dist = d;
-    l.fresnel = f;
-    return l;
-}
-
-RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
+RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) {
     switch (l.type) {
         case LobeType::Lambert:
             return same_side(wo, wi) ? l.color * kInvPi : RGB{0.f};
@@ -153,6 +60,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
                 l.dist.visible_normals() ? l.dist.smith_g(wo, wi) : vcavity_g(wo, wi, h);
             return l.color * l.fresnel.eval(dot(wi, h)) * (l.dist.D(h) * g / (4.f * wo.z * wi.z));
         }
+        case LobeType::RoughDielectric:
+            return rough_dielectric_f(l, wo, wi, ctx);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return RGB{0.f};
@@ -160,7 +69,7 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
     return RGB{0.f};
 }
 
-float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&) {
+float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) {
     switch (l.type) {
         case LobeType::Lambert:
         case LobeType::OrenNayar:
@@ -177,6 +86,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             if (l.dist.visible_normals()) return l.dist.g1(wo) * l.dist.D(h) / (4.f * wo.z);
             return l.dist.pdf_h(h) / (4.f * dot(wo, h));
         }
+        case LobeType::RoughDielectric:
+            return rough_dielectric_pdf(l, wo, wi, ctx);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return 0.f;
@@ -221,6 +132,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             s.f = lobe_f(l, wo, s.wi, ctx);
             return s.pdf > 0.f;
         }
+        case LobeType::RoughDielectric:
+            return rough_dielectric_sample(l, wo, uc, u, ctx, s);
         case LobeType::Mirror: {
             s.wi = mirror_dir(wo);
             const float c = std::fabs(s.wi.z);
@@ -263,6 +176,7 @@ bool Bsdf::add(const Lobe& lobe) {
     lobes_[std::size_t(n_)] = lobe;
     weight_[std::size_t(n_)] = sampling_weight(lobe);
     flags_ |= lobe.flags();
+    if ((lobe.flags() & kTransmission) && !lobe.is_delta()) transmits_non_delta_ = true;
     ++n_;
     return true;
 }
@@ -271,7 +185,7 @@ float Bsdf::continuation() const {
     RGB sum{0.f};
     for (int i = 0; i < n_; ++i) {
         const Lobe& l = lobes_[std::size_t(i)];
-        sum += l.type == LobeType::Dielectric
+        sum += l.flags() & kTransmission
                    ? RGB(std::max(l.color.r, l.transmit.r), std::max(l.color.g, l.transmit.g),
                          std::max(l.color.b, l.transmit.b))
                    : l.color;

@@ -52,10 +52,12 @@ struct Fresnel {
 enum class LobeType : uint8_t {
     Lambert,
     OrenNayar,
-    Phong,       // modified, energy-conserving Phong (Lafortune & Willems)
-    Mirror,      // specular reflection with an optional (conductor) Fresnel
-    Dielectric,  // specular reflection + transmission with dielectric Fresnel, TIR
-    Microfacet,  // Torrance–Sparrow: F D G / (4 cos_o cos_i)
+    Phong,            // modified, energy-conserving Phong (Lafortune & Willems)
+    Mirror,           // specular reflection with an optional (conductor) Fresnel
+    Dielectric,       // specular reflection + transmission with dielectric Fresnel, TIR
+    Microfacet,       // Torrance–Sparrow: F D G / (4 cos_o cos_i)
+    RoughDielectric,  // Walter et al. 2007: a rough dielectric interface, microfacet reflection
+                      // and transmission (rough_dielectric.cpp)
 };
 
 struct Lobe {
@@ -76,6 +78,9 @@ struct Lobe {
     static Lobe mirror(const RGB& r, const Fresnel& f);
     static Lobe dielectric(float ior, const RGB& reflect, const RGB& transmit);
     static Lobe microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f);
+    // A rough interface of index ior (Trowbridge–Reitz `d`), tinted as a dielectric.
+    static Lobe rough_dielectric(float ior, const MicrofacetDistribution& d, const RGB& reflect,
+                                 const RGB& transmit);
 };
 
 struct BsdfSample {
@@ -101,6 +106,16 @@ class Bsdf {
     float weight(int i) const { return weight_[std::size_t(i)]; }
     bool empty() const { return n_ == 0; }
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
+    // Some non-delta lobe transmits (a rough dielectric): light reaches the vertex from
+    // behind its surface by other routes than a sampled delta refraction.
+    bool transmits_non_delta() const { return transmits_non_delta_; }
+    // Whether unit direction w leaving a vertex with geometric normal ng (facing the arriving
+    // ray) can carry light to or from it: on ng's side, or behind when a non-delta lobe
+    // transmits. A light sample, a camera connection or a photon on the other side counts.
+    bool side_allowed(const Vec3& w, const Vec3& ng) const {
+        const float c = dot(w, ng);
+        return c > 0.f || (c < 0.f && transmits_non_delta_);
+    }
     bool has_delta() const { return (flags_ & kSpecular) != 0; }
     uint8_t flags() const { return flags_; }
     // When every non-delta lobe is Lambertian: true, and their summed reflectance (the
@@ -155,6 +170,7 @@ class Bsdf {
     std::array<float, kMaxLobes> weight_{};  // sampling weight of each lobe
     int n_ = 0;
     uint8_t flags_ = 0;
+    bool transmits_non_delta_ = false;
 };
 
 // Single-lobe operations (exposed for the tests' chi-square and albedo checks).
@@ -162,5 +178,10 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
 float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
 bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx,
                  BsdfSample& s);
+// The same for a RoughDielectric lobe (rough_dielectric.cpp).
+RGB rough_dielectric_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+bool rough_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u,
+                             const BsdfContext& ctx, BsdfSample& s);
 
 }  // namespace foton

@@ -194,10 +194,12 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         }
         if (!(eta > 0.f)) fail(t, what + ": eta must be positive");
         bool smooth = true;
-        distribution(smooth);
-        if (!smooth) fail(t, what + ": rough dielectrics are not supported (roughness must be 0)");
+        const MicrofacetDistribution d = distribution(smooth);
         m.ior = eta;
-        m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
+        if (smooth)
+            m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
+        else
+            m.bsdf.add(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
     } else if (type == "coateddiffuse") {
         // Documented approximation: a dielectric coat's reflection over a Lambertian base
         // that receives what the coat lets through (1 - the coat's mean Fresnel reflectance);

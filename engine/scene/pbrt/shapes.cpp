@@ -39,7 +39,7 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
             fail(t, "partial spheres (zmin, zmax, phimax) are not supported");
         const Bsdf& b = materials_[gs_.material].bsdf;
         bool refracts = false;
-        for (int i = 0; i < b.size(); ++i) refracts |= b.lobe(i).type == LobeType::Dielectric;
+        for (int i = 0; i < b.size(); ++i) refracts |= (b.lobe(i).flags() & kTransmission) != 0;
         if (gs_.reverse && (gs_.area.id >= 0 || refracts))
             fail(t, "ReverseOrientation on an emitting or refracting sphere is not supported");
         Sphere s;

@@ -94,12 +94,23 @@ void Loader::conductor_material(const pugi::xml_node& n, bool top, Material& m) 
 
 void Loader::dielectric_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
-    check_material(n, top, {"ior", "roughness"}, {"reflectance", "transmittance"});
-    if (n.attribute("roughness") && number(n, "roughness") != 0.f)
-        fail(n, "rough dielectrics are not supported (roughness must be 0)");
+    check_material(n, top, {"ior", "roughness", "roughness_v", "distribution"},
+                   {"reflectance", "transmittance"});
     m.ior = positive(n, "ior", 1.5f);
-    m.bsdf.add(Lobe::dielectric(m.ior, rgb_child(n, "reflectance", RGB{1.f}),
-                                rgb_child(n, "transmittance", RGB{1.f})));
+    const RGB reflect = rgb_child(n, "reflectance", RGB{1.f});
+    const RGB transmit = rgb_child(n, "transmittance", RGB{1.f});
+    // Rough glass: Walter et al.'s microfacet interface, Trowbridge–Reitz (GGX) only.
+    const bool rough = (n.attribute("roughness") && number(n, "roughness") != 0.f) ||
+                       n.attribute("roughness_v");
+    if (!rough) {
+        if (n.attribute("distribution")) fail(n, "a distribution needs a roughness above 0");
+        m.bsdf.add(Lobe::dielectric(m.ior, reflect, transmit));
+        return;
+    }
+    const MicrofacetDistribution d = distribution(n, "ggx");
+    if (d.kind != MicrofacetKind::TrowbridgeReitz)
+        fail(n, "a rough dielectric takes distribution=\"ggx\" (Walter et al.'s model)");
+    m.bsdf.add(Lobe::rough_dielectric(m.ior, d, reflect, transmit));
 }
 
 // Torrance–Sparrow (specular only) or Cook–Torrance (kd * Lambert + ks * specular).

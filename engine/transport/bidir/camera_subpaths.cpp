@@ -203,7 +203,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                 li, sp.p,
                                 {rand(slot, depth, kDimLight), rand(slot, depth, kDimLight + 1)},
                                 rand(slot, depth, kDimTriangle), ls) &&
-                            dot(ls.wi, sp.ng) > 0.f) {
+                            mat.bsdf.side_allowed(ls.wi, sp.ng)) {
                             const Vec3 wi = frame.to_local(ls.wi);
                             const RGB f = mat.bsdf.f(wo, wi, ctx);
                             if (!f.is_black()) {
@@ -224,7 +224,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                     em.is_delta() ? 0.f
                                                   : W.mis(mat.bsdf.pdf(wo, wi, ctx) * q / direct);
                                 const float w_camera =
-                                    W.mis(emit * dot(ls.wi, sp.ng) / (direct_w * cos_light)) *
+                                    W.mis(emit * std::fabs(dot(ls.wi, sp.ng)) /
+                                          (direct_w * cos_light)) *
                                     (W.vm_weight + m.dvcm +
                                      m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx) * q));
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
@@ -255,10 +256,17 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             if (!(dist2 > 0.f)) continue;
                             const float dist = std::sqrt(dist2);
                             const Vec3 dir = to / dist;
-                            const float cos_c = dot(dir, sp.ng), cos_l = -dot(dir, lv.ng[j]);
-                            if (cos_c <= 0.f || cos_l <= 0.f) continue;
+                            // Each end on the side its vertex was reached from, or behind it
+                            // through a rough dielectric.
+                            const float cos_c = std::fabs(dot(dir, sp.ng));
+                            const float cos_l = std::fabs(dot(dir, lv.ng[j]));
+                            const bool front_c = dot(dir, sp.ng) > 0.f;
+                            const bool front_l = dot(dir, lv.ng[j]) < 0.f;
+                            if (cos_c == 0.f || cos_l == 0.f ||
+                                !(front_c || mat.bsdf.transmits_non_delta()))
+                                continue;
                             const Vec3 dc = frame.to_local(dir);
-                            if (batched && kernel_vertex(lv.geom[j])) {
+                            if (batched && front_l && kernel_vertex(lv.geom[j])) {
                                 const warp::Frame lf(lv.ns[j]);
                                 const uint32_t cam_pair = ws.pairs.add(material_of(geom), wo, dc);
                                 ws.pairs.add(material_of(lv.geom[j]), lf.to_local(lv.wo[j]),
@@ -270,6 +278,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const RGB fc = mat.bsdf.f(wo, dc, ctx);
                             if (fc.is_black()) continue;
                             const LightVertexBsdf lb(scene, lv, j);
+                            if (!front_l && !lb.m.bsdf.transmits_non_delta()) continue;
                             const Vec3 dl = lb.frame.to_local(-dir);
                             const BsdfContext lctx{lv.front[j] != 0, Transport::Importance};
                             const BsdfContext lrctx{lv.front[j] != 0, Transport::Radiance};

@@ -142,10 +142,11 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                     const float dist2 = length_squared(to), dist = std::sqrt(dist2);
                     const Vec3 wc = to / dist;
                     const float cos_cam = -dot(wc, cam.w);
-                    const float cos_sc = dot(wc, sp.ng);
+                    const float cos_sc = std::fabs(dot(wc, sp.ng));
                     const Vec3 wcl = frame.to_local(wc);
                     const RGB f = mat.bsdf.f(wo, wcl, ctx);
-                    if (!f.is_black() && cos_cam > 0.f && cos_sc > 0.f) {
+                    if (!f.is_black() && cos_cam > 0.f && mat.bsdf.side_allowed(wc, sp.ng) &&
+                        cos_sc > 0.f) {
                         // The camera's density of this point per pixel sample, in area measure.
                         const float cam_pdf_a = cam.importance(cos_cam, 1.f) * cos_sc / dist2;
                         const float rev = mat.bsdf.pdf(wcl, wo, rctx) * q;

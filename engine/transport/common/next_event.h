@@ -44,7 +44,8 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
                          const GuideMixture& strategy = {}) {
     const SurfacePoint& sp = v.sp;
     LightSample ls;
-    if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls, c.tri) || dot(ls.wi, sp.ng) <= 0.f)
+    if (!lights.sample_li(c.light, sp.p, c.u, c.uc, ls, c.tri) ||
+        !v.m.bsdf.side_allowed(ls.wi, sp.ng))
         return false;
     const Vec3 wi = v.frame.to_local(ls.wi);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};

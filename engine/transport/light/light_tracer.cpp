@@ -70,8 +70,9 @@ void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
         const Vec3 to = cam.eye - sp.p;
         const float dist = length(to);
         const Vec3 wc = to / dist;
-        const float c_ng = dot(wc, sp.ng);
-        if (c_ng > 0.f) {
+        // The eye behind the surface sees it through a rough dielectric's transmission.
+        if (m.bsdf.side_allowed(wc, sp.ng)) {
+            const float c_ng = std::fabs(dot(wc, sp.ng));
             const RGB f = m.bsdf.f(wo, frame.to_local(wc), ctx);
             uint32_t pixel;
             RGB splat;

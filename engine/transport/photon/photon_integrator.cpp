@@ -157,7 +157,7 @@ void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace&
         }
         if (!(pdf > 0.f)) continue;
         const Vec3 wi = frame.to_world(wl);
-        if (dot(wi, sp.ng) <= 0.f) continue;
+        if (!m.bsdf.side_allowed(wi, sp.ng)) continue;
         const RGB w = v.weight * f * (std::fabs(wl.z) / (pdf * float(n)));
         if (w.is_black()) continue;
         ws.gather.push(offset_origin(sp, wi), wi, kInfinity, v.slot, w);

@@ -360,7 +360,8 @@ RGB PhotonMap::radiance_of(const Vec3& s, const Vec3& t, const Vec3& n, const Bs
     for (uint32_t i = 0; i < m; ++i) {
         const Vec3 w = incident(idx[i]);
         const float cn = dot(w, n);
-        if (cn <= 0.f) continue;  // arrived from behind this surface
+        // Arrived from behind this surface: only a rough dielectric lets it through.
+        if (cn <= 0.f && (cn == 0.f || !bsdf.transmits_non_delta())) continue;
         const Vec3 wl{dot(w, s), dot(w, t), cn};
         const RGB f = bsdf.f(wo, wl, ctx);
         sum += f * power_[idx[i]] * filter_weight(params, std::sqrt(d2[i]), r);

@@ -40,7 +40,7 @@ class ProgressivePhotons {
         photons.for_each_in_radius(px.p, px.radius, [&](uint32_t i, float) {
             if (photons.flags(i) & kPhotonDirect) return;  // direct light came from NEE
             const Vec3 w = photons.incident(i);
-            if (dot(w, px.ng) <= 0.f) return;
+            if (!m.bsdf.side_allowed(w, px.ng)) return;
             const RGB f = m.bsdf.f(px.wo, px.frame.to_local(w), ctx);
             phi += px.beta * f * photons.power(i);
             ++count;

@@ -100,7 +100,7 @@ void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t
     LightSample ls;
     if (!ctx_.lights.sample_li(pick.light, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
                                rand(pass, pixel, 7), ls, pick.tri) ||
-        !(dot(ls.wi, sp.ng) > 0.f))
+        !m.bsdf.side_allowed(ls.wi, sp.ng))
         return;
     const Vec3 wi = frame.to_local(ls.wi);
     const RGB f = m.bsdf.f(wo, wi, ctx);

@@ -52,13 +52,18 @@ void WhittedIntegrator::generate(const std::vector<SampleJob>& jobs, WhittedWork
 template <class Brdf>
 void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, const RGB& weight,
                                      uint32_t slot, uint64_t sample_index, uint32_t depth,
-                                     WhittedWorkspace& ws) const {
+                                     WhittedWorkspace& ws, bool behind) const {
     const Lights& L = scene_.lights;
     // Queues shadow ray r towards direction wi (unit), carrying the contribution it makes if
     // nothing blocks it.
     auto add_ray = [&](const ShadowRay& r, const Vec3& wi, const RGB& incident) {
-        const float cos_s = dot(sp.ns, wi);
-        if (cos_s <= 0.f || dot(sp.ng, wi) <= 0.f) return;
+        float cos_s = dot(sp.ns, wi);
+        const float cos_g = dot(sp.ng, wi);
+        if (behind && cos_s < 0.f && cos_g < 0.f) {
+            cos_s = -cos_s;
+        } else if (cos_s <= 0.f || cos_g <= 0.f) {
+            return;
+        }
         const RGB value = weight * brdf(wi) * incident * cos_s;
         if (value.is_black()) return;
         ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
@@ -140,7 +145,7 @@ void WhittedIntegrator::shade_generic(const ShadingPoint& v, WhittedWorkspace& w
     if (m.bsdf.has_non_delta()) {
         direct_light(
             sp, [&](const Vec3& wi) { return m.bsdf.f(wo, frame.to_local(wi), ctx); }, weight, slot,
-            sample_index, depth, ws);
+            sample_index, depth, ws, m.bsdf.transmits_non_delta());
     }
     if (depth >= settings_.max_depth) return;
     Vec3 dirs[Bsdf::kMaxLobes * 2];

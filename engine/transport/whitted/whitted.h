@@ -41,9 +41,11 @@ class WhittedIntegrator : public CameraIntegrator {
                std::vector<RGB>& radiance) const;
     // Queues a shadow ray per light sample, carrying weight * brdf(wi) * incident * cos: the
     // thesis' point, directional, spot and area lights, emissive objects, the environment.
+    // `behind`: lights behind the surface count too (a rough dielectric transmits them).
     template <class Brdf>
     void direct_light(const SurfacePoint& sp, const Brdf& brdf, const RGB& weight, uint32_t slot,
-                      uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws) const;
+                      uint64_t sample_index, uint32_t depth, WhittedWorkspace& ws,
+                      bool behind = false) const;
     // The physically based materials under the Whitted model: their BSDF lit by the point,
     // directional, spot and area lights, and their delta lobes followed recursively.
     // A generic (BSDF) material: ambient, direct light and the specular directions; v.key

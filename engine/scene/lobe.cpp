@@ -1,0 +1,113 @@
+// The lobes' constructors, their flags and the Fresnel terms they carry (bsdf.h); what a
+// lobe does with directions is bsdf.cpp's (and rough_dielectric.cpp's).
+#include <algorithm>
+
+#include "bsdf.h"
+#include "engine/core/optics.h"
+
+namespace foton {
+
+RGB Fresnel::eval(float cos_i) const {
+    switch (kind) {
+        case FresnelKind::None:
+            return RGB{1.f};
+        case FresnelKind::Dielectric:
+            return RGB{fresnel_dielectric(cos_i, 1.f, ior)};
+        case FresnelKind::Conductor:
+            return {fresnel_conductor(cos_i, eta.r, k.r), fresnel_conductor(cos_i, eta.g, k.g),
+                    fresnel_conductor(cos_i, eta.b, k.b)};
+        case FresnelKind::Schlick: {
+            const float m = 1.f - std::clamp(cos_i, 0.f, 1.f);
+            const float m2 = m * m;
+            return f0 + (RGB{1.f} - f0) * (m2 * m2 * m);
+        }
+    }
+    return RGB{1.f};
+}
+
+Fresnel Fresnel::schlick(const RGB& f0) {
+    Fresnel f;
+    f.kind = FresnelKind::Schlick;
+    f.f0 = f0;
+    return f;
+}
+
+uint8_t Lobe::flags() const {
+    switch (type) {
+        case LobeType::Lambert:
+        case LobeType::OrenNayar:
+            return kDiffuse | kReflection;
+        case LobeType::Phong:
+        case LobeType::Microfacet:
+            return kGlossy | kReflection;
+        case LobeType::Mirror:
+            return kSpecular | kReflection;
+        case LobeType::Dielectric:
+            return kSpecular | kReflection | kTransmission;
+        case LobeType::RoughDielectric:
+            return kGlossy | kReflection | kTransmission;
+    }
+    return 0;
+}
+
+Lobe Lobe::lambert(const RGB& r) {
+    Lobe l;
+    l.type = LobeType::Lambert;
+    l.color = r;
+    return l;
+}
+
+Lobe Lobe::oren_nayar(const RGB& r, float sigma) {
+    Lobe l;
+    l.type = LobeType::OrenNayar;
+    l.color = r;
+    const float s2 = sigma * sigma;
+    l.on_a = 1.f - s2 / (2.f * (s2 + 0.33f));
+    l.on_b = 0.45f * s2 / (s2 + 0.09f);
+    return l;
+}
+
+Lobe Lobe::phong(const RGB& ks, float exponent) {
+    Lobe l;
+    l.type = LobeType::Phong;
+    l.color = ks;
+    l.exponent = exponent;
+    return l;
+}
+
+Lobe Lobe::mirror(const RGB& r, const Fresnel& f) {
+    Lobe l;
+    l.type = LobeType::Mirror;
+    l.color = r;
+    l.fresnel = f;
+    return l;
+}
+
+Lobe Lobe::dielectric(float ior, const RGB& reflect, const RGB& transmit) {
+    Lobe l;
+    l.type = LobeType::Dielectric;
+    l.color = reflect;
+    l.transmit = transmit;
+    l.fresnel.kind = FresnelKind::Dielectric;
+    l.fresnel.ior = ior;
+    return l;
+}
+
+Lobe Lobe::microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f) {
+    Lobe l;
+    l.type = LobeType::Microfacet;
+    l.color = tint;
+    l.dist = d;
+    l.fresnel = f;
+    return l;
+}
+
+Lobe Lobe::rough_dielectric(float ior, const MicrofacetDistribution& d, const RGB& reflect,
+                            const RGB& transmit) {
+    Lobe l = dielectric(ior, reflect, transmit);
+    l.type = LobeType::RoughDielectric;
+    l.dist = d;
+    return l;
+}
+
+}  // namespace foton
