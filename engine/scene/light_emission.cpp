@@ -62,13 +62,21 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             return !s.Le.is_black();
         }
         case EmitterType::Directional: {
-            // A disc covering the scene's bounding sphere, upstream of it.
+            // A disc covering the scene's bounding sphere, upstream of it, or the cells of
+            // its projection map that lie over geometry.
             const warp::Frame fr(e.n);
-            const Point2 d = warp::concentric_disc(u_pos);
-            s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+            const ProjectionMap& map = projection_[i];
+            if (!map.empty()) {
+                const Point2 q = map.sample(u_pos);
+                s.p = center_ + fr.s * q.x + fr.t * q.y - fr.n * (radius_ * 1.01f);
+                s.pdf_pos = 1.f / map.area();
+            } else {
+                const Point2 d = warp::concentric_disc(u_pos);
+                s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+                s.pdf_pos = 1.f / (kPi * radius_ * radius_);
+            }
             s.n = e.n;
             s.dir = e.n;
-            s.pdf_pos = 1.f / (kPi * radius_ * radius_);
             s.pdf_dir = 1.f;
             s.Le = e.value;
             return true;
@@ -120,7 +128,9 @@ void LightSet::pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_po
             pdf_dir = scene_->environment->pdf(-dir);
             return;
         case EmitterType::Directional:
-            pdf_pos = 1.f / (kPi * radius_ * radius_);
+            // Light arrives only where geometry is: in a kept cell of the map, if it has one.
+            pdf_pos = projection_[i].empty() ? 1.f / (kPi * radius_ * radius_)
+                                             : 1.f / projection_[i].area();
             pdf_dir = 1.f;
             return;
         case EmitterType::Rect:

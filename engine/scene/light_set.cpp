@@ -42,7 +42,7 @@ float Emitter::spot_falloff(float c) const {
     return x * x * (3.f - 2.f * x);
 }
 
-LightSet::LightSet(const Scene& scene, LightSelection selection)
+LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection_maps)
     : scene_(&scene), selection_(selection) {
     const Bounds3 bounds = scene.bounds();
     center_ = bounds.center();
@@ -133,6 +133,15 @@ LightSet::LightSet(const Scene& scene, LightSelection selection)
         e.power = scene.environment->integral() * (kPi * radius_ * radius_);
         environment_ = int(emitters_.size());
         emitters_.push_back(e);
+    }
+    // A directional light's projection map, and its power then: what crosses the map's cells.
+    projection_.resize(emitters_.size());
+    for (std::size_t i = 0; i < emitters_.size() && projection_maps; ++i) {
+        Emitter& e = emitters_[i];
+        if (e.type != EmitterType::Directional) continue;
+        const warp::Frame fr(e.n);
+        projection_[i].build(scene, fr.s, fr.t, center_, radius_);
+        if (!projection_[i].empty()) e.power = e.value * projection_[i].area();
     }
     // Selection by power (luminance); lights of zero power are never chosen.
     float total = 0.f;

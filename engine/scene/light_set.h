@@ -16,6 +16,7 @@
 #include "engine/core/sampler.h"
 #include "light_bvh.h"
 #include "light_selection.h"
+#include "projection_map.h"
 #include "scene.h"
 
 namespace foton {
@@ -112,7 +113,11 @@ struct LightPickLanes {
 class LightSet {
   public:
     LightSet() = default;
-    explicit LightSet(const Scene& scene, LightSelection selection = LightSelection::Power);
+    // projection_maps: directional lights emit only over the geometry (projection_map.h).
+    explicit LightSet(const Scene& scene, LightSelection selection = LightSelection::Power,
+                      bool projection_maps = true);
+    // Emitter i's projection map (empty: none; directional lights only).
+    const ProjectionMap& projection_map(std::size_t i) const { return projection_[i]; }
 
     std::size_t size() const { return emitters_.size(); }
     bool empty() const { return emitters_.empty(); }
@@ -206,6 +211,7 @@ class LightSet {
     float p_infinite_ = 0.f;
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
+    std::vector<ProjectionMap> projection_;  // by emitter
 };
 
 }  // namespace foton

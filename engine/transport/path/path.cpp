@@ -340,7 +340,7 @@ std::unique_ptr<RadianceAlongRays> make_path_onwards(const RenderContext& ctx) {
 
 RenderResult render_path(const Scene& scene, const RenderSettings& settings,
                          const Intersector& accel, const RenderOptions& opt) {
-    const LightSet lights(scene, settings.light_selection);
+    const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     if (settings.guide.enabled) return render_guided_path(ctx, opt);
     if (settings.indirect != IndirectMode::IrradianceCache)

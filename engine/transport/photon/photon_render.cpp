@@ -33,7 +33,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     RenderOptions opt = render_opt;
     if (!opt.start) opt.start = RenderStart::now();
     const PhotonSettings& ps = settings.photon;
-    const LightSet lights(scene, settings.light_selection);
+    const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
     const float radius = 0.5f * length(scene.bounds().diagonal());

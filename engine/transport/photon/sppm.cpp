@@ -63,7 +63,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                                         const Intersector& accel, const RenderOptions& opt,
                                         bool stochastic) {
     const PhotonSettings& ps = settings.photon;
-    const LightSet lights(scene, settings.light_selection);
+    const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     if (lights.empty()) throw InputError(scene.source, 0, "photon mapping needs a light");
     const int w = scene.film.width, h = scene.film.height;
     const std::size_t npix = std::size_t(w) * std::size_t(h);

@@ -39,6 +39,7 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
                                                        {"uniform", LightSelection::Uniform},
                                                        {"bvh", LightSelection::Bvh}}};
     r.light_selection = p.choice("light_selection", kSelection, r.light_selection);
+    r.projection_maps = p.boolean("projection_maps", r.projection_maps);
     r.rr_depth = uint32_t(p.integer("rr_depth", r.rr_depth, 0, kNoRoulette));
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
 }

@@ -1,0 +1,90 @@
+// Projection maps for directional lights (engine/scene/projection_map.h; the photon-mapping
+// thesis, 5.3.2): the photons of a distant light at a small scene start over its geometry
+// (>= 90 % of them hit it, against the whole bounding disc's fraction without the map), every
+// kept point's density is the one pdf_le reports, and photon mapping's image keeps its mean.
+#include <catch2/catch.hpp>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/rng.h"
+#include "engine/film/metrics.h"
+#include "engine/scene/light_set.h"
+#include "engine/scene/xml_loader.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+
+// A small scene under a distant light at 40 degrees: a 4 x 4 floor and two spheres.
+const char* kScene = R"(<scene><lights>
+    <directional intensity="2"><color r="1" g="0.95" b="0.9"/><direction x="0.5" y="-1" z="0.3"/></directional>
+  </lights><objects>
+    <quad><corner x="-2" y="0" z="-2"/><edge1 x="0" y="0" z="4"/><edge2 x="4" y="0" z="0"/>
+      <material type="lambert"><reflectance r="0.8" g="0.8" b="0.8"/></material></quad>
+    <sphere radius="0.6"><center x="-0.6" y="0.6" z="0"/>
+      <material type="lambert"><reflectance r="0.7" g="0.3" b="0.2"/></material></sphere>
+    <sphere radius="0.4"><center x="0.9" y="1.5" z="0.5"/>
+      <material type="lambert"><reflectance r="0.2" g="0.4" b="0.7"/></material></sphere>
+  </objects><film width="32" height="24"/><renderer type="photon" global_photons="50000"/>
+  <camera fov="45"><eye x="0" y="3" z="-6"/><target x="0" y="0.5" z="0"/></camera></scene>)";
+
+// The fraction of n emitted rays that hit the scene.
+double hit_fraction(const Scene& scene, const LightSet& lights, uint32_t n) {
+    const auto accel = make_intersector(scene, scene.accel);
+    RayBatch rays;
+    for (uint32_t i = 0; i < n; ++i) {
+        EmittedRay er;
+        REQUIRE(lights.sample_ray(
+            rng::uniform(3, 0, i, 0), {rng::uniform(3, 0, i, 1), rng::uniform(3, 0, i, 2)},
+            {rng::uniform(3, 0, i, 3), rng::uniform(3, 0, i, 4)}, rng::uniform(3, 0, i, 5), er));
+        rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
+    }
+    HitBatch hits;
+    TraceCounters ts;
+    accel->intersect(rays, hits, ts);
+    uint32_t hit = 0;
+    for (uint32_t i = 0; i < n; ++i) hit += hits.geom[i] != kNoHit;
+    return double(hit) / n;
+}
+
+}  // namespace
+
+TEST_CASE("projection maps: a distant light's photons start over the geometry",
+          "[photon][projection][fast]") {
+    const TestScene scene = parse_scene(kScene, "p.xml", ".");
+    const LightSet with(scene, LightSelection::Power, true),
+        without(scene, LightSelection::Power, false);
+    REQUIRE(with.size() == 1);
+    const ProjectionMap& map = with.projection_map(0);
+    REQUIRE(!map.empty());
+    REQUIRE(without.projection_map(0).empty());
+    const double f_with = hit_fraction(scene, with, 20000);
+    const double f_without = hit_fraction(scene, without, 20000);
+    INFO("hit fraction with the map " << f_with << ", without " << f_without << ", kept cells "
+                                      << map.coverage());
+    CHECK(f_with >= 0.9);
+    CHECK(f_without < 0.8 * f_with);
+    // The density the emission reports is pdf_le's, and the power it carries is the light's
+    // radiance over the kept area: beta = Le / (pmf pdf_pos).
+    const float r = with.scene_radius();
+    float pdf_pos, pdf_dir;
+    with.pdf_le(0, {}, with.emitter(0).n, pdf_pos, pdf_dir);
+    CHECK(pdf_pos == Approx(1.f / map.area()));
+    CHECK(map.area() < kPi * r * r);
+    EmittedRay er;
+    REQUIRE(with.sample_ray(0.5f, {0.3f, 0.7f}, {0.1f, 0.2f}, 0.f, er));
+    CHECK(er.emission.pdf_pos == Approx(pdf_pos));
+    CHECK(er.beta.g == Approx(with.emitter(0).value.g * map.area()));
+}
+
+TEST_CASE("projection maps: photon mapping's image keeps its mean", "[photon][projection]") {
+    TestScene scene = parse_scene(kScene, "p.xml", ".");
+    const Film a = render_test(scene, 16, 0, 5).film;
+    scene.render.projection_maps = false;
+    const Film b = render_test(scene, 16, 0, 5).film;
+    const ImageError e = compare_images(a, b);
+    INFO("means " << e.mean_a.g << " with the map, " << e.mean_b.g << " without");
+    CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
+    CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
+    CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(0.02));
+}
