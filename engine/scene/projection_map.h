@@ -15,7 +15,7 @@
 
 namespace foton {
 
-class Scene;
+struct Scene;
 
 class ProjectionMap {
   public:
