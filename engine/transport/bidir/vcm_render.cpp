@@ -32,7 +32,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                              " needs a perspective camera (a pinhole or a thin lens): light "
                              "subpaths are joined to the camera, and an orthographic camera "
                              "sees along one direction only");
-    const LightSet lights(scene);
+    const LightSet lights(scene, LightSelection::Power, settings.projection_maps);
     if (lights.empty()) throw InputError(scene.source, 0, std::string(name) + " needs a light");
 
     // One light path per pixel of the whole image, also for a crop window: a camera path

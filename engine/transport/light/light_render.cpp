@@ -23,7 +23,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
         throw InputError(scene.source, 0,
                          "the light tracer needs a pinhole perspective camera (no lens_radius)");
-    const LightSet lights(scene);
+    const LightSet lights(scene, LightSelection::Power, settings.projection_maps);
     if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
     const LightTracer tracer(RenderContext{scene, settings, accel, lights, opt.seed});
     const int threads = resolve_threads(opt.threads);

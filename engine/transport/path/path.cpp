@@ -363,7 +363,7 @@ RenderResult render_path(const Scene& scene, const RenderSettings& settings,
 
 RenderResult render_distributed(const Scene& scene, const RenderSettings& settings,
                                 const Intersector& accel, const RenderOptions& opt) {
-    const LightSet lights(scene);
+    const LightSet lights(scene, LightSelection::Power, settings.projection_maps);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     return render_camera(scene, settings, PathIntegrator(ctx, VertexRules::distributed()), opt);
 }

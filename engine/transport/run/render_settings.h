@@ -62,8 +62,8 @@ struct RenderSettings {
     bool simd_shading = true;
     // path, photon, sppm, ppm: how next event estimation chooses its light
     LightSelection light_selection = LightSelection::Power;
-    // path, photon, sppm, ppm: directional lights emit over the geometry only (their
-    // projection maps; the photon thesis' 5.3.2), not over the whole bounding disc
+    // Every integrator that emits from the lights: directional lights emit over the geometry
+    // only (their projection maps; the photon thesis' 5.3.2), not the whole bounding disc
     bool projection_maps = true;
     uint32_t rr_depth = 3;  // Russian roulette from this many scattering vertices on (guided
                             // paths: kNoRoulette unless given)
