@@ -60,6 +60,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
                 l.dist.visible_normals() ? l.dist.smith_g(wo, wi) : vcavity_g(wo, wi, h);
             return l.color * l.fresnel.eval(dot(wi, h)) * (l.dist.D(h) * g / (4.f * wo.z * wi.z));
         }
+        case LobeType::LambertTransmission:
+            return !same_side(wo, wi) && wi.z != 0.f ? l.color * kInvPi : RGB{0.f};
         case LobeType::RoughDielectric:
             return rough_dielectric_f(l, wo, wi, ctx);
         case LobeType::Mirror:
@@ -86,6 +88,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             if (l.dist.visible_normals()) return l.dist.g1(wo) * l.dist.D(h) / (4.f * wo.z);
             return l.dist.pdf_h(h) / (4.f * dot(wo, h));
         }
+        case LobeType::LambertTransmission:
+            return !same_side(wo, wi) && wi.z != 0.f ? std::fabs(wi.z) * kInvPi : 0.f;
         case LobeType::RoughDielectric:
             return rough_dielectric_pdf(l, wo, wi, ctx);
         case LobeType::Mirror:
@@ -130,6 +134,15 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             if (s.wi.z <= 0.f) return false;
             s.pdf = lobe_pdf(l, wo, s.wi, ctx);
             s.f = lobe_f(l, wo, s.wi, ctx);
+            return s.pdf > 0.f;
+        }
+        case LobeType::LambertTransmission: {
+            // A cosine-weighted direction on the side away from wo.
+            s.wi = warp::cosine_hemisphere(u);
+            if (wo.z > 0.f) s.wi.z = -s.wi.z;
+            s.pdf = lobe_pdf(l, wo, s.wi, ctx);
+            s.f = lobe_f(l, wo, s.wi, ctx);
+            s.eta = 1.f;
             return s.pdf > 0.f;
         }
         case LobeType::RoughDielectric:

@@ -52,12 +52,14 @@ struct Fresnel {
 enum class LobeType : uint8_t {
     Lambert,
     OrenNayar,
-    Phong,            // modified, energy-conserving Phong (Lafortune & Willems)
-    Mirror,           // specular reflection with an optional (conductor) Fresnel
-    Dielectric,       // specular reflection + transmission with dielectric Fresnel, TIR
-    Microfacet,       // Torrance–Sparrow: F D G / (4 cos_o cos_i)
-    RoughDielectric,  // Walter et al. 2007: a rough dielectric interface, microfacet reflection
-                      // and transmission (rough_dielectric.cpp)
+    Phong,                // modified, energy-conserving Phong (Lafortune & Willems)
+    Mirror,               // specular reflection with an optional (conductor) Fresnel
+    Dielectric,           // specular reflection + transmission with dielectric Fresnel, TIR
+    Microfacet,           // Torrance–Sparrow: F D G / (4 cos_o cos_i)
+    LambertTransmission,  // diffuse transmission: reflectance/pi on the side opposite wo
+                          // (pbrt-v4's diffusetransmission with a Lambert lobe beside it)
+    RoughDielectric,      // Walter et al. 2007: a rough dielectric interface, microfacet reflection
+                          // and transmission (rough_dielectric.cpp)
 };
 
 struct Lobe {
@@ -78,6 +80,8 @@ struct Lobe {
     static Lobe mirror(const RGB& r, const Fresnel& f);
     static Lobe dielectric(float ior, const RGB& reflect, const RGB& transmit);
     static Lobe microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f);
+    // Diffuse transmission of tint t (paper, leaves, lamp shades).
+    static Lobe lambert_transmission(const RGB& t);
     // A rough interface of index ior (Trowbridge–Reitz `d`), tinted as a dielectric.
     static Lobe rough_dielectric(float ior, const MicrofacetDistribution& d, const RGB& reflect,
                                  const RGB& transmit);

@@ -46,6 +46,8 @@ uint8_t Lobe::flags() const {
             return kSpecular | kReflection | kTransmission;
         case LobeType::RoughDielectric:
             return kGlossy | kReflection | kTransmission;
+        case LobeType::LambertTransmission:
+            return kDiffuse | kTransmission;
     }
     return 0;
 }
@@ -99,6 +101,13 @@ Lobe Lobe::microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fr
     l.color = tint;
     l.dist = d;
     l.fresnel = f;
+    return l;
+}
+
+Lobe Lobe::lambert_transmission(const RGB& t) {
+    Lobe l;
+    l.type = LobeType::LambertTransmission;
+    l.color = t;
     return l;
 }
 

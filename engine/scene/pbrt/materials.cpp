@@ -200,6 +200,16 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
         else
             m.bsdf.add(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
+    } else if (type == "diffusetransmission") {
+        const float scale = p.real("scale", 1.f);
+        if (!(scale >= 0.f)) fail(t, what + ": scale must not be negative");
+        const RGB r = reflectance(p, "reflectance", RGB{0.25f}, what, m.texture) * scale;
+        if (m.texture >= 0) m.textured_lobes = 1;
+        const RGB tr = reflectance(p, "transmittance", RGB{0.25f}, what) * scale;
+        m.bsdf.add(Lobe::lambert(r));
+        if (!tr.is_black()) m.bsdf.add(Lobe::lambert_transmission(tr));
+        m.base_color = r;
+        m.c_diffuse = 1.f;
     } else if (type == "coateddiffuse") {
         // Documented approximation: a dielectric coat's reflection over a Lambertian base
         // that receives what the coat lets through (1 - the coat's mean Fresnel reflectance);
@@ -258,7 +268,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         m.c_diffuse = 1.f;
     } else {
         fail(t, "unsupported material '" + type +
-                    "' (diffuse, conductor, dielectric, coateddiffuse, mix)");
+                    "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, mix)");
     }
     for (const char* ignored : {"normalmap", "displacement"})
         if (p.has(ignored)) warn(file(), t.line, what + ": '" + ignored + "' ignored");

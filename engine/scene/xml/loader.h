@@ -184,6 +184,7 @@ class Loader {
     void lambert_material(const pugi::xml_node& n, bool top, Material& m);
     void conductor_material(const pugi::xml_node& n, bool top, Material& m);
     void dielectric_material(const pugi::xml_node& n, bool top, Material& m);
+    void diffuse_transmission_material(const pugi::xml_node& n, bool top, Material& m);
     void microfacet_material(const pugi::xml_node& n, bool top, Material& m);
     void mix_material(const pugi::xml_node& n, bool top, Material& m);
     void material_texture(const pugi::xml_node& n, Material& m);

@@ -79,6 +79,21 @@ void Loader::lambert_material(const pugi::xml_node& n, bool top, Material& m) {
     m.c_diffuse = 1.f;
 }
 
+// Paper, leaves, lamp shades: a Lambert lobe of reflectance R and a diffuse transmission lobe
+// of transmittance T on the far side (pbrt-v4's diffusetransmission).
+void Loader::diffuse_transmission_material(const pugi::xml_node& n, bool top, Material& m) {
+    generic(m);
+    check_material(n, top, {}, {"reflectance", "transmittance"});
+    const RGB r = rgb_child(n, "reflectance", RGB{0.25f});
+    const RGB t = rgb_child(n, "transmittance", RGB{0.25f});
+    if ((r + t).max_component() > 1.f)
+        fail(n, "reflectance + transmittance must be at most 1 per channel (energy would grow)");
+    if (!r.is_black()) m.bsdf.add(Lobe::lambert(r));
+    if (!t.is_black()) m.bsdf.add(Lobe::lambert_transmission(t));
+    m.base_color = r;
+    m.c_diffuse = 1.f;
+}
+
 void Loader::conductor_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
     check_material(n, top,
@@ -100,8 +115,8 @@ void Loader::dielectric_material(const pugi::xml_node& n, bool top, Material& m)
     const RGB reflect = rgb_child(n, "reflectance", RGB{1.f});
     const RGB transmit = rgb_child(n, "transmittance", RGB{1.f});
     // Rough glass: Walter et al.'s microfacet interface, Trowbridge–Reitz (GGX) only.
-    const bool rough = (n.attribute("roughness") && number(n, "roughness") != 0.f) ||
-                       n.attribute("roughness_v");
+    const bool rough =
+        (n.attribute("roughness") && number(n, "roughness") != 0.f) || n.attribute("roughness_v");
     if (!rough) {
         if (n.attribute("distribution")) fail(n, "a distribution needs a roughness above 0");
         m.bsdf.add(Lobe::dielectric(m.ior, reflect, transmit));

@@ -92,11 +92,17 @@ MicrofacetDistribution Loader::distribution(const pugi::xml_node& n, const char*
 // The readers of each type, in the order the unknown-type message lists them.
 const std::vector<Loader::MaterialReader>& Loader::material_readers() {
     static const std::vector<MaterialReader> readers = {
-        {"matte", &Loader::thesis_material},          {"phong", &Loader::thesis_material},
-        {"reflective", &Loader::thesis_material},     {"glass", &Loader::thesis_material},
-        {"lambert", &Loader::lambert_material},       {"oren_nayar", &Loader::lambert_material},
-        {"conductor", &Loader::conductor_material},   {"dielectric", &Loader::dielectric_material},
-        {"microfacet", &Loader::microfacet_material}, {"mix", &Loader::mix_material},
+        {"matte", &Loader::thesis_material},
+        {"phong", &Loader::thesis_material},
+        {"reflective", &Loader::thesis_material},
+        {"glass", &Loader::thesis_material},
+        {"lambert", &Loader::lambert_material},
+        {"oren_nayar", &Loader::lambert_material},
+        {"conductor", &Loader::conductor_material},
+        {"dielectric", &Loader::dielectric_material},
+        {"microfacet", &Loader::microfacet_material},
+        {"mix", &Loader::mix_material},
+        {"diffuse_transmission", &Loader::diffuse_transmission_material},
     };
     return readers;
 }
