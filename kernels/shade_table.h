@@ -92,7 +92,8 @@ enum ShadeColumn : uint32_t {
     kDvDiffuseWeight,
     kDvGlossWeight,
     kDvGlossFirst,
-    // The light sample: its pdf with the light's selection (0: none), 1 when it takes full
+    // The light sample (shade_importance reads kDvLp as the camera's eye, the light of
+    // importance transport): its pdf with the light's selection (0: none), 1 when it takes full
     // weight (a delta light, or no MIS), the unit direction to it, the distance (infinite for
     // a light at infinity), the sampled point and its normal facing the vertex, the radiance.
     kDvLightPdf,
