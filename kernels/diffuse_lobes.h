@@ -84,16 +84,11 @@ struct DiffuseLobes {
         }
     }
 
-    // Bsdf::f at wi: the diffuse lobe on wo's side, the mixture on glossy lanes.
+    // Bsdf::f at wi (eval's f; the unused density is left to the compiler).
     V3 f(const V3& wi) const {
-        const FloatV zero(0.f);
-        V3 fv = select(wo.z * wi.z > zero, diffuse_f(wi), V3{zero, zero, zero});
-        if (any_glossy) {
-            V3 fm;
-            FloatV pdf_d, pdf_g;
-            mixed(wi, diffuse_f(wi), fm, pdf_d, pdf_g);
-            fv = select(glossy, fm, fv);
-        }
+        V3 fv;
+        FloatV pdf;
+        eval(wi, fv, pdf);
         return fv;
     }
 };

@@ -75,15 +75,10 @@ struct DiffuseLobes {
         return diffuse_f(wi);
     }
 
-    // Bsdf::f at wi.
+    // Bsdf::f at wi (eval's f).
     V3 f(V3 wi) const {
-        if (glossy) {
-            V3 fm;
-            float pdf_d, pdf_g;
-            mixed(wi, fm, pdf_d, pdf_g);
-            return fm;
-        }
-        return wo.z * wi.z > 0.f ? diffuse_f(wi) : V3{0.f, 0.f, 0.f};
+        float pdf;
+        return eval(wi, pdf);
     }
 };
 

@@ -16,10 +16,10 @@ void ProjectionMap::build(const Scene& scene, const Vec3& s, const Vec3& t, cons
     std::vector<uint8_t> mark(std::size_t(res) * std::size_t(res), 0);
     // Marks the cells under the projected box of points, grown by a margin for rounding.
     const float margin = 1e-4f * radius;
+    auto cell = [&](float v) {
+        return std::clamp(int(std::floor((v + radius_) / cell_)), 0, res_ - 1);
+    };
     auto mark_box = [&](float x0, float x1, float y0, float y1) {
-        auto cell = [&](float v) {
-            return std::clamp(int(std::floor((v + radius_) / cell_)), 0, res_ - 1);
-        };
         const int i0 = cell(x0 - margin), i1 = cell(x1 + margin);
         const int j0 = cell(y0 - margin), j1 = cell(y1 + margin);
         for (int j = j0; j <= j1; ++j)
@@ -30,9 +30,6 @@ void ProjectionMap::build(const Scene& scene, const Vec3& s, const Vec3& t, cons
     auto mark_triangle = [&](Point2 a, Point2 b, Point2 c) {
         const float x0 = std::min({a.x, b.x, c.x}), x1 = std::max({a.x, b.x, c.x});
         const float y0 = std::min({a.y, b.y, c.y}), y1 = std::max({a.y, b.y, c.y});
-        auto cell = [&](float v) {
-            return std::clamp(int(std::floor((v + radius_) / cell_)), 0, res_ - 1);
-        };
         const Point2 v[3] = {a, b, c};
         for (int j = cell(y0 - margin); j <= cell(y1 + margin); ++j)
             for (int i = cell(x0 - margin); i <= cell(x1 + margin); ++i) {
