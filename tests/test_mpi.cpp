@@ -74,6 +74,9 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
     };
     const Case cases[] = {
         {"path", "scenes/cornell-box.xml", "--integrator path --spp 3"},
+        // The variance AOV's moments gathered from the pixels' owners, the first-hit layers
+        // made on rank 0.
+        {"path-aov", "scenes/cornell-box.xml", "--integrator path --spp 3 --aov all"},
         {"raytracer", "scenes/cornell-mirror.xml", "--integrator raytracer --spp 2"},
         {"light", "scenes/cornell-box.xml", "--integrator light --spp 2"},
         {"photon-fg", "scenes/cornell-caustics.xml",
@@ -104,6 +107,11 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
             INFO(r.err);
             REQUIRE(r.code == 0);
             CHECK(same_bits(read_exr(dir.file(c.name) + "-n.exr"), one));
+            if (std::string(c.flags).find("--aov") == std::string::npos) continue;
+            int w = 0, h = 0;
+            const std::vector<std::string> channels = aov_channels(kAovAll);
+            CHECK(read_exr_channels(dir.file(c.name) + "-n.exr", channels, w, h) ==
+                  read_exr_channels(dir.file(c.name) + "-1.exr", channels, w, h));
         }
     }
 }

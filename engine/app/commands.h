@@ -24,6 +24,7 @@ struct RenderArgs {
     std::vector<int> pixel_bounds;  // x0,x1,y0,y1 in pixels
     std::string integrator;         // empty = the scene's <renderer type>
     std::string mis;
+    std::string aov;      // --aov: extra outputs as EXR channels (film/aov.h)
     std::string sampler;  // --sampler: the renderer's sampler
     std::optional<bool> nee;
     std::optional<uint32_t> max_depth, rr_depth;

@@ -73,6 +73,18 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
     return f;
 }
 
+// The AOV layers as the viewer gets them: the samples AOV (a UINT channel in the EXR) as
+// floats after the others.
+std::vector<AovLayer> viewer_layers(const RenderResult& res, uint32_t aovs) {
+    std::vector<AovLayer> layers = res.aovs;
+    if (aovs & kAovSamples) {
+        AovLayer samples{"samples", aov_channels(kAovSamples), {}};
+        samples.values.assign(res.samples_per_pixel.begin(), res.samples_per_pixel.end());
+        if (samples.values.size() == res.film.pixels.size()) layers.push_back(std::move(samples));
+    }
+    return layers;
+}
+
 // Where this rank runs: a multi-node run's statistics say which node was slow.
 std::string host_name() {
     char name[256] = {};
@@ -118,6 +130,7 @@ JobRequest job_request(const RenderArgs& args) {
     };
     if (!args.integrator.empty()) flag("type", args.integrator, "--integrator");
     if (!args.mis.empty()) flag("mis", args.mis, "--mis");
+    if (!args.aov.empty()) flag("aov", args.aov, "--aov");
     if (!args.sampler.empty()) flag("sampler", args.sampler, "--sampler");
     if (args.nee) flag("nee", *args.nee ? "true" : "false", "--nee");
     if (args.max_depth) flag("max_depth", std::to_string(*args.max_depth), "--max-depth");
@@ -269,7 +282,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     std::unique_ptr<TevDisplay> display;
     if (!args.display.empty() && root)
         display = std::make_unique<TevDisplay>(args.display, fs::path(out).filename().string(),
-                                               scene.film.width, scene.film.height);
+                                               scene.film.width, scene.film.height,
+                                               aov_channels(rs.aovs));
     // Only when something observes: the image of every pass costs a gather across ranks.
     if (convergence || display)
         opt.on_pass = [&](const Film& film, const PassReport& pass) {
@@ -302,7 +316,8 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // image is an interrupted one on every rank.
     const bool interrupted = ranks.any(InterruptGuard::requested().load());
     line.reset();
-    display.reset();  // the last pass's image reaches the viewer
+    if (display && rs.aovs) display->show_layers(viewer_layers(res, rs.aovs));
+    display.reset();  // the last pass's image (and the AOVs) reach the viewer
     res.stats.build_seconds = build;
     const nlohmann::ordered_json rank_stats = gather_rank_stats(ranks, res.stats);
     set_rank_phase(RankPhase::Local);
@@ -323,7 +338,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     if (ranks.distributed()) attrs.push_back({"foton:mpiRanks", std::to_string(ranks.size())});
     if (interrupted) attrs.push_back({"foton:interrupted", "true"});
     ExrRenderInfo info = exr_info(res.stats.wall_seconds, spp_mean);
-    const SampleSpread spread = describe_sample_counts(res, attrs, info);
+    const SampleSpread spread = describe_sample_counts(res, attrs, info, rs.aovs);
     // With --reference, pbrt-v4's MSE of the written image (the last pass's error).
     if (convergence && !convergence->points().empty()) {
         const double rmse = convergence->points().back().error.rmse;

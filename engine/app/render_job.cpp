@@ -114,11 +114,13 @@ double mean_samples(const RenderResult& result) {
 }
 
 SampleSpread describe_sample_counts(const RenderResult& result, ImageAttributes& attrs,
-                                    ExrRenderInfo& info) {
+                                    ExrRenderInfo& info, uint32_t aovs) {
+    if (!result.aovs.empty()) info.layers = &result.aovs;
     const std::vector<uint32_t>& counts = result.samples_per_pixel;
     if (counts.empty() || counts.size() != result.film.pixels.size()) return {};
     const auto [lo, hi] = std::minmax_element(counts.begin(), counts.end());
     SampleSpread spread{*lo, *hi, 0};
+    if (aovs & kAovSamples) info.samples = &counts;
     if (!spread.uneven()) return spread;
     info.samples = &counts;
     spread.none = std::size_t(std::count(counts.begin(), counts.end(), 0u));

@@ -68,8 +68,10 @@ struct SampleSpread {
 };
 // Where pixels average different sample counts (adaptive sampling, a pass cut short by a
 // stop): the EXR gets every pixel's count as its `samples` channel and, when some pixels got
-// none, `foton:unfinishedPixels`. `info.samples` points into `result`.
+// none, `foton:unfinishedPixels`; with the samples AOV asked for (`aovs`, film/aov.h's bits),
+// whatever the spread. The result's AOV layers go to `info.layers` too. `info` points into
+// `result`.
 SampleSpread describe_sample_counts(const RenderResult& result, ImageAttributes& attrs,
-                                    ExrRenderInfo& info);
+                                    ExrRenderInfo& info, uint32_t aovs);
 
 }  // namespace foton::app

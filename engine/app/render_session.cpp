@@ -117,7 +117,7 @@ void RenderSession::run(SessionRequest req) {
         attrs.push_back({"foton:threads", std::to_string(res.stats.threads)});
         if (cancel_) attrs.push_back({"foton:interrupted", "true"});
         ExrRenderInfo info = job_exr_info(scene, res.stats.wall_seconds, spp);
-        describe_sample_counts(res, attrs, info);
+        describe_sample_counts(res, attrs, info, rs.aovs);
         auto bytes =
             std::make_shared<const std::string>(encode_exr("foton.exr", res.film, attrs, info));
         auto final_image = std::make_shared<const Film>(std::move(res.film));

@@ -44,6 +44,22 @@ class Packet {
 
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 
+// The UpdateImage header: the channels, the rectangle, and each channel's offset and stride in
+// the floats that follow (pixel-interleaved, `channels.size()` floats a pixel).
+void put_update_header(Packet& p, const std::string& name, const std::vector<std::string>& channels,
+                       int width, int y0, int y1) {
+    p.put_bool(false);
+    p.put_string(name);
+    p.put_raw(int32_t(channels.size()));
+    for (const std::string& c : channels) p.put_string(c);
+    p.put_raw(int32_t(0));
+    p.put_raw(int32_t(y0));
+    p.put_raw(int32_t(width));
+    p.put_raw(int32_t(y1 - y0));
+    for (std::size_t c = 0; c < channels.size(); ++c) p.put_raw(int64_t(c));
+    for (std::size_t c = 0; c < channels.size(); ++c) p.put_raw(int64_t(channels.size()));
+}
+
 }  // namespace
 
 std::vector<char> close_image(const std::string& name) {
@@ -52,30 +68,22 @@ std::vector<char> close_image(const std::string& name) {
     return p.finish();
 }
 
-std::vector<char> create_image(const std::string& name, int width, int height) {
+std::vector<char> create_image(const std::string& name, int width, int height,
+                               const std::vector<std::string>& channels) {
     Packet p(PacketType::CreateImage);
     p.put_bool(true);
     p.put_string(name);
     p.put_raw(int32_t(width));
     p.put_raw(int32_t(height));
-    p.put_raw(int32_t(3));
-    for (const char* c : kChannels) p.put_string(c);
+    p.put_raw(int32_t(channels.size()));
+    for (const std::string& c : channels) p.put_string(c);
     return p.finish();
 }
 
 std::vector<char> update_image(const std::string& name, const Film& film, int y0, int y1) {
     Packet p(PacketType::UpdateImage);
-    p.put_bool(false);
-    p.put_string(name);
-    p.put_raw(int32_t(3));
-    for (const char* c : kChannels) p.put_string(c);
-    p.put_raw(int32_t(0));
-    p.put_raw(int32_t(y0));
-    p.put_raw(int32_t(film.width));
-    p.put_raw(int32_t(y1 - y0));
-    // The film's pixels are interleaved R, G, B floats: channel c at offset c, stride 3.
-    for (int64_t c = 0; c < 3; ++c) p.put_raw(c);
-    for (int c = 0; c < 3; ++c) p.put_raw(int64_t(3));
+    // The film's pixels are interleaved R, G, B floats.
+    put_update_header(p, name, {kChannels[0], kChannels[1], kChannels[2]}, film.width, y0, y1);
     for (int y = y0; y < y1; ++y)
         for (int x = 0; x < film.width; ++x) {
             const RGB& v = film.at(x, y);
@@ -86,10 +94,24 @@ std::vector<char> update_image(const std::string& name, const Film& film, int y0
     return p.finish();
 }
 
+std::vector<char> update_layer(const std::string& name, const AovLayer& layer, int width, int y0,
+                               int y1) {
+    Packet p(PacketType::UpdateImage);
+    put_update_header(p, name, layer.channels, width, y0, y1);
+    const std::size_t begin = std::size_t(y0) * std::size_t(width) * layer.stride();
+    const std::size_t end = std::size_t(y1) * std::size_t(width) * layer.stride();
+    for (std::size_t i = begin; i < end; ++i) p.put_raw(layer.values[i]);
+    return p.finish();
+}
+
 }  // namespace tev
 
-TevDisplay::TevDisplay(const std::string& address, std::string name, int width, int height)
-    : name_(std::move(name)), width_(width), height_(height) {
+TevDisplay::TevDisplay(const std::string& address, std::string name, int width, int height,
+                       std::vector<std::string> aov_channels)
+    : name_(std::move(name)),
+      width_(width),
+      height_(height),
+      aov_channels_(std::move(aov_channels)) {
     const auto colon = address.rfind(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == address.size())
         throw InputError("--display", 0, "expected HOST:PORT, got '" + address + "'");
@@ -121,9 +143,19 @@ void TevDisplay::show(const Film& film) {
     wake_.notify_one();
 }
 
+void TevDisplay::show_layers(std::vector<AovLayer> layers) {
+    {
+        std::lock_guard lock(mutex_);
+        if (failed_) return;
+        for (AovLayer& l : layers) pending_layers_.push_back(std::move(l));
+    }
+    wake_.notify_one();
+}
+
 void TevDisplay::flush() {
     std::unique_lock lock(mutex_);
-    idle_.wait(lock, [this] { return failed_ || (!pending_ && !busy_); });
+    idle_.wait(lock,
+               [this] { return failed_ || (!pending_ && pending_layers_.empty() && !busy_); });
 }
 
 std::size_t TevDisplay::sent() const {
@@ -161,7 +193,10 @@ bool TevDisplay::connect_once() {
                      host_.c_str(), port_.c_str(), std::strerror(last_errno));
         return false;
     }
-    return send_all(tev::close_image(name_)) && send_all(tev::create_image(name_, width_, height_));
+    std::vector<std::string> channels{"R", "G", "B"};
+    channels.insert(channels.end(), aov_channels_.begin(), aov_channels_.end());
+    return send_all(tev::close_image(name_)) &&
+           send_all(tev::create_image(name_, width_, height_, channels));
 }
 
 bool TevDisplay::send_all(const std::vector<char>& packet) {
@@ -188,31 +223,42 @@ void TevDisplay::run() {
     if (!connected) {
         failed_ = true;
         pending_.reset();
+        pending_layers_.clear();
         idle_.notify_all();
         return;
     }
     for (;;) {
-        wake_.wait(lock, [this] { return stop_ || pending_; });
-        if (!pending_) break;  // stopping with nothing left to send
-        const Film film = std::move(*pending_);
+        wake_.wait(lock, [this] { return stop_ || pending_ || !pending_layers_.empty(); });
+        if (!pending_ && pending_layers_.empty()) break;  // stopping with nothing left to send
+        std::optional<Film> film = std::move(pending_);
         pending_.reset();
+        // Layers queued after this image go with it; a later image waits for the next round.
+        std::vector<AovLayer> layers = std::move(pending_layers_);
+        pending_layers_.clear();
         busy_ = true;
         lock.unlock();
-        // Bands of rows, a few hundred thousand pixels each, keep packets moderate.
-        const int rows = std::max(1, int(262144 / std::max(film.width, 1)));
+        // Bands of rows, a few hundred thousand floats each, keep packets moderate.
+        auto rows = [&](std::size_t channels) {
+            return std::max(1, int(786432 / (std::max(width_, 1) * channels)));
+        };
         bool ok = true;
-        for (int y = 0; ok && y < film.height; y += rows)
-            ok = send_all(tev::update_image(name_, film, y, std::min(film.height, y + rows)));
+        if (film)
+            for (int y = 0, n = rows(3); ok && y < film->height; y += n)
+                ok = send_all(tev::update_image(name_, *film, y, std::min(film->height, y + n)));
+        for (const AovLayer& l : layers)
+            for (int y = 0, n = rows(l.stride()); ok && y < height_; y += n)
+                ok = send_all(tev::update_layer(name_, l, width_, y, std::min(height_, y + n)));
         lock.lock();
         busy_ = false;
         if (!ok) {
             failed_ = true;
             pending_.reset();
+            pending_layers_.clear();
             idle_.notify_all();
             return;
         }
-        ++sent_;
-        if (!pending_) idle_.notify_all();
+        if (film) ++sent_;
+        if (!pending_ && pending_layers_.empty()) idle_.notify_all();
     }
 }
 

@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/film/aov.h"
 #include "engine/film/film.h"
 
 namespace foton::app {
@@ -24,21 +25,31 @@ namespace foton::app {
 namespace tev {
 enum class PacketType : uint8_t { CloseImage = 2, CreateImage = 4, UpdateImage = 6 };
 std::vector<char> close_image(const std::string& name);
-std::vector<char> create_image(const std::string& name, int width, int height);
+// An image of the given channels (R, G, B, then any AOV channels).
+std::vector<char> create_image(const std::string& name, int width, int height,
+                               const std::vector<std::string>& channels = {"R", "G", "B"});
 // Rows [y0, y1) of `film` as R, G, B channels.
 std::vector<char> update_image(const std::string& name, const Film& film, int y0, int y1);
+// Rows [y0, y1) of an AOV layer of an image `width` pixels wide.
+std::vector<char> update_layer(const std::string& name, const AovLayer& layer, int width, int y0,
+                               int y1);
 }  // namespace tev
 
 class TevDisplay {
   public:
-    // `address` is HOST:PORT (bad input otherwise). `name` is the image's name in tev.
-    TevDisplay(const std::string& address, std::string name, int width, int height);
+    // `address` is HOST:PORT (bad input otherwise). `name` is the image's name in tev;
+    // `aov_channels` the channels it has beside R, G, B (film/aov.h's).
+    TevDisplay(const std::string& address, std::string name, int width, int height,
+               std::vector<std::string> aov_channels = {});
     ~TevDisplay();  // sends what is queued, then disconnects
     TevDisplay(const TevDisplay&) = delete;
     TevDisplay& operator=(const TevDisplay&) = delete;
 
     // Queues `film` for sending, replacing an image not yet sent.
     void show(const Film& film);
+    // Queues the AOV layers (each of channels given to the constructor), sent after the
+    // image queued before them.
+    void show_layers(std::vector<AovLayer> layers);
     // Returns when everything queued has been sent (or the connection has failed).
     void flush();
     // Images sent in full so far.
@@ -55,7 +66,9 @@ class TevDisplay {
     bool failed_ = false;
     mutable std::mutex mutex_;
     std::condition_variable wake_, idle_;
+    std::vector<std::string> aov_channels_;
     std::optional<Film> pending_;
+    std::vector<AovLayer> pending_layers_;
     bool busy_ = false, stop_ = false;
     std::size_t sent_ = 0;
     std::thread thread_;

@@ -22,6 +22,7 @@ enum RandomStream : uint64_t {
     kBidirLightStream = 0xb1d1,         // bdpt/bpm/vcm light subpaths
     kBidirCameraStream = 0xb1d2,        // bdpt/bpm/vcm camera subpaths
     kCacheVertexChoiceStream = 0xc401,  // path + cache: delta or diffuse at the cache's vertex
+    kAovStream = 0xa0f,                 // the albedo AOV's BSDF samples
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -36,6 +37,7 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kCacheStream,
                                                      kBidirLightStream,
                                                      kBidirCameraStream,
-                                                     kCacheVertexChoiceStream};
+                                                     kCacheVertexChoiceStream,
+                                                     kAovStream};
 
 }  // namespace foton

@@ -64,6 +64,14 @@ std::string encode_exr(const std::string& path, const Film& film, const ImageAtt
         if (info.samples && !samples)
             throw std::logic_error("encode_exr: the samples do not match the film's pixels");
         if (samples) header.channels().insert("samples", Imf::Channel(Imf::UINT));
+        if (info.layers)
+            for (const AovLayer& l : *info.layers) {
+                if (l.values.size() != l.stride() * film.pixels.size())
+                    throw std::logic_error("encode_exr: layer " + l.name +
+                                           " does not match the film's pixels");
+                for (const std::string& c : l.channels)
+                    header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+            }
         for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
         // foton's RGB is linear with the sRGB / Rec. 709 primaries and D65 white: OpenEXR's
         // default chromaticities, written out so that readers need not assume them.
@@ -100,6 +108,16 @@ std::string encode_exr(const std::string& path, const Film& film, const ImageAtt
             fb.insert("samples", Imf::Slice(Imf::UINT, counts, sizeof(uint32_t),
                                             sizeof(uint32_t) * std::size_t(film.width)));
         }
+        if (info.layers)
+            for (const AovLayer& l : *info.layers) {
+                const std::size_t px = sizeof(float) * l.stride();
+                char* first = reinterpret_cast<char*>(const_cast<float*>(l.values.data())) -
+                              (std::ptrdiff_t(info.x0) + std::ptrdiff_t(info.y0) * film.width) *
+                                  std::ptrdiff_t(px);
+                for (std::size_t c = 0; c < l.stride(); ++c)
+                    fb.insert(l.channels[c], Imf::Slice(Imf::FLOAT, first + c * sizeof(float), px,
+                                                        px * std::size_t(film.width)));
+            }
         file->setFrameBuffer(fb);
         file->writePixels(film.height);
         file.reset();
@@ -149,6 +167,37 @@ Film read_exr(const std::string& path) {
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
         return film;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
+    }
+}
+
+std::vector<float> read_exr_channels(const std::string& path, const std::vector<std::string>& names,
+                                     int& width, int& height) {
+    if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i dw = file.header().dataWindow();
+        width = dw.max.x - dw.min.x + 1;
+        height = dw.max.y - dw.min.y + 1;
+        check_claimed_size(path, width, height, 256);
+        for (const std::string& n : names)
+            if (!file.header().channels().findChannel(n))
+                throw InputError(path, 0, "the image has no channel '" + n + "'");
+        const std::size_t stride = names.size() * sizeof(float);
+        std::vector<float> values(std::size_t(width) * std::size_t(height) * names.size());
+        char* base =
+            reinterpret_cast<char*>(values.data()) -
+            (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * width) * std::ptrdiff_t(stride);
+        Imf::FrameBuffer fb;
+        for (std::size_t c = 0; c < names.size(); ++c)
+            fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), stride,
+                                           stride * std::size_t(width)));
+        file.setFrameBuffer(fb);
+        file.readPixels(dw.min.y, dw.max.y);
+        return values;
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "aov.h"
 #include "engine/core/params.h"
 #include "file_write.h"
 #include "film.h"
@@ -33,6 +34,8 @@ struct ExrRenderInfo {
     // film pixel): where they differ (adaptive sampling, an interrupted pass) it says which
     // pixels hold how much, and 0 marks the ones no sample reached.
     const std::vector<uint32_t>* samples = nullptr;
+    // Extra float channels (aov.h), one film pixel each, when given.
+    const std::vector<AovLayer>* layers = nullptr;
 };
 
 // Linear float RGB OpenEXR (Rec. 709 / sRGB primaries, written as chromaticities) with string
@@ -46,6 +49,11 @@ std::string encode_exr(const std::string& name, const Film& film, const ImageAtt
 ImageAttributes read_exr_attributes(const std::string& path);
 // Reads the R, G, B channels of an OpenEXR file as float. Throws InputError.
 Film read_exr(const std::string& path);
+// Reads the named channels of an OpenEXR file as float (a UINT channel converted), channel by
+// channel per pixel, row-major over the data window. Throws InputError naming a channel the
+// file lacks.
+std::vector<float> read_exr_channels(const std::string& path, const std::vector<std::string>& names,
+                                     int& width, int& height);
 
 // Images read (EXR, textures, masks) are at most this many pixels (16384 x 16384).
 inline constexpr uint64_t kMaxInputPixels = uint64_t(1) << 28;

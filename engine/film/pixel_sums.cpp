@@ -1,5 +1,7 @@
 #include "pixel_sums.h"
 
+#include <algorithm>
+
 namespace foton {
 
 PixelSums::PixelSums(int width, int height)
@@ -40,6 +42,22 @@ void PixelSums::gather(const Cluster& cluster) {
     if (owners_.empty()) return;
     gather_to_root(cluster, owners_, sum_);
     gather_to_root(cluster, owners_, count_);
+    if (!moments_.empty()) gather_to_root(cluster, owners_, moments_);
+}
+
+AovLayer PixelSums::variance() const {
+    AovLayer l{"variance", aov_channels(kAovVariance), {}};
+    l.values.assign(sum_.size() * 3, 0.f);
+    for (std::size_t i = 0; i < moments_.size(); ++i) {
+        const double n = double(count_[i]);
+        if (n < 2.0) continue;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const SampleMoments& m = moments_[i];
+            const double v = (m.sum2[k] - m.sum[k] * m.sum[k] / n) / (n - 1.0);
+            l.values[i * 3 + k] = float(std::max(v, 0.0));
+        }
+    }
+    return l;
 }
 
 Film PixelSums::mean() const {

@@ -5,16 +5,37 @@
 // which chunk. Across MPI ranks each pixel has an owner (pixel_owners.h) that adds
 // everything it gets, and gather() copies the owners' pixels to rank 0, so the image there
 // equals one process's bit for bit.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/cluster.h"
 #include "engine/core/rgb.h"
+#include "engine/film/aov.h"
 #include "engine/film/pixel_owners.h"
 #include "film.h"
 
 namespace foton {
+
+// The sums of a pixel's sample values and of their squares, per channel, in double: what the
+// variance AOV needs (a float sum of squares loses the variance of a bright pixel to rounding).
+struct SampleMoments {
+    std::array<double, 3> sum{}, sum2{};
+    void add(const RGB& v) {
+        const double c[3] = {double(v.r), double(v.g), double(v.b)};
+        for (int k = 0; k < 3; ++k) {
+            sum[std::size_t(k)] += c[k];
+            sum2[std::size_t(k)] += c[k] * c[k];
+        }
+    }
+    void add(const SampleMoments& m) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            sum[k] += m.sum[k];
+            sum2[k] += m.sum2[k];
+        }
+    }
+};
 
 // What one light path sends to a film pixel (light tracing; BDPT's and VCM's t = 1 paths).
 struct Splat {
@@ -35,6 +56,20 @@ class PixelSums {
         sum_[pixel] += value;
         count_[pixel] += samples;
     }
+    // From here on, keep each pixel's sample moments too (camera samples only: splats are
+    // no samples of a pixel).
+    void keep_moments() { moments_.assign(sum_.size(), SampleMoments{}); }
+    bool keeps_moments() const { return !moments_.empty(); }
+    // One camera sample, with its moments when they are kept.
+    void add_sample(std::size_t pixel, const RGB& value) {
+        add(pixel, value);
+        if (!moments_.empty()) moments_[pixel].add(value);
+    }
+    // A tile's pixel of `samples` samples whose moments are `m` (adaptive sampling).
+    void add(std::size_t pixel, const RGB& value, uint32_t samples, const SampleMoments& m) {
+        add(pixel, value, samples);
+        if (!moments_.empty()) moments_[pixel].add(m);
+    }
     // The splats of this rank's chunks [mine.begin, mine.end), in chunk order, added by their
     // pixels' owners (or by rank 0 without owners): ranks exchange theirs, and each adds them
     // in rank order, which is chunk order as the shares are contiguous. Collective across
@@ -51,12 +86,16 @@ class PixelSums {
     // pixel at once).
     Film scaled(float factor) const;
     const std::vector<uint32_t>& samples() const { return count_; }
+    // The variance AOV (Variance.R/G/B): each pixel's unbiased sample variance, 0 below two
+    // samples. Needs keep_moments().
+    AovLayer variance() const;
     std::size_t size() const { return sum_.size(); }
 
   private:
     int width_, height_;
     std::vector<RGB> sum_;
     std::vector<uint32_t> count_;
+    std::vector<SampleMoments> moments_;
     PixelOwners owners_;
 };
 

@@ -91,6 +91,10 @@ std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
         return SettingsProblem{"adaptive", "adaptive sampling applies to camera integrators (" +
                                                integrators_with(kCapCamera) + "), not type=\"" +
                                                info.name + "\""};
+    if ((s.aovs & kAovVariance) && !info.has(kCapCamera))
+        return SettingsProblem{
+            "aov", "the variance AOV needs pixel samples: " + integrators_with(kCapCamera) +
+                       ", not type=\"" + info.name + "\""};
     if (s.indirect == IndirectMode::IrradianceCache) {
         if (!info.has(kCapIrradianceCache))
             return SettingsProblem{"indirect", "indirect=\"irradiance_cache\" needs " +

@@ -1,13 +1,14 @@
 #include "render.h"
 
 #include <algorithm>
-
+#include <iterator>
 #include <memory>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
 #include "engine/core/error.h"
+#include "engine/transport/run/first_hit_aovs.h"
 
 namespace foton {
 
@@ -32,7 +33,16 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
     if (opt.threads > tbb::info::default_concurrency())
         allow = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                       std::size_t(opt.threads));
-    return info->render(scene, settings, accel, opt);
+    RenderResult result = info->render(scene, settings, accel, opt);
+    // The first-hit AOVs, on the rank that writes the image, before the ones the render made
+    // (aov.h's order).
+    if ((settings.aovs & kAovFirstHit) && cluster_or_solo(opt.cluster).root()) {
+        std::vector<AovLayer> layers = render_first_hit_aovs(scene, settings, accel, opt);
+        layers.insert(layers.end(), std::make_move_iterator(result.aovs.begin()),
+                      std::make_move_iterator(result.aovs.end()));
+        result.aovs = std::move(layers);
+    }
+    return result;
 }
 
 RenderResult render(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {

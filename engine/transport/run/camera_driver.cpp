@@ -80,7 +80,7 @@ class CameraDriver {
         StageClock clock;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
-            acc.add(p, out[i]);
+            acc.add_sample(p, out[i]);
         }
         st.samples += jobs.size();
         st.add(Stage::Accumulate, jobs.size(), clock);
@@ -95,11 +95,12 @@ class CameraDriver {
     // tile).
     void adaptive_tile(const Tile& t, IntegratorWorkspace& ws, RenderStats& st,
                        std::vector<SampleJob>& jobs, std::vector<RGB>& out, std::vector<RGB>& sum,
-                       std::vector<uint32_t>& count) const {
+                       std::vector<uint32_t>& count, std::vector<SampleMoments>& moments) const {
         const AdaptiveSettings& ad = adaptive_;
         const int tw = t.x1 - t.x0;
         std::vector<PixelMoments> mom(std::size_t(t.pixels()));
         sum.assign(std::size_t(t.pixels()), RGB{0.f});
+        moments.assign(std::size_t(t.pixels()), SampleMoments{});
         std::vector<uint32_t> want(std::size_t(t.pixels()), ad.pilot);
         std::vector<uint32_t> taken(std::size_t(t.pixels()), 0);
         auto local = [&](const SampleJob& j) {
@@ -123,6 +124,7 @@ class CameraDriver {
                 const std::size_t l = local(jobs[i]);
                 mom[l].add(out[i].luminance());
                 sum[l] += out[i];
+                moments[l].add(out[i]);
             }
             return true;
         };
@@ -138,6 +140,7 @@ class CameraDriver {
                 if (want[l] > 0) {
                     mom[l] = {};
                     sum[l] = RGB{0.f};
+                    moments[l] = {};
                 }
             }
             run_round(1);
@@ -155,7 +158,8 @@ class CameraDriver {
     }
 
     void accumulate_tile(const Tile& t, const std::vector<RGB>& sum,
-                         const std::vector<uint32_t>& count, PixelSums& acc,
+                         const std::vector<uint32_t>& count,
+                         const std::vector<SampleMoments>& moments, PixelSums& acc,
                          RenderStats& st) const {
         StageClock clock;
         const int tw = t.x1 - t.x0;
@@ -163,7 +167,7 @@ class CameraDriver {
             for (int x = t.x0; x < t.x1; ++x) {
                 const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
                 const std::size_t p = std::size_t(y) * scene_.film.width + x;
-                acc.add(p, sum[l], count[l]);
+                acc.add(p, sum[l], count[l], moments[l]);
             }
         st.add(Stage::Accumulate, std::size_t(t.pixels()), clock);
     }
@@ -197,6 +201,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                            StageGraph& graph, const std::vector<uint32_t>& after) {
     RenderResult result;
     PixelSums acc(scene.film.width, scene.film.height);
+    if (settings.aovs & kAovVariance) acc.keep_moments();
     // Across MPI ranks the tiles are dealt out in turn (tile i to rank i mod N); each rank
     // renders its own, and rank 0 gathers their pixels when the image is needed.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
@@ -239,6 +244,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         std::vector<SampleJob> jobs;
         std::vector<RGB> out, sum;
         std::vector<uint32_t> count;
+        std::vector<SampleMoments> moments;
     };
     std::vector<std::unique_ptr<TileWork>> owned;
     tbb::concurrent_queue<TileWork*> idle;
@@ -281,7 +287,8 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     RenderStats& st = stats.local();
                     const Tile& t = tiles[w->tile];
                     if (adaptive) {
-                        driver.adaptive_tile(t, *w->ws, st, w->jobs, w->out, w->sum, w->count);
+                        driver.adaptive_tile(t, *w->ws, st, w->jobs, w->out, w->sum, w->count,
+                                             w->moments);
                     } else {
                         if (k == 0) driver.make_jobs(t, pass, s0, s1, w->jobs);
                         integrator.trace_phase(uint32_t(k), w->jobs, *w->ws, w->out, st);
@@ -295,7 +302,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                 NodeTimer timer(graph, nodes.back());
                 RenderStats& st = stats.local();
                 if (adaptive)
-                    driver.accumulate_tile(tiles[w->tile], w->sum, w->count, acc, st);
+                    driver.accumulate_tile(tiles[w->tile], w->sum, w->count, w->moments, acc, st);
                 else
                     driver.accumulate_samples(w->jobs, w->out, acc, st);
                 timer.items = tiles[w->tile].pixels();
@@ -338,6 +345,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     result.stats.passes = passes;
     result.film = acc.mean();
     result.samples_per_pixel = acc.samples();
+    if (acc.keeps_moments()) result.aovs.push_back(acc.variance());
     return result;
 }
 

@@ -14,6 +14,7 @@
 #include "engine/core/math.h"
 #include "engine/core/progress.h"
 #include "engine/core/stats.h"
+#include "engine/film/aov.h"
 #include "engine/film/film.h"
 
 namespace foton {
@@ -71,6 +72,7 @@ struct RenderResult {
     RenderStats stats;
     std::vector<uint32_t> samples_per_pixel;  // what each pixel's value averages
     std::vector<Vec3> cache_points;           // the irradiance cache's records (first level)
+    std::vector<AovLayer> aovs;               // the extra outputs asked for (film/aov.h)
 };
 
 // The most worker threads a render runs (oneTBB itself fails beyond 65,536).

@@ -44,6 +44,22 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
     r.light_samples = uint32_t(p.integer("light_samples", r.light_samples, 1, kMaxCount));
 }
 
+// aov="albedo,normal,...": `all` is every AOV the integrator makes (variance needs pixel
+// samples, which only camera integrators have; asked for by name elsewhere, it is an error).
+void parse_aovs(const ParamSet& p, const IntegratorTraits& it, RenderSettings& r) {
+    if (!p.has("aov")) return;
+    const std::string text = p.text("aov", "");
+    std::string bad;
+    if (!parse_aov_list(text, r.aovs, bad))
+        p.fail("aov", "unknown AOV '" + bad + "' (" + aov_names().list() + ")");
+    if (!it.has(kCapCamera) && (r.aovs & kAovVariance)) {
+        if (text.find("variance") != std::string::npos)
+            p.fail("aov", "the variance AOV needs pixel samples: " + it.names_with(kCapCamera) +
+                              ", not type=\"" + it.name + "\"");
+        r.aovs &= ~uint32_t(kAovVariance);  // from `all`
+    }
+}
+
 }  // namespace
 
 RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTraits& it) {
@@ -51,6 +67,7 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
     r.integrator = it.name;
     parse_sampling(params, r);
     parse_path(params, r);
+    parse_aovs(params, it, r);
     parse_photon_settings(params, r.photon);
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);

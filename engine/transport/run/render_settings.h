@@ -12,6 +12,7 @@
 
 #include "engine/core/params.h"
 #include "engine/core/sampler.h"
+#include "engine/film/aov.h"
 #include "engine/scene/light_selection.h"
 #include "engine/transport/bidir/bidir_settings.h"
 #include "engine/transport/common/transport_settings.h"
@@ -81,6 +82,9 @@ struct RenderSettings {
     // The integrator's own settings, read by its row's parse (integrators.h), for keys no other
     // family reads; the integrator any_casts it to its own type.
     std::any own;
+    // Extra outputs (film/aov.h's bits): first-hit layers for any integrator, per-pixel variance
+    // for camera integrators, the sample counts always.
+    uint32_t aovs = 0;
     // "file:line: ..." for each setting that applies to another integrator and was ignored.
     std::vector<std::string> warnings;
 };
