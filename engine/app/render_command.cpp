@@ -73,18 +73,6 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
     return f;
 }
 
-// The AOV layers as the viewer gets them: the samples AOV (a UINT channel in the EXR) as
-// floats after the others.
-std::vector<AovLayer> viewer_layers(const RenderResult& res, uint32_t aovs) {
-    std::vector<AovLayer> layers = res.aovs;
-    if (aovs & kAovSamples) {
-        AovLayer samples{"samples", aov_channels(kAovSamples), {}};
-        samples.values.assign(res.samples_per_pixel.begin(), res.samples_per_pixel.end());
-        if (samples.values.size() == res.film.pixels.size()) layers.push_back(std::move(samples));
-    }
-    return layers;
-}
-
 // Where this rank runs: a multi-node run's statistics say which node was slow.
 std::string host_name() {
     char name[256] = {};
@@ -124,7 +112,8 @@ JobRequest job_request(const RenderArgs& args) {
     JobRequest request{args.scene,  parse_set_flags(args.set),
                        args.accel,  {args.width, args.height, args.crop, args.pixel_bounds},
                        {},          args.spp,
-                       args.passes, args.time};
+                       args.passes, args.time,
+                       {}};
     auto flag = [&](const char* key, const std::string& value, const char* name) {
         request.flags.push_back({key, value, name});
     };
@@ -316,7 +305,12 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
     // image is an interrupted one on every rank.
     const bool interrupted = ranks.any(InterruptGuard::requested().load());
     line.reset();
-    if (display && rs.aovs) display->show_layers(viewer_layers(res, rs.aovs));
+    if (display && rs.aovs) {
+        std::vector<AovLayer> layers = res.aovs;
+        if ((rs.aovs & kAovSamples) && res.samples_per_pixel.size() == res.film.pixels.size())
+            layers.push_back(samples_layer(res.samples_per_pixel));
+        display->show_layers(std::move(layers));
+    }
     display.reset();  // the last pass's image (and the AOVs) reach the viewer
     res.stats.build_seconds = build;
     const nlohmann::ordered_json rank_stats = gather_rank_stats(ranks, res.stats);

@@ -24,9 +24,13 @@ std::string format_number(double v) {
 }  // namespace
 
 RenderJob make_job(const JobRequest& r) {
+    return configure_job(load_scene(r.scene, r.set), r);
+}
+
+RenderJob configure_job(Scene loaded, const JobRequest& r) {
     RenderJob job;
     Scene& scene = job.scene;
-    scene = load_scene(r.scene, r.set);
+    scene = std::move(loaded);
     apply_accel_flag(r.accel, scene);
     apply_image_flags(r.image, scene);
     for (const auto& [key, value, flag] : r.flags) scene.renderer.set(key, value, flag, 0);
@@ -35,7 +39,7 @@ RenderJob make_job(const JobRequest& r) {
     // message for a bad value), so that the settings are parsed once.
     if (r.spp) {
         const bool adaptive = scene.renderer.boolean("adaptive", false);
-        scene.renderer.set(adaptive ? "adaptive_pilot" : "spp", *r.spp, "--spp", 0);
+        scene.renderer.set(adaptive ? "adaptive_pilot" : "spp", *r.spp, r.names.spp, 0);
     }
     job.settings = render_settings(scene);
     // Settings for another integrator, ignored: said with the scene's own warnings.
@@ -45,15 +49,15 @@ RenderJob make_job(const JobRequest& r) {
     opt = job.settings.run;
     if (r.time) {
         if (!(*r.time >= 0.f) || !std::isfinite(*r.time))
-            throw InputError("--time", 0, "must be a number of seconds, not negative");
+            throw InputError(r.names.time, 0, "must be a number of seconds, not negative");
         opt.time_limit = *r.time;
     }
     if (r.passes)
         opt.max_passes =
-            uint32_t(integer_or_fail(*r.passes, 1, kMaxPasses, "--passes", 0, "the value"));
+            uint32_t(integer_or_fail(*r.passes, 1, kMaxPasses, r.names.passes, 0, "the value"));
     job.progressive = opt.time_limit > 0.f || r.passes;
     if (job.progressive && job.settings.adaptive.enabled)
-        throw InputError(opt.time_limit > 0.f ? "--time" : "--passes", 0,
+        throw InputError(opt.time_limit > 0.f ? r.names.time : r.names.passes, 0,
                          "progressive passes and adaptive sampling do not mix");
     // Progressive passes are one sample per pixel each unless --spp sets the pass size.
     if (job.progressive && !r.spp) opt.spp = 1;

@@ -31,6 +31,11 @@ struct JobRequest {
     std::optional<std::string> spp;     // per pass, or the adaptive pilot
     std::optional<std::string> passes;  // progressive passes
     std::optional<float> time;          // seconds of progressive passes
+    // What the three above are called in messages: the command line's flags, or the Python
+    // module's keywords.
+    struct Names {
+        std::string spp = "--spp", passes = "--passes", time = "--time";
+    } names;
 };
 
 struct RenderJob {
@@ -42,6 +47,9 @@ struct RenderJob {
 
 // Loads and checks everything; InputError at the first problem. The settings are read once.
 RenderJob make_job(const JobRequest& request);
+// The same for a scene loaded before (with `request.set` applied then): the Python module loads
+// a scene once and renders it with many settings.
+RenderJob configure_job(Scene loaded, const JobRequest& request);
 
 // The request as the tool saw it.
 struct JobRecord {

@@ -76,6 +76,7 @@ void RenderSession::run(SessionRequest req) {
                            {},
                            std::to_string(req.spp),
                            {},
+                           {},
                            {}};
         if (req.width > 0) request.image.width = std::to_string(req.width);
         if (req.height > 0) request.image.height = std::to_string(req.height);

@@ -52,7 +52,8 @@ int run_scale(const ScaleArgs& args) {
     JobRequest request{args.scene,  parse_set_flags(args.set),
                        args.accel,  {args.width, args.height, {}, {}},
                        {},          args.spp,
-                       args.passes, args.time};
+                       args.passes, args.time,
+                       {}};
     if (!args.integrator.empty())
         request.flags.push_back({"type", args.integrator, "--integrator"});
     if (args.seed) request.flags.push_back({"seed", *args.seed, "--seed"});

@@ -57,6 +57,12 @@ std::vector<std::string> aov_channels(uint32_t bits) {
     return out;
 }
 
+AovLayer samples_layer(const std::vector<uint32_t>& samples_per_pixel) {
+    AovLayer l{"samples", aov_channels(kAovSamples), {}};
+    l.values.assign(samples_per_pixel.begin(), samples_per_pixel.end());
+    return l;
+}
+
 const AovLayer* find_aov(const std::vector<AovLayer>& layers, const std::string& name) {
     for (const AovLayer& l : layers)
         if (l.name == name) return &l;

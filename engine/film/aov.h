@@ -58,6 +58,9 @@ struct AovLayer {
     }
 };
 
+// The samples AOV as a float layer (for a viewer; the EXR writes it as a UINT channel).
+AovLayer samples_layer(const std::vector<uint32_t>& samples_per_pixel);
+
 // The layer called `name` in `layers`, or null.
 const AovLayer* find_aov(const std::vector<AovLayer>& layers, const std::string& name);
 
