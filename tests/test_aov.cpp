@@ -180,3 +180,63 @@ TEST_CASE("foton render --aov writes the layers as EXR channels", "[aov][cli]") 
     CHECK(bad.output.find("variance AOV needs pixel samples") != std::string::npos);
     CHECK(!std::filesystem::exists(dir.file("bad.exr")));
 }
+
+TEST_CASE("bdpt and vcm's per-strategy images add up to the image", "[aov][bidir]") {
+    for (const char* integrator : {"bdpt", "vcm"}) {
+        CAPTURE(integrator);
+        TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
+        s.set_resolution(24, 20);
+        s.render = render_settings(s);
+        s.render.integrator = integrator;
+        const RenderResult plain = render_test(s, 2, 2);
+        s.render.bidir.strategy_images = 4;
+        const RenderResult r = render_test(s, 2, 2);
+        // Splitting changes nothing in the image.
+        CHECK(std::memcmp(plain.film.pixels.data(), r.film.pixels.data(),
+                          r.film.pixels.size() * sizeof(RGB)) == 0);
+        // Paths of 2, 3 and 4 vertices: 2 + 3 + 4 strategies, the longer paths' and (vcm)
+        // the merges.
+        const bool vcm = std::string(integrator) == "vcm";
+        REQUIRE(r.aovs.size() == (vcm ? 11u : 10u));
+        CHECK(r.aovs.front().name == "strategy_s0_t2");
+        CHECK(r.aovs[4].name == "strategy_s2_t1");
+        CHECK(r.aovs[9].name == "strategy_longer");
+        if (vcm) CHECK(r.aovs[10].name == "strategy_merges");
+        std::vector<double> total(r.aovs.size(), 0.0);
+        for (std::size_t p = 0; p < r.film.pixels.size(); ++p) {
+            const float* image = &r.film.pixels[p].r;
+            for (int c = 0; c < 3; ++c) {
+                double sum = 0.0;
+                for (std::size_t l = 0; l < r.aovs.size(); ++l) {
+                    sum += r.aovs[l].at(p, std::size_t(c));
+                    total[l] += r.aovs[l].at(p, std::size_t(c));
+                }
+                CHECK(sum == Approx(image[c]).epsilon(1e-4).margin(1e-6));
+            }
+        }
+        // The light seen directly (s = 0, t = 2), next event estimation at the first hit
+        // (s = 1, t = 2), light tracing to the camera (s = 2, t = 1) and the longer paths all
+        // add light to this scene.
+        CHECK(r.aovs[3].name == "strategy_s1_t2");
+        for (const std::size_t l :
+             {std::size_t(0), std::size_t(3), std::size_t(4), std::size_t(9)}) {
+            CAPTURE(r.aovs[l].name);
+            CHECK(total[l] > 0.0);
+        }
+    }
+}
+
+TEST_CASE("strategy_images: a bidirectional setting, at least 2", "[aov][bidir]") {
+    auto settings = [](const std::string& renderer) {
+        return render_settings(half_plane(renderer));
+    };
+    CHECK(settings("<renderer type=\"bdpt\" strategy_images=\"5\"/>").bidir.strategy_images == 5);
+    CHECK_THROWS_WITH(settings("<renderer type=\"bdpt\" strategy_images=\"1\"/>"),
+                      Catch::Contains("half-plane.xml:6") && Catch::Contains("at least 2"));
+    CHECK_THROWS_WITH(settings("<renderer type=\"vcm\" strategy_images=\"40\"/>"),
+                      Catch::Contains("strategy_images"));
+    const RenderSettings path = settings("<renderer type=\"path\" strategy_images=\"3\"/>");
+    CHECK(path.bidir.strategy_images == 0);
+    REQUIRE(!path.warnings.empty());
+    CHECK(path.warnings.back().find("applies to") != std::string::npos);
+}

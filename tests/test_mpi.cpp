@@ -77,6 +77,9 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
         // The variance AOV's moments gathered from the pixels' owners, the first-hit layers
         // made on rank 0.
         {"path-aov", "scenes/cornell-box.xml", "--integrator path --spp 3 --aov all"},
+        // Per-strategy images: each layer's splats added by its pixels' owners.
+        {"vcm-layers", "scenes/cornell-caustics.xml",
+         "--integrator vcm --spp 2 --set strategy_images=3"},
         {"raytracer", "scenes/cornell-mirror.xml", "--integrator raytracer --spp 2"},
         {"light", "scenes/cornell-box.xml", "--integrator light --spp 2"},
         {"photon-fg", "scenes/cornell-caustics.xml",
@@ -107,9 +110,14 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
             INFO(r.err);
             REQUIRE(r.code == 0);
             CHECK(same_bits(read_exr(dir.file(c.name) + "-n.exr"), one));
-            if (std::string(c.flags).find("--aov") == std::string::npos) continue;
+            const std::string flags = c.flags;
+            std::vector<std::string> channels;
+            if (flags.find("--aov") != std::string::npos) channels = aov_channels(kAovAll);
+            if (flags.find("strategy_images") != std::string::npos)
+                channels = {"strategy_s0_t2.R", "strategy_s1_t2.G", "strategy_s2_t1.B",
+                            "strategy_longer.R", "strategy_merges.G"};
+            if (channels.empty()) continue;
             int w = 0, h = 0;
-            const std::vector<std::string> channels = aov_channels(kAovAll);
             CHECK(read_exr_channels(dir.file(c.name) + "-n.exr", channels, w, h) ==
                   read_exr_channels(dir.file(c.name) + "-1.exr", channels, w, h));
         }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "convergence_log.h"
 #include "engine/accel/intersector.h"
 #include "engine/core/error.h"
 #include "engine/film/image_io.h"
@@ -37,6 +38,8 @@ bool RenderSession::start(const SessionRequest& request, std::string& error) {
     image_.reset();
     ++image_version_;
     exr_.reset();
+    aovs_.reset();
+    convergence_.clear();
     passes_ = 0;
     seconds_ = spp_ = rays_per_second_ = 0.0;
     scene_name_ = std::filesystem::path(request.scene_path).filename().string();
@@ -60,6 +63,7 @@ std::string request_text(const SessionRequest& r) {
          std::to_string(r.threads);
     if (r.passes > 0) s += " --passes " + std::to_string(r.passes);
     if (r.time > 0.f) s += " --time " + std::to_string(r.time);
+    if (!r.reference_path.empty()) s += " --reference " + r.reference_path;
     for (const auto& [key, value] : r.set) s += " --set " + key + "=" + value;
     return s;
 }
@@ -92,9 +96,18 @@ void RenderSession::run(SessionRequest req) {
         RenderOptions& opt = job.options;
         opt.progress = &progress_;
         opt.cancel = &cancel_;
+        std::unique_ptr<ConvergenceLog> convergence;
+        if (!req.reference_path.empty())
+            convergence =
+                std::make_unique<ConvergenceLog>(req.reference_path, scene.film, req.exclude_above);
         opt.on_pass = [&](const Film& film, const PassReport& pass) {
             auto copy = std::make_shared<const Film>(film);
+            if (convergence) convergence->record(film, pass);
             std::lock_guard lock(mutex_);
+            if (convergence) {
+                const ConvergencePoint& p = convergence->points().back();
+                convergence_.push_back({p.pass.seconds, p.error.rmse, p.ssim});
+            }
             image_ = std::move(copy);
             ++image_version_;
             passes_ = pass.passes;
@@ -121,8 +134,14 @@ void RenderSession::run(SessionRequest req) {
         describe_sample_counts(res, attrs, info, rs.aovs);
         auto bytes =
             std::make_shared<const std::string>(encode_exr("foton.exr", res.film, attrs, info));
+        // The AOVs for the page (the sample counts as one more float layer).
+        std::vector<AovLayer> layers = std::move(res.aovs);
+        if ((rs.aovs & kAovSamples) && res.samples_per_pixel.size() == res.film.pixels.size())
+            layers.push_back(samples_layer(res.samples_per_pixel));
+        auto aovs = std::make_shared<const std::vector<AovLayer>>(std::move(layers));
         auto final_image = std::make_shared<const Film>(std::move(res.film));
         std::lock_guard lock(mutex_);
+        aovs_ = std::move(aovs);
         image_ = std::move(final_image);
         ++image_version_;
         exr_ = std::move(bytes);
@@ -158,6 +177,12 @@ std::string RenderSession::status_json() const {
     if (const std::optional<Progress::View> v = progress_.view(); v && state_ == "running")
         j["progress"] = {{"fraction", v->fraction}, {"eta", v->eta}, {"task", v->name}};
     j["stats"] = stats_table_;
+    j["exposure"] = exposure_;
+    j["gamma"] = gamma_;
+    j["aovs"] = nlohmann::ordered_json::array();
+    if (aovs_)
+        for (const AovLayer& l : *aovs_) j["aovs"].push_back(l.name);
+    j["convergence"] = convergence_;
     // Invalid UTF-8 (a file name, a message quoting a file) is replaced, never thrown.
     return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -182,6 +207,41 @@ std::shared_ptr<const std::string> RenderSession::png(float stops) const {
         png_stops_ = stops;
     }
     return png_;
+}
+
+std::shared_ptr<const PixelData> RenderSession::pixels(const std::string& layer) const {
+    std::shared_ptr<const Film> film;
+    std::shared_ptr<const std::vector<AovLayer>> aovs;
+    uint64_t version = 0;
+    {
+        std::lock_guard lock(mutex_);
+        film = image_;
+        aovs = aovs_;
+        version = image_version_;
+    }
+    if (!film) return nullptr;
+    const bool image = layer.empty() || layer == "image";
+    const AovLayer* aov = image || !aovs ? nullptr : find_aov(*aovs, layer);
+    if (!image && !aov) return nullptr;
+    // One copy per image and layer, shared by concurrent requests (as png()).
+    std::lock_guard lock(png_mutex_);
+    if (pixels_ && pixels_version_ == version && pixels_layer_ == layer) return pixels_;
+    auto out = std::make_shared<PixelData>();
+    out->width = film->width;
+    out->height = film->height;
+    if (image) {
+        out->channels = {"R", "G", "B"};
+        out->bytes.assign(reinterpret_cast<const char*>(film->pixels.data()),
+                          film->pixels.size() * sizeof(RGB));
+    } else {
+        out->channels = aov->channels;
+        out->bytes.assign(reinterpret_cast<const char*>(aov->values.data()),
+                          aov->values.size() * sizeof(float));
+    }
+    pixels_ = out;
+    pixels_version_ = version;
+    pixels_layer_ = layer;
+    return pixels_;
 }
 
 std::shared_ptr<const std::string> RenderSession::exr() const {

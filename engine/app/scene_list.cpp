@@ -1,5 +1,6 @@
 #include "scene_list.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -33,6 +34,11 @@ bool inside(const fs::path& file, const fs::path& root) {
 }  // namespace
 
 std::map<std::string, std::string> list_scenes(const std::vector<std::string>& roots) {
+    return list_files(roots, {".xml", ".pbrt"});
+}
+
+std::map<std::string, std::string> list_files(const std::vector<std::string>& roots,
+                                              const std::vector<std::string>& extensions) {
     std::vector<fs::path> real;
     for (const std::string& d : roots) {
         std::error_code ec;
@@ -60,7 +66,9 @@ std::map<std::string, std::string> list_scenes(const std::vector<std::string>& r
             const fs::path& p = it->path();
             const std::string ext = p.extension().string();
             std::error_code file_ec;
-            if ((ext != ".xml" && ext != ".pbrt") || !it->is_regular_file(file_ec)) continue;
+            if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end() ||
+                !it->is_regular_file(file_ec))
+                continue;
             const fs::path target = fs::canonical(p, file_ec);
             if (file_ec || !inside(target, real[i])) continue;  // a symlink out of the root
             const std::string name = prefix[i] + "/" + fs::relative(p, real[i]).generic_string();

@@ -12,5 +12,8 @@ namespace foton::app {
 
 // name -> path. Throws InputError for a folder that is not one.
 std::map<std::string, std::string> list_scenes(const std::vector<std::string>& roots);
+// The same for files of other extensions (".exr": the references the page may compare with).
+std::map<std::string, std::string> list_files(const std::vector<std::string>& roots,
+                                              const std::vector<std::string>& extensions);
 
 }  // namespace foton::app

@@ -11,7 +11,9 @@
 
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
+#include "engine/film/aov.h"
 #include "engine/film/image_io.h"
+#include "engine/film/metrics.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/registry/integrators.h"
 #include "render_session.h"
@@ -78,6 +80,11 @@ int run_serve(const ServeArgs& args) {
         std::filesystem::is_directory("../shared", ec))
         readable.push_back("../shared");
     confine_inputs(readable);
+    // References the page may compare with: the EXRs under the same folders, by name.
+    std::vector<std::string> reference_dirs;
+    for (const std::string& d : readable)
+        if (fs::is_directory(d, ec)) reference_dirs.push_back(d);
+    const std::map<std::string, std::string> references = list_files(reference_dirs, {".exr"});
     RenderSession session;
     httplib::Server server;
     server.set_payload_max_length(kMaxRequestBody);
@@ -119,6 +126,10 @@ int run_serve(const ServeArgs& args) {
             {"accelerators", {"bvh", "embree", "grid", "brute-simd", "brute"}}};
         for (const auto& [name, path] : scenes) out["scenes"].push_back(name);
         for (const IntegratorInfo& i : integrators()) out["integrators"].push_back(i.name);
+        out["references"] = nlohmann::ordered_json::array();
+        for (const auto& [name, path] : references) out["references"].push_back(name);
+        out["aovs"] = nlohmann::ordered_json::array();
+        for (const auto& [name, bit] : aov_names().entries) out["aovs"].push_back(name);
         res.set_content(out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
                         "application/json");
     });
@@ -136,6 +147,17 @@ int run_serve(const ServeArgs& args) {
         r.scene_path = scene->second;
         r.integrator = req.get_param_value("integrator");
         r.accel = req.get_param_value("accel");
+        if (const std::string ref = req.get_param_value("reference"); !ref.empty()) {
+            const auto found = references.find(ref);
+            if (found == references.end()) return fail("unknown reference '" + ref + "'");
+            r.reference_path = found->second;
+        }
+        if (const std::string v = req.get_param_value("exclude_above"); !v.empty()) {
+            float limit = 0.f;
+            if (!parse_number(v, limit)) return fail("bad exclude_above '" + v + "'");
+            r.exclude_above = limit;
+        }
+        if (const std::string v = req.get_param_value("aov"); !v.empty()) r.set["aov"] = v;
         const std::pair<const char*, std::function<bool(const std::string&)>> numbers[] = {
             {"threads", [&](const std::string& v) { return parse_number(v, r.threads); }},
             {"width", [&](const std::string& v) { return parse_number(v, r.width); }},
@@ -221,6 +243,54 @@ int run_serve(const ServeArgs& args) {
         if (req.has_param("download"))
             res.set_header("Content-Disposition", "attachment; filename=\"foton.png\"");
         send(res, std::move(png), "image/png");
+    });
+    // Raw float32 pixels for the page's viewer (pixel values, exposure, error views): the
+    // image so far or an AOV (?layer=), or a listed reference (?reference=) fitted to
+    // ?width= x ?height= as --reference fits one. Sizes and channels go in headers.
+    auto send_pixels = [&](httplib::Response& res, std::shared_ptr<const PixelData> px) {
+        std::string channels;
+        for (const std::string& c : px->channels) channels += (channels.empty() ? "" : ",") + c;
+        res.set_header("Cache-Control", "no-store");
+        res.set_header("X-Width", std::to_string(px->width));
+        res.set_header("X-Height", std::to_string(px->height));
+        res.set_header("X-Channels", channels);
+        auto bytes = std::shared_ptr<const std::string>(px, &px->bytes);
+        send(res, std::move(bytes), "application/octet-stream");
+    };
+    server.Get("/api/pixels", [&](const httplib::Request& req, httplib::Response& res) {
+        std::shared_ptr<const PixelData> px = session.pixels(req.get_param_value("layer"));
+        if (!px) {
+            res.status = 404;
+            return;
+        }
+        send_pixels(res, std::move(px));
+    });
+    server.Get("/api/reference", [&](const httplib::Request& req, httplib::Response& res) {
+        auto fail = [&](int status, const std::string& message) {
+            res.status = status;
+            res.set_content(nlohmann::json{{"error", message}}.dump(
+                                -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            "application/json");
+        };
+        const auto found = references.find(req.get_param_value("name"));
+        if (found == references.end()) return fail(404, "unknown reference");
+        int width = 0, height = 0;
+        if (!parse_number(req.get_param_value("width"), width) ||
+            !parse_number(req.get_param_value("height"), height) || width < 1 || height < 1 ||
+            width > kMaxImageSide || height > kMaxImageSide)
+            return fail(400, "width and height: the image's size");
+        try {
+            const Film ref = fit_reference(read_exr(found->second), width, height, found->first);
+            auto px = std::make_shared<PixelData>();
+            px->width = ref.width;
+            px->height = ref.height;
+            px->channels = {"R", "G", "B"};
+            px->bytes.assign(reinterpret_cast<const char*>(ref.pixels.data()),
+                             ref.pixels.size() * sizeof(RGB));
+            send_pixels(res, std::move(px));
+        } catch (const InputError& e) {
+            fail(400, e.what());
+        }
     });
     server.Get("/api/image.exr", [&](const httplib::Request&, httplib::Response& res) {
         std::shared_ptr<const std::string> exr = session.exr();

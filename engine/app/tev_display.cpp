@@ -147,7 +147,14 @@ void TevDisplay::show_layers(std::vector<AovLayer> layers) {
     {
         std::lock_guard lock(mutex_);
         if (failed_) return;
-        for (AovLayer& l : layers) pending_layers_.push_back(std::move(l));
+        // Only layers of channels the image was created with (the per-strategy images of
+        // strategy_images are in the EXR, not in the viewer's image).
+        for (AovLayer& l : layers)
+            if (std::all_of(l.channels.begin(), l.channels.end(), [&](const std::string& c) {
+                    return std::find(aov_channels_.begin(), aov_channels_.end(), c) !=
+                           aov_channels_.end();
+                }))
+                pending_layers_.push_back(std::move(l));
     }
     wake_.notify_one();
 }

@@ -31,8 +31,10 @@ fs.writeFileSync(path.join(badDir, 'leak.xml'),
                  '<position x="0" y="0" z="5"/></point></lights>\n<objects><triangle_mesh ' +
                  'src="leak.obj"/></objects>\n</scene>\n');
 
+const shared = path.join(source, '..', 'shared');
 const server = spawn(foton, ['serve', '--port', '0', '--scenes', path.join(source, 'scenes'),
-                             '--scenes', badDir], {stdio: ['ignore', 'pipe', 'inherit']});
+                             '--scenes', badDir, '--allow-read', shared],
+                     {stdio: ['ignore', 'pipe', 'inherit']});
 const url = await new Promise((resolve, reject) => {
   let out = '';
   server.stdout.on('data', (d) => {
@@ -52,7 +54,7 @@ let failed = false;
 try {
   const page = await browser.newPage({acceptDownloads: true});
   const previews = [];
-  page.on('request', (r) => { if (r.url().includes('/api/image.png')) previews.push(r.url()); });
+  page.on('request', (r) => { if (r.url().includes('/api/pixels')) previews.push(r.url()); });
   await page.goto(url);
   await page.waitForSelector('#scene option[value="scenes/cornell-diffuse.xml"]', {state: 'attached'});
   // Subfolders and pbrt-v4 scenes are listed too (app/scene_list.h).
@@ -70,7 +72,7 @@ try {
   await page.waitForSelector('#state[data-state="done"]', {timeout: 30000});
   const passes = Number(await page.getAttribute('#state', 'data-passes'));
   assert.ok(passes >= 2, `passes ${passes}`);
-  await page.waitForFunction(() => document.getElementById('preview').naturalWidth === 48);
+  await page.waitForFunction(() => document.getElementById('canvas').dataset.width === '48');
   assert.ok(previews.length >= 2, `the preview was fetched ${previews.length} times`);
 
   // Saved EXR = the command line's with the same seed and passes, bit for bit.
@@ -83,6 +85,93 @@ try {
                        String(passes), '--seed', '5', '--threads', '2', '-q', '-o', cli]);
   const compare = execFileSync(foton, ['compare', served, cli]).toString();
   assert.match(compare, /max_abs 0\n/, compare);
+
+  // The viewer: AOV layers, zoom (about the viewport's centre: the pixels read are near it), the pixel under the cursor equal to the saved EXR's, the
+  // reference as B of an A/B view, the error curve of every pass.
+  await page.fill('#time', '0');
+  await page.fill('#passes', '3');
+  for (const [id, v] of [['#width', '64'], ['#height', '64'], ['#aov', 'albedo,depth']])
+    await page.fill(id, v);
+  const refName = 'shared/refs/cornell_diffuse_path_512spp.exr';
+  await page.selectOption('#reference', refName);
+  await page.click('#start');
+  await page.waitForSelector('#state[data-state="done"]', {timeout: 30000});
+  await page.waitForSelector('#layer option[value="albedo"]', {state: 'attached'});
+  await page.waitForFunction(() => document.getElementById('canvas').dataset.width === '64');
+  const curve = await page.getAttribute('#curve-line', 'points');
+  assert.equal(curve.trim().split(' ').length, 3, curve);
+  const box = await page.locator('#viewport').boundingBox();
+  const scaleBefore = Number(await page.getAttribute('#canvas', 'data-scale'));
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  for (let i = 0; i < 4; ++i) await page.mouse.wheel(0, -100);
+  // Chromium may split a wheel turn into several events: wait until the zoom settles.
+  let settled = scaleBefore;
+  for (let same = 0; same < 3;) {
+    await page.waitForTimeout(150);
+    const now = Number(await page.getAttribute('#canvas', 'data-scale'));
+    same = now === settled ? same + 1 : 0;
+    settled = now;
+  }
+  assert.ok(settled > scaleBefore, `zoom ${scaleBefore} -> ${settled}`);
+  await page.evaluate(() => window.scrollTo(0, 0));
+  // A pixel a little off the middle of what the viewport shows.
+  const [px, py] = await page.evaluate(() => {
+    const c = document.getElementById('canvas'), v = document.getElementById('viewport');
+    const s = Number(c.dataset.scale);
+    return [Math.floor((v.clientWidth / 2 - Number(c.dataset.ox)) / s) + 3,
+            Math.floor((v.clientHeight / 2 - Number(c.dataset.oy)) / s) - 2];
+  });
+  assert.ok(px >= 0 && px < 64 && py >= 0 && py < 64, `${px}, ${py}`);
+  const hover = async (x, y) => {
+    const c = await page.evaluate(() => {
+      const r = document.getElementById('viewport').getBoundingClientRect();
+      return {...document.getElementById('canvas').dataset, left: r.left, top: r.top};
+    });
+    const scale = Number(c.scale);
+    await page.mouse.move(c.left + Number(c.ox) + (x + 0.5) * scale,
+                          c.top + Number(c.oy) + (y + 0.5) * scale);
+    const p = await page.evaluate(() => ({...document.getElementById('pixel').dataset}));
+    assert.equal(Number(p.x), x, JSON.stringify({c, p}));
+    assert.equal(Number(p.y), y);
+    return JSON.parse(p.values);
+  };
+  const [saved] = await Promise.all([page.waitForEvent('download'), page.click('#save-exr')]);
+  const viewed = path.join(tmp, 'viewed.exr');
+  await saved.saveAs(viewed);
+  // The EXR's pixels through the Python module (when it was built), exactly as stored.
+  const moduleDir = path.join(path.dirname(foton), 'python');
+  const exrPixel = (file, channels, x, y, box) => JSON.parse(execFileSync('/usr/bin/python3', [
+    '-c', 'import foton, json, sys; a = foton.read_exr(sys.argv[1], sys.argv[2].split(",") ' +
+          'if sys.argv[2] else None); b = int(sys.argv[5]); h, w = a.shape[:2]; ' +
+          'a = a.reshape(h // b, b, w // b, b, -1).mean(axis=(1, 3), dtype="float64"); ' +
+          'print(json.dumps([float(v) for v in a[int(sys.argv[4]), int(sys.argv[3])].ravel()]))',
+    file, channels, String(x), String(y), String(box)], {env: {...process.env, PYTHONPATH: moduleDir}}));
+  const hasModule = fs.existsSync(moduleDir);
+  const pixel = await hover(px, py);
+  if (hasModule) assert.deepEqual(pixel, exrPixel(viewed, '', px, py, 1));
+  await page.selectOption('#layer', 'albedo');
+  await page.waitForFunction(() => document.getElementById('pixel') && true);
+  await page.waitForTimeout(300);
+  const albedo = await hover(px, py);
+  if (hasModule) assert.deepEqual(albedo, exrPixel(viewed, 'Albedo.R,Albedo.G,Albedo.B', px, py, 1));
+  await page.selectOption('#layer', 'image');
+  await page.waitForTimeout(300);
+  await page.click('#ab');
+  assert.equal(await page.inputValue('#mode'), 'reference');
+  const b = await hover(px, py);
+  if (hasModule) {
+    const expected = exrPixel(path.join(shared, 'refs/cornell_diffuse_path_512spp.exr'), '', px, py, 8);
+    for (let c = 0; c < 3; ++c) assert.ok(Math.abs(b[c] - expected[c]) <= 1e-5 * (1 + expected[c]),
+                                          `${b} vs ${expected}`);
+  } else {
+    console.log('web page: the Python module is not built; pixel values not checked against the EXR');
+  }
+  assert.notDeepEqual(b, pixel);
+  await page.click('#ab');
+  assert.deepEqual(await hover(px, py), pixel);
+  await page.fill('#aov', '');
+  await page.fill('#passes', '0');
+  await page.selectOption('#reference', '');
 
   // A bad scene: the loader's file:line message on the page.
   await page.selectOption('#scene', 'bad/broken.xml');

@@ -32,6 +32,19 @@ void parse_bidir_settings(const ParamSet& p, const IntegratorTraits& it, MisHeur
         p.warn("merge_index", "merge_index applies to " + it.names_with(kCapMerging) + running);
         b.merge_index = MergeIndex::Grid;
     }
+    if (p.has("strategy_images")) {
+        b.strategy_images = uint32_t(p.integer("strategy_images", 0, 0, 12));
+        if (b.strategy_images == 1)
+            p.fail("strategy_images",
+                   "strategy_images is the longest path (in vertices, at "
+                   "least 2: a light seen directly) whose strategies get a "
+                   "layer each; 0: none");
+        if (!bidir) {
+            p.warn("strategy_images",
+                   "strategy_images applies to " + it.names_with(kCapBidirectional) + running);
+            b.strategy_images = 0;
+        }
+    }
     if (!p.has("strategy")) return;
     const std::string v = p.text("strategy");
     if (!it.has(kCapStrategyDebug)) {

@@ -32,7 +32,7 @@ struct LightVertexBsdf {
 
 void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uint32_t first,
                            uint32_t count, CameraSubpathWorkspace& ws, std::vector<RGB>& radiance,
-                           RenderStats& stats) {
+                           std::vector<RGB>* layers, RenderStats& stats) {
     const Scene& scene = c.scene;
     const Camera& cam = scene.camera;
     const VcmWeights& W = c.weights;
@@ -40,6 +40,15 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     const float n_paths = float(c.light_paths);
     const uint32_t width = uint32_t(scene.film.width);
     StageClock clock;
+    // What a strategy adds goes to the sample's radiance and, with strategy_images, to its
+    // layer (strategy_layers.h).
+    const uint32_t n_layers = c.layers.count();
+    const bool split = layers && n_layers > 0;
+    if (split) layers->assign(std::size_t(count) * n_layers, RGB{0.f});
+    auto add = [&](uint32_t slot, uint32_t layer, const RGB& value) {
+        radiance[slot] += value;
+        if (split) (*layers)[std::size_t(slot) * n_layers + layer] += value;
+    };
     auto rand = [&](uint32_t slot, uint32_t depth, uint32_t k) {
         return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + ws.path[slot],
                             uint64_t(depth) * kDimsPerBounce + k);
@@ -52,12 +61,16 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
         return kernels && kernels->object_kernel[geom] == KernelKind::Diffuse;
     };
     auto material_of = [&](uint32_t geom) { return scene.objects[geom].material; };
-    auto push_connection = [&](const SurfacePoint& sp, const LightVertices& v, uint32_t j,
-                               float dist, const RGB& value, uint32_t slot) {
-        const Vec3 q = v.position(j);
-        const ShadowRay r = shadow_ray_to(sp, q, v.ng[j], offset_epsilon(q, dist));
+    auto push_shadow = [&](const ShadowRay& r, uint32_t slot, const RGB& value, int s, int t) {
         ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
         ws.shadow_value.push_back(value);
+        if (split) ws.shadow_layer.push_back(c.layers.of(s, t));
+    };
+    auto push_connection = [&](const SurfacePoint& sp, const LightVertices& v, uint32_t j,
+                               float dist, const RGB& value, uint32_t slot, int t) {
+        const Vec3 q = v.position(j);
+        push_shadow(shadow_ray_to(sp, q, v.ng[j], offset_epsilon(q, dist)), slot, value,
+                    int(v.length[j]) + 1, t);
     };
     // The bounce's queued joins: every lobe pair through the kernel, then the connections'
     // shadow rays and the merges' sums, in the order they were queued.
@@ -74,7 +87,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                                eval(qc.pair + 1), ql, qc.dist2, qc.cos_c, qc.cos_l,
                                                qc.cos_shading);
             if (!value.is_black())
-                push_connection(v.sp, lv, qc.j, std::sqrt(qc.dist2), value, v.slot);
+                push_connection(v.sp, lv, qc.j, std::sqrt(qc.dist2), value, v.slot, v.t);
         }
         RGB sum{0.f};
         for (std::size_t k = 0; k < ws.merges.size(); ++k) {
@@ -83,7 +96,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
             const LobeEval e = eval(qm.pair);
             if (!e.f.is_black()) sum += merge_term(W, v.m, lv, qm.j, e, v.q);
             if (k + 1 == ws.merges.size() || ws.merges[k + 1].vertex != qm.vertex) {
-                radiance[v.slot] += v.beta * sum * W.vm_norm;
+                add(v.slot, c.layers.merges(), v.beta * sum * W.vm_norm);
                 sum = RGB{0.f};
             }
         }
@@ -127,6 +140,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
         [&](uint32_t depth) {
             ws.shadow.clear();
             ws.shadow_value.clear();
+            ws.shadow_layer.clear();
             ws.pairs.clear();
             ws.vertices.clear();
             ws.connections.clear();
@@ -141,7 +155,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 SubpathMis& m = ws.mis[slot];
                 if (geom == kNoHit) {
                     if (!scene.environment) {
-                        radiance[slot] += beta * background * W.strategy(0, t, 1.f);
+                        add(slot, c.layers.of(0, t), beta * background * W.strategy(0, t, 1.f));
                         continue;
                     }
                     float w = 1.f;
@@ -155,7 +169,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                         w = 1.f / (1.f + W.mis(c.lights.environment_pdf(d)) * m.dvcm +
                                    W.mis(emit) * m.dvc);
                     }
-                    radiance[slot] += beta * scene.environment->Le(d) * W.strategy(0, t, w);
+                    add(slot, c.layers.of(0, t),
+                        beta * scene.environment->Le(d) * W.strategy(0, t, w));
                     continue;
                 }
                 const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);
@@ -182,7 +197,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                         w = 1.f / (1.f + W.mis(direct) * m.dvcm +
                                    W.mis(pick * pdf_pos * pdf_dir) * m.dvc);
                     }
-                    radiance[slot] += beta * mat.emission * W.strategy(0, t, w);
+                    add(slot, c.layers.of(0, t), beta * mat.emission * W.strategy(0, t, w));
                 }
                 if (len >= c.max_segments || mat.bsdf.empty()) continue;
 
@@ -230,11 +245,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                      m.dvc * W.mis(mat.bsdf.pdf(wi, wo, ictx) * q));
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
                                 const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w / direct);
-                                if (!value.is_black()) {
-                                    const ShadowRay r = shadow_ray_to(sp, ls);
-                                    ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
-                                    ws.shadow_value.push_back(value);
-                                }
+                                if (!value.is_black())
+                                    push_shadow(shadow_ray_to(sp, ls), slot, value, 1, t);
                             }
                         }
                     }
@@ -291,7 +303,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const RGB value = connection_value(W, m, beta, t, lv, j, ce, q, le,
                                                                lb.m.bsdf.continuation(), dist2,
                                                                cos_c, cos_l, std::fabs(dc.z));
-                            if (!value.is_black()) push_connection(sp, lv, j, dist, value, slot);
+                            if (!value.is_black()) push_connection(sp, lv, j, dist, value, slot, t);
                         }
                     if (W.merge) {
                         RGB sum{0.f};
@@ -309,7 +321,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                               mat.bsdf.pdf(wl, wo, ictx)};
                             sum += merge_term(W, m, lv, j, ce, q);
                         });
-                        if (!batched) radiance[slot] += beta * sum * W.vm_norm;
+                        if (!batched) add(slot, c.layers.merges(), beta * sum * W.vm_norm);
                     }
                 }
 
@@ -341,7 +353,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
             if (ws.shadow.empty()) return;
             c.accel.occluded(ws.shadow, ws.occluded, stats.trace);
             for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-                if (!ws.occluded[i]) radiance[ws.shadow.id[i]] += ws.shadow_value[i];
+                if (!ws.occluded[i])
+                    add(ws.shadow.id[i], split ? ws.shadow_layer[i] : 0, ws.shadow_value[i]);
             stats.shadow_rays += ws.shadow.size();
             stats.add(Stage::Occlusion, ws.shadow.size(), clock);
         });

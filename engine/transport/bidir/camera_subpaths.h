@@ -52,6 +52,7 @@ struct CameraSubpathWorkspace : WavefrontBuffers {
     std::vector<QueuedVertex> vertices;
     std::vector<QueuedConnection> connections;
     std::vector<QueuedMerge> merges;
+    std::vector<uint32_t> shadow_layer;  // each shadow ray's strategy layer (strategy_images)
 };
 
 // The light vertices of the iteration and where each path's begin.
@@ -74,9 +75,11 @@ struct LightPathStore {
 };
 
 // Traces the camera subpaths of film pixels [first, first + count) (row-major) and writes
-// each pixel's estimate of this iteration to `radiance` (count entries).
+// each pixel's estimate of this iteration to `radiance` (count entries), and with
+// c.layers enabled and `layers` given, what each strategy added (c.layers.count() entries
+// per pixel) to `layers`.
 void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uint32_t first,
                            uint32_t count, CameraSubpathWorkspace& ws, std::vector<RGB>& radiance,
-                           RenderStats& stats);
+                           std::vector<RGB>* layers, RenderStats& stats);
 
 }  // namespace foton

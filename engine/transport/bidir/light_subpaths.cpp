@@ -20,7 +20,7 @@ constexpr uint32_t kDimSelect = 0, kDimPos = 1, kDimDir = 3, kDimTriangle = 5, k
 
 void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                           LightSubpathWorkspace& ws, LightVertices& out, std::vector<Splat>& splats,
-                          RenderStats& stats) {
+                          std::vector<uint32_t>* splat_layers, RenderStats& stats) {
     const Camera& cam = c.scene.camera;
     const VcmWeights& W = c.weights;
     const float n_paths = float(c.light_paths);
@@ -33,6 +33,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
     ws.shadow.clear();
     ws.shadow_value.clear();
     ws.shadow_pixel.clear();
+    ws.shadow_layer.clear();
     ws.local.clear();
     ws.beta.assign(count, RGB{0.f});
     ws.mis.assign(count, {});
@@ -160,6 +161,8 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                                            slot);
                             ws.shadow_value.push_back(value);
                             ws.shadow_pixel.push_back(cam.film_pixel(fx, fy));
+                            if (splat_layers)
+                                ws.shadow_layer.push_back(c.layers.of(int(len) + 1, 1));
                         }
                     }
                 }
@@ -199,7 +202,10 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
         stats.shadow_rays += ws.shadow.size();
         stats.add(Stage::Occlusion, ws.shadow.size(), clock);
         for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-            if (!ws.occluded[i]) splats.push_back({ws.shadow_pixel[i], ws.shadow_value[i]});
+            if (!ws.occluded[i]) {
+                splats.push_back({ws.shadow_pixel[i], ws.shadow_value[i]});
+                if (splat_layers) splat_layers->push_back(ws.shadow_layer[i]);
+            }
     }
 }
 

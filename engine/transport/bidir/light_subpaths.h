@@ -18,7 +18,8 @@ namespace foton {
 struct LightSubpathWorkspace : LightTracerWorkspace {
     std::vector<SubpathMis> mis;
     std::vector<uint16_t> length;
-    std::vector<float> emit_pdf, pick;  // the emission's density, the light's selection
+    std::vector<uint32_t> shadow_layer;  // each camera connection's strategy layer
+    std::vector<float> emit_pdf, pick;   // the emission's density, the light's selection
     std::vector<uint32_t> light;
     std::vector<Vec3> origin, origin_n;  // the emitted point and its normal
     std::vector<uint8_t> infinite;
@@ -26,9 +27,10 @@ struct LightSubpathWorkspace : LightTracerWorkspace {
 };
 
 // Traces light paths [first, first + count) of the iteration; appends their vertices, path
-// by path, to `out` and their camera splats to `splats` (values already divided by N).
+// by path, to `out` and their camera splats to `splats` (values already divided by N); with
+// c.layers enabled and `splat_layers` given, each splat's strategy layer to it.
 void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                           LightSubpathWorkspace& ws, LightVertices& out, std::vector<Splat>& splats,
-                          RenderStats& stats);
+                          std::vector<uint32_t>* splat_layers, RenderStats& stats);
 
 }  // namespace foton

@@ -8,6 +8,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/kernel_materials.h"
 #include "engine/transport/run/render_settings.h"
+#include "strategy_layers.h"
 #include "vcm_mis.h"
 
 namespace foton {
@@ -31,6 +32,8 @@ struct VcmContext {
     VcmWeights weights;
     // The materials whose joins go through the lobe-pair kernel (null or not enabled: none).
     const KernelMaterials* kernels = nullptr;
+    // Per-strategy images (off unless strategy_images is set).
+    StrategyLayers layers;
 };
 
 }  // namespace foton

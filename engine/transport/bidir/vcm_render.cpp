@@ -43,7 +43,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     if (full > uint64_t(1) << 31)
         throw InputError(scene.source, 0, std::string(name) + ": at most 2^31 pixels");
     const uint32_t paths = uint32_t(full);
-    VcmContext ctx{scene, settings, accel, lights, opt.seed, 9, 0, 0, 0, 1, 0, 0.f, VcmWeights{}};
+    VcmContext ctx{scene, settings, accel,        lights,  opt.seed,        9, 0, 0, 0, 1,
+                   0,     0.f,      VcmWeights{}, nullptr, StrategyLayers{}};
     ctx.max_segments = settings.max_depth + 1;
     ctx.light_paths = paths;
     ctx.weights.connect = mode != BidirMode::Bpm;
@@ -54,6 +55,8 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     KernelMaterials kernels = kernel_materials(scene);
     kernels.enabled = settings.simd_shading;
     ctx.kernels = &kernels;
+    ctx.layers = {settings.bidir.strategy_images, mode != BidirMode::Bdpt};
+    const uint32_t n_layers = ctx.layers.count();
     const float radius0 = settings.photon.initial_radius > 0.f ? settings.photon.initial_radius
                                                                : 0.005f * lights.scene_radius();
     const float alpha = settings.photon.alpha;
@@ -73,6 +76,11 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     if (cluster.distributed()) sums.set_owners(owners_by_run(pixels, kCameraChunk, cluster.size()));
     std::vector<LightVertices> chunk_vertices(light_chunks);
     std::vector<std::vector<Splat>> splats(light_chunks);
+    // strategy_images: a pixel sum per strategy layer, each splat's layer beside it.
+    std::vector<PixelSums> layer_sums(n_layers, PixelSums(scene.film.width, scene.film.height));
+    if (cluster.distributed())
+        for (PixelSums& l : layer_sums) l.set_owners(sums.owners());
+    std::vector<std::vector<uint32_t>> splat_layers(n_layers ? light_chunks : 0);
     LightPathStore store;
     store.use_kdtree = settings.bidir.merge_index == MergeIndex::KdTree;
     tbb::enumerable_thread_specific<LightSubpathWorkspace> light_ws;
@@ -94,10 +102,12 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                                   const uint32_t n = std::min(kLightChunk, paths - first);
                                   chunk_vertices[k].clear();
                                   splats[k].clear();
+                                  if (n_layers) splat_layers[k].clear();
                                   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
                                       continue;  // a cancelled iteration traces no more
                                   trace_light_subpaths(ctx, first, n, ws, chunk_vertices[k],
-                                                       splats[k], st);
+                                                       splats[k],
+                                                       n_layers ? &splat_layers[k] : nullptr, st);
                               }
                           });
         return std::min<uint64_t>(paths, light_mine.end * kLightChunk) -
@@ -143,23 +153,26 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
         return v.size();
     });
     const uint32_t camera = graph.add("camera-paths", [&]() -> uint64_t {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, camera_mine.size(), 1),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              CameraSubpathWorkspace& ws = camera_ws.local();
-                              RenderStats& st = stats.local();
-                              std::vector<RGB> radiance;
-                              for (std::size_t j = r.begin(); j != r.end(); ++j) {
-                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
-                                      break;
-                                  const std::size_t k = camera_mine[j];
-                                  const uint32_t first = uint32_t(k) * kCameraChunk;
-                                  const uint32_t n = std::min(kCameraChunk, pixels - first);
-                                  trace_camera_subpaths(ctx, store, first, n, ws, radiance, st);
-                                  for (uint32_t i = 0; i < n; ++i) sums.add(first + i, radiance[i]);
-                                  st.samples += n;
-                                  task.advance();
-                              }
-                          });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, camera_mine.size(), 1),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                CameraSubpathWorkspace& ws = camera_ws.local();
+                RenderStats& st = stats.local();
+                std::vector<RGB> radiance, by_layer;
+                for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                    if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) break;
+                    const std::size_t k = camera_mine[j];
+                    const uint32_t first = uint32_t(k) * kCameraChunk;
+                    const uint32_t n = std::min(kCameraChunk, pixels - first);
+                    trace_camera_subpaths(ctx, store, first, n, ws, radiance, &by_layer, st);
+                    for (uint32_t i = 0; i < n; ++i) sums.add(first + i, radiance[i]);
+                    for (uint32_t i = 0; i < n; ++i)
+                        for (uint32_t l = 0; l < n_layers; ++l)
+                            layer_sums[l].add(first + i, by_layer[std::size_t(i) * n_layers + l]);
+                    st.samples += n;
+                    task.advance();
+                }
+            });
         uint64_t traced = 0;
         for (const uint64_t k : camera_mine)
             traced += std::min(kCameraChunk, pixels - uint32_t(k) * kCameraChunk);
@@ -168,6 +181,14 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
         const std::size_t count = sums.add_splats(splats, light_mine, cluster);
+        // Each layer's splats, in the same chunk order.
+        for (uint32_t l = 0; l < n_layers; ++l) {
+            std::vector<std::vector<Splat>> part(light_chunks);
+            for (uint64_t k = light_mine.begin; k < light_mine.end; ++k)
+                for (std::size_t i = 0; i < splats[k].size(); ++i)
+                    if (splat_layers[k][i] == l) part[k].push_back(splats[k][i]);
+            layer_sums[l].add_splats(part, light_mine, cluster);
+        }
         stats.local().add(Stage::Accumulate, count, clock);
         return count;
     });
@@ -212,6 +233,15 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     result.stats.graph = graph.report();
     result.film = image();
     result.samples_per_pixel.assign(sums.size(), uint32_t(iterations));
+    for (uint32_t l = 0; l < n_layers; ++l) {
+        layer_sums[l].gather(cluster);
+        const Film f = layer_sums[l].scaled(iterations ? float(1.0 / double(iterations)) : 0.f);
+        const std::string name = ctx.layers.name(l);
+        AovLayer layer{name, {name + ".R", name + ".G", name + ".B"}, {}};
+        const float* rgb = reinterpret_cast<const float*>(f.pixels.data());
+        layer.values.assign(rgb, rgb + 3 * f.pixels.size());
+        result.aovs.push_back(std::move(layer));
+    }
     return result;
 }
 
