@@ -124,7 +124,7 @@ TEST_CASE("AOVs are bit-identical for any thread count", "[aov]") {
     s.set_resolution(32, 24);
     s.render = render_settings(s);
     s.render.integrator = "path";
-    s.render.aovs = kAovAll;
+    s.render.aovs = kAovAll & ~kAovComponents;
     const RenderResult a = render_test(s, 3, 1), b = render_test(s, 3, 3);
     REQUIRE(a.aovs.size() == 5);
     REQUIRE(b.aovs.size() == a.aovs.size());
@@ -139,11 +139,13 @@ TEST_CASE("aov settings: all, unknown names, variance without pixel samples", "[
     auto settings = [](const std::string& renderer) {
         return render_settings(half_plane(renderer));
     };
-    CHECK(settings("<renderer type=\"path\" aov=\"all\"/>").aovs == kAovAll);
+    CHECK(settings("<renderer type=\"path\" aov=\"all\"/>").aovs == (kAovAll & ~kAovComponents));
+    CHECK(settings("<renderer type=\"photon\" aov=\"all\"/>").aovs == kAovAll);
     CHECK(settings("<renderer type=\"path\" aov=\" depth , albedo\"/>").aovs ==
           (kAovDepth | kAovAlbedo));
     // `all` for an integrator that splats light paths: everything but the variance.
-    CHECK(settings("<renderer type=\"bdpt\" aov=\"all\"/>").aovs == (kAovAll & ~kAovVariance));
+    CHECK(settings("<renderer type=\"bdpt\" aov=\"all\"/>").aovs ==
+          (kAovAll & ~kAovVariance & ~kAovComponents));
     CHECK_THROWS_WITH(
         settings("<renderer type=\"path\" aov=\"albedo,colour\"/>"),
         Catch::Contains("half-plane.xml:6") && Catch::Contains("unknown AOV 'colour'"));
@@ -239,4 +241,59 @@ TEST_CASE("strategy_images: a bidirectional setting, at least 2", "[aov][bidir]"
     CHECK(path.bidir.strategy_images == 0);
     REQUIRE(!path.warnings.empty());
     CHECK(path.warnings.back().find("applies to") != std::string::npos);
+}
+
+TEST_CASE("photon mapping's components add up to the image", "[aov][photon]") {
+    struct Case {
+        const char* what;
+        std::vector<std::pair<std::string, std::string>> set;
+        const char* last;
+    };
+    const Case cases[] = {
+        {"final gather", {}, "indirect"},
+        {"adaptive", {{"adaptive", "true"}, {"adaptive_max_spp", "8"}}, "indirect"},
+        {"irradiance cache", {{"indirect", "irradiance_cache"}}, "indirect"},
+        {"direct visualisation", {{"mode", "direct_visualisation"}}, "photon_map"},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.what);
+        RendererOverrides set{{"type", "photon"},
+                              {"global_photons", "20000"},
+                              {"caustic_photons", "20000"},
+                              {"gather_rays", "8"}};
+        set.insert(set.end(), c.set.begin(), c.set.end());
+        TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"), set);
+        s.set_resolution(24, 20);
+        s.render = render_settings(s);
+        const RenderResult plain = render_test(s, 2, 2);
+        s.render.aovs = kAovComponents;
+        const RenderResult r = render_test(s, 2, 2);
+        CHECK(std::memcmp(plain.film.pixels.data(), r.film.pixels.data(),
+                          r.film.pixels.size() * sizeof(RGB)) == 0);
+        REQUIRE(r.aovs.size() == 4);
+        CHECK(r.aovs[0].name == "emitted");
+        CHECK(r.aovs[3].name == c.last);
+        CHECK(r.aovs[3].channels.front() == std::string(c.last) + ".R");
+        std::vector<double> total(4, 0.0);
+        for (std::size_t p = 0; p < r.film.pixels.size(); ++p)
+            for (int ch = 0; ch < 3; ++ch) {
+                double sum = 0.0;
+                for (std::size_t l = 0; l < 4; ++l) {
+                    sum += r.aovs[l].at(p, std::size_t(ch));
+                    total[l] += r.aovs[l].at(p, std::size_t(ch));
+                }
+                CHECK(sum == Approx((&r.film.pixels[p].r)[ch]).epsilon(1e-4).margin(1e-6));
+            }
+        // The light is seen directly, and in final gathering the other three carry light.
+        CHECK(total[0] > 0.0);
+        if (std::string(c.last) == "indirect")
+            for (std::size_t l = 1; l < 4; ++l) CHECK(total[l] > 0.0);
+        else
+            CHECK(total[3] > 0.0);
+    }
+    // Only photon mapping has them; `all` leaves them out elsewhere.
+    CHECK_THROWS_WITH(render_settings(half_plane("<renderer type=\"path\" aov=\"components\"/>")),
+                      Catch::Contains("components AOV needs"));
+    CHECK((render_settings(half_plane("<renderer type=\"path\" aov=\"all\"/>")).aovs &
+           kAovComponents) == 0);
 }

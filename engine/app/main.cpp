@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     render->add_option("--mis", ra.mis, "path: balance | power | max | none (NEE without MIS)");
     render->add_option("--aov", ra.aov,
                        "extra outputs as channels of the EXR: albedo, normal, depth, position, "
-                       "variance, samples (comma-separated) or all");
+                       "variance, samples, components (photon mapping), comma-separated, or all");
     render->add_option("--nee", ra.nee, "path: next event estimation (false = BSDF sampling only)");
     render->add_option("--max-depth", ra.max_depth,
                        "scattering vertices (specular bounces for raytracer)");

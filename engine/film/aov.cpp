@@ -11,6 +11,7 @@ const EnumTable<uint32_t>& aov_names() {
                                             {"position", kAovPosition},
                                             {"variance", kAovVariance},
                                             {"samples", kAovSamples},
+                                            {"components", kAovComponents},
                                             {"all", kAovAll}}};
     return table;
 }

@@ -14,6 +14,8 @@
 //   variance  Variance.R/G/B  the sample variance of the pixel's radiance samples (per sample,
 //                           as pbrt-v4: the variance of the pixel's mean is this / samples)
 //   samples   samples       the samples each pixel averages (a UINT channel)
+//   components <name>.R/G/B  what each part of the integrator's estimate adds (photon
+//                           mapping: emitted, direct, caustic, indirect or photon_map)
 // Normal, depth and position average the pixel's samples that hit a surface (0, or +inf for
 // depth, where none did); albedo averages all of them, as the radiance does.
 #include <cstdint>
@@ -31,9 +33,12 @@ enum AovBits : uint32_t {
     kAovPosition = 1u << 3,
     kAovVariance = 1u << 4,
     kAovSamples = 1u << 5,
+    // The integrator's components (photon mapping: emitted, direct, caustic, indirect), each
+    // a layer of its own; they add up to the image.
+    kAovComponents = 1u << 6,
     // The ones the first-hit pass (G-buffer) computes, for any integrator.
     kAovFirstHit = kAovAlbedo | kAovNormal | kAovDepth | kAovPosition,
-    kAovAll = kAovFirstHit | kAovVariance | kAovSamples,
+    kAovAll = kAovFirstHit | kAovVariance | kAovSamples | kAovComponents,
 };
 
 // albedo, normal, depth, position, variance, samples (and `all`), one bit each.
@@ -43,7 +48,8 @@ bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad);
 // The names of `bits`, comma-separated, in aov_names()' order.
 std::string aov_list_text(uint32_t bits);
 
-// The EXR channels of the AOVs in `bits`, in aov.h's order (the samples channel last).
+// The EXR channels of the AOVs in `bits`, in aov.h's order (the samples channel last; the
+// components' depend on the integrator and are not among them).
 std::vector<std::string> aov_channels(uint32_t bits);
 
 // One AOV's channels over the film: `values` holds channels.size() floats per pixel, pixel by

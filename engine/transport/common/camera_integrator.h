@@ -5,6 +5,7 @@
 // them; the integrator traces them as a wavefront of ray batches.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "engine/core/ray_batch.h"
@@ -124,6 +125,23 @@ struct CacheWorkspace;
 // Per-thread scratch of an integrator, reused from tile to tile.
 struct IntegratorWorkspace {
     virtual ~IntegratorWorkspace() = default;
+    // The components AOV: part c of sample i's estimate at parts[i * part_count + c] (sized by
+    // the driver before the first phase; part_count 0: not asked for).
+    std::vector<RGB> parts;
+    uint32_t part_count = 0;
+    void add_part(uint32_t slot, uint32_t c, const RGB& v) {
+        if (part_count) parts[std::size_t(slot) * part_count + c] += v;
+    }
+    // What `step` adds to `radiance`, as part c (a step that adds to radiance in code shared
+    // with other integrators: a shadow batch, the cache's lookups).
+    template <class Step>
+    void as_part(uint32_t c, std::vector<RGB>& radiance, Step&& step) {
+        if (!part_count) return step();
+        const std::vector<RGB> before = radiance;
+        step();
+        for (std::size_t i = 0; i < radiance.size(); ++i)
+            parts[i * part_count + c] += radiance[i] - before[i];
+    }
     // The irradiance cache's part (its new records), if the integrator uses one.
     virtual CacheWorkspace* cache_workspace() { return nullptr; }
 };
@@ -136,6 +154,9 @@ class CameraIntegrator {
     // that tiles stream through: most integrators trace their camera paths in one; the
     // photon mapper's camera gather (to the visible points) and final gather are two.
     virtual uint32_t phases() const { return 1; }
+    // The parts of its estimate it can also write apart (the components AOV), which add up to
+    // it; none by default.
+    virtual std::vector<std::string> components() const { return {}; }
     virtual const char* phase_name(uint32_t) const { return "camera-paths"; }
     // Phase `phase` of the samples `jobs`: phase 0 starts them (radiance is resized to
     // jobs.size()), and after the last, radiance[i] is the estimate of jobs[i]. The

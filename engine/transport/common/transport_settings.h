@@ -25,6 +25,7 @@ enum Capability : uint32_t {
     kCapStrategyDebug = 1u << 6,    // strategy="s,t"
     kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
     kCapLightSelection = 1u << 8,   // light_selection: next event estimation's light choice
+    kCapComponents = 1u << 9,       // the components AOV: its estimate's parts apart
 };
 
 // The chosen integrator as the settings' rules see it.

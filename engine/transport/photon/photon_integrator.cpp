@@ -17,7 +17,15 @@ constexpr uint32_t kDimsPerBounce = 8;
 // Random dimensions per bounce: delta-or-not choice, lobe (3), light choice, position (2),
 // triangle.
 constexpr uint32_t kDimChoice = 0, kDimLobe = 1, kDimLight = 4;
+// The components (components()).
+constexpr uint32_t kPartEmitted = 0, kPartDirect = 1, kPartCaustic = 2, kPartIndirect = 3;
 }  // namespace
+
+std::vector<std::string> PhotonIntegrator::components() const {
+    const PhotonSettings& ps = ctx_.settings.photon;
+    const bool map_alone = ps.mode == PhotonMode::DirectVisualisation && !ps.split_direct;
+    return {"emitted", "direct", "caustic", map_alone ? "photon_map" : "indirect"};
+}
 
 PhotonIntegrator::PhotonIntegrator(const RenderContext& ctx, const PhotonMaps& maps,
                                    const CacheEvaluator* cache)
@@ -45,18 +53,24 @@ void PhotonIntegrator::shade_visible(const ShadingPoint& v, PhotonCameraWorkspac
     if (ps.mode == PhotonMode::DirectVisualisation) {
         // The global map seen directly; when split it holds the indirect light only and the
         // direct light is ray traced (the thesis' comparison of the two).
-        if (indirect || !ps.split_direct)
-            radiance[slot] += weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n,
-                                                             m.bsdf, wo, ctx, maps_.global_params);
+        if (indirect || !ps.split_direct) {
+            const RGB L = weight * maps_.global.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
+                                                         wo, ctx, maps_.global_params);
+            radiance[slot] += L;
+            ws.add_part(slot, kPartIndirect, L);
+        }
         if (ps.split_direct && direct) direct_light(v, ws, radiance);
         return;
     }
     if (direct) direct_light(v, ws, radiance);
     if (!indirect) return;
     // Caustics: L S+ D paths, from their own map.
-    if (!maps_.caustic.empty())
-        radiance[slot] += weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf,
-                                                          wo, ctx, maps_.caustic_params);
+    if (!maps_.caustic.empty()) {
+        const RGB L = weight * maps_.caustic.radiance(sp.p, frame.s, frame.t, frame.n, m.bsdf, wo,
+                                                      ctx, maps_.caustic_params);
+        radiance[slot] += L;
+        ws.add_part(slot, kPartCaustic, L);
+    }
     // The cache holds irradiance: it serves surfaces whose non-delta part is Lambertian.
     RGB rho;
     if (cache_ && m.bsdf.lambert_albedo(rho)) {
@@ -104,7 +118,10 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
     }
     if (verdict >= 0) {
         ++ws.saved;
-        if (verdict == 1) radiance[slot] += ds.value * visibility;
+        if (verdict == 1) {
+            radiance[slot] += ds.value * visibility;
+            ws.add_part(slot, kPartDirect, ds.value * visibility);
+        }
         return;
     }
     queue_direct(ds, slot, ws.shadow, ws.shadow_value);
@@ -264,9 +281,12 @@ void PhotonIntegrator::final_gather(PhotonCameraWorkspace& ws, std::vector<RGB>&
     stats.secondary_rays += rays;
     stats.add(Stage::FinalGather, rays, clock);
     photon_radiance_batch(b);
-    for (const auto& [slot, i] : b.order)
-        radiance[slot] +=
+    for (const auto& [slot, i] : b.order) {
+        const RGB L =
             i >= 0 ? b.hits[std::size_t(i)].w * b.L[std::size_t(i)] : b.values[std::size_t(-1 - i)];
+        radiance[slot] += L;
+        ws.add_part(slot, kPartIndirect, L);
+    }
     stats.add(Stage::PhotonEstimate, b.hits.size(), clock);
 }
 
@@ -276,7 +296,9 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
     PhotonCameraWorkspace& ws = static_cast<PhotonCameraWorkspace&>(base);
     if (phase == 1) {
         final_gather(ws, radiance, stats);
-        if (cache_) cache_->resolve(ws.cache, radiance, stats);
+        if (cache_)
+            ws.as_part(kPartIndirect, radiance,
+                       [&] { cache_->resolve(ws.cache, radiance, stats); });
         return;
     }
     StageClock clock;
@@ -304,8 +326,11 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 RGB& beta = ws.beta[slot];
                 const uint32_t geom = ws.hits.geom[i];
                 if (geom == kNoHit) {
-                    if (ctx_.settings.lighting != Lighting::Indirect)
-                        radiance[slot] += beta * ctx_.scene.background_along(ws.rays.direction(i));
+                    if (ctx_.settings.lighting != Lighting::Indirect) {
+                        const RGB L = beta * ctx_.scene.background_along(ws.rays.direction(i));
+                        radiance[slot] += L;
+                        ws.add_part(slot, kPartEmitted, L);
+                    }
                     continue;
                 }
                 const Vec3 d = ws.rays.direction(i);
@@ -315,8 +340,11 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
-                if (m.emits_towards(sp.front_face) && ctx_.settings.lighting != Lighting::Indirect)
+                if (m.emits_towards(sp.front_face) &&
+                    ctx_.settings.lighting != Lighting::Indirect) {
                     radiance[slot] += beta * m.emission;
+                    ws.add_part(slot, kPartEmitted, beta * m.emission);
+                }
                 if (m.bsdf.empty()) continue;
                 const float p_delta = m.bsdf.selection_probability(kSpecular);
                 if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
@@ -343,12 +371,16 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
         },
         // The bounce's cache lookups, served as a batch once it is shaded.
         [&](uint32_t) {
-            if (cache_) cache_->serve_lookups(ws.cache, radiance, stats, clock);
+            if (cache_)
+                ws.as_part(kPartIndirect, radiance,
+                           [&] { cache_->serve_lookups(ws.cache, radiance, stats, clock); });
         });
     stats.shadow_rays_saved += ws.saved;
     ws.saved = 0;
-    resolve_shadow_rays(ctx_.accel, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
-                        clock);
+    ws.as_part(kPartDirect, radiance, [&] {
+        resolve_shadow_rays(ctx_.accel, ws.shadow, ws.shadow_value, ws.occluded, radiance, stats,
+                            clock);
+    });
 }
 
 }  // namespace foton

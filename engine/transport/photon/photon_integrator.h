@@ -80,6 +80,11 @@ class PhotonIntegrator : public CameraIntegrator {
     // light and caustics, and their final-gather rays queued; final gather: those rays traced
     // and shaded by the photon maps (or the irradiance cache's lookups resolved).
     uint32_t phases() const override { return 2; }
+    // The components AOV: light seen directly or through specular chains (emitted), next
+    // event estimation at the visible points (direct), the caustic map (caustic) and the
+    // final gather or the cache (indirect); in direct visualisation the global map's estimate
+    // (photon_map, the indirect light alone with split_direct).
+    std::vector<std::string> components() const override;
     const char* phase_name(uint32_t p) const override {
         return p == 0 ? "camera-gather" : "final-gather";
     }

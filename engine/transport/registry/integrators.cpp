@@ -28,7 +28,8 @@ const std::vector<IntegratorInfo>& integrators() {
     constexpr uint32_t kPath =
         kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide | kCapLightSelection;
     constexpr uint32_t kPhoton =
-        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap | kCapLightSelection;
+        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap | kCapLightSelection |
+        kCapComponents;
     // One row per integrator: name, aliases, summary, capabilities, own parse, render.
     // clang-format off
     static const std::vector<IntegratorInfo> table = {
@@ -95,6 +96,10 @@ std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
         return SettingsProblem{
             "aov", "the variance AOV needs pixel samples: " + integrators_with(kCapCamera) +
                        ", not type=\"" + info.name + "\""};
+    if ((s.aovs & kAovComponents) && !info.has(kCapComponents))
+        return SettingsProblem{"aov", "the components AOV needs " +
+                                          integrators_with(kCapComponents) + ", not type=\"" +
+                                          info.name + "\""};
     if (s.indirect == IndirectMode::IrradianceCache) {
         if (!info.has(kCapIrradianceCache))
             return SettingsProblem{"indirect", "indirect=\"irradiance_cache\" needs " +

@@ -11,6 +11,8 @@
 #include <tbb/flow_graph.h>
 #include <tbb/task_arena.h>
 
+#include "adaptive_tile.h"
+#include "camera_tile.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/film/pixel_sums.h"
 #include "pass_control.h"
@@ -19,45 +21,9 @@ namespace foton {
 
 namespace {
 
-struct Tile {
-    int x0, y0, x1, y1;  // pixel rectangle [x0, x1) x [y0, y1)
-    int pixels() const { return (x1 - x0) * (y1 - y0); }
-};
-
-std::vector<Tile> make_tiles(int width, int height, int size) {
-    std::vector<Tile> tiles;
-    for (int y = 0; y < height; y += size)
-        for (int x = 0; x < width; x += size)
-            tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
-    return tiles;
-}
-
-// Luminance statistics of one pixel's samples, for adaptive sampling.
-struct PixelMoments {
-    double sum = 0.0, sum2 = 0.0;
-    uint32_t n = 0;
-    void add(float y) {
-        sum += y;
-        sum2 += double(y) * y;
-        ++n;
-    }
-    double mean() const { return n ? sum / n : 0.0; }
-    // Unbiased sample variance of one sample (the thesis' s^2 times N).
-    double variance() const {
-        if (n < 2) return 0.0;
-        return std::max(0.0, (sum2 - sum * sum / n) / (n - 1));
-    }
-    // Standard error of the mean relative to the mean (absolute below a small floor).
-    double relative_error() const {
-        return std::sqrt(variance() / std::max<uint32_t>(n, 1)) / std::max(mean(), 1e-3);
-    }
-};
-
 class CameraDriver {
   public:
-    CameraDriver(const Scene& scene, const AdaptiveSettings& adaptive,
-                 const CameraIntegrator& integrator, const RenderOptions& opt)
-        : scene_(scene), adaptive_(adaptive), integrator_(integrator), opt_(opt) {}
+    CameraDriver(const Scene& scene, const RenderOptions& opt) : scene_(scene), opt_(opt) {}
 
     // Fixed samples: pass p gives every pixel of the tile opt.spp samples, [s0, s1) of them
     // in this piece of the pass.
@@ -75,107 +41,38 @@ class CameraDriver {
             }
     }
 
+    // The samples' radiance, and their components to `parts` (one sum per component).
     void accumulate_samples(const std::vector<SampleJob>& jobs, const std::vector<RGB>& out,
-                            PixelSums& acc, RenderStats& st) const {
+                            const IntegratorWorkspace& ws, PixelSums& acc,
+                            std::vector<PixelSums>& parts, RenderStats& st) const {
         StageClock clock;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
             acc.add_sample(p, out[i]);
+            for (std::size_t c = 0; c < parts.size(); ++c)
+                parts[c].add(p, ws.parts[i * parts.size() + c]);
         }
         st.samples += jobs.size();
         st.add(Stage::Accumulate, jobs.size(), clock);
     }
 
-    // Adaptive sampling of one tile (the thesis' section 6.2): a pilot of `pilot` samples
-    // per pixel, then either rounds that double the samples of every pixel whose relative
-    // standard error is above the threshold (biased: the stopping rule sees the samples it
-    // averages), or, unbiased (Kirk & Arvo), one fresh batch sized from the pilot's variance
-    // with the pilot discarded.
-    // The tile's sums and sample counts per pixel go to `sum` and `count` (row-major in the
-    // tile).
-    void adaptive_tile(const Tile& t, IntegratorWorkspace& ws, RenderStats& st,
-                       std::vector<SampleJob>& jobs, std::vector<RGB>& out, std::vector<RGB>& sum,
-                       std::vector<uint32_t>& count, std::vector<SampleMoments>& moments) const {
-        const AdaptiveSettings& ad = adaptive_;
-        const int tw = t.x1 - t.x0;
-        std::vector<PixelMoments> mom(std::size_t(t.pixels()));
-        sum.assign(std::size_t(t.pixels()), RGB{0.f});
-        moments.assign(std::size_t(t.pixels()), SampleMoments{});
-        std::vector<uint32_t> want(std::size_t(t.pixels()), ad.pilot);
-        std::vector<uint32_t> taken(std::size_t(t.pixels()), 0);
-        auto local = [&](const SampleJob& j) {
-            return std::size_t(j.y - t.y0) * tw + (j.x - t.x0);
-        };
-        auto run_round = [&](uint32_t round) {
-            jobs.clear();
-            for (int y = t.y0; y < t.y1; ++y)
-                for (int x = t.x0; x < t.x1; ++x) {
-                    const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
-                    const uint64_t pixel = scene_.film.pixel_id(uint32_t(x), uint32_t(y));
-                    for (uint32_t s = 0; s < want[l]; ++s)
-                        jobs.push_back({uint32_t(x), uint32_t(y), s, want[l], round,
-                                        (pixel << 24) + taken[l] + s});
-                    taken[l] += want[l];
-                }
-            if (jobs.empty()) return false;
-            integrator_.trace(jobs, ws, out, st);
-            st.samples += jobs.size();
-            for (std::size_t i = 0; i < jobs.size(); ++i) {
-                const std::size_t l = local(jobs[i]);
-                mom[l].add(out[i].luminance());
-                sum[l] += out[i];
-                moments[l].add(out[i]);
-            }
-            return true;
-        };
-        run_round(0);
-        if (ad.unbiased) {
-            // Samples needed for the target error, from the pilot's variance; then a fresh
-            // estimate from only those.
-            for (std::size_t l = 0; l < mom.size(); ++l) {
-                const double target = ad.threshold * std::max(mom[l].mean(), 1e-3);
-                const double n = std::ceil(mom[l].variance() / (target * target));
-                want[l] = uint32_t(std::clamp(n, 1.0, double(ad.max_spp - ad.pilot)));
-                if (ad.max_spp == ad.pilot) want[l] = 0;
-                if (want[l] > 0) {
-                    mom[l] = {};
-                    sum[l] = RGB{0.f};
-                    moments[l] = {};
-                }
-            }
-            run_round(1);
-        } else {
-            for (uint32_t round = 1;; ++round) {
-                for (std::size_t l = 0; l < mom.size(); ++l) {
-                    const bool noisy = mom[l].relative_error() > ad.threshold;
-                    want[l] = noisy ? std::min(mom[l].n, ad.max_spp - mom[l].n) : 0;
-                }
-                if (!run_round(round)) break;
-            }
-        }
-        count.resize(mom.size());
-        for (std::size_t l = 0; l < mom.size(); ++l) count[l] = mom[l].n;
-    }
-
-    void accumulate_tile(const Tile& t, const std::vector<RGB>& sum,
-                         const std::vector<uint32_t>& count,
-                         const std::vector<SampleMoments>& moments, PixelSums& acc,
-                         RenderStats& st) const {
+    void accumulate_tile(const Tile& t, const TileSums& sums, PixelSums& acc,
+                         std::vector<PixelSums>& parts, RenderStats& st) const {
         StageClock clock;
         const int tw = t.x1 - t.x0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
                 const std::size_t p = std::size_t(y) * scene_.film.width + x;
-                acc.add(p, sum[l], count[l], moments[l]);
+                acc.add(p, sums.sum[l], sums.count[l], sums.moments[l]);
+                for (std::size_t c = 0; c < parts.size(); ++c)
+                    parts[c].add(p, sums.parts[l * parts.size() + c], sums.count[l]);
             }
         st.add(Stage::Accumulate, std::size_t(t.pixels()), clock);
     }
 
   private:
     const Scene& scene_;
-    const AdaptiveSettings& adaptive_;
-    const CameraIntegrator& integrator_;
     const RenderOptions& opt_;
 };
 
@@ -202,6 +99,10 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     RenderResult result;
     PixelSums acc(scene.film.width, scene.film.height);
     if (settings.aovs & kAovVariance) acc.keep_moments();
+    // The components AOV: a pixel sum per part of the integrator's estimate.
+    const std::vector<std::string> part_names =
+        settings.aovs & kAovComponents ? integrator.components() : std::vector<std::string>{};
+    std::vector<PixelSums> parts(part_names.size(), PixelSums(scene.film.width, scene.film.height));
     // Across MPI ranks the tiles are dealt out in turn (tile i to rank i mod N); each rank
     // renders its own, and rank 0 gathers their pixels when the image is needed.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
@@ -217,10 +118,11 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     owner[std::size_t(y) * std::size_t(scene.film.width) + std::size_t(x)] =
                         dealt_to(i, cluster.size());
         }
+        for (PixelSums& p : parts) p.set_owners(owner);
         acc.set_owners(std::move(owner));
     }
     for (const uint64_t i : dealt_in_turn(all_tiles.size(), cluster)) tiles.push_back(all_tiles[i]);
-    const CameraDriver driver(scene, settings.adaptive, integrator, opt);
+    const CameraDriver driver(scene, opt);
     const int threads = resolve_threads(opt.threads);
     const bool adaptive = settings.adaptive.enabled;
 
@@ -242,9 +144,8 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         std::size_t tile = 0;
         std::unique_ptr<IntegratorWorkspace> ws;
         std::vector<SampleJob> jobs;
-        std::vector<RGB> out, sum;
-        std::vector<uint32_t> count;
-        std::vector<SampleMoments> moments;
+        std::vector<RGB> out;
+        TileSums sums;
     };
     std::vector<std::unique_ptr<TileWork>> owned;
     tbb::concurrent_queue<TileWork*> idle;
@@ -273,6 +174,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
             if (!idle.try_pop(w)) {
                 owned.push_back(std::make_unique<TileWork>());
                 owned.back()->ws = integrator.make_workspace();
+                owned.back()->ws->part_count = uint32_t(part_names.size());
                 w = owned.back().get();
             }
             w->tile = next++;
@@ -287,10 +189,13 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     RenderStats& st = stats.local();
                     const Tile& t = tiles[w->tile];
                     if (adaptive) {
-                        driver.adaptive_tile(t, *w->ws, st, w->jobs, w->out, w->sum, w->count,
-                                             w->moments);
+                        adaptive_tile(scene, settings.adaptive, integrator, t, *w->ws, st, w->jobs,
+                                      w->out, w->sums);
                     } else {
-                        if (k == 0) driver.make_jobs(t, pass, s0, s1, w->jobs);
+                        if (k == 0) {
+                            driver.make_jobs(t, pass, s0, s1, w->jobs);
+                            w->ws->parts.assign(w->jobs.size() * part_names.size(), RGB{0.f});
+                        }
                         integrator.trace_phase(uint32_t(k), w->jobs, *w->ws, w->out, st);
                     }
                     timer.items = w->jobs.size();
@@ -302,9 +207,9 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                 NodeTimer timer(graph, nodes.back());
                 RenderStats& st = stats.local();
                 if (adaptive)
-                    driver.accumulate_tile(tiles[w->tile], w->sum, w->count, w->moments, acc, st);
+                    driver.accumulate_tile(tiles[w->tile], w->sums, acc, parts, st);
                 else
-                    driver.accumulate_samples(w->jobs, w->out, acc, st);
+                    driver.accumulate_samples(w->jobs, w->out, *w->ws, acc, parts, st);
                 timer.items = tiles[w->tile].pixels();
                 idle.push(w);
                 progress_task->advance();
@@ -346,6 +251,15 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     result.film = acc.mean();
     result.samples_per_pixel = acc.samples();
     if (acc.keeps_moments()) result.aovs.push_back(acc.variance());
+    for (std::size_t c = 0; c < parts.size(); ++c) {
+        parts[c].gather(cluster);
+        const Film f = parts[c].mean();
+        const std::string& name = part_names[c];
+        AovLayer layer{name, {name + ".R", name + ".G", name + ".B"}, {}};
+        const float* rgb = reinterpret_cast<const float*>(f.pixels.data());
+        layer.values.assign(rgb, rgb + 3 * f.pixels.size());
+        result.aovs.push_back(std::move(layer));
+    }
     return result;
 }
 

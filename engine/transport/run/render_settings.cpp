@@ -58,6 +58,12 @@ void parse_aovs(const ParamSet& p, const IntegratorTraits& it, RenderSettings& r
                               ", not type=\"" + it.name + "\"");
         r.aovs &= ~uint32_t(kAovVariance);  // from `all`
     }
+    if (!it.has(kCapComponents) && (r.aovs & kAovComponents)) {
+        if (text.find("components") != std::string::npos)
+            p.fail("aov", "the components AOV needs " + it.names_with(kCapComponents) +
+                              ", not type=\"" + it.name + "\"");
+        r.aovs &= ~uint32_t(kAovComponents);
+    }
 }
 
 }  // namespace
