@@ -27,9 +27,8 @@ const std::vector<IntegratorInfo>& integrators() {
     // Every integrator splits its work across MPI ranks (RenderOptions::cluster).
     constexpr uint32_t kPath =
         kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonGuide | kCapLightSelection;
-    constexpr uint32_t kPhoton =
-        kCapCamera | kCapIrradianceCache | kCapLightingSplit | kCapPhotonMap | kCapLightSelection |
-        kCapComponents;
+    constexpr uint32_t kPhoton = kCapCamera | kCapIrradianceCache | kCapLightingSplit |
+                                 kCapPhotonMap | kCapLightSelection | kCapComponents;
     // One row per integrator: name, aliases, summary, capabilities, own parse, render.
     // clang-format off
     static const std::vector<IntegratorInfo> table = {
