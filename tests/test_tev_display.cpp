@@ -107,6 +107,7 @@ Decoded decode(const std::string& bytes, const std::string& name) {
             d.width = r.raw<int32_t>();
             d.height = r.raw<int32_t>();
             const int32_t n = r.raw<int32_t>();
+            d.channels.clear();  // made again: the new list
             for (int32_t c = 0; c < n; ++c) d.channels.push_back(r.str());
             canvas = Film(d.width, d.height);
         } else {
@@ -235,6 +236,32 @@ TEST_CASE("foton render --display --aov: the AOVs reach tev as channels", "[tev]
     const std::vector<std::string> names{"Albedo.R", "Albedo.G", "Albedo.B", "Z", "samples"};
     const std::vector<float> exr = read_exr_channels(dir.file("aov.exr"), names, w, h);
     REQUIRE(w * h == 20 * 14);
+    for (std::size_t c = 0; c < names.size(); ++c)
+        for (std::size_t p = 0; p < std::size_t(w * h); ++p)
+            CHECK(d.planes.at(names[c])[p] == exr[p * names.size() + c]);
+}
+
+TEST_CASE("foton render --display: layers named after the render make the image again",
+          "[tev][cli][aov]") {
+    test::TempDir dir;
+    TevListener tev;
+    const std::string cmd =
+        std::string(FOTON_BINARY) + " render " + test::source_path("scenes/cornell-caustics.xml") +
+        " --width 20 --height 14 --spp 1 -q --integrator photon --aov depth,components --set "
+        "global_photons=5000 --set caustic_photons=5000 --display " +
+        tev.address() + " -o " + dir.file("parts.exr");
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const Decoded d = decode(tev.received(), "parts.exr");
+    // Made with R, G, B and Z, then again with the components the photon mapper names.
+    CHECK(d.channels == std::vector<std::string>{"R", "G", "B", "Z", "emitted.R", "emitted.G",
+                                                 "emitted.B", "direct.R", "direct.G", "direct.B",
+                                                 "caustic.R", "caustic.G", "caustic.B",
+                                                 "indirect.R", "indirect.G", "indirect.B"});
+    REQUIRE_FALSE(d.images.empty());
+    CHECK(same(d.images.back(), read_exr(dir.file("parts.exr"))));
+    const std::vector<std::string> names{"Z", "caustic.G", "indirect.B"};
+    int w = 0, h = 0;
+    const std::vector<float> exr = read_exr_channels(dir.file("parts.exr"), names, w, h);
     for (std::size_t c = 0; c < names.size(); ++c)
         for (std::size_t p = 0; p < std::size_t(w * h); ++p)
             CHECK(d.planes.at(names[c])[p] == exr[p * names.size() + c]);

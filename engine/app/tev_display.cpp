@@ -147,14 +147,7 @@ void TevDisplay::show_layers(std::vector<AovLayer> layers) {
     {
         std::lock_guard lock(mutex_);
         if (failed_) return;
-        // Only layers of channels the image was created with (the per-strategy images of
-        // strategy_images are in the EXR, not in the viewer's image).
-        for (AovLayer& l : layers)
-            if (std::all_of(l.channels.begin(), l.channels.end(), [&](const std::string& c) {
-                    return std::find(aov_channels_.begin(), aov_channels_.end(), c) !=
-                           aov_channels_.end();
-                }))
-                pending_layers_.push_back(std::move(l));
+        for (AovLayer& l : layers) pending_layers_.push_back(std::move(l));
     }
     wake_.notify_one();
 }
@@ -200,10 +193,10 @@ bool TevDisplay::connect_once() {
                      host_.c_str(), port_.c_str(), std::strerror(last_errno));
         return false;
     }
-    std::vector<std::string> channels{"R", "G", "B"};
-    channels.insert(channels.end(), aov_channels_.begin(), aov_channels_.end());
+    channels_ = {"R", "G", "B"};
+    channels_.insert(channels_.end(), aov_channels_.begin(), aov_channels_.end());
     return send_all(tev::close_image(name_)) &&
-           send_all(tev::create_image(name_, width_, height_, channels));
+           send_all(tev::create_image(name_, width_, height_, channels_));
 }
 
 bool TevDisplay::send_all(const std::vector<char>& packet) {
@@ -249,9 +242,25 @@ void TevDisplay::run() {
             return std::max(1, int(786432 / (std::max(width_, 1) * channels)));
         };
         bool ok = true;
+        // Layers of channels the image lacks (the per-strategy images, the components, named
+        // only once the render has made them): the image is made again with them, and the
+        // last image sent goes first.
+        std::vector<std::string> added;
+        for (const AovLayer& l : layers)
+            for (const std::string& c : l.channels)
+                if (std::find(channels_.begin(), channels_.end(), c) == channels_.end() &&
+                    std::find(added.begin(), added.end(), c) == added.end())
+                    added.push_back(c);
+        if (!added.empty()) {
+            channels_.insert(channels_.end(), added.begin(), added.end());
+            ok = send_all(tev::close_image(name_)) &&
+                 send_all(tev::create_image(name_, width_, height_, channels_));
+            if (!film) film = last_;
+        }
         if (film)
             for (int y = 0, n = rows(3); ok && y < film->height; y += n)
                 ok = send_all(tev::update_image(name_, *film, y, std::min(film->height, y + n)));
+        if (film) last_ = film;
         for (const AovLayer& l : layers)
             for (int y = 0, n = rows(l.stride()); ok && y < height_; y += n)
                 ok = send_all(tev::update_layer(name_, l, width_, y, std::min(height_, y + n)));

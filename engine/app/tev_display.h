@@ -47,8 +47,8 @@ class TevDisplay {
 
     // Queues `film` for sending, replacing an image not yet sent.
     void show(const Film& film);
-    // Queues the AOV layers (each of channels given to the constructor), sent after the
-    // image queued before them.
+    // Queues the AOV layers, sent after the image queued before them; channels the image was
+    // not created with make it again with them.
     void show_layers(std::vector<AovLayer> layers);
     // Returns when everything queued has been sent (or the connection has failed).
     void flush();
@@ -67,6 +67,8 @@ class TevDisplay {
     mutable std::mutex mutex_;
     std::condition_variable wake_, idle_;
     std::vector<std::string> aov_channels_;
+    std::vector<std::string> channels_;  // the image's channels in tev (the sender's thread)
+    std::optional<Film> last_;           // the last image sent (the sender's thread)
     std::optional<Film> pending_;
     std::vector<AovLayer> pending_layers_;
     bool busy_ = false, stop_ = false;
