@@ -33,6 +33,7 @@ RenderResult render_guided_path(const RenderContext& ctx, const RenderOptions& r
         s.cancel = opt.cancel;
         const ProgressTask task(graph.progress(), "photons-guide", s.emitted);
         photons = tracer.run(s, stats, nullptr, &task, opt.cluster);
+        if (settings.photon.compact_power) photons.compact_power();
         return s.emitted;
     });
     const uint32_t build = graph.add("build-guide", [&]() -> uint64_t {

@@ -1,6 +1,9 @@
 #include "photon_map.h"
 
 #include <cmath>
+#include <stdexcept>
+
+#include "photon_direction.h"
 
 namespace foton {
 
@@ -63,45 +66,29 @@ void PhotonMap::clear() {
     light_.clear();
     tree_ = {};
     irr_e_.clear();
+    power_rgbe_.clear();
+    irr_rgbe_.clear();
+    irr_x_.clear();
+    irr_y_.clear();
+    irr_z_.clear();
+    irr_n_.clear();
+    compact_ = false;
 }
 
-namespace {
-// Jensen's two-byte direction: theta and phi quantised to 256 steps each.
-uint16_t encode_direction(const Vec3& w) {
-    const float theta = std::acos(std::clamp(w.z, -1.f, 1.f));
-    float phi = std::atan2(w.y, w.x);
-    if (phi < 0.f) phi += 2.f * kPi;
-    const uint16_t t = uint16_t(std::min(255.f, theta * (256.f / kPi)));
-    const uint16_t f = uint16_t(std::min(255.f, phi * (256.f / (2.f * kPi))));
-    return uint16_t(t << 8 | f);
+void PhotonMap::compact_power() {
+    if (compact_) return;
+    power_rgbe_.resize(power_.size());
+    for (std::size_t i = 0; i < power_.size(); ++i) power_rgbe_[i] = encode_rgbe(power_[i]);
+    irr_rgbe_.resize(irr_e_.size());
+    for (std::size_t i = 0; i < irr_e_.size(); ++i) irr_rgbe_[i] = encode_rgbe(irr_e_[i]);
+    std::vector<RGB>().swap(power_);
+    std::vector<RGB>().swap(irr_e_);
+    compact_ = true;
 }
-
-// Decoding runs for every photon of every estimate (radiance, SPPM gathering, shadow-photon
-// tests), so it reads Jensen's tables of the 256 bin centres' sines and cosines.
-struct DirectionTables {
-    float sin_theta[256], cos_theta[256], sin_phi[256], cos_phi[256];
-    DirectionTables() {
-        for (int i = 0; i < 256; ++i) {
-            const float theta = (float(i) + 0.5f) * (kPi / 256.f);
-            const float phi = (float(i) + 0.5f) * (2.f * kPi / 256.f);
-            sin_theta[i] = std::sin(theta);
-            cos_theta[i] = std::cos(theta);
-            sin_phi[i] = std::sin(phi);
-            cos_phi[i] = std::cos(phi);
-        }
-    }
-};
-const DirectionTables kDirections;
-
-Vec3 decode_direction(uint16_t d) {
-    const int t = d >> 8, f = d & 255;
-    const float st = kDirections.sin_theta[t];
-    return {st * kDirections.cos_phi[f], st * kDirections.sin_phi[f], kDirections.cos_theta[t]};
-}
-}  // namespace
 
 void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3& n, uint8_t flags,
                      uint16_t light) {
+    if (compact_) throw std::logic_error("PhotonMap::push after compact_power()");
     x_.push_back(p.x);
     y_.push_back(p.y);
     z_.push_back(p.z);
@@ -113,6 +100,7 @@ void PhotonMap::push(const Vec3& p, const RGB& power, const Vec3& w, const Vec3&
 }
 
 void PhotonMap::append(const PhotonMap& o) {
+    if (compact_ || o.compact_) throw std::logic_error("PhotonMap::append of compact maps");
     x_.insert(x_.end(), o.x_.begin(), o.x_.end());
     y_.insert(y_.end(), o.y_.begin(), o.y_.end());
     z_.insert(z_.end(), o.z_.begin(), o.z_.end());
@@ -124,6 +112,7 @@ void PhotonMap::append(const PhotonMap& o) {
 }
 
 PhotonMap PhotonMap::extract(uint8_t flag) {
+    if (compact_) throw std::logic_error("PhotonMap::extract after compact_power()");
     PhotonMap out;
     std::size_t kept = 0;
     for (std::size_t i = 0; i < size(); ++i) {
@@ -167,122 +156,22 @@ Vec3 PhotonMap::normal(std::size_t i) const {
     return decode_direction(normal_[i]);
 }
 
-void PhotonMap::precompute_irradiance(uint32_t stride, const EstimateParams& params,
-                                      const ParallelFor& parallel_for, const Cluster* cluster) {
-    const std::size_t m = stride == 0 ? 0 : (size() + stride - 1) / stride;
-    irr_x_.resize(m);
-    irr_y_.resize(m);
-    irr_z_.resize(m);
-    irr_n_.resize(m);
-    irr_e_.resize(m);
-    for (std::size_t j = 0; j < m; ++j) {
-        const std::size_t i = j * stride;
-        irr_x_[j] = x_[i];
-        irr_y_[j] = y_[i];
-        irr_z_[j] = z_[i];
-        irr_n_[j] = normal_[i];
-    }
-    // The estimates run in Morton order of their points, each parallel chunk as one batched
-    // kNN: a chunk's queries are then neighbours and share the tree's nodes in cache. Every
-    // estimate still lands at its own point, so the order changes nothing but the speed.
-    const std::vector<uint32_t> order =
-        kern::morton_order(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
-    const uint32_t k = std::min(params.k, kMaxEstimate);
-    auto body = [&](std::size_t begin, std::size_t end) {
-        const std::size_t count = end - begin;
-        std::vector<float> qx(count), qy(count), qz(count),
-            max_d2(count, params.max_radius * params.max_radius);
-        for (std::size_t t = 0; t < count; ++t) {
-            const uint32_t j = order[begin + t];
-            qx[t] = irr_x_[j];
-            qy[t] = irr_y_[j];
-            qz[t] = irr_z_[j];
-        }
-        kern::KnnBatchResult res;
-        tree_.knn_batch(qx.data(), qy.data(), qz.data(), max_d2.data(), count, k, res);
-        for (std::size_t t = 0; t < count; ++t) {
-            const uint32_t j = order[begin + t];
-            const std::size_t i = std::size_t(j) * stride;
-            uint32_t* idx = res.index.data() + t * k;
-            float* d2 = res.dist2.data() + t * k;
-            float r = 0.f;
-            const Vec3 n = normal(i);
-            const uint32_t kept = accept(position(i), n, params, k, res.count[t], idx, d2, r);
-            irr_e_[j] = irradiance_of(n, params, kept, idx, d2, r);
-        }
-    };
-    // Across MPI ranks each estimates a share of the points; all get every estimate.
-    const Cluster& ranks = cluster_or_solo(cluster);
-    const Share mine = share_of(m, ranks);
-    if (parallel_for)
-        parallel_for(mine.size(),
-                     [&](std::size_t b, std::size_t e) { body(mine.begin + b, mine.begin + e); });
-    else
-        body(mine.begin, mine.end);
-    if (ranks.distributed()) {
-        Bytes part;
-        for (std::size_t t = mine.begin; t < mine.end; ++t) foton::pack(part, &irr_e_[order[t]], 1);
-        std::size_t t = 0;
-        for (const Bytes& b : ranks.all_gather(part))
-            for (Unpacker in(b); !in.done(); ++t) in.read(&irr_e_[order[t]], 1);
-    }
-    irr_tree_.build(irr_x_.data(), irr_y_.data(), irr_z_.data(), m);
-}
-
-int PhotonMap::best_irradiance(const uint32_t* idx, const float* d2, uint32_t found,
-                               const Vec3& n) const {
-    int best = -1;
-    float best_d2 = kInfinity;
-    for (uint32_t i = 0; i < found; ++i) {
-        // Normals agree within ~25 degrees (two-byte normals are good to about a degree).
-        if (dot(decode_direction(irr_n_[idx[i]]), n) < 0.9f) continue;
-        if (d2[i] < best_d2) {
-            best_d2 = d2[i];
-            best = int(idx[i]);
-        }
-    }
-    return best;
-}
-
-bool PhotonMap::lookup_irradiance(const Vec3& p, const Vec3& n, float max_radius, RGB& e) const {
-    uint32_t idx[kIrradianceCandidates];
-    float d2[kIrradianceCandidates];
-    const float q[3] = {p.x, p.y, p.z};
-    const uint32_t found =
-        irr_tree_.knn(q, max_radius * max_radius, kIrradianceCandidates, idx, d2);
-    const int best = best_irradiance(idx, d2, found, n);
-    if (best < 0) return false;
-    e = irr_e_[std::size_t(best)];
-    return true;
-}
-
-void PhotonMap::lookup_irradiance_batch(IrradianceQueries& q, std::vector<RGB>& e,
-                                        std::vector<uint8_t>& found) const {
-    const std::size_t n = q.size();
-    irr_tree_.knn_batch(q.x.data(), q.y.data(), q.z.data(), q.max_d2.data(), n,
-                        kIrradianceCandidates, q.knn);
-    e.resize(n);
-    found.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t row = i * kIrradianceCandidates;
-        const int best = best_irradiance(q.knn.index.data() + row, q.knn.dist2.data() + row,
-                                         q.knn.count[i], q.n[i]);
-        found[i] = best >= 0;
-        if (best >= 0) e[i] = irr_e_[std::size_t(best)];
-    }
-}
-
 void PhotonMap::build(const kern::PointKdTree::ParallelInvoke& parallel) {
     tree_.build(x_.data(), y_.data(), z_.data(), x_.size(), parallel);
 }
 
 std::size_t PhotonMap::memory_bytes() const {
-    return size() * (3 * sizeof(float) + sizeof(RGB) + 3) + tree_.memory_bytes();
+    // Position, power, direction, normal, flags and light per photon; the precomputed points.
+    const std::size_t power = compact_ ? sizeof(uint32_t) : sizeof(RGB);
+    return size() * (3 * sizeof(float) + power + 3 * sizeof(uint16_t) + sizeof(uint8_t)) +
+           tree_.memory_bytes() + irr_x_.size() * (3 * sizeof(float) + sizeof(uint16_t) + power) +
+           irr_tree_.memory_bytes();
 }
 
 RGB PhotonMap::total_power() const {
     double s[3] = {0, 0, 0};
-    for (const RGB& p : power_) {
+    for (std::size_t i = 0; i < size(); ++i) {
+        const RGB p = power(i);
         s[0] += p.r;
         s[1] += p.g;
         s[2] += p.b;
@@ -364,7 +253,7 @@ RGB PhotonMap::radiance_of(const Vec3& s, const Vec3& t, const Vec3& n, const Bs
         if (cn <= 0.f && (cn == 0.f || !bsdf.transmits_non_delta())) continue;
         const Vec3 wl{dot(w, s), dot(w, t), cn};
         const RGB f = bsdf.f(wo, wl, ctx);
-        sum += f * power_[idx[i]] * filter_weight(params, std::sqrt(d2[i]), r);
+        sum += f * power(idx[i]) * filter_weight(params, std::sqrt(d2[i]), r);
     }
     return sum * (1.f / (kPi * r * r));
 }
@@ -385,7 +274,7 @@ RGB PhotonMap::irradiance_of(const Vec3& n, const EstimateParams& params, uint32
     RGB sum;
     for (uint32_t i = 0; i < m; ++i) {
         if (dot(incident(idx[i]), n) <= 0.f) continue;
-        sum += power_[idx[i]] * filter_weight(params, std::sqrt(d2[i]), r);
+        sum += power(idx[i]) * filter_weight(params, std::sqrt(d2[i]), r);
     }
     return sum * (1.f / (kPi * r * r));
 }

@@ -79,6 +79,11 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
             PhotonMap direct = maps.global.extract(kPhotonDirect);
             if (settings.lighting == Lighting::Direct) maps.global = std::move(direct);
         }
+        if (ps.compact_power) {
+            maps.global.compact_power();
+            maps.direct.compact_power();
+            maps.shadow.compact_power();
+        }
         return s.emitted;
     });
     const uint32_t trace_caustic = graph.add("photons-caustic", [&]() -> uint64_t {
@@ -89,6 +94,7 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
             return 0;
         const ProgressTask task(graph.progress(), "photons-caustic", s.emitted);
         maps.caustic = tracer.run(s, caustic_stats, nullptr, &task, opt.cluster);
+        if (ps.compact_power) maps.caustic.compact_power();
         return s.emitted;
     });
     // After a cancel the maps are neither balanced nor read: the camera pass starts no tile.

@@ -47,6 +47,7 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
     }
     s.split_direct = p.boolean("split_direct", s.split_direct);
     s.guided_gather = p.boolean("guided_gather", s.guided_gather);
+    s.compact_power = p.boolean("compact_power", s.compact_power);
     s.guide_photons = uint32_t(p.integer("guide_photons", s.guide_photons, 1, 4096));
     s.initial_radius = p.real("initial_radius", s.initial_radius, 0.f);
     s.alpha = p.real("alpha", s.alpha);

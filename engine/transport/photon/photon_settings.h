@@ -47,6 +47,9 @@ struct PhotonSettings {
     // Photon-guided final gathering (Jensen 1995): gather directions at diffuse visible points
     // drawn from a histogram of the nearby indirect photons' incident power.
     bool guided_gather = false;
+    // Ward's RGBE for the photons' power and the precomputed irradiance (4 bytes, not 12;
+    // the thesis' 6.5): photon, sppm, ppm and the path guide's maps.
+    bool compact_power = false;
     uint32_t guide_photons = 400;  // nearest photons in the guide's histogram
     // Progressive photon mapping (ppm, sppm).
     float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius

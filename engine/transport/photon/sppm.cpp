@@ -146,6 +146,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         s.pass = 1000 + pass;
         s.cancel = opt.cancel;
         photons = tracer.run(s, local.local(), nullptr, nullptr, opt.cluster);
+        if (settings.photon.compact_power) photons.compact_power();
         return per_pass;
     });
     const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
