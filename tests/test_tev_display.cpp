@@ -219,39 +219,55 @@ TEST_CASE("foton render --display: a progressive render streams its passes to te
     }
 }
 
-TEST_CASE("foton render --display --aov: the AOVs reach tev as channels", "[tev][cli][aov]") {
-    test::TempDir dir;
+namespace {
+
+// Renders `args` (scene file and flags, under the source tree) streaming to a listener and
+// returns what tev received for the image `out` (written in `dir`).
+Decoded render_to_tev(const test::TempDir& dir, const std::string& args, const std::string& out) {
     TevListener tev;
-    const std::string cmd = std::string(FOTON_BINARY) + " render " +
-                            test::source_path("scenes/cornell-diffuse.xml") +
-                            " --width 20 --height 14 --spp 2 -q --integrator path --aov "
-                            "albedo,depth,samples --display " +
-                            tev.address() + " -o " + dir.file("aov.exr");
+    const std::string cmd = std::string(FOTON_BINARY) + " render " + args + " -q --display " +
+                            tev.address() + " -o " + dir.file(out);
     REQUIRE(std::system(cmd.c_str()) == 0);
-    const Decoded d = decode(tev.received(), "aov.exr");
-    CHECK(d.channels == std::vector<std::string>{"R", "G", "B", "Albedo.R", "Albedo.G", "Albedo.B",
-                                                 "Z", "samples"});
-    REQUIRE(d.planes.size() == 5);
+    return decode(tev.received(), out);
+}
+
+// Every value of the named channels as tev got them equals the EXR's.
+void check_planes_equal_exr(const Decoded& d, const std::string& exr_path,
+                            const std::vector<std::string>& names) {
     int w = 0, h = 0;
-    const std::vector<std::string> names{"Albedo.R", "Albedo.G", "Albedo.B", "Z", "samples"};
-    const std::vector<float> exr = read_exr_channels(dir.file("aov.exr"), names, w, h);
-    REQUIRE(w * h == 20 * 14);
+    const std::vector<float> exr = read_exr_channels(exr_path, names, w, h);
+    REQUIRE(w == d.width);
+    REQUIRE(h == d.height);
     for (std::size_t c = 0; c < names.size(); ++c)
         for (std::size_t p = 0; p < std::size_t(w * h); ++p)
             CHECK(d.planes.at(names[c])[p] == exr[p * names.size() + c]);
 }
 
+}  // namespace
+
+TEST_CASE("foton render --display --aov: the AOVs reach tev as channels", "[tev][cli][aov]") {
+    test::TempDir dir;
+    const Decoded d = render_to_tev(dir,
+                                    test::source_path("scenes/cornell-diffuse.xml") +
+                                        " --width 20 --height 14 --spp 2 --integrator path --aov "
+                                        "albedo,depth,samples",
+                                    "aov.exr");
+    CHECK(d.channels == std::vector<std::string>{"R", "G", "B", "Albedo.R", "Albedo.G", "Albedo.B",
+                                                 "Z", "samples"});
+    REQUIRE(d.planes.size() == 5);
+    check_planes_equal_exr(d, dir.file("aov.exr"),
+                           {"Albedo.R", "Albedo.G", "Albedo.B", "Z", "samples"});
+}
+
 TEST_CASE("foton render --display: layers named after the render make the image again",
           "[tev][cli][aov]") {
     test::TempDir dir;
-    TevListener tev;
-    const std::string cmd =
-        std::string(FOTON_BINARY) + " render " + test::source_path("scenes/cornell-caustics.xml") +
-        " --width 20 --height 14 --spp 1 -q --integrator photon --aov depth,components --set "
-        "global_photons=5000 --set caustic_photons=5000 --display " +
-        tev.address() + " -o " + dir.file("parts.exr");
-    REQUIRE(std::system(cmd.c_str()) == 0);
-    const Decoded d = decode(tev.received(), "parts.exr");
+    const Decoded d = render_to_tev(
+        dir,
+        test::source_path("scenes/cornell-caustics.xml") +
+            " --width 20 --height 14 --spp 1 --integrator photon --aov depth,components --set "
+            "global_photons=5000 --set caustic_photons=5000",
+        "parts.exr");
     // Made with R, G, B and Z, then again with the components the photon mapper names.
     CHECK(d.channels == std::vector<std::string>{"R", "G", "B", "Z", "emitted.R", "emitted.G",
                                                  "emitted.B", "direct.R", "direct.G", "direct.B",
@@ -259,12 +275,7 @@ TEST_CASE("foton render --display: layers named after the render make the image 
                                                  "indirect.R", "indirect.G", "indirect.B"});
     REQUIRE_FALSE(d.images.empty());
     CHECK(same(d.images.back(), read_exr(dir.file("parts.exr"))));
-    const std::vector<std::string> names{"Z", "caustic.G", "indirect.B"};
-    int w = 0, h = 0;
-    const std::vector<float> exr = read_exr_channels(dir.file("parts.exr"), names, w, h);
-    for (std::size_t c = 0; c < names.size(); ++c)
-        for (std::size_t p = 0; p < std::size_t(w * h); ++p)
-            CHECK(d.planes.at(names[c])[p] == exr[p * names.size() + c]);
+    check_planes_equal_exr(d, dir.file("parts.exr"), {"Z", "caustic.G", "indirect.B"});
 }
 
 TEST_CASE("foton render --display with no viewer: one warning, the render goes on", "[tev][cli]") {

@@ -260,7 +260,7 @@ void TevDisplay::run() {
         if (film)
             for (int y = 0, n = rows(3); ok && y < film->height; y += n)
                 ok = send_all(tev::update_image(name_, *film, y, std::min(film->height, y + n)));
-        if (film) last_ = film;
+        if (film) last_ = std::move(film);  // sent: kept for a remake, not copied
         for (const AovLayer& l : layers)
             for (int y = 0, n = rows(l.stride()); ok && y < height_; y += n)
                 ok = send_all(tev::update_layer(name_, l, width_, y, std::min(height_, y + n)));

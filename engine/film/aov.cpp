@@ -16,8 +16,9 @@ const EnumTable<uint32_t>& aov_names() {
     return table;
 }
 
-bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad) {
+bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad, uint32_t* named) {
     bits = 0;
+    if (named) *named = 0;
     std::istringstream in(text);
     for (std::string name; std::getline(in, name, ',');) {
         // Spaces around a name are the list's, not the name's.
@@ -29,6 +30,7 @@ bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad) {
             return false;
         }
         bits |= bit;
+        if (named && name != "all") *named |= bit;
     }
     return true;
 }

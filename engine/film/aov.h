@@ -44,7 +44,9 @@ enum AovBits : uint32_t {
 // albedo, normal, depth, position, variance, samples (and `all`), one bit each.
 const EnumTable<uint32_t>& aov_names();
 // "albedo,normal": the bits of a comma-separated list; false with `bad` the unknown name.
-bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad);
+// `named` (optional) gets the bits of the names other than `all`.
+bool parse_aov_list(const std::string& text, uint32_t& bits, std::string& bad,
+                    uint32_t* named = nullptr);
 // The names of `bits`, comma-separated, in aov_names()' order.
 std::string aov_list_text(uint32_t bits);
 

@@ -146,48 +146,28 @@ void check_claimed_size(const std::string& path, int width, int height, uint64_t
                              std::to_string(bytes) + " bytes: a corrupt header");
 }
 
-Film read_exr(const std::string& path) {
-    if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
-    try {
-        Imf::InputFile file(path.c_str());
-        const Imath::Box2i dw = file.header().dataWindow();
-        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-        // Half-float RGB is 6 bytes a pixel before compression; no OpenEXR codec packs a
-        // pixel into less than 1/256 of a byte.
-        check_claimed_size(path, w, h, 256);
-        Film film(w, h);
-        Imf::FrameBuffer fb;
-        char* base =
-            reinterpret_cast<char*>(film.pixels.data()) -
-            (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * w) * std::ptrdiff_t(sizeof(RGB));
-        const std::size_t xs = sizeof(RGB), ys = sizeof(RGB) * std::size_t(w);
-        fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, r), xs, ys));
-        fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, g), xs, ys));
-        fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(RGB, b), xs, ys));
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
-        return film;
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
-    }
-}
-
-std::vector<float> read_exr_channels(const std::string& path, const std::vector<std::string>& names,
-                                     int& width, int& height) {
+namespace {
+// The named channels of an OpenEXR file as float, interleaved per pixel over the data window.
+// A channel the file lacks is an error when `required`, else 0 (OpenEXR's fill).
+std::vector<float> read_float_channels(const std::string& path,
+                                       const std::vector<std::string>& names, bool required,
+                                       int& width, int& height) {
     if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such image file");
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
         width = dw.max.x - dw.min.x + 1;
         height = dw.max.y - dw.min.y + 1;
+        // Half-float RGB is 6 bytes a pixel before compression; no OpenEXR codec packs a
+        // pixel into less than 1/256 of a byte.
         check_claimed_size(path, width, height, 256);
-        for (const std::string& n : names)
-            if (!file.header().channels().findChannel(n))
-                throw InputError(path, 0, "the image has no channel '" + n + "'");
+        if (required)
+            for (const std::string& n : names)
+                if (!file.header().channels().findChannel(n))
+                    throw InputError(path, 0, "the image has no channel '" + n + "'");
         const std::size_t stride = names.size() * sizeof(float);
         std::vector<float> values(std::size_t(width) * std::size_t(height) * names.size());
+        // Slices address pixels by data-window coordinates.
         char* base =
             reinterpret_cast<char*>(values.data()) -
             (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * width) * std::ptrdiff_t(stride);
@@ -203,6 +183,21 @@ std::vector<float> read_exr_channels(const std::string& path, const std::vector<
     } catch (const std::exception& e) {
         throw InputError(path, 0, std::string("cannot read OpenEXR image: ") + e.what());
     }
+}
+}  // namespace
+
+Film read_exr(const std::string& path) {
+    static_assert(sizeof(RGB) == 3 * sizeof(float), "a film pixel is three floats");
+    int w = 0, h = 0;
+    const std::vector<float> v = read_float_channels(path, {"R", "G", "B"}, false, w, h);
+    Film film(w, h);
+    std::memcpy(static_cast<void*>(film.pixels.data()), v.data(), v.size() * sizeof(float));
+    return film;
+}
+
+std::vector<float> read_exr_channels(const std::string& path, const std::vector<std::string>& names,
+                                     int& width, int& height) {
+    return read_float_channels(path, names, true, width, height);
 }
 
 ImageAttributes read_exr_attributes(const std::string& path) {

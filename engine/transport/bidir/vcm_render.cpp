@@ -181,13 +181,15 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     const uint32_t splat = graph.add("splat", [&]() -> uint64_t {
         StageClock clock;
         const std::size_t count = sums.add_splats(splats, light_mine, cluster);
-        // Each layer's splats, in the same chunk order.
-        for (uint32_t l = 0; l < n_layers; ++l) {
-            std::vector<std::vector<Splat>> part(light_chunks);
+        // Each layer's splats, sorted out in one pass, in the same chunk order.
+        if (n_layers) {
+            std::vector<std::vector<std::vector<Splat>>> by_layer(
+                n_layers, std::vector<std::vector<Splat>>(light_chunks));
             for (uint64_t k = light_mine.begin; k < light_mine.end; ++k)
                 for (std::size_t i = 0; i < splats[k].size(); ++i)
-                    if (splat_layers[k][i] == l) part[k].push_back(splats[k][i]);
-            layer_sums[l].add_splats(part, light_mine, cluster);
+                    by_layer[splat_layers[k][i]][k].push_back(splats[k][i]);
+            for (uint32_t l = 0; l < n_layers; ++l)
+                layer_sums[l].add_splats(by_layer[l], light_mine, cluster);
         }
         stats.local().add(Stage::Accumulate, count, clock);
         return count;

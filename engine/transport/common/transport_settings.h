@@ -7,6 +7,7 @@
 #include <string>
 
 #include "engine/core/params.h"
+#include "engine/film/aov.h"
 
 namespace foton {
 
@@ -26,6 +27,17 @@ enum Capability : uint32_t {
     kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
     kCapLightSelection = 1u << 8,   // light_selection: next event estimation's light choice
     kCapComponents = 1u << 9,       // the components AOV: its estimate's parts apart
+};
+
+// The AOVs (film/aov.h's bits) only integrators with a capability make: asked for by name
+// elsewhere they are an error, `all` leaves them out.
+struct AovRequirement {
+    uint32_t aov, cap;
+    const char* needs;  // "the variance AOV needs pixel samples:"
+};
+inline constexpr AovRequirement kAovRequirements[] = {
+    {kAovVariance, kCapCamera, "the variance AOV needs pixel samples:"},
+    {kAovComponents, kCapComponents, "the components AOV needs"},
 };
 
 // The chosen integrator as the settings' rules see it.

@@ -91,14 +91,10 @@ std::optional<SettingsProblem> capability_problem(const IntegratorInfo& info,
         return SettingsProblem{"adaptive", "adaptive sampling applies to camera integrators (" +
                                                integrators_with(kCapCamera) + "), not type=\"" +
                                                info.name + "\""};
-    if ((s.aovs & kAovVariance) && !info.has(kCapCamera))
-        return SettingsProblem{
-            "aov", "the variance AOV needs pixel samples: " + integrators_with(kCapCamera) +
-                       ", not type=\"" + info.name + "\""};
-    if ((s.aovs & kAovComponents) && !info.has(kCapComponents))
-        return SettingsProblem{"aov", "the components AOV needs " +
-                                          integrators_with(kCapComponents) + ", not type=\"" +
-                                          info.name + "\""};
+    for (const AovRequirement& q : kAovRequirements)
+        if ((s.aovs & q.aov) && !info.has(q.cap))
+            return SettingsProblem{"aov", std::string(q.needs) + " " + integrators_with(q.cap) +
+                                              ", not type=\"" + info.name + "\""};
     if (s.indirect == IndirectMode::IrradianceCache) {
         if (!info.has(kCapIrradianceCache))
             return SettingsProblem{"indirect", "indirect=\"irradiance_cache\" needs " +

@@ -29,16 +29,8 @@ class CameraDriver {
     // in this piece of the pass.
     void make_jobs(const Tile& t, uint32_t pass, uint32_t s0, uint32_t s1,
                    std::vector<SampleJob>& jobs) const {
-        const uint32_t spp = opt_.spp;
-        const uint64_t npix = scene_.film.full_pixels();
         jobs.clear();
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                const uint64_t pixel = scene_.film.pixel_id(uint32_t(x), uint32_t(y));
-                for (uint32_t s = s0; s < s1; ++s)
-                    jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
-                                    (uint64_t(pass) * npix + pixel) * spp + s});
-            }
+        append_pass_jobs(scene_.film, t, pass, s0, s1, opt_.spp, jobs);
     }
 
     // The samples' radiance, and their components to `parts` (one sum per component).

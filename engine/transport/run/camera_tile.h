@@ -8,6 +8,8 @@
 
 #include "engine/core/rgb.h"
 #include "engine/film/pixel_sums.h"
+#include "engine/scene/scene.h"
+#include "engine/transport/common/camera_integrator.h"
 
 namespace foton {
 
@@ -22,6 +24,21 @@ inline std::vector<Tile> make_tiles(int width, int height, int size) {
         for (int x = 0; x < width; x += size)
             tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
     return tiles;
+}
+
+// Appends the samples [s0, s1) of every pixel of `t` in pass `pass` of `spp` samples per pixel:
+// the one place that numbers camera samples (a pattern point and an id unique in the image),
+// so the first-hit AOVs' pass traces the very rays of the render's first pass.
+inline void append_pass_jobs(const FilmSettings& film, const Tile& t, uint32_t pass, uint32_t s0,
+                             uint32_t s1, uint32_t spp, std::vector<SampleJob>& jobs) {
+    const uint64_t npix = film.full_pixels();
+    for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) {
+            const uint64_t pixel = film.pixel_id(uint32_t(x), uint32_t(y));
+            for (uint32_t s = s0; s < s1; ++s)
+                jobs.push_back({uint32_t(x), uint32_t(y), s, spp, pass,
+                                (uint64_t(pass) * npix + pixel) * spp + s});
+        }
 }
 
 struct TileSums {

@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "camera_tile.h"
 #include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
 #include "engine/core/thread_pinning.h"
@@ -58,15 +59,9 @@ Vec3 to_camera(const Camera& c, const Vec3& v) {
 // batch, each hit's quantities added to its pixel.
 void trace_row(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
                uint64_t seed, uint32_t spp, int y, FirstHitSums* row) {
-    const int width = scene.film.width;
-    const uint64_t npix = scene.film.full_pixels();
     std::vector<SampleJob> jobs;
-    jobs.reserve(std::size_t(width) * spp);
-    for (int x = 0; x < width; ++x) {
-        const uint64_t pixel = scene.film.pixel_id(uint32_t(x), uint32_t(y));
-        for (uint32_t s = 0; s < spp; ++s)
-            jobs.push_back({uint32_t(x), uint32_t(y), s, spp, 0, (0 * npix + pixel) * spp + s});
-    }
+    jobs.reserve(std::size_t(scene.film.width) * spp);
+    append_pass_jobs(scene.film, {0, y, scene.film.width, y + 1}, 0, 0, spp, spp, jobs);
     RayBatch rays;
     generate_camera_rays(scene, settings.sampler, jobs, seed, rays);
     HitBatch hits;

@@ -50,19 +50,15 @@ void parse_aovs(const ParamSet& p, const IntegratorTraits& it, RenderSettings& r
     if (!p.has("aov")) return;
     const std::string text = p.text("aov", "");
     std::string bad;
-    if (!parse_aov_list(text, r.aovs, bad))
+    uint32_t named = 0;
+    if (!parse_aov_list(text, r.aovs, bad, &named))
         p.fail("aov", "unknown AOV '" + bad + "' (" + aov_names().list() + ")");
-    if (!it.has(kCapCamera) && (r.aovs & kAovVariance)) {
-        if (text.find("variance") != std::string::npos)
-            p.fail("aov", "the variance AOV needs pixel samples: " + it.names_with(kCapCamera) +
-                              ", not type=\"" + it.name + "\"");
-        r.aovs &= ~uint32_t(kAovVariance);  // from `all`
-    }
-    if (!it.has(kCapComponents) && (r.aovs & kAovComponents)) {
-        if (text.find("components") != std::string::npos)
-            p.fail("aov", "the components AOV needs " + it.names_with(kCapComponents) +
-                              ", not type=\"" + it.name + "\"");
-        r.aovs &= ~uint32_t(kAovComponents);
+    for (const AovRequirement& q : kAovRequirements) {
+        if (it.has(q.cap) || !(r.aovs & q.aov)) continue;
+        if (named & q.aov)
+            p.fail("aov", std::string(q.needs) + " " + it.names_with(q.cap) + ", not type=\"" +
+                              it.name + "\"");
+        r.aovs &= ~q.aov;  // from `all`
     }
 }
 
