@@ -180,6 +180,10 @@ TEST_CASE("golden image hashes: cornell-caustics", "[golden]") {
 TEST_CASE("golden image hashes: cornell-empty", "[golden]") {
     check_scene("cornell-empty");
 }
+// Participating media: volpath's configuration renders it, the others refuse it ("error").
+TEST_CASE("golden image hashes: cornell-fog", "[golden]") {
+    check_scene("cornell-fog");
+}
 TEST_CASE("golden image hashes: cornell-glass-caustic", "[golden]") {
     check_scene("cornell-glass-caustic");
 }

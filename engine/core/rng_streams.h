@@ -23,6 +23,8 @@ enum RandomStream : uint64_t {
     kBidirCameraStream = 0xb1d2,        // bdpt/bpm/vcm camera subpaths
     kCacheVertexChoiceStream = 0xc401,  // path + cache: delta or diffuse at the cache's vertex
     kAovStream = 0xa0f,                 // the albedo AOV's BSDF samples
+    kMediumStream = 0x3ed1,             // volumetric paths: free flights and collisions
+    kMediumShadowStream = 0x3ed2,       // ratio tracking along shadow rays through media
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -38,6 +40,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kBidirLightStream,
                                                      kBidirCameraStream,
                                                      kCacheVertexChoiceStream,
-                                                     kAovStream};
+                                                     kAovStream,
+                                                     kMediumStream,
+                                                     kMediumShadowStream};
 
 }  // namespace foton

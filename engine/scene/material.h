@@ -36,6 +36,9 @@ struct Material {
         return !emission.is_black() && (front_face || emission_two_sided);
     }
     std::string name;  // the XML type, for `foton info`
+    // A surface that is no surface (pbrt-v4's "interface" material): it only bounds media, and
+    // rays pass it unchanged. Its bsdf is empty.
+    bool is_interface = false;
     // A texture on the reflectance (into Scene::textures, -1: none): at a hit, the lobes in
     // `textured_lobes` (bit i: lobe i) and base_color are multiplied by its value there
     // (their stored colour holds the rest: mix weights, coat transmission).

@@ -14,6 +14,7 @@
 #include "environment.h"
 #include "light.h"
 #include "material.h"
+#include "medium.h"
 #include "mesh.h"
 #include "texture.h"
 
@@ -38,6 +39,8 @@ struct Object {
     // in its own space and shared by every object that places it: the accelerators build
     // one structure for it (a BLAS) and trace rays taken into that space.
     int32_t instance = -1;
+    // The media on its two sides (medium.h): a boundary when they differ.
+    MediumInterface media;
 };
 
 // The transform of an instanced object, both ways.
@@ -90,6 +93,21 @@ struct Scene {
     std::vector<Instance> instances;
     std::vector<Texture> textures;
     std::vector<TextureImage> texture_images;  // decoded once, shared by textures
+    // Participating media (medium.h), and the one the camera sits in.
+    std::vector<Medium> media;
+    int32_t camera_medium = kNoMedium;
+    // Where the scene first asks for volumetric transport (a medium, or an interface material
+    // that only bounds one); no file when it does not. Integrators that do not trace media
+    // refuse such a scene at that file and line.
+    std::string volumetric_file;
+    int volumetric_line = 0;
+    bool volumetric() const { return !volumetric_file.empty(); }
+    void mark_volumetric(const std::string& file, int line) {
+        if (volumetric_file.empty()) {
+            volumetric_file = file;
+            volumetric_line = line;
+        }
+    }
     AccelType accel = AccelType::Bvh;
     float grid_density = 0.5f;  // cells per triangle of the mesh grids
     Camera camera;

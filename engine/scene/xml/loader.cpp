@@ -40,12 +40,12 @@ Scene Loader::run() {
     const pugi::xml_node root = doc.document_element();
     if (std::string_view(root.name()) != "scene")
         fail(root, std::string("root element must be <scene>, not <") + root.name() + ">");
-    check(
-        root, {},
-        {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer", "camera"});
+    check(root, {},
+          {"background", "ambient", "lights", "aggregate", "objects", "film", "renderer", "camera",
+           "media"});
     scene_.source = name_;
     for (const char* once : {"background", "ambient", "lights", "aggregate", "objects", "film",
-                             "renderer", "camera"}) {
+                             "renderer", "camera", "media"}) {
         int k = 0;
         for (const pugi::xml_node& c : root.children(once)) {
             if (++k > 1) fail(c, std::string("<") + once + "> given more than once");
@@ -70,6 +70,8 @@ Scene Loader::run() {
                         "' (brute, brute-simd, grid, bvh, embree)");
         scene_.grid_density = positive(n, "density", scene_.grid_density);
     }
+    // Media before the camera and the objects, which name them.
+    if (const auto n = root.child("media")) parse_media(n);
     parse_camera(child(root, "camera"));
     if (const auto n = root.child("lights")) parse_lights(n);
     if (scene_.environment && root.child("background"))
@@ -119,7 +121,7 @@ void Loader::parse_renderer(const pugi::xml_node& n) {
 }
 
 void Loader::parse_camera(const pugi::xml_node& n) {
-    check(n, {"type", "d", "exposure", "fov", "lens_radius", "focal_distance"},
+    check(n, {"type", "d", "exposure", "fov", "lens_radius", "focal_distance", "medium"},
           {"eye", "target", "up"});
     Camera& c = scene_.camera;
     const std::string type = n.attribute("type") ? n.attribute("type").value() : "perspective";
@@ -157,6 +159,7 @@ void Loader::parse_camera(const pugi::xml_node& n) {
     c.pixel_size = scene_.film.pixel_size;
     if (length_squared(c.target - c.eye) == 0.f) fail(n, "camera eye and target coincide");
     c.lens_radius = non_negative(n, "lens_radius", 0.f);
+    scene_.camera_medium = medium_ref(n, "medium");
     c.focal_distance = positive(n, "focal_distance", length(c.target - c.eye));
     if (c.lens_radius > 0.f && c.type != CameraType::Perspective)
         fail(n, "a thin lens (lens_radius) needs a perspective camera");

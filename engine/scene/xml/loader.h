@@ -150,6 +150,11 @@ class Loader {
     }
 
     void parse_lights(const pugi::xml_node& n);
+    // media.cpp: <media>, and the medium an attribute names (kNoMedium when absent or "").
+    void parse_media(const pugi::xml_node& n);
+    int32_t medium_ref(const pugi::xml_node& n, const char* attr) const;
+    MediumInterface medium_interface(const pugi::xml_node& object) const;
+    std::map<std::string, int32_t> medium_ids_;
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);
     void parse_renderer(const pugi::xml_node& n);
@@ -185,6 +190,7 @@ class Loader {
     void conductor_material(const pugi::xml_node& n, bool top, Material& m);
     void dielectric_material(const pugi::xml_node& n, bool top, Material& m);
     void diffuse_transmission_material(const pugi::xml_node& n, bool top, Material& m);
+    void interface_material(const pugi::xml_node& n, bool top, Material& m);
     void microfacet_material(const pugi::xml_node& n, bool top, Material& m);
     void mix_material(const pugi::xml_node& n, bool top, Material& m);
     void material_texture(const pugi::xml_node& n, Material& m);

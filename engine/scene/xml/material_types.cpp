@@ -94,6 +94,18 @@ void Loader::diffuse_transmission_material(const pugi::xml_node& n, bool top, Ma
     m.c_diffuse = 1.f;
 }
 
+// pbrt-v4's "interface": no surface at all, only the boundary of a medium (the object's
+// medium_inside and medium_outside say which); rays pass it unchanged.
+void Loader::interface_material(const pugi::xml_node& n, bool top, Material& m) {
+    generic(m);
+    if (!top) fail(n, "an interface material cannot be a component of a mix");
+    check_material(n, top, {}, {});
+    if (n.child("emission") || n.child("texture"))
+        fail(n, "an interface material neither emits nor takes a texture (it is no surface)");
+    m.is_interface = true;
+    scene_.mark_volumetric(name_, line_of(n));
+}
+
 void Loader::conductor_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
     check_material(n, top,

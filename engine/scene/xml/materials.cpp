@@ -103,6 +103,7 @@ const std::vector<Loader::MaterialReader>& Loader::material_readers() {
         {"microfacet", &Loader::microfacet_material},
         {"mix", &Loader::mix_material},
         {"diffuse_transmission", &Loader::diffuse_transmission_material},
+        {"interface", &Loader::interface_material},
     };
     return readers;
 }

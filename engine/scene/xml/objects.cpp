@@ -127,7 +127,8 @@ void Loader::parse_objects(const pugi::xml_node& n) {
         if (o.type() != pugi::node_element) continue;
         const std::string_view kind = o.name();
         if (kind == "triangle_mesh") {
-            check(o, {"src", "smooth", "name"}, {"material", "transform"});
+            check(o, {"src", "smooth", "name", "medium_inside", "medium_outside"},
+                  {"material", "transform"});
             const std::string src = o.attribute("src").value();
             if (src.empty()) fail(o, "<triangle_mesh> needs attribute 'src'");
             const std::filesystem::path path = std::filesystem::path(base_) / src;
@@ -138,9 +139,14 @@ void Loader::parse_objects(const pugi::xml_node& n) {
                                                 : "cannot read mesh file (" + problem + ")") +
                             ": '" + src + "' (looked for " + path.string() + ")");
             const Affine xf = parse_transform(o);
+            const std::size_t first = scene_.objects.size();
             place_mesh_file(o, src, path.string(), xf, placements[path.string()] > 1);
+            const MediumInterface mi = medium_interface(o);
+            for (std::size_t k = first; k < scene_.objects.size(); ++k)
+                scene_.objects[k].media = mi;
         } else if (kind == "quad") {
-            check(o, {"name"}, {"corner", "edge1", "edge2", "material", "transform"});
+            check(o, {"name", "medium_inside", "medium_outside"},
+                  {"corner", "edge1", "edge2", "material", "transform"});
             const Vec3 c = xyz_child(o, "corner"), e1 = xyz_child(o, "edge1"),
                        e2 = xyz_child(o, "edge2");
             if (length_squared(cross(e1, e2)) == 0.f) fail(o, "quad has zero area");
@@ -151,15 +157,18 @@ void Loader::parse_objects(const pugi::xml_node& n) {
             for (const Vec3& v : p) q.positions.insert(q.positions.end(), {v.x, v.y, v.z});
             q.indices = {0, 1, 2, 0, 2, 3};
             if (!xf.is_identity()) q.transform(xf);
-            scene_.add_mesh(std::move(q), parse_material(o), false);
+            const uint32_t id = scene_.add_mesh(std::move(q), parse_material(o), false);
+            scene_.objects[id].media = medium_interface(o);
         } else {
-            check(o, {"radius", "name"}, {"center", "material", "transform"});
+            check(o, {"radius", "name", "medium_inside", "medium_outside"},
+                  {"center", "material", "transform"});
             Sphere s;
             s.center = xyz_child(o, "center");
             s.radius = number(o, "radius");
             if (!(s.radius > 0.f)) fail(o, "sphere radius must be positive");
             if (!s.transform(parse_transform(o))) fail(o, "a sphere takes only uniform scaling");
-            scene_.add_sphere(s, parse_material(o));
+            const uint32_t id = scene_.add_sphere(s, parse_material(o));
+            scene_.objects[id].media = medium_interface(o);
         }
     }
 }

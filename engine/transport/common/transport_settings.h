@@ -27,6 +27,7 @@ enum Capability : uint32_t {
     kCapPhotonMap = 1u << 7,        // has a photon map: cache_secondary="photon"
     kCapLightSelection = 1u << 8,   // light_selection: next event estimation's light choice
     kCapComponents = 1u << 9,       // the components AOV: its estimate's parts apart
+    kCapMedia = 1u << 10,           // traces participating media (scenes with <media>)
 };
 
 // The AOVs (film/aov.h's bits) only integrators with a capability make: asked for by name

@@ -12,7 +12,7 @@
 #include "engine/transport/irradiance_cache/cache_render.h"
 #include "engine/transport/run/camera_driver.h"
 #include "path_guide.h"
-#include "path_sampler.h"
+#include "engine/transport/common/path_sampler.h"
 
 namespace foton {
 

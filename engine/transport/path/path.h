@@ -29,7 +29,7 @@
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_context.h"
 #include "engine/transport/run/render_options.h"
-#include "path_sampler.h"
+#include "engine/transport/common/path_sampler.h"
 
 namespace foton {
 

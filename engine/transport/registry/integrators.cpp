@@ -10,6 +10,7 @@
 #include "engine/transport/path/path.h"
 #include "engine/transport/photon/photon_render.h"
 #include "engine/transport/photon/sppm.h"
+#include "engine/transport/volume/volpath.h"
 #include "engine/transport/whitted/whitted.h"
 
 namespace foton {
@@ -42,6 +43,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"bdpt", {}, "bidirectional path tracing", kCapBidirectional | kCapStrategyDebug, nullptr, render_bdpt},
         {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
         {"vcm", {}, "vertex connection and merging", kCapBidirectional | kCapMerging, nullptr, render_vcm},
+        {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia, parse_volpath, render_volpath},
         {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
     };
     // clang-format on

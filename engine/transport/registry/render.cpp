@@ -22,6 +22,12 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
     // Settings made by hand (a test, a tool) meet the rules render_settings() checks.
     if (const std::optional<SettingsProblem> p = capability_problem(*info, settings))
         throw InputError("renderer", 0, p->key + (": " + p->message));
+    // A scene with media rendered by an integrator that would pass through them silently.
+    if (scene.volumetric() && !info->has(kCapMedia))
+        throw InputError(scene.volumetric_file, scene.volumetric_line,
+                         "the scene has participating media, which type=\"" +
+                             std::string(info->name) + "\" does not trace: use " +
+                             integrators_with(kCapMedia));
     // oneTBB runs no more threads than the hardware has unless told otherwise: a request
     // for more (a scaling study, a determinism test) raises the limit for this render, so
     // the threads recorded are the threads that ran.

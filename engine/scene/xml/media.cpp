@@ -1,0 +1,59 @@
+// <media>: participating media by name, and the medium references of the camera and objects.
+#include "loader.h"
+
+namespace foton::xml {
+
+void Loader::parse_media(const pugi::xml_node& n) {
+    check(n, {}, {"medium"});
+    for (const pugi::xml_node& e : n.children("medium")) {
+        check(e, {"name", "type", "g", "scale"}, {"sigma_a", "sigma_s", "emission"});
+        Medium m;
+        m.name = e.attribute("name").value();
+        if (m.name.empty()) fail(e, "<medium> needs attribute 'name'");
+        if (medium_ids_.count(m.name)) fail(e, "medium '" + m.name + "' defined twice");
+        const std::string type = e.attribute("type") ? e.attribute("type").value() : "homogeneous";
+        if (type != "homogeneous") fail(e, "unknown medium type '" + type + "' (homogeneous)");
+        // Coefficients per unit of scene length; `scale` multiplies both (pbrt-v4's scale).
+        const float scale = non_negative(e, "scale", 1.f);
+        m.sigma_a = rgb_child(e, "sigma_a", RGB{0.f}) * scale;
+        m.sigma_s = rgb_child(e, "sigma_s", RGB{0.f}) * scale;
+        m.g = number(e, "g", 0.f);
+        if (!(m.g > -1.f && m.g < 1.f)) fail(e, "the phase function's g must be in (-1, 1)");
+        if (!e.child("sigma_a") && !e.child("sigma_s"))
+            fail(e, "<medium> needs <sigma_a> or <sigma_s> (per unit length)");
+        if (!(m.majorant() < 1e12f))
+            fail(e, "the medium's extinction must be below 1e12 per unit length");
+        if (const pugi::xml_node le = e.child("emission")) {
+            check(le, {"r", "g", "b", "intensity"}, {});
+            m.Le = emitted(le, rgb(le, {"intensity"}) * non_negative(le, "intensity", 1.f));
+            if (m.sigma_a.is_black())
+                fail(le, "an emitting medium needs absorption (it emits sigma_a Le)");
+        }
+        m.where = name_ + ":" + std::to_string(line_of(e));
+        medium_ids_[m.name] = int32_t(scene_.media.size());
+        scene_.media.push_back(std::move(m));
+        scene_.mark_volumetric(name_, line_of(e));
+    }
+}
+
+int32_t Loader::medium_ref(const pugi::xml_node& n, const char* attr) const {
+    const pugi::xml_attribute a = n.attribute(attr);
+    if (!a || !*a.value()) return kNoMedium;  // "" is vacuum, as in pbrt-v4
+    const auto it = medium_ids_.find(a.value());
+    if (it == medium_ids_.end()) {
+        std::string names;
+        for (const auto& [name, id] : medium_ids_) names += (names.empty() ? "" : ", ") + name;
+        fail(n, std::string("unknown medium '") + a.value() + "' in attribute '" + attr + "' (" +
+                    (names.empty() ? "no <media> defined" : names) + ")");
+    }
+    return it->second;
+}
+
+MediumInterface Loader::medium_interface(const pugi::xml_node& object) const {
+    MediumInterface mi;
+    mi.inside = medium_ref(object, "medium_inside");
+    mi.outside = medium_ref(object, "medium_outside");
+    return mi;
+}
+
+}  // namespace foton::xml

@@ -1,0 +1,286 @@
+#include "volpath.h"
+
+#include <any>
+#include <cmath>
+
+#include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
+#include "engine/scene/light_set.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/medium_shadow.h"
+#include "engine/transport/common/mis.h"
+#include "engine/transport/common/next_event.h"
+#include "engine/transport/common/path_sampler.h"
+#include "engine/transport/common/surface.h"
+#include "engine/transport/common/wavefront.h"
+#include "engine/transport/run/camera_driver.h"
+#include "engine/transport/run/render_context.h"
+
+namespace foton {
+
+namespace {
+
+// The path tracer's dimensions per vertex (common/path_sampler.h); a medium vertex takes the
+// light's and the direction's the same way (the phase function has one lobe).
+constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLight,
+                   kDimBsdf = kPathDimBsdf, kDimRoulette = kPathDimRoulette;
+// More interface crossings than this end a path: only a ray caught between coincident
+// boundaries gets there.
+constexpr uint32_t kMaxCrossings = 256;
+
+struct VolPathWorkspace : IntegratorWorkspace {
+    RayBatch rays, next;
+    HitBatch hits;
+    MediumShadowRays shadow;
+    // Per path, by slot.
+    std::vector<RGB> beta;
+    std::vector<float> eta_scale;        // product of eta^2 over refractions (roulette)
+    std::vector<float> pdf_prev;         // solid-angle pdf of the sample that made the ray
+    std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
+    std::vector<Vec3> p_prev, n_prev;    // where it started (normal zero in a medium)
+    std::vector<int32_t> medium;         // the medium the ray travels in
+    std::vector<uint32_t> vertices;      // scattering vertices so far (surface or medium)
+    std::vector<uint32_t> crossings;     // interfaces passed
+    std::vector<uint32_t> draws;         // free-flight numbers drawn (kMediumStream)
+    std::vector<uint64_t> keys;
+    std::vector<PathSampler> samplers;
+};
+
+class VolPathIntegrator : public CameraIntegrator {
+  public:
+    VolPathIntegrator(const RenderContext& ctx, const VolPathSettings& own)
+        : ctx_(ctx),
+          own_(own),
+          mis_{ctx.settings.mis, ctx.settings.mis_beta},
+          flight_prefix_(rng::stream_prefix(ctx.seed, kMediumStream)) {}
+
+    std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
+        return std::make_unique<VolPathWorkspace>();
+    }
+
+    void trace_phase(uint32_t, const std::vector<SampleJob>& jobs, IntegratorWorkspace& base,
+                     std::vector<RGB>& radiance, RenderStats& stats) const override {
+        VolPathWorkspace& ws = static_cast<VolPathWorkspace&>(base);
+        StageClock clock;
+        const std::size_t n = jobs.size();
+        radiance.assign(n, RGB{0.f});
+        ws.beta.assign(n, RGB{1.f});
+        ws.eta_scale.assign(n, 1.f);
+        ws.pdf_prev.assign(n, 0.f);
+        ws.specular_prev.assign(n, 1);
+        ws.p_prev.assign(n, Vec3{});
+        ws.n_prev.assign(n, Vec3{});
+        ws.medium.assign(n, ctx_.scene.camera_medium);
+        ws.vertices.assign(n, 0);
+        ws.crossings.assign(n, 0);
+        ws.draws.assign(n, 0);
+        ws.keys.resize(n);
+        ws.samplers.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            ws.keys[i] = jobs[i].id;
+            ws.samplers[i] =
+                PathSampler::for_job(ctx_.settings.sampler, ctx_.scene, jobs[i], ctx_.seed);
+        }
+        ws.rays.clear();
+        generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
+        stats.camera_rays += n;
+        stats.add(Stage::Generate, n, clock);
+        run_wavefront(
+            ctx_.accel, ws.rays, ws.next, ws.hits, 0, std::numeric_limits<uint32_t>::max(), stats,
+            clock,
+            [&](uint32_t) {
+                ws.shadow.clear();
+                for (std::size_t i = 0; i < ws.rays.size(); ++i) shade_ray(i, ws, radiance);
+            },
+            [&](uint32_t) {
+                ws.shadow.resolve(ctx_.scene, ctx_.accel, own_.transmittance, ctx_.seed, radiance,
+                                  stats, clock);
+            });
+    }
+
+  private:
+    float rand(const VolPathWorkspace& ws, uint32_t slot, uint32_t k) const {
+        return ws.samplers[slot].get1(ctx_.seed, ws.vertices[slot], k);
+    }
+    Point2 rand2(const VolPathWorkspace& ws, uint32_t slot, uint32_t k) const {
+        return ws.samplers[slot].get2(ctx_.seed, ws.vertices[slot], k);
+    }
+
+    // Emission found by a sampled ray, weighed against next event estimation's density of
+    // the same light point (`light_pdf`, evaluated only when needed).
+    template <class LightPdf>
+    float emission_weight(const VolPathWorkspace& ws, uint32_t slot, LightPdf&& light_pdf) const {
+        if (ws.vertices[slot] == 0 || ws.specular_prev[slot] || !ctx_.settings.nee) return 1.f;
+        if (mis_.heuristic == MisHeuristic::None) return 0.f;
+        return mis_weight_bsdf(mis_, ws.pdf_prev[slot], light_pdf());
+    }
+
+    void shade_ray(std::size_t i, VolPathWorkspace& ws, std::vector<RGB>& radiance) const {
+        const uint32_t slot = ws.rays.id[i];
+        const uint32_t geom = ws.hits.geom[i];
+        const Vec3 d = ws.rays.direction(i);
+        RGB& beta = ws.beta[slot];
+        if (const int32_t mi = ws.medium[slot]; mi != kNoMedium) {
+            const Medium& med = ctx_.scene.media[std::size_t(mi)];
+            const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[i];
+            auto u = [&] {
+                return rng::uniform_from(flight_prefix_, ws.keys[slot], ws.draws[slot]++);
+            };
+            const FreeFlight f = free_flight(med, t_end, beta, own_.free_flight, u);
+            // The medium's own light along the flight: no light sample finds it, full weight.
+            if (!f.emitted.is_black()) radiance[slot] += beta * f.emitted;
+            if (f.event == FreeFlight::Event::Absorb) return;
+            beta *= f.weight;
+            if (beta.is_black()) return;
+            if (f.event == FreeFlight::Event::Scatter) {
+                medium_vertex(slot, ws.rays.origin(i) + d * f.t, d, med, ws);
+                return;
+            }
+        }
+        if (geom == kNoHit) {
+            if (!ctx_.scene.environment)
+                radiance[slot] += beta * ctx_.scene.background;
+            else
+                radiance[slot] +=
+                    beta * ctx_.scene.environment->Le(d) *
+                    emission_weight(ws, slot, [&] { return ctx_.lights.nee_environment_pdf(d); });
+            return;
+        }
+        surface_vertex(i, ws, radiance);
+    }
+
+    // A scattering event inside medium `med` at p, the ray having come along d.
+    void medium_vertex(uint32_t slot, const Vec3& p, const Vec3& d, const Medium& med,
+                       VolPathWorkspace& ws) const {
+        if (ws.vertices[slot] >= ctx_.settings.max_depth) return;
+        const Vec3 wo = -d;
+        const RGB& beta = ws.beta[slot];
+        if (ctx_.settings.nee && !ctx_.lights.empty()) {
+            LightPick pick;
+            LightSample ls;
+            if (ctx_.lights.pick(rand(ws, slot, kDimLightSelect), p, Vec3{}, pick) &&
+                ctx_.lights.sample_li(pick.light, p, rand2(ws, slot, kDimLight),
+                                      rand(ws, slot, kDimLight + 2), ls, pick.tri)) {
+                const float phase = henyey_greenstein(dot(wo, ls.wi), med.g);
+                const float pl = pick.pmf * ls.pdf;
+                const bool full = mis_.heuristic == MisHeuristic::None ||
+                                  ctx_.lights.emitter(pick.light).is_delta();
+                const float w = full ? 1.f : mis_weight(mis_, pl, phase);
+                const RGB value = beta * ls.Li * (phase * w / pl);
+                if (!value.is_black()) {
+                    // A point in a medium has no surface to be pushed off.
+                    SurfacePoint sp{};
+                    sp.p = p;
+                    const ShadowRay r = shadow_ray_to(sp, ls);
+                    ws.shadow.push(r.origin, r.dir, r.tmax, ws.medium[slot], slot, value,
+                                   rng::hash(ws.keys[slot], ws.vertices[slot], 0, 0));
+                }
+            }
+        }
+        // The phase function is sampled exactly: f / pdf = 1.
+        Vec3 wi;
+        const float pdf = sample_henyey_greenstein(wo, med.g, rand2(ws, slot, kDimBsdf + 1), wi);
+        go_on(slot, p, Vec3{}, p, wi, pdf, false, ws);
+    }
+
+    void surface_vertex(std::size_t i, VolPathWorkspace& ws, std::vector<RGB>& radiance) const {
+        const RenderSettings& rs = ctx_.settings;
+        const uint32_t slot = ws.rays.id[i];
+        const uint32_t geom = ws.hits.geom[i];
+        const Vec3 d = ws.rays.direction(i);
+        RGB& beta = ws.beta[slot];
+        const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
+        std::optional<Material> scratch;
+        const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+        if (m.is_interface) {
+            // No vertex: on into the medium beyond, with everything else as it was.
+            if (++ws.crossings[slot] > kMaxCrossings) return;
+            ws.medium[slot] = medium_after(ctx_.scene, geom, sp, d, ws.medium[slot]);
+            ws.next.push(offset_origin(sp, d), d, 0.f, kInfinity, slot);
+            return;
+        }
+        if (m.emits_towards(sp.front_face)) {
+            const float w = emission_weight(ws, slot, [&] {
+                const int li = ctx_.lights.emitter_of(geom);
+                return li < 0 ? 0.f
+                              : ctx_.lights.nee_pdf(uint32_t(li), ws.hits.prim[i], ws.p_prev[slot],
+                                                    ws.n_prev[slot], sp.p, sp.ng);
+            });
+            radiance[slot] += beta * m.emission * w;
+        }
+        if (ws.vertices[slot] >= rs.max_depth || m.bsdf.empty()) return;
+        const ShadingPoint v(sp, m, d, beta, slot, ws.vertices[slot], ws.keys[slot]);
+        if (rs.nee && m.bsdf.has_non_delta() && !ctx_.lights.empty()) {
+            LightPick pick;
+            DirectSample ds;
+            if (ctx_.lights.pick(rand(ws, slot, kDimLightSelect), sp.p, sp.ng, pick) &&
+                sample_light(ctx_.lights,
+                             {pick.light, pick.pmf, rand2(ws, slot, kDimLight),
+                              rand(ws, slot, kDimLight + 2), pick.tri},
+                             v, kDiffuse | kGlossy, mis_, 1.f, ds))
+                ws.shadow.push(ds.origin, ds.dir, ds.tmax,
+                               medium_after(ctx_.scene, geom, sp, ds.dir, ws.medium[slot]), slot,
+                               ds.value, rng::hash(ws.keys[slot], ws.vertices[slot], 0, 0));
+        }
+        BsdfSample bs;
+        const BsdfContext bctx{sp.front_face, Transport::Radiance};
+        if (!m.bsdf.sample(v.wo, rand(ws, slot, kDimBsdf), rand2(ws, slot, kDimBsdf + 1), bctx, bs))
+            return;
+        const Vec3 wi = v.frame.to_world(bs.wi);
+        // A direction on the wrong side of the true surface would leak light through it.
+        const float side = dot(wi, sp.ng);
+        if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
+        beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+        if (beta.is_black()) return;
+        ws.eta_scale[slot] *= bs.eta * bs.eta;
+        ws.medium[slot] = medium_after(ctx_.scene, geom, sp, wi, ws.medium[slot]);
+        go_on(slot, sp.p, sp.ng, offset_origin(sp, wi), wi, bs.pdf, bs.is_delta(), ws);
+    }
+
+    // The path leaves vertex p (normal n, zero in a medium) from `origin` along wi, sampled
+    // with density pdf: roulette, then the next bounce's ray.
+    void go_on(uint32_t slot, const Vec3& p, const Vec3& n, const Vec3& origin, const Vec3& wi,
+               float pdf, bool delta, VolPathWorkspace& ws) const {
+        // Inside glass beta is 1/eta^2 of the carried throughput (see path.cpp).
+        if (ws.vertices[slot] + 1 >= ctx_.settings.rr_depth) {
+            const float q = std::min(1.f, ws.beta[slot].max_component() * ws.eta_scale[slot]);
+            if (rand(ws, slot, kDimRoulette) >= q) return;
+            ws.beta[slot] *= 1.f / q;
+        }
+        ++ws.vertices[slot];
+        ws.pdf_prev[slot] = pdf;
+        ws.specular_prev[slot] = delta;
+        ws.p_prev[slot] = p;
+        ws.n_prev[slot] = n;
+        ws.next.push(origin, wi, 0.f, kInfinity, slot);
+    }
+
+    const RenderContext ctx_;
+    const VolPathSettings own_;
+    const Mis mis_;
+    const uint64_t flight_prefix_;
+};
+
+}  // namespace
+
+void parse_volpath(const ParamSet& params, RenderSettings& settings) {
+    static const EnumTable<TransmittanceEstimator> names{
+        {{"exact", TransmittanceEstimator::Exact}, {"ratio", TransmittanceEstimator::Ratio}}};
+    VolPathSettings own;
+    static const EnumTable<FreeFlightSampling> flights{
+        {{"analytic", FreeFlightSampling::Analytic}, {"delta", FreeFlightSampling::Delta}}};
+    own.transmittance = params.choice("transmittance", names, own.transmittance);
+    own.free_flight = params.choice("free_flight", flights, own.free_flight);
+    settings.own = own;
+}
+
+RenderResult render_volpath(const Scene& scene, const RenderSettings& settings,
+                            const Intersector& accel, const RenderOptions& opt) {
+    const LightSet lights(scene, settings.light_selection, settings.projection_maps);
+    const RenderContext ctx{scene, settings, accel, lights, opt.seed};
+    const VolPathSettings* own = std::any_cast<VolPathSettings>(&settings.own);
+    return render_camera(scene, settings, VolPathIntegrator(ctx, own ? *own : VolPathSettings{}),
+                         opt);
+}
+
+}  // namespace foton
