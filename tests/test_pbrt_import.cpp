@@ -346,7 +346,7 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));
     CHECK(s.renderer.text("spp") == "8");
     CHECK(s.renderer.text("max_depth") == "3");
-    CHECK(s.renderer.text("type") == "path");
+    CHECK(s.renderer.text("type") == "volpath");
     // pbrt-v4's bdpt is foton's bdpt, not the path tracer.
     const Scene b = world(R"(Integrator "bdpt" "integer maxdepth" 4 "bool visualizeweights" true)",
                           R"(Shape "sphere")");
@@ -464,7 +464,13 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
         {"WorldBegin\nCamera \"perspective\"" + shape, "test.pbrt:2: Camera belongs before"},
         {"Camera \"realistic\"\nWorldBegin" + shape, "test.pbrt:1: unsupported camera"},
         {"Film \"rgb\" \"integer xresolution\" [ 100000 ]\nWorldBegin" + shape, "test.pbrt:1:"},
-        {"WorldBegin\nMakeNamedMedium \"fog\"" + shape, "participating media"},
+        {"WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"uniformgrid\"" + shape,
+         "test.pbrt:2: MakeNamedMedium \"fog\": medium type 'uniformgrid' is not supported yet"},
+        {"WorldBegin\nMakeNamedMedium \"fog\"" + shape, "needs \"string type\""},
+        {"WorldBegin\nMakeNamedMedium \"f\" \"string type\" \"homogeneous\" \"float g\" 1" + shape,
+         "test.pbrt:2: MakeNamedMedium \"f\": g must be in (-1, 1)"},
+        {"WorldBegin\nMediumInterface \"fog\" \"\"" + shape,
+         "test.pbrt:2: unknown medium 'fog' (define it with MakeNamedMedium first)"},
         {"WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"" + shape,
          "test.pbrt:2: environment map 'sky.exr': file not found"},
         {"WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1] \"string filename\" \"a.exr\"" +
@@ -621,4 +627,69 @@ TEST_CASE("textures: a textured quad renders the texture's colours", "[texture][
         }
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.01);
+}
+
+TEST_CASE("pbrt-v4: homogeneous media, MediumInterface, the camera's medium, interface",
+          "[pbrt][media][fast]") {
+    const Scene s = import_text(R"(LookAt 0 0 5  0 0 0  0 1 0
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.1 0.2 0.3]
+    "rgb sigma_s" [1 2 3] "float scale" 2 "float g" 0.4 "rgb Le" [0.5 0.5 0.5] "float Lescale" 2
+MediumInterface "" "fog"
+Camera "perspective"
+Film "rgb" "float iso" 200
+WorldBegin
+AttributeBegin
+  MediumInterface "fog" ""
+  Material "interface"
+  Shape "sphere" "float radius" 2
+AttributeEnd
+AttributeBegin
+  Material "dielectric"
+  Shape "sphere" "float radius" 0.5
+AttributeEnd
+)");
+    REQUIRE(s.media.size() == 1);
+    const Medium& m = s.media[0];
+    CHECK(m.sigma_a.b == Approx(0.6f));
+    CHECK(m.sigma_s.g == Approx(4.f));
+    CHECK(m.g == Approx(0.4f));
+    CHECK(m.Le.r == Approx(0.5f * 2.f * 2.f));  // Lescale, and the film's ISO 200
+    CHECK(s.camera_medium == 0);
+    REQUIRE(s.objects.size() == 2);
+    CHECK(s.objects[0].media.inside == 0);
+    CHECK(s.objects[0].media.outside == kNoMedium);
+    CHECK(s.material_of(0).is_interface);
+    CHECK(s.material_of(0).bsdf.empty());
+    // Outside the AttributeBegin block the interface is the one before it, given before the
+    // camera (pbrt-v4 keeps it through WorldBegin): vacuum inside, fog outside.
+    CHECK(s.objects[1].media.inside == kNoMedium);
+    CHECK(s.objects[1].media.outside == 0);
+    CHECK(s.volumetric());
+    CHECK(s.volumetric_line == 2);
+    // No Integrator: pbrt-v4's default, volpath.
+    CHECK(s.renderer.text("type") == "volpath");
+}
+
+TEST_CASE("pbrt-v4: an absorbing sphere imported renders exp(-sigma_a chord)",
+          "[pbrt][media][render]") {
+    // A glass-free absorbing ball under a white sky: the centre pixel's transmittance is
+    // exp(-2 sigma_a r), the corners see the sky.
+    Scene s = import_text(R"(LookAt 0 0 10  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [-0.05 0.05 -0.05 0.05]
+Film "rgb" "integer xresolution" 4 "integer yresolution" 4
+Integrator "volpath" "integer maxdepth" 10
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+MakeNamedMedium "ink" "string type" "homogeneous" "rgb sigma_a" [0.2 0.5 1] "rgb sigma_s" [0 0 0]
+MediumInterface "ink" ""
+Material "interface"
+Shape "sphere" "float radius" 1
+)");
+    const Film f = render_at(std::move(s), 4, 16);
+    RGB mean{0.f};
+    for (const RGB& p : f.pixels) mean += p * (1.f / float(f.pixels.size()));
+    // The window is 0.1 wide: every ray's chord is within 0.3 % of 2.
+    CHECK(mean.r == Approx(std::exp(-0.4f)).epsilon(0.01));
+    CHECK(mean.g == Approx(std::exp(-1.f)).epsilon(0.01));
+    CHECK(mean.b == Approx(std::exp(-2.f)).epsilon(0.01));
 }

@@ -218,8 +218,11 @@ void Importer::directive(const Token& t) {
             warn(file(), t.line, "Accelerator '" + type + "' ignored (foton's bvh, or --accel)");
             for (const Param& q : p.params) q.used = true;
         }
-    } else if (d == "MakeNamedMedium" || d == "MediumInterface") {
-        fail(t, "participating media are not supported (" + d + ")");
+    } else if (d == "MakeNamedMedium") {
+        const std::string name(expect_string(t, "a name").text);
+        make_named_medium(t, name, read_params());
+    } else if (d == "MediumInterface") {
+        medium_interface(t);
     } else if (d == "Material") {
         const std::string type(expect_string(t, "a type").text);
         materials_.push_back(make_material(t, type, read_params()));
@@ -287,6 +290,11 @@ Scene Importer::run() {
     if (scene_.objects.empty()) throw InputError(file(), 0, "the scene has no shapes");
     scene_.check_extent();
     finish_camera();
+    scene_.camera_medium = medium_id(camera_medium_, camera_medium_file_, camera_medium_line_);
+    for (Medium& m : scene_.media) m.Le *= imaging_ratio();
+    // pbrt-v4's default integrator is volpath: a scene with media and no Integrator gets it.
+    if (scene_.volumetric() && integrator_line_ == 0)
+        renderer_.set("type", "volpath", scene_.volumetric_file, scene_.volumetric_line);
     for (const auto& [key, value] : overrides_) renderer_.set(key, value, "--set", 0);
     scene_.renderer = std::move(renderer_);
     scene_.warnings = std::move(warnings_);

@@ -31,6 +31,9 @@ struct GraphicsState {
     bool reverse = false;
     uint32_t material = 0;  // into Importer::materials_
     AreaLightDesc area;
+    // MediumInterface: the media's names ("" vacuum) and where it was given.
+    std::string medium_inside, medium_outside, medium_file;
+    int medium_line = 0;
 };
 
 struct TextureDesc {
@@ -98,6 +101,19 @@ class Importer {
     void light_source(const Token& t, const std::string& type, const ParamList& p);
     void infinite_light(const Token& t, const ParamList& p, float scale);
     void area_light(const Token& t, const std::string& type, const ParamList& p);
+
+    // media.cpp
+    void make_named_medium(const Token& t, const std::string& name, const ParamList& p);
+    void medium_interface(const Token& t);
+    // A medium's index by name ("": vacuum), an error at where:line if there is none.
+    int32_t medium_id(const std::string& name, const std::string& where, int line) const;
+    // The current MediumInterface, for a shape.
+    MediumInterface shape_media() const;
+    std::map<std::string, int32_t> media_;  // name -> Scene::media
+    std::string camera_medium_;             // the outside medium at Camera
+    std::string camera_medium_file_;
+    int camera_medium_line_ = 0;
+    int integrator_line_ = 0;  // where an Integrator was given (0: pbrt's default)
 
     // shapes.cpp
     void shape(const Token& t, const std::string& type, const ParamList& p);

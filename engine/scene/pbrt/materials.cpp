@@ -240,6 +240,10 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             if (p.has(layer))
                 warn(file(), t.line, what + ": '" + layer + "' ignored by the approximation");
         count("coateddiffuse (approximated as Lambert + dielectric coat)");
+    } else if (type == "interface") {
+        // No surface: only the boundary of the media its shapes' MediumInterface names.
+        m.is_interface = true;
+        scene_.mark_volumetric(file(), t.line);
     } else if (type == "mix") {
         const Param* q = p.find("materials");
         if (!q || q->type != "string" || q->strings.size() != 2)
@@ -252,6 +256,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                 fail(t, "unknown named material '" + q->strings[std::size_t(i)] + "'");
             const float w = i == 0 ? 1.f - amount : amount;
             const Material& sub = materials_[it->second];
+            if (sub.is_interface) fail(t, "mix: an interface material cannot be mixed");
             if (sub.texture >= 0) {
                 if (m.texture >= 0 && m.texture != sub.texture)
                     fail(t, "a mix of two differently textured materials is not supported");
@@ -268,7 +273,8 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         m.c_diffuse = 1.f;
     } else {
         fail(t, "unsupported material '" + type +
-                    "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, mix)");
+                    "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, "
+                    "interface, mix)");
     }
     for (const char* ignored : {"normalmap", "displacement"})
         if (p.has(ignored)) warn(file(), t.line, what + ": '" + ignored + "' ignored");

@@ -12,6 +12,10 @@ void Importer::camera(const Token& t, const std::string& type, const ParamList& 
         fail(t, "unsupported camera '" + type + "' (perspective, orthographic)");
     camera_type_ = type;
     camera_line_ = t.line;
+    // pbrt-v4: the camera sits in the current MediumInterface's outside medium.
+    camera_medium_ = gs_.medium_outside;
+    camera_medium_file_ = gs_.medium_file;
+    camera_medium_line_ = gs_.medium_line;
     camera_file_ = file();
     camera_from_world_ = gs_.ctm;
     coordinate_systems_["camera"] = gs_.ctm.inverse();
@@ -133,6 +137,7 @@ std::string number_text(const Param& q) {
 
 void Importer::integrator(const Token& t, const std::string& type, const ParamList& p) {
     const std::string here = file();
+    integrator_line_ = t.line;
     auto depth = [&] {
         const int d = p.integer("maxdepth", 5);
         if (d < 0) fail(t, "maxdepth must not be negative");
@@ -154,13 +159,14 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
             warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
     } else if (type == "path" || type == "volpath" || type == "simplepath" || type == "mlt" ||
                type == "randomwalk" || type == "simplevolpath") {
-        if (type != "path")
+        // volpath is foton's volpath; the other unidirectional ones its path tracer (the same
+        // expected image).
+        const bool volumetric = type.find("vol") != std::string::npos;
+        if (type != "path" && type != "volpath")
             warn(here, t.line,
-                 "Integrator \"" + type +
-                     "\" is rendered with foton's path tracer (the same "
-                     "expected image" +
-                     (type.find("vol") != std::string::npos ? ", no media" : "") + ")");
-        renderer_.set("type", "path", here, t.line);
+                 "Integrator \"" + type + "\" is rendered with foton's " +
+                     (volumetric ? "volpath" : "path tracer") + " (the same expected image)");
+        renderer_.set("type", volumetric ? "volpath" : "path", here, t.line);
         depth();
         if (p.has("regularize") && p.boolean("regularize", false))
             warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");

@@ -47,7 +47,8 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         if (!s.transform(gs_.ctm)) fail(t, "a sphere takes only uniform scaling");
         warn_unused(p, what);
         count("Shape " + type);
-        target().add_sphere(s, scene_material(gs_));
+        const uint32_t id = target().add_sphere(s, scene_material(gs_));
+        target().objects[id].media = shape_media();
         return;
     }
     TriangleMesh m;
@@ -131,7 +132,8 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
     }
     warn_unused(p, what);
     count("Shape " + type);
-    target().add_mesh(std::move(m), scene_material(gs_), true);
+    const uint32_t id = target().add_mesh(std::move(m), scene_material(gs_), true);
+    target().objects[id].media = shape_media();
 }
 
 void Importer::object_instance(const Token& t, const std::string& name) {
@@ -150,12 +152,14 @@ void Importer::object_instance(const Token& t, const std::string& name) {
         }
     for (const Object& o : pr.objects) {
         if (o.kind == ObjectKind::Mesh) {
-            scene_.add_instance(shared->second[o.index], gs_.ctm, o.material, o.smooth);
+            const uint32_t id =
+                scene_.add_instance(shared->second[o.index], gs_.ctm, o.material, o.smooth);
+            scene_.objects[id].media = o.media;
         } else {
             Sphere s = pr.spheres[o.index];
             if (!s.transform(gs_.ctm))
                 fail(t, "an instance of a sphere takes only uniform scaling");
-            scene_.add_sphere(s, o.material);
+            scene_.objects[scene_.add_sphere(s, o.material)].media = o.media;
         }
     }
     count("ObjectInstance");

@@ -1,0 +1,72 @@
+// MakeNamedMedium, MediumInterface and the camera's medium: pbrt-v4's participating media as
+// foton's (scene/medium.h). Homogeneous media are read; grid media are refused at their line.
+#include "importer.h"
+
+namespace foton::pbrt {
+
+void Importer::make_named_medium(const Token& t, const std::string& name, const ParamList& p) {
+    const std::string type = p.text("type", "");
+    const std::string what = "MakeNamedMedium \"" + name + "\"";
+    if (type.empty()) fail(t, what + " needs \"string type\"");
+    if (type != "homogeneous")
+        fail(t, what + ": medium type '" + type +
+                    "' is not supported yet (homogeneous; grid media are to come)");
+    if (media_.count(name)) fail(t, what + ": defined twice");
+    if (p.has("preset"))
+        fail(t, what + ": named scattering presets are not supported (give sigma_a, sigma_s)");
+    Medium m;
+    m.name = name;
+    // pbrt-v4's defaults: sigma_a = sigma_s = 1 per unit length, times scale.
+    const float scale = p.real("scale", 1.f);
+    if (!(scale >= 0.f)) fail(t, what + ": scale must not be negative");
+    const auto sa = p.color("sigma_a", false), ss = p.color("sigma_s", false);
+    m.sigma_a = (sa ? *sa : RGB{1.f}) * scale;
+    m.sigma_s = (ss ? *ss : RGB{1.f}) * scale;
+    if (m.sigma_a.r < 0.f || m.sigma_a.g < 0.f || m.sigma_a.b < 0.f || m.sigma_s.r < 0.f ||
+        m.sigma_s.g < 0.f || m.sigma_s.b < 0.f)
+        fail(t, what + ": sigma_a and sigma_s must not be negative");
+    if (!(m.majorant() < 1e12f)) fail(t, what + ": the extinction must be below 1e12");
+    m.g = p.real("g", 0.f);
+    if (!(m.g > -1.f && m.g < 1.f)) fail(t, what + ": g must be in (-1, 1)");
+    if (const auto le = p.color("Le", true)) {
+        // The film's imaging ratio is applied with the lights' at the end (run()).
+        m.Le = *le * p.real("Lescale", 1.f);
+        if (!(m.Le.r >= 0.f && m.Le.g >= 0.f && m.Le.b >= 0.f))
+            fail(t, what + ": Le must not be negative");
+    }
+    m.where = file() + ":" + std::to_string(t.line);
+    warn_unused(p, what);
+    count("MakeNamedMedium homogeneous");
+    media_[name] = int32_t(scene_.media.size());
+    scene_.media.push_back(std::move(m));
+    scene_.mark_volumetric(file(), t.line);
+}
+
+void Importer::medium_interface(const Token& t) {
+    const std::string inside(expect_string(t, "the inside medium's name").text);
+    std::string outside = inside;
+    // One name is both sides; a second string is the outside.
+    if (files_.back()->peek().kind == TokenKind::String) outside = std::string(next().text);
+    gs_.medium_inside = inside;
+    gs_.medium_outside = outside;
+    gs_.medium_file = file();
+    gs_.medium_line = t.line;
+}
+
+int32_t Importer::medium_id(const std::string& name, const std::string& where, int line) const {
+    if (name.empty()) return kNoMedium;
+    const auto it = media_.find(name);
+    if (it == media_.end())
+        throw InputError(where, line,
+                         "unknown medium '" + name + "' (define it with MakeNamedMedium first)");
+    return it->second;
+}
+
+MediumInterface Importer::shape_media() const {
+    MediumInterface mi;
+    mi.inside = medium_id(gs_.medium_inside, gs_.medium_file, gs_.medium_line);
+    mi.outside = medium_id(gs_.medium_outside, gs_.medium_file, gs_.medium_line);
+    return mi;
+}
+
+}  // namespace foton::pbrt
