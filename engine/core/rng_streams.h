@@ -25,6 +25,8 @@ enum RandomStream : uint64_t {
     kAovStream = 0xa0f,                 // the albedo AOV's BSDF samples
     kMediumStream = 0x3ed1,             // volumetric paths: free flights and collisions
     kMediumShadowStream = 0x3ed2,       // ratio tracking along shadow rays through media
+    kVolumePhotonStream = 0x3ed3,       // volumetric photon mapping's photons
+    kVolumeCameraStream = 0x3ed4,       // volumetric photon mapping's camera paths
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -42,6 +44,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kCacheVertexChoiceStream,
                                                      kAovStream,
                                                      kMediumStream,
-                                                     kMediumShadowStream};
+                                                     kMediumShadowStream,
+                                                     kVolumePhotonStream,
+                                                     kVolumeCameraStream};
 
 }  // namespace foton

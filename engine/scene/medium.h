@@ -30,8 +30,9 @@ struct Medium {
     RGB sigma_a{0.f}, sigma_s{0.f};
     RGB Le{0.f};    // emitted radiance (scaled by sigma_a in the transfer equation)
     float g = 0.f;  // Henyey-Greenstein asymmetry, in (-1, 1)
-    // Where it was defined ("scene.xml:12"), for messages about the scene's media.
-    std::string where;
+    // Where it was defined, for messages about it.
+    std::string file;
+    int line = 0;
 
     RGB sigma_t() const { return sigma_a + sigma_s; }
     // The majorant: no channel's extinction exceeds it, so free flights sampled with it and

@@ -34,7 +34,8 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
         if (!(m.Le.r >= 0.f && m.Le.g >= 0.f && m.Le.b >= 0.f))
             fail(t, what + ": Le must not be negative");
     }
-    m.where = file() + ":" + std::to_string(t.line);
+    m.file = file();
+    m.line = t.line;
     warn_unused(p, what);
     count("MakeNamedMedium homogeneous");
     media_[name] = int32_t(scene_.media.size());

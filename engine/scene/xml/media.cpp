@@ -29,7 +29,8 @@ void Loader::parse_media(const pugi::xml_node& n) {
             if (m.sigma_a.is_black())
                 fail(le, "an emitting medium needs absorption (it emits sigma_a Le)");
         }
-        m.where = name_ + ":" + std::to_string(line_of(e));
+        m.file = name_;
+        m.line = line_of(e);
         medium_ids_[m.name] = int32_t(scene_.media.size());
         scene_.media.push_back(std::move(m));
         scene_.mark_volumetric(name_, line_of(e));

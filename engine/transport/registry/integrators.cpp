@@ -11,6 +11,7 @@
 #include "engine/transport/photon/photon_render.h"
 #include "engine/transport/photon/sppm.h"
 #include "engine/transport/volume/volpath.h"
+#include "engine/transport/volume/vpm.h"
 #include "engine/transport/whitted/whitted.h"
 
 namespace foton {
@@ -44,6 +45,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
         {"vcm", {}, "vertex connection and merging", kCapBidirectional | kCapMerging, nullptr, render_vcm},
         {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia, parse_volpath, render_volpath},
+        {"vpm", {"volumetric_photons"}, "volumetric photon mapping, progressive (media)", kCapLightSelection | kCapMedia, parse_vpm, render_vpm},
         {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
     };
     // clang-format on

@@ -1,0 +1,17 @@
+#pragma once
+// Which medium a point is in, for paths that do not start at the camera (light paths,
+// photons): found by walking the straight line from the camera, whose medium the scene gives,
+// to the point, and changing medium at every boundary the line crosses (the rule camera rays
+// follow: scene/medium.h). Other surfaces on the way are passed. Exact wherever the
+// boundaries are closed, as the camera's own rays need them to be.
+#include <cstdint>
+
+#include "engine/accel/intersector.h"
+#include "engine/core/math.h"
+#include "engine/scene/scene.h"
+
+namespace foton {
+
+int32_t locate_medium(const Scene& scene, const Intersector& accel, const Vec3& p);
+
+}  // namespace foton

@@ -1,0 +1,267 @@
+#include "vpm.h"
+
+#include <any>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/error.h"
+#include "engine/core/rng.h"
+#include "engine/core/rng_streams.h"
+#include "engine/core/thread_clock.h"
+#include "engine/core/thread_pinning.h"
+#include "engine/core/warp.h"
+#include "engine/film/pixel_owners.h"
+#include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/medium_shadow.h"
+#include "engine/transport/common/medium_tracking.h"
+#include "engine/transport/common/surface.h"
+#include "engine/transport/run/pass_control.h"
+#include "engine/transport/run/stage_graph.h"
+#include "volume_photons.h"
+
+namespace foton {
+
+namespace {
+
+constexpr uint32_t kMaxCrossings = 256;
+
+// A pass's camera paths of one image row, traced as one batch per bounce.
+struct RowWork {
+    RayBatch rays, next;
+    HitBatch hits;
+    std::vector<SampleJob> jobs;
+    std::vector<RGB> beta;
+    std::vector<int32_t> medium;
+    std::vector<uint32_t> depth, crossings, draws;
+};
+
+class VpmCamera {
+  public:
+    VpmCamera(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
+              uint64_t seed)
+        : scene_(scene), settings_(settings), accel_(accel), seed_(seed) {}
+
+    // Pass `pass`'s estimate of every pixel of row y, added to sum[x].
+    void trace_row(uint32_t pass, uint32_t y, const VolumePhotonMaps& maps, float r_surface,
+                   float r_volume, RGB* sum, RowWork& w, RenderStats& stats) const {
+        const uint32_t width = uint32_t(scene_.film.width);
+        w.jobs.resize(width);
+        for (uint32_t x = 0; x < width; ++x)
+            w.jobs[x] = {
+                x, y,    0,
+                1, pass, scene_.film.pixel_id(x, y) + uint64_t(pass) * scene_.film.full_pixels()};
+        w.rays.clear();
+        generate_camera_rays(scene_, settings_.sampler, w.jobs, seed_, w.rays);
+        stats.camera_rays += width;
+        w.beta.assign(width, RGB{1.f});
+        w.medium.assign(width, scene_.camera_medium);
+        w.depth.assign(width, 0);
+        w.crossings.assign(width, 0);
+        w.draws.assign(width, 0);
+        const float inv_area = 1.f / (kPi * r_surface * r_surface);
+        const float inv_volume = 1.f / (4.f / 3.f * kPi * r_volume * r_volume * r_volume);
+        while (!w.rays.empty()) {
+            accel_.intersect(w.rays, w.hits, stats.trace);
+            w.next.clear();
+            for (std::size_t r = 0; r < w.rays.size(); ++r) {
+                const uint32_t slot = w.rays.id[r];
+                auto u = [&] {
+                    return rng::uniform(seed_, kVolumeCameraStream, w.jobs[slot].id,
+                                        w.draws[slot]++);
+                };
+                sum[slot] += shade(r, slot, maps, inv_area, r_surface, inv_volume, r_volume, w, u);
+            }
+            std::swap(w.rays, w.next);
+        }
+        stats.samples += width;
+    }
+
+  private:
+    // One hit (or flight) of a row's path: what it adds to its pixel; continues it in w.next.
+    template <class Uniform>
+    RGB shade(std::size_t r, uint32_t slot, const VolumePhotonMaps& maps, float inv_area,
+              float r_surface, float inv_volume, float r_volume, RowWork& w, Uniform&& u) const {
+        const uint32_t geom = w.hits.geom[r];
+        const Vec3 d = w.rays.direction(r);
+        RGB& beta = w.beta[slot];
+        if (const int32_t mi = w.medium[slot]; mi != kNoMedium) {
+            const Medium& med = scene_.media[std::size_t(mi)];
+            const float t_end = geom == kNoHit ? kInfinity : w.hits.t[r];
+            const FreeFlight f = sample_homogeneous(med, t_end, beta, u);
+            if (f.event == FreeFlight::Event::Absorb) return RGB{0.f};
+            if (f.event == FreeFlight::Event::Scatter) {
+                // The flight's weight without sigma_s, which the photons' density carries.
+                const RGB& s = med.sigma_s;
+                const RGB wt{s.r > 0.f ? f.weight.r / s.r : 0.f, s.g > 0.f ? f.weight.g / s.g : 0.f,
+                             s.b > 0.f ? f.weight.b / s.b : 0.f};
+                const Vec3 p = w.rays.origin(r) + d * f.t;
+                RGB in{0.f};
+                maps.volume.for_each_in_radius(p, r_volume, [&](uint32_t i, float) {
+                    in += maps.volume.power(i) *
+                          henyey_greenstein(dot(-d, maps.volume.incident(i)), med.g);
+                });
+                return beta * wt * in * inv_volume;
+            }
+            beta *= f.weight;
+        }
+        if (geom == kNoHit)
+            return beta * (scene_.environment ? scene_.environment->Le(d) : scene_.background);
+        const SurfacePoint sp = surface_at(scene_, w.rays, w.hits, r);
+        std::optional<Material> scratch;
+        const Material& m = scene_.material_at(geom, sp.uv, scratch);
+        if (m.is_interface) {
+            if (++w.crossings[slot] > kMaxCrossings) return RGB{0.f};
+            w.medium[slot] = medium_after(scene_, geom, sp, d, w.medium[slot]);
+            w.next.push(offset_origin(sp, d), d, 0.f, kInfinity, slot);
+            return RGB{0.f};
+        }
+        RGB add = m.emits_towards(sp.front_face) ? beta * m.emission : RGB{0.f};
+        if (m.bsdf.empty()) return add;
+        const warp::Frame frame(sp.ns);
+        const Vec3 wo = frame.to_local(-d);
+        const BsdfContext ctx{sp.front_face, Transport::Radiance};
+        if (m.bsdf.has_non_delta()) {
+            RGB in{0.f};
+            maps.surface.for_each_in_radius(sp.p, r_surface, [&](uint32_t i, float) {
+                const Vec3 wi = maps.surface.incident(i);
+                if (!m.bsdf.side_allowed(wi, sp.ng)) return;
+                in += m.bsdf.f(wo, frame.to_local(wi), ctx) * maps.surface.power(i);
+            });
+            add += beta * in * inv_area;
+        }
+        // The delta lobes go on (their share of the throughput in the sample's weight).
+        if (!m.bsdf.has_delta() || ++w.depth[slot] > settings_.max_depth) return add;
+        BsdfSample bs;
+        if (!m.bsdf.sample(wo, u(), {u(), u()}, ctx, bs, kSpecular)) return add;
+        const Vec3 wi = frame.to_world(bs.wi);
+        const float side = dot(wi, sp.ng);
+        if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return add;
+        beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+        if (beta.is_black()) return add;
+        w.medium[slot] = medium_after(scene_, geom, sp, wi, w.medium[slot]);
+        w.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
+        return add;
+    }
+
+    const Scene& scene_;
+    const RenderSettings& settings_;
+    const Intersector& accel_;
+    uint64_t seed_;
+};
+
+}  // namespace
+
+void parse_vpm(const ParamSet& params, RenderSettings& settings) {
+    VpmSettings own;
+    own.volume_radius = params.real("volume_radius", own.volume_radius, 0.f);
+    settings.own = own;
+}
+
+RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
+                        const Intersector& accel, const RenderOptions& opt) {
+    for (const Medium& m : scene.media)
+        if (m.emits())
+            throw InputError(m.file, m.line,
+                             "medium '" + m.name +
+                                 "' emits, and vpm sends photons from lights only: render it "
+                                 "with type=\"volpath\"");
+    const LightSet lights(scene, settings.light_selection, settings.projection_maps);
+    if (lights.empty()) throw InputError(scene.source, 0, "vpm needs a light");
+    const PhotonSettings& ps = settings.photon;
+    const VpmSettings* own = std::any_cast<VpmSettings>(&settings.own);
+    const float scene_radius = 0.5f * length(scene.bounds().diagonal());
+    float r_surface = ps.initial_radius > 0.f ? ps.initial_radius : 0.01f * scene_radius;
+    float r_volume = own && own->volume_radius > 0.f ? own->volume_radius : 0.05f * scene_radius;
+    const uint64_t per_pass =
+        ps.photons_per_pass > 0 ? ps.photons_per_pass : scene.film.full_pixels();
+    const int w = scene.film.width, h = scene.film.height;
+    const std::size_t npix = std::size_t(w) * std::size_t(h);
+    std::vector<RGB> sum(npix, RGB{0.f});
+    const VolumePhotonTracer tracer(scene, accel, lights, opt.seed);
+    const VpmCamera camera(scene, settings, accel, opt.seed);
+    const int threads = resolve_threads(opt.threads);
+    PinnedArena arena(threads);
+    tbb::enumerable_thread_specific<RenderStats> local;
+    tbb::enumerable_thread_specific<RowWork> rows;
+    const Cluster& cluster = cluster_or_solo(opt.cluster);
+    const PixelOwners owner = owners_by_row(w, h, cluster.size());
+    const std::vector<uint64_t> my_rows = dealt_in_turn(uint64_t(h), cluster);
+    auto image = [&](uint32_t passes) {
+        Film f(w, h);
+        const float inv = passes > 0 ? 1.f / float(passes) : 0.f;
+        for (std::size_t i = 0; i < npix; ++i) f.pixels[i] = sum[i] * inv;
+        gather_to_root(cluster, owner, f.pixels);
+        return f;
+    };
+    RenderOptions pass_opt = opt;
+    if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f))
+        pass_opt.max_passes = std::max<uint32_t>(1, opt.spp);
+    PassControl control(pass_opt);
+    const ProgressTask task = control.task("vpm passes", 1);
+    uint32_t pass = 0;
+    VolumePhotonMaps maps;
+    StageGraph graph;
+    graph.set_progress(opt.progress);
+    const uint32_t photons = graph.add("photons", [&]() -> uint64_t {
+        maps = tracer.run(1000 + pass, per_pass, settings.max_depth, local.local(), opt.cluster,
+                          opt.cancel);
+        return per_pass;
+    });
+    const uint32_t balance = graph.add("balance", [&]() -> uint64_t {
+        StageClock clock;
+        maps.surface.build(timed_parallel_invoke(ThreadClock::for_chunks()));
+        maps.volume.build(timed_parallel_invoke(ThreadClock::for_chunks()));
+        const std::size_t n = maps.surface.size() + maps.volume.size();
+        local.local().add_wall(Stage::Balance, n, clock);
+        return n;
+    });
+    const uint32_t gather = graph.add("camera-paths", [&]() -> uint64_t {
+        StageClock clock;
+        BusyTime* const busy = ThreadClock::for_chunks();
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, my_rows.size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              const ThreadClock clock(busy);
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
+                                      return;
+                                  const uint32_t y = uint32_t(my_rows[i]);
+                                  camera.trace_row(pass, y, maps, r_surface, r_volume,
+                                                   &sum[std::size_t(y) * std::size_t(w)],
+                                                   rows.local(), local.local());
+                              }
+                          });
+        const std::size_t n = my_rows.size() * std::size_t(w);
+        local.local().add_wall(Stage::Shade, n, clock);
+        return n;
+    });
+    graph.edge(photons, balance);
+    graph.edge(balance, gather);
+    control.run(
+        [&](uint32_t k) {
+            pass = k;
+            graph.run(arena);
+            pass = k + 1;
+            // Knaus & Zwicker's shrinking: area on surfaces, volume in media.
+            const float ratio = (float(pass) + ps.alpha) / (float(pass) + 1.f);
+            r_surface *= std::sqrt(ratio);
+            r_volume *= std::cbrt(ratio);
+            task.advance();
+        },
+        [&] { return image(pass); }, [&] { return double(pass); });
+    RenderStats stats;
+    for (const RenderStats& s : local) stats.merge(s);
+    stats.wall_seconds = control.elapsed();
+    stats.threads = threads;
+    stats.passes = pass;
+    RenderResult result;
+    result.stats = stats;
+    result.stats.graph = graph.report();
+    result.film = image(pass);
+    result.samples_per_pixel.assign(npix, pass);
+    return result;
+}
+
+}  // namespace foton
