@@ -64,7 +64,7 @@ TEST_CASE("vpm converges to volpath's image on the foggy Cornell box", "[media][
     TestScene s = fog(24);
     const uint32_t e = test::effort();
     s.render.integrator = "volpath";
-    const Film volpath = render_test(s, 256 * e, 2, 3).film;
+    const Film volpath = render_test(s, 1024 * e, 2, 3).film;
     const RGB ref = masked_mean(volpath, volpath);
     TestScene v = load_scene(test::source_path("scenes/cornell-fog.xml"),
                              {{"type", "vpm"}, {"photons_per_pass", "20000"}});

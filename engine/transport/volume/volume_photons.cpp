@@ -111,7 +111,10 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
                 if (f.event == FreeFlight::Event::Absorb) continue;
                 if (f.event == FreeFlight::Event::Scatter) {
                     const Vec3 p = ws.rays.origin(r) + d * f.t;
-                    out.volume.push(p, power * f.weight, -d, -d, 0, ws.light[slot]);
+                    // Straight from the light: single scattering, which next event
+                    // estimation can take instead.
+                    out.volume.push(p, power * f.weight, -d, -d,
+                                    ws.bounces[slot] == 0 ? kPhotonDirect : 0, ws.light[slot]);
                     if (++ws.bounces[slot] >= max_depth || !survive(f.weight)) continue;
                     Vec3 wi;
                     sample_henyey_greenstein(-d, med.g, {u(slot), u(slot)}, wi);

@@ -7,6 +7,9 @@
 // Interfaces are passed, changing medium. A photon starts in its light's medium (found once
 // per light by common/medium_locate.h).
 //
+// Photons that scatter or land before any other bounce carry kPhotonDirect (the light's direct
+// contribution there, which next event estimation can take instead).
+//
 // A volume photon's power is its flux times the flight's scattering weight T sigma_s / pdf:
 // the stored photons' density per unit volume estimates sigma_s times the fluence, so
 // sum p(wo, wi_p) power_p / (4/3 pi r^3) is the in-scattered radiance per unit length.

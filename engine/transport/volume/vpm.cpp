@@ -17,6 +17,7 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/medium_shadow.h"
 #include "engine/transport/common/medium_tracking.h"
+#include "engine/transport/common/next_event.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
@@ -32,6 +33,8 @@ constexpr uint32_t kMaxCrossings = 256;
 struct RowWork {
     RayBatch rays, next;
     HitBatch hits;
+    MediumShadowRays shadow;
+    std::vector<RGB> direct;  // per pixel of the row: what its shadow rays bring
     std::vector<SampleJob> jobs;
     std::vector<RGB> beta;
     std::vector<int32_t> medium;
@@ -41,8 +44,13 @@ struct RowWork {
 class VpmCamera {
   public:
     VpmCamera(const Scene& scene, const RenderSettings& settings, const Intersector& accel,
-              uint64_t seed)
-        : scene_(scene), settings_(settings), accel_(accel), seed_(seed) {}
+              const LightSet& lights, const VpmSettings& own, uint64_t seed)
+        : scene_(scene),
+          settings_(settings),
+          accel_(accel),
+          lights_(lights),
+          nee_(!own.direct_photons),
+          seed_(seed) {}
 
     // Pass `pass`'s estimate of every pixel of row y, added to sum[x].
     void trace_row(uint32_t pass, uint32_t y, const VolumePhotonMaps& maps, float r_surface,
@@ -61,6 +69,8 @@ class VpmCamera {
         w.depth.assign(width, 0);
         w.crossings.assign(width, 0);
         w.draws.assign(width, 0);
+        w.shadow.clear();
+        w.direct.assign(width, RGB{0.f});
         const float inv_area = 1.f / (kPi * r_surface * r_surface);
         const float inv_volume = 1.f / (4.f / 3.f * kPi * r_volume * r_volume * r_volume);
         while (!w.rays.empty()) {
@@ -76,6 +86,10 @@ class VpmCamera {
             }
             std::swap(w.rays, w.next);
         }
+        StageClock clock;
+        w.shadow.resolve(scene_, accel_, TransmittanceEstimator::Exact, seed_, w.direct, stats,
+                         clock);
+        for (uint32_t x = 0; x < width; ++x) sum[x] += w.direct[x];
         stats.samples += width;
     }
 
@@ -100,9 +114,11 @@ class VpmCamera {
                 const Vec3 p = w.rays.origin(r) + d * f.t;
                 RGB in{0.f};
                 maps.volume.for_each_in_radius(p, r_volume, [&](uint32_t i, float) {
+                    if (nee_ && (maps.volume.flags(i) & kPhotonDirect)) return;
                     in += maps.volume.power(i) *
                           henyey_greenstein(dot(-d, maps.volume.incident(i)), med.g);
                 });
+                if (nee_) medium_direct(slot, p, -d, med, beta * f.weight, mi, w, u);
                 return beta * wt * in * inv_volume;
             }
             beta *= f.weight;
@@ -126,11 +142,20 @@ class VpmCamera {
         if (m.bsdf.has_non_delta()) {
             RGB in{0.f};
             maps.surface.for_each_in_radius(sp.p, r_surface, [&](uint32_t i, float) {
+                if (nee_ && (maps.surface.flags(i) & kPhotonDirect)) return;
                 const Vec3 wi = maps.surface.incident(i);
                 if (!m.bsdf.side_allowed(wi, sp.ng)) return;
                 in += m.bsdf.f(wo, frame.to_local(wi), ctx) * maps.surface.power(i);
             });
             add += beta * in * inv_area;
+            if (nee_) {
+                DirectSample ds;
+                const ShadingPoint v(sp, m, d, beta, slot, 0, w.jobs[slot].id);
+                if (sample_direct(lights_, v, u(), {u(), u()}, u(), ds))
+                    w.shadow.push(ds.origin, ds.dir, ds.tmax,
+                                  medium_after(scene_, geom, sp, ds.dir, w.medium[slot]), slot,
+                                  ds.value, w.jobs[slot].id);
+            }
         }
         // The delta lobes go on (their share of the throughput in the sample's weight).
         if (!m.bsdf.has_delta() || ++w.depth[slot] > settings_.max_depth) return add;
@@ -146,9 +171,30 @@ class VpmCamera {
         return add;
     }
 
+    // Next event estimation of the direct light scattered at p in medium `med` (index mi)
+    // towards wo, for a path of throughput `weight` (sigma_s included): one light sample.
+    template <class Uniform>
+    void medium_direct(uint32_t slot, const Vec3& p, const Vec3& wo, const Medium& med,
+                       const RGB& weight, int32_t mi, RowWork& w, Uniform&& u) const {
+        LightPick pick;
+        LightSample ls;
+        if (!lights_.pick(u(), p, Vec3{}, pick) ||
+            !lights_.sample_li(pick.light, p, {u(), u()}, u(), ls, pick.tri))
+            return;
+        const RGB value =
+            weight * ls.Li * (henyey_greenstein(dot(wo, ls.wi), med.g) / (pick.pmf * ls.pdf));
+        if (value.is_black()) return;
+        SurfacePoint at{};
+        at.p = p;
+        const ShadowRay r = shadow_ray_to(at, ls);
+        w.shadow.push(r.origin, r.dir, r.tmax, mi, slot, value, w.jobs[slot].id);
+    }
+
     const Scene& scene_;
     const RenderSettings& settings_;
     const Intersector& accel_;
+    const LightSet& lights_;
+    const bool nee_;
     uint64_t seed_;
 };
 
@@ -157,6 +203,10 @@ class VpmCamera {
 void parse_vpm(const ParamSet& params, RenderSettings& settings) {
     VpmSettings own;
     own.volume_radius = params.real("volume_radius", own.volume_radius, 0.f);
+    const std::string direct = params.text("direct", "nee");
+    if (direct != "nee" && direct != "photons")
+        params.fail("direct", "direct is nee or photons, not '" + direct + "'");
+    own.direct_photons = direct == "photons";
     settings.own = own;
 }
 
@@ -181,7 +231,7 @@ RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
     const std::size_t npix = std::size_t(w) * std::size_t(h);
     std::vector<RGB> sum(npix, RGB{0.f});
     const VolumePhotonTracer tracer(scene, accel, lights, opt.seed);
-    const VpmCamera camera(scene, settings, accel, opt.seed);
+    const VpmCamera camera(scene, settings, accel, lights, own ? *own : VpmSettings{}, opt.seed);
     const int threads = resolve_threads(opt.threads);
     PinnedArena arena(threads);
     tbb::enumerable_thread_specific<RenderStats> local;

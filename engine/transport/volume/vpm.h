@@ -8,8 +8,11 @@
 // sampled as volpath's; where it first scatters in a medium it takes the volume radiance
 // estimate, sum p(wo, wi_p) power_p / (4/3 pi r_v^3) over the volume photons within r_v, and
 // where it first meets a non-delta surface the surface estimate, sum f(wo, wi_p) power_p /
-// (pi r_s^2) (its delta lobes are followed on besides). Emitters seen directly or through
-// specular chains add their radiance. The image is the mean of the passes' estimates; after
+// (pi r_s^2) (its delta lobes are followed on besides). Direct light there comes from one
+// light sample (next event estimation with the media's transmittance, as Jensen computes it
+// by ray tracing), the photons giving only what arrived after a bounce or a scattering
+// (`direct="photons"`: all of it from photons). Emitters seen directly or through specular
+// chains add their radiance. The image is the mean of the passes' estimates; after
 // pass i the radii shrink as r_s^2 *= (i + alpha) / (i + 1) and r_v^3 *= (i + alpha) / (i + 1),
 // so bias and variance both vanish (alpha = the photon settings' `alpha`).
 //
@@ -26,6 +29,10 @@ namespace foton {
 
 struct VpmSettings {
     float volume_radius = 0.f;  // 0: 5 % of the scene's bounding radius
+    // direct="photons": the photons estimate the direct light too (pure density estimation);
+    // by default one light sample at the path's last vertex does (through the media it
+    // crosses), and photons straight from a light are left out of the estimates.
+    bool direct_photons = false;
 };
 
 void parse_vpm(const ParamSet& params, RenderSettings& settings);
