@@ -8,6 +8,8 @@ environment light (scenes/env-spheres.xml, scenes/textured-meshes.xml), all made
   scenes/meshes/crate.obj/mtl a cube with uv, its MTL naming the texture and a Phong lid
   scenes/meshes/gem.gltf      an octahedron in glTF 2.0 (embedded buffer), a metallic and
                               an emissive material on its two halves
+  scenes/meshes/smoke.raw     a 32^3 density grid (little-endian float32, x fastest): a
+                              plume of a few soft blobs with a noisy edge (scenes/smoke.xml)
 
     scripts/make_example_assets.py        (from the repository root)
 """
@@ -134,7 +136,29 @@ def gem():
         json.dump(g, f, indent=1)
 
 
+def smoke():
+    n = 32
+    # Blobs along a rising, leaning column, each (centre x, y, z, radius) in [0, 1]^3.
+    blobs = [(0.5, 0.16, 0.5, 0.27), (0.52, 0.35, 0.48, 0.28), (0.57, 0.55, 0.5, 0.28),
+             (0.63, 0.72, 0.53, 0.25), (0.67, 0.86, 0.55, 0.2)]
+    out = bytearray()
+    for z in range(n):
+        for y in range(n):
+            for x in range(n):
+                p = ((x + 0.5) / n, (y + 0.5) / n, (z + 0.5) / n)
+                d = 0.0
+                for (cx, cy, cz, r) in blobs:
+                    q = ((p[0] - cx) ** 2 + (p[1] - cy) ** 2 + (p[2] - cz) ** 2) / (r * r)
+                    d += max(0.0, 1.0 - q) ** 2
+                # A deterministic ripple so the edge is not smooth.
+                d *= 0.75 + 0.25 * math.sin(23 * p[0] + 7 * math.sin(17 * p[1])) * math.cos(19 * p[2])
+                out += struct.pack("<f", max(0.0, d))
+    with open(OUT + "smoke.raw", "wb") as f:
+        f.write(bytes(out))
+
+
 sky()
 png(OUT + "tiles.png", 64, 64, tiles)
 crate()
 gem()
+smoke()

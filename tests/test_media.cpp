@@ -179,7 +179,8 @@ TEST_CASE("ratio tracking and the emission along a flight are unbiased", "[media
     CHECK(sum.g / n == Approx(exact.g).epsilon(0.01));
     CHECK(sum.b / n == Approx(exact.b).epsilon(0.01));
     Draws u{14, 0};
-    CHECK(transmittance(m, d, TransmittanceEstimator::Exact, u).g == Approx(std::exp(-0.7f * d)));
+    CHECK(transmittance(m, Vec3{}, Vec3{0, 0, 1}, d, TransmittanceEstimator::Exact, u).g ==
+          Approx(std::exp(-0.7f * d)));
     // In an unbounded medium a flight gathers sigma_a Le / sigma_t before its first real event.
     Medium glow = m;
     glow.Le = RGB{1.f, 2.f, 4.f};
@@ -345,6 +346,6 @@ TEST_CASE("media: bad input names the file and line", "[media][fast]") {
     } catch (const InputError& e) {
         CHECK(std::string(e.what()) ==
               "media.xml:2: the scene has participating media, which type=\"path\" does not "
-              "trace: use type=\"volpath\"");
+              "trace: use type=\"volpath\" or \"vpm\"");
     }
 }

@@ -95,7 +95,8 @@ TEST_CASE("vpm without media converges to the path tracer's image", "[media][ren
     CHECK(got.b == Approx(ref.b).epsilon(0.04));
 }
 
-TEST_CASE("vpm: the same image for any thread count; emitting media refused", "[media][render]") {
+TEST_CASE("vpm: the same image for any thread count, and emitting media refused",
+          "[media][render]") {
     TestScene v = load_scene(test::source_path("scenes/cornell-fog.xml"),
                              {{"type", "vpm"}, {"photons_per_pass", "5000"}});
     v.set_resolution(16, 16);

@@ -13,8 +13,10 @@
 // fog that fills a room needs one boundary, not one per wall.
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 
+#include "density_grid.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 
@@ -22,7 +24,9 @@ namespace foton {
 
 inline constexpr int32_t kNoMedium = -1;  // vacuum
 
-enum class MediumKind { Homogeneous };
+// Homogeneous: the coefficients everywhere. Grid: the coefficients times a density grid's
+// value (density_grid.h), inside its box only.
+enum class MediumKind { Homogeneous, Grid };
 
 struct Medium {
     std::string name;
@@ -30,6 +34,7 @@ struct Medium {
     RGB sigma_a{0.f}, sigma_s{0.f};
     RGB Le{0.f};    // emitted radiance (scaled by sigma_a in the transfer equation)
     float g = 0.f;  // Henyey-Greenstein asymmetry, in (-1, 1)
+    std::shared_ptr<const DensityGrid> density;  // Grid only
     // Where it was defined, for messages about it.
     std::string file;
     int line = 0;
@@ -37,7 +42,9 @@ struct Medium {
     RGB sigma_t() const { return sigma_a + sigma_s; }
     // The majorant: no channel's extinction exceeds it, so free flights sampled with it and
     // corrected by null collisions are exact (delta tracking; transport/common/medium_tracking.h).
+    // A grid medium's is this times its majorant grid's cell value.
     float majorant() const { return sigma_t().max_component(); }
+    bool homogeneous() const { return kind == MediumKind::Homogeneous; }
     bool emits() const { return !Le.is_black() && !sigma_a.is_black(); }
     // exp(-sigma_t d), per channel: the exact transmittance of a homogeneous medium.
     RGB transmittance(float d) const {

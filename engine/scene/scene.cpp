@@ -239,13 +239,14 @@ std::string Scene::summary() const {
     }
     for (const Medium& m : media) {
         const RGB st = m.sigma_t();
-        std::snprintf(
-            buf, sizeof buf, "medium     %s: sigma_t (%g, %g, %g), albedo (%g, %g, %g), g %g%s%s\n",
-            m.name.c_str(), double(st.r), double(st.g), double(st.b),
-            double(st.r > 0.f ? m.sigma_s.r / st.r : 0.f),
-            double(st.g > 0.f ? m.sigma_s.g / st.g : 0.f),
-            double(st.b > 0.f ? m.sigma_s.b / st.b : 0.f), double(m.g), m.emits() ? ", emits" : "",
-            &m - media.data() == camera_medium ? ", the camera's" : "");
+        std::snprintf(buf, sizeof buf,
+                      "medium     %s%s: sigma_t (%g, %g, %g), albedo (%g, %g, %g), g %g%s%s\n",
+                      m.name.c_str(), m.density ? " (density grid)" : "", double(st.r),
+                      double(st.g), double(st.b), double(st.r > 0.f ? m.sigma_s.r / st.r : 0.f),
+                      double(st.g > 0.f ? m.sigma_s.g / st.g : 0.f),
+                      double(st.b > 0.f ? m.sigma_s.b / st.b : 0.f), double(m.g),
+                      m.emits() ? ", emits" : "",
+                      &m - media.data() == camera_medium ? ", the camera's" : "");
         s += buf;
     }
     const Bounds3 b = bounds();

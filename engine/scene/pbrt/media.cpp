@@ -8,9 +8,9 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
     const std::string type = p.text("type", "");
     const std::string what = "MakeNamedMedium \"" + name + "\"";
     if (type.empty()) fail(t, what + " needs \"string type\"");
-    if (type != "homogeneous")
-        fail(t, what + ": medium type '" + type +
-                    "' is not supported yet (homogeneous; grid media are to come)");
+    if (type != "homogeneous" && type != "uniformgrid")
+        fail(t,
+             what + ": medium type '" + type + "' is not supported yet (homogeneous, uniformgrid)");
     if (media_.count(name)) fail(t, what + ": defined twice");
     if (p.has("preset"))
         fail(t, what + ": named scattering presets are not supported (give sigma_a, sigma_s)");
@@ -28,6 +28,12 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
     if (!(m.majorant() < 1e12f)) fail(t, what + ": the extinction must be below 1e12");
     m.g = p.real("g", 0.f);
     if (!(m.g > -1.f && m.g < 1.f)) fail(t, what + ": g must be in (-1, 1)");
+    if (type == "uniformgrid") {
+        m.kind = MediumKind::Grid;
+        m.density = uniform_grid(t, what, p);
+        for (const char* emission : {"Le", "Lescale", "temperature", "temperaturescale"})
+            if (p.has(emission)) fail(t, what + ": emitting grid media are not supported yet");
+    }
     if (const auto le = p.color("Le", true)) {
         // The film's imaging ratio is applied with the lights' at the end (run()).
         m.Le = *le * p.real("Lescale", 1.f);
@@ -37,10 +43,41 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
     m.file = file();
     m.line = t.line;
     warn_unused(p, what);
-    count("MakeNamedMedium homogeneous");
+    count("MakeNamedMedium " + type);
     media_[name] = int32_t(scene_.media.size());
     scene_.media.push_back(std::move(m));
     scene_.mark_volumetric(file(), t.line);
+}
+
+// pbrt-v4's uniformgrid: "density" nx x ny x nz values (x fastest) over the box p0-p1 in the
+// medium's space, placed by the transform current at MakeNamedMedium (scales and translations
+// only: foton's grids are axis-aligned in the world).
+std::shared_ptr<const DensityGrid> Importer::uniform_grid(const Token& t, const std::string& what,
+                                                          const ParamList& p) {
+    const int nx = p.integer("nx", 1), ny = p.integer("ny", 1), nz = p.integer("nz", 1);
+    if (nx < 1 || ny < 1 || nz < 1) fail(t, what + ": nx, ny and nz must be positive");
+    std::vector<float> density = p.reals("density");
+    if (uint64_t(density.size()) != uint64_t(nx) * uint64_t(ny) * uint64_t(nz))
+        fail(t, what + ": \"density\" has " + std::to_string(density.size()) +
+                    " values, nx * ny * nz is " +
+                    std::to_string(uint64_t(nx) * uint64_t(ny) * uint64_t(nz)));
+    for (float v : density)
+        if (!(v >= 0.f)) fail(t, what + ": density values must not be negative");
+    const std::vector<Vec3> p0 = p.triples("p0"), p1 = p.triples("p1");
+    const Vec3 a = p0.empty() ? Vec3{0, 0, 0} : p0[0], b = p1.empty() ? Vec3{1, 1, 1} : p1[0];
+    const Affine& xf = gs_.ctm;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (i != j && xf.m[i][j] != 0.f)
+                fail(t, what +
+                            ": a grid medium placed by a rotation is not supported (scales "
+                            "and translations only)");
+    Bounds3 box;
+    box.extend(xf.point(a));
+    box.extend(xf.point(b));
+    const Vec3 e = box.diagonal();
+    if (!(e.x > 0.f && e.y > 0.f && e.z > 0.f)) fail(t, what + ": the box p0-p1 is empty");
+    return std::make_shared<const DensityGrid>(nx, ny, nz, std::move(density), box);
 }
 
 void Importer::medium_interface(const Token& t) {

@@ -1,4 +1,8 @@
 // <media>: participating media by name, and the medium references of the camera and objects.
+#include <cstring>
+#include <filesystem>
+
+#include "engine/core/input_file.h"
 #include "loader.h"
 
 namespace foton::xml {
@@ -6,13 +10,23 @@ namespace foton::xml {
 void Loader::parse_media(const pugi::xml_node& n) {
     check(n, {}, {"medium"});
     for (const pugi::xml_node& e : n.children("medium")) {
-        check(e, {"name", "type", "g", "scale"}, {"sigma_a", "sigma_s", "emission"});
+        check(e, {"name", "type", "g", "scale", "nx", "ny", "nz", "src"},
+              {"sigma_a", "sigma_s", "emission", "p0", "p1"});
         Medium m;
         m.name = e.attribute("name").value();
         if (m.name.empty()) fail(e, "<medium> needs attribute 'name'");
         if (medium_ids_.count(m.name)) fail(e, "medium '" + m.name + "' defined twice");
         const std::string type = e.attribute("type") ? e.attribute("type").value() : "homogeneous";
-        if (type != "homogeneous") fail(e, "unknown medium type '" + type + "' (homogeneous)");
+        if (type != "homogeneous" && type != "grid")
+            fail(e, "unknown medium type '" + type + "' (homogeneous, grid)");
+        if (type == "grid") {
+            m.kind = MediumKind::Grid;
+            m.density = density_grid(e);
+        } else {
+            for (const char* a : {"nx", "ny", "nz", "src"})
+                if (e.attribute(a)) fail(e, std::string("'") + a + "' belongs to a grid medium");
+            if (e.child("p0") || e.child("p1")) fail(e, "<p0>, <p1> belong to a grid medium");
+        }
         // Coefficients per unit of scene length; `scale` multiplies both (pbrt-v4's scale).
         const float scale = non_negative(e, "scale", 1.f);
         m.sigma_a = rgb_child(e, "sigma_a", RGB{0.f}) * scale;
@@ -28,6 +42,7 @@ void Loader::parse_media(const pugi::xml_node& n) {
             m.Le = emitted(le, rgb(le, {"intensity"}) * non_negative(le, "intensity", 1.f));
             if (m.sigma_a.is_black())
                 fail(le, "an emitting medium needs absorption (it emits sigma_a Le)");
+            if (m.kind == MediumKind::Grid) fail(le, "grid media do not emit (yet)");
         }
         m.file = name_;
         m.line = line_of(e);
@@ -35,6 +50,38 @@ void Loader::parse_media(const pugi::xml_node& n) {
         scene_.media.push_back(std::move(m));
         scene_.mark_volumetric(name_, line_of(e));
     }
+}
+
+// A grid medium's density: nx x ny x nz little-endian float32 values, x fastest, from the
+// file `src`, over the box from <p0> to <p1>.
+std::shared_ptr<const DensityGrid> Loader::density_grid(const pugi::xml_node& e) const {
+    const uint32_t n[3] = {count(e, "nx", 0), count(e, "ny", 0), count(e, "nz", 0)};
+    if (!n[0] || !n[1] || !n[2]) fail(e, "a grid medium needs nx, ny and nz");
+    if (uint64_t(n[0]) * n[1] * n[2] > (uint64_t(1) << 28))
+        fail(e, "a grid medium has at most 2^28 samples");
+    const std::string src = e.attribute("src").value();
+    if (src.empty()) fail(e, "a grid medium needs 'src' (raw little-endian float32 samples)");
+    const std::string path = (std::filesystem::path(base_) / src).string();
+    const std::string problem = input_file_problem(path, uint64_t(4) << 30);
+    if (!problem.empty()) fail(e, "density file '" + src + "': " + problem);
+    const std::string bytes = read_input_file(path, uint64_t(4) << 30, "density file");
+    const std::size_t count_values = std::size_t(n[0]) * n[1] * n[2];
+    if (bytes.size() != 4 * count_values)
+        fail(e, "density file '" + src + "' has " + std::to_string(bytes.size()) +
+                    " bytes; nx * ny * nz float32 samples are " + std::to_string(4 * count_values));
+    std::vector<float> values(count_values);
+    std::memcpy(values.data(), bytes.data(), bytes.size());
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (!(values[i] >= 0.f && values[i] < 1e12f))
+            fail(e, "density file '" + src + "': sample " + std::to_string(i) +
+                        " is negative, not finite or beyond 1e12");
+    Bounds3 box;
+    box.extend(xyz_child(e, "p0"));
+    box.extend(xyz_child(e, "p1"));
+    const Vec3 ext = box.diagonal();
+    if (!(ext.x > 0.f && ext.y > 0.f && ext.z > 0.f)) fail(e, "the grid's box <p0>-<p1> is empty");
+    return std::make_shared<const DensityGrid>(int(n[0]), int(n[1]), int(n[2]), std::move(values),
+                                               box);
 }
 
 int32_t Loader::medium_ref(const pugi::xml_node& n, const char* attr) const {

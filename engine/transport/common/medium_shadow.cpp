@@ -35,7 +35,8 @@ void MediumShadowRays::resolve(const Scene& scene, const Intersector& accel,
             if (s.medium != kNoMedium) {
                 const float d = hit ? hits_.t[i] : rays_.tmax[i];
                 auto u = [&] { return rng::uniform_from(prefix, s.key, s.draws++); };
-                s.value *= transmittance(scene.media[std::size_t(s.medium)], d, estimator, u);
+                s.value *= transmittance(scene.media[std::size_t(s.medium)], rays_.origin(i),
+                                         rays_.direction(i), d, estimator, u);
                 if (s.value.is_black()) continue;
             }
             if (!hit) {

@@ -14,8 +14,10 @@
 #include <cmath>
 #include <cstdint>
 
+#include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/medium.h"
+#include "kernels/grid_dda.h"
 
 namespace foton {
 
@@ -135,14 +137,118 @@ FreeFlight sample_homogeneous(const Medium& m, float t_end, const RGB& beta, Uni
     return f;
 }
 
+// Walks the majorant grid of grid medium m along o + t d over [0, t_end), front to back:
+// segment(t0, t1, sigma_maj) for each piece inside the box with a non-zero majorant (the
+// medium's largest channel's extinction times the cell's density bound) until it returns
+// true.
+template <class Segment>
+void majorant_segments(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
+                       Segment&& segment) {
+    const DensityGrid& g = *m.density;
+    const float scale = m.majorant();
+    const kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, t_end};
+    // The walk starts where the ray enters the box (the slab test of dda_walk, repeated to
+    // know the first segment's start).
+    const kern::GridFrame& f = g.majorant_frame();
+    float t0 = 0.f;
+    const float oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    for (int a = 0; a < 3; ++a) {
+        const float inv = 1.f / dd[a];
+        float tn = (f.lo[a] - oo[a]) * inv, tf = (f.hi[a] - oo[a]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        if (tn > t0) t0 = tn;
+    }
+    float t = t0;
+    const float limit = t_end;
+    kern::dda_walk(f, ray, limit, [&](uint32_t cell, float t_exit) {
+        const float maj = g.majorant(cell) * scale;
+        const bool stop = maj > 0.f && t_exit > t && segment(t, t_exit, maj);
+        t = t_exit;
+        return stop;
+    });
+}
+
+// Delta tracking through grid medium m along o + t d: as delta_track, with the majorant of
+// each cell of the majorant grid, the coefficients at a tentative collision scaled by the
+// density there. Grid media do not emit.
+template <class Uniform>
+FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
+                            const RGB& beta, Uniform&& u) {
+    FreeFlight f;
+    majorant_segments(m, o, d, t_end, [&](float t0, float t1, float maj) {
+        float t = t0;
+        for (;;) {
+            t -= std::log1p(-u()) / maj;
+            if (!(t < t1)) return false;  // on into the next cell
+            if (++f.collisions > kMaxCollisions) {
+                f.event = FreeFlight::Event::Absorb;
+                return true;
+            }
+            const float rho = m.density->lookup(o + d * t);
+            const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
+            const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
+            const RGB b = beta * f.weight;
+            const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
+                        pn = std::max(0.f, channel_mean(b * sn));
+            const float total = pa + ps + pn;
+            if (!(total > 0.f)) {
+                f.event = FreeFlight::Event::Absorb;
+                return true;
+            }
+            const float x = u() * total;
+            if (x < pa) {
+                f.event = FreeFlight::Event::Absorb;
+                f.weight = RGB{0.f};
+                return true;
+            }
+            if (x < pa + ps) {
+                f.event = FreeFlight::Event::Scatter;
+                f.t = t;
+                f.weight *= ss * (total / (ps * maj));
+                return true;
+            }
+            f.weight *= sn * (total / (pn * maj));
+            if (f.weight.is_black()) {
+                f.event = FreeFlight::Event::Absorb;
+                return true;
+            }
+        }
+    });
+    return f;
+}
+
+// Ratio tracking's transmittance through grid medium m along o + t d over [0, t_end).
+template <class Uniform>
+RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u) {
+    RGB tr{1.f};
+    uint32_t collisions = 0;
+    majorant_segments(m, o, d, t_end, [&](float t0, float t1, float maj) {
+        float t = t0;
+        for (;;) {
+            t -= std::log1p(-u()) / maj;
+            if (!(t < t1)) return false;
+            const float rho = m.density->lookup(o + d * t);
+            tr *= RGB{1.f - rho * (m.sigma_a.r + m.sigma_s.r) / maj,
+                      1.f - rho * (m.sigma_a.g + m.sigma_s.g) / maj,
+                      1.f - rho * (m.sigma_a.b + m.sigma_s.b) / maj};
+            if (tr.is_black() || ++collisions > kMaxCollisions) {
+                tr = RGB{0.f};
+                return true;
+            }
+        }
+    });
+    return tr;
+}
+
 // How camera paths sample their flights through a homogeneous medium: analytically (the
 // default) or by delta tracking, the estimator varying media need, kept for homogeneous ones
-// as a baseline to measure against.
+// as a baseline to measure against. Grid media always take delta tracking.
 enum class FreeFlightSampling : uint8_t { Analytic, Delta };
 
 template <class Uniform>
-FreeFlight free_flight(const Medium& m, float t_end, const RGB& beta, FreeFlightSampling how,
-                       Uniform&& u) {
+FreeFlight free_flight(const Medium& m, const Vec3& o, const Vec3& d, float t_end, const RGB& beta,
+                       FreeFlightSampling how, Uniform&& u) {
+    if (!m.homogeneous()) return delta_track_grid(m, o, d, t_end, beta, u);
     if (how == FreeFlightSampling::Delta) return delta_track(m, t_end, beta, u);
     return sample_homogeneous(m, t_end, beta, u);
 }
@@ -169,8 +275,11 @@ RGB ratio_track(const Medium& m, float d, Uniform&& u) {
 // How shadow rays weigh a medium they cross.
 enum class TransmittanceEstimator : uint8_t { Exact, Ratio };
 
+// The transmittance along o + t dir over [0, d): grid media always by ratio tracking.
 template <class Uniform>
-RGB transmittance(const Medium& m, float d, TransmittanceEstimator e, Uniform&& u) {
+RGB transmittance(const Medium& m, const Vec3& o, const Vec3& dir, float d,
+                  TransmittanceEstimator e, Uniform&& u) {
+    if (!m.homogeneous()) return ratio_track_grid(m, o, dir, d, u);
     if (e == TransmittanceEstimator::Ratio) return ratio_track(m, d, u);
     return m.transmittance(d);  // homogeneous: exp(-sigma_t d), exactly
 }

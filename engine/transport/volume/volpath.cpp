@@ -126,7 +126,8 @@ class VolPathIntegrator : public CameraIntegrator {
             auto u = [&] {
                 return rng::uniform_from(flight_prefix_, ws.keys[slot], ws.draws[slot]++);
             };
-            const FreeFlight f = free_flight(med, t_end, beta, own_.free_flight, u);
+            const FreeFlight f =
+                free_flight(med, ws.rays.origin(i), d, t_end, beta, own_.free_flight, u);
             // The medium's own light along the flight: no light sample finds it, full weight.
             if (!f.emitted.is_black()) radiance[slot] += beta * f.emitted;
             if (f.event == FreeFlight::Event::Absorb) return;

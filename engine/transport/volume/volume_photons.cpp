@@ -107,7 +107,8 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
                 const Medium& med = scene_.media[std::size_t(mi)];
                 const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[r];
                 auto draw = [&] { return u(slot); };
-                const FreeFlight f = sample_homogeneous(med, t_end, power, draw);
+                const FreeFlight f = free_flight(med, ws.rays.origin(r), d, t_end, power,
+                                                 FreeFlightSampling::Analytic, draw);
                 if (f.event == FreeFlight::Event::Absorb) continue;
                 if (f.event == FreeFlight::Event::Scatter) {
                     const Vec3 p = ws.rays.origin(r) + d * f.t;

@@ -104,14 +104,16 @@ class VpmCamera {
         if (const int32_t mi = w.medium[slot]; mi != kNoMedium) {
             const Medium& med = scene_.media[std::size_t(mi)];
             const float t_end = geom == kNoHit ? kInfinity : w.hits.t[r];
-            const FreeFlight f = sample_homogeneous(med, t_end, beta, u);
+            const FreeFlight f =
+                free_flight(med, w.rays.origin(r), d, t_end, beta, FreeFlightSampling::Analytic, u);
             if (f.event == FreeFlight::Event::Absorb) return RGB{0.f};
             if (f.event == FreeFlight::Event::Scatter) {
                 // The flight's weight without sigma_s, which the photons' density carries.
-                const RGB& s = med.sigma_s;
+                const Vec3 p = w.rays.origin(r) + d * f.t;
+                const RGB s =
+                    med.homogeneous() ? med.sigma_s : med.sigma_s * med.density->lookup(p);
                 const RGB wt{s.r > 0.f ? f.weight.r / s.r : 0.f, s.g > 0.f ? f.weight.g / s.g : 0.f,
                              s.b > 0.f ? f.weight.b / s.b : 0.f};
-                const Vec3 p = w.rays.origin(r) + d * f.t;
                 RGB in{0.f};
                 maps.volume.for_each_in_radius(p, r_volume, [&](uint32_t i, float) {
                     if (nee_ && (maps.volume.flags(i) & kPhotonDirect)) return;

@@ -1,0 +1,218 @@
+// Grid media: the density grid's trilinear lookup and its majorant grid, the majorant DDA's
+// segments, and delta and ratio tracking through a varying density against the optical depth
+// integrated numerically; the XML and pbrt-v4 forms.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "engine/core/error.h"
+#include "engine/core/rng.h"
+#include "engine/scene/pbrt_loader.h"
+#include "engine/scene/xml_loader.h"
+#include "engine/transport/common/medium_tracking.h"
+#include "test_util.h"
+
+using namespace foton;
+
+namespace {
+
+// A smooth, uneven density on n^3 samples over [-1, 1]^3, with empty corners.
+std::shared_ptr<const DensityGrid> test_grid(int n) {
+    std::vector<float> v;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const float fx = (x + 0.5f) / n, fy = (y + 0.5f) / n, fz = (z + 0.5f) / n;
+                const float r2 = (fx - 0.5f) * (fx - 0.5f) + (fy - 0.4f) * (fy - 0.4f) +
+                                 (fz - 0.55f) * (fz - 0.55f);
+                v.push_back(std::max(0.f, 1.f - 4.f * r2) * (1.5f + std::sin(9.f * fx + 4.f * fz)));
+            }
+    Bounds3 box;
+    box.extend(Vec3{-1, -1, -1});
+    box.extend(Vec3{1, 1, 1});
+    return std::make_shared<const DensityGrid>(n, n, n, std::move(v), box);
+}
+
+Medium grid_medium(int n) {
+    Medium m;
+    m.kind = MediumKind::Grid;
+    m.sigma_a = RGB{0.3f, 0.8f, 1.2f};
+    m.sigma_s = RGB{1.2f, 0.6f, 0.4f};
+    m.density = test_grid(n);
+    return m;
+}
+
+struct Draws {
+    uint64_t stream, i = 0, k = 0;
+    float operator()() { return rng::uniform(77, stream, i, k++); }
+};
+
+// exp(-integral of sigma_t) along o + t d over [0, t_end), by a fine midpoint rule.
+RGB exact_transmittance(const Medium& m, const Vec3& o, const Vec3& d, float t_end) {
+    const int steps = 20000;
+    double tau = 0.0;
+    for (int i = 0; i < steps; ++i)
+        tau += m.density->lookup(o + d * ((i + 0.5f) * t_end / steps)) * (t_end / steps);
+    const RGB st = m.sigma_t();
+    return {float(std::exp(-tau * st.r)), float(std::exp(-tau * st.g)),
+            float(std::exp(-tau * st.b))};
+}
+
+}  // namespace
+
+TEST_CASE("density grid: trilinear between sample centres, zero outside, majorant bounds it",
+          "[media][fast]") {
+    const auto g = test_grid(6);
+    // At a sample's centre, the sample.
+    const Vec3 c{-1.f + (2.f + 0.5f) * 2.f / 6.f, -1.f + (3.f + 0.5f) * 2.f / 6.f,
+                 -1.f + (1.f + 0.5f) * 2.f / 6.f};
+    CHECK(g->lookup(c) == Approx(g->sample(2, 3, 1)));
+    // Half way between two centres along x, their mean.
+    const Vec3 mid = c + Vec3{1.f / 6.f, 0, 0};
+    CHECK(g->lookup(mid) == Approx(0.5f * (g->sample(2, 3, 1) + g->sample(3, 3, 1))));
+    CHECK(g->lookup({1.01f, 0, 0}) == 0.f);
+    CHECK(g->lookup({0, -1.2f, 0}) == 0.f);
+    int below = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const Vec3 p{rng::uniform(3, 1, uint64_t(i), 0) * 2.f - 1.f,
+                     rng::uniform(3, 1, uint64_t(i), 1) * 2.f - 1.f,
+                     rng::uniform(3, 1, uint64_t(i), 2) * 2.f - 1.f};
+        const kern::GridFrame& f = g->majorant_frame();
+        const uint32_t cell = f.index(f.cell_of(0, p.x), f.cell_of(1, p.y), f.cell_of(2, p.z));
+        below += g->lookup(p) <= g->majorant(cell) ? 1 : 0;
+    }
+    CHECK(below == 100000);
+}
+
+TEST_CASE("majorant DDA: contiguous segments inside the box, each cell's bound", "[media][fast]") {
+    const Medium m = grid_medium(20);
+    for (int r = 0; r < 200; ++r) {
+        const Vec3 o{rng::uniform(4, 1, uint64_t(r), 0) * 6.f - 3.f,
+                     rng::uniform(4, 1, uint64_t(r), 1) * 6.f - 3.f, -4.f};
+        const Vec3 target{rng::uniform(4, 1, uint64_t(r), 2) * 2.f - 1.f,
+                          rng::uniform(4, 1, uint64_t(r), 3) * 2.f - 1.f, 0.5f};
+        const Vec3 d = normalize(target - o);
+        float last = -1.f;
+        bool ok = true;
+        majorant_segments(m, o, d, 20.f, [&](float t0, float t1, float maj) {
+            ok &= t0 < t1 && t0 >= last - 1e-4f && maj > 0.f;
+            // Every point of the segment is below its majorant.
+            for (int k = 1; k < 8; ++k) {
+                const float t = t0 + (t1 - t0) * (k / 8.f);
+                ok &= m.density->lookup(o + d * t) * m.majorant() <= maj * (1.f + 1e-5f);
+            }
+            last = t1;
+            return false;
+        });
+        CHECK(ok);
+    }
+}
+
+TEST_CASE("ratio and delta tracking through a varying density equal exp(-optical depth)",
+          "[media][fast]") {
+    const Medium m = grid_medium(12);
+    const Vec3 rays[3][2] = {{{-2, 0.1f, 0.2f}, {1, 0, 0}},
+                             {{-1.5f, -1.5f, -1.5f}, {1, 1, 1}},
+                             {{0.3f, 2, -0.4f}, {0, -1, 0.2f}}};
+    for (int k = 0; k < 3; ++k) {
+        const Vec3 o = rays[k][0], d = normalize(rays[k][1]);
+        const float t_end = 3.5f;
+        const RGB exact = exact_transmittance(m, o, d, t_end);
+        const int n = 100000;
+        RGB ratio{0.f}, pass{0.f};
+        for (int i = 0; i < n; ++i) {
+            Draws u{uint64_t(20 + k), uint64_t(i)};
+            ratio += ratio_track_grid(m, o, d, t_end, u);
+            Draws v{uint64_t(40 + k), uint64_t(i)};
+            const FreeFlight f = delta_track_grid(m, o, d, t_end, RGB{1.f}, v);
+            if (f.event == FreeFlight::Event::Pass) pass += f.weight;
+        }
+        INFO("ray " << k << ": exact " << exact.r << " " << exact.g << " " << exact.b);
+        INFO("ratio " << ratio.r / n << " " << ratio.g / n << " " << ratio.b / n);
+        INFO("delta " << pass.r / n << " " << pass.g / n << " " << pass.b / n);
+        CHECK(exact.g < 0.9f);  // the ray does cross the cloud
+        CHECK(ratio.r / n == Approx(exact.r).margin(0.01));
+        CHECK(ratio.g / n == Approx(exact.g).margin(0.01));
+        CHECK(ratio.b / n == Approx(exact.b).margin(0.01));
+        CHECK(pass.r / n == Approx(exact.r).margin(0.01));
+        CHECK(pass.g / n == Approx(exact.g).margin(0.01));
+        CHECK(pass.b / n == Approx(exact.b).margin(0.01));
+    }
+}
+
+TEST_CASE("grid media in XML and pbrt-v4, and their errors", "[media][fast]") {
+    test::TempDir dir;
+    {
+        std::ofstream f(dir.file("d.raw"), std::ios::binary);
+        const float v[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+        f.write(reinterpret_cast<const char*>(v), sizeof v);
+    }
+    auto xml = [&](const std::string& medium) {
+        return "<scene><film width=\"8\" height=\"8\"/>\n<media>" + medium +
+               "</media>\n<objects><sphere radius=\"1\" medium_inside=\"m\"><center x=\"0\" "
+               "y=\"0\" z=\"0\"/><material type=\"interface\"/></sphere></objects>\n"
+               "<renderer type=\"volpath\"/><camera><eye x=\"0\" y=\"0\" z=\"5\"/><target x=\"0\" "
+               "y=\"0\" z=\"0\"/></camera></scene>";
+    };
+    const std::string box = "<p0 x=\"-1\" y=\"-1\" z=\"-1\"/><p1 x=\"1\" y=\"1\" z=\"1\"/>";
+    const Scene s =
+        parse_scene(xml("<medium name=\"m\" type=\"grid\" nx=\"2\" ny=\"2\" nz=\"2\" src=\"d.raw\">"
+                        "<sigma_s r=\"1\" g=\"1\" b=\"1\"/>" +
+                        box + "</medium>"),
+                    "g.xml", dir.path().string());
+    REQUIRE(s.media.size() == 1);
+    CHECK(s.media[0].kind == MediumKind::Grid);
+    CHECK(s.media[0].density->sample(1, 1, 1) == 7.f);
+    CHECK(s.media[0].density->max_value() == 7.f);
+    auto error_of = [&](const std::string& medium) -> std::string {
+        try {
+            parse_scene(xml(medium), "g.xml", dir.path().string());
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    CHECK(error_of("<medium name=\"m\" type=\"grid\" nx=\"3\" ny=\"2\" nz=\"2\" src=\"d.raw\">"
+                   "<sigma_s r=\"1\" g=\"1\" b=\"1\"/>" +
+                   box + "</medium>")
+              .find("g.xml:2: density file 'd.raw' has 32 bytes; nx * ny * nz float32 samples "
+                    "are 48") != std::string::npos);
+    CHECK(error_of("<medium name=\"m\" type=\"grid\" nx=\"2\" ny=\"2\" nz=\"2\" src=\"no.raw\">"
+                   "<sigma_s r=\"1\" g=\"1\" b=\"1\"/>" +
+                   box + "</medium>")
+              .find("density file 'no.raw': not found") != std::string::npos);
+    CHECK(error_of("<medium name=\"m\" nx=\"2\"><sigma_s r=\"1\" g=\"1\" b=\"1\"/></medium>")
+              .find("'nx' belongs to a grid medium") != std::string::npos);
+    // pbrt-v4's uniformgrid, placed by a scale and a translation.
+    const Scene p = parse_pbrt_scene(R"(LookAt 0 0 5 0 0 0 0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  Translate 1 0 0
+  Scale 2 2 2
+  MakeNamedMedium "smoke" "string type" "uniformgrid" "integer nx" 2 "integer ny" 1
+      "integer nz" 1 "float density" [0.5 1.5] "rgb sigma_s" [1 1 1] "rgb sigma_a" [0 0 0]
+AttributeEnd
+MediumInterface "smoke" ""
+Material "interface"
+Shape "sphere" "float radius" 3
+)",
+                                     "t.pbrt", ".");
+    REQUIRE(p.media.size() == 1);
+    CHECK(p.media[0].density->box().lo.x == Approx(1.f));
+    CHECK(p.media[0].density->box().hi.x == Approx(3.f));
+    CHECK(p.media[0].density->max_value() == 1.5f);
+    try {
+        parse_pbrt_scene(R"(WorldBegin
+Rotate 30 0 1 0
+MakeNamedMedium "s" "string type" "uniformgrid" "integer nx" 1 "float density" [1]
+Shape "sphere"
+)",
+                         "t.pbrt", ".");
+        FAIL("imported");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("t.pbrt:3: MakeNamedMedium \"s\": a grid medium placed "
+                                         "by a rotation is not supported") != std::string::npos);
+    }
+}
