@@ -184,6 +184,9 @@ TEST_CASE("golden image hashes: cornell-empty", "[golden]") {
 TEST_CASE("golden image hashes: cornell-fog", "[golden]") {
     check_scene("cornell-fog");
 }
+TEST_CASE("golden image hashes: smoke", "[golden]") {
+    check_scene("smoke");
+}
 TEST_CASE("golden image hashes: cornell-glass-caustic", "[golden]") {
     check_scene("cornell-glass-caustic");
 }

@@ -1,5 +1,5 @@
-// Grid media: the density grid's trilinear lookup and its majorant grid, the majorant DDA's
-// segments, and delta and ratio tracking through a varying density against the optical depth
+// Grid media: the density grid's trilinear lookup and its majorant grid, and delta and ratio
+// tracking through a varying density against the optical depth
 // integrated numerically; the XML and pbrt-v4 forms.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -83,30 +83,6 @@ TEST_CASE("density grid: trilinear between sample centres, zero outside, majoran
         below += g->lookup(p) <= g->majorant(cell) ? 1 : 0;
     }
     CHECK(below == 100000);
-}
-
-TEST_CASE("majorant DDA: contiguous segments inside the box, each cell's bound", "[media][fast]") {
-    const Medium m = grid_medium(20);
-    for (int r = 0; r < 200; ++r) {
-        const Vec3 o{rng::uniform(4, 1, uint64_t(r), 0) * 6.f - 3.f,
-                     rng::uniform(4, 1, uint64_t(r), 1) * 6.f - 3.f, -4.f};
-        const Vec3 target{rng::uniform(4, 1, uint64_t(r), 2) * 2.f - 1.f,
-                          rng::uniform(4, 1, uint64_t(r), 3) * 2.f - 1.f, 0.5f};
-        const Vec3 d = normalize(target - o);
-        float last = -1.f;
-        bool ok = true;
-        majorant_segments(m, o, d, 20.f, [&](float t0, float t1, float maj) {
-            ok &= t0 < t1 && t0 >= last - 1e-4f && maj > 0.f;
-            // Every point of the segment is below its majorant.
-            for (int k = 1; k < 8; ++k) {
-                const float t = t0 + (t1 - t0) * (k / 8.f);
-                ok &= m.density->lookup(o + d * t) * m.majorant() <= maj * (1.f + 1e-5f);
-            }
-            last = t1;
-            return false;
-        });
-        CHECK(ok);
-    }
 }
 
 TEST_CASE("ratio and delta tracking through a varying density equal exp(-optical depth)",
@@ -215,4 +191,36 @@ Shape "sphere"
         CHECK(std::string(e.what()).find("t.pbrt:3: MakeNamedMedium \"s\": a grid medium placed "
                                          "by a rotation is not supported") != std::string::npos);
     }
+}
+
+TEST_CASE("smoke grid: the SIMD and scalar flight kernels give the same image, vpm agrees",
+          "[media][render]") {
+    TestScene s = load_scene(test::source_path("scenes/smoke.xml"));
+    s.set_resolution(24, 24);
+    auto render_with = [&](const char* kernel, int threads, uint32_t spp) {
+        TestScene t = s;
+        ParamSet p = t.renderer;
+        p.set("flight_kernel", kernel, "test", 0);
+        t.render = render_settings(p);
+        return render_test(t, spp, threads, 6).film;
+    };
+    const Film simd = render_with("simd", 1, 4);
+    CHECK(render_with("scalar", 1, 4).pixels == simd.pixels);
+    CHECK(render_with("simd", 3, 4).pixels == simd.pixels);
+    // Photons through the grid (vpm, its flights one at a time) against volpath's paths.
+    const Film ref = render_with("simd", 2, 512 * test::effort());
+    TestScene v = load_scene(test::source_path("scenes/smoke.xml"),
+                             {{"type", "vpm"}, {"photons_per_pass", "20000"}});
+    v.set_resolution(24, 24);
+    const Film got = render_test(v, 32 * test::effort(), 2, 6).film;
+    RGB a{0.f}, b{0.f};
+    for (std::size_t i = 0; i < ref.pixels.size(); ++i) {
+        a += ref.pixels[i];
+        b += got.pixels[i];
+    }
+    INFO("volpath " << a.r << " " << a.g << " " << a.b << ", vpm " << b.r << " " << b.g << " "
+                    << b.b);
+    CHECK(b.r == Approx(a.r).epsilon(0.03));
+    CHECK(b.g == Approx(a.g).epsilon(0.03));
+    CHECK(b.b == Approx(a.b).epsilon(0.03));
 }

@@ -37,6 +37,7 @@ class DensityGrid {
     // The majorant grid: its frame over the box and each cell's bound on the density.
     const kern::GridFrame& majorant_frame() const { return frame_; }
     float majorant(uint32_t cell) const { return majorant_[cell]; }
+    const float* majorant_data() const { return majorant_.data(); }
 
   private:
     int n_[3];

@@ -18,6 +18,7 @@
 #include "engine/core/rgb.h"
 #include "engine/scene/medium.h"
 #include "kernels/grid_dda.h"
+#include "kernels/majorant_march.h"
 
 namespace foton {
 
@@ -137,83 +138,78 @@ FreeFlight sample_homogeneous(const Medium& m, float t_end, const RGB& beta, Uni
     return f;
 }
 
-// Walks the majorant grid of grid medium m along o + t d over [0, t_end), front to back:
-// segment(t0, t1, sigma_maj) for each piece inside the box with a non-zero majorant (the
-// medium's largest channel's extinction times the cell's density bound) until it returns
-// true.
-template <class Segment>
-void majorant_segments(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
-                       Segment&& segment) {
-    const DensityGrid& g = *m.density;
-    const float scale = m.majorant();
-    const kern::Ray1 ray{o.x, o.y, o.z, d.x, d.y, d.z, 0.f, t_end};
-    // The walk starts where the ray enters the box (the slab test of dda_walk, repeated to
-    // know the first segment's start).
-    const kern::GridFrame& f = g.majorant_frame();
-    float t0 = 0.f;
-    const float oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+// The majorant grid of grid medium m as the march kernel reads it (kernels/majorant_march.h):
+// the density bounds times the medium's largest channel's extinction.
+inline kern::MajorantGrid majorant_view(const Medium& m) {
+    const kern::GridFrame& f = m.density->majorant_frame();
+    kern::MajorantGrid g;
     for (int a = 0; a < 3; ++a) {
-        const float inv = 1.f / dd[a];
-        float tn = (f.lo[a] - oo[a]) * inv, tf = (f.hi[a] - oo[a]) * inv;
-        if (tn > tf) std::swap(tn, tf);
-        if (tn > t0) t0 = tn;
+        g.lo[a] = f.lo[a];
+        g.cell[a] = f.cell[a];
+        g.inv_cell[a] = f.inv_cell[a];
+        g.res[a] = f.res[a];
     }
-    float t = t0;
-    const float limit = t_end;
-    kern::dda_walk(f, ray, limit, [&](uint32_t cell, float t_exit) {
-        const float maj = g.majorant(cell) * scale;
-        const bool stop = maj > 0.f && t_exit > t && segment(t, t_exit, maj);
-        t = t_exit;
-        return stop;
-    });
+    g.majorant = m.density->majorant_data();
+    g.scale = m.majorant();
+    return g;
 }
 
-// Delta tracking through grid medium m along o + t d: as delta_track, with the majorant of
-// each cell of the majorant grid, the coefficients at a tentative collision scaled by the
-// density there. Grid media do not emit.
+// The next tentative collision along o + t d after t, the optical depth -ln(1 - u) spent
+// through the majorant grid (the march kernel's scalar twin, one flight): true with its
+// point t and majorant, false when none comes before t_end.
+template <class Uniform>
+bool next_tentative_collision(const kern::MajorantGrid& g, const Vec3& o, const Vec3& d,
+                              float t_end, Uniform&& u, float& t, float& maj) {
+    const float tau = -std::log1p(-u());
+    uint8_t hit = 0;
+    const kern::MarchFlights f{&o.x, &o.y, &o.z, &d.x, &d.y, &d.z, &t_end, &tau, &t, &maj, &hit};
+    kern::march_majorant_scalar(g, f, 1);
+    return hit != 0;
+}
+
+// Delta tracking through grid medium m along o + t d: as delta_track, the tentative
+// collisions drawn through the majorant grid (one optical depth at a time, march kernel), the
+// coefficients at a collision scaled by the density there. Grid media do not emit.
 template <class Uniform>
 FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
                             const RGB& beta, Uniform&& u) {
     FreeFlight f;
-    majorant_segments(m, o, d, t_end, [&](float t0, float t1, float maj) {
-        float t = t0;
-        for (;;) {
-            t -= std::log1p(-u()) / maj;
-            if (!(t < t1)) return false;  // on into the next cell
-            if (++f.collisions > kMaxCollisions) {
-                f.event = FreeFlight::Event::Absorb;
-                return true;
-            }
-            const float rho = m.density->lookup(o + d * t);
-            const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
-            const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
-            const RGB b = beta * f.weight;
-            const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
-                        pn = std::max(0.f, channel_mean(b * sn));
-            const float total = pa + ps + pn;
-            if (!(total > 0.f)) {
-                f.event = FreeFlight::Event::Absorb;
-                return true;
-            }
-            const float x = u() * total;
-            if (x < pa) {
-                f.event = FreeFlight::Event::Absorb;
-                f.weight = RGB{0.f};
-                return true;
-            }
-            if (x < pa + ps) {
-                f.event = FreeFlight::Event::Scatter;
-                f.t = t;
-                f.weight *= ss * (total / (ps * maj));
-                return true;
-            }
-            f.weight *= sn * (total / (pn * maj));
-            if (f.weight.is_black()) {
-                f.event = FreeFlight::Event::Absorb;
-                return true;
-            }
+    const kern::MajorantGrid g = majorant_view(m);
+    float t = 0.f, maj = 0.f;
+    while (next_tentative_collision(g, o, d, t_end, u, t, maj)) {
+        if (++f.collisions > kMaxCollisions) {
+            f.event = FreeFlight::Event::Absorb;
+            return f;
         }
-    });
+        const float rho = m.density->lookup(o + d * t);
+        const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
+        const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
+        const RGB b = beta * f.weight;
+        const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
+                    pn = std::max(0.f, channel_mean(b * sn));
+        const float total = pa + ps + pn;
+        if (!(total > 0.f)) {
+            f.event = FreeFlight::Event::Absorb;
+            return f;
+        }
+        const float x = u() * total;
+        if (x < pa) {
+            f.event = FreeFlight::Event::Absorb;
+            f.weight = RGB{0.f};
+            return f;
+        }
+        if (x < pa + ps) {
+            f.event = FreeFlight::Event::Scatter;
+            f.t = t;
+            f.weight *= ss * (total / (ps * maj));
+            return f;
+        }
+        f.weight *= sn * (total / (pn * maj));
+        if (f.weight.is_black()) {
+            f.event = FreeFlight::Event::Absorb;
+            return f;
+        }
+    }
     return f;
 }
 
@@ -221,22 +217,15 @@ FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float
 template <class Uniform>
 RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u) {
     RGB tr{1.f};
-    uint32_t collisions = 0;
-    majorant_segments(m, o, d, t_end, [&](float t0, float t1, float maj) {
-        float t = t0;
-        for (;;) {
-            t -= std::log1p(-u()) / maj;
-            if (!(t < t1)) return false;
-            const float rho = m.density->lookup(o + d * t);
-            tr *= RGB{1.f - rho * (m.sigma_a.r + m.sigma_s.r) / maj,
-                      1.f - rho * (m.sigma_a.g + m.sigma_s.g) / maj,
-                      1.f - rho * (m.sigma_a.b + m.sigma_s.b) / maj};
-            if (tr.is_black() || ++collisions > kMaxCollisions) {
-                tr = RGB{0.f};
-                return true;
-            }
-        }
-    });
+    const kern::MajorantGrid g = majorant_view(m);
+    float t = 0.f, maj = 0.f;
+    for (uint32_t k = 0; next_tentative_collision(g, o, d, t_end, u, t, maj); ++k) {
+        const float rho = m.density->lookup(o + d * t);
+        tr *= RGB{1.f - rho * (m.sigma_a.r + m.sigma_s.r) / maj,
+                  1.f - rho * (m.sigma_a.g + m.sigma_s.g) / maj,
+                  1.f - rho * (m.sigma_a.b + m.sigma_s.b) / maj};
+        if (tr.is_black() || k > kMaxCollisions) return RGB{0.f};
+    }
     return tr;
 }
 

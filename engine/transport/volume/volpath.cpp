@@ -15,6 +15,7 @@
 #include "engine/transport/common/wavefront.h"
 #include "engine/transport/run/camera_driver.h"
 #include "engine/transport/run/render_context.h"
+#include "grid_flights.h"
 
 namespace foton {
 
@@ -44,6 +45,10 @@ struct VolPathWorkspace : IntegratorWorkspace {
     std::vector<uint32_t> draws;         // free-flight numbers drawn (kMediumStream)
     std::vector<uint64_t> keys;
     std::vector<PathSampler> samplers;
+    // The bounce's flights through grid media, tracked as one batch before shading, and each
+    // ray's flight there (-1: none).
+    GridFlights flights;
+    std::vector<int32_t> flight_of;
 };
 
 class VolPathIntegrator : public CameraIntegrator {
@@ -90,6 +95,7 @@ class VolPathIntegrator : public CameraIntegrator {
             clock,
             [&](uint32_t) {
                 ws.shadow.clear();
+                track_grid_flights(ws);
                 for (std::size_t i = 0; i < ws.rays.size(); ++i) shade_ray(i, ws, radiance);
             },
             [&](uint32_t) {
@@ -99,6 +105,27 @@ class VolPathIntegrator : public CameraIntegrator {
     }
 
   private:
+    float flight_number(VolPathWorkspace& ws, uint32_t slot) const {
+        return rng::uniform_from(flight_prefix_, ws.keys[slot], ws.draws[slot]++);
+    }
+
+    // The bounce's flights through grid media, all at once (grid_flights.h).
+    void track_grid_flights(VolPathWorkspace& ws) const {
+        ws.flight_of.assign(ws.rays.size(), -1);
+        ws.flights.clear();
+        for (std::size_t i = 0; i < ws.rays.size(); ++i) {
+            const uint32_t slot = ws.rays.id[i];
+            const int32_t mi = ws.medium[slot];
+            if (mi == kNoMedium || ctx_.scene.media[std::size_t(mi)].homogeneous()) continue;
+            ws.flight_of[i] = int32_t(ws.flights.size());
+            ws.flights.add(slot, mi, ws.rays.origin(i), ws.rays.direction(i),
+                           ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i], ws.beta[slot]);
+        }
+        if (ws.flights.empty()) return;
+        ws.flights.run(ctx_.scene, own_.flight_kernel == FlightKernel::Simd,
+                       [&](uint32_t slot) { return flight_number(ws, slot); });
+    }
+
     float rand(const VolPathWorkspace& ws, uint32_t slot, uint32_t k) const {
         return ws.samplers[slot].get1(ctx_.seed, ws.vertices[slot], k);
     }
@@ -123,11 +150,11 @@ class VolPathIntegrator : public CameraIntegrator {
         if (const int32_t mi = ws.medium[slot]; mi != kNoMedium) {
             const Medium& med = ctx_.scene.media[std::size_t(mi)];
             const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[i];
-            auto u = [&] {
-                return rng::uniform_from(flight_prefix_, ws.keys[slot], ws.draws[slot]++);
-            };
+            auto u = [&] { return flight_number(ws, slot); };
             const FreeFlight f =
-                free_flight(med, ws.rays.origin(i), d, t_end, beta, own_.free_flight, u);
+                ws.flight_of[i] >= 0
+                    ? ws.flights.result(std::size_t(ws.flight_of[i]))
+                    : free_flight(med, ws.rays.origin(i), d, t_end, beta, own_.free_flight, u);
             // The medium's own light along the flight: no light sample finds it, full weight.
             if (!f.emitted.is_black()) radiance[slot] += beta * f.emitted;
             if (f.event == FreeFlight::Event::Absorb) return;
@@ -272,6 +299,9 @@ void parse_volpath(const ParamSet& params, RenderSettings& settings) {
         {{"analytic", FreeFlightSampling::Analytic}, {"delta", FreeFlightSampling::Delta}}};
     own.transmittance = params.choice("transmittance", names, own.transmittance);
     own.free_flight = params.choice("free_flight", flights, own.free_flight);
+    static const EnumTable<FlightKernel> kernels{
+        {{"simd", FlightKernel::Simd}, {"scalar", FlightKernel::Scalar}}};
+    own.flight_kernel = params.choice("flight_kernel", kernels, own.flight_kernel);
     settings.own = own;
 }
 

@@ -22,6 +22,10 @@
 
 namespace foton {
 
+// The kernel that finds grid media's tentative collisions: the SIMD majorant march or its
+// scalar twin (the same images, bit for bit; for measuring the kernel).
+enum class FlightKernel : uint8_t { Simd, Scalar };
+
 struct VolPathSettings {
     // How shadow rays weigh the media they cross: exact (exp(-sigma_t d), homogeneous media)
     // or ratio tracking's unbiased estimate (`transmittance="ratio"`).
@@ -29,9 +33,11 @@ struct VolPathSettings {
     // How paths sample their flights: analytically (per channel, MIS over the channels) or by
     // delta tracking (`free_flight="delta"`).
     FreeFlightSampling free_flight = FreeFlightSampling::Analytic;
+    FlightKernel flight_kernel = FlightKernel::Simd;
 };
 
-// The row's parse: `transmittance` and `free_flight` into RenderSettings::own.
+// The row's parse: `transmittance`, `free_flight` and `flight_kernel` into
+// RenderSettings::own.
 void parse_volpath(const ParamSet& params, RenderSettings& settings);
 // The row's render: the tile driver over volumetric path tracing.
 RenderResult render_volpath(const Scene& scene, const RenderSettings& settings,

@@ -1,0 +1,122 @@
+#pragma once
+// A bounce's free flights through grid media as one batch: delta tracking round by round,
+// every live flight's next tentative collision found at once by the majorant march kernel
+// (kernels/majorant_march.h, W flights per register), then each collision decided one by one
+// (the density there, absorption, scattering or a null collision). Each flight draws its
+// numbers in the order delta_track_grid (common/medium_tracking.h) draws them, and the
+// kernel equals its scalar twin bit for bit, so a batched flight ends exactly where the
+// one-at-a-time flight would; `simd = false` runs the twin, for measuring the kernel.
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/math.h"
+#include "engine/core/rgb.h"
+#include "engine/scene/scene.h"
+#include "engine/transport/common/medium_tracking.h"
+
+namespace foton {
+
+class GridFlights {
+  public:
+    void clear();
+    bool empty() const { return slot_.empty(); }
+    std::size_t size() const { return slot_.size(); }
+    // A flight of path `slot` in grid medium `medium` along o + t d over [0, t_end), of a path
+    // with throughput beta; its result is result(index) after run().
+    void add(uint32_t slot, int32_t medium, const Vec3& o, const Vec3& d, float t_end,
+             const RGB& beta);
+    // Tracks every flight to its end; u(slot) draws the path's next uniform number.
+    template <class Uniform>
+    void run(const Scene& scene, bool simd, Uniform&& u);
+    const FreeFlight& result(std::size_t i) const { return result_[i]; }
+
+  private:
+    // One round for the live flights of medium `medium`: their next tentative collisions.
+    void march(const Scene& scene, int32_t medium, bool simd);
+    // Flight i's collision at t_hit_[i] with majorant maj_[i]: true while it goes on (null).
+    template <class Uniform>
+    bool collide(const Medium& m, std::size_t i, Uniform&& u);
+
+    std::vector<uint32_t> slot_;
+    std::vector<int32_t> medium_;
+    std::vector<Vec3> o_, d_;
+    std::vector<float> t_end_;
+    std::vector<RGB> beta_;
+    std::vector<FreeFlight> result_;
+    std::vector<float> t_;  // where each live flight stands
+    std::vector<uint32_t> live_, next_live_;
+    // The kernel's SoA of one round (the live flights of one medium), and which flight each
+    // row is.
+    std::vector<float> ox_, oy_, oz_, dx_, dy_, dz_, te_, tau_, th_, maj_;
+    std::vector<uint8_t> hit_;
+    std::vector<uint32_t> row_;
+    // Per flight: this round's tentative collision, its majorant, whether there is one.
+    std::vector<float> t_hit_, maj_of_;
+    std::vector<uint8_t> collided_;
+};
+
+template <class Uniform>
+bool GridFlights::collide(const Medium& m, std::size_t i, Uniform&& u) {
+    FreeFlight& f = result_[i];
+    const float t = t_hit_[i], maj = maj_of_[i];
+    if (++f.collisions > kMaxCollisions) {
+        f.event = FreeFlight::Event::Absorb;
+        return false;
+    }
+    const float rho = m.density->lookup(o_[i] + d_[i] * t);
+    const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
+    const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
+    const RGB b = beta_[i] * f.weight;
+    const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
+                pn = std::max(0.f, channel_mean(b * sn));
+    const float total = pa + ps + pn;
+    if (!(total > 0.f)) {
+        f.event = FreeFlight::Event::Absorb;
+        return false;
+    }
+    const float x = u(slot_[i]) * total;
+    if (x < pa) {
+        f.event = FreeFlight::Event::Absorb;
+        f.weight = RGB{0.f};
+        return false;
+    }
+    if (x < pa + ps) {
+        f.event = FreeFlight::Event::Scatter;
+        f.t = t;
+        f.weight *= ss * (total / (ps * maj));
+        return false;
+    }
+    f.weight *= sn * (total / (pn * maj));
+    if (f.weight.is_black()) {
+        f.event = FreeFlight::Event::Absorb;
+        return false;
+    }
+    t_[i] = t;
+    return true;
+}
+
+template <class Uniform>
+void GridFlights::run(const Scene& scene, bool simd, Uniform&& u) {
+    live_.clear();
+    for (std::size_t i = 0; i < slot_.size(); ++i) live_.push_back(uint32_t(i));
+    while (!live_.empty()) {
+        // Each live flight's optical depth to spend, in flight order (the numbers' order).
+        tau_.resize(slot_.size());
+        for (uint32_t i : live_) tau_[i] = -std::log1p(-u(slot_[i]));
+        // The media of this round's flights, each marched as one batch.
+        for (std::size_t k = 0; k < live_.size(); ++k) {
+            const int32_t m = medium_[live_[k]];
+            bool first = true;
+            for (std::size_t j = 0; j < k && first; ++j) first = medium_[live_[j]] != m;
+            if (first) march(scene, m, simd);
+        }
+        next_live_.clear();
+        for (uint32_t i : live_) {
+            if (!collided_[i]) continue;  // passed: the weight so far
+            if (collide(scene.media[std::size_t(medium_[i])], i, u)) next_live_.push_back(i);
+        }
+        std::swap(live_, next_live_);
+    }
+}
+
+}  // namespace foton
