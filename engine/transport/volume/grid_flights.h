@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/math.h"
+#include "engine/core/ray_batch.h"
 #include "engine/core/rgb.h"
 #include "engine/scene/scene.h"
 #include "engine/transport/common/medium_tracking.h"
@@ -29,6 +30,12 @@ class GridFlights {
     template <class Uniform>
     void run(const Scene& scene, bool simd, Uniform&& u);
     const FreeFlight& result(std::size_t i) const { return result_[i]; }
+    // The flights of a traced batch: every ray whose path (rays.id) is in a grid medium flies
+    // to its hit (or to infinity); flight_of[i] is ray i's flight (-1: none). u(slot) as run().
+    template <class Uniform>
+    void track_batch(const Scene& scene, const RayBatch& rays, const HitBatch& hits,
+                     const std::vector<int32_t>& medium, const std::vector<RGB>& beta, bool simd,
+                     std::vector<int32_t>& flight_of, Uniform&& u);
 
   private:
     // One round for the live flights of medium `medium`: their next tentative collisions.
@@ -93,6 +100,23 @@ bool GridFlights::collide(const Medium& m, std::size_t i, Uniform&& u) {
     }
     t_[i] = t;
     return true;
+}
+
+template <class Uniform>
+void GridFlights::track_batch(const Scene& scene, const RayBatch& rays, const HitBatch& hits,
+                              const std::vector<int32_t>& medium, const std::vector<RGB>& beta,
+                              bool simd, std::vector<int32_t>& flight_of, Uniform&& u) {
+    flight_of.assign(rays.size(), -1);
+    clear();
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const uint32_t slot = rays.id[i];
+        const int32_t mi = medium[slot];
+        if (mi == kNoMedium || scene.media[std::size_t(mi)].homogeneous()) continue;
+        flight_of[i] = int32_t(size());
+        add(slot, mi, rays.origin(i), rays.direction(i),
+            hits.geom[i] == kNoHit ? kInfinity : hits.t[i], beta[slot]);
+    }
+    if (!empty()) run(scene, simd, u);
 }
 
 template <class Uniform>

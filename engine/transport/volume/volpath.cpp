@@ -111,19 +111,9 @@ class VolPathIntegrator : public CameraIntegrator {
 
     // The bounce's flights through grid media, all at once (grid_flights.h).
     void track_grid_flights(VolPathWorkspace& ws) const {
-        ws.flight_of.assign(ws.rays.size(), -1);
-        ws.flights.clear();
-        for (std::size_t i = 0; i < ws.rays.size(); ++i) {
-            const uint32_t slot = ws.rays.id[i];
-            const int32_t mi = ws.medium[slot];
-            if (mi == kNoMedium || ctx_.scene.media[std::size_t(mi)].homogeneous()) continue;
-            ws.flight_of[i] = int32_t(ws.flights.size());
-            ws.flights.add(slot, mi, ws.rays.origin(i), ws.rays.direction(i),
-                           ws.hits.geom[i] == kNoHit ? kInfinity : ws.hits.t[i], ws.beta[slot]);
-        }
-        if (ws.flights.empty()) return;
-        ws.flights.run(ctx_.scene, own_.flight_kernel == FlightKernel::Simd,
-                       [&](uint32_t slot) { return flight_number(ws, slot); });
+        ws.flights.track_batch(ctx_.scene, ws.rays, ws.hits, ws.medium, ws.beta,
+                               own_.flight_kernel == FlightKernel::Simd, ws.flight_of,
+                               [&](uint32_t slot) { return flight_number(ws, slot); });
     }
 
     float rand(const VolPathWorkspace& ws, uint32_t slot, uint32_t k) const {

@@ -16,6 +16,7 @@
 #include "engine/transport/common/medium_shadow.h"
 #include "engine/transport/common/medium_tracking.h"
 #include "engine/transport/common/surface.h"
+#include "grid_flights.h"
 
 namespace foton {
 
@@ -32,6 +33,8 @@ struct VolumePhotonTracer::Work {
     std::vector<int32_t> medium;
     std::vector<uint32_t> bounces, crossings, draws;
     std::vector<uint16_t> light;
+    GridFlights flights;  // a round's flights through grid media, as one batch
+    std::vector<int32_t> flight_of;
 };
 
 VolumePhotonTracer::VolumePhotonTracer(const Scene& scene, const Intersector& accel,
@@ -91,6 +94,9 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
         accel_.intersect(ws.rays, ws.hits, stats.trace);
         stats.add(Stage::PhotonIntersect, ws.rays.size(), clock);
         ws.next.clear();
+        // The round's flights through grid media as one batch (grid_flights.h).
+        ws.flights.track_batch(scene_, ws.rays, ws.hits, ws.medium, ws.power, true, ws.flight_of,
+                               u);
         for (std::size_t r = 0; r < ws.rays.size(); ++r) {
             const uint32_t slot = ws.rays.id[r];
             const uint32_t geom = ws.hits.geom[r];
@@ -107,8 +113,10 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
                 const Medium& med = scene_.media[std::size_t(mi)];
                 const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[r];
                 auto draw = [&] { return u(slot); };
-                const FreeFlight f = free_flight(med, ws.rays.origin(r), d, t_end, power,
-                                                 FreeFlightSampling::Analytic, draw);
+                const FreeFlight f = ws.flight_of[r] >= 0
+                                         ? ws.flights.result(std::size_t(ws.flight_of[r]))
+                                         : free_flight(med, ws.rays.origin(r), d, t_end, power,
+                                                       FreeFlightSampling::Analytic, draw);
                 if (f.event == FreeFlight::Event::Absorb) continue;
                 if (f.event == FreeFlight::Event::Scatter) {
                     const Vec3 p = ws.rays.origin(r) + d * f.t;

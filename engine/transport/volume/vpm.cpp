@@ -21,6 +21,7 @@
 #include "engine/transport/common/surface.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
+#include "grid_flights.h"
 #include "volume_photons.h"
 
 namespace foton {
@@ -39,6 +40,8 @@ struct RowWork {
     std::vector<RGB> beta;
     std::vector<int32_t> medium;
     std::vector<uint32_t> depth, crossings, draws;
+    GridFlights flights;  // a bounce's flights through grid media, as one batch
+    std::vector<int32_t> flight_of;
 };
 
 class VpmCamera {
@@ -76,12 +79,14 @@ class VpmCamera {
         while (!w.rays.empty()) {
             accel_.intersect(w.rays, w.hits, stats.trace);
             w.next.clear();
+            auto number = [&](uint32_t slot) {
+                return rng::uniform(seed_, kVolumeCameraStream, w.jobs[slot].id, w.draws[slot]++);
+            };
+            w.flights.track_batch(scene_, w.rays, w.hits, w.medium, w.beta, true, w.flight_of,
+                                  number);
             for (std::size_t r = 0; r < w.rays.size(); ++r) {
                 const uint32_t slot = w.rays.id[r];
-                auto u = [&] {
-                    return rng::uniform(seed_, kVolumeCameraStream, w.jobs[slot].id,
-                                        w.draws[slot]++);
-                };
+                auto u = [&] { return number(slot); };
                 sum[slot] += shade(r, slot, maps, inv_area, r_surface, inv_volume, r_volume, w, u);
             }
             std::swap(w.rays, w.next);
@@ -104,8 +109,10 @@ class VpmCamera {
         if (const int32_t mi = w.medium[slot]; mi != kNoMedium) {
             const Medium& med = scene_.media[std::size_t(mi)];
             const float t_end = geom == kNoHit ? kInfinity : w.hits.t[r];
-            const FreeFlight f =
-                free_flight(med, w.rays.origin(r), d, t_end, beta, FreeFlightSampling::Analytic, u);
+            const FreeFlight f = w.flight_of[r] >= 0
+                                     ? w.flights.result(std::size_t(w.flight_of[r]))
+                                     : free_flight(med, w.rays.origin(r), d, t_end, beta,
+                                                   FreeFlightSampling::Analytic, u);
             if (f.event == FreeFlight::Event::Absorb) return RGB{0.f};
             if (f.event == FreeFlight::Event::Scatter) {
                 // The flight's weight without sigma_s, which the photons' density carries.
