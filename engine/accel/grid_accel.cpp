@@ -27,12 +27,17 @@ thread_local Mailbox t_mailbox;
 }  // namespace
 
 GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
-    : scene_(scene), instances_(scene, AccelType::Grid, 0) {
+    : scene_(scene),
+      mesh_params_(mesh_params),
+      lazy_(scene.grid_lazy),
+      instances_(scene, AccelType::Grid, 0) {
     grids_.resize(scene.meshes.size());
+    once_ = std::make_unique<std::once_flag[]>(scene.meshes.size());
+    built_ = std::make_unique<std::atomic<bool>[]>(scene.meshes.size());
     for (const Object& o : scene.objects) {
         if (o.kind != ObjectKind::Mesh || o.instance >= 0) continue;
-        const TriangleMesh& m = scene.meshes[o.index];
-        grids_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(), mesh_params);
+        ++meshes_;
+        if (!lazy_) grid(o.index);
     }
     // Top level: a coarse grid over object bounds.
     const std::size_t n = scene.objects.size();
@@ -65,10 +70,27 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
     }
 }
 
+const kern::UniformGrid& GridAccel::grid(uint32_t mesh) const {
+    std::call_once(once_[mesh], [&] {
+        const TriangleMesh& m = scene_.meshes[mesh];
+        grids_[mesh].build(m.positions.data(), m.indices.data(), m.num_triangles(), mesh_params_);
+        built_[mesh].store(true, std::memory_order_release);
+    });
+    return grids_[mesh];
+}
+
+std::size_t GridAccel::built_grids() const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < grids_.size(); ++i)
+        n += built_[i].load(std::memory_order_acquire) ? 1 : 0;
+    return n;
+}
+
 std::size_t GridAccel::memory_bytes() const {
     std::size_t n =
         (cell_begin_.size() + cell_objects_.size()) * sizeof(uint32_t) + instances_.memory_bytes();
-    for (const auto& g : grids_) n += g.memory_bytes();
+    for (std::size_t i = 0; i < grids_.size(); ++i)
+        if (built_[i].load(std::memory_order_acquire)) n += grids_[i].memory_bytes();
     return n;
 }
 
@@ -87,7 +109,7 @@ bool GridAccel::hit_object(uint32_t geom, const kern::Ray1& ray, Hit1& hit,
     kern::TriHit th;
     th.t = hit.t;
     kern::GridCounters gc;
-    const bool found = grids_[o.index].intersect(ray, th, &gc);
+    const bool found = grid(o.index).intersect(ray, th, &gc);
     c.cells += gc.cells;
     c.triangle_tests += gc.blocks * kern::kBlockWidth;
     if (!found) return false;
@@ -104,7 +126,7 @@ bool GridAccel::occludes_object(uint32_t geom, const kern::Ray1& ray, TraceCount
                                 {ray.dx, ray.dy, ray.dz}, ray.tmin, ray.tmax, t);
     }
     kern::GridCounters gc;
-    const bool hit = grids_[o.index].occluded(ray, &gc);
+    const bool hit = grid(o.index).occluded(ray, &gc);
     c.cells += gc.cells;
     c.triangle_tests += gc.blocks * kern::kBlockWidth;
     return hit;

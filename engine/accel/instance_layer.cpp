@@ -29,6 +29,7 @@ InstanceLayer::InstanceLayer(const Scene& scene, AccelType blas_type, int thread
             proto->objects.push_back(po);
             proto->materials.resize(1);
             proto->grid_density = scene.grid_density;
+            proto->grid_lazy = scene.grid_lazy;
             blas_of_mesh_[o.index] = uint32_t(blas_.size());
             blas_.push_back(make_intersector(*proto, blas_type, threads));
             prototypes_.push_back(std::move(proto));

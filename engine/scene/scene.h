@@ -110,6 +110,9 @@ struct Scene {
     }
     AccelType accel = AccelType::Bvh;
     float grid_density = 0.5f;  // cells per triangle of the mesh grids
+    // grid: build each mesh's grid when a ray first reaches the mesh, not before the render
+    // (the ray-tracing thesis' lazy nested grid, 8.1.1).
+    bool grid_lazy = false;
     Camera camera;
     FilmSettings film;
     // The renderer's settings as written (<renderer>, with --set applied), each with its file

@@ -64,11 +64,12 @@ Scene Loader::run() {
     parse_film(child(root, "film"));
     parse_renderer(root.child("renderer"));
     if (const auto n = root.child("aggregate")) {
-        check(n, {"type", "density"}, {});
+        check(n, {"type", "density", "lazy"}, {});
         if (!parse_accel(n.attribute("type").value(), scene_.accel))
             fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
                         "' (brute, brute-simd, grid, bvh, embree)");
         scene_.grid_density = positive(n, "density", scene_.grid_density);
+        scene_.grid_lazy = boolean(n, "lazy", false);
     }
     // Media before the camera and the objects, which name them.
     if (const auto n = root.child("media")) parse_media(n);
