@@ -39,6 +39,43 @@ inline float channel_mean(const RGB& c) {
     return (c.r + c.g + c.b) * (1.f / 3.f);
 }
 
+// A tentative collision at t with majorant maj, where the medium's coefficients are sa and ss
+// (sigma_n = maj - sa - ss per channel): absorption, real scattering or a null collision,
+// chosen in proportion to the coefficients weighted by the throughput beta f.weight, the
+// weight corrected by the choice's probability. Draws one number from u() unless the
+// throughput is black. True when the flight goes on (a null collision).
+template <class Uniform>
+bool choose_collision(FreeFlight& f, const RGB& beta, const RGB& sa, const RGB& ss, float maj,
+                      float t, Uniform&& u) {
+    const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
+    const RGB b = beta * f.weight;
+    const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
+                pn = std::max(0.f, channel_mean(b * sn));
+    const float total = pa + ps + pn;
+    if (!(total > 0.f)) {
+        f.event = FreeFlight::Event::Absorb;
+        return false;
+    }
+    const float x = u() * total;
+    if (x < pa) {
+        f.event = FreeFlight::Event::Absorb;
+        f.weight = RGB{0.f};
+        return false;
+    }
+    if (x < pa + ps) {
+        f.event = FreeFlight::Event::Scatter;
+        f.t = t;
+        f.weight *= ss * (total / (ps * maj));
+        return false;
+    }
+    f.weight *= sn * (total / (pn * maj));
+    if (f.weight.is_black()) {
+        f.event = FreeFlight::Event::Absorb;
+        return false;
+    }
+    return true;
+}
+
 // One flight through medium m from t = 0 to t_end (kInfinity: nothing ahead) of a path with
 // throughput `beta`, drawing uniform numbers in [0, 1) from u(). Pass: it reached t_end,
 // weighted by the null collisions' corrections (exactly 1 when sigma_t is grey and equals the
@@ -48,8 +85,6 @@ FreeFlight delta_track(const Medium& m, float t_end, const RGB& beta, Uniform&& 
     FreeFlight f;
     const float maj = m.majorant();
     if (!(maj > 0.f)) return f;
-    const RGB sigma_n{maj - (m.sigma_a.r + m.sigma_s.r), maj - (m.sigma_a.g + m.sigma_s.g),
-                      maj - (m.sigma_a.b + m.sigma_s.b)};
     const bool emits = m.emits();
     float t = 0.f;
     for (;;) {
@@ -61,31 +96,7 @@ FreeFlight delta_track(const Medium& m, float t_end, const RGB& beta, Uniform&& 
         }
         // The emission term sigma_a Le of every collision, then the collision's kind.
         if (emits) f.emitted += f.weight * m.sigma_a * m.Le * (1.f / maj);
-        const RGB b = beta * f.weight;
-        const float pa = channel_mean(b * m.sigma_a), ps = channel_mean(b * m.sigma_s),
-                    pn = std::max(0.f, channel_mean(b * sigma_n));
-        const float total = pa + ps + pn;
-        if (!(total > 0.f)) {
-            f.event = FreeFlight::Event::Absorb;
-            return f;
-        }
-        const float x = u() * total;
-        if (x < pa) {
-            f.event = FreeFlight::Event::Absorb;
-            f.weight = RGB{0.f};
-            return f;
-        }
-        if (x < pa + ps) {
-            f.event = FreeFlight::Event::Scatter;
-            f.t = t;
-            f.weight *= m.sigma_s * (total / (ps * maj));
-            return f;
-        }
-        f.weight *= sigma_n * (total / (pn * maj));
-        if (f.weight.is_black()) {
-            f.event = FreeFlight::Event::Absorb;
-            return f;
-        }
+        if (!choose_collision(f, beta, m.sigma_a, m.sigma_s, maj, t, u)) return f;
     }
 }
 
@@ -182,33 +193,7 @@ FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float
             return f;
         }
         const float rho = m.density->lookup(o + d * t);
-        const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
-        const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
-        const RGB b = beta * f.weight;
-        const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
-                    pn = std::max(0.f, channel_mean(b * sn));
-        const float total = pa + ps + pn;
-        if (!(total > 0.f)) {
-            f.event = FreeFlight::Event::Absorb;
-            return f;
-        }
-        const float x = u() * total;
-        if (x < pa) {
-            f.event = FreeFlight::Event::Absorb;
-            f.weight = RGB{0.f};
-            return f;
-        }
-        if (x < pa + ps) {
-            f.event = FreeFlight::Event::Scatter;
-            f.t = t;
-            f.weight *= ss * (total / (ps * maj));
-            return f;
-        }
-        f.weight *= sn * (total / (pn * maj));
-        if (f.weight.is_black()) {
-            f.event = FreeFlight::Event::Absorb;
-            return f;
-        }
+        if (!choose_collision(f, beta, m.sigma_a * rho, m.sigma_s * rho, maj, t, u)) return f;
     }
     return f;
 }

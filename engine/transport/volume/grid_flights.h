@@ -65,39 +65,15 @@ class GridFlights {
 template <class Uniform>
 bool GridFlights::collide(const Medium& m, std::size_t i, Uniform&& u) {
     FreeFlight& f = result_[i];
-    const float t = t_hit_[i], maj = maj_of_[i];
+    const float t = t_hit_[i];
     if (++f.collisions > kMaxCollisions) {
         f.event = FreeFlight::Event::Absorb;
         return false;
     }
     const float rho = m.density->lookup(o_[i] + d_[i] * t);
-    const RGB sa = m.sigma_a * rho, ss = m.sigma_s * rho;
-    const RGB sn{maj - sa.r - ss.r, maj - sa.g - ss.g, maj - sa.b - ss.b};
-    const RGB b = beta_[i] * f.weight;
-    const float pa = channel_mean(b * sa), ps = channel_mean(b * ss),
-                pn = std::max(0.f, channel_mean(b * sn));
-    const float total = pa + ps + pn;
-    if (!(total > 0.f)) {
-        f.event = FreeFlight::Event::Absorb;
+    auto draw = [&] { return u(slot_[i]); };
+    if (!choose_collision(f, beta_[i], m.sigma_a * rho, m.sigma_s * rho, maj_of_[i], t, draw))
         return false;
-    }
-    const float x = u(slot_[i]) * total;
-    if (x < pa) {
-        f.event = FreeFlight::Event::Absorb;
-        f.weight = RGB{0.f};
-        return false;
-    }
-    if (x < pa + ps) {
-        f.event = FreeFlight::Event::Scatter;
-        f.t = t;
-        f.weight *= ss * (total / (ps * maj));
-        return false;
-    }
-    f.weight *= sn * (total / (pn * maj));
-    if (f.weight.is_black()) {
-        f.event = FreeFlight::Event::Absorb;
-        return false;
-    }
     t_[i] = t;
     return true;
 }
