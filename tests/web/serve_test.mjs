@@ -182,8 +182,12 @@ try {
   // A file outside the served folders is refused unread: nothing of it in the message.
   await page.selectOption('#scene', 'bad/leak.xml');
   await page.click('#start');
-  await page.waitForFunction(() => document.querySelector('#error').textContent.includes('leak'));
-  const leak = await page.textContent('#error');
+  // The text is read in the same check that finds it (the page may redraw the box between two
+  // separate reads).
+  const leak = await (await page.waitForFunction(() => {
+    const t = document.querySelector('#error').textContent;
+    return t.includes('leak') ? t : null;
+  })).jsonValue();
   assert.match(leak, /outside the folders this server reads/, leak);
   assert.doesNotMatch(leak, /root:/, leak);
 
@@ -213,7 +217,9 @@ try {
     while (await status() === 'running') await new Promise((f) => setTimeout(f, 20));
     return (performance.now() - t0) / 1000;
   });
-  assert.ok(stopSeconds >= 0 && stopSeconds < 1, `stop took ${stopSeconds} s`);
+  // 5 s: far below the minutes it took without the checks, and above what a machine busy
+  // with a parallel build makes of 0.1 s (1.3 s was seen).
+  assert.ok(stopSeconds >= 0 && stopSeconds < 5, `stop took ${stopSeconds} s`);
   console.log(`web page: a 400 M photon pass stopped ${stopSeconds.toFixed(3)} s after /api/stop`);
 
   // Nothing outside the scene folders: names not listed are refused, paths are not files.
