@@ -8,6 +8,7 @@
 #include "chi_square.h"
 #include "engine/core/error.h"
 #include "engine/core/rng.h"
+#include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_tracking.h"
 #include "engine/transport/volume/volpath.h"
@@ -50,10 +51,9 @@ TestScene parse(const std::string& xml) {
     return TestScene(parse_scene(xml, "media.xml", "."));
 }
 
+// The image's channel means (film/metrics.h's comparison of the image with itself).
 RGB image_mean(const Film& f) {
-    RGB s{0.f};
-    for (const RGB& p : f.pixels) s += p;
-    return s * (1.f / float(f.pixels.size()));
+    return compare_images(f, f).mean_a;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/core/error.h"
+#include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_locate.h"
 #include "test_util.h"
@@ -14,10 +15,9 @@ using namespace foton;
 
 namespace {
 
+// The image's channel means (film/metrics.h's comparison of the image with itself).
 RGB image_mean(const Film& f) {
-    RGB s{0.f};
-    for (const RGB& p : f.pixels) s += p;
-    return s * (1.f / float(f.pixels.size()));
+    return compare_images(f, f).mean_a;
 }
 
 // The mean of f over the pixels where `ref` is below its brightest 3 %: the small light of the
@@ -29,14 +29,9 @@ RGB masked_mean(const Film& f, const Film& ref) {
     std::vector<float> sorted = lum;
     std::sort(sorted.begin(), sorted.end());
     const float cut = sorted[sorted.size() * 97 / 100];
-    RGB s{0.f};
-    int n = 0;
-    for (std::size_t i = 0; i < lum.size(); ++i)
-        if (lum[i] < cut) {
-            s += f.pixels[i];
-            ++n;
-        }
-    return s * (1.f / float(n));
+    std::vector<uint8_t> mask(lum.size());
+    for (std::size_t i = 0; i < lum.size(); ++i) mask[i] = lum[i] < cut ? 1 : 0;
+    return compare_images(f, ref, &mask).mean_a;
 }
 
 TestScene fog(int size) {

@@ -37,7 +37,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
     for (const Object& o : scene.objects) {
         if (o.kind != ObjectKind::Mesh || o.instance >= 0) continue;
         ++meshes_;
-        if (!lazy_) grid(o.index);
+        if (!lazy_) build_once(o.index);
     }
     // Top level: a coarse grid over object bounds.
     const std::size_t n = scene.objects.size();
@@ -70,7 +70,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
     }
 }
 
-const kern::UniformGrid& GridAccel::grid(uint32_t mesh) const {
+const kern::UniformGrid& GridAccel::build_once(uint32_t mesh) const {
     std::call_once(once_[mesh], [&] {
         const TriangleMesh& m = scene_.meshes[mesh];
         grids_[mesh].build(m.positions.data(), m.indices.data(), m.num_triangles(), mesh_params_);

@@ -35,8 +35,12 @@ class GridAccel final : public PerRayIntersector<GridAccel> {
     bool hit_object(uint32_t geom, const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool occludes_object(uint32_t geom, const kern::Ray1& ray, TraceCounters& c) const;
 
-    // Mesh `mesh`'s grid, built now if lazy and not yet built.
-    const kern::UniformGrid& grid(uint32_t mesh) const;
+    // Mesh `mesh`'s grid: eager grids were all built by the constructor, so the traversal reads
+    // them without touching a once-flag; lazy ones are built by the first ray that comes.
+    const kern::UniformGrid& grid(uint32_t mesh) const {
+        return lazy_ ? build_once(mesh) : grids_[mesh];
+    }
+    const kern::UniformGrid& build_once(uint32_t mesh) const;
 
     const Scene& scene_;
     kern::GridParams mesh_params_;

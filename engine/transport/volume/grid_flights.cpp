@@ -35,8 +35,8 @@ void GridFlights::march(const Scene& scene, int32_t medium, bool simd) {
     for (uint32_t i : live_)
         if (medium_[i] == medium) row_.push_back(i);
     const std::size_t n = row_.size();
-    for (auto* v : {&ox_, &oy_, &oz_, &dx_, &dy_, &dz_, &te_, &th_, &maj_}) v->resize(n);
-    std::vector<float> tau(n);
+    for (auto* v : {&ox_, &oy_, &oz_, &dx_, &dy_, &dz_, &te_, &tau_rows_, &th_, &maj_})
+        v->resize(n);
     hit_.resize(n);
     for (std::size_t r = 0; r < n; ++r) {
         const uint32_t i = row_[r];
@@ -48,11 +48,11 @@ void GridFlights::march(const Scene& scene, int32_t medium, bool simd) {
         dz_[r] = d_[i].z;
         te_[r] = t_end_[i];
         th_[r] = t_[i];
-        tau[r] = tau_[i];
+        tau_rows_[r] = tau_[i];
     }
     const kern::MajorantGrid g = majorant_view(scene.media[std::size_t(medium)]);
     const kern::MarchFlights f{ox_.data(), oy_.data(),  oz_.data(), dx_.data(),
-                               dy_.data(), dz_.data(),  te_.data(), tau.data(),
+                               dy_.data(), dz_.data(),  te_.data(), tau_rows_.data(),
                                th_.data(), maj_.data(), hit_.data()};
     if (simd)
         kern::march_majorant(g, f, n);

@@ -6,6 +6,7 @@
 // numbers in the order delta_track_grid (common/medium_tracking.h) draws them, and the
 // kernel equals its scalar twin bit for bit, so a batched flight ends exactly where the
 // one-at-a-time flight would; `simd = false` runs the twin, for measuring the kernel.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -52,9 +53,11 @@ class GridFlights {
     std::vector<FreeFlight> result_;
     std::vector<float> t_;  // where each live flight stands
     std::vector<uint32_t> live_, next_live_;
+    std::vector<int32_t> media_;  // the grid media of a round's live flights
     // The kernel's SoA of one round (the live flights of one medium), and which flight each
     // row is.
-    std::vector<float> ox_, oy_, oz_, dx_, dy_, dz_, te_, tau_, th_, maj_;
+    std::vector<float> tau_;  // per flight: the optical depth this round spends
+    std::vector<float> ox_, oy_, oz_, dx_, dy_, dz_, te_, tau_rows_, th_, maj_;
     std::vector<uint8_t> hit_;
     std::vector<uint32_t> row_;
     // Per flight: this round's tentative collision, its majorant, whether there is one.
@@ -103,13 +106,12 @@ void GridFlights::run(const Scene& scene, bool simd, Uniform&& u) {
         // Each live flight's optical depth to spend, in flight order (the numbers' order).
         tau_.resize(slot_.size());
         for (uint32_t i : live_) tau_[i] = -std::log1p(-u(slot_[i]));
-        // The media of this round's flights, each marched as one batch.
-        for (std::size_t k = 0; k < live_.size(); ++k) {
-            const int32_t m = medium_[live_[k]];
-            bool first = true;
-            for (std::size_t j = 0; j < k && first; ++j) first = medium_[live_[j]] != m;
-            if (first) march(scene, m, simd);
-        }
+        // The media of this round's flights (a scene has few), each marched as one batch.
+        media_.clear();
+        for (uint32_t i : live_)
+            if (std::find(media_.begin(), media_.end(), medium_[i]) == media_.end())
+                media_.push_back(medium_[i]);
+        for (int32_t m : media_) march(scene, m, simd);
         next_live_.clear();
         for (uint32_t i : live_) {
             if (!collided_[i]) continue;  // passed: the weight so far
