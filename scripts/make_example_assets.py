@@ -10,6 +10,10 @@ environment light (scenes/env-spheres.xml, scenes/textured-meshes.xml), all made
                               an emissive material on its two halves
   scenes/meshes/smoke.raw     a 32^3 density grid (little-endian float32, x fastest): a
                               plume of a few soft blobs with a noisy edge (scenes/smoke.xml)
+  scenes/meshes/smoke.vdb     the same samples as an OpenVDB fog volume over the unit cube
+  scenes/meshes/smoke.nvdb    and as NanoVDB (pbrt-v4's format), by nanovdb_convert
+                              (scenes/pbrt/media/smoke_vdb.pbrt); needs python3-openvdb and
+                              libnanovdb-tools, which scripts/bootstrap installs
 
     scripts/make_example_assets.py        (from the repository root)
 """
@@ -17,6 +21,7 @@ import base64
 import json
 import math
 import struct
+import subprocess
 import zlib
 
 OUT = "scenes/meshes/"
@@ -155,6 +160,25 @@ def smoke():
                 out += struct.pack("<f", max(0.0, d))
     with open(OUT + "smoke.raw", "wb") as f:
         f.write(bytes(out))
+    smoke_vdb(n, out)
+
+
+def smoke_vdb(n, raw):
+    import numpy
+    import pyopenvdb
+    # The raw file is x fastest; OpenVDB's array is indexed [x][y][z].
+    a = numpy.frombuffer(bytes(raw), dtype="<f4").reshape(n, n, n).transpose(2, 1, 0)
+    g = pyopenvdb.FloatGrid()
+    g.name = "density"
+    g.gridClass = pyopenvdb.GridClass.FOG_VOLUME
+    g.copyFromArray(numpy.ascontiguousarray(a))  # zero samples stay inactive background
+    # Voxel i's centre at (i + 0.5) / n: the raw grid's sample centres over the unit cube.
+    t = pyopenvdb.createLinearTransform(1.0 / n)
+    t.translate((0.5 / n, 0.5 / n, 0.5 / n))
+    g.transform = t
+    pyopenvdb.write(OUT + "smoke.vdb", [g])
+    subprocess.run(["nanovdb_convert", "-f", OUT + "smoke.vdb", OUT + "smoke.nvdb"], check=True,
+                   stdout=subprocess.DEVNULL)
 
 
 sky()

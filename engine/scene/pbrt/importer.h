@@ -105,6 +105,8 @@ class Importer {
     // media.cpp
     void make_named_medium(const Token& t, const std::string& name, const ParamList& p);
     void medium_interface(const Token& t);
+    std::shared_ptr<const DensityGrid> nanovdb_grid(const Token& t, const std::string& what,
+                                                    const ParamList& p);
     std::shared_ptr<const DensityGrid> uniform_grid(const Token& t, const std::string& what,
                                                     const ParamList& p);
     // A medium's index by name ("": vacuum), an error at where:line if there is none.

@@ -155,6 +155,7 @@ class Loader {
     int32_t medium_ref(const pugi::xml_node& n, const char* attr) const;
     MediumInterface medium_interface(const pugi::xml_node& object) const;
     std::shared_ptr<const DensityGrid> density_grid(const pugi::xml_node& e) const;
+    std::shared_ptr<const DensityGrid> vdb_grid(const pugi::xml_node& e) const;
     std::map<std::string, int32_t> medium_ids_;
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "engine/core/input_file.h"
+#include "engine/scene/vdb_file.h"
 #include "loader.h"
 
 namespace foton::xml {
@@ -10,18 +11,25 @@ namespace foton::xml {
 void Loader::parse_media(const pugi::xml_node& n) {
     check(n, {}, {"medium"});
     for (const pugi::xml_node& e : n.children("medium")) {
-        check(e, {"name", "type", "g", "scale", "nx", "ny", "nz", "src"},
-              {"sigma_a", "sigma_s", "emission", "p0", "p1"});
+        check(e, {"name", "type", "g", "scale", "nx", "ny", "nz", "src", "grid"},
+              {"sigma_a", "sigma_s", "emission", "p0", "p1", "transform"});
         Medium m;
         m.name = e.attribute("name").value();
         if (m.name.empty()) fail(e, "<medium> needs attribute 'name'");
         if (medium_ids_.count(m.name)) fail(e, "medium '" + m.name + "' defined twice");
         const std::string type = e.attribute("type") ? e.attribute("type").value() : "homogeneous";
-        if (type != "homogeneous" && type != "grid")
-            fail(e, "unknown medium type '" + type + "' (homogeneous, grid)");
+        if (type != "homogeneous" && type != "grid" && type != "vdb")
+            fail(e, "unknown medium type '" + type + "' (homogeneous, grid, vdb)");
+        if (type != "vdb") {
+            if (e.attribute("grid")) fail(e, "'grid' belongs to a vdb medium");
+            if (e.child("transform")) fail(e, "<transform> belongs to a vdb medium");
+        }
         if (type == "grid") {
             m.kind = MediumKind::Grid;
             m.density = density_grid(e);
+        } else if (type == "vdb") {
+            m.kind = MediumKind::Grid;
+            m.density = vdb_grid(e);
         } else {
             for (const char* a : {"nx", "ny", "nz", "src"})
                 if (e.attribute(a)) fail(e, std::string("'") + a + "' belongs to a grid medium");
@@ -82,6 +90,32 @@ std::shared_ptr<const DensityGrid> Loader::density_grid(const pugi::xml_node& e)
     if (!(ext.x > 0.f && ext.y > 0.f && ext.z > 0.f)) fail(e, "the grid's box <p0>-<p1> is empty");
     return std::make_shared<const DensityGrid>(int(n[0]), int(n[1]), int(n[2]), std::move(values),
                                                box);
+}
+
+// A vdb medium's density: the float grid `grid` (default "density") of the OpenVDB or NanoVDB
+// file `src`, placed by its own transform and then the medium's <transform>.
+std::shared_ptr<const DensityGrid> Loader::vdb_grid(const pugi::xml_node& e) const {
+    for (const char* a : {"nx", "ny", "nz"})
+        if (e.attribute(a)) fail(e, std::string("'") + a + "' belongs to a grid medium");
+    if (e.child("p0") || e.child("p1")) fail(e, "<p0>, <p1> belong to a grid medium");
+    const std::string src = e.attribute("src").value();
+    if (src.empty()) fail(e, "a vdb medium needs 'src' (an OpenVDB .vdb or NanoVDB .nvdb file)");
+    const std::string grid = e.attribute("grid") ? e.attribute("grid").value() : "density";
+    const std::string path = (std::filesystem::path(base_) / src).string();
+    const std::string problem = input_file_problem(path, uint64_t(16) << 30);
+    if (!problem.empty()) fail(e, "volume file '" + src + "': " + problem);
+    try {
+        return read_vdb_density(path, grid, parse_transform(e));
+    } catch (const VdbError& err) {
+        std::string names;
+        try {
+            for (const std::string& n : vdb_grid_names(path))
+                names += (names.empty() ? "" : ", ") + n;
+        } catch (const VdbError&) {
+        }
+        fail(e, "volume file '" + src + "': " + err.what() +
+                    (names.empty() ? "" : " (its grids: " + names + ")"));
+    }
 }
 
 int32_t Loader::medium_ref(const pugi::xml_node& n, const char* attr) const {
