@@ -152,12 +152,12 @@ TEST_CASE("grid media in XML and pbrt-v4, and their errors", "[media][fast]") {
     CHECK(error_of("<medium name=\"m\" type=\"grid\" nx=\"3\" ny=\"2\" nz=\"2\" src=\"d.raw\">"
                    "<sigma_s r=\"1\" g=\"1\" b=\"1\"/>" +
                    box + "</medium>")
-              .find("g.xml:2: density file 'd.raw' has 32 bytes; nx * ny * nz float32 samples "
-                    "are 48") != std::string::npos);
+              .find("g.xml:2: sample file 'd.raw' has 32 bytes; 12 float32 values are 48") !=
+          std::string::npos);
     CHECK(error_of("<medium name=\"m\" type=\"grid\" nx=\"2\" ny=\"2\" nz=\"2\" src=\"no.raw\">"
                    "<sigma_s r=\"1\" g=\"1\" b=\"1\"/>" +
                    box + "</medium>")
-              .find("density file 'no.raw': not found") != std::string::npos);
+              .find("sample file 'no.raw': not found") != std::string::npos);
     CHECK(error_of("<medium name=\"m\" nx=\"2\"><sigma_s r=\"1\" g=\"1\" b=\"1\"/></medium>")
               .find("'nx' belongs to a grid medium") != std::string::npos);
     // pbrt-v4's uniformgrid, placed by a scale and a translation.

@@ -39,20 +39,25 @@ DensityGrid::DensityGrid(int nx, int ny, int nz, std::vector<float> values, cons
             }
 }
 
-float DensityGrid::lookup(const Vec3& p) const {
-    const Vec3 e = box_.diagonal();
-    const float u[3] = {(p.x - box_.lo.x) / e.x * float(n_[0]) - 0.5f,
-                        (p.y - box_.lo.y) / e.y * float(n_[1]) - 0.5f,
-                        (p.z - box_.lo.z) / e.z * float(n_[2]) - 0.5f};
-    int i[3];
-    float f[3];
+bool grid_position(const Bounds3& box, const int n[3], const Vec3& p, int i[3], float f[3]) {
+    const Vec3 e = box.diagonal();
+    const float u[3] = {(p.x - box.lo.x) / e.x * float(n[0]) - 0.5f,
+                        (p.y - box.lo.y) / e.y * float(n[1]) - 0.5f,
+                        (p.z - box.lo.z) / e.z * float(n[2]) - 0.5f};
     for (int a = 0; a < 3; ++a) {
         // The box is [-0.5, n - 0.5] in sample coordinates; nothing outside it.
-        if (!(u[a] >= -0.5f && u[a] <= float(n_[a]) - 0.5f)) return 0.f;
+        if (!(u[a] >= -0.5f && u[a] <= float(n[a]) - 0.5f)) return false;
         const float fl = std::floor(u[a]);
         i[a] = int(fl);
         f[a] = u[a] - fl;
     }
+    return true;
+}
+
+float DensityGrid::lookup(const Vec3& p) const {
+    int i[3];
+    float f[3];
+    if (!grid_position(box_, n_, p, i, f)) return 0.f;
     auto lerp = [](float t, float a, float b) { return a + t * (b - a); };
     const float c00 = lerp(f[0], sample(i[0], i[1], i[2]), sample(i[0] + 1, i[1], i[2]));
     const float c10 = lerp(f[0], sample(i[0], i[1] + 1, i[2]), sample(i[0] + 1, i[1] + 1, i[2]));

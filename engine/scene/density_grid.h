@@ -15,6 +15,11 @@
 
 namespace foton {
 
+// Where world point p falls among the nx x ny x nz samples at the cell centres of `box`: the
+// lower corner sample i and the fractions f towards the next, for trilinear interpolation
+// (samples outside the grid count as zero). False when p is outside the box.
+bool grid_position(const Bounds3& box, const int n[3], const Vec3& p, int i[3], float f[3]);
+
 class DensityGrid {
   public:
     // `values` has nx * ny * nz finite, non-negative entries; `box` is not empty.

@@ -19,14 +19,22 @@
 #include "density_grid.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
+#include "engine/core/sampler.h"
+#include "rgb_grid.h"
 
 namespace foton {
 
 inline constexpr int32_t kNoMedium = -1;  // vacuum
 
 // Homogeneous: the coefficients everywhere. Grid: the coefficients times a density grid's
-// value (density_grid.h), inside its box only.
-enum class MediumKind { Homogeneous, Grid };
+// value (density_grid.h), inside its box only. RGBGrid: each coefficient its own RGB grid
+// (rgb_grid.h), pbrt-v4's rgbgrid.
+enum class MediumKind { Homogeneous, Grid, RGBGrid };
+
+// A varying medium's coefficients and emitted radiance at one point.
+struct MediumPoint {
+    RGB sigma_a, sigma_s, Le;
+};
 
 struct Medium {
     std::string name;
@@ -34,7 +42,16 @@ struct Medium {
     RGB sigma_a{0.f}, sigma_s{0.f};
     RGB Le{0.f};    // emitted radiance (scaled by sigma_a in the transfer equation)
     float g = 0.f;  // Henyey-Greenstein asymmetry, in (-1, 1)
-    std::shared_ptr<const DensityGrid> density;  // Grid only
+    // Grid: the density. RGBGrid: the bound on its extinction (each sample's largest channel
+    // of sigma_a + sigma_s, before `grid_scale`), whose majorant grid the trackers walk.
+    std::shared_ptr<const DensityGrid> density;
+    // Grid: a grid scaling Le (pbrt-v4's "Lescale" array; null: 1 everywhere).
+    std::shared_ptr<const DensityGrid> le_scale;
+    // RGBGrid: the coefficients' and emission's grids (a null coefficient grid is 1
+    // everywhere, pbrt-v4's default; a null Le grid emits nothing), the coefficients times
+    // grid_scale and Le times le_factor.
+    std::shared_ptr<const RGBGrid> rgb_sigma_a, rgb_sigma_s, rgb_Le;
+    float grid_scale = 1.f, le_factor = 1.f;
     // Where it was defined, for messages about it.
     std::string file;
     int line = 0;
@@ -43,9 +60,16 @@ struct Medium {
     // The majorant: no channel's extinction exceeds it, so free flights sampled with it and
     // corrected by null collisions are exact (delta tracking; transport/common/medium_tracking.h).
     // A grid medium's is this times its majorant grid's cell value.
-    float majorant() const { return sigma_t().max_component(); }
+    float majorant() const {
+        return kind == MediumKind::RGBGrid ? grid_scale : sigma_t().max_component();
+    }
     bool homogeneous() const { return kind == MediumKind::Homogeneous; }
-    bool emits() const { return !Le.is_black() && !sigma_a.is_black(); }
+    bool emits() const {
+        if (kind == MediumKind::RGBGrid) return rgb_Le && le_factor > 0.f && grid_scale > 0.f;
+        return !Le.is_black() && !sigma_a.is_black();
+    }
+    // A grid medium's coefficients and emission at p (either grid kind).
+    MediumPoint at(const Vec3& p) const;
     // exp(-sigma_t d), per channel: the exact transmittance of a homogeneous medium.
     RGB transmittance(float d) const {
         const RGB s = sigma_t();

@@ -238,6 +238,17 @@ std::string Scene::summary() const {
         s += buf;
     }
     for (const Medium& m : media) {
+        const char* tail = &m - media.data() == camera_medium ? ", the camera's" : "";
+        if (m.kind == MediumKind::RGBGrid) {
+            const DensityGrid& d = *m.density;
+            std::snprintf(buf, sizeof buf,
+                          "medium     %s (rgb grid %dx%dx%d): extinction up to %g, g %g%s%s\n",
+                          m.name.c_str(), d.nx(), d.ny(), d.nz(),
+                          double(d.max_value() * m.grid_scale), double(m.g),
+                          m.emits() ? ", emits" : "", tail);
+            s += buf;
+            continue;
+        }
         const RGB st = m.sigma_t();
         std::snprintf(buf, sizeof buf,
                       "medium     %s%s: sigma_t (%g, %g, %g), albedo (%g, %g, %g), g %g%s%s\n",
@@ -245,8 +256,7 @@ std::string Scene::summary() const {
                       double(st.g), double(st.b), double(st.r > 0.f ? m.sigma_s.r / st.r : 0.f),
                       double(st.g > 0.f ? m.sigma_s.g / st.g : 0.f),
                       double(st.b > 0.f ? m.sigma_s.b / st.b : 0.f), double(m.g),
-                      m.emits() ? ", emits" : "",
-                      &m - media.data() == camera_medium ? ", the camera's" : "");
+                      m.emits() ? ", emits" : "", tail);
         s += buf;
     }
     const Bounds3 b = bounds();

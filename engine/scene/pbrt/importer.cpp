@@ -291,7 +291,10 @@ Scene Importer::run() {
     scene_.check_extent();
     finish_camera();
     scene_.camera_medium = medium_id(camera_medium_, camera_medium_file_, camera_medium_line_);
-    for (Medium& m : scene_.media) m.Le *= imaging_ratio();
+    for (Medium& m : scene_.media) {
+        m.Le *= imaging_ratio();
+        m.le_factor *= imaging_ratio();
+    }
     // pbrt-v4's default integrator is volpath: a scene with media and no Integrator gets it.
     if (scene_.volumetric() && integrator_line_ == 0)
         renderer_.set("type", "volpath", scene_.volumetric_file, scene_.volumetric_line);

@@ -105,6 +105,12 @@ class Importer {
     // media.cpp
     void make_named_medium(const Token& t, const std::string& name, const ParamList& p);
     void medium_interface(const Token& t);
+    int grid_samples(const Token& t, const std::string& what, const ParamList& p, int n[3]);
+    Bounds3 grid_box(const Token& t, const std::string& what, const ParamList& p);
+    std::shared_ptr<const DensityGrid> emission_scale_grid(const Token& t, const std::string& what,
+                                                           const ParamList& p,
+                                                           const DensityGrid& density);
+    void rgb_grid_medium(const Token& t, const std::string& what, const ParamList& p, Medium& m);
     std::shared_ptr<const DensityGrid> nanovdb_grid(const Token& t, const std::string& what,
                                                     const ParamList& p);
     std::shared_ptr<const DensityGrid> uniform_grid(const Token& t, const std::string& what,

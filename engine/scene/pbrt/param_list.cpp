@@ -105,6 +105,21 @@ std::vector<float> ParamList::pairs(const std::string& name) const {
     return {p->numbers.begin(), p->numbers.end()};
 }
 
+std::vector<RGB> ParamList::colors(const std::string& name) const {
+    const Param* p = find(name);
+    if (!p) return {};
+    if (p->type != "rgb" && p->type != "color") fail(*p, "expected rgb values");
+    if (p->numbers.size() % 3 != 0) fail(*p, "the number of values is not a multiple of 3");
+    std::vector<RGB> v(p->numbers.size() / 3);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        v[i] = {float(p->numbers[3 * i]), float(p->numbers[3 * i + 1]),
+                float(p->numbers[3 * i + 2])};
+        if (!(v[i].r >= 0.f && v[i].g >= 0.f && v[i].b >= 0.f))
+            fail(*p, "colour components must not be negative");
+    }
+    return v;
+}
+
 std::optional<RGB> ParamList::color(const std::string& name, bool illuminant) const {
     const Param* p = find(name);
     if (!p) return std::nullopt;

@@ -43,6 +43,8 @@ class ParamList {
     // when absent. `illuminant`: emission spectra are normalised to luminance 1 as pbrt-v4
     // does (rgb values are taken as they are).
     std::optional<RGB> color(const std::string& name, bool illuminant) const;
+    // An array of rgb values (pbrt-v4's rgbgrid), each component non-negative; empty if absent.
+    std::vector<RGB> colors(const std::string& name) const;
     // The name of a texture bound to `name` ("texture reflectance" "checks"), or "".
     std::string texture(const std::string& name) const;
 

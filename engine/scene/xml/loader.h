@@ -156,6 +156,11 @@ class Loader {
     MediumInterface medium_interface(const pugi::xml_node& object) const;
     std::shared_ptr<const DensityGrid> density_grid(const pugi::xml_node& e) const;
     std::shared_ptr<const DensityGrid> vdb_grid(const pugi::xml_node& e) const;
+    std::vector<float> raw_floats(const pugi::xml_node& e, const char* attr,
+                                  std::size_t count) const;
+    std::size_t grid_counts(const pugi::xml_node& e, int n[3]) const;
+    Bounds3 grid_box(const pugi::xml_node& e) const;
+    void rgb_grid_medium(const pugi::xml_node& e, float scale, Medium& m) const;
     std::map<std::string, int32_t> medium_ids_;
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);

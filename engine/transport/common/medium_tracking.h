@@ -150,7 +150,8 @@ FreeFlight sample_homogeneous(const Medium& m, float t_end, const RGB& beta, Uni
 }
 
 // The majorant grid of grid medium m as the march kernel reads it (kernels/majorant_march.h):
-// the density bounds times the medium's largest channel's extinction.
+// the density bounds times the medium's largest channel's extinction (an RGB grid's: its
+// extinction bounds times its scale).
 inline kern::MajorantGrid majorant_view(const Medium& m) {
     const kern::GridFrame& f = m.density->majorant_frame();
     kern::MajorantGrid g;
@@ -180,20 +181,22 @@ bool next_tentative_collision(const kern::MajorantGrid& g, const Vec3& o, const 
 
 // Delta tracking through grid medium m along o + t d: as delta_track, the tentative
 // collisions drawn through the majorant grid (one optical depth at a time, march kernel), the
-// coefficients at a collision scaled by the density there. Grid media do not emit.
+// coefficients and emission at a collision those of the grids there.
 template <class Uniform>
 FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
                             const RGB& beta, Uniform&& u) {
     FreeFlight f;
     const kern::MajorantGrid g = majorant_view(m);
+    const bool emits = m.emits();
     float t = 0.f, maj = 0.f;
     while (next_tentative_collision(g, o, d, t_end, u, t, maj)) {
         if (++f.collisions > kMaxCollisions) {
             f.event = FreeFlight::Event::Absorb;
             return f;
         }
-        const float rho = m.density->lookup(o + d * t);
-        if (!choose_collision(f, beta, m.sigma_a * rho, m.sigma_s * rho, maj, t, u)) return f;
+        const MediumPoint c = m.at(o + d * t);
+        if (emits) f.emitted += f.weight * c.sigma_a * c.Le * (1.f / maj);
+        if (!choose_collision(f, beta, c.sigma_a, c.sigma_s, maj, t, u)) return f;
     }
     return f;
 }
@@ -205,10 +208,9 @@ RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
     const kern::MajorantGrid g = majorant_view(m);
     float t = 0.f, maj = 0.f;
     for (uint32_t k = 0; next_tentative_collision(g, o, d, t_end, u, t, maj); ++k) {
-        const float rho = m.density->lookup(o + d * t);
-        tr *= RGB{1.f - rho * (m.sigma_a.r + m.sigma_s.r) / maj,
-                  1.f - rho * (m.sigma_a.g + m.sigma_s.g) / maj,
-                  1.f - rho * (m.sigma_a.b + m.sigma_s.b) / maj};
+        const MediumPoint c = m.at(o + d * t);
+        tr *= RGB{1.f - (c.sigma_a.r + c.sigma_s.r) / maj, 1.f - (c.sigma_a.g + c.sigma_s.g) / maj,
+                  1.f - (c.sigma_a.b + c.sigma_s.b) / maj};
         if (tr.is_black() || k > kMaxCollisions) return RGB{0.f};
     }
     return tr;

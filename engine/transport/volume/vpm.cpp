@@ -117,8 +117,7 @@ class VpmCamera {
             if (f.event == FreeFlight::Event::Scatter) {
                 // The flight's weight without sigma_s, which the photons' density carries.
                 const Vec3 p = w.rays.origin(r) + d * f.t;
-                const RGB s =
-                    med.homogeneous() ? med.sigma_s : med.sigma_s * med.density->lookup(p);
+                const RGB s = med.homogeneous() ? med.sigma_s : med.at(p).sigma_s;
                 const RGB wt{s.r > 0.f ? f.weight.r / s.r : 0.f, s.g > 0.f ? f.weight.g / s.g : 0.f,
                              s.b > 0.f ? f.weight.b / s.b : 0.f};
                 RGB in{0.f};
