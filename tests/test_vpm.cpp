@@ -9,38 +9,14 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_locate.h"
+#include "media_util.h"
 #include "test_util.h"
 
 using namespace foton;
 
-namespace {
-
-// The image's channel means (film/metrics.h's comparison of the image with itself).
-RGB image_mean(const Film& f) {
-    return compare_images(f, f).mean_a;
-}
-
-// The mean of f over the pixels where `ref` is below its brightest 3 %: the small light of the
-// foggy box covers a seventh of a pixel at 24 x 24 yet, at radiance 600, carries 40 % of the
-// image's mean, which a handful of camera samples per pixel cannot average.
-RGB masked_mean(const Film& f, const Film& ref) {
-    std::vector<float> lum;
-    for (const RGB& p : ref.pixels) lum.push_back(p.r + p.g + p.b);
-    std::vector<float> sorted = lum;
-    std::sort(sorted.begin(), sorted.end());
-    const float cut = sorted[sorted.size() * 97 / 100];
-    std::vector<uint8_t> mask(lum.size());
-    for (std::size_t i = 0; i < lum.size(); ++i) mask[i] = lum[i] < cut ? 1 : 0;
-    return compare_images(f, ref, &mask).mean_a;
-}
-
-TestScene fog(int size) {
-    TestScene s = load_scene(test::source_path("scenes/cornell-fog.xml"));
-    s.set_resolution(size, size);
-    return s;
-}
-
-}  // namespace
+using test::fog;
+using test::image_mean;
+using test::masked_mean;
 
 TEST_CASE("a point's medium is found by walking from the camera", "[media][fast]") {
     // A box of fog (interface quad in front of the camera) and, inside it, a glass ball of ink.

@@ -27,6 +27,7 @@ enum RandomStream : uint64_t {
     kMediumShadowStream = 0x3ed2,       // ratio tracking along shadow rays through media
     kVolumePhotonStream = 0x3ed3,       // volumetric photon mapping's photons
     kVolumeCameraStream = 0x3ed4,       // volumetric photon mapping's camera paths
+    kVolumeLightStream = 0x3ed5,        // light tracing's paths through media
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -46,6 +47,7 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kMediumStream,
                                                      kMediumShadowStream,
                                                      kVolumePhotonStream,
-                                                     kVolumeCameraStream};
+                                                     kVolumeCameraStream,
+                                                     kVolumeLightStream};
 
 }  // namespace foton

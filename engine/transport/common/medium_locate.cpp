@@ -36,4 +36,19 @@ int32_t locate_medium(const Scene& scene, const Intersector& accel, const Vec3& 
     return medium;
 }
 
+std::vector<int32_t> light_media(const Scene& scene, const Intersector& accel,
+                                 const LightSet& lights) {
+    std::vector<int32_t> media;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        EmissionSample es;
+        int32_t m = scene.camera_medium;
+        if (lights.sample_le(uint32_t(i), {0.5f, 0.5f}, {0.5f, 0.5f}, 0.5f, es))
+            m = locate_medium(
+                scene, accel,
+                es.n == Vec3{} ? es.p : es.p + es.dir * 1e-3f * lights.scene_radius());
+        media.push_back(m);
+    }
+    return media;
+}
+
 }  // namespace foton

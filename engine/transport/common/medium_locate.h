@@ -5,13 +5,20 @@
 // follow: scene/medium.h). Other surfaces on the way are passed. Exact wherever the
 // boundaries are closed, as the camera's own rays need them to be.
 #include <cstdint>
+#include <vector>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/math.h"
+#include "engine/scene/light_set.h"
 #include "engine/scene/scene.h"
 
 namespace foton {
 
 int32_t locate_medium(const Scene& scene, const Intersector& accel, const Vec3& p);
+
+// Each emitter's medium: where a fixed emitted ray of it starts (a light is taken to lie in
+// one medium, as photons and light paths need it to).
+std::vector<int32_t> light_media(const Scene& scene, const Intersector& accel,
+                                 const LightSet& lights);
 
 }  // namespace foton

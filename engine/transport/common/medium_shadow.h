@@ -30,6 +30,19 @@ inline int32_t medium_after(const Scene& scene, uint32_t geom, const SurfacePoin
     return scene.objects[geom].media.after(leaves_outward(sp, w), current);
 }
 
+// More interface crossings than this end a path (light paths, photons).
+inline constexpr uint32_t kMaxPathCrossings = 256;
+
+// A path that met an interface at sp (object geom) along d goes on through it in the medium
+// beyond: its next ray into `next`, unless it has crossed too many.
+inline void cross_interface(const Scene& scene, uint32_t geom, const SurfacePoint& sp,
+                            const Vec3& d, uint32_t slot, int32_t& medium, uint32_t& crossings,
+                            RayBatch& next) {
+    if (++crossings > kMaxPathCrossings) return;
+    medium = medium_after(scene, geom, sp, d, medium);
+    next.push(offset_origin(sp, d), d, 0.f, kInfinity, slot);
+}
+
 // More interface crossings than this on one shadow ray block it (only a degenerate scene,
 // such as many coincident boundaries, gets there).
 inline constexpr uint32_t kMaxShadowCrossings = 64;

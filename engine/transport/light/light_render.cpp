@@ -14,18 +14,18 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
+#include "engine/transport/volume/volume_light.h"
 #include "light_tracer.h"
 
 namespace foton {
 
-RenderResult render_light(const Scene& scene, const RenderSettings& settings,
-                          const Intersector& accel, const RenderOptions& opt) {
-    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
-        throw InputError(scene.source, 0,
-                         "the light tracer needs a pinhole perspective camera (no lens_radius)");
-    const LightSet lights(scene, LightSelection::Power, settings.projection_maps);
-    if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
-    const LightTracer tracer(RenderContext{scene, settings, accel, lights, opt.seed});
+namespace {
+
+// Light paths in passes of chunks, their splats added in chunk order: Workspace is the
+// tracer's (the light tracer's, or the volumetric one's when the scene has media).
+template <class Workspace, class Tracer>
+RenderResult render_light_paths(const Scene& scene, const Tracer& tracer,
+                                const RenderOptions& opt) {
     const int threads = resolve_threads(opt.threads);
     const uint64_t per_pass = scene.film.full_pixels() * uint64_t(opt.spp);
     constexpr uint32_t kChunk = 4096;
@@ -37,7 +37,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     // Rank 0 adds every splat (no owners): its sums are the image.
     PixelSums sums(scene.film.width, scene.film.height);
     std::vector<std::vector<Splat>> splats(chunks);
-    tbb::enumerable_thread_specific<LightTracerWorkspace> workspaces;
+    tbb::enumerable_thread_specific<Workspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> stats;
     PassControl control(opt);
     const ProgressTask task = control.task("light-paths", mine.size());
@@ -57,7 +57,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
         const uint64_t base = uint64_t(passes) * per_pass;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(mine.begin, mine.end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              LightTracerWorkspace& ws = workspaces.local();
+                              Workspace& ws = workspaces.local();
                               RenderStats& st = stats.local();
                               for (std::size_t c = r.begin(); c != r.end(); ++c) {
                                   splats[c].clear();
@@ -97,6 +97,27 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     result.film = image();
     result.samples_per_pixel.assign(sums.size(), opt.spp * passes);
     return result;
+}
+
+}  // namespace
+
+RenderResult render_light(const Scene& scene, const RenderSettings& settings,
+                          const Intersector& accel, const RenderOptions& opt) {
+    if (scene.camera.type != CameraType::Perspective || scene.camera.lens_radius > 0.f)
+        throw InputError(scene.source, 0,
+                         "the light tracer needs a pinhole perspective camera (no lens_radius)");
+    const LightSet lights(scene, LightSelection::Power, settings.projection_maps);
+    if (lights.empty()) throw InputError(scene.source, 0, "the light tracer needs a light");
+    const RenderContext ctx{scene, settings, accel, lights, opt.seed};
+    if (scene.media.empty())
+        return render_light_paths<LightTracerWorkspace>(scene, LightTracer(ctx), opt);
+    for (const Medium& m : scene.media)
+        if (m.emits())
+            throw InputError(m.file, m.line,
+                             "medium '" + m.name +
+                                 "' emits, and light paths start at lights only: render it "
+                                 "with volpath");
+    return render_light_paths<VolumeLightWorkspace>(scene, VolumeLightTracer(ctx), opt);
 }
 
 }  // namespace foton

@@ -25,15 +25,31 @@ float LightTracer::rand(uint64_t path, uint32_t dim) const {
     return rng::uniform(ctx_.seed, kLightPathStream, path, dim);
 }
 
-bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
-                          uint32_t& pixel, RGB& splat) const {
-    const Camera& cam = ctx_.scene.camera;
+bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+                   uint32_t& pixel, RGB& splat) {
     float fx, fy;
     if (!cam.project(p, fx, fy)) return false;
     splat = value * cam.importance(-dot(wc, cam.w), dist);
     if (splat.is_black()) return false;
     pixel = cam.film_pixel(fx, fy);
     return true;
+}
+
+bool continue_light_path(const Bsdf& bsdf, const warp::Frame& frame, const Vec3& wo,
+                         const BsdfContext& ctx, const Vec3& ng, float adj, float u0, Point2 u12,
+                         RGB& beta, Vec3& wi) {
+    BsdfSample bs;
+    if (!bsdf.sample(wo, u0, u12, ctx, bs)) return false;
+    wi = frame.to_world(bs.wi);
+    const float side = dot(wi, ng);
+    if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return false;
+    beta *= bs.f * (adj * std::fabs(side) / bs.pdf);
+    return !beta.is_black();
+}
+
+bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+                          uint32_t& pixel, RGB& splat) const {
+    return splat_on_film(ctx_.scene.camera, p, wc, dist, value, pixel, splat);
 }
 
 void LightTracer::push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,
@@ -84,14 +100,10 @@ void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
     }
     if (vertex >= rs.max_depth) return;
     const uint32_t dim = kLightDimFirstBounce + depth * kLightDimsPerBounce;
-    BsdfSample bs;
-    if (!m.bsdf.sample(wo, rand(path, dim), {rand(path, dim + 1), rand(path, dim + 2)}, ctx, bs))
+    Vec3 wi;
+    if (!continue_light_path(m.bsdf, frame, wo, ctx, sp.ng, adj, rand(path, dim),
+                             {rand(path, dim + 1), rand(path, dim + 2)}, beta, wi))
         return;
-    const Vec3 wi = frame.to_world(bs.wi);
-    const float side = dot(wi, sp.ng);
-    if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
-    beta *= bs.f * (adj * std::fabs(side) / bs.pdf);
-    if (beta.is_black()) return;
     if (vertex >= rs.rr_depth) {
         const float q = std::min(1.f, beta.max_component());
         if (rand(path, dim + 3) >= q) return;

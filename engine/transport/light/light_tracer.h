@@ -14,6 +14,7 @@
 #include "engine/accel/intersector.h"
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
+#include "engine/core/warp.h"
 #include "engine/film/pixel_sums.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/kernel_materials.h"
@@ -33,6 +34,19 @@ struct LightTracerWorkspace : WavefrontBuffers {
     std::vector<uint32_t> kernel_groups[kKernelGroups], kernel_entries;
     KernelLanes lanes;
 };
+
+// What a connection from p (unit direction wc to the pinhole eye at distance dist) carrying
+// `value` adds, and to which pixel; false when p projects off the film or nothing arrives.
+bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+                   uint32_t& pixel, RGB& splat);
+
+// A light path's continuation from a surface vertex: the BSDF sampled from u0 and u12 for
+// importance (BsdfContext ctx), beta times f |cos| / pdf with Veach's adjoint factor adj
+// (|wo.ns| / |wo.ng|). False when the sample fails, leaves on the wrong side of the true
+// surface (normal ng) or carries nothing.
+bool continue_light_path(const Bsdf& bsdf, const warp::Frame& frame, const Vec3& wo,
+                         const BsdfContext& ctx, const Vec3& ng, float adj, float u0, Point2 u12,
+                         RGB& beta, Vec3& wi);
 
 class LightTracer {
   public:

@@ -37,7 +37,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"raytracer", {"whitted"}, "Whitted ray tracing (the first thesis)", kCapCamera, nullptr, render_whitted},
         {"path", {}, "path tracing, NEE + MIS", kPath, nullptr, render_path},
         {"distributed", {}, "distributed ray tracing (Cook 1984)", kCapCamera, nullptr, render_distributed},
-        {"light", {}, "light tracing", 0, nullptr, render_light},
+        {"light", {}, "light tracing (through media too)", kCapMedia, nullptr, render_light},
         {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon_row},
         {"sppm", {}, "stochastic progressive photon mapping", kCapLightSelection, nullptr, render_sppm},
         {"ppm", {}, "progressive photon mapping", kCapLightSelection, nullptr, render_ppm},

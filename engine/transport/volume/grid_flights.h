@@ -121,4 +121,18 @@ void GridFlights::run(const Scene& scene, bool simd, Uniform&& u) {
     }
 }
 
+// The flight of batch entry r, in medium mi (not vacuum), of a path with throughput beta: the
+// batched grid flight's result (track_batch's flight_of), or a homogeneous medium's sampled
+// analytically now.
+template <class Uniform>
+FreeFlight flight_of_entry(const Scene& scene, const GridFlights& flights,
+                           const std::vector<int32_t>& flight_of, const RayBatch& rays,
+                           const HitBatch& hits, std::size_t r, int32_t mi, const RGB& beta,
+                           Uniform&& u) {
+    if (flight_of[r] >= 0) return flights.result(std::size_t(flight_of[r]));
+    const float t_end = hits.geom[r] == kNoHit ? kInfinity : hits.t[r];
+    return free_flight(scene.media[std::size_t(mi)], rays.origin(r), rays.direction(r), t_end, beta,
+                       FreeFlightSampling::Analytic, u);
+}
+
 }  // namespace foton

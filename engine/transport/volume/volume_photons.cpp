@@ -22,8 +22,6 @@ namespace foton {
 
 namespace {
 constexpr uint32_t kChunk = 4096;
-// More interface crossings than this end a photon.
-constexpr uint32_t kMaxCrossings = 256;
 }  // namespace
 
 struct VolumePhotonTracer::Work {
@@ -39,18 +37,11 @@ struct VolumePhotonTracer::Work {
 
 VolumePhotonTracer::VolumePhotonTracer(const Scene& scene, const Intersector& accel,
                                        const LightSet& lights, uint64_t seed)
-    : scene_(scene), accel_(accel), lights_(lights), seed_(seed) {
-    // Each light's medium, at the start of a fixed emitted ray of it.
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        EmissionSample es;
-        int32_t m = scene.camera_medium;
-        if (lights.sample_le(uint32_t(i), {0.5f, 0.5f}, {0.5f, 0.5f}, 0.5f, es))
-            m = locate_medium(
-                scene, accel,
-                es.n == Vec3{} ? es.p : es.p + es.dir * 1e-3f * lights.scene_radius());
-        light_medium_.push_back(m);
-    }
-}
+    : scene_(scene),
+      accel_(accel),
+      lights_(lights),
+      seed_(seed),
+      light_medium_(light_media(scene, accel, lights)) {}
 
 void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, uint32_t count,
                                uint32_t max_depth, Work& ws, VolumePhotonMaps& out,
@@ -111,12 +102,9 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
             };
             if (const int32_t mi = ws.medium[slot]; mi != kNoMedium) {
                 const Medium& med = scene_.media[std::size_t(mi)];
-                const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[r];
-                auto draw = [&] { return u(slot); };
-                const FreeFlight f = ws.flight_of[r] >= 0
-                                         ? ws.flights.result(std::size_t(ws.flight_of[r]))
-                                         : free_flight(med, ws.rays.origin(r), d, t_end, power,
-                                                       FreeFlightSampling::Analytic, draw);
+                const FreeFlight f =
+                    flight_of_entry(scene_, ws.flights, ws.flight_of, ws.rays, ws.hits, r, mi,
+                                    power, [&] { return u(slot); });
                 if (f.event == FreeFlight::Event::Absorb) continue;
                 if (f.event == FreeFlight::Event::Scatter) {
                     const Vec3 p = ws.rays.origin(r) + d * f.t;
@@ -137,9 +125,8 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
             std::optional<Material> scratch;
             const Material& m = scene_.material_at(geom, sp.uv, scratch);
             if (m.is_interface) {
-                if (++ws.crossings[slot] > kMaxCrossings) continue;
-                ws.medium[slot] = medium_after(scene_, geom, sp, d, ws.medium[slot]);
-                ws.next.push(offset_origin(sp, d), d, 0.f, kInfinity, slot);
+                cross_interface(scene_, geom, sp, d, slot, ws.medium[slot], ws.crossings[slot],
+                                ws.next);
                 continue;
             }
             if (m.bsdf.empty()) continue;

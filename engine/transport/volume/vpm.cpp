@@ -28,8 +28,6 @@ namespace foton {
 
 namespace {
 
-constexpr uint32_t kMaxCrossings = 256;
-
 // A pass's camera paths of one image row, traced as one batch per bounce.
 struct RowWork {
     RayBatch rays, next;
@@ -108,11 +106,8 @@ class VpmCamera {
         RGB& beta = w.beta[slot];
         if (const int32_t mi = w.medium[slot]; mi != kNoMedium) {
             const Medium& med = scene_.media[std::size_t(mi)];
-            const float t_end = geom == kNoHit ? kInfinity : w.hits.t[r];
-            const FreeFlight f = w.flight_of[r] >= 0
-                                     ? w.flights.result(std::size_t(w.flight_of[r]))
-                                     : free_flight(med, w.rays.origin(r), d, t_end, beta,
-                                                   FreeFlightSampling::Analytic, u);
+            const FreeFlight f =
+                flight_of_entry(scene_, w.flights, w.flight_of, w.rays, w.hits, r, mi, beta, u);
             if (f.event == FreeFlight::Event::Absorb) return RGB{0.f};
             if (f.event == FreeFlight::Event::Scatter) {
                 // The flight's weight without sigma_s, which the photons' density carries.
@@ -137,7 +132,7 @@ class VpmCamera {
         std::optional<Material> scratch;
         const Material& m = scene_.material_at(geom, sp.uv, scratch);
         if (m.is_interface) {
-            if (++w.crossings[slot] > kMaxCrossings) return RGB{0.f};
+            if (++w.crossings[slot] > kMaxPathCrossings) return RGB{0.f};
             w.medium[slot] = medium_after(scene_, geom, sp, d, w.medium[slot]);
             w.next.push(offset_origin(sp, d), d, 0.f, kInfinity, slot);
             return RGB{0.f};
