@@ -7,6 +7,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "beam_estimate.h"
 #include "engine/core/error.h"
 #include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
@@ -40,6 +41,7 @@ struct RowWork {
     std::vector<uint32_t> depth, crossings, draws;
     GridFlights flights;  // a bounce's flights through grid media, as one batch
     std::vector<int32_t> flight_of;
+    SegmentTransmittance segment;  // the beam estimate's transmittance along a segment
 };
 
 class VpmCamera {
@@ -53,9 +55,18 @@ class VpmCamera {
           nee_(!own.direct_photons),
           seed_(seed) {}
 
+    // The photons a pass's camera paths read: the maps, the volume photons as discs (the beam
+    // estimate; null: the point estimate) and the radii.
+    struct PassPhotons {
+        const VolumePhotonMaps& maps;
+        const PhotonDiscs* discs;
+        float r_surface, r_volume;
+    };
+
     // Pass `pass`'s estimate of every pixel of row y, added to sum[x].
-    void trace_row(uint32_t pass, uint32_t y, const VolumePhotonMaps& maps, float r_surface,
-                   float r_volume, RGB* sum, RowWork& w, RenderStats& stats) const {
+    void trace_row(uint32_t pass, uint32_t y, const PassPhotons& photons, RGB* sum, RowWork& w,
+                   RenderStats& stats) const {
+        const float r_surface = photons.r_surface, r_volume = photons.r_volume;
         const uint32_t width = uint32_t(scene_.film.width);
         w.jobs.resize(width);
         for (uint32_t x = 0; x < width; ++x)
@@ -85,7 +96,7 @@ class VpmCamera {
             for (std::size_t r = 0; r < w.rays.size(); ++r) {
                 const uint32_t slot = w.rays.id[r];
                 auto u = [&] { return number(slot); };
-                sum[slot] += shade(r, slot, maps, inv_area, r_surface, inv_volume, r_volume, w, u);
+                sum[slot] += shade(r, slot, photons, inv_area, inv_volume, w, u);
             }
             std::swap(w.rays, w.next);
         }
@@ -99,24 +110,44 @@ class VpmCamera {
   private:
     // One hit (or flight) of a row's path: what it adds to its pixel; continues it in w.next.
     template <class Uniform>
-    RGB shade(std::size_t r, uint32_t slot, const VolumePhotonMaps& maps, float inv_area,
-              float r_surface, float inv_volume, float r_volume, RowWork& w, Uniform&& u) const {
+    RGB shade(std::size_t r, uint32_t slot, const PassPhotons& photons, float inv_area,
+              float inv_volume, RowWork& w, Uniform&& u) const {
         const uint32_t geom = w.hits.geom[r];
         const Vec3 d = w.rays.direction(r);
         RGB& beta = w.beta[slot];
+        const VolumePhotonMaps& maps = photons.maps;
+        RGB in_medium{0.f};
         if (const int32_t mi = w.medium[slot]; mi != kNoMedium) {
             const Medium& med = scene_.media[std::size_t(mi)];
+            const Vec3 o = w.rays.origin(r);
+            if (photons.discs) {
+                // The beam estimate over the whole segment; the direct light by a light sample
+                // at a point a flight picks (what the flight weighs it by is T sigma_s / pdf).
+                const float t_end = geom == kNoHit ? kInfinity : w.hits.t[r];
+                if (nee_) {
+                    const FreeFlight f = flight_of_entry(scene_, w.flights, w.flight_of, w.rays,
+                                                         w.hits, r, mi, beta, u);
+                    if (f.event == FreeFlight::Event::Scatter)
+                        medium_direct(slot, o + d * f.t, -d, med, beta * f.weight, mi, w, u);
+                }
+                const BeamEstimate b = beam_estimate(*photons.discs, maps.volume, med, o, d, t_end,
+                                                     nee_ ? kPhotonDirect : 0, w.segment, u);
+                in_medium = beta * b.in;
+                beta *= b.transmittance;
+                if (beta.is_black()) return in_medium;
+                return in_medium + surface(r, slot, photons, inv_area, w, u);
+            }
             const FreeFlight f =
                 flight_of_entry(scene_, w.flights, w.flight_of, w.rays, w.hits, r, mi, beta, u);
             if (f.event == FreeFlight::Event::Absorb) return RGB{0.f};
             if (f.event == FreeFlight::Event::Scatter) {
                 // The flight's weight without sigma_s, which the photons' density carries.
-                const Vec3 p = w.rays.origin(r) + d * f.t;
+                const Vec3 p = o + d * f.t;
                 const RGB s = med.homogeneous() ? med.sigma_s : med.at(p).sigma_s;
                 const RGB wt{s.r > 0.f ? f.weight.r / s.r : 0.f, s.g > 0.f ? f.weight.g / s.g : 0.f,
                              s.b > 0.f ? f.weight.b / s.b : 0.f};
                 RGB in{0.f};
-                maps.volume.for_each_in_radius(p, r_volume, [&](uint32_t i, float) {
+                maps.volume.for_each_in_radius(p, photons.r_volume, [&](uint32_t i, float) {
                     if (nee_ && (maps.volume.flags(i) & kPhotonDirect)) return;
                     in += maps.volume.power(i) *
                           henyey_greenstein(dot(-d, maps.volume.incident(i)), med.g);
@@ -126,6 +157,19 @@ class VpmCamera {
             }
             beta *= f.weight;
         }
+        return surface(r, slot, photons, inv_area, w, u);
+    }
+
+    // The path's hit beyond any medium: emission, the surface estimate and direct light, the
+    // delta lobes' continuation (or the sky, with nothing hit).
+    template <class Uniform>
+    RGB surface(std::size_t r, uint32_t slot, const PassPhotons& photons, float inv_area,
+                RowWork& w, Uniform&& u) const {
+        const uint32_t geom = w.hits.geom[r];
+        const Vec3 d = w.rays.direction(r);
+        RGB& beta = w.beta[slot];
+        const VolumePhotonMaps& maps = photons.maps;
+        const float r_surface = photons.r_surface;
         if (geom == kNoHit)
             return beta * (scene_.environment ? scene_.environment->Le(d) : scene_.background);
         const SurfacePoint sp = surface_at(scene_, w.rays, w.hits, r);
@@ -210,6 +254,10 @@ void parse_vpm(const ParamSet& params, RenderSettings& settings) {
     if (direct != "nee" && direct != "photons")
         params.fail("direct", "direct is nee or photons, not '" + direct + "'");
     own.direct_photons = direct == "photons";
+    const std::string estimator = params.text("estimator", "point");
+    if (estimator != "point" && estimator != "beam")
+        params.fail("estimator", "estimator is point or beam, not '" + estimator + "'");
+    own.beam = estimator == "beam";
     settings.own = own;
 }
 
@@ -256,6 +304,8 @@ RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
     const ProgressTask task = control.task("vpm passes", 1);
     uint32_t pass = 0;
     VolumePhotonMaps maps;
+    const bool beam = own && own->beam;
+    PhotonDiscs discs;
     StageGraph graph;
     graph.set_progress(opt.progress);
     const uint32_t photons = graph.add("photons", [&]() -> uint64_t {
@@ -267,6 +317,8 @@ RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
         StageClock clock;
         maps.surface.build(timed_parallel_invoke(ThreadClock::for_chunks()));
         maps.volume.build(timed_parallel_invoke(ThreadClock::for_chunks()));
+        if (beam)
+            discs.build(maps.volume, r_volume, timed_parallel_invoke(ThreadClock::for_chunks()));
         const std::size_t n = maps.surface.size() + maps.volume.size();
         local.local().add_wall(Stage::Balance, n, clock);
         return n;
@@ -281,9 +333,10 @@ RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
                                   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
                                       return;
                                   const uint32_t y = uint32_t(my_rows[i]);
-                                  camera.trace_row(pass, y, maps, r_surface, r_volume,
-                                                   &sum[std::size_t(y) * std::size_t(w)],
-                                                   rows.local(), local.local());
+                                  camera.trace_row(
+                                      pass, y, {maps, beam ? &discs : nullptr, r_surface, r_volume},
+                                      &sum[std::size_t(y) * std::size_t(w)], rows.local(),
+                                      local.local());
                               }
                           });
         const std::size_t n = my_rows.size() * std::size_t(w);
@@ -300,7 +353,8 @@ RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
             // Knaus & Zwicker's shrinking: area on surfaces, volume in media.
             const float ratio = (float(pass) + ps.alpha) / (float(pass) + 1.f);
             r_surface *= std::sqrt(ratio);
-            r_volume *= std::cbrt(ratio);
+            // The beam estimate's kernel is a disc: its radius shrinks as a surface's does.
+            r_volume *= beam ? std::sqrt(ratio) : std::cbrt(ratio);
             task.advance();
         },
         [&] { return image(pass); }, [&] { return double(pass); });

@@ -17,7 +17,9 @@
 // so bias and variance both vanish (alpha = the photon settings' `alpha`).
 //
 // Settings: photons_per_pass (default one per pixel), initial_radius (surfaces; default 1 %
-// of the scene's bounding radius), volume_radius (default 5 %), alpha (2/3), max_depth
+// of the scene's bounding radius), volume_radius (default 5 %), estimator (point or beam: the
+// beam radiance estimate of Jarosz et al. 2008, whose disc radius shrinks as a surface's
+// does), alpha (2/3), max_depth
 // (bounces of photons and of camera paths through specular surfaces). Emitting media send no
 // photons: such a scene is refused (volpath renders it).
 #include "engine/accel/intersector.h"
@@ -33,6 +35,10 @@ struct VpmSettings {
     // by default one light sample at the path's last vertex does (through the media it
     // crosses), and photons straight from a light are left out of the estimates.
     bool direct_photons = false;
+    // estimator="beam": the volume photons reach a camera ray as discs, every photon within
+    // r_v of the whole segment counting at once (the beam radiance estimate, beam_estimate.h);
+    // the default "point" estimate gathers a ball at one point a flight samples.
+    bool beam = false;
 };
 
 void parse_vpm(const ParamSet& params, RenderSettings& settings);
