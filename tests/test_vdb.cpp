@@ -5,6 +5,7 @@
 #include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/ValueTransformer.h>
 
 #include <catch2/catch.hpp>
 #include <fstream>
@@ -12,6 +13,8 @@
 
 #include "engine/core/error.h"
 #include "engine/core/rng.h"
+#include "engine/film/metrics.h"
+#include "engine/scene/pbrt/spectrum.h"
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/vdb_file.h"
 #include "engine/scene/xml_loader.h"
@@ -161,12 +164,15 @@ TEST_CASE("vdb: bad files and grids are refused with the file, line and reason",
     CHECK_THROWS_AS(read_vdb_density(dir.file("cloud.nvdb"), "density", Affine{}, 1000), VdbError);
 }
 
-TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperature refused",
+TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperature glowing",
           "[media][fast]") {
     test::TempDir dir;
     const openvdb::FloatGrid::Ptr cloud = test_cloud();
     openvdb::FloatGrid::Ptr heat = cloud->deepCopy();
     heat->setName("temperature");
+    openvdb::tools::foreach (heat->beginValueOn(), [](const openvdb::FloatGrid::ValueOnIter& it) {
+        it.setValue(*it * 1000.f);
+    });
     nanovdb::io::writeGrid(dir.file("cloud.nvdb"), nanovdb::openToNanoVDB(*cloud));
     write_vdb(dir.file("fire.vdb"), {cloud, heat});
     auto scene = [&](const std::string& medium) {
@@ -182,19 +188,88 @@ TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperatu
     REQUIRE(p.media.size() == 1);
     CHECK(p.media[0].kind == MediumKind::Grid);
     CHECK(p.media[0].density->box().lo.x == Approx(1.f + 2.f * (0.25f * -5.5f + 1.f)));
+    CHECK(!p.media[0].emits());
     // pbrt-v4's defaults: sigma_a = sigma_s = 1.
     CHECK(p.media[0].sigma_a.g == 1.f);
+    // The temperature grid glows: Le(p) = Lescale x blackbody((T(p) - offset) x scale).
     const std::string fire =
-        "MakeNamedMedium \"c\" \"string type\" \"nanovdb\" \"string filename\" \"fire.vdb\"";
-    try {
-        parse_pbrt_scene(scene(fire), "t.pbrt", dir.path().string());
-        FAIL("imported");
-    } catch (const InputError& e) {
-        CHECK(std::string(e.what()).find("t.pbrt:7: MakeNamedMedium \"c\": 'fire.vdb' has a "
-                                         "\"temperature\" grid") != std::string::npos);
+        "MakeNamedMedium \"c\" \"string type\" \"nanovdb\" \"string filename\" \"fire.vdb\" "
+        "\"float Lescale\" 2 \"float temperatureoffset\" 100 \"float temperaturescale\" 1.5";
+    const Scene f = parse_pbrt_scene(scene(fire), "t.pbrt", dir.path().string());
+    const Medium& m = f.media[0];
+    REQUIRE(m.temperature);
+    CHECK(m.emits());
+    int hot = 0;
+    for (uint64_t i = 0; i < 2000; ++i) {
+        const Vec3 w{-2.f + 8.f * rng::uniform(7, 1, i, 0), -6.f + 6.f * rng::uniform(7, 1, i, 1),
+                     -2.f + 8.f * rng::uniform(7, 1, i, 2)};
+        const float kelvin = (m.temperature->lookup(w) - 100.f) * 1.5f;
+        const RGB expected = kelvin > 100.f ? pbrt::blackbody_emission_rgb(kelvin) * 2.f : RGB{0.f};
+        const RGB got = m.at(w).Le;
+        hot += kelvin > 100.f ? 1 : 0;
+        CHECK(got.r == Approx(expected.r).epsilon(0.002).margin(1e-4));
+        CHECK(got.g == Approx(expected.g).epsilon(0.002).margin(1e-4));
     }
-    CHECK(parse_pbrt_scene(scene(fire + " \"float Lescale\" 0"), "t.pbrt", dir.path().string())
-              .media.size() == 1);
+    CHECK(hot > 100);
+    const Scene off =
+        parse_pbrt_scene(scene(fire + " \"float Lescale\" 0"), "t.pbrt", dir.path().string());
+    CHECK(!off.media[0].temperature);
+    // The XML form: the same glow from the same file.
+    const Scene x = parse_scene(
+        xml_with("<medium name=\"m\" type=\"vdb\" src=\"fire.vdb\" temperature=\"temperature\" "
+                 "temperature_offset=\"100\" temperature_scale=\"1.5\" emission_scale=\"2\">"
+                 "<sigma_a r=\"1\" g=\"1\" b=\"1\"/><transform><scale s=\"2\"/><translate x=\"1\" "
+                 "y=\"0\" z=\"0\"/></transform></medium>"),
+        "v.xml", dir.path().string());
+    REQUIRE(x.media[0].temperature);
+    const Vec3 c{2.f * (0.25f * 3.f + 1.f) + 1.f, 2.f * (0.25f * -2.f), 2.f * (0.25f * 5.f - 2.f)};
+    CHECK(x.media[0].at(c).Le.r == Approx(m.at(c).Le.r));
+    try {
+        parse_scene(
+            xml_with("<medium name=\"m\" type=\"vdb\" src=\"fire.vdb\" "
+                     "temperature=\"temperature\"><sigma_s r=\"1\" g=\"1\" b=\"1\"/></medium>"),
+            "v.xml", dir.path().string());
+        FAIL("parsed");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("v.xml:2: a glowing medium needs absorption") !=
+              std::string::npos);
+    }
+}
+
+TEST_CASE(
+    "blackbody glow: pbrt-v4's peak-normalised spectrum through the CIE 1931 tables; a "
+    "camera inside a block at 2000 K sees it",
+    "[media][render]") {
+    // The sum over 360..830 nm of Planck / peak times the CIE 1931 table, in linear sRGB,
+    // computed independently (Python, the table linear between its 5 nm samples).
+    const RGB at2000 = pbrt::blackbody_emission_rgb(2000.f);
+    CHECK(at2000.r == Approx(13.0566).epsilon(0.001));
+    CHECK(at2000.g == Approx(3.35248).epsilon(0.001));
+    CHECK(at2000.b == Approx(0.106287).epsilon(0.01));
+    test::TempDir dir;
+    openvdb::initialize();
+    openvdb::FloatGrid::Ptr dens = openvdb::FloatGrid::create(0.f),
+                            temp = openvdb::FloatGrid::create(0.f);
+    dens->setName("density");
+    temp->setName("temperature");
+    dens->fill(openvdb::CoordBBox({-24, -24, -24}, {23, 23, 23}), 1.f);
+    temp->fill(openvdb::CoordBBox({-24, -24, -24}, {23, 23, 23}), 2000.f);
+    write_vdb(dir.file("block.vdb"), {dens, temp});
+    std::ofstream(dir.file("block.pbrt"))
+        << "MakeNamedMedium \"fire\" \"string type\" \"nanovdb\" \"string filename\" "
+           "\"block.vdb\" \"rgb sigma_a\" [1 1 1] \"rgb sigma_s\" [0.5 0.5 0.5]\n"
+           "MediumInterface \"\" \"fire\"\nLookAt 0 0 0  0 0 1  0 1 0\n"
+           "Camera \"perspective\" \"float fov\" 30\nFilm \"rgb\" \"integer xresolution\" 8 "
+           "\"integer yresolution\" 8\nIntegrator \"volpath\" \"integer maxdepth\" 100\n"
+           "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0 0 0]\n"
+           "Shape \"sphere\" \"float radius\" 1000\n";
+    TestScene s(load_scene(dir.file("block.pbrt")));
+    const Film film = render_test(s, 64 * test::effort(), 2, 3).film;
+    const RGB mean = compare_images(film, film).mean_a;
+    INFO(mean.r << " " << mean.g << " " << mean.b);
+    // 24 units of absorption 1 to the nearest face: the glow everywhere.
+    CHECK(mean.r == Approx(at2000.r).epsilon(0.02));
+    CHECK(mean.g == Approx(at2000.g).epsilon(0.02));
 }
 
 TEST_CASE("vdb: the example smoke's .vdb and .nvdb hold the samples of its .raw", "[media][fast]") {

@@ -18,7 +18,12 @@ MediumPoint Medium::at(const Vec3& p) const {
     const float rho = density->lookup(p);
     c.sigma_a = sigma_a * rho;
     c.sigma_s = sigma_s * rho;
-    c.Le = le_scale ? Le * le_scale->lookup(p) : Le;
+    if (temperature) {
+        const float kelvin = (temperature->lookup(p) - temperature_offset) * temperature_scale;
+        c.Le = blackbody->at(kelvin) * le_factor;
+    } else {
+        c.Le = le_scale ? Le * le_scale->lookup(p) : Le;
+    }
     return c;
 }
 

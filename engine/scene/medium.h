@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include "blackbody_table.h"
 #include "density_grid.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
@@ -52,6 +53,12 @@ struct Medium {
     // grid_scale and Le times le_factor.
     std::shared_ptr<const RGBGrid> rgb_sigma_a, rgb_sigma_s, rgb_Le;
     float grid_scale = 1.f, le_factor = 1.f;
+    // Grid: a temperature grid whose blackbody glow is Le (pbrt-v4's temperature grids): Le(p)
+    // = le_factor x the table's colour at (temperature(p) - offset) x scale, nothing below
+    // 100 K. Le and le_scale are unused then.
+    std::shared_ptr<const DensityGrid> temperature;
+    std::shared_ptr<const BlackbodyTable> blackbody;
+    float temperature_offset = 0.f, temperature_scale = 1.f;
     // Where it was defined, for messages about it.
     std::string file;
     int line = 0;
@@ -66,6 +73,7 @@ struct Medium {
     bool homogeneous() const { return kind == MediumKind::Homogeneous; }
     bool emits() const {
         if (kind == MediumKind::RGBGrid) return rgb_Le && le_factor > 0.f && grid_scale > 0.f;
+        if (temperature) return le_factor > 0.f && !sigma_a.is_black();
         return !Le.is_black() && !sigma_a.is_black();
     }
     // A grid medium's coefficients and emission at p (either grid kind).

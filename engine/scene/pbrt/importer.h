@@ -111,8 +111,7 @@ class Importer {
                                                            const ParamList& p,
                                                            const DensityGrid& density);
     void rgb_grid_medium(const Token& t, const std::string& what, const ParamList& p, Medium& m);
-    std::shared_ptr<const DensityGrid> nanovdb_grid(const Token& t, const std::string& what,
-                                                    const ParamList& p);
+    void nanovdb_medium(const Token& t, const std::string& what, const ParamList& p, Medium& m);
     std::shared_ptr<const DensityGrid> uniform_grid(const Token& t, const std::string& what,
                                                     const ParamList& p);
     // A medium's index by name ("": vacuum), an error at where:line if there is none.

@@ -41,8 +41,7 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
             if (le) m.le_scale = emission_scale_grid(t, what, p, *m.density);
         } else if (type == "nanovdb") {
             if (le) fail(t, what + ": a nanovdb medium takes no \"Le\" (pbrt-v4's neither)");
-            m.kind = MediumKind::Grid;
-            m.density = nanovdb_grid(t, what, p);
+            nanovdb_medium(t, what, p, m);
         } else {
             m.Le *= p.real("Lescale", 1.f);
         }

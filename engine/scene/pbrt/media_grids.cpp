@@ -5,6 +5,7 @@
 
 #include "engine/scene/vdb_file.h"
 #include "importer.h"
+#include "spectrum.h"
 
 namespace foton::pbrt {
 
@@ -124,28 +125,32 @@ void Importer::rgb_grid_medium(const Token& t, const std::string& what, const Pa
 }
 
 // pbrt-v4's nanovdb: the grid "gridname" (default "density") of a NanoVDB file (foton reads
-// OpenVDB files too), placed by the transform current at MakeNamedMedium. pbrt-v4 makes a
-// "temperature" grid in the file glow as a blackbody; foton does not, so such a file is refused
-// unless "Lescale" is 0.
-std::shared_ptr<const DensityGrid> Importer::nanovdb_grid(const Token& t, const std::string& what,
-                                                          const ParamList& p) {
+// OpenVDB files too), placed by the transform current at MakeNamedMedium. A grid named
+// "temperaturename" (default "temperature") in the file makes the medium glow as a blackbody
+// at (temperature - "temperatureoffset") x "temperaturescale" kelvin, times "Lescale"
+// (pbrt-v4's; 0 turns it off), where it absorbs.
+void Importer::nanovdb_medium(const Token& t, const std::string& what, const ParamList& p,
+                              Medium& m) {
     const std::string rel = p.text("filename", "");
     if (rel.empty()) fail(t, what + " needs \"string filename\"");
     const std::string path = input_path(t, "volume file", rel, uint64_t(16) << 30);
     const std::string grid = p.text("gridname", "density");
     const std::string temperature = p.text("temperaturename", "temperature");
     const float le_scale = p.real("Lescale", 1.f);
-    for (const char* unused : {"temperatureoffset", "temperaturecutoff", "temperaturescale"})
-        if (p.has(unused)) p.real(unused, 0.f);
+    if (!(le_scale >= 0.f)) fail(t, what + ": Lescale must not be negative");
+    m.temperature_offset = p.real("temperatureoffset", p.real("temperaturecutoff", 0.f));
+    m.temperature_scale = p.real("temperaturescale", 1.f);
+    m.kind = MediumKind::Grid;
     try {
         std::vector<std::string> names = vdb_grid_names(path);
-        const bool has_temperature =
-            std::find(names.begin(), names.end(), temperature) != names.end();
-        if (has_temperature && le_scale != 0.f)
-            fail(t, what + ": '" + rel + "' has a \"" + temperature +
-                        "\" grid, whose blackbody emission foton does not render (give "
-                        "\"float Lescale\" 0 to render the medium without it)");
-        return read_vdb_density(path, grid, gs_.ctm);
+        m.density = read_vdb_density(path, grid, gs_.ctm);
+        if (le_scale > 0.f && std::find(names.begin(), names.end(), temperature) != names.end()) {
+            m.temperature = read_vdb_density(path, temperature, gs_.ctm);
+            m.le_factor = le_scale;
+            const float hottest =
+                (m.temperature->max_value() - m.temperature_offset) * m.temperature_scale;
+            m.blackbody = std::make_shared<const BlackbodyTable>(blackbody_emission_rgb, hottest);
+        }
     } catch (const VdbError& e) {
         fail(t, what + ": volume file '" + rel + "': " + e.what());
     }

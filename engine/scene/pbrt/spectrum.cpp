@@ -1,7 +1,9 @@
 #include "spectrum.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "cie_1931.h"
 #include "engine/scene/metals.h"
 
 namespace foton::pbrt {
@@ -12,17 +14,14 @@ struct Xyz {
     double x = 0, y = 0, z = 0;
 };
 
-double lobe(double l, double mu, double s_lo, double s_hi) {
-    const double t = (l - mu) / (l < mu ? s_lo : s_hi);
-    return std::exp(-0.5 * t * t);
-}
-
-// CIE 1931 2-degree observer, the multi-lobe fit of Wyman, Sloan and Shirley (JCGT 2013).
+// The CIE 1931 2-degree observer at l nm, linear between the 5 nm table's samples.
 Xyz cmf(double l) {
-    return {1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7) -
-                0.065 * lobe(l, 501.1, 20.4, 26.2),
-            0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
-            1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8)};
+    const double x = (l - kCieFirstNm) / kCieStepNm;
+    if (!(x >= 0.0 && x <= double(kCieSamples - 1))) return {};
+    const int i = std::min(int(x), kCieSamples - 2);
+    const double f = x - double(i);
+    auto at = [&](const float* t) { return double(t[i]) * (1.0 - f) + double(t[i + 1]) * f; };
+    return {at(kCieX), at(kCieY), at(kCieZ)};
 }
 
 RGB xyz_to_srgb(const Xyz& c) {
@@ -87,6 +86,19 @@ RGB blackbody_rgb(float kelvin) {
         return (2.0 * h * cc * cc) / (std::pow(l, 5) * (std::exp(h * cc / (l * k * T)) - 1.0));
     });
     return clamp_positive(xyz_to_srgb({c.x / c.y, 1.0, c.z / c.y}));
+}
+
+RGB blackbody_emission_rgb(float kelvin) {
+    const double T = kelvin;
+    auto planck = [T](double nm) {
+        const double l = nm * 1e-9;
+        const double h = 6.62606957e-34, k = 1.3806488e-23, cc = 299792458.0;
+        return (2.0 * h * cc * cc) / (std::pow(l, 5) * (std::exp(h * cc / (l * k * T)) - 1.0));
+    };
+    // Wien's displacement law gives the peak pbrt-v4 divides by.
+    const double peak = planck(2.8977721e-3 / T * 1e9);
+    const Xyz c = integrate([&](double nm) { return planck(nm) / peak; });
+    return clamp_positive(xyz_to_srgb(c));
 }
 
 RGB sampled_spectrum_rgb(const std::vector<float>& pairs, bool illuminant) {

@@ -161,6 +161,7 @@ class Loader {
     std::size_t grid_counts(const pugi::xml_node& e, int n[3]) const;
     Bounds3 grid_box(const pugi::xml_node& e) const;
     void rgb_grid_medium(const pugi::xml_node& e, float scale, Medium& m) const;
+    void vdb_temperature(const pugi::xml_node& e, Medium& m) const;
     std::map<std::string, int32_t> medium_ids_;
     void parse_objects(const pugi::xml_node& n);
     void parse_film(const pugi::xml_node& n);

@@ -9,7 +9,8 @@ void Loader::parse_media(const pugi::xml_node& n) {
     for (const pugi::xml_node& e : n.children("medium")) {
         check(e,
               {"name", "type", "g", "scale", "nx", "ny", "nz", "src", "grid", "sigma_a_src",
-               "sigma_s_src", "emission_src", "emission_scale"},
+               "sigma_s_src", "emission_src", "emission_scale", "temperature", "temperature_offset",
+               "temperature_scale"},
               {"sigma_a", "sigma_s", "emission", "p0", "p1", "transform"});
         Medium m;
         m.name = e.attribute("name").value();
@@ -32,8 +33,11 @@ void Loader::parse_media(const pugi::xml_node& n) {
         only("src", false, grid || vdb, "a grid or vdb medium");
         only("grid", false, vdb, "a vdb medium");
         only("transform", true, vdb, "a vdb medium");
-        for (const char* a : {"sigma_a_src", "sigma_s_src", "emission_src", "emission_scale"})
+        for (const char* a : {"sigma_a_src", "sigma_s_src", "emission_src"})
             only(a, false, rgbgrid, "an rgbgrid medium");
+        only("emission_scale", false, rgbgrid || vdb, "an rgbgrid or vdb medium");
+        for (const char* a : {"temperature", "temperature_offset", "temperature_scale"})
+            only(a, false, vdb, "a vdb medium");
         for (const char* c : {"sigma_a", "sigma_s", "emission"})
             only(c, true, !rgbgrid, "media other than rgbgrid");
         m.g = number(e, "g", 0.f);
@@ -49,6 +53,7 @@ void Loader::parse_media(const pugi::xml_node& n) {
             } else if (vdb) {
                 m.kind = MediumKind::Grid;
                 m.density = vdb_grid(e);
+                if (e.attribute("temperature")) vdb_temperature(e, m);
             }
             m.sigma_a = rgb_child(e, "sigma_a", RGB{0.f}) * scale;
             m.sigma_s = rgb_child(e, "sigma_s", RGB{0.f}) * scale;
@@ -56,7 +61,11 @@ void Loader::parse_media(const pugi::xml_node& n) {
                 fail(e, "<medium> needs <sigma_a> or <sigma_s> (per unit length)");
             if (!(m.majorant() < 1e12f))
                 fail(e, "the medium's extinction must be below 1e12 per unit length");
+            if (m.temperature && m.sigma_a.is_black())
+                fail(e, "a glowing medium needs absorption (it emits sigma_a Le): give <sigma_a>");
             if (const pugi::xml_node le = e.child("emission")) {
+                if (m.temperature)
+                    fail(le, "a medium glows by its temperature or <emission>, not both");
                 check(le, {"r", "g", "b", "intensity"}, {});
                 m.Le = emitted(le, rgb(le, {"intensity"}) * non_negative(le, "intensity", 1.f));
                 if (m.sigma_a.is_black())

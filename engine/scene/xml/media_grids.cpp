@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "engine/core/input_file.h"
+#include "engine/scene/pbrt/spectrum.h"
 #include "engine/scene/vdb_file.h"
 #include "loader.h"
 
@@ -121,6 +122,25 @@ std::shared_ptr<const DensityGrid> Loader::vdb_grid(const pugi::xml_node& e) con
         fail(e, "volume file '" + src + "': " + err.what() +
                     (names.empty() ? "" : " (its grids: " + names + ")"));
     }
+}
+
+// A vdb medium's glow: the file's grid `temperature` read as the density is, glowing as pbrt-v4's
+// peak-normalised blackbody at (T - temperature_offset) x temperature_scale kelvin (nothing
+// below 100 K), times emission_scale.
+void Loader::vdb_temperature(const pugi::xml_node& e, Medium& m) const {
+    const std::string src = e.attribute("src").value();
+    const std::string path = (std::filesystem::path(base_) / src).string();
+    try {
+        m.temperature =
+            read_vdb_density(path, e.attribute("temperature").value(), parse_transform(e));
+    } catch (const VdbError& err) {
+        fail(e, "volume file '" + src + "': " + err.what());
+    }
+    m.temperature_offset = number(e, "temperature_offset", 0.f);
+    m.temperature_scale = non_negative(e, "temperature_scale", 1.f);
+    m.le_factor = non_negative(e, "emission_scale", 1.f);
+    const float hottest = (m.temperature->max_value() - m.temperature_offset) * m.temperature_scale;
+    m.blackbody = std::make_shared<const BlackbodyTable>(pbrt::blackbody_emission_rgb, hottest);
 }
 
 }  // namespace foton::xml
