@@ -237,7 +237,7 @@ TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperatu
 }
 
 TEST_CASE(
-    "blackbody glow: pbrt-v4's peak-normalised spectrum through the CIE 1931 tables; a "
+    "blackbody glow: pbrt-v4's peak-normalised spectrum through the CIE 1931 tables, and a "
     "camera inside a block at 2000 K sees it",
     "[media][render]") {
     // The sum over 360..830 nm of Planck / peak times the CIE 1931 table, in linear sRGB,
