@@ -140,7 +140,9 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
             const float wl_ng = std::fabs(dot(d, sp.ng));
             if (wl_ng == 0.f) continue;
             BsdfSample bs;
-            if (!m.bsdf.sample(wo, u(slot), {u(slot), u(slot)}, ctx, bs)) continue;
+            // Drawn in a fixed order: function arguments are evaluated in any.
+            const float u0 = u(slot), u1 = u(slot), u2 = u(slot);
+            if (!m.bsdf.sample(wo, u0, {u1, u2}, ctx, bs)) continue;
             const Vec3 wi = frame.to_world(bs.wi);
             const float side = dot(wi, sp.ng);
             if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;

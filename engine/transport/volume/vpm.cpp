@@ -198,7 +198,9 @@ class VpmCamera {
             if (nee_) {
                 DirectSample ds;
                 const ShadingPoint v(sp, m, d, beta, slot, 0, w.jobs[slot].id);
-                if (sample_direct(lights_, v, u(), {u(), u()}, u(), ds))
+                // Drawn in a fixed order: function arguments are evaluated in any.
+                const float u0 = u(), u1 = u(), u2 = u(), u3 = u();
+                if (sample_direct(lights_, v, u0, {u1, u2}, u3, ds))
                     w.shadow.push(ds.origin, ds.dir, ds.tmax,
                                   medium_after(scene_, geom, sp, ds.dir, w.medium[slot]), slot,
                                   ds.value, w.jobs[slot].id);
@@ -207,7 +209,8 @@ class VpmCamera {
         // The delta lobes go on (their share of the throughput in the sample's weight).
         if (!m.bsdf.has_delta() || ++w.depth[slot] > settings_.max_depth) return add;
         BsdfSample bs;
-        if (!m.bsdf.sample(wo, u(), {u(), u()}, ctx, bs, kSpecular)) return add;
+        const float u0 = u(), u1 = u(), u2 = u();
+        if (!m.bsdf.sample(wo, u0, {u1, u2}, ctx, bs, kSpecular)) return add;
         const Vec3 wi = frame.to_world(bs.wi);
         const float side = dot(wi, sp.ng);
         if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return add;
@@ -225,9 +228,9 @@ class VpmCamera {
                        const RGB& weight, int32_t mi, RowWork& w, Uniform&& u) const {
         LightPick pick;
         LightSample ls;
-        if (!lights_.pick(u(), p, Vec3{}, pick) ||
-            !lights_.sample_li(pick.light, p, {u(), u()}, u(), ls, pick.tri))
-            return;
+        if (!lights_.pick(u(), p, Vec3{}, pick)) return;
+        const float u0 = u(), u1 = u(), u2 = u();  // in a fixed order (see surface())
+        if (!lights_.sample_li(pick.light, p, {u0, u1}, u2, ls, pick.tri)) return;
         const RGB value =
             weight * ls.Li * (henyey_greenstein(dot(wo, ls.wi), med.g) / (pick.pmf * ls.pdf));
         if (value.is_black()) return;
