@@ -9,6 +9,7 @@
 #include "engine/core/error.h"
 #include "engine/core/rng.h"
 #include "engine/film/metrics.h"
+#include "engine/scene/pbrt/spectrum.h"
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_tracking.h"
@@ -236,12 +237,26 @@ TEST_CASE("rgbgrid and emitting uniformgrid in pbrt-v4's format, and their error
                                     "t.pbrt", ".");
                }),
                "an rgbgrid's \"Le\" needs \"sigma_a\""));
+    // A uniformgrid's temperature glows as a blackbody, scaled by pbrt-v4's single centre sample.
+    const Scene hot = parse_pbrt_scene(
+        scene("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] "
+              "\"float temperature\" [2100] \"float temperatureoffset\" 100"),
+        "t.pbrt", ".");
+    REQUIRE(hot.media[0].temperature);
+    CHECK(hot.media[0].emits());
+    CHECK(hot.media[0].at({1.5f, 0.5f, 0.5f}).Le.r ==
+          Approx(pbrt::blackbody_emission_rgb(2000.f).r).epsilon(0.002));
+    // A quarter of the way from the face both the temperature (to 3/4 of 2100 K) and the
+    // emission's scale (to 3/4) fade, as pbrt-v4's single samples do.
+    CHECK(hot.media[0].at({1.25f, 0.5f, 0.5f}).Le.r ==
+          Approx(0.75f * pbrt::blackbody_emission_rgb(0.75f * 2100.f - 100.f).r).epsilon(0.002));
     CHECK(says(error_of([&] {
                    parse_pbrt_scene(scene("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" "
-                                          "\"float density\" [1] \"float temperature\" [900]"),
+                                          "\"float density\" [1] \"float temperature\" [900] "
+                                          "\"rgb Le\" [1 1 1]"),
                                     "t.pbrt", ".");
                }),
-               "emission from a \"temperature\" grid is not supported"));
+               "give \"Le\" or \"temperature\", not both"));
     CHECK(says(error_of([&] {
                    parse_pbrt_scene(scene("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" "
                                           "\"float density\" [1] \"rgb Le\" [1 1 1] \"float "

@@ -20,7 +20,7 @@ MediumPoint Medium::at(const Vec3& p) const {
     c.sigma_s = sigma_s * rho;
     if (temperature) {
         const float kelvin = (temperature->lookup(p) - temperature_offset) * temperature_scale;
-        c.Le = blackbody->at(kelvin) * le_factor;
+        c.Le = blackbody->at(kelvin) * (le_factor * (le_scale ? le_scale->lookup(p) : 1.f));
     } else {
         c.Le = le_scale ? Le * le_scale->lookup(p) : Le;
     }

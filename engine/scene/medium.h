@@ -54,8 +54,8 @@ struct Medium {
     std::shared_ptr<const RGBGrid> rgb_sigma_a, rgb_sigma_s, rgb_Le;
     float grid_scale = 1.f, le_factor = 1.f;
     // Grid: a temperature grid whose blackbody glow is Le (pbrt-v4's temperature grids): Le(p)
-    // = le_factor x the table's colour at (temperature(p) - offset) x scale, nothing below
-    // 100 K. Le and le_scale are unused then.
+    // = le_factor x le_scale(p) (1 without it) x the table's colour at (temperature(p) -
+    // offset) x scale, nothing below 100 K. Le is unused then.
     std::shared_ptr<const DensityGrid> temperature;
     std::shared_ptr<const BlackbodyTable> blackbody;
     float temperature_offset = 0.f, temperature_scale = 1.f;

@@ -111,6 +111,8 @@ class Importer {
                                                            const ParamList& p,
                                                            const DensityGrid& density);
     void rgb_grid_medium(const Token& t, const std::string& what, const ParamList& p, Medium& m);
+    void uniform_temperature(const Token& t, const std::string& what, const ParamList& p,
+                             Medium& m);
     void nanovdb_medium(const Token& t, const std::string& what, const ParamList& p, Medium& m);
     std::shared_ptr<const DensityGrid> uniform_grid(const Token& t, const std::string& what,
                                                     const ParamList& p);

@@ -34,10 +34,10 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
         if (type == "uniformgrid") {
             m.kind = MediumKind::Grid;
             m.density = uniform_grid(t, what, p);
-            if (p.has("temperature"))
-                fail(t, what +
-                            ": emission from a \"temperature\" grid is not supported (give "
-                            "\"Le\" and \"Lescale\")");
+            if (p.has("temperature")) {
+                if (le) fail(t, what + ": give \"Le\" or \"temperature\", not both");
+                uniform_temperature(t, what, p, m);
+            }
             if (le) m.le_scale = emission_scale_grid(t, what, p, *m.density);
         } else if (type == "nanovdb") {
             if (le) fail(t, what + ": a nanovdb medium takes no \"Le\" (pbrt-v4's neither)");

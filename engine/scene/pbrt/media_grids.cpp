@@ -86,6 +86,30 @@ std::shared_ptr<const DensityGrid> Importer::emission_scale_grid(const Token& t,
                                                std::move(s), density.box());
 }
 
+// A uniformgrid's "temperature" array (nx x ny x nz, as "density"): it glows as the
+// peak-normalised blackbody at (T - "temperatureoffset") x "temperaturescale" kelvin, scaled
+// by the "Lescale" grid (or pbrt-v4's single centre sample), where it absorbs.
+void Importer::uniform_temperature(const Token& t, const std::string& what, const ParamList& p,
+                                   Medium& m) {
+    std::vector<float> kelvin = p.reals("temperature");
+    const DensityGrid& d = *m.density;
+    const std::size_t count = std::size_t(d.nx()) * std::size_t(d.ny()) * std::size_t(d.nz());
+    if (kelvin.size() != count)
+        fail(t, what + ": \"temperature\" has " + std::to_string(kelvin.size()) +
+                    " values, nx * ny * nz is " + std::to_string(count));
+    for (float v : kelvin)
+        if (!(v >= 0.f && v < 1e12f))
+            fail(t, what + ": temperatures must be non-negative and below 1e12");
+    m.temperature =
+        std::make_shared<const DensityGrid>(d.nx(), d.ny(), d.nz(), std::move(kelvin), d.box());
+    m.temperature_offset = p.real("temperatureoffset", p.real("temperaturecutoff", 0.f));
+    m.temperature_scale = p.real("temperaturescale", 1.f);
+    m.le_scale = emission_scale_grid(t, what, p, d);
+    m.le_factor = 1.f;
+    const float hottest = (m.temperature->max_value() - m.temperature_offset) * m.temperature_scale;
+    m.blackbody = std::make_shared<const BlackbodyTable>(blackbody_emission_rgb, hottest);
+}
+
 // pbrt-v4's rgbgrid: "rgb sigma_a", "rgb sigma_s" and "rgb Le" arrays of nx x ny x nz values
 // (a missing coefficient is 1 throughout the box; Le needs sigma_a), the coefficients times
 // "scale", Le times "Lescale".
