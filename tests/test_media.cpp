@@ -12,9 +12,11 @@
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_tracking.h"
 #include "engine/transport/volume/volpath.h"
+#include "media_util.h"
 #include "test_util.h"
 
 using namespace foton;
+using test::image_mean;
 
 namespace {
 
@@ -25,13 +27,6 @@ Medium medium(RGB sigma_a, RGB sigma_s, float g = 0.f) {
     m.g = g;
     return m;
 }
-
-// Counter-based uniforms for one test: number k of draw sequence i.
-struct Draws {
-    uint64_t stream, i = 0;
-    uint64_t k = 0;
-    float operator()() { return rng::uniform(99, stream, i, k++); }
-};
 
 // A sphere of radius 1 at the origin bounding medium `inside` (an interface surface), under a
 // white sky, seen by an orthographic camera along -z.
@@ -49,11 +44,6 @@ std::string sphere_scene(const std::string& medium, const std::string& extra = "
 
 TestScene parse(const std::string& xml) {
     return TestScene(parse_scene(xml, "media.xml", "."));
-}
-
-// The image's channel means (film/metrics.h's comparison of the image with itself).
-RGB image_mean(const Film& f) {
-    return compare_images(f, f).mean_a;
 }
 
 }  // namespace
@@ -106,7 +96,7 @@ TEST_CASE("delta tracking: passes with exp(-sigma_t d), scatters by sigma_s exp(
     RGB pass{0.f}, pass2{0.f};
     std::vector<RGB> scatter(bins, RGB{0.f});
     for (int i = 0; i < n; ++i) {
-        Draws u{11, uint64_t(i)};
+        test::Draws u{99, 11, uint64_t(i)};
         const FreeFlight f = delta_track(m, d, RGB{1.f}, u);
         if (f.event == FreeFlight::Event::Pass) {
             pass += f.weight;
@@ -144,7 +134,7 @@ TEST_CASE("delta tracking: a grey medium's collision distances (chi-square)", "[
     const int n = 100000, bins = 20;
     std::vector<double> observed(bins + 1, 0.0);
     for (int i = 0; i < n; ++i) {
-        Draws u{12, uint64_t(i)};
+        test::Draws u{99, 12, uint64_t(i)};
         const FreeFlight f = delta_track(m, d, RGB{1.f}, u);
         REQUIRE(f.event != FreeFlight::Event::Absorb);
         // Grey and without absorption: every event weighs exactly 1.
@@ -171,14 +161,14 @@ TEST_CASE("ratio tracking and the emission along a flight are unbiased", "[media
     const int n = 200000;
     RGB sum{0.f};
     for (int i = 0; i < n; ++i) {
-        Draws u{13, uint64_t(i)};
+        test::Draws u{99, 13, uint64_t(i)};
         sum += ratio_track(m, d, u);
     }
     const RGB exact = m.transmittance(d);
     CHECK(sum.r / n == Approx(exact.r).epsilon(0.01));
     CHECK(sum.g / n == Approx(exact.g).epsilon(0.01));
     CHECK(sum.b / n == Approx(exact.b).epsilon(0.01));
-    Draws u{14, 0};
+    test::Draws u{99, 14, 0};
     CHECK(transmittance(m, Vec3{}, Vec3{0, 0, 1}, d, TransmittanceEstimator::Exact, u).g ==
           Approx(std::exp(-0.7f * d)));
     // In an unbounded medium a flight gathers sigma_a Le / sigma_t before its first real event.
@@ -186,7 +176,7 @@ TEST_CASE("ratio tracking and the emission along a flight are unbiased", "[media
     glow.Le = RGB{1.f, 2.f, 4.f};
     RGB emitted{0.f};
     for (int i = 0; i < n; ++i) {
-        Draws v{15, uint64_t(i)};
+        test::Draws v{99, 15, uint64_t(i)};
         emitted += delta_track(glow, kInfinity, RGB{1.f}, v).emitted;
     }
     const RGB st = glow.sigma_t();

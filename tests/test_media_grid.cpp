@@ -11,6 +11,7 @@
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_tracking.h"
+#include "media_util.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -41,22 +42,6 @@ Medium grid_medium(int n) {
     m.sigma_s = RGB{1.2f, 0.6f, 0.4f};
     m.density = test_grid(n);
     return m;
-}
-
-struct Draws {
-    uint64_t stream, i = 0, k = 0;
-    float operator()() { return rng::uniform(77, stream, i, k++); }
-};
-
-// exp(-integral of sigma_t) along o + t d over [0, t_end), by a fine midpoint rule.
-RGB exact_transmittance(const Medium& m, const Vec3& o, const Vec3& d, float t_end) {
-    const int steps = 20000;
-    double tau = 0.0;
-    for (int i = 0; i < steps; ++i)
-        tau += m.density->lookup(o + d * ((i + 0.5f) * t_end / steps)) * (t_end / steps);
-    const RGB st = m.sigma_t();
-    return {float(std::exp(-tau * st.r)), float(std::exp(-tau * st.g)),
-            float(std::exp(-tau * st.b))};
 }
 
 }  // namespace
@@ -94,13 +79,13 @@ TEST_CASE("ratio and delta tracking through a varying density equal exp(-optical
     for (int k = 0; k < 3; ++k) {
         const Vec3 o = rays[k][0], d = normalize(rays[k][1]);
         const float t_end = 3.5f;
-        const RGB exact = exact_transmittance(m, o, d, t_end);
+        const RGB exact = test::exact_transmittance(m, o, d, t_end);
         const int n = 100000;
         RGB ratio{0.f}, pass{0.f};
         for (int i = 0; i < n; ++i) {
-            Draws u{uint64_t(20 + k), uint64_t(i)};
+            test::Draws u{77, uint64_t(20 + k), uint64_t(i)};
             ratio += ratio_track_grid(m, o, d, t_end, u);
-            Draws v{uint64_t(40 + k), uint64_t(i)};
+            test::Draws v{77, uint64_t(40 + k), uint64_t(i)};
             const FreeFlight f = delta_track_grid(m, o, d, t_end, RGB{1.f}, v);
             if (f.event == FreeFlight::Event::Pass) pass += f.weight;
         }

@@ -13,6 +13,7 @@
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/medium_tracking.h"
+#include "media_util.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -48,28 +49,6 @@ Medium rgb_medium(int n, float scale) {
     return m;
 }
 
-struct Draws {
-    uint64_t stream, i = 0, k = 0;
-    float operator()() { return rng::uniform(91, stream, i, k++); }
-};
-
-RGB exact_transmittance(const Medium& m, const Vec3& o, const Vec3& d, float t_end) {
-    const int steps = 20000;
-    double tau[3] = {0, 0, 0};
-    for (int i = 0; i < steps; ++i) {
-        const MediumPoint c = m.at(o + d * ((i + 0.5f) * t_end / steps));
-        const RGB st = c.sigma_a + c.sigma_s;
-        tau[0] += st.r * (t_end / steps);
-        tau[1] += st.g * (t_end / steps);
-        tau[2] += st.b * (t_end / steps);
-    }
-    return {float(std::exp(-tau[0])), float(std::exp(-tau[1])), float(std::exp(-tau[2]))};
-}
-
-RGB image_mean(const Film& f) {
-    return compare_images(f, f).mean_a;
-}
-
 std::string error_of(const std::function<void()>& load) {
     try {
         load();
@@ -92,7 +71,7 @@ TEST_CASE(
     const MediumPoint at = m.at(c);
     CHECK(at.sigma_a.r == Approx(1.5f * m.rgb_sigma_a->sample(1, 3, 2).r));
     CHECK(at.sigma_s.b == Approx(1.5f * m.rgb_sigma_s->sample(1, 3, 2).b));
-    CHECK(at.Le.is_black());
+    CHECK(m.emission_at(c).is_black());  // no Le grid: no glow
     CHECK(m.at({1.2f, 0.f, 0.f}).sigma_a.is_black());
     const kern::GridFrame& f = m.density->majorant_frame();
     int violations = 0;
@@ -119,13 +98,13 @@ TEST_CASE("rgbgrid: ratio and delta tracking equal exp(-optical depth) in every 
     for (int r = 0; r < 3; ++r) {
         const Vec3 o = rays[r][0], d = normalize(rays[r][1]);
         const float t_end = 3.f;
-        const RGB exact = exact_transmittance(m, o, d, t_end);
+        const RGB exact = test::exact_transmittance(m, o, d, t_end);
         const int n = 100000;
         RGB ratio{0.f}, pass{0.f};
         for (int i = 0; i < n; ++i) {
-            Draws u{uint64_t(r), uint64_t(i)};
+            test::Draws u{91, uint64_t(r), uint64_t(i)};
             ratio += ratio_track_grid(m, o, d, t_end, u);
-            Draws v{uint64_t(10 + r), uint64_t(i)};
+            test::Draws v{91, uint64_t(10 + r), uint64_t(i)};
             const FreeFlight f = delta_track_grid(m, o, d, t_end, RGB{1.f}, v);
             if (f.event == FreeFlight::Event::Pass) pass += f.weight;
         }
@@ -177,7 +156,7 @@ TEST_CASE("emitting grid media: a camera deep inside sees Le (grid and rgbgrid, 
             "<target x=\"0\" y=\"0\" z=\"-1\"/></camera></scene>";
         TestScene s(parse_scene(xml, "glow.xml", dir.path().string()));
         REQUIRE(s.media[0].emits());
-        const RGB mean = image_mean(render_test(s, 64 * test::effort(), 2, 5).film);
+        const RGB mean = test::image_mean(render_test(s, 64 * test::effort(), 2, 5).film);
         INFO(medium.substr(0, 40) << ": " << mean.r << " " << mean.g << " " << mean.b);
         CHECK(mean.r == Approx(1.f).epsilon(0.03));
         CHECK(mean.g == Approx(0.5f).epsilon(0.03));
@@ -217,9 +196,9 @@ TEST_CASE("rgbgrid and emitting uniformgrid in pbrt-v4's format, and their error
               "density\" [1] \"rgb Le\" [1 0.5 0.25]"),
         "t.pbrt", ".");
     REQUIRE(u.media[0].le_scale);
-    CHECK(u.media[0].at({1.5f, 0.5f, 0.5f}).Le.g == Approx(0.5f));
+    CHECK(u.media[0].emission_at({1.5f, 0.5f, 0.5f}).g == Approx(0.5f));
     // A quarter of the way from the face: three quarters of the centre's value.
-    CHECK(u.media[0].at({1.25f, 0.5f, 0.5f}).Le.g == Approx(0.375f));
+    CHECK(u.media[0].emission_at({1.25f, 0.5f, 0.5f}).g == Approx(0.375f));
     auto says = [](const std::string& message, const std::string& part) {
         const bool found = message.find(part) != std::string::npos;
         if (!found) UNSCOPED_INFO("the message: " << message);
@@ -244,11 +223,11 @@ TEST_CASE("rgbgrid and emitting uniformgrid in pbrt-v4's format, and their error
         "t.pbrt", ".");
     REQUIRE(hot.media[0].temperature);
     CHECK(hot.media[0].emits());
-    CHECK(hot.media[0].at({1.5f, 0.5f, 0.5f}).Le.r ==
+    CHECK(hot.media[0].emission_at({1.5f, 0.5f, 0.5f}).r ==
           Approx(pbrt::blackbody_emission_rgb(2000.f).r).epsilon(0.002));
     // A quarter of the way from the face both the temperature (to 3/4 of 2100 K) and the
     // emission's scale (to 3/4) fade, as pbrt-v4's single samples do.
-    CHECK(hot.media[0].at({1.25f, 0.5f, 0.5f}).Le.r ==
+    CHECK(hot.media[0].emission_at({1.25f, 0.5f, 0.5f}).r ==
           Approx(0.75f * pbrt::blackbody_emission_rgb(0.75f * 2100.f - 100.f).r).epsilon(0.002));
     CHECK(says(error_of([&] {
                    parse_pbrt_scene(scene("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" "

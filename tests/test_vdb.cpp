@@ -205,7 +205,7 @@ TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperatu
                      -2.f + 8.f * rng::uniform(7, 1, i, 2)};
         const float kelvin = (m.temperature->lookup(w) - 100.f) * 1.5f;
         const RGB expected = kelvin > 100.f ? pbrt::blackbody_emission_rgb(kelvin) * 2.f : RGB{0.f};
-        const RGB got = m.at(w).Le;
+        const RGB got = m.emission_at(w);
         hot += kelvin > 100.f ? 1 : 0;
         CHECK(got.r == Approx(expected.r).epsilon(0.002).margin(1e-4));
         CHECK(got.g == Approx(expected.g).epsilon(0.002).margin(1e-4));
@@ -223,7 +223,7 @@ TEST_CASE("vdb: pbrt-v4's nanovdb medium, placed by the transform, its temperatu
         "v.xml", dir.path().string());
     REQUIRE(x.media[0].temperature);
     const Vec3 c{2.f * (0.25f * 3.f + 1.f) + 1.f, 2.f * (0.25f * -2.f), 2.f * (0.25f * 5.f - 2.f)};
-    CHECK(x.media[0].at(c).Le.r == Approx(m.at(c).Le.r));
+    CHECK(x.media[0].emission_at(c).r == Approx(m.emission_at(c).r));
     try {
         parse_scene(
             xml_with("<medium name=\"m\" type=\"vdb\" src=\"fire.vdb\" "

@@ -6,7 +6,7 @@
 namespace foton {
 
 BlackbodyTable::BlackbodyTable(const std::function<RGB(float)>& emission, float hottest, int steps)
-    : hottest_(std::max(hottest, kCold + 1.f)), step_((hottest_ - kCold) / float(steps)) {
+    : step_((std::max(hottest, kCold + 1.f) - kCold) / float(steps)) {
     rgb_.resize(std::size_t(steps) + 1);
     for (int i = 0; i <= steps; ++i) rgb_[std::size_t(i)] = emission(kCold + step_ * float(i));
 }

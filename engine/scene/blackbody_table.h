@@ -15,10 +15,9 @@ class BlackbodyTable {
     // `emission(kelvin)` over [kCold, hottest] in `steps` equal steps.
     BlackbodyTable(const std::function<RGB(float)>& emission, float hottest, int steps = 2048);
     RGB at(float kelvin) const;
-    float hottest() const { return hottest_; }
 
   private:
-    float hottest_, step_;
+    float step_;
     std::vector<RGB> rgb_;
 };
 

@@ -6,13 +6,14 @@
 namespace foton {
 
 DensityGrid::DensityGrid(int nx, int ny, int nz, std::vector<float> values, const Bounds3& box)
-    : n_{nx, ny, nz}, values_(std::move(values)), box_(box) {
-    for (float v : values_) max_ = std::max(max_, v);
+    : SampledGrid<float>(nx, ny, nz, std::move(values), box) {
+    const int n[3] = {nx, ny, nz};
+    for (float v : this->values()) max_ = std::max(max_, v);
     const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
     for (int a = 0; a < 3; ++a) {
         frame_.lo[a] = lo[a];
         frame_.hi[a] = hi[a];
-        frame_.res[a] = std::clamp(n_[a], 1, 16);
+        frame_.res[a] = std::clamp(n[a], 1, 16);
         frame_.cell[a] = (hi[a] - lo[a]) / float(frame_.res[a]);
         frame_.inv_cell[a] = float(frame_.res[a]) / (hi[a] - lo[a]);
     }
@@ -28,8 +29,8 @@ DensityGrid::DensityGrid(int nx, int ny, int nz, std::vector<float> values, cons
                     // Sample i sits at (i + 0.5) / n; the cell covers [c / res, (c + 1) / res].
                     const float u0 = float(c[a]) / float(frame_.res[a]);
                     const float u1 = float(c[a] + 1) / float(frame_.res[a]);
-                    s0[a] = int(std::floor(u0 * float(n_[a]) - 0.5f));
-                    s1[a] = int(std::floor(u1 * float(n_[a]) - 0.5f)) + 1;
+                    s0[a] = int(std::floor(u0 * float(n[a]) - 0.5f));
+                    s1[a] = int(std::floor(u1 * float(n[a]) - 0.5f)) + 1;
                 }
                 float m = 0.f;
                 for (int k = s0[2]; k <= s1[2]; ++k)
@@ -37,34 +38,6 @@ DensityGrid::DensityGrid(int nx, int ny, int nz, std::vector<float> values, cons
                         for (int i = s0[0]; i <= s1[0]; ++i) m = std::max(m, sample(i, j, k));
                 majorant_[frame_.index(x, y, z)] = m;
             }
-}
-
-bool grid_position(const Bounds3& box, const int n[3], const Vec3& p, int i[3], float f[3]) {
-    const Vec3 e = box.diagonal();
-    const float u[3] = {(p.x - box.lo.x) / e.x * float(n[0]) - 0.5f,
-                        (p.y - box.lo.y) / e.y * float(n[1]) - 0.5f,
-                        (p.z - box.lo.z) / e.z * float(n[2]) - 0.5f};
-    for (int a = 0; a < 3; ++a) {
-        // The box is [-0.5, n - 0.5] in sample coordinates; nothing outside it.
-        if (!(u[a] >= -0.5f && u[a] <= float(n[a]) - 0.5f)) return false;
-        const float fl = std::floor(u[a]);
-        i[a] = int(fl);
-        f[a] = u[a] - fl;
-    }
-    return true;
-}
-
-float DensityGrid::lookup(const Vec3& p) const {
-    int i[3];
-    float f[3];
-    if (!grid_position(box_, n_, p, i, f)) return 0.f;
-    auto lerp = [](float t, float a, float b) { return a + t * (b - a); };
-    const float c00 = lerp(f[0], sample(i[0], i[1], i[2]), sample(i[0] + 1, i[1], i[2]));
-    const float c10 = lerp(f[0], sample(i[0], i[1] + 1, i[2]), sample(i[0] + 1, i[1] + 1, i[2]));
-    const float c01 = lerp(f[0], sample(i[0], i[1], i[2] + 1), sample(i[0] + 1, i[1], i[2] + 1));
-    const float c11 =
-        lerp(f[0], sample(i[0], i[1] + 1, i[2] + 1), sample(i[0] + 1, i[1] + 1, i[2] + 1));
-    return lerp(f[2], lerp(f[1], c00, c10), lerp(f[1], c01, c11));
 }
 
 }  // namespace foton

@@ -21,7 +21,7 @@
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
-#include "rgb_grid.h"
+#include "sampled_grid.h"
 
 namespace foton {
 
@@ -29,12 +29,12 @@ inline constexpr int32_t kNoMedium = -1;  // vacuum
 
 // Homogeneous: the coefficients everywhere. Grid: the coefficients times a density grid's
 // value (density_grid.h), inside its box only. RGBGrid: each coefficient its own RGB grid
-// (rgb_grid.h), pbrt-v4's rgbgrid.
+// (sampled_grid.h), pbrt-v4's rgbgrid.
 enum class MediumKind { Homogeneous, Grid, RGBGrid };
 
-// A varying medium's coefficients and emitted radiance at one point.
+// A varying medium's coefficients at one point.
 struct MediumPoint {
-    RGB sigma_a, sigma_s, Le;
+    RGB sigma_a, sigma_s;
 };
 
 struct Medium {
@@ -76,12 +76,17 @@ struct Medium {
         if (temperature) return le_factor > 0.f && !sigma_a.is_black();
         return !Le.is_black() && !sigma_a.is_black();
     }
-    // A grid medium's coefficients and emission at p (either grid kind).
+    // A grid medium's coefficients at p (either grid kind).
     MediumPoint at(const Vec3& p) const;
+    // A grid medium's emitted radiance Le at p (it glows sigma_a Le there); only an emitting
+    // medium's trackers ask, so transmittance estimates never pay for it.
+    RGB emission_at(const Vec3& p) const;
     // exp(-sigma_t d), per channel: the exact transmittance of a homogeneous medium.
+    // A channel that does not extinguish is 1 even over an infinite d (not exp(-0 inf), NaN).
     RGB transmittance(float d) const {
         const RGB s = sigma_t();
-        return {std::exp(-s.r * d), std::exp(-s.g * d), std::exp(-s.b * d)};
+        auto channel = [d](float st) { return st > 0.f ? std::exp(-st * d) : 1.f; };
+        return {channel(s.r), channel(s.g), channel(s.b)};
     }
 };
 

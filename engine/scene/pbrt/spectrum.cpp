@@ -76,28 +76,24 @@ const Named kNamed[] = {
     {"glass-F5", RGB{1.6034f}},
 };
 
+// Planck's law: a blackbody's spectral radiance at nm nanometres and `kelvin`.
+double planck(double nm, double kelvin) {
+    const double l = nm * 1e-9;
+    const double h = 6.62606957e-34, k = 1.3806488e-23, cc = 299792458.0;
+    return (2.0 * h * cc * cc) / (std::pow(l, 5) * (std::exp(h * cc / (l * k * kelvin)) - 1.0));
+}
+
 }  // namespace
 
 RGB blackbody_rgb(float kelvin) {
-    const double T = kelvin;
-    const Xyz c = integrate([T](double nm) {
-        const double l = nm * 1e-9;
-        const double h = 6.62606957e-34, k = 1.3806488e-23, cc = 299792458.0;
-        return (2.0 * h * cc * cc) / (std::pow(l, 5) * (std::exp(h * cc / (l * k * T)) - 1.0));
-    });
+    const Xyz c = integrate([kelvin](double nm) { return planck(nm, kelvin); });
     return clamp_positive(xyz_to_srgb({c.x / c.y, 1.0, c.z / c.y}));
 }
 
 RGB blackbody_emission_rgb(float kelvin) {
-    const double T = kelvin;
-    auto planck = [T](double nm) {
-        const double l = nm * 1e-9;
-        const double h = 6.62606957e-34, k = 1.3806488e-23, cc = 299792458.0;
-        return (2.0 * h * cc * cc) / (std::pow(l, 5) * (std::exp(h * cc / (l * k * T)) - 1.0));
-    };
     // Wien's displacement law gives the peak pbrt-v4 divides by.
-    const double peak = planck(2.8977721e-3 / T * 1e9);
-    const Xyz c = integrate([&](double nm) { return planck(nm) / peak; });
+    const double peak = planck(2.8977721e-3 / double(kelvin) * 1e9, kelvin);
+    const Xyz c = integrate([&](double nm) { return planck(nm, kelvin) / peak; });
     return clamp_positive(xyz_to_srgb(c));
 }
 

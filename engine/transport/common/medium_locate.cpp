@@ -1,5 +1,6 @@
 #include "medium_locate.h"
 
+#include "engine/core/error.h"
 #include "engine/core/stats.h"
 #include "medium_shadow.h"
 #include "surface.h"
@@ -49,6 +50,12 @@ std::vector<int32_t> light_media(const Scene& scene, const Intersector& accel,
         media.push_back(m);
     }
     return media;
+}
+
+void refuse_emitting_media(const Scene& scene, const std::string& why) {
+    for (const Medium& m : scene.media)
+        if (m.emits())
+            throw InputError(m.file, m.line, "medium '" + m.name + "' emits, and " + why);
 }
 
 }  // namespace foton

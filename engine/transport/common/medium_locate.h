@@ -5,6 +5,7 @@
 // follow: scene/medium.h). Other surfaces on the way are passed. Exact wherever the
 // boundaries are closed, as the camera's own rays need them to be.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/accel/intersector.h"
@@ -20,5 +21,9 @@ int32_t locate_medium(const Scene& scene, const Intersector& accel, const Vec3& 
 // one medium, as photons and light paths need it to).
 std::vector<int32_t> light_media(const Scene& scene, const Intersector& accel,
                                  const LightSet& lights);
+
+// Paths that start at lights miss the light media emit: an integrator built on them refuses
+// an emitting medium at its line, "medium 'NAME' emits, and <why>".
+void refuse_emitting_media(const Scene& scene, const std::string& why);
 
 }  // namespace foton

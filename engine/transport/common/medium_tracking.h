@@ -194,23 +194,36 @@ FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float
             f.event = FreeFlight::Event::Absorb;
             return f;
         }
-        const MediumPoint c = m.at(o + d * t);
-        if (emits) f.emitted += f.weight * c.sigma_a * c.Le * (1.f / maj);
+        const Vec3 p = o + d * t;
+        const MediumPoint c = m.at(p);
+        if (emits) f.emitted += f.weight * c.sigma_a * m.emission_at(p) * (1.f / maj);
         if (!choose_collision(f, beta, c.sigma_a, c.sigma_s, maj, t, u)) return f;
     }
     return f;
 }
 
+// What a tentative collision with majorant maj leaves of the transmittance, per channel:
+// sigma_n / maj at a point whose coefficients are c (ratio tracking's factor).
+inline RGB null_fraction(const MediumPoint& c, float maj) {
+    return {1.f - (c.sigma_a.r + c.sigma_s.r) / maj, 1.f - (c.sigma_a.g + c.sigma_s.g) / maj,
+            1.f - (c.sigma_a.b + c.sigma_s.b) / maj};
+}
+
 // Ratio tracking's transmittance through grid medium m along o + t d over [0, t_end).
-template <class Uniform>
-RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u) {
+// on_step(t, product so far) follows every tentative collision: the running product is an
+// unbiased estimate of the transmittance up to t, which the beam estimate reads.
+struct NoRatioStep {
+    void operator()(float, const RGB&) const {}
+};
+template <class Uniform, class OnStep = NoRatioStep>
+RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u,
+                     OnStep&& on_step = {}) {
     RGB tr{1.f};
     const kern::MajorantGrid g = majorant_view(m);
     float t = 0.f, maj = 0.f;
     for (uint32_t k = 0; next_tentative_collision(g, o, d, t_end, u, t, maj); ++k) {
-        const MediumPoint c = m.at(o + d * t);
-        tr *= RGB{1.f - (c.sigma_a.r + c.sigma_s.r) / maj, 1.f - (c.sigma_a.g + c.sigma_s.g) / maj,
-                  1.f - (c.sigma_a.b + c.sigma_s.b) / maj};
+        tr *= null_fraction(m.at(o + d * t), maj);
+        on_step(t, tr);
         if (tr.is_black() || k > kMaxCollisions) return RGB{0.f};
     }
     return tr;

@@ -12,6 +12,7 @@
 #include "engine/core/thread_pinning.h"
 #include "engine/film/pixel_sums.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/medium_locate.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
 #include "engine/transport/volume/volume_light.h"
@@ -111,12 +112,7 @@ RenderResult render_light(const Scene& scene, const RenderSettings& settings,
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     if (scene.media.empty())
         return render_light_paths<LightTracerWorkspace>(scene, LightTracer(ctx), opt);
-    for (const Medium& m : scene.media)
-        if (m.emits())
-            throw InputError(m.file, m.line,
-                             "medium '" + m.name +
-                                 "' emits, and light paths start at lights only: render it "
-                                 "with volpath");
+    refuse_emitting_media(scene, "light paths start at lights only: render it with volpath");
     return render_light_paths<VolumeLightWorkspace>(scene, VolumeLightTracer(ctx), opt);
 }
 

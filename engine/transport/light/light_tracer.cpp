@@ -47,6 +47,19 @@ bool continue_light_path(const Bsdf& bsdf, const warp::Frame& frame, const Vec3&
     return !beta.is_black();
 }
 
+bool emitting_point_to_eye(const Emitter& em, const EmittedRay& er, const Vec3& wc, RGB& value,
+                           Vec3& origin) {
+    if (em.is_delta() || em.is_infinite()) return false;
+    const EmissionSample& es = er.emission;
+    const float c = dot(es.n, wc);
+    const float cos_l = em.two_sided ? std::fabs(c) : c;
+    if (!(cos_l > 0.f)) return false;
+    value = es.Le * (cos_l / (er.pmf * es.pdf_pos));
+    const float eps = offset_epsilon(es.p, 0.f);
+    origin = es.p + es.n * (c > 0.f ? eps : -eps);
+    return true;
+}
+
 bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
                           uint32_t& pixel, RGB& splat) const {
     return splat_on_film(ctx_.scene.camera, p, wc, dist, value, pixel, splat);
@@ -131,21 +144,17 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             continue;
         const Emitter& em = ctx_.lights.emitter(er.light);
         const EmissionSample& es = er.emission;
-        if (!em.is_delta() && !em.is_infinite()) {
+        {
             // The emitting point itself, seen by the camera.
             const Vec3 to = cam.eye - es.p;
             const float dist = length(to);
             const Vec3 wc = to / dist;
-            const float c = dot(es.n, wc);
-            const float cos_l = em.two_sided ? std::fabs(c) : c;
-            const float eps = offset_epsilon(es.p, 0.f);
+            RGB value, splat;
+            Vec3 o;
             uint32_t pixel;
-            RGB splat;
-            if (cos_l > 0.f &&
-                to_film(es.p, wc, dist, es.Le * (cos_l / (er.pmf * es.pdf_pos)), pixel, splat)) {
-                const Vec3 o = es.p + es.n * (c > 0.f ? eps : -eps);
+            if (emitting_point_to_eye(em, er, wc, value, o) &&
+                to_film(es.p, wc, dist, value, pixel, splat))
                 push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, pixel, k, ws);
-            }
         }
         ws.beta[k] = er.beta;
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);

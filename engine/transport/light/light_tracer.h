@@ -40,6 +40,12 @@ struct LightTracerWorkspace : WavefrontBuffers {
 bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
                    uint32_t& pixel, RGB& splat);
 
+// A light path's emitting point seen from the eye along wc (unit, from the point towards the
+// eye): what it sends there, es.Le cos / (pmf pdf_pos), and the shadow ray's origin pushed off
+// the emitter on the eye's side. False for delta and infinite lights and points facing away.
+bool emitting_point_to_eye(const Emitter& em, const EmittedRay& er, const Vec3& wc, RGB& value,
+                           Vec3& origin);
+
 // A light path's continuation from a surface vertex: the BSDF sampled from u0 and u12 for
 // importance (BsdfContext ctx), beta times f |cos| / pdf with Veach's adjoint factor adj
 // (|wo.ns| / |wo.ng|). False when the sample fails, leaves on the wrong side of the true

@@ -36,24 +36,12 @@ class SegmentTransmittance {
         m_ = &m;
         steps_.clear();
         if (m.homogeneous()) return;
-        const kern::MajorantGrid g = majorant_view(m);
-        RGB tr{1.f};
-        float t = 0.f, maj = 0.f;
-        while (next_tentative_collision(g, o, d, t_end, u, t, maj)) {
-            const MediumPoint c = m.at(o + d * t);
-            tr *= RGB{1.f - (c.sigma_a.r + c.sigma_s.r) / maj,
-                      1.f - (c.sigma_a.g + c.sigma_s.g) / maj,
-                      1.f - (c.sigma_a.b + c.sigma_s.b) / maj};
+        ratio_track_grid(m, o, d, t_end, u, [&](float t, const RGB& tr) {
             steps_.push_back({t, tr});
-            if (tr.is_black() || steps_.size() > kMaxCollisions) break;
-        }
+        });
     }
     RGB at(float t) const {
-        if (m_->homogeneous()) {
-            const RGB s = m_->sigma_t();
-            auto channel = [&](float st) { return st > 0.f ? std::exp(-st * t) : 1.f; };
-            return {channel(s.r), channel(s.g), channel(s.b)};
-        }
+        if (m_->homogeneous()) return m_->transmittance(t);
         const auto it = std::upper_bound(steps_.begin(), steps_.end(), t,
                                          [](float v, const Step& s) { return v < s.t; });
         return it == steps_.begin() ? RGB{1.f} : std::prev(it)->tr;

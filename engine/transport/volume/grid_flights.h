@@ -73,8 +73,9 @@ bool GridFlights::collide(const Medium& m, std::size_t i, Uniform&& u) {
         f.event = FreeFlight::Event::Absorb;
         return false;
     }
-    const MediumPoint c = m.at(o_[i] + d_[i] * t);
-    if (m.emits()) f.emitted += f.weight * c.sigma_a * c.Le * (1.f / maj_of_[i]);
+    const Vec3 p = o_[i] + d_[i] * t;
+    const MediumPoint c = m.at(p);
+    if (m.emits()) f.emitted += f.weight * c.sigma_a * m.emission_at(p) * (1.f / maj_of_[i]);
     auto draw = [&] { return u(slot_[i]); };
     if (!choose_collision(f, beta_[i], c.sigma_a, c.sigma_s, maj_of_[i], t, draw)) return false;
     t_[i] = t;

@@ -112,16 +112,11 @@ void VolumeLightTracer::trace(uint64_t first, uint32_t count, VolumeLightWorkspa
         const Emitter& em = ctx_.lights.emitter(er.light);
         const EmissionSample& es = er.emission;
         ws.medium[k] = light_medium_[er.light];
-        if (!em.is_delta() && !em.is_infinite()) {
-            // The emitting point itself, seen by the camera through the media.
-            const Vec3 wc = normalize(scene.camera.eye - es.p);
-            const float c = dot(es.n, wc);
-            const float cos_l = em.two_sided ? std::fabs(c) : c;
-            const float eps = offset_epsilon(es.p, 0.f);
-            if (cos_l > 0.f)
-                connect(es.p, es.p + es.n * (c > 0.f ? eps : -eps), ws.medium[k],
-                        es.Le * (cos_l / (er.pmf * es.pdf_pos)), connection_key(path, 0), ws);
-        }
+        // The emitting point itself, seen by the camera through the media.
+        RGB value;
+        Vec3 o;
+        if (emitting_point_to_eye(em, er, normalize(scene.camera.eye - es.p), value, o))
+            connect(es.p, o, ws.medium[k], value, connection_key(path, 0), ws);
         ws.beta[k] = er.beta;
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
     }

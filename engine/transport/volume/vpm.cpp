@@ -16,6 +16,7 @@
 #include "engine/core/warp.h"
 #include "engine/film/pixel_owners.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/medium_locate.h"
 #include "engine/transport/common/medium_shadow.h"
 #include "engine/transport/common/medium_tracking.h"
 #include "engine/transport/common/next_event.h"
@@ -266,12 +267,8 @@ void parse_vpm(const ParamSet& params, RenderSettings& settings) {
 
 RenderResult render_vpm(const Scene& scene, const RenderSettings& settings,
                         const Intersector& accel, const RenderOptions& opt) {
-    for (const Medium& m : scene.media)
-        if (m.emits())
-            throw InputError(m.file, m.line,
-                             "medium '" + m.name +
-                                 "' emits, and vpm sends photons from lights only: render it "
-                                 "with type=\"volpath\"");
+    refuse_emitting_media(scene,
+                          "vpm sends photons from lights only: render it with type=\"volpath\"");
     const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     if (lights.empty()) throw InputError(scene.source, 0, "vpm needs a light");
     const PhotonSettings& ps = settings.photon;
