@@ -336,6 +336,6 @@ TEST_CASE("media: bad input names the file and line", "[media][fast]") {
     } catch (const InputError& e) {
         CHECK(std::string(e.what()) ==
               "media.xml:2: the scene has participating media, which type=\"path\" does not "
-              "trace: use type=\"light\", \"volpath\" or \"vpm\"");
+              "trace: use type=\"light\", \"bdpt\", \"vcm\", \"volpath\" or \"vpm\"");
     }
 }

@@ -97,11 +97,14 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
         {"vcm", "scenes/materials.xml", "--integrator vcm --spp 2"},
         {"vcm-kdtree", "scenes/cornell-caustics.xml",
          "--integrator vcm --spp 2 --set merge_index=kdtree"},
-        // Participating media: volumetric paths, photons and light paths through the fog.
+        // Participating media: volumetric paths, photons, light paths and bidirectional paths
+        // through the fog (the smoke's grid flights in vcm).
         {"volpath", "scenes/cornell-fog.xml", "--integrator volpath --spp 2"},
         {"vpm", "scenes/cornell-fog.xml",
          "--integrator vpm --passes 2 --set photons_per_pass=6000"},
         {"light-media", "scenes/cornell-fog.xml", "--integrator light --spp 2"},
+        {"bdpt-media", "scenes/cornell-fog.xml", "--integrator bdpt --spp 2"},
+        {"vcm-media", "scenes/smoke.xml", "--integrator vcm --spp 1"},
     };
     for (const Case& c : cases) {
         INFO(c.name << ": " << c.flags);

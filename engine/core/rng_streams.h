@@ -28,6 +28,8 @@ enum RandomStream : uint64_t {
     kVolumePhotonStream = 0x3ed3,       // volumetric photon mapping's photons
     kVolumeCameraStream = 0x3ed4,       // volumetric photon mapping's camera paths
     kVolumeLightStream = 0x3ed5,        // light tracing's paths through media
+    kBidirLightMediumStream = 0xb1d3,   // bdpt/vcm light subpaths' free flights
+    kBidirCameraMediumStream = 0xb1d4,  // bdpt/vcm camera subpaths' free flights
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -48,6 +50,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kMediumShadowStream,
                                                      kVolumePhotonStream,
                                                      kVolumeCameraStream,
-                                                     kVolumeLightStream};
+                                                     kVolumeLightStream,
+                                                     kBidirLightMediumStream,
+                                                     kBidirCameraMediumStream};
 
 }  // namespace foton

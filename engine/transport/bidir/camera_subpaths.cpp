@@ -1,12 +1,16 @@
 #include "camera_subpaths.h"
 
 #include <cmath>
+#include <limits>
 
+#include "camera_medium_vertex.h"
 #include "engine/core/rng.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/medium_shadow.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
+#include "light_end.h"
 #include "vcm_joins.h"
 
 namespace foton {
@@ -17,17 +21,6 @@ namespace {
 constexpr uint32_t kDimsPerBounce = 8, kDimSelect = 0, kDimLight = 1, kDimTriangle = 3,
                    kDimBsdf = 4, kDimRoulette = 7;
 
-// A light-path vertex's BSDF, rebuilt where a connection needs it.
-struct LightVertexBsdf {
-    std::optional<Material> scratch;
-    const Material& m;
-    warp::Frame frame;
-    Vec3 wo;
-    LightVertexBsdf(const Scene& scene, const LightVertices& v, std::size_t i)
-        : m(scene.material_at(v.geom[i], v.uv[i], scratch)), frame(v.ns[i]) {
-        wo = frame.to_local(v.wo[i]);
-    }
-};
 }  // namespace
 
 void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uint32_t first,
@@ -61,16 +54,22 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
         return kernels && kernels->object_kernel[geom] == KernelKind::Diffuse;
     };
     auto material_of = [&](uint32_t geom) { return scene.objects[geom].material; };
-    auto push_shadow = [&](const ShadowRay& r, uint32_t slot, const RGB& value, int s, int t) {
-        ws.shadow.push(r.origin, r.dir, 0.f, r.tmax, slot);
-        ws.shadow_value.push_back(value);
-        if (split) ws.shadow_layer.push_back(c.layers.of(s, t));
+    SubpathMedia& media = ws.media;
+    auto path_key = [&](uint32_t slot) { return c.iteration * c.light_paths + ws.path[slot]; };
+    // A join from surface vertex sp (object geom) of path `slot`: through the medium on the
+    // side it leaves to; `index` tells the path's joins apart for ratio tracking.
+    auto push_shadow = [&](const ShadowRay& r, uint32_t geom, const SurfacePoint& sp, uint32_t slot,
+                           const RGB& value, int s, int t, uint32_t index) {
+        const int32_t medium =
+            media.on ? medium_after(scene, geom, sp, r.dir, media.medium[slot]) : kNoMedium;
+        ws.joins.push(media.on, r, medium, slot, value, split ? c.layers.of(s, t) : 0u,
+                      media.on ? rng::hash(path_key(slot), 0x22, uint64_t(t - 1), index) : 0);
     };
-    auto push_connection = [&](const SurfacePoint& sp, const LightVertices& v, uint32_t j,
-                               float dist, const RGB& value, uint32_t slot, int t) {
-        const Vec3 q = v.position(j);
-        push_shadow(shadow_ray_to(sp, q, v.ng[j], offset_epsilon(q, dist)), slot, value,
-                    int(v.length[j]) + 1, t);
+    auto push_connection = [&](const SurfacePoint& sp, uint32_t geom, uint32_t j, float dist,
+                               const RGB& value, uint32_t slot, int t) {
+        const Vec3 q = lv.position(j);
+        push_shadow(shadow_ray_to(sp, q, lv.ng[j], offset_epsilon(q, dist)), geom, sp, slot, value,
+                    int(lv.length[j]) + 1, t, 2 + (j - store.first[ws.path[slot]]));
     };
     // The bounce's queued joins: every lobe pair through the kernel, then the connections'
     // shadow rays and the merges' sums, in the order they were queued.
@@ -87,7 +86,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                                eval(qc.pair + 1), ql, qc.dist2, qc.cos_c, qc.cos_l,
                                                qc.cos_shading);
             if (!value.is_black())
-                push_connection(v.sp, lv, qc.j, std::sqrt(qc.dist2), value, v.slot, v.t);
+                push_connection(v.sp, v.geom, qc.j, std::sqrt(qc.dist2), value, v.slot, v.t);
         }
         RGB sum{0.f};
         for (std::size_t k = 0; k < ws.merges.size(); ++k) {
@@ -108,6 +107,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     ws.mis.assign(count, {});
     ws.p_prev.assign(count, Vec3{});
     ws.specular.assign(count, 1);
+    ws.length.assign(count, 0);
+    media.reset(c.media, c.seed, kBidirCameraMediumStream, count);
     ws.rays.clear();
     {
         std::vector<SampleJob> jobs(count);
@@ -129,30 +130,53 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
             // Per pixel sample, the pinhole's solid-angle density is its importance at unit
             // distance; the light paths (N of them) would have found the point N times.
             ws.mis[k].dvcm = W.mis(n_paths / cam.importance(cos_cam, 1.f));
+            ws.p_prev[k] = ws.rays.origin(k);
+            if (media.on) {
+                media.medium[k] = scene.camera_medium;
+                media.key[k] = path_key(k);
+                media.from[k] = ws.rays.origin(k);
+            }
         }
     }
     stats.camera_rays += count;
     stats.add(Stage::Generate, count, clock);
     const RGB background = scene.background;
 
+    // Interfaces cost a bounce of the wavefront and no vertex: with media the paths' lengths
+    // end them.
     run_wavefront(
-        c.accel, ws.rays, ws.next, ws.hits, 0, c.max_segments, stats, clock,
+        c.accel, ws.rays, ws.next, ws.hits, 0,
+        media.on ? std::numeric_limits<uint32_t>::max() : c.max_segments, stats, clock,
         [&](uint32_t depth) {
-            ws.shadow.clear();
-            ws.shadow_value.clear();
-            ws.shadow_layer.clear();
+            ws.joins.clear();
+            if (media.on) media.track(scene, ws.rays, ws.hits, ws.beta, c.settings.simd_shading);
             ws.pairs.clear();
             ws.vertices.clear();
             ws.connections.clear();
             ws.merges.clear();
-            const uint32_t len = depth + 1;  // segments from the camera to this vertex
-            const int t = int(len) + 1;      // camera vertices of a strategy ending here
             for (std::size_t i = 0; i < ws.rays.size(); ++i) {
                 const uint32_t slot = ws.rays.id[i];
                 const uint32_t geom = ws.hits.geom[i];
                 const Vec3 d = ws.rays.direction(i);
                 RGB& beta = ws.beta[slot];
                 SubpathMis& m = ws.mis[slot];
+                const uint32_t len = ws.length[slot] + 1;  // segments from the camera to here
+                const int t = int(len) + 1;  // camera vertices of a strategy ending here
+                if (media.on && media.medium[slot] != kNoMedium) {
+                    const FreeFlight f = media.flight(scene, ws.rays, ws.hits, i, beta);
+                    if (f.event == FreeFlight::Event::Absorb) continue;
+                    beta *= f.weight;
+                    if (beta.is_black()) continue;
+                    if (f.event == FreeFlight::Event::Scatter) {
+                        scatter_in_medium(
+                            c, store, ws, slot, ws.rays.origin(i) + d * f.t, d, path_key(slot),
+                            {rand(slot, depth, kDimSelect),
+                             {rand(slot, depth, kDimLight), rand(slot, depth, kDimLight + 1)},
+                             rand(slot, depth, kDimTriangle),
+                             {rand(slot, depth, kDimBsdf + 1), rand(slot, depth, kDimBsdf + 2)}});
+                        continue;
+                    }
+                }
                 if (geom == kNoHit) {
                     if (!scene.environment) {
                         add(slot, c.layers.of(0, t), beta * background * W.strategy(0, t, 1.f));
@@ -176,10 +200,18 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);
                 std::optional<Material> scratch;
                 const Material& mat = scene.material_at(geom, sp.uv, scratch);
+                if (media.on && mat.is_interface) {
+                    cross_interface(scene, geom, sp, d, slot, media.medium[slot],
+                                    media.crossings[slot], ws.next);
+                    continue;
+                }
                 const float cos_in = std::fabs(dot(d, sp.ng));
                 if (cos_in == 0.f) continue;
+                ws.length[slot] = len;
                 const float t_hit = ws.hits.t[i];
-                m.arrive(t_hit * t_hit, cos_in, W);
+                // The segment from the last vertex (across interfaces).
+                const float d2 = media.on ? length_squared(sp.p - media.from[slot]) : t_hit * t_hit;
+                m.arrive(d2, cos_in, W);
 
                 // s = 0: the light this ray found.
                 if (mat.emits_towards(sp.front_face)) {
@@ -191,7 +223,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                         const float pick = c.lights.pmf(uint32_t(li));
                         const float direct =
                             pick * c.lights.pdf_li(uint32_t(li), ws.p_prev[slot], sp.p, sp.ng) *
-                            cos_in / (t_hit * t_hit);
+                            cos_in / d2;
                         float pdf_pos, pdf_dir;
                         c.lights.pdf_le(uint32_t(li), sp.ng, -d, pdf_pos, pdf_dir);
                         w = 1.f / (1.f + W.mis(direct) * m.dvcm +
@@ -246,7 +278,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                 const float w = W.strategy(1, t, 1.f / (w_light + 1.f + w_camera));
                                 const RGB value = beta * f * ls.Li * (std::fabs(wi.z) * w / direct);
                                 if (!value.is_black())
-                                    push_shadow(shadow_ray_to(sp, ls), slot, value, 1, t);
+                                    push_shadow(shadow_ray_to(sp, ls), geom, sp, slot, value, 1, t,
+                                                1);
                             }
                         }
                     }
@@ -257,7 +290,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                     uint32_t vertex = 0;
                     if (batched) {
                         vertex = uint32_t(ws.vertices.size());
-                        ws.vertices.push_back({slot, t, q, beta, m, sp});
+                        ws.vertices.push_back({slot, geom, t, q, beta, m, sp});
                     }
                     const uint32_t path = ws.path[slot];
                     if (W.connect)
@@ -268,17 +301,16 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             if (!(dist2 > 0.f)) continue;
                             const float dist = std::sqrt(dist2);
                             const Vec3 dir = to / dist;
-                            // Each end on the side its vertex was reached from, or behind it
-                            // through a rough dielectric.
+                            // The camera end on the side its vertex was reached from, or behind
+                            // it through a rough dielectric (the light end: light_end).
                             const float cos_c = std::fabs(dot(dir, sp.ng));
-                            const float cos_l = std::fabs(dot(dir, lv.ng[j]));
                             const bool front_c = dot(dir, sp.ng) > 0.f;
-                            const bool front_l = dot(dir, lv.ng[j]) < 0.f;
-                            if (cos_c == 0.f || cos_l == 0.f ||
-                                !(front_c || mat.bsdf.transmits_non_delta()))
+                            if (cos_c == 0.f || !(front_c || mat.bsdf.transmits_non_delta()))
                                 continue;
                             const Vec3 dc = frame.to_local(dir);
-                            if (batched && front_l && kernel_vertex(lv.geom[j])) {
+                            const float cos_l = std::fabs(dot(dir, lv.ng[j]));
+                            if (batched && !lv.in_medium(j) && cos_l != 0.f &&
+                                dot(dir, lv.ng[j]) < 0.f && kernel_vertex(lv.geom[j])) {
                                 const warp::Frame lf(lv.ns[j]);
                                 const uint32_t cam_pair = ws.pairs.add(material_of(geom), wo, dc);
                                 ws.pairs.add(material_of(lv.geom[j]), lf.to_local(lv.wo[j]),
@@ -289,26 +321,21 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             }
                             const RGB fc = mat.bsdf.f(wo, dc, ctx);
                             if (fc.is_black()) continue;
-                            const LightVertexBsdf lb(scene, lv, j);
-                            if (!front_l && !lb.m.bsdf.transmits_non_delta()) continue;
-                            const Vec3 dl = lb.frame.to_local(-dir);
-                            const BsdfContext lctx{lv.front[j] != 0, Transport::Importance};
-                            const BsdfContext lrctx{lv.front[j] != 0, Transport::Radiance};
-                            const RGB fl = lb.m.bsdf.f(lb.wo, dl, lctx);
-                            if (fl.is_black()) continue;
+                            LobeEval le;
+                            float ql, cos_lj;
+                            if (!light_end(scene, lv, j, dir, le, ql, cos_lj)) continue;
                             const LobeEval ce{fc, mat.bsdf.pdf(wo, dc, ctx),
                                               mat.bsdf.pdf(dc, wo, ictx)};
-                            const LobeEval le{fl, lb.m.bsdf.pdf(lb.wo, dl, lctx),
-                                              lb.m.bsdf.pdf(dl, lb.wo, lrctx)};
-                            const RGB value = connection_value(W, m, beta, t, lv, j, ce, q, le,
-                                                               lb.m.bsdf.continuation(), dist2,
-                                                               cos_c, cos_l, std::fabs(dc.z));
-                            if (!value.is_black()) push_connection(sp, lv, j, dist, value, slot, t);
+                            const RGB value =
+                                connection_value(W, m, beta, t, lv, j, ce, q, le, ql, dist2, cos_c,
+                                                 cos_lj, std::fabs(dc.z));
+                            if (!value.is_black())
+                                push_connection(sp, geom, j, dist, value, slot, t);
                         }
                     if (W.merge) {
                         RGB sum{0.f};
                         store.merge_candidates(sp.p, [&](uint32_t j) {
-                            if (lv.length[j] + len > c.max_segments) return;
+                            if (lv.length[j] + len > c.max_segments || lv.in_medium(j)) return;
                             const Vec3 wl = frame.to_local(lv.wo[j]);
                             if (batched) {
                                 ws.merges.push_back(
@@ -345,19 +372,15 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                     ws.specular[slot] = 0;
                 }
                 ws.p_prev[slot] = sp.p;
+                if (media.on) {
+                    media.medium[slot] = medium_after(scene, geom, sp, wi, media.medium[slot]);
+                    media.from[slot] = sp.p;
+                }
                 ws.next.push(offset_origin(sp, wi), wi, 0.f, kInfinity, slot);
             }
             join_batched();
         },
-        [&](uint32_t) {
-            if (ws.shadow.empty()) return;
-            c.accel.occluded(ws.shadow, ws.occluded, stats.trace);
-            for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-                if (!ws.occluded[i])
-                    add(ws.shadow.id[i], split ? ws.shadow_layer[i] : 0, ws.shadow_value[i]);
-            stats.shadow_rays += ws.shadow.size();
-            stats.add(Stage::Occlusion, ws.shadow.size(), clock);
-        });
+        [&](uint32_t) { ws.joins.resolve(media.on, scene, c.accel, c.seed, stats, clock, add); });
 }
 
 }  // namespace foton

@@ -11,6 +11,7 @@
 #include "engine/core/stats.h"
 #include "engine/transport/light/light_tracer.h"
 #include "light_vertices.h"
+#include "subpath_media.h"
 #include "vcm_context.h"
 
 namespace foton {
@@ -18,17 +19,19 @@ namespace foton {
 struct LightSubpathWorkspace : LightTracerWorkspace {
     std::vector<SubpathMis> mis;
     std::vector<uint16_t> length;
-    std::vector<uint32_t> shadow_layer;  // each camera connection's strategy layer
-    std::vector<float> emit_pdf, pick;   // the emission's density, the light's selection
+    std::vector<float> emit_pdf, pick;  // the emission's density, the light's selection
     std::vector<uint32_t> light;
     std::vector<Vec3> origin, origin_n;  // the emitted point and its normal
     std::vector<uint8_t> infinite;
     LightVertices local;  // the chunk's vertices in wavefront order
+    SubpathMedia media;
+    JoinRays joins;  // the joins to the camera: slot = the film pixel
 };
 
 // Traces light paths [first, first + count) of the iteration; appends their vertices, path
 // by path, to `out` and their camera splats to `splats` (values already divided by N); with
-// c.layers enabled and `splat_layers` given, each splat's strategy layer to it.
+// c.layers enabled and `splat_layers` given, each splat's strategy layer to it. Through media
+// when the scene has them (subpath_media.h).
 void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                           LightSubpathWorkspace& ws, LightVertices& out, std::vector<Splat>& splats,
                           std::vector<uint32_t>* splat_layers, RenderStats& stats);

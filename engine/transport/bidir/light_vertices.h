@@ -26,14 +26,19 @@ struct LightVertices {
     std::vector<uint32_t> geom;         // what was hit: the material
     std::vector<Point2> uv;             // its texture coordinates
     std::vector<uint32_t> path;         // the light path's number within the iteration
+    // kNoMedium: a surface vertex; else the medium it scattered in (a medium vertex: its phase
+    // function in place of a BSDF, normals zero, adj 1, never merged at).
+    std::vector<int32_t> medium;
 
     std::size_t size() const { return px.size(); }
     Vec3 position(std::size_t i) const { return {px[i], py[i], pz[i]}; }
+    bool in_medium(std::size_t i) const { return medium[i] >= 0; }
     void clear() { resize(0); }
     void resize(std::size_t n) {
         px.resize(n), py.resize(n), pz.resize(n), ng.resize(n), ns.resize(n), wo.resize(n);
         beta.resize(n), adj.resize(n), dvcm.resize(n), dvc.resize(n), dvm.resize(n);
         length.resize(n), front.resize(n), geom.resize(n), uv.resize(n), path.resize(n);
+        medium.resize(n);
     }
     // Copies all of `o` to positions [at, at + o.size()) (resized before).
     void copy_from(const LightVertices& o, std::size_t at) {
@@ -43,7 +48,7 @@ struct LightVertices {
         put(o.px, px), put(o.py, py), put(o.pz, pz), put(o.ng, ng), put(o.ns, ns), put(o.wo, wo);
         put(o.beta, beta), put(o.adj, adj), put(o.dvcm, dvcm), put(o.dvc, dvc), put(o.dvm, dvm);
         put(o.length, length), put(o.front, front), put(o.geom, geom), put(o.uv, uv);
-        put(o.path, path);
+        put(o.path, path), put(o.medium, medium);
     }
     // Replaces these vertices, on every MPI rank, by every rank's in rank order: the whole
     // iteration's when each rank traced a contiguous share of the light paths. Collective.
@@ -53,7 +58,7 @@ struct LightVertices {
         c.all_gather_concat(beta), c.all_gather_concat(adj);
         c.all_gather_concat(dvcm), c.all_gather_concat(dvc), c.all_gather_concat(dvm);
         c.all_gather_concat(length), c.all_gather_concat(front), c.all_gather_concat(geom);
-        c.all_gather_concat(uv), c.all_gather_concat(path);
+        c.all_gather_concat(uv), c.all_gather_concat(path), c.all_gather_concat(medium);
     }
     // Appends vertex i of `o`.
     void push(const LightVertices& o, std::size_t i) {
@@ -62,7 +67,7 @@ struct LightVertices {
         beta.push_back(o.beta[i]), adj.push_back(o.adj[i]);
         dvcm.push_back(o.dvcm[i]), dvc.push_back(o.dvc[i]), dvm.push_back(o.dvm[i]);
         length.push_back(o.length[i]), front.push_back(o.front[i]), geom.push_back(o.geom[i]);
-        uv.push_back(o.uv[i]), path.push_back(o.path[i]);
+        uv.push_back(o.uv[i]), path.push_back(o.path[i]), medium.push_back(o.medium[i]);
     }
 };
 

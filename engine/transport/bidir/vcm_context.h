@@ -2,6 +2,7 @@
 // What the stages of a bidirectional iteration share: the scene and its lights, the settings,
 // and the iteration's constants (number of light paths, merge radius, MIS weights).
 #include <cstdint>
+#include <vector>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/rng_streams.h"
@@ -34,6 +35,10 @@ struct VcmContext {
     const KernelMaterials* kernels = nullptr;
     // Per-strategy images (off unless strategy_images is set).
     StrategyLayers layers;
+    // Participating media (subpath_media.h): whether the scene has them, and each emitter's
+    // medium, where its light paths start.
+    bool media = false;
+    const std::vector<int32_t>* light_medium = nullptr;
 };
 
 }  // namespace foton

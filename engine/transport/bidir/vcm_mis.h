@@ -31,6 +31,8 @@ struct VcmWeights {
     int only_s = -1, only_t = -1;
 
     float mis(float x) const { return beta == 1.f ? x : beta == 2.f ? x * x : std::pow(x, beta); }
+    // The weight of a merge at a vertex, against a connection: none at a medium vertex.
+    float merge_at(bool medium_vertex) const { return medium_vertex ? 0.f : vm_weight; }
     // The weight strategy (s, t) gets: `w` from the sums, or the debug switch's 0 or 1.
     float strategy(int s, int t, float w) const {
         if (only_s < 0) return w;
@@ -63,6 +65,15 @@ struct SubpathMis {
         const float g = w.mis(cos_out / pdf), rev = w.mis(pdf_rev);
         dvc = g * (dvc * rev + dvcm + w.vm_weight);
         dvm = g * (dvm * rev + dvcm * w.vc_weight + 1.f);
+        dvcm = w.mis(1.f / pdf);
+    }
+    // A medium vertex scattered by its phase function with density pdf (pdf_rev the other
+    // way): no cosine, and no merge at this vertex (merging estimates a surface density), so
+    // scatter's terms for merging here are left out.
+    void scatter_medium(float pdf, float pdf_rev, const VcmWeights& w) {
+        const float g = w.mis(1.f / pdf), rev = w.mis(pdf_rev);
+        dvc = g * (dvc * rev + dvcm);
+        dvm = g * (dvm * rev + dvcm * w.vc_weight);
         dvcm = w.mis(1.f / pdf);
     }
 };

@@ -13,6 +13,7 @@
 #include "engine/core/error.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/film/pixel_sums.h"
+#include "engine/transport/common/medium_locate.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
 #include "light_subpaths.h"
@@ -52,6 +53,17 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     ctx.weights.beta = settings.mis == MisHeuristic::Balance ? 1.f : settings.mis_beta;
     ctx.weights.only_s = settings.bidir.only_s;
     ctx.weights.only_t = settings.bidir.only_t;
+    // Media (bdpt and vcm; bpm merges at surfaces only, so a path whose only non-delta
+    // vertices are in a medium would be missed, and the registry refuses it media).
+    std::vector<int32_t> light_medium;
+    if (scene.volumetric()) {
+        refuse_emitting_media(scene, std::string(name) +
+                                         " starts light paths at lights only: render it with "
+                                         "volpath");
+        light_medium = light_media(scene, accel, lights);
+        ctx.media = true;
+        ctx.light_medium = &light_medium;
+    }
     KernelMaterials kernels = kernel_materials(scene);
     kernels.enabled = settings.simd_shading;
     ctx.kernels = &kernels;
