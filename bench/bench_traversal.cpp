@@ -27,6 +27,7 @@
 #include "bench/ray_sets.h"
 #include "bench/trace_forms.h"
 #include "kernels/triangle_bvh.h"
+#include "kernels/triangle_octree.h"
 #include "kernels/uniform_grid.h"
 
 using namespace foton;
@@ -66,6 +67,7 @@ struct SceneData {
     bench::KernelScene scene;
     bench::RaySets sets;
     kern::UniformGrid grid, grid_mailbox;
+    kern::TriangleOctree octree;
     kern::TriangleBvh bvh;
     Bvh4x4 bvh4x4;
 #if defined(__AVX__)
@@ -92,6 +94,7 @@ SceneData& scene_data(const std::string& name) {
     kern::GridParams mailbox;
     mailbox.mailbox = true;
     d->grid_mailbox.build(m.positions.data(), m.indices.data(), m.num_triangles(), mailbox);
+    d->octree.build(m.positions.data(), m.indices.data(), m.num_triangles());
     d->bvh = build_bvh<kern::TriangleBvh>(m, true);
     d->bvh4x4 = build_bvh<Bvh4x4>(m, true);
 #if defined(__AVX__)
@@ -174,6 +177,33 @@ void BM_Grid(benchmark::State& state, std::string scene, std::string set, bool p
 }
 void BM_GridMailbox(benchmark::State& state, std::string scene, std::string set, bool par) {
     BM_GridImpl(state, scene, set, par, true);
+}
+
+// ---- our octree -----------------------------------------------------------------------
+
+void BM_Octree(benchmark::State& state, std::string scene, std::string set, bool par) {
+    SceneData& d = scene_data(scene);
+    const auto& rays = ray_set(d, set);
+    const bool occl = set == "shadow";
+    HitCount hits;
+    std::atomic<uint64_t> nodes{0}, blocks{0};
+    for (auto _ : state)
+        for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
+            std::size_t h = 0;
+            kern::OctreeCounters c;
+            for (std::size_t i = b; i < e; ++i) {
+                if (occl) {
+                    h += d.octree.occluded(rays[i], &c);
+                } else {
+                    kern::TriHit hit;
+                    h += d.octree.intersect(rays[i], hit, &c);
+                }
+            }
+            hits.add(h);
+            nodes += c.nodes;
+            blocks += c.blocks;
+        });
+    report_bvh(state, rays.size(), hits.n, nodes, blocks, kern::kBlockWidth);
 }
 
 // Primary rays in bundles of `side` x `side` pixels (side^2 / W packets of W rays).
@@ -352,6 +382,25 @@ void BM_BuildGrid(benchmark::State& state, std::string scene) {
     state.counters["nested_grids"] = double(scene_data(scene).grid.num_child_grids());
 }
 
+void BM_BuildOctree(benchmark::State& state, std::string scene) {
+    const TriangleMesh& m = scene_data(scene).scene.mesh;
+    std::size_t bytes = 0, refs = 0, nodes = 0;
+    int depth = 0;
+    for (auto _ : state) {
+        kern::TriangleOctree o;
+        o.build(m.positions.data(), m.indices.data(), m.num_triangles());
+        bytes = o.memory_bytes(), refs = o.num_references(), nodes = o.num_nodes();
+        depth = o.depth();
+        benchmark::DoNotOptimize(o.num_nodes());
+    }
+    state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["bytes/tri"] = double(bytes) / double(m.num_triangles());
+    state.counters["refs/tri"] = double(refs) / double(m.num_triangles());
+    state.counters["nodes"] = double(nodes);
+    state.counters["depth"] = depth;
+}
+
 template <class Bvh>
 void BM_BuildBvh(benchmark::State& state, std::string scene, bool parallel) {
     const TriangleMesh& m = scene_data(scene).scene.mesh;
@@ -396,6 +445,7 @@ const bool registered = [] {
     const std::pair<const char*, Fn> intersect[] = {
         {"grid", BM_Grid},
         {"grid_mailbox", BM_GridMailbox},
+        {"octree", BM_Octree},
         {"embree_rtcIntersect1", BM_Embree<0>},
         {"embree_rtcIntersect8", BM_Embree<1>},
         {"embree_rtcIntersect16", BM_Embree<2>},
@@ -404,6 +454,7 @@ const bool registered = [] {
     };
     const std::pair<const char*, Fn> occlusion[] = {
         {"grid", BM_Grid},
+        {"octree", BM_Octree},
         {"embree_rtcOccluded1", BM_Embree<0>},
         {"embree_rtcOccluded8", BM_Embree<1>},
         {"embree_rtcOccluded16", BM_Embree<2>},
@@ -417,6 +468,7 @@ const bool registered = [] {
     for (const char* scene : {"bunny", "teapot", "dragon", "cornell", "stadium"}) {
         const std::string s = scene;
         add("build/" + s + "/grid", BM_BuildGrid, s);
+        add("build/" + s + "/octree", BM_BuildOctree, s);
         add("build/" + s + "/bvh_1thread", BM_BuildBvh<kern::TriangleBvh>, s, false);
         add("build/" + s + "/bvh", BM_BuildBvh<kern::TriangleBvh>, s, true);
         add("build/" + s + "/embree", BM_BuildEmbree, s, false);

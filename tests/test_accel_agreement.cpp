@@ -1,5 +1,5 @@
-// brute, brute-simd, grid, bvh and embree return identical closest hits and occlusion; bvh
-// equals brute force exactly (t, u, v, primitive, geometry, ties included).
+// brute, brute-simd, grid, bvh, octree and embree return identical closest hits and occlusion;
+// bvh equals brute force exactly (t, u, v, primitive, geometry, ties included).
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -20,6 +20,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
     const auto grid = make_intersector(scene, AccelType::Grid);
     const auto bvh = make_intersector(scene, AccelType::Bvh);
     const auto embree = make_intersector(scene, AccelType::Embree);
+    const auto octree = make_intersector(scene, AccelType::Octree);
     const Bounds3 bb = scene.bounds();
     const Vec3 ext = bb.diagonal();
     std::mt19937 rng(seed);
@@ -32,7 +33,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         const Vec3 d = normalize(target - o);
         const kern::Ray1 r{o.x, o.y, o.z, d.x,
                            d.y, d.z, 0.f, i % 5 == 0 ? 0.3f * length(ext) : kInfinity};
-        Hit1 hb, hs, hg, he, hv;
+        Hit1 hb, hs, hg, he, hv, ho;
         const bool b = brute->intersect1(r, hb, c);
         if (i % 20 == 0) {
             REQUIRE(scalar->intersect1(r, hs, c) == b);
@@ -41,12 +42,14 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
             hs = hb;
         }
         REQUIRE(grid->intersect1(r, hg, c) == b);
+        REQUIRE(octree->intersect1(r, ho, c) == b);
         REQUIRE(embree->intersect1(r, he, c) == b);
         REQUIRE(bvh->intersect1(r, hv, c) == b);
         REQUIRE(bvh->occluded1(r, c) == b);
         const bool occ = brute->occluded1(r, c);
         REQUIRE(occ == b);
         REQUIRE(grid->occluded1(r, c) == occ);
+        REQUIRE(octree->occluded1(r, c) == occ);
         REQUIRE(embree->occluded1(r, c) == occ);
         if (!b) continue;
         ++hits;
@@ -55,6 +58,8 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         REQUIRE(hs.t == hb.t);
         REQUIRE(hg.geom == hb.geom);
         REQUIRE(hg.t == hb.t);  // so a different prim can only be an exact tie
+        REQUIRE(ho.geom == hb.geom);
+        REQUIRE(ho.t == hb.t);
         REQUIRE(hv.geom == hb.geom);
         REQUIRE(hv.prim == hb.prim);
         REQUIRE(hv.t == hb.t);
@@ -99,7 +104,8 @@ TEST_CASE("accelerators agree in the batch interface", "[accel]") {
     const auto brute = make_intersector(scene, AccelType::Brute);
     brute->intersect(rays, ref, c);
     brute->occluded(rays, occ_ref, c);
-    for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree}) {
+    for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree,
+                        AccelType::Octree}) {
         const auto acc = make_intersector(scene, a);
         acc->intersect(rays, other, c);
         acc->occluded(rays, occ, c);
@@ -143,6 +149,53 @@ TEST_CASE("bvh equals brute force exactly on the mixed sphere and mesh scenes", 
     }
 }
 
+TEST_CASE("octree equals brute force on axis-aligned rays and on mixed sphere and mesh scenes",
+          "[accel][octree]") {
+    // Rays along the axes run in the octree's mid-planes and the box's walls (the Cornell
+    // box's walls lie in them): the walk must order the children of a direction without an x,
+    // y or z component as the line does. Random rays over scenes with spheres and meshes.
+    for (const char* name :
+         {"scenes/cornell-box.xml", "scenes/materials.xml", "scenes/mis-plates.xml"}) {
+        INFO(name);
+        const Scene scene = load_scene(test::source_path(name));
+        const auto brute = make_intersector(scene, AccelType::BruteSimd);
+        const auto octree = make_intersector(scene, AccelType::Octree);
+        const Bounds3 bb = scene.bounds();
+        const Vec3 ext = bb.diagonal();
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> U(0.f, 1.f);
+        TraceCounters c;
+        std::size_t hits = 0;
+        for (int i = 0; i < 30000; ++i) {
+            // Points on a lattice of eighths (the octree's planes) every third ray.
+            auto coord = [&](int a) {
+                const float f = i % 3 == 0 ? float(int(U(rng) * 9.f)) / 8.f : U(rng);
+                return bb.lo[a] + f * ext[a];
+            };
+            const Vec3 o{coord(0), coord(1), coord(2)};
+            Vec3 d;
+            if (i % 2 == 0) {
+                d = Vec3{0.f, 0.f, 0.f};
+                const int axis = int(U(rng) * 3.f) % 3;
+                (axis == 0 ? d.x : axis == 1 ? d.y : d.z) = U(rng) < 0.5f ? -1.f : 1.f;
+            } else {
+                d = normalize(Vec3{U(rng) - 0.5f, U(rng) - 0.5f, U(rng) - 0.5f});
+            }
+            const kern::Ray1 r{o.x, o.y, o.z,   d.x,
+                               d.y, d.z, 1e-4f, i % 7 == 0 ? 0.2f * length(ext) : kInfinity};
+            Hit1 hb, ho;
+            const bool b = brute->intersect1(r, hb, c);
+            REQUIRE(octree->intersect1(r, ho, c) == b);
+            REQUIRE(octree->occluded1(r, c) == brute->occluded1(r, c));
+            if (!b) continue;
+            ++hits;
+            REQUIRE(ho.geom == hb.geom);
+            REQUIRE(ho.t == hb.t);
+        }
+        CHECK(hits > 5000);
+    }
+}
+
 TEST_CASE("batch intersect equals per-ray intersect1 for every backend", "[accel][bvh]") {
     // Camera rays (coherent: the bvh traces them as packets) and shadow rays from their hits to
     // a point, with the batch flagged coherent and not; each must give every ray exactly what
@@ -167,8 +220,8 @@ TEST_CASE("batch intersect equals per-ray intersect1 for every backend", "[accel
         const Vec3 light = scene.camera.eye + (scene.camera.u + scene.camera.v) *
                                                   (0.15f * length(scene.bounds().diagonal()));
         std::vector<std::unique_ptr<Intersector>> backends;
-        for (AccelType a :
-             {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree})
+        for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh,
+                            AccelType::Embree, AccelType::Octree})
             backends.push_back(make_intersector(scene, a));
         // The bvh with every incoherent batch through the stream kernel (by default only trees
         // larger than the caches take it, and these are small).

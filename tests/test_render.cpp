@@ -117,12 +117,12 @@ TEST_CASE("renders are bit-identical for any thread count", "[render][determinis
     CHECK(compare_images(one.film, other.film).max_abs > 0.0);
 }
 
-TEST_CASE("brute, grid, bvh and embree give the same image", "[render][accel]") {
+TEST_CASE("brute, grid, bvh, octree and embree give the same image", "[render][accel]") {
     TestScene s = load_scene(test::source_path("scenes/cornell-box.xml"));
     s.set_resolution(40, 40);
     const RenderResult grid = render_scene(s, AccelType::Grid, 2, 2);
-    for (AccelType a :
-         {AccelType::Brute, AccelType::BruteSimd, AccelType::Bvh, AccelType::Embree}) {
+    for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Bvh, AccelType::Embree,
+                        AccelType::Octree}) {
         const RenderResult other = render_scene(s, a, 2, 2);
         CHECK(compare_images(grid.film, other.film).max_abs == 0.0);
     }

@@ -2,6 +2,7 @@
 #include "bvh_accel.h"
 #include "embree_accel.h"
 #include "grid_accel.h"
+#include "octree_accel.h"
 
 namespace foton {
 
@@ -20,6 +21,8 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
             return std::make_unique<BvhAccel>(scene, threads);
         case AccelType::Embree:
             return std::make_unique<EmbreeAccel>(scene, threads);
+        case AccelType::Octree:
+            return std::make_unique<OctreeAccel>(scene);
     }
     return nullptr;
 }

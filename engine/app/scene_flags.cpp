@@ -19,7 +19,7 @@ void apply_accel_flag(const std::string& name, Scene& scene) {
     if (!name.empty() && !parse_accel(name, scene.accel))
         throw InputError(
             "--accel", 0,
-            "unknown accelerator '" + name + "' (brute, brute-simd, grid, bvh, embree)");
+            "unknown accelerator '" + name + "' (brute, brute-simd, grid, bvh, embree, octree)");
 }
 
 std::string settings_text(const Scene& scene) {

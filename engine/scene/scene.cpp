@@ -21,6 +21,8 @@ const char* accel_name(AccelType a) {
             return "bvh";
         case AccelType::Embree:
             return "embree";
+        case AccelType::Octree:
+            return "octree";
     }
     return "?";
 }
@@ -36,6 +38,8 @@ bool parse_accel(const std::string& s, AccelType& out) {
         out = AccelType::Bvh;
     else if (s == "embree")
         out = AccelType::Embree;
+    else if (s == "octree")
+        out = AccelType::Octree;
     else
         return false;
     return true;

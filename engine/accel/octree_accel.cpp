@@ -1,0 +1,100 @@
+#include "octree_accel.h"
+
+#include <algorithm>
+
+#include "object_box.h"
+
+namespace foton {
+
+namespace {
+void add_counts(TraceCounters& c, const kern::OctreeCounters& oc) {
+    c.cells += oc.nodes;
+    c.triangle_tests += oc.blocks * kern::kBlockWidth;
+}
+}  // namespace
+
+OctreeAccel::OctreeAccel(const Scene& scene, const kern::OctreeParams& params)
+    : scene_(scene), instances_(scene, AccelType::Octree, 0) {
+    octrees_.resize(scene.meshes.size());
+    std::vector<kern::PrimRef> refs;
+    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+        const Object& o = scene.objects[g];
+        if (o.instance >= 0) continue;  // in the instance layer
+        if (o.kind == ObjectKind::Mesh) {
+            const TriangleMesh& m = scene.meshes[o.index];
+            octrees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(),
+                                    params);
+        }
+        refs.push_back(padded_object_ref(scene, g));
+    }
+    kern::BvhBuildParams bp;
+    bp.leaf_block = 1;
+    bp.max_leaf = 2;
+    objects_ = kern::build_binary_bvh(refs, bp);
+}
+
+std::size_t OctreeAccel::memory_bytes() const {
+    std::size_t n = objects_.used * sizeof(kern::BinaryNode) +
+                    objects_.prims.size() * sizeof(uint32_t) + instances_.memory_bytes();
+    for (const kern::TriangleOctree& o : octrees_) n += o.memory_bytes();
+    return n;
+}
+
+OctreeAccel::Shape OctreeAccel::shape() const {
+    Shape s;
+    for (const kern::TriangleOctree& o : octrees_) {
+        s.nodes += o.num_nodes();
+        s.leaves += o.num_leaves();
+        s.references += o.num_references();
+        s.depth = std::max(s.depth, o.depth());
+    }
+    return s;
+}
+
+bool OctreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    hit.t = std::min(hit.t, ray.tmax);
+    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
+    kern::walk_binary_bvh(
+        objects_, ray, [&] { return hit.geom == kNoHit ? hit.t : hit.t * kern::kBvhCullScale; },
+        [&](uint32_t g) {
+            const Object& o = scene_.objects[g];
+            if (o.kind == ObjectKind::Sphere) {
+                float t;
+                ++c.sphere_tests;
+                if (intersect_sphere(scene_.spheres[o.index], org, dir, ray.tmin, hit.t, t))
+                    hit = Hit1{t, 0.f, 0.f, 0, g};
+                return false;
+            }
+            kern::TriHit th;
+            th.t = hit.t;
+            kern::OctreeCounters oc;
+            if (octrees_[o.index].intersect(ray, th, &oc)) hit = Hit1{th.t, th.u, th.v, th.id, g};
+            add_counts(c, oc);
+            return false;
+        });
+    if (!instances_.empty()) instances_.closest(ray, hit, c);
+    return hit.geom != kNoHit;
+}
+
+bool OctreeAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
+    const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
+    bool hit = false;
+    kern::walk_binary_bvh(
+        objects_, ray, [&] { return ray.tmax; },
+        [&](uint32_t g) {
+            const Object& o = scene_.objects[g];
+            if (o.kind == ObjectKind::Sphere) {
+                float t;
+                ++c.sphere_tests;
+                hit = intersect_sphere(scene_.spheres[o.index], org, dir, ray.tmin, ray.tmax, t);
+                return hit;
+            }
+            kern::OctreeCounters oc;
+            hit = octrees_[o.index].occluded(ray, &oc);
+            add_counts(c, oc);
+            return hit;
+        });
+    return hit || (!instances_.empty() && instances_.any(ray, c));
+}
+
+}  // namespace foton
