@@ -59,7 +59,7 @@ TEST_CASE("bdpt's light samples and light tracing from medium vertices carry the
 
 TEST_CASE(
     "bdpt and vcm through a smoke grid agree with volpath, the same image for any thread "
-    "count; emitting media and bpm refused",
+    "count, emitting media and bpm refused",
     "[media][bidir][render]") {
     TestScene s = load_scene(test::source_path("scenes/smoke.xml"));
     s.set_resolution(24, 24);
