@@ -28,9 +28,9 @@ int main(int argc, char** argv) {
     render->add_option("--spp", ra.spp, "samples per pixel (overrides aa_samples)");
     render->add_option("--threads", ra.threads, "worker threads (0 = all)");
     render->add_option("--seed", ra.seed, "random seed");
-    render->add_option(
-        "--accel", ra.accel,
-        "brute | brute-simd | grid | bvh | embree | octree (default: the scene's <aggregate>, else bvh)");
+    render->add_option("--accel", ra.accel,
+                       "brute | brute-simd | grid | bvh | embree | octree (default: the scene's "
+                       "<aggregate>, else bvh)");
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
     render
