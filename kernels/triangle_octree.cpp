@@ -135,11 +135,6 @@ void TriangleOctree::build_node(uint32_t node, const float lo[3], const float hi
     }
 }
 
-std::size_t TriangleOctree::num_leaves() const {
-    return std::size_t(
-        std::count_if(nodes_.begin(), nodes_.end(), [](const Node& n) { return n.leaf; }));
-}
-
 std::size_t TriangleOctree::memory_bytes() const {
     return nodes_.size() * sizeof(Node) + blocks_.size() * sizeof(TriangleBlock);
 }

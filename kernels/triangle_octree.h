@@ -41,7 +41,6 @@ class TriangleOctree {
     bool occluded(const Ray1& r, OctreeCounters* counters = nullptr) const;
 
     std::size_t num_nodes() const { return nodes_.size(); }
-    std::size_t num_leaves() const;
     std::size_t num_references() const { return references_; }
     int depth() const { return depth_; }
     std::size_t memory_bytes() const;

@@ -40,17 +40,6 @@ std::size_t OctreeAccel::memory_bytes() const {
     return n;
 }
 
-OctreeAccel::Shape OctreeAccel::shape() const {
-    Shape s;
-    for (const kern::TriangleOctree& o : octrees_) {
-        s.nodes += o.num_nodes();
-        s.leaves += o.num_leaves();
-        s.references += o.num_references();
-        s.depth = std::max(s.depth, o.depth());
-    }
-    return s;
-}
-
 bool OctreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
     hit.t = std::min(hit.t, ray.tmax);
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};

@@ -17,13 +17,6 @@ class OctreeAccel final : public PerRayIntersector<OctreeAccel> {
     explicit OctreeAccel(const Scene& scene, const kern::OctreeParams& params = {});
     const char* name() const override { return "octree"; }
     std::size_t memory_bytes() const override;
-    // The mesh octrees' nodes, leaves, triangle references and greatest depth, summed (depth:
-    // the largest).
-    struct Shape {
-        std::size_t nodes = 0, leaves = 0, references = 0;
-        int depth = 0;
-    };
-    Shape shape() const;
 
     bool closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any(const kern::Ray1& ray, TraceCounters& c) const;

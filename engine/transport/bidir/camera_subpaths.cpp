@@ -162,20 +162,18 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 SubpathMis& m = ws.mis[slot];
                 const uint32_t len = ws.length[slot] + 1;  // segments from the camera to here
                 const int t = int(len) + 1;  // camera vertices of a strategy ending here
-                if (media.on && media.medium[slot] != kNoMedium) {
-                    const FreeFlight f = media.flight(scene, ws.rays, ws.hits, i, beta);
-                    if (f.event == FreeFlight::Event::Absorb) continue;
-                    beta *= f.weight;
-                    if (beta.is_black()) continue;
-                    if (f.event == FreeFlight::Event::Scatter) {
-                        scatter_in_medium(
-                            c, store, ws, slot, ws.rays.origin(i) + d * f.t, d, path_key(slot),
-                            {rand(slot, depth, kDimSelect),
-                             {rand(slot, depth, kDimLight), rand(slot, depth, kDimLight + 1)},
-                             rand(slot, depth, kDimTriangle),
-                             {rand(slot, depth, kDimBsdf + 1), rand(slot, depth, kDimBsdf + 2)}});
-                        continue;
-                    }
+                float t_scatter = 0.f;
+                const SubpathMedia::FlightEnd end =
+                    media.fly(scene, ws.rays, ws.hits, i, beta, t_scatter);
+                if (end == SubpathMedia::FlightEnd::Gone) continue;
+                if (end == SubpathMedia::FlightEnd::Scattered) {
+                    scatter_in_medium(
+                        c, store, ws, slot, ws.rays.origin(i) + d * t_scatter, d, path_key(slot),
+                        {rand(slot, depth, kDimSelect),
+                         {rand(slot, depth, kDimLight), rand(slot, depth, kDimLight + 1)},
+                         rand(slot, depth, kDimTriangle),
+                         {rand(slot, depth, kDimBsdf + 1), rand(slot, depth, kDimBsdf + 2)}});
+                    continue;
                 }
                 if (geom == kNoHit) {
                     if (!scene.environment) {

@@ -189,15 +189,14 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             const uint32_t slot = ws.rays.id[i];
             const Vec3 d = ws.rays.direction(i);
             RGB& beta = ws.beta[slot];
-            if (media.on && media.medium[slot] != kNoMedium) {
-                const FreeFlight f = media.flight(scene, ws.rays, ws.hits, i, beta);
-                if (f.event == FreeFlight::Event::Absorb) continue;
-                beta *= f.weight;
-                if (beta.is_black()) continue;
-                if (f.event == FreeFlight::Event::Scatter) {
-                    medium_vertex(slot, depth, ws.rays.origin(i) + d * f.t, d, media.medium[slot]);
-                    continue;
-                }
+            float t_scatter = 0.f;
+            const SubpathMedia::FlightEnd end =
+                media.fly(scene, ws.rays, ws.hits, i, beta, t_scatter);
+            if (end == SubpathMedia::FlightEnd::Gone) continue;
+            if (end == SubpathMedia::FlightEnd::Scattered) {
+                medium_vertex(slot, depth, ws.rays.origin(i) + d * t_scatter, d,
+                              media.medium[slot]);
+                continue;
             }
             const uint32_t geom = ws.hits.geom[i];
             if (geom == kNoHit) continue;

@@ -50,12 +50,21 @@ struct SubpathMedia {
         flights.track_batch(scene, rays, hits, medium, beta, simd, flight_of,
                             [&](uint32_t slot) { return number(slot); });
     }
-    // The flight of ray r, whose path is in a medium, with throughput beta.
-    FreeFlight flight(const Scene& scene, const RayBatch& rays, const HitBatch& hits, std::size_t r,
-                      const RGB& beta) {
+    // How ray r's flight ended for its path: gone (absorbed, or no throughput left),
+    // scattered in the medium at `t` (the vertex is the caller's), or passed to what the ray
+    // hit. Outside media every ray passes; beta takes the flight's weight.
+    enum class FlightEnd { Gone, Scattered, Passed };
+    FlightEnd fly(const Scene& scene, const RayBatch& rays, const HitBatch& hits, std::size_t r,
+                  RGB& beta, float& t) {
         const uint32_t slot = rays.id[r];
-        return flight_of_entry(scene, flights, flight_of, rays, hits, r, medium[slot], beta,
-                               [&] { return number(slot); });
+        if (!on || medium[slot] == kNoMedium) return FlightEnd::Passed;
+        const FreeFlight f = flight_of_entry(scene, flights, flight_of, rays, hits, r, medium[slot],
+                                             beta, [&] { return number(slot); });
+        if (f.event == FreeFlight::Event::Absorb) return FlightEnd::Gone;
+        beta *= f.weight;
+        if (beta.is_black()) return FlightEnd::Gone;
+        t = f.t;
+        return f.event == FreeFlight::Event::Scatter ? FlightEnd::Scattered : FlightEnd::Passed;
     }
 };
 
