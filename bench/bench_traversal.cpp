@@ -27,6 +27,7 @@
 #include "bench/ray_sets.h"
 #include "bench/trace_forms.h"
 #include "kernels/triangle_bvh.h"
+#include "kernels/triangle_kdtree.h"
 #include "kernels/triangle_octree.h"
 #include "kernels/uniform_grid.h"
 
@@ -68,6 +69,7 @@ struct SceneData {
     bench::RaySets sets;
     kern::UniformGrid grid, grid_mailbox;
     kern::TriangleOctree octree;
+    kern::TriangleKdTree kdtree;
     kern::TriangleBvh bvh;
     Bvh4x4 bvh4x4;
 #if defined(__AVX__)
@@ -95,6 +97,7 @@ SceneData& scene_data(const std::string& name) {
     mailbox.mailbox = true;
     d->grid_mailbox.build(m.positions.data(), m.indices.data(), m.num_triangles(), mailbox);
     d->octree.build(m.positions.data(), m.indices.data(), m.num_triangles());
+    d->kdtree.build(m.positions.data(), m.indices.data(), m.num_triangles());
     d->bvh = build_bvh<kern::TriangleBvh>(m, true);
     d->bvh4x4 = build_bvh<Bvh4x4>(m, true);
 #if defined(__AVX__)
@@ -179,10 +182,12 @@ void BM_GridMailbox(benchmark::State& state, std::string scene, std::string set,
     BM_GridImpl(state, scene, set, par, true);
 }
 
-// ---- our octree -----------------------------------------------------------------------
+// ---- our octree and kd-tree ---------------------------------------------------------------
 
-void BM_Octree(benchmark::State& state, std::string scene, std::string set, bool par) {
+template <class Tree, Tree SceneData::*member>
+void BM_Tree(benchmark::State& state, std::string scene, std::string set, bool par) {
     SceneData& d = scene_data(scene);
+    const Tree& tree = d.*member;
     const auto& rays = ray_set(d, set);
     const bool occl = set == "shadow";
     HitCount hits;
@@ -190,13 +195,13 @@ void BM_Octree(benchmark::State& state, std::string scene, std::string set, bool
     for (auto _ : state)
         for_chunks(rays.size(), kChunk, par, [&](std::size_t b, std::size_t e) {
             std::size_t h = 0;
-            kern::OctreeCounters c;
+            kern::TreeCounters c;
             for (std::size_t i = b; i < e; ++i) {
                 if (occl) {
-                    h += d.octree.occluded(rays[i], &c);
+                    h += tree.occluded(rays[i], &c);
                 } else {
                     kern::TriHit hit;
-                    h += d.octree.intersect(rays[i], hit, &c);
+                    h += tree.intersect(rays[i], hit, &c);
                 }
             }
             hits.add(h);
@@ -382,16 +387,21 @@ void BM_BuildGrid(benchmark::State& state, std::string scene) {
     state.counters["nested_grids"] = double(scene_data(scene).grid.num_child_grids());
 }
 
-void BM_BuildOctree(benchmark::State& state, std::string scene) {
+// Octree and kd-tree builds: time, memory, references per triangle, size, depth (and the
+// kd-tree's SAH cost).
+template <class Tree>
+void BM_BuildTree(benchmark::State& state, std::string scene) {
     const TriangleMesh& m = scene_data(scene).scene.mesh;
     std::size_t bytes = 0, refs = 0, nodes = 0;
     int depth = 0;
+    double sah = 0.0;
     for (auto _ : state) {
-        kern::TriangleOctree o;
-        o.build(m.positions.data(), m.indices.data(), m.num_triangles());
-        bytes = o.memory_bytes(), refs = o.num_references(), nodes = o.num_nodes();
-        depth = o.depth();
-        benchmark::DoNotOptimize(o.num_nodes());
+        Tree t;
+        t.build(m.positions.data(), m.indices.data(), m.num_triangles());
+        bytes = t.memory_bytes(), refs = t.num_references(), nodes = t.num_nodes();
+        depth = t.depth();
+        if constexpr (requires { t.sah_cost(); }) sah = t.sah_cost();
+        benchmark::DoNotOptimize(t.num_nodes());
     }
     state.counters["tris/s"] = benchmark::Counter(double(m.num_triangles()),
                                                   benchmark::Counter::kIsIterationInvariantRate);
@@ -399,6 +409,7 @@ void BM_BuildOctree(benchmark::State& state, std::string scene) {
     state.counters["refs/tri"] = double(refs) / double(m.num_triangles());
     state.counters["nodes"] = double(nodes);
     state.counters["depth"] = depth;
+    if (sah > 0.0) state.counters["sah"] = sah;
 }
 
 template <class Bvh>
@@ -445,7 +456,8 @@ const bool registered = [] {
     const std::pair<const char*, Fn> intersect[] = {
         {"grid", BM_Grid},
         {"grid_mailbox", BM_GridMailbox},
-        {"octree", BM_Octree},
+        {"octree", BM_Tree<kern::TriangleOctree, &SceneData::octree>},
+        {"kdtree", BM_Tree<kern::TriangleKdTree, &SceneData::kdtree>},
         {"embree_rtcIntersect1", BM_Embree<0>},
         {"embree_rtcIntersect8", BM_Embree<1>},
         {"embree_rtcIntersect16", BM_Embree<2>},
@@ -454,7 +466,8 @@ const bool registered = [] {
     };
     const std::pair<const char*, Fn> occlusion[] = {
         {"grid", BM_Grid},
-        {"octree", BM_Octree},
+        {"octree", BM_Tree<kern::TriangleOctree, &SceneData::octree>},
+        {"kdtree", BM_Tree<kern::TriangleKdTree, &SceneData::kdtree>},
         {"embree_rtcOccluded1", BM_Embree<0>},
         {"embree_rtcOccluded8", BM_Embree<1>},
         {"embree_rtcOccluded16", BM_Embree<2>},
@@ -468,7 +481,8 @@ const bool registered = [] {
     for (const char* scene : {"bunny", "teapot", "dragon", "cornell", "stadium"}) {
         const std::string s = scene;
         add("build/" + s + "/grid", BM_BuildGrid, s);
-        add("build/" + s + "/octree", BM_BuildOctree, s);
+        add("build/" + s + "/octree", BM_BuildTree<kern::TriangleOctree>, s);
+        add("build/" + s + "/kdtree", BM_BuildTree<kern::TriangleKdTree>, s);
         add("build/" + s + "/bvh_1thread", BM_BuildBvh<kern::TriangleBvh>, s, false);
         add("build/" + s + "/bvh", BM_BuildBvh<kern::TriangleBvh>, s, true);
         add("build/" + s + "/embree", BM_BuildEmbree, s, false);

@@ -89,8 +89,9 @@ int main(int argc, char** argv) {
         // The scalar brute force takes seconds per run: fewer repeats, it is not noisy.
         const Timing brute = measure(s, render_settings(s), AccelType::Brute, 1, 1,
                                      quick ? 1 : std::min(repeats, 3));
-        for (AccelType a : {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid,
-                            AccelType::Octree, AccelType::Bvh, AccelType::Embree}) {
+        for (AccelType a :
+             {AccelType::Brute, AccelType::BruteSimd, AccelType::Grid, AccelType::Octree,
+              AccelType::KdTree, AccelType::Bvh, AccelType::Embree}) {
             const Timing t =
                 a == AccelType::Brute ? brute : measure(s, render_settings(s), a, 1, 1, repeats);
             std::printf("| %s | %.4f | %.4f | %.3g | %.1fx |\n", accel_name(a), t.build, t.render,

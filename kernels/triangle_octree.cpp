@@ -1,5 +1,7 @@
 #include "triangle_octree.h"
 
+#include "tree_leaves.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -210,38 +212,16 @@ bool TriangleOctree::traverse(const Ray1& r, Cull&& cull, Leaf&& leaf, uint64_t&
     return walk(0, t0, t1, lo_, hi_, w, cull, leaf, visited);
 }
 
-bool TriangleOctree::intersect(const Ray1& r, TriHit& hit, OctreeCounters* counters) const {
-    if (r.tmax < hit.t) hit.t = r.tmax;
-    bool found = false;
-    uint64_t visited = 0, tests = 0;
-    traverse(
-        r, [&] { return hit.t; },
-        [&](uint32_t first, uint32_t count, float exit) {
-            for (uint32_t b = first; b < first + count; ++b)
-                found |= intersect_block(r, blocks_[b], hit);
-            tests += count;
-            // A hit inside this leaf cannot be beaten by a later one.
-            return found && hit.t <= exit;
-        },
-        visited);
-    if (counters) counters->nodes += visited, counters->blocks += tests;
-    return found;
+bool TriangleOctree::intersect(const Ray1& r, TriHit& hit, TreeCounters* counters) const {
+    return closest_in_leaves(
+        r, blocks_.data(), hit, counters,
+        [&](auto&& cull, auto&& leaf, uint64_t& n) { return traverse(r, cull, leaf, n); });
 }
 
-bool TriangleOctree::occluded(const Ray1& r, OctreeCounters* counters) const {
-    uint64_t visited = 0, tests = 0;
-    const bool hit = traverse(
-        r, [&] { return r.tmax; },
-        [&](uint32_t first, uint32_t count, float) {
-            for (uint32_t b = first; b < first + count; ++b) {
-                ++tests;
-                if (occluded_block(r, blocks_[b])) return true;
-            }
-            return false;
-        },
-        visited);
-    if (counters) counters->nodes += visited, counters->blocks += tests;
-    return hit;
+bool TriangleOctree::occluded(const Ray1& r, TreeCounters* counters) const {
+    return any_in_leaves(r, blocks_.data(), counters, [&](auto&& cull, auto&& leaf, uint64_t& n) {
+        return traverse(r, cull, leaf, n);
+    });
 }
 
 }  // namespace foton::kern

@@ -13,6 +13,7 @@
 #include "huge_page_allocator.h"
 #include "moller_trumbore.h"
 #include "ray1.h"
+#include "tree_counters.h"
 #include "triangle_block.h"
 
 namespace foton::kern {
@@ -25,20 +26,15 @@ struct OctreeParams {
     float max_duplication = 3.f;
 };
 
-struct OctreeCounters {
-    uint64_t nodes = 0;   // nodes entered
-    uint64_t blocks = 0;  // triangle blocks tested (each W ray/triangle tests)
-};
-
 class TriangleOctree {
   public:
     // positions: xyz per vertex; indices: three per triangle; hit ids are triangle indices.
     void build(const float* positions, const uint32_t* indices, std::size_t num_triangles,
                const OctreeParams& params = {});
     // Closest hit with r.tmin < t < min(r.tmax, hit.t); updates `hit`.
-    bool intersect(const Ray1& r, TriHit& hit, OctreeCounters* counters = nullptr) const;
+    bool intersect(const Ray1& r, TriHit& hit, TreeCounters* counters = nullptr) const;
     // Any hit with r.tmin < t < r.tmax.
-    bool occluded(const Ray1& r, OctreeCounters* counters = nullptr) const;
+    bool occluded(const Ray1& r, TreeCounters* counters = nullptr) const;
 
     std::size_t num_nodes() const { return nodes_.size(); }
     std::size_t num_references() const { return references_; }

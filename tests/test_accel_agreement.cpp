@@ -1,5 +1,6 @@
-// brute, brute-simd, grid, bvh, octree and embree return identical closest hits and occlusion;
-// bvh equals brute force exactly (t, u, v, primitive, geometry, ties included).
+// brute, brute-simd, grid, bvh, octree, kdtree and embree return identical closest hits and
+// occlusion; bvh, octree and kdtree equal brute force exactly (t, u, v, primitive, geometry, ties
+// included).
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -21,6 +22,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
     const auto bvh = make_intersector(scene, AccelType::Bvh);
     const auto embree = make_intersector(scene, AccelType::Embree);
     const auto octree = make_intersector(scene, AccelType::Octree);
+    const auto kdtree = make_intersector(scene, AccelType::KdTree);
     const Bounds3 bb = scene.bounds();
     const Vec3 ext = bb.diagonal();
     std::mt19937 rng(seed);
@@ -33,7 +35,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         const Vec3 d = normalize(target - o);
         const kern::Ray1 r{o.x, o.y, o.z, d.x,
                            d.y, d.z, 0.f, i % 5 == 0 ? 0.3f * length(ext) : kInfinity};
-        Hit1 hb, hs, hg, he, hv, ho;
+        Hit1 hb, hs, hg, he, hv, ho, hk;
         const bool b = brute->intersect1(r, hb, c);
         if (i % 20 == 0) {
             REQUIRE(scalar->intersect1(r, hs, c) == b);
@@ -43,6 +45,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         }
         REQUIRE(grid->intersect1(r, hg, c) == b);
         REQUIRE(octree->intersect1(r, ho, c) == b);
+        REQUIRE(kdtree->intersect1(r, hk, c) == b);
         REQUIRE(embree->intersect1(r, he, c) == b);
         REQUIRE(bvh->intersect1(r, hv, c) == b);
         REQUIRE(bvh->occluded1(r, c) == b);
@@ -50,6 +53,7 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         REQUIRE(occ == b);
         REQUIRE(grid->occluded1(r, c) == occ);
         REQUIRE(octree->occluded1(r, c) == occ);
+        REQUIRE(kdtree->occluded1(r, c) == occ);
         REQUIRE(embree->occluded1(r, c) == occ);
         if (!b) continue;
         ++hits;
@@ -58,8 +62,13 @@ void check_agreement(const Scene& scene, int n, uint32_t seed) {
         REQUIRE(hs.t == hb.t);
         REQUIRE(hg.geom == hb.geom);
         REQUIRE(hg.t == hb.t);  // so a different prim can only be an exact tie
+        // The trees break ties as brute force does (the smaller id), like the bvh.
         REQUIRE(ho.geom == hb.geom);
+        REQUIRE(ho.prim == hb.prim);
         REQUIRE(ho.t == hb.t);
+        REQUIRE(hk.geom == hb.geom);
+        REQUIRE(hk.prim == hb.prim);
+        REQUIRE(hk.t == hb.t);
         REQUIRE(hv.geom == hb.geom);
         REQUIRE(hv.prim == hb.prim);
         REQUIRE(hv.t == hb.t);
@@ -105,7 +114,7 @@ TEST_CASE("accelerators agree in the batch interface", "[accel]") {
     brute->intersect(rays, ref, c);
     brute->occluded(rays, occ_ref, c);
     for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh, AccelType::Embree,
-                        AccelType::Octree}) {
+                        AccelType::Octree, AccelType::KdTree}) {
         const auto acc = make_intersector(scene, a);
         acc->intersect(rays, other, c);
         acc->occluded(rays, occ, c);
@@ -149,17 +158,24 @@ TEST_CASE("bvh equals brute force exactly on the mixed sphere and mesh scenes", 
     }
 }
 
-TEST_CASE("octree equals brute force on axis-aligned rays and on mixed sphere and mesh scenes",
-          "[accel][octree]") {
+TEST_CASE(
+    "octree and kdtree equal brute force on axis-aligned rays and on mixed sphere and mesh scenes",
+    "[accel][octree][kdtree]") {
     // Rays along the axes run in the octree's mid-planes and the box's walls (the Cornell
-    // box's walls lie in them): the walk must order the children of a direction without an x,
-    // y or z component as the line does. Random rays over scenes with spheres and meshes.
-    for (const char* name :
-         {"scenes/cornell-box.xml", "scenes/materials.xml", "scenes/mis-plates.xml"}) {
-        INFO(name);
+    // box's walls lie in them, and so do the kd-tree's planes, cut where triangles start and
+    // end): a walk must order the children of a direction without an x, y or z component as
+    // the line does, and find triangles touching a plane the ray runs in. Random rays over
+    // scenes with spheres and meshes.
+    for (const auto& [name, accel] : {std::pair{"scenes/cornell-box.xml", AccelType::Octree},
+                                      std::pair{"scenes/materials.xml", AccelType::Octree},
+                                      std::pair{"scenes/mis-plates.xml", AccelType::Octree},
+                                      std::pair{"scenes/cornell-box.xml", AccelType::KdTree},
+                                      std::pair{"scenes/materials.xml", AccelType::KdTree},
+                                      std::pair{"scenes/mis-plates.xml", AccelType::KdTree}}) {
+        INFO(name << " " << accel_name(accel));
         const Scene scene = load_scene(test::source_path(name));
         const auto brute = make_intersector(scene, AccelType::BruteSimd);
-        const auto octree = make_intersector(scene, AccelType::Octree);
+        const auto octree = make_intersector(scene, accel);
         const Bounds3 bb = scene.bounds();
         const Vec3 ext = bb.diagonal();
         std::mt19937 rng(5);
@@ -190,6 +206,7 @@ TEST_CASE("octree equals brute force on axis-aligned rays and on mixed sphere an
             if (!b) continue;
             ++hits;
             REQUIRE(ho.geom == hb.geom);
+            REQUIRE(ho.prim == hb.prim);
             REQUIRE(ho.t == hb.t);
         }
         CHECK(hits > 5000);
@@ -221,7 +238,7 @@ TEST_CASE("batch intersect equals per-ray intersect1 for every backend", "[accel
                                                   (0.15f * length(scene.bounds().diagonal()));
         std::vector<std::unique_ptr<Intersector>> backends;
         for (AccelType a : {AccelType::BruteSimd, AccelType::Grid, AccelType::Bvh,
-                            AccelType::Embree, AccelType::Octree})
+                            AccelType::Embree, AccelType::Octree, AccelType::KdTree})
             backends.push_back(make_intersector(scene, a));
         // The bvh with every incoherent batch through the stream kernel (by default only trees
         // larger than the caches take it, and these are small).

@@ -2,7 +2,7 @@
 #include "bvh_accel.h"
 #include "embree_accel.h"
 #include "grid_accel.h"
-#include "octree_accel.h"
+#include "mesh_tree_accel.h"
 
 namespace foton {
 
@@ -23,6 +23,8 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
             return std::make_unique<EmbreeAccel>(scene, threads);
         case AccelType::Octree:
             return std::make_unique<OctreeAccel>(scene);
+        case AccelType::KdTree:
+            return std::make_unique<KdTreeAccel>(scene);
     }
     return nullptr;
 }

@@ -28,9 +28,10 @@ int main(int argc, char** argv) {
     render->add_option("--spp", ra.spp, "samples per pixel (overrides aa_samples)");
     render->add_option("--threads", ra.threads, "worker threads (0 = all)");
     render->add_option("--seed", ra.seed, "random seed");
-    render->add_option("--accel", ra.accel,
-                       "brute | brute-simd | grid | bvh | embree | octree (default: the scene's "
-                       "<aggregate>, else bvh)");
+    render->add_option(
+        "--accel", ra.accel,
+        "brute | brute-simd | grid | bvh | embree | octree | kdtree (default: the scene's "
+        "<aggregate>, else bvh)");
     render->add_option("--width", ra.width, "image width in pixels (keeps the field of view)");
     render->add_option("--height", ra.height, "image height in pixels");
     render
@@ -139,7 +140,8 @@ int main(int argc, char** argv) {
     scale->add_flag("--weak", sc.weak,
                     "weak scaling: the work (--passes if given, else spp) grows with the threads");
     scale->add_flag("--pin", sc.pin, "pin each thread to a CPU, physical cores first");
-    scale->add_option("--accel", sc.accel, "brute | brute-simd | grid | bvh | embree | octree");
+    scale->add_option("--accel", sc.accel,
+                      "brute | brute-simd | grid | bvh | embree | octree | kdtree");
     scale->add_option("--width", sc.width, "image width in pixels");
     scale->add_option("--height", sc.height, "image height in pixels");
     scale->add_option("--seed", sc.seed, "random seed");

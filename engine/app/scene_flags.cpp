@@ -17,9 +17,9 @@ RendererOverrides parse_set_flags(const std::vector<std::string>& set) {
 
 void apply_accel_flag(const std::string& name, Scene& scene) {
     if (!name.empty() && !parse_accel(name, scene.accel))
-        throw InputError(
-            "--accel", 0,
-            "unknown accelerator '" + name + "' (brute, brute-simd, grid, bvh, embree, octree)");
+        throw InputError("--accel", 0,
+                         "unknown accelerator '" + name +
+                             "' (brute, brute-simd, grid, bvh, embree, octree, kdtree)");
 }
 
 std::string settings_text(const Scene& scene) {

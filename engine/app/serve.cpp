@@ -123,7 +123,7 @@ int run_serve(const ServeArgs& args) {
         nlohmann::ordered_json out = {
             {"scenes", nlohmann::ordered_json::array()},
             {"integrators", nlohmann::ordered_json::array()},
-            {"accelerators", {"bvh", "embree", "grid", "octree", "brute-simd", "brute"}}};
+            {"accelerators", {"bvh", "embree", "grid", "octree", "kdtree", "brute-simd", "brute"}}};
         for (const auto& [name, path] : scenes) out["scenes"].push_back(name);
         for (const IntegratorInfo& i : integrators()) out["integrators"].push_back(i.name);
         out["references"] = nlohmann::ordered_json::array();

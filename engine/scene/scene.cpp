@@ -23,6 +23,8 @@ const char* accel_name(AccelType a) {
             return "embree";
         case AccelType::Octree:
             return "octree";
+        case AccelType::KdTree:
+            return "kdtree";
     }
     return "?";
 }
@@ -40,6 +42,8 @@ bool parse_accel(const std::string& s, AccelType& out) {
         out = AccelType::Embree;
     else if (s == "octree")
         out = AccelType::Octree;
+    else if (s == "kdtree")
+        out = AccelType::KdTree;
     else
         return false;
     return true;

@@ -23,8 +23,9 @@ namespace foton {
 // brute: the thesis' brute force, every ray against every primitive with the scalar
 // Möller–Trumbore; brute-simd: the same with the SIMD kernel (W triangles per test); grid: the
 // thesis' nested uniform grids; bvh: our wide BVH (the default); embree: Intel Embree 3;
-// octree: per-mesh triangle octrees under an object BVH (the thesis' chapter 8).
-enum class AccelType { Brute, BruteSimd, Grid, Bvh, Embree, Octree };
+// octree, kdtree: per-mesh triangle octrees or SAH kd-trees under an object BVH (the thesis'
+// chapter 8).
+enum class AccelType { Brute, BruteSimd, Grid, Bvh, Embree, Octree, KdTree };
 const char* accel_name(AccelType a);
 bool parse_accel(const std::string& s, AccelType& out);
 

@@ -67,7 +67,7 @@ Scene Loader::run() {
         check(n, {"type", "density", "lazy"}, {});
         if (!parse_accel(n.attribute("type").value(), scene_.accel))
             fail(n, std::string("unknown aggregate type '") + n.attribute("type").value() +
-                        "' (brute, brute-simd, grid, bvh, embree, octree)");
+                        "' (brute, brute-simd, grid, bvh, embree, octree, kdtree)");
         scene_.grid_density = positive(n, "density", scene_.grid_density);
         scene_.grid_lazy = boolean(n, "lazy", false);
     }

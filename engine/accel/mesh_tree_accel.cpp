@@ -1,4 +1,4 @@
-#include "octree_accel.h"
+#include "mesh_tree_accel.h"
 
 #include <algorithm>
 
@@ -7,23 +7,23 @@
 namespace foton {
 
 namespace {
-void add_counts(TraceCounters& c, const kern::OctreeCounters& oc) {
+void add_counts(TraceCounters& c, const kern::TreeCounters& oc) {
     c.cells += oc.nodes;
     c.triangle_tests += oc.blocks * kern::kBlockWidth;
 }
 }  // namespace
 
-OctreeAccel::OctreeAccel(const Scene& scene, const kern::OctreeParams& params)
-    : scene_(scene), instances_(scene, AccelType::Octree, 0) {
-    octrees_.resize(scene.meshes.size());
+template <class Tree, AccelType kType>
+MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene)
+    : scene_(scene), instances_(scene, kType, 0) {
+    trees_.resize(scene.meshes.size());
     std::vector<kern::PrimRef> refs;
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
         if (o.instance >= 0) continue;  // in the instance layer
         if (o.kind == ObjectKind::Mesh) {
             const TriangleMesh& m = scene.meshes[o.index];
-            octrees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(),
-                                    params);
+            trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles());
         }
         refs.push_back(padded_object_ref(scene, g));
     }
@@ -33,14 +33,16 @@ OctreeAccel::OctreeAccel(const Scene& scene, const kern::OctreeParams& params)
     objects_ = kern::build_binary_bvh(refs, bp);
 }
 
-std::size_t OctreeAccel::memory_bytes() const {
+template <class Tree, AccelType kType>
+std::size_t MeshTreeAccel<Tree, kType>::memory_bytes() const {
     std::size_t n = objects_.used * sizeof(kern::BinaryNode) +
                     objects_.prims.size() * sizeof(uint32_t) + instances_.memory_bytes();
-    for (const kern::TriangleOctree& o : octrees_) n += o.memory_bytes();
+    for (const Tree& t : trees_) n += t.memory_bytes();
     return n;
 }
 
-bool OctreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+template <class Tree, AccelType kType>
+bool MeshTreeAccel<Tree, kType>::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
     hit.t = std::min(hit.t, ray.tmax);
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
     kern::walk_binary_bvh(
@@ -56,8 +58,8 @@ bool OctreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) co
             }
             kern::TriHit th;
             th.t = hit.t;
-            kern::OctreeCounters oc;
-            if (octrees_[o.index].intersect(ray, th, &oc)) hit = Hit1{th.t, th.u, th.v, th.id, g};
+            kern::TreeCounters oc;
+            if (trees_[o.index].intersect(ray, th, &oc)) hit = Hit1{th.t, th.u, th.v, th.id, g};
             add_counts(c, oc);
             return false;
         });
@@ -65,7 +67,8 @@ bool OctreeAccel::closest(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) co
     return hit.geom != kNoHit;
 }
 
-bool OctreeAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
+template <class Tree, AccelType kType>
+bool MeshTreeAccel<Tree, kType>::any(const kern::Ray1& ray, TraceCounters& c) const {
     const Vec3 org{ray.ox, ray.oy, ray.oz}, dir{ray.dx, ray.dy, ray.dz};
     bool hit = false;
     kern::walk_binary_bvh(
@@ -78,12 +81,15 @@ bool OctreeAccel::any(const kern::Ray1& ray, TraceCounters& c) const {
                 hit = intersect_sphere(scene_.spheres[o.index], org, dir, ray.tmin, ray.tmax, t);
                 return hit;
             }
-            kern::OctreeCounters oc;
-            hit = octrees_[o.index].occluded(ray, &oc);
+            kern::TreeCounters oc;
+            hit = trees_[o.index].occluded(ray, &oc);
             add_counts(c, oc);
             return hit;
         });
     return hit || (!instances_.empty() && instances_.any(ray, c));
 }
+
+template class MeshTreeAccel<kern::TriangleOctree, AccelType::Octree>;
+template class MeshTreeAccel<kern::TriangleKdTree, AccelType::KdTree>;
 
 }  // namespace foton
