@@ -67,12 +67,14 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
 
 // One light sample for the non-delta lobes, without multiple importance sampling: for
 // vertices whose BSDF is not sampled onwards (see the top of this file). u_pick chooses the
-// light.
+// light; the choice goes to `picked` when asked for, also when the sample then fails (a
+// control variate needs it: direct_control_variate.h).
 inline bool sample_direct(const LightSet& lights, const ShadingPoint& v, float u_pick, Point2 u,
-                          float uc, DirectSample& out) {
+                          float uc, DirectSample& out, LightPick* picked = nullptr) {
     if (lights.empty()) return false;
     LightPick pick;
     if (!lights.pick(u_pick, v.sp.p, v.sp.ng, pick)) return false;
+    if (picked) *picked = pick;
     LightChoice c;
     c.light = pick.light;
     c.pick = pick.pmf;

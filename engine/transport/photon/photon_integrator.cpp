@@ -4,6 +4,7 @@
 
 #include "engine/core/rng_streams.h"
 #include "engine/core/warp.h"
+#include "engine/transport/common/direct_control_variate.h"
 #include "engine/transport/common/gather_trace.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/shadow_batch.h"
@@ -88,10 +89,21 @@ void PhotonIntegrator::direct_light(const ShadingPoint& v, PhotonCameraWorkspace
     const SurfacePoint& sp = v.sp;
     const uint32_t slot = v.slot;
     DirectSample ds;
-    if (!sample_direct(ctx_.lights, v, rand(v.key, v.depth, kDimLight),
-                       {rand(v.key, v.depth, kDimLight + 1), rand(v.key, v.depth, kDimLight + 2)},
-                       rand(v.key, v.depth, kDimLight + 3), ds))
-        return;
+    LightPick pick;
+    const bool sampled =
+        sample_direct(ctx_.lights, v, rand(v.key, v.depth, kDimLight),
+                      {rand(v.key, v.depth, kDimLight + 1), rand(v.key, v.depth, kDimLight + 2)},
+                      rand(v.key, v.depth, kDimLight + 3), ds, &pick);
+    if (ctx_.settings.photon.direct_control_variate) {
+        // J - g / p now; V g / p by the shadow ray (or the shadow photons) below.
+        const RGB term =
+            direct_control_term(ctx_.lights, ctx_.scene, v, pick, sampled ? ds.value : RGB{0.f});
+        if (!term.is_black()) {
+            radiance[slot] += term;
+            ws.add_part(slot, kPartDirect, term);
+        }
+    }
+    if (!sampled) return;
     const uint32_t li = ds.light;
     // Shadow photons: among the nearest photons of this light, only direct ones mean lit,
     // only shadow ones mean dark; a mix (a penumbra) needs the ray, or, estimated, is lit by

@@ -25,6 +25,7 @@ const EnumTable<PhotonMode> kPhotonModes{
      {"direct_visualisation", PhotonMode::DirectVisualisation},
      {"direct_visualization", PhotonMode::DirectVisualisation}}};
 const EnumTable<bool> kPhotonRoulette{{{"unbiased", false}, {"unscaled", true}}};
+const EnumTable<bool> kDirectEstimators{{{"sample", false}, {"control_variate", true}}};
 }  // namespace
 
 void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
@@ -46,6 +47,8 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
             p.fail("shadow_visibility", "shadow_visibility=estimate needs shadow_photons=true");
     }
     s.split_direct = p.boolean("split_direct", s.split_direct);
+    s.direct_control_variate = p.choice("direct_estimator", kDirectEstimators,
+                                        s.direct_control_variate, "direct estimator");
     s.guided_gather = p.boolean("guided_gather", s.guided_gather);
     s.compact_power = p.boolean("compact_power", s.compact_power);
     s.guide_photons = uint32_t(p.integer("guide_photons", s.guide_photons, 1, 4096));

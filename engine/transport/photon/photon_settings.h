@@ -40,6 +40,11 @@ struct PhotonSettings {
     // the photons instead of the ray (the thesis' 6.6): the lit fraction n_n / (n_n + n_s)
     // of the nearest direct (n_n) and shadow (n_s) photons. Biased; saves every ray.
     bool shadow_estimate = false;
+    // direct_estimator="control_variate" (photon): next event estimation at visible points with the
+    // unshadowed light as a control variate (the thesis' 3.2.4;
+    // transport/common/direct_control_variate.h): exact in fully lit regions of Lambertian surfaces
+    // under polygonal lights.
+    bool direct_control_variate = false;
     // Split the global map into a direct map (first-hit photons) and an indirect map: direct
     // visualisation then takes direct light from next event estimation (ray traced) and only
     // the indirect light from the photons.

@@ -71,6 +71,13 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
     parse_path(params, r);
     parse_aovs(params, it, r);
     parse_photon_settings(params, r.photon);
+    if (r.photon.direct_control_variate && r.integrator != "photon") {
+        params.warn("direct_estimator",
+                    "direct_estimator applies to type=\"photon\"; ignored by "
+                    "type=\"" +
+                        it.name + "\"");
+        r.photon.direct_control_variate = false;
+    }
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
