@@ -140,8 +140,8 @@ TEST_CASE("XML: every bad-input case names file and line", "[xml][bad-input][fas
                      "unknown attribute 'alpha'");
     }
     SECTION("unknown attribute values") {
-        expect_error(scene_xml("\n<aggregate type=\"kdtree\"/>"), 5,
-                     "unknown aggregate type 'kdtree'");
+        expect_error(scene_xml("\n<aggregate type=\"quadtree\"/>"), 5,
+                     "unknown aggregate type 'quadtree'");
         expect_error(scene_xml("\n<renderer sampler=\"owen\"/>"), 5, "unknown sampler 'owen'");
         expect_error(scene_xml("\n<renderer type=\"magic\"/>"), 5, "unknown renderer type");
         expect_error(std::string("<scene>") + kFilmCamera +
