@@ -30,6 +30,8 @@ enum RandomStream : uint64_t {
     kVolumeLightStream = 0x3ed5,        // light tracing's paths through media
     kBidirLightMediumStream = 0xb1d3,   // bdpt/vcm light subpaths' free flights
     kBidirCameraMediumStream = 0xb1d4,  // bdpt/vcm camera subpaths' free flights
+    kImportonStream = 0x1e01,           // importons: their pixels and bounces
+    kImportonStoreStream = 0x1e02,      // photon storage decided by the importon map
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -52,6 +54,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kVolumeCameraStream,
                                                      kVolumeLightStream,
                                                      kBidirLightMediumStream,
-                                                     kBidirCameraMediumStream};
+                                                     kBidirCameraMediumStream,
+                                                     kImportonStream,
+                                                     kImportonStoreStream};
 
 }  // namespace foton

@@ -50,6 +50,9 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
     cp.max_radius = ps.caustic_radius > 0.f ? ps.caustic_radius : 0.02f * radius;
     cp.filter = ps.caustic_filter;
 
+    // Visual importance (importons=N): where the camera looks, for final gathering one
+    // bounce on too; built by the graph's first node, read by both photon passes.
+    ImportonMap importance;
     RenderStats photon_stats, global_stats, caustic_stats;
     const int threads = resolve_threads(opt.threads);
     StageClock photon_clock;
@@ -63,8 +66,18 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = pass;
         s.cancel = opt.cancel;
+        if (!importance.empty()) s.importance = &importance;
         return s;
     };
+    const uint32_t trace_importons = graph.add("importons", [&]() -> uint64_t {
+        if (ps.importons == 0) return 0;
+        ImportonSettings is;
+        is.count = ps.importons;
+        is.diffuse_bounces = ps.mode == PhotonMode::FinalGather ? 1 : 0;
+        is.max_specular = settings.max_depth;
+        importance.build(scene, accel, is, opt.seed);
+        return ps.importons;
+    });
     const uint32_t trace_global = graph.add("photons-global", [&]() -> uint64_t {
         PhotonPassSettings s = pass_settings(PhotonMapKind::Global, ps.global_photons, 0);
         s.shadow_photons = ps.shadow_photons;
@@ -149,6 +162,8 @@ RenderResult render_photon(const Scene& scene, const RenderSettings& settings,
         graph.edge(trace_global, trace_caustic);
         graph.edge(trace_caustic, precompute);
     }
+    graph.edge(trace_importons, trace_global);
+    graph.edge(trace_importons, trace_caustic);
     graph.edge(trace_global, balance_global);
     graph.edge(trace_caustic, balance_caustic);
     graph.edge(balance_global, precompute);

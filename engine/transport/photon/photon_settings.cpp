@@ -47,6 +47,7 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
             p.fail("shadow_visibility", "shadow_visibility=estimate needs shadow_photons=true");
     }
     s.split_direct = p.boolean("split_direct", s.split_direct);
+    s.importons = p.integer("importons", s.importons, 0, 1000000000ull);
     s.direct_control_variate = p.choice("direct_estimator", kDirectEstimators,
                                         s.direct_control_variate, "direct estimator");
     s.guided_gather = p.boolean("guided_gather", s.guided_gather);

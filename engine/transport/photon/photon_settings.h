@@ -45,6 +45,9 @@ struct PhotonSettings {
     // transport/common/direct_control_variate.h): exact in fully lit regions of Lambertian surfaces
     // under polygonal lights.
     bool direct_control_variate = false;
+    // importons=N (photon): N importons from the camera decide where photons are stored
+    // (importon_map.h, the thesis' 6.7); 0: every photon is stored.
+    uint64_t importons = 0;
     // Split the global map into a direct map (first-hit photons) and an indirect map: direct
     // visualisation then takes direct light from next event estimation (ray traced) and only
     // the indirect light from the photons.

@@ -88,8 +88,13 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                     const uint8_t flags =
                         uint8_t((caustic ? kPhotonCaustic : 0) | (depth == 0 ? kPhotonDirect : 0) |
                                 (depth > 0 && ws.last_specular[slot] ? kPhotonViaSpecular : 0));
-                    if (s.kind == PhotonMapKind::Global || caustic)
-                        out.push(sp.p, power, -d, sp.ng, flags, ws.light[slot]);
+                    // Stored with the importance map's probability q, its power over q.
+                    const float q = s.importance ? s.importance->store_probability(sp.p) : 1.f;
+                    if ((s.kind == PhotonMapKind::Global || caustic) &&
+                        (q >= 1.f || rng::uniform(seed_ + s.pass * 0x9e3779b97f4a7c15ull,
+                                                  kImportonStoreStream, i, depth) < q))
+                        out.push(sp.p, q >= 1.f ? power : power * (1.f / q), -d, sp.ng, flags,
+                                 ws.light[slot]);
                 }
                 if (depth == 0 && shadow && s.shadow_photons) {
                     // The photon's line beyond its first hit: every further surface is in shadow

@@ -23,6 +23,7 @@
 #include "engine/core/ray_batch.h"
 #include "engine/core/stats.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/photon/importon_map.h"
 #include "engine/transport/photon/photon_map.h"
 
 namespace foton {
@@ -44,6 +45,9 @@ struct PhotonPassSettings {
     // The render's cancel flag (RenderOptions::cancel): once set, the pass traces no further
     // chunk and ends with the photons traced so far.
     const std::atomic<bool>* cancel = nullptr;
+    // Visual importance (importon_map.h): a photon is stored with the map's probability q at
+    // its position and its power divided by q. Null: every photon is stored.
+    const ImportonMap* importance = nullptr;
 };
 
 // Shadow photons' lines (Jensen 1995), traced as a batch after the first hits of a chunk.

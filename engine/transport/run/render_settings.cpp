@@ -78,6 +78,11 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
                         it.name + "\"");
         r.photon.direct_control_variate = false;
     }
+    if (r.photon.importons > 0 && r.integrator != "photon") {
+        params.warn("importons",
+                    "importons apply to type=\"photon\"; ignored by type=\"" + it.name + "\"");
+        r.photon.importons = 0;
+    }
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
