@@ -18,6 +18,7 @@
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/photon/gather_guide.h"
 #include "engine/transport/photon/photon_map.h"
+#include "engine/transport/photon/reverse_photons.h"
 #include "engine/transport/run/render_context.h"
 
 namespace foton {
@@ -49,6 +50,7 @@ struct FinalGatherBatch {
     std::vector<uint32_t> full;  // hits that take a full estimate
     std::vector<float> fx, fy, fz;
     kern::KnnBatchResult knn;
+    ReversePhotons reverse;  // lookup="reverse"
 };
 
 struct PhotonCameraWorkspace : IntegratorWorkspace {

@@ -25,6 +25,7 @@ const EnumTable<PhotonMode> kPhotonModes{
      {"direct_visualisation", PhotonMode::DirectVisualisation},
      {"direct_visualization", PhotonMode::DirectVisualisation}}};
 const EnumTable<bool> kPhotonRoulette{{{"unbiased", false}, {"unscaled", true}}};
+const EnumTable<bool> kPhotonLookups{{{"forward", false}, {"reverse", true}}};
 const EnumTable<bool> kDirectEstimators{{{"sample", false}, {"control_variate", true}}};
 }  // namespace
 
@@ -48,6 +49,7 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
     }
     s.split_direct = p.boolean("split_direct", s.split_direct);
     s.importons = p.integer("importons", s.importons, 0, 1000000000ull);
+    s.reverse_lookup = p.choice("photon_lookup", kPhotonLookups, s.reverse_lookup, "photon lookup");
     s.direct_control_variate = p.choice("direct_estimator", kDirectEstimators,
                                         s.direct_control_variate, "direct estimator");
     s.guided_gather = p.boolean("guided_gather", s.guided_gather);

@@ -48,6 +48,9 @@ struct PhotonSettings {
     // importons=N (photon): N importons from the camera decide where photons are stored
     // (importon_map.h, the thesis' 6.7); 0: every photon is stored.
     uint64_t importons = 0;
+    // photon_lookup="reverse" (photon, final gathering): the gather hits' full estimates by
+    // reverse photon mapping (Havran et al. 2005; reverse_photons.h) instead of kNN searches.
+    bool reverse_lookup = false;
     // Split the global map into a direct map (first-hit photons) and an indirect map: direct
     // visualisation then takes direct light from next event estimation (ray traced) and only
     // the indirect light from the photons.

@@ -83,6 +83,13 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
                     "importons apply to type=\"photon\"; ignored by type=\"" + it.name + "\"");
         r.photon.importons = 0;
     }
+    if (r.photon.reverse_lookup &&
+        (r.integrator != "photon" || r.photon.mode != PhotonMode::FinalGather)) {
+        params.warn("photon_lookup",
+                    "photon_lookup=reverse applies to type=\"photon\" with "
+                    "mode=\"final_gather\"; ignored");
+        r.photon.reverse_lookup = false;
+    }
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
