@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bench/ray_sets.h"
@@ -390,14 +391,20 @@ void BM_BuildGrid(benchmark::State& state, std::string scene) {
 // Octree and kd-tree builds: time, memory, references per triangle, size, depth (and the
 // kd-tree's SAH cost).
 template <class Tree>
-void BM_BuildTree(benchmark::State& state, std::string scene) {
+void BM_BuildTree(benchmark::State& state, std::string scene, bool parallel) {
     const TriangleMesh& m = scene_data(scene).scene.mesh;
     std::size_t bytes = 0, refs = 0, nodes = 0;
     int depth = 0;
     double sah = 0.0;
     for (auto _ : state) {
         Tree t;
-        t.build(m.positions.data(), m.indices.data(), m.num_triangles());
+        if constexpr (std::is_same_v<Tree, kern::TriangleKdTree>) {
+            kern::KdTreeParams p;
+            if (parallel) p.parallel = tbb_invoke();
+            t.build(m.positions.data(), m.indices.data(), m.num_triangles(), p);
+        } else {
+            t.build(m.positions.data(), m.indices.data(), m.num_triangles());
+        }
         bytes = t.memory_bytes(), refs = t.num_references(), nodes = t.num_nodes();
         depth = t.depth();
         if constexpr (requires { t.sah_cost(); }) sah = t.sah_cost();
@@ -481,8 +488,9 @@ const bool registered = [] {
     for (const char* scene : {"bunny", "teapot", "dragon", "cornell", "stadium"}) {
         const std::string s = scene;
         add("build/" + s + "/grid", BM_BuildGrid, s);
-        add("build/" + s + "/octree", BM_BuildTree<kern::TriangleOctree>, s);
-        add("build/" + s + "/kdtree", BM_BuildTree<kern::TriangleKdTree>, s);
+        add("build/" + s + "/octree", BM_BuildTree<kern::TriangleOctree>, s, false);
+        add("build/" + s + "/kdtree", BM_BuildTree<kern::TriangleKdTree>, s, false);
+        add("build/" + s + "/kdtree_parallel", BM_BuildTree<kern::TriangleKdTree>, s, true);
         add("build/" + s + "/bvh_1thread", BM_BuildBvh<kern::TriangleBvh>, s, false);
         add("build/" + s + "/bvh", BM_BuildBvh<kern::TriangleBvh>, s, true);
         add("build/" + s + "/embree", BM_BuildEmbree, s, false);

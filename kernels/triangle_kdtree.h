@@ -14,6 +14,7 @@
 // leaf whose exit lies beyond the closest hit so far.
 #include <bit>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "huge_page_allocator.h"
@@ -37,6 +38,14 @@ struct KdTreeParams {
     uint32_t leaf_triangles = 2 * kBlockWidth;  // a node with no more stays a leaf
     int max_depth = 0;  // 0: 8 + 1.3 log2(n) (pbrt's rule), at most kMaxDepth
     static constexpr int kMaxDepth = 60;
+    // Runs two jobs, possibly in parallel (the engine passes tbb::parallel_invoke; kernels do
+    // not depend on TBB); empty: one after the other. The upper levels' two subtrees are built
+    // as separate fragments either way and joined in order, so the tree is the same.
+    using ParallelInvoke =
+        std::function<void(const std::function<void()>&, const std::function<void()>&)>;
+    ParallelInvoke parallel;
+    int parallel_depth = 4;           // nodes above this depth split their work in two
+    uint32_t parallel_grain = 16384;  // and only with at least this many triangles
 };
 
 class TriangleKdTree {

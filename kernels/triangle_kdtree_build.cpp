@@ -2,6 +2,7 @@
 // ray tracing, and on doing that in O(N log N)", with perfect splits.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "triangle_kdtree.h"
 
@@ -101,10 +102,35 @@ struct Plane {
 
 }  // namespace
 
+// A subtree's nodes and blocks, indices relative to its own arrays; the upper levels build
+// their right subtrees as fragments (in parallel or not) and append them with the indices moved.
+struct KdFragment {
+    std::vector<TriangleKdTree::Node> nodes;
+    std::vector<TriangleBlock, HugePageAllocator<TriangleBlock>> blocks;
+    std::size_t references = 0, leaves = 0;
+    int depth = 0;
+    double sah = 0.0;
+
+    void append(KdFragment&& f) {
+        const auto node_offset = uint32_t(nodes.size()), block_offset = uint32_t(blocks.size());
+        for (TriangleKdTree::Node n : f.nodes) {
+            const uint32_t offset = n.leaf() ? block_offset : node_offset;
+            n.bits = ((n.index() + offset) << 2) | (n.bits & 3u);
+            nodes.push_back(n);
+        }
+        blocks.insert(blocks.end(), f.blocks.begin(), f.blocks.end());
+        references += f.references;
+        leaves += f.leaves;
+        depth = std::max(depth, f.depth);
+        sah += f.sah;
+    }
+};
+
 class KdTreeBuilder {
   public:
-    KdTreeBuilder(TriangleKdTree& tree, const KdTreeParams& params, std::size_t n)
-        : tree_(tree), params_(params), side_(n, Side::Both) {
+    KdTreeBuilder(const TriangleKdTree& tree, const KdTreeParams& params, std::size_t n,
+                  KdFragment& out)
+        : tree_(tree), params_(params), side_(n, Side::Both), out_(out) {
         max_depth_ = params.max_depth > 0
                          ? params.max_depth
                          : int(8.f + 1.3f * std::log2(float(std::max<std::size_t>(n, 1))));
@@ -117,6 +143,14 @@ class KdTreeBuilder {
     }
 
   private:
+    KdTreeBuilder(const KdTreeBuilder& parent, KdFragment& out)
+        : tree_(parent.tree_),
+          params_(parent.params_),
+          side_(parent.side_.size(), Side::Both),
+          out_(out),
+          max_depth_(parent.max_depth_),
+          root_area_(parent.root_area_) {}
+
     float sah(const Box& box, int axis, float pos, std::size_t nl, std::size_t nr) const {
         const float inv_area = 1.f / box.area();
         const float pl = box.child(axis, pos, false).area() * inv_area;
@@ -161,21 +195,21 @@ class KdTreeBuilder {
         tris.reserve(n);
         for (const Event& e : ev[0])
             if (e.type != kEnd) tris.push_back(e.tri);
-        const auto first = uint32_t(tree_.blocks_.size());
+        const auto first = uint32_t(out_.blocks.size());
         pack_triangle_blocks(tree_.positions_, tree_.indices_, tris.data(), tris.size(),
-                             tree_.blocks_);
-        tree_.nodes_[node] = {uint32_t(tree_.blocks_.size()) - first, (first << 2) | 3u};
-        tree_.references_ += tris.size();
-        ++tree_.leaves_;
-        tree_.sah_ += params_.intersection_cost * double(tris.size()) * area / root_area_;
+                             out_.blocks);
+        out_.nodes[node] = {uint32_t(out_.blocks.size()) - first, (first << 2) | 3u};
+        out_.references += tris.size();
+        ++out_.leaves;
+        out_.sah += params_.intersection_cost * double(tris.size()) * area / root_area_;
     }
 
     // Builds the subtree of the triangles whose (clipped) events are `ev` in `box`; returns
     // its root's index. The events are consumed.
     uint32_t build(Events ev[3], const Box& box, std::size_t n, int depth) {
-        const auto node = uint32_t(tree_.nodes_.size());
-        tree_.nodes_.push_back({});
-        tree_.depth_ = std::max(tree_.depth_, depth);
+        const auto node = uint32_t(out_.nodes.size());
+        out_.nodes.push_back({});
+        out_.depth = std::max(out_.depth, depth);
         const float area = box.area();
         Plane plane;
         if (n > params_.leaf_triangles && depth < max_depth_ && area > 0.f)
@@ -184,7 +218,7 @@ class KdTreeBuilder {
             make_leaf(node, ev, n, area);
             return node;
         }
-        tree_.sah_ += params_.traversal_cost * double(area) / root_area_;
+        out_.sah += params_.traversal_cost * double(area) / root_area_;
 
         // Which side each triangle is on: its events along the split axis say it.
         const int k = plane.axis;
@@ -236,15 +270,34 @@ class KdTreeBuilder {
             merge_in(left[j], new_left[j]);
             merge_in(right[j], new_right[j]);
         }
-        build(left, lbox, nl, depth + 1);  // at node + 1
-        const uint32_t above = build(right, rbox, nr, depth + 1);
-        tree_.nodes_[node] = {std::bit_cast<uint32_t>(plane.pos), (above << 2) | uint32_t(k)};
+        uint32_t above;
+        if (depth < params_.parallel_depth && n >= params_.parallel_grain) {
+            // The right subtree as a fragment of its own (with its own side array), built
+            // beside the left one when a parallel_invoke is given, appended after it either way.
+            KdFragment right_part;
+            KdTreeBuilder sub(*this, right_part);
+            const std::function<void()> lower = [&] { build(left, lbox, nl, depth + 1); };
+            const std::function<void()> upper = [&] { sub.build(right, rbox, nr, depth + 1); };
+            if (params_.parallel) {
+                params_.parallel(lower, upper);
+            } else {
+                lower();
+                upper();
+            }
+            above = uint32_t(out_.nodes.size());
+            out_.append(std::move(right_part));
+        } else {
+            build(left, lbox, nl, depth + 1);  // at node + 1
+            above = build(right, rbox, nr, depth + 1);
+        }
+        out_.nodes[node] = {std::bit_cast<uint32_t>(plane.pos), (above << 2) | uint32_t(k)};
         return node;
     }
 
-    TriangleKdTree& tree_;
-    KdTreeParams params_;
+    const TriangleKdTree& tree_;  // its positions and indices
+    const KdTreeParams& params_;
     std::vector<Side> side_;  // by triangle; valid for the node being split only
+    KdFragment& out_;
     int max_depth_ = 0;
     float root_area_ = 1.f;
 };
@@ -278,7 +331,14 @@ void TriangleKdTree::build(const float* positions, const uint32_t* indices,
     }
     for (auto& e : ev) std::sort(e.begin(), e.end(), before);
     for (int k = 0; k < 3; ++k) lo_[k] = root.lo[k], hi_[k] = root.hi[k];
-    KdTreeBuilder(*this, params, num_triangles).run(ev, root, num_triangles);
+    KdFragment whole;
+    KdTreeBuilder(*this, params, num_triangles, whole).run(ev, root, num_triangles);
+    nodes_ = std::move(whole.nodes);
+    blocks_ = std::move(whole.blocks);
+    references_ = whole.references;
+    leaves_ = whole.leaves;
+    depth_ = whole.depth;
+    sah_ = whole.sah;
 }
 
 std::size_t TriangleKdTree::memory_bytes() const {

@@ -2,6 +2,7 @@
 // triangle soups made to stress the build: big triangles cut by many planes (perfect splits
 // clip them), triangles lying in candidate planes, degenerate ones, rays along the axes.
 #include <catch2/catch.hpp>
+#include <functional>
 #include <random>
 
 #include "brute_oracle.h"
@@ -144,4 +145,36 @@ TEST_CASE("kd-tree handles flat, single and empty inputs", "[kernel][kdtree]") {
     CHECK(empty.empty());
     CHECK_FALSE(empty.intersect({0, 0, 0, 1, 0, 0, 0, kInf}, e));
     CHECK_FALSE(empty.occluded({0, 0, 0, 1, 0, 0, 0, kInf}));
+}
+
+TEST_CASE("kd-tree built in parallel is the tree built on one thread", "[kernel][kdtree]") {
+    const TriangleMesh mesh = load_obj(test::shared_path("meshes/bunny.obj")).mesh;
+    KdTreeParams seq;
+    seq.parallel_grain = 1024;  // split the work even on this small mesh
+    KdTreeParams par = seq;
+    // Jobs run in the reverse order (as another thread might): the result must not care.
+    par.parallel = [](const std::function<void()>& a, const std::function<void()>& b) {
+        b();
+        a();
+    };
+    TriangleKdTree one, two;
+    one.build(mesh.positions.data(), mesh.indices.data(), mesh.num_triangles(), seq);
+    two.build(mesh.positions.data(), mesh.indices.data(), mesh.num_triangles(), par);
+    REQUIRE(one.num_nodes() == two.num_nodes());
+    CHECK(one.num_references() == two.num_references());
+    CHECK(one.num_leaves() == two.num_leaves());
+    CHECK(one.depth() == two.depth());
+    CHECK(one.sah_cost() == two.sah_cost());
+    CHECK(one.memory_bytes() == two.memory_bytes());
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> U(-0.2f, 0.2f);
+    for (int i = 0; i < 2000; ++i) {
+        const Ray1 r{U(rng), U(rng), U(rng), U(rng), U(rng), U(rng), 0.f, kInf};
+        TriHit a, b;
+        TreeCounters ca, cb;
+        CHECK(one.intersect(r, a, &ca) == two.intersect(r, b, &cb));
+        CHECK(a.t == b.t);
+        CHECK(a.id == b.id);
+        CHECK(ca.nodes == cb.nodes);  // the same walk: the same nodes in the same places
+    }
 }

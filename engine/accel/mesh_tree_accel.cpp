@@ -1,6 +1,9 @@
 #include "mesh_tree_accel.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
+#include <type_traits>
 
 #include "object_box.h"
 
@@ -23,7 +26,15 @@ MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene)
         if (o.instance >= 0) continue;  // in the instance layer
         if (o.kind == ObjectKind::Mesh) {
             const TriangleMesh& m = scene.meshes[o.index];
-            trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles());
+            if constexpr (std::is_same_v<Tree, kern::TriangleKdTree>) {
+                kern::KdTreeParams p;  // the upper levels' subtrees built in parallel
+                p.parallel = [](const std::function<void()>& a, const std::function<void()>& b) {
+                    tbb::parallel_invoke(a, b);
+                };
+                trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(), p);
+            } else {
+                trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles());
+            }
         }
         refs.push_back(padded_object_ref(scene, g));
     }
