@@ -4,6 +4,40 @@
 
 namespace foton {
 
+namespace {
+// Up to this k each hit keeps a heap of its own; above it (the whole radius) pairs are listed.
+constexpr uint32_t kHeapLimit = 256;
+
+// Inserts (id, d2) into the max-heap (idx, dist) of count entries, at most k.
+void heap_insert(uint32_t* idx, float* dist, uint32_t& count, uint32_t k, uint32_t id, float d2) {
+    uint32_t i;
+    if (count < k) {
+        i = count++;
+        while (i > 0 && dist[(i - 1) / 2] < d2) {  // sift up
+            idx[i] = idx[(i - 1) / 2];
+            dist[i] = dist[(i - 1) / 2];
+            i = (i - 1) / 2;
+        }
+    } else {
+        if (!(d2 < dist[0])) return;
+        i = 0;  // replace the farthest, sift down
+        for (;;) {
+            const uint32_t l = 2 * i + 1, r = l + 1;
+            uint32_t m = i;
+            float md = d2;
+            if (l < count && dist[l] > md) m = l, md = dist[l];
+            if (r < count && dist[r] > md) m = r;
+            if (m == i) break;
+            idx[i] = idx[m];
+            dist[i] = dist[m];
+            i = m;
+        }
+    }
+    idx[i] = id;
+    dist[i] = d2;
+}
+}  // namespace
+
 uint64_t reverse_gather(
     const PhotonMap& map, const float* x, const float* y, const float* z, std::size_t n,
     const EstimateParams& params, ReversePhotons& ws,
@@ -20,6 +54,32 @@ uint64_t reverse_gather(
     }
     ws.pairs.clear();
     uint64_t visited = 0;
+    const uint32_t k = std::min(params.k, PhotonMap::kMaxEstimate);
+    if (k <= kHeapLimit) {
+        // Each hit keeps its k nearest photons so far in a max-heap of its own (the farthest
+        // at [0], as the forward search leaves them): no list of every pair, no sort.
+        ws.heap_idx.resize(n * k);
+        ws.heap_d2.resize(n * k);
+        ws.heap_count.assign(n, 0);
+        for (std::size_t j = 0; j < map.size(); ++j) {
+            const Vec3 p = map.position(j);
+            if (p.x < lo[0] || p.x > hi[0] || p.y < lo[1] || p.y > hi[1] || p.z < lo[2] ||
+                p.z > hi[2])
+                continue;
+            ++visited;
+            const float pq[3] = {p.x, p.y, p.z};
+            ws.hits.for_each_in_radius(pq, r2, [&](uint32_t q, float d2) {
+                heap_insert(ws.heap_idx.data() + std::size_t(q) * k,
+                            ws.heap_d2.data() + std::size_t(q) * k, ws.heap_count[q], k,
+                            uint32_t(j), d2);
+            });
+        }
+        for (std::size_t q = 0; q < n; ++q)
+            if (ws.heap_count[q] > 0)
+                estimate(q, ws.heap_count[q], ws.heap_idx.data() + q * k,
+                         ws.heap_d2.data() + q * k);
+        return visited;
+    }
     for (std::size_t j = 0; j < map.size(); ++j) {
         const Vec3 p = map.position(j);
         if (p.x < lo[0] || p.x > hi[0] || p.y < lo[1] || p.y > hi[1] || p.z < lo[2] || p.z > hi[2])
@@ -35,7 +95,6 @@ uint64_t reverse_gather(
                      [](const ReversePhotons::Pair& a, const ReversePhotons::Pair& b) {
                          return a.query < b.query;
                      });
-    const uint32_t k = std::min(params.k, PhotonMap::kMaxEstimate);
     for (std::size_t begin = 0; begin < ws.pairs.size();) {
         std::size_t end = begin;
         while (end < ws.pairs.size() && ws.pairs[end].query == ws.pairs[begin].query) ++end;

@@ -25,6 +25,8 @@ struct ReversePhotons {
     std::vector<Pair> pairs;
     std::vector<uint32_t> idx;
     std::vector<float> d2;
+    std::vector<uint32_t> heap_idx, heap_count;  // k nearest per hit (k <= 256)
+    std::vector<float> heap_d2;
 };
 
 // For each query q < n at (x, y, z)[q]: the photons of `map` within params.max_radius (the k
