@@ -22,9 +22,9 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
         case AccelType::Embree:
             return std::make_unique<EmbreeAccel>(scene, threads);
         case AccelType::Octree:
-            return std::make_unique<OctreeAccel>(scene);
+            return std::make_unique<OctreeAccel>(scene, threads);
         case AccelType::KdTree:
-            return std::make_unique<KdTreeAccel>(scene);
+            return std::make_unique<KdTreeAccel>(scene, threads);
     }
     return nullptr;
 }

@@ -3,8 +3,10 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <functional>
 #include <type_traits>
 
+#include "engine/core/thread_pinning.h"
 #include "object_box.h"
 
 namespace foton {
@@ -17,26 +19,35 @@ void add_counts(TraceCounters& c, const kern::TreeCounters& oc) {
 }  // namespace
 
 template <class Tree, AccelType kType>
-MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene)
-    : scene_(scene), instances_(scene, kType, 0) {
+MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene, int threads)
+    : scene_(scene), instances_(scene, kType, threads) {
     trees_.resize(scene.meshes.size());
     std::vector<kern::PrimRef> refs;
-    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
-        const Object& o = scene.objects[g];
-        if (o.instance >= 0) continue;  // in the instance layer
-        if (o.kind == ObjectKind::Mesh) {
-            const TriangleMesh& m = scene.meshes[o.index];
-            if constexpr (std::is_same_v<Tree, kern::TriangleKdTree>) {
-                kern::KdTreeParams p;  // the upper levels' subtrees built in parallel
-                p.parallel = [](const std::function<void()>& a, const std::function<void()>& b) {
-                    tbb::parallel_invoke(a, b);
-                };
-                trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(), p);
-            } else {
-                trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles());
+    auto build_meshes = [&] {
+        for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+            const Object& o = scene.objects[g];
+            if (o.instance >= 0) continue;  // in the instance layer
+            if (o.kind == ObjectKind::Mesh) {
+                const TriangleMesh& m = scene.meshes[o.index];
+                if constexpr (std::is_same_v<Tree, kern::TriangleKdTree>) {
+                    kern::KdTreeParams p;  // the upper levels' subtrees built in parallel
+                    p.parallel = [](const std::function<void()>& a,
+                                    const std::function<void()>& b) { tbb::parallel_invoke(a, b); };
+                    trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles(),
+                                          p);
+                } else {
+                    trees_[o.index].build(m.positions.data(), m.indices.data(), m.num_triangles());
+                }
             }
+            refs.push_back(padded_object_ref(scene, g));
         }
-        refs.push_back(padded_object_ref(scene, g));
+    };
+    // Within --threads, as the bvh's build (the tree is the same for any count).
+    if (threads > 0) {
+        PinnedArena arena(threads);
+        arena.execute(build_meshes);
+    } else {
+        build_meshes();
     }
     kern::BvhBuildParams bp;
     bp.leaf_block = 1;

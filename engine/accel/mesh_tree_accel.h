@@ -18,7 +18,8 @@ namespace foton {
 template <class Tree, AccelType kType>
 class MeshTreeAccel final : public PerRayIntersector<MeshTreeAccel<Tree, kType>> {
   public:
-    explicit MeshTreeAccel(const Scene& scene);
+    // threads > 0: build within that many threads (0: all).
+    MeshTreeAccel(const Scene& scene, int threads);
     const char* name() const override { return accel_name(kType); }
     std::size_t memory_bytes() const override;
 

@@ -52,15 +52,9 @@ uint64_t reverse_gather(
         for (int a = 0; a < 3; ++a)
             lo[a] = std::min(lo[a], p[a] - r), hi[a] = std::max(hi[a], p[a] + r);
     }
-    ws.pairs.clear();
+    // Every photon in that box, against the hits within the radius: found(hit, photon, d2).
     uint64_t visited = 0;
-    const uint32_t k = std::min(params.k, PhotonMap::kMaxEstimate);
-    if (k <= kHeapLimit) {
-        // Each hit keeps its k nearest photons so far in a max-heap of its own (the farthest
-        // at [0], as the forward search leaves them): no list of every pair, no sort.
-        ws.heap_idx.resize(n * k);
-        ws.heap_d2.resize(n * k);
-        ws.heap_count.assign(n, 0);
+    const auto each_pair = [&](auto&& found) {
         for (std::size_t j = 0; j < map.size(); ++j) {
             const Vec3 p = map.position(j);
             if (p.x < lo[0] || p.x > hi[0] || p.y < lo[1] || p.y > hi[1] || p.z < lo[2] ||
@@ -68,28 +62,29 @@ uint64_t reverse_gather(
                 continue;
             ++visited;
             const float pq[3] = {p.x, p.y, p.z};
-            ws.hits.for_each_in_radius(pq, r2, [&](uint32_t q, float d2) {
-                heap_insert(ws.heap_idx.data() + std::size_t(q) * k,
-                            ws.heap_d2.data() + std::size_t(q) * k, ws.heap_count[q], k,
-                            uint32_t(j), d2);
-            });
+            ws.hits.for_each_in_radius(pq, r2,
+                                       [&](uint32_t q, float d2) { found(q, uint32_t(j), d2); });
         }
+    };
+    const uint32_t k = std::min(params.k, PhotonMap::kMaxEstimate);
+    if (k <= kHeapLimit) {
+        // Each hit keeps its k nearest photons so far in a max-heap of its own (the farthest
+        // at [0], as the forward search leaves them): no list of every pair, no sort.
+        ws.heap_idx.resize(n * k);
+        ws.heap_d2.resize(n * k);
+        ws.heap_count.assign(n, 0);
+        each_pair([&](uint32_t q, uint32_t j, float d2) {
+            heap_insert(ws.heap_idx.data() + std::size_t(q) * k,
+                        ws.heap_d2.data() + std::size_t(q) * k, ws.heap_count[q], k, j, d2);
+        });
         for (std::size_t q = 0; q < n; ++q)
             if (ws.heap_count[q] > 0)
                 estimate(q, ws.heap_count[q], ws.heap_idx.data() + q * k,
                          ws.heap_d2.data() + q * k);
         return visited;
     }
-    for (std::size_t j = 0; j < map.size(); ++j) {
-        const Vec3 p = map.position(j);
-        if (p.x < lo[0] || p.x > hi[0] || p.y < lo[1] || p.y > hi[1] || p.z < lo[2] || p.z > hi[2])
-            continue;
-        ++visited;
-        const float pq[3] = {p.x, p.y, p.z};
-        ws.hits.for_each_in_radius(pq, r2, [&](uint32_t q, float d2) {
-            ws.pairs.push_back({q, uint32_t(j), d2});
-        });
-    }
+    ws.pairs.clear();
+    each_pair([&](uint32_t q, uint32_t j, float d2) { ws.pairs.push_back({q, j, d2}); });
     // Grouped by query, each group's photons in map order (a stable sort).
     std::stable_sort(ws.pairs.begin(), ws.pairs.end(),
                      [](const ReversePhotons::Pair& a, const ReversePhotons::Pair& b) {
