@@ -87,6 +87,9 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
          "caustic_photons=5000"},
         {"sppm", "scenes/cornell-caustics.xml",
          "--integrator sppm --passes 3 --set photons_per_pass=8000"},
+        // The stopping rule decided on rank 0 from every rank's pixels, and its bound AOV.
+        {"sppm-stop", "scenes/cornell-caustics.xml",
+         "--integrator sppm --passes 60 --set photons_per_pass=8000 --set stop_error=0.4"},
         {"cache", "scenes/cornell-diffuse.xml",
          "--integrator path --set indirect=irradiance_cache --spp 1"},
         {"photon-cache", "scenes/cornell-diffuse.xml",
@@ -124,6 +127,8 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
             if (flags.find("strategy_images") != std::string::npos)
                 channels = {"strategy_s0_t2.R", "strategy_s1_t2.G", "strategy_s2_t1.B",
                             "strategy_longer.R", "strategy_merges.G"};
+            if (flags.find("stop_error") != std::string::npos)
+                channels = {"ErrorBound.R", "ErrorBound.G", "ErrorBound.B"};
             if (channels.empty()) continue;
             int w = 0, h = 0;
             CHECK(read_exr_channels(dir.file(c.name) + "-n.exr", channels, w, h) ==

@@ -77,6 +77,15 @@ std::string RenderStats::table() const {
                       photon_seconds);
         s += buf;
     }
+    if (error_confidence > 0.f) {
+        std::snprintf(buf, sizeof buf,
+                      "error bound (%.3g %% confidence): mean %.4g per pixel, %.4g of the mean "
+                      "luminance %.4g\n",
+                      100.0 * double(error_confidence), error_bound,
+                      error_mean_value > 0 ? error_bound / error_mean_value : 0.0,
+                      error_mean_value);
+        s += buf;
+    }
     if (shadow_rays_saved > 0) {
         std::snprintf(buf, sizeof buf, "shadow photons decided %llu shadow rays\n",
                       (unsigned long long)shadow_rays_saved);
@@ -156,6 +165,11 @@ nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& ru
     j["cache_visibility_rejections"] = cache.visibility_rejections;
     j["cache_fill_seconds"] = cache_fill_seconds;
     j["photon_seconds"] = photon_seconds;
+    if (error_confidence > 0.f) {
+        j["error_bound"] = error_bound;
+        j["error_mean_luminance"] = error_mean_value;
+        j["error_confidence"] = error_confidence;
+    }
     j["photons_global"] = photons_global;
     j["photons_caustic"] = photons_caustic;
     j["shadow_rays_saved"] = shadow_rays_saved;

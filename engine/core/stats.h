@@ -119,6 +119,11 @@ struct RenderStats {
     // Stages timed by one clock around work that ran on many threads (a balance, a
     // precomputation, SPPM's passes): their seconds are wall time, not thread time.
     bool stage_wall[kNumStages] = {};
+    // ppm / sppm with an error bound (ppm_error_bound.h), set once on rank 0: the mean of the
+    // pixels' luminance error bounds after the last pass and the image's mean luminance, at
+    // `error_confidence` (0: no bound was kept).
+    double error_bound = 0.0, error_mean_value = 0.0;
+    float error_confidence = 0.f;
     double wall_seconds = 0.0;
     double build_seconds = 0.0;
     GraphStats graph;  // set once by the render's driver, not merged

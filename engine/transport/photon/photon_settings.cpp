@@ -59,6 +59,10 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
     s.alpha = p.real("alpha", s.alpha);
     if (!(s.alpha > 0.f && s.alpha <= 1.f)) p.fail("alpha", "alpha must be in (0, 1]");
     s.photons_per_pass = p.integer("photons_per_pass", s.photons_per_pass, 0, 4000000000ull);
+    s.stop_error = p.real("stop_error", s.stop_error, 0.f);
+    s.stop_confidence = p.real("stop_confidence", s.stop_confidence);
+    if (!(s.stop_confidence > 0.f && s.stop_confidence < 1.f))
+        p.fail("stop_confidence", "stop_confidence must be in (0, 1)");
     s.irradiance_stride = uint32_t(p.integer("irradiance_stride", s.irradiance_stride, 0, 1000000));
     s.envelope = p.choice("envelope", envelope_names(), s.envelope);
     s.filter = p.choice("filter", filter_names(), s.filter);

@@ -66,6 +66,11 @@ struct PhotonSettings {
     float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
     float alpha = 2.f / 3.f;        // fraction of new photons kept per pass
     uint64_t photons_per_pass = 0;  // 0: one per pixel
+    // The stopping rule (ppm_error_bound.h; the thesis' 8.1.1): stop once the mean per-pixel
+    // error bound at `stop_confidence` is at most `stop_error` times the image's mean
+    // luminance; 0: off (the passes are --spp or --time's).
+    float stop_error = 0.f;
+    float stop_confidence = 0.95f;
 };
 
 // Reads the photon keys (global_photons, k, filter, mode, alpha, ...) into `s`.

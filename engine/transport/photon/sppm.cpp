@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -17,6 +18,7 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/photon/photon_tracer.h"
+#include "engine/transport/photon/ppm_error_bound.h"
 #include "engine/transport/photon/sppm_visible.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
@@ -25,37 +27,65 @@ namespace foton {
 
 namespace {
 
+// What a visible point's photons brought in one pass: the flux within its radius R, with the
+// error bound on also the flux within 2 R (its bias estimate, ppm_error_bound.h), and the count
+// within R.
+struct PassFlux {
+    RGB phi, phi_wide;
+    uint32_t count = 0;
+};
+
 class ProgressivePhotons {
   public:
     explicit ProgressivePhotons(const Scene& scene) : scene_(scene) {}
 
-    // Gathers this pass's photons within the visible point's radius and updates it.
-    void gather(const PhotonMap& photons, float alpha, SppmPixel& px) const {
-        if (!px.valid) return;
+    // Gathers this pass's photons within the visible point's radius and updates it; `wide`:
+    // also sums the flux within twice the radius. The photons within R and the order they
+    // are summed in are the same either way (the kd-tree visits its leaves in one order), so
+    // the image does not change with it.
+    PassFlux gather(const PhotonMap& photons, float alpha, bool wide, SppmPixel& px) const {
+        PassFlux out;
+        if (!px.valid) return out;
         std::optional<Material> scratch;
         const Material& m = scene_.material_at(scene_.materials[px.material], px.uv, scratch);
         const BsdfContext ctx{px.front, Transport::Radiance};
-        RGB phi;
-        uint32_t count = 0;
-        photons.for_each_in_radius(px.p, px.radius, [&](uint32_t i, float) {
-            if (photons.flags(i) & kPhotonDirect) return;  // direct light came from NEE
-            const Vec3 w = photons.incident(i);
-            if (!m.bsdf.side_allowed(w, px.ng)) return;
-            const RGB f = m.bsdf.f(px.wo, px.frame.to_local(w), ctx);
-            phi += px.beta * f * photons.power(i);
-            ++count;
-        });
-        if (count == 0) return;
-        const double n_new = px.n + alpha * count;
-        const float ratio = float(n_new / (px.n + count));
-        px.tau = (px.tau + phi) * ratio;
+        const float r2 = px.radius * px.radius;
+        photons.for_each_in_radius(px.p, wide ? 2.f * px.radius : px.radius,
+                                   [&](uint32_t i, float d2) {
+                                       if (photons.flags(i) & kPhotonDirect)
+                                           return;  // direct light came from NEE
+                                       const Vec3 w = photons.incident(i);
+                                       if (!m.bsdf.side_allowed(w, px.ng)) return;
+                                       const RGB f = m.bsdf.f(px.wo, px.frame.to_local(w), ctx);
+                                       const RGB add = px.beta * f * photons.power(i);
+                                       out.phi_wide += add;
+                                       if (d2 >= r2) return;
+                                       out.phi += add;
+                                       ++out.count;
+                                   });
+        if (out.count == 0) return out;
+        const double n_new = px.n + alpha * out.count;
+        const float ratio = float(n_new / (px.n + out.count));
+        px.tau = (px.tau + out.phi) * ratio;
         px.radius *= std::sqrt(ratio);
         px.n = n_new;
+        return out;
     }
 
   private:
     const Scene& scene_;
 };
+
+// The pass's estimate of a pixel (direct light + density estimate at radius r) and its bias
+// estimate, for the error bound: a disc of radius R blurs by R^2 lap(L) / 8 to leading order,
+// so E[L(2R)] - E[L(R)] = 3 R^2 lap(L) / 8 = 3 x the bias at R.
+void record_pass(const SppmPixel& px, float r, const PassFlux& flux, PpmErrorBound& bound,
+                 std::size_t pixel) {
+    const float area = float(kPi) * r * r;
+    const float inv = area > 0.f ? 1.f / area : 0.f;
+    const RGB density = flux.phi * inv, wide = flux.phi_wide * (0.25f * inv);
+    bound.record(pixel, px.pass_direct + density, (wide - density) * (1.f / 3.f));
+}
 
 }  // namespace
 
@@ -79,6 +109,9 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const VisiblePoints visible_points(RenderContext{scene, settings, accel, lights, opt.seed});
     tbb::enumerable_thread_specific<VisibleRowWork> row_work;
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
+    // The error bound's per-pixel sums, kept when the stopping rule is on.
+    std::optional<PpmErrorBound> error;
+    if (ps.stop_error > 0.f) error.emplace(npix, ps.stop_confidence);
     const int threads = resolve_threads(opt.threads);
     PinnedArena arena(threads);
     RenderStats stats;
@@ -94,8 +127,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         // is averaged over passes.
         for (std::size_t i = 0; i < npix; ++i) {
             const SppmPixel& p = pixels[i];
-            // PPM's visible points, and so their direct light, come from the first pass only.
-            RGB l = p.direct * (1.f / float(stochastic ? passes : 1));
+            RGB l = p.direct * (1.f / float(passes));
             if (p.radius > 0.f)
                 l += p.tau * float(1.0 / (double(passes) * kPi * double(p.radius) * p.radius));
             f.pixels[i] = l;
@@ -117,7 +149,6 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     graph.set_progress(opt.progress);
     PhotonMap photons;
     const uint32_t visible = graph.add("visible-points", [&]() -> uint64_t {
-        if (!stochastic && pass > 0) return 0;
         StageClock clock;
         const std::size_t rows = my_rows.size();
         BusyTime* const busy = ThreadClock::for_chunks();
@@ -130,7 +161,7 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
                                   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed))
                                       return;  // a cancelled pass traces no further row
                                   const std::size_t y = my_rows[i];
-                                  visible_points.trace_row(pass, uint32_t(y),
+                                  visible_points.trace_row(stochastic ? pass : 0, pass, uint32_t(y),
                                                            &pixels[y * std::size_t(w)], work, st);
                               }
                           });
@@ -159,9 +190,15 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         StageClock clock;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix, 256),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i)
-                                  if (owner[i] == cluster.rank())
-                                      pm.gather(photons, ps.alpha, pixels[i]);
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  if (owner[i] != cluster.rank()) continue;
+                                  SppmPixel& px = pixels[i];
+                                  const float radius = px.radius;  // this pass's
+                                  const PassFlux flux =
+                                      pm.gather(photons, ps.alpha, bool(error), px);
+                                  px.direct += px.pass_direct;
+                                  if (error) record_pass(px, radius, flux, *error, i);
+                              }
                           });
         const std::size_t gathered =
             std::size_t(std::count(owner.begin(), owner.end(), int32_t(cluster.rank())));
@@ -173,14 +210,18 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     graph.edge(trace, balance);
     graph.edge(visible, gather);
     graph.edge(balance, gather);
-    control.run(
-        [&](uint32_t k) {
-            pass = k;
-            graph.run(arena);
-            pass = k + 1;  // the passes the image averages from here on
-            task.advance();
-        },
-        [&] { return image(pass); }, [&] { return double(pass); });
+    // With the stopping rule, the bound decides after each pass (on rank 0, for all ranks).
+    double mean_bound = 0.0, mean_value = 0.0;
+    bool converged = false;
+    do {
+        graph.run(arena);
+        ++pass;  // the passes the image averages from here on
+        task.advance();
+        if (error)
+            converged = error->converged(pass, ps.stop_error, image(pass).pixels, cluster, owner,
+                                         mean_bound, mean_value);
+    } while (control.another(
+        pass, [&] { return image(pass); }, [&] { return double(pass); }, converged));
     RenderResult result;
     for (const RenderStats& s : local) stats.merge(s);
     stats.wall_seconds = control.elapsed();
@@ -190,6 +231,19 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     result.stats.graph = graph.report();
     result.film = image(pass);
     result.samples_per_pixel.assign(npix, pass);
+    if (error) {
+        result.stats.error_bound = mean_bound;
+        result.stats.error_mean_value = mean_value;
+        result.stats.error_confidence = ps.stop_confidence;
+        std::vector<RGB> bounds(npix);
+        const double t = error->t_factor(pass);
+        for (std::size_t i = 0; i < npix; ++i)
+            if (owner[i] == cluster.rank()) bounds[i] = error->bound(i, pass, t);
+        gather_to_root(cluster, owner, bounds);
+        AovLayer layer{"error_bound", {"ErrorBound.R", "ErrorBound.G", "ErrorBound.B"}, {}};
+        for (const RGB& b : bounds) layer.values.insert(layer.values.end(), {b.r, b.g, b.b});
+        result.aovs.push_back(std::move(layer));
+    }
     return result;
 }
 

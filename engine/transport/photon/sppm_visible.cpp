@@ -13,8 +13,8 @@ float VisiblePoints::rand(uint64_t pass, uint64_t pixel, uint32_t dim) const {
     return rng::uniform(ctx_.seed + pass * 0x9e3779b97f4a7c15ull, kSppmStream, pixel, dim);
 }
 
-void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, VisibleRowWork& work,
-                              RenderStats& stats) const {
+void VisiblePoints::trace_row(uint64_t pass, uint64_t light_pass, uint32_t y, SppmPixel* row,
+                              VisibleRowWork& work, RenderStats& stats) const {
     const uint32_t w = uint32_t(ctx_.scene.film.width);
     work.rays.clear();
     work.shadow.clear();
@@ -28,6 +28,7 @@ void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, Visible
                                    float(int(y) + ctx_.scene.film.y0) + j.y,
                                    {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
         row[x].valid = false;
+        row[x].pass_direct = {};
         work.rays.push(o, d, 0.f, kInfinity, x);
     }
     stats.camera_rays += w;
@@ -38,31 +39,32 @@ void VisiblePoints::trace_row(uint64_t pass, uint32_t y, SppmPixel* row, Visible
         ctx_.accel.intersect(work.rays, work.hits, stats.trace);
         work.next.clear();
         for (std::size_t r = 0; r < work.rays.size(); ++r)
-            shade(pass, y, depth, r, row, work, stats);
+            shade(pass, light_pass, y, depth, r, row, work, stats);
         std::swap(work.rays, work.next);
     }
     if (work.shadow.empty()) return;
     ctx_.accel.occluded(work.shadow, work.occluded, stats.trace);
     for (std::size_t i = 0; i < work.shadow.size(); ++i)
-        if (!work.occluded[i]) row[work.shadow.id[i]].direct += work.shadow_add[i];
+        if (!work.occluded[i]) row[work.shadow.id[i]].pass_direct += work.shadow_add[i];
 }
 
-void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t r, SppmPixel* row,
-                          VisibleRowWork& work, RenderStats& stats) const {
+void VisiblePoints::shade(uint64_t pass, uint64_t light_pass, uint32_t y, uint32_t depth,
+                          std::size_t r, SppmPixel* row, VisibleRowWork& work,
+                          RenderStats& stats) const {
     const uint32_t x = work.rays.id[r];
     const uint64_t pixel = ctx_.scene.film.pixel_id(x, y);
     SppmPixel& px = row[x];
     RGB& beta = work.beta[x];
     const Vec3 d = work.rays.direction(r);
     if (work.hits.geom[r] == kNoHit) {
-        px.direct += beta * ctx_.scene.background_along(d);
+        px.pass_direct += beta * ctx_.scene.background_along(d);
         return;
     }
     const SurfacePoint sp = surface_at(ctx_.scene, work.rays, work.hits, r);
     const uint32_t mi = ctx_.scene.objects[work.hits.geom[r]].material;
     std::optional<Material> scratch;
     const Material& m = ctx_.scene.material_at(work.hits.geom[r], sp.uv, scratch);
-    if (m.emits_towards(sp.front_face)) px.direct += beta * m.emission;
+    if (m.emits_towards(sp.front_face)) px.pass_direct += beta * m.emission;
     if (m.bsdf.empty()) return;
     const warp::Frame frame(sp.ns);
     const Vec3 wo = frame.to_local(-d);
@@ -96,10 +98,11 @@ void VisiblePoints::shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t
     px.beta = beta;
     if (ctx_.lights.empty()) return;
     LightPick pick;
-    if (!ctx_.lights.pick(rand(pass, pixel, 4), sp.p, sp.ng, pick)) return;
+    if (!ctx_.lights.pick(rand(light_pass, pixel, 4), sp.p, sp.ng, pick)) return;
     LightSample ls;
-    if (!ctx_.lights.sample_li(pick.light, sp.p, {rand(pass, pixel, 5), rand(pass, pixel, 6)},
-                               rand(pass, pixel, 7), ls, pick.tri) ||
+    if (!ctx_.lights.sample_li(pick.light, sp.p,
+                               {rand(light_pass, pixel, 5), rand(light_pass, pixel, 6)},
+                               rand(light_pass, pixel, 7), ls, pick.tri) ||
         !m.bsdf.side_allowed(ls.wi, sp.ng))
         return;
     const Vec3 wi = frame.to_local(ls.wi);

@@ -24,8 +24,9 @@ struct SppmPixel {
     uint32_t material = 0;
     Point2 uv;  // the material's texture coordinates there
     RGB beta;
+    RGB pass_direct;  // the current pass's direct light (emission and one NEE sample)
     // Progressive statistics.
-    RGB direct;  // summed over passes (PPM: of its one camera pass)
+    RGB direct;  // summed over passes
     float radius = 0.f;
     double n = 0.0;
     RGB tau;
@@ -44,17 +45,19 @@ class VisiblePoints {
   public:
     explicit VisiblePoints(const RenderContext& ctx) : ctx_(ctx) {}
 
-    // Pass `pass`'s visible points of image row y (row[x] is pixel x of it); emission found on
-    // the way and one NEE sample at each visible point go to the pixel's `direct`.
-    void trace_row(uint64_t pass, uint32_t y, SppmPixel* row, VisibleRowWork& work,
-                   RenderStats& stats) const;
+    // The visible points of image row y (row[x] is pixel x of it) along the camera paths of
+    // pass `camera_pass`, with the light samples of pass `light_pass` (PPM keeps the first
+    // pass's points, camera_pass 0, and samples their direct light anew every pass); emission
+    // found on the way and one NEE sample at each visible point go to `pass_direct`.
+    void trace_row(uint64_t camera_pass, uint64_t light_pass, uint32_t y, SppmPixel* row,
+                   VisibleRowWork& work, RenderStats& stats) const;
 
   private:
     float rand(uint64_t pass, uint64_t pixel, uint32_t dim) const;
     // One hit of pixel x's path: continues it in `work.next`, or ends it at its visible point
     // (queueing its shadow ray) or where nothing more can be found.
-    void shade(uint64_t pass, uint32_t y, uint32_t depth, std::size_t r, SppmPixel* row,
-               VisibleRowWork& work, RenderStats& stats) const;
+    void shade(uint64_t camera_pass, uint64_t light_pass, uint32_t y, uint32_t depth, std::size_t r,
+               SppmPixel* row, VisibleRowWork& work, RenderStats& stats) const;
 
     const RenderContext ctx_;
 };

@@ -90,6 +90,12 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
                     "mode=\"final_gather\"; ignored");
         r.photon.reverse_lookup = false;
     }
+    if (r.photon.stop_error > 0.f && r.integrator != "ppm" && r.integrator != "sppm") {
+        params.warn("stop_error",
+                    "stop_error applies to type=\"ppm\" and type=\"sppm\"; ignored by type=\"" +
+                        it.name + "\"");
+        r.photon.stop_error = 0.f;
+    }
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
