@@ -51,12 +51,17 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             float pdf;
             const Vec3 wi = scene_->environment->sample(u_dir, pdf);
             if (!(pdf > 0.f)) return false;
-            const warp::Frame fr(-wi);
-            const Point2 d = warp::concentric_disc(u_pos);
-            s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+            // Or, with projection maps, over the geometry's outline seen from wi's bin.
+            if (const EnvironmentProjection* maps = environment_projection()) {
+                maps->sample(wi, u_pos, s.p, s.pdf_pos);
+            } else {
+                const warp::Frame fr(-wi);
+                const Point2 d = warp::concentric_disc(u_pos);
+                s.p = center_ + fr.to_world({d.x * radius_, d.y * radius_, -radius_ * 1.01f});
+                s.pdf_pos = 1.f / (kPi * radius_ * radius_);
+            }
             s.n = -wi;
             s.dir = -wi;
-            s.pdf_pos = 1.f / (kPi * radius_ * radius_);
             s.pdf_dir = pdf;
             s.Le = scene_->environment->Le(wi);
             return !s.Le.is_black();
@@ -123,10 +128,13 @@ void LightSet::pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_po
         case EmitterType::Spot:
             pdf_dir = dot(dir, e.n) >= e.cos_outer ? warp::uniform_cone_pdf(e.cos_outer) : 0.f;
             return;
-        case EmitterType::Environment:
-            pdf_pos = 1.f / (kPi * radius_ * radius_);
+        case EmitterType::Environment: {
+            // Light arrives only where geometry is: through a kept cell of -dir's bin.
+            const EnvironmentProjection* maps = environment_projection();
+            pdf_pos = maps ? maps->pdf_pos(-dir) : 1.f / (kPi * radius_ * radius_);
             pdf_dir = scene_->environment->pdf(-dir);
             return;
+        }
         case EmitterType::Directional:
             // Light arrives only where geometry is: in a kept cell of the map, if it has one.
             pdf_pos = projection_[i].empty() ? 1.f / (kPi * radius_ * radius_)

@@ -133,6 +133,9 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
         e.power = scene.environment->integral() * (kPi * radius_ * radius_);
         environment_ = int(emitters_.size());
         emitters_.push_back(e);
+        // Its power stays that through the whole disc: the selection (and next event
+        // estimation's pick) does not change with the maps; its photons carry less each.
+        if (projection_maps) environment_projection_ = std::make_shared<LazyProjection>();
     }
     // A directional light's projection map, and its power then: what crosses the map's cells.
     projection_.resize(emitters_.size());
@@ -154,6 +157,13 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
     }
     if (!cdf_.empty()) cdf_.back() = 1.f;
     if (selection_ == LightSelection::Bvh) build_bvh();
+}
+
+const EnvironmentProjection* LightSet::environment_projection() const {
+    if (!environment_projection_) return nullptr;
+    LazyProjection& lazy = *environment_projection_;
+    std::call_once(lazy.once, [&] { lazy.maps.build(*scene_, center_, radius_); });
+    return lazy.maps.empty() ? nullptr : &lazy.maps;
 }
 
 uint32_t LightSet::select(float u, float& pmf) const {

@@ -9,11 +9,14 @@
 // Point and spot lights fall off with the inverse square law here; the thesis' 1/(1 + a d^2)
 // attenuation is a Whitted-model device and applies only to the `raytracer` integrator.
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
+#include "environment_projection.h"
 #include "light_bvh.h"
 #include "light_selection.h"
 #include "projection_map.h"
@@ -113,11 +116,16 @@ struct LightPickLanes {
 class LightSet {
   public:
     LightSet() = default;
-    // projection_maps: directional lights emit only over the geometry (projection_map.h).
+    // projection_maps: directional and environment lights emit only over the geometry
+    // (projection_map.h, environment_projection.h).
     explicit LightSet(const Scene& scene, LightSelection selection = LightSelection::Power,
                       bool projection_maps = true);
     // Emitter i's projection map (empty: none; directional lights only).
     const ProjectionMap& projection_map(std::size_t i) const { return projection_[i]; }
+    // The environment's projection maps (environment_projection.h), built when first asked
+    // for (by emission: a path tracer never pays for them); null without an environment, with
+    // projection maps off, or for a scene with no geometry.
+    const EnvironmentProjection* environment_projection() const;
 
     std::size_t size() const { return emitters_.size(); }
     bool empty() const { return emitters_.empty(); }
@@ -212,6 +220,11 @@ class LightSet {
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
     std::vector<ProjectionMap> projection_;  // by emitter
+    struct LazyProjection {
+        std::once_flag once;
+        EnvironmentProjection maps;
+    };
+    std::shared_ptr<LazyProjection> environment_projection_;
 };
 
 }  // namespace foton

@@ -24,17 +24,26 @@ class ProjectionMap {
     void build(const Scene& scene, const Vec3& s, const Vec3& t, const Vec3& center, float radius,
                int res = 64);
     bool empty() const { return kept_.empty(); }
+    // The map of the square of half-size `half` about `center` in the plane (s, t) for light
+    // along directions near the plane's normal: the cells the projected boxes touch, each box's
+    // projection grown by `grow` (how far another direction of the bundle can shift it).
+    void build(const std::vector<Bounds3>& boxes, const Vec3& s, const Vec3& t, const Vec3& center,
+               float half, float grow, int res);
     // A point of the kept cells, uniform over their area, in the plane's (s, t) coordinates
     // about the centre.
     Point2 sample(Point2 u) const;
     float area() const { return float(kept_.size()) * cell_ * cell_; }
+    // Whether the point q of the plane ((s, t) coordinates about the centre) is in a kept cell.
+    bool kept(Point2 q) const;
     // The kept fraction of the square (what the map saves: 1 - this of the photons).
     float coverage() const { return float(kept_.size()) / float(res_ * res_); }
 
   private:
     int res_ = 0;
     float radius_ = 0.f, cell_ = 0.f;
-    std::vector<uint32_t> kept_;  // cell indices, row-major from (-radius, -radius)
+    // Cell indices, row-major from (-radius, -radius); 16 bits (res <= 256): an environment
+    // has thousands of maps.
+    std::vector<uint16_t> kept_;
 };
 
 }  // namespace foton
