@@ -377,7 +377,9 @@ TEST_CASE("reliability: Ctrl-C keeps the image so far, a second one quits at onc
     const pid_t pid = spawn_foton({"render", test::source_path("scenes/cornell-caustics.xml"),
                                    "--integrator", "photon", "--set", "global_photons=2000000000",
                                    "--width", "8", "--height", "8", "-q", "-o", dir.file("p.exr")});
-    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    // Long enough for the handler to be installed on a loaded machine (at 800 ms the first
+    // signal once came before it, under ctest -j2, and killed the process outright).
+    std::this_thread::sleep_for(std::chrono::milliseconds(2000));
     const auto t0 = std::chrono::steady_clock::now();
     kill(pid, SIGTERM);
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
