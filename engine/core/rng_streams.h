@@ -32,6 +32,8 @@ enum RandomStream : uint64_t {
     kBidirCameraMediumStream = 0xb1d4,  // bdpt/vcm camera subpaths' free flights
     kImportonStream = 0x1e01,           // importons: their pixels and bounces
     kImportonStoreStream = 0x1e02,      // photon storage decided by the importon map
+    kMltBootstrapStream = 0x3171,       // MLT: the bootstrap's primary samples
+    kMltChainStream = 0x3172,           // MLT: chain starts, proposals and acceptance
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -56,6 +58,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kBidirLightMediumStream,
                                                      kBidirCameraMediumStream,
                                                      kImportonStream,
-                                                     kImportonStoreStream};
+                                                     kImportonStoreStream,
+                                                     kMltBootstrapStream,
+                                                     kMltChainStream};
 
 }  // namespace foton

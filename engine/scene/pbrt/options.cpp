@@ -157,7 +157,29 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
             warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
         if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
             warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
-    } else if (type == "path" || type == "volpath" || type == "simplepath" || type == "mlt" ||
+    } else if (type == "mlt") {
+        // foton's mlt is Kelemen's primary-sample-space MLT over its path tracer; pbrt-v4's
+        // mutates bidirectional paths: the same expected image, other noise.
+        warn(here, t.line,
+             "Integrator \"mlt\" is rendered with foton's mlt over path-traced paths (pbrt-v4's "
+             "mutates bdpt paths; the same expected image)");
+        renderer_.set("type", "mlt", here, t.line);
+        depth();
+        auto pass_on = [&](const char* key, const char* ours, bool integer) {
+            if (!p.has(key)) return;
+            renderer_.set(
+                ours,
+                integer ? std::to_string(p.integer(key, 0)) : std::to_string(p.real(key, 0.f)),
+                here, t.line);
+        };
+        pass_on("bootstrapsamples", "mlt_bootstrap", true);
+        pass_on("chains", "mlt_chains", true);
+        pass_on("mutationsperpixel", "spp", true);
+        pass_on("largestepprobability", "large_step", false);
+        pass_on("sigma", "mlt_sigma", false);
+        if (p.has("regularize") && p.boolean("regularize", false))
+            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+    } else if (type == "path" || type == "volpath" || type == "simplepath" ||
                type == "randomwalk" || type == "simplevolpath") {
         // volpath is foton's volpath; the other unidirectional ones its path tracer (the same
         // expected image).

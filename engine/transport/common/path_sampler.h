@@ -35,6 +35,17 @@ class PathSampler {
         s.prefix_ = rng::stream_prefix(seed, kPathStream);
         return s;
     }
+    // Numbers read from a vector of primary samples (Metropolis light transport: number k of
+    // bounce d is primary[d * kPathDimsPerBounce + k]; `count` of them, the vector outliving the
+    // sampler); past its end, counter-based numbers keyed by `path_key`.
+    static PathSampler primary(const float* primary, uint32_t count, uint64_t path_key,
+                               uint64_t seed) {
+        PathSampler s = uniform(path_key, seed);
+        s.kind_ = Kind::Primary;
+        s.primary_ = primary;
+        s.n_ = count;
+        return s;
+    }
     // A camera sample's numbers under the renderer's sampler.
     static PathSampler for_job(SamplerKind sampler, const Scene& scene, const SampleJob& job,
                                uint64_t seed) {
@@ -84,6 +95,10 @@ class PathSampler {
                 return halton::sample(i_, seed, key_, 2 + depth * kPathDimsPerBounce + k);
             case Kind::ZSobol:
                 return zsobol::sample1(z_, pair_of(depth, k), kCoord[k]);
+            case Kind::Primary: {
+                const uint64_t i = uint64_t(depth) * kPathDimsPerBounce + k;
+                return i < n_ ? primary_[i] : rng::uniform_from(prefix_, key_, i);
+            }
             case Kind::Sobol:
                 break;
         }
@@ -91,7 +106,7 @@ class PathSampler {
     }
     // Numbers k and k + 1 together (the light position, the BSDF direction): one Sobol' pair.
     Point2 get2(uint64_t seed, uint32_t depth, uint32_t k) const {
-        if (kind_ == Kind::Uniform || kind_ == Kind::Halton)
+        if (kind_ == Kind::Uniform || kind_ == Kind::Halton || kind_ == Kind::Primary)
             return {get1(seed, depth, k), get1(seed, depth, k + 1)};
         Point2 p;
         const uint32_t pair = 1 + depth * 4 + (k == kPathDimLight ? 0 : 1);
@@ -103,16 +118,17 @@ class PathSampler {
     }
 
   private:
-    enum class Kind : uint8_t { Uniform, Halton, Sobol, ZSobol };
+    enum class Kind : uint8_t { Uniform, Halton, Sobol, ZSobol, Primary };
     static constexpr uint8_t kPair[kPathDimsPerBounce] = {2, 0, 0, 2, 3, 1, 1, 3};
     static constexpr uint8_t kCoord[kPathDimsPerBounce] = {0, 0, 1, 1, 0, 0, 1, 1};
     static uint32_t pair_of(uint32_t depth, uint32_t k) { return 1 + depth * 4 + kPair[k]; }
 
     Kind kind_ = Kind::Uniform;
-    uint64_t key_ = 0;     // Uniform: the path's key; Halton, Sobol': the pixel's pattern key
-    uint64_t prefix_ = 0;  // Uniform: rng::stream_prefix(seed, kPathStream)
-    uint32_t i_ = 0, n_ = 0;
+    uint64_t key_ = 0;        // Uniform: the path's key; Halton, Sobol': the pixel's pattern key
+    uint64_t prefix_ = 0;     // Uniform: rng::stream_prefix(seed, kPathStream)
+    uint32_t i_ = 0, n_ = 0;  // Primary: n_ the vector's length
     zsobol::Index z_;
+    const float* primary_ = nullptr;
 };
 
 }  // namespace foton

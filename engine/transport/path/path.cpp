@@ -6,13 +6,13 @@
 #include "engine/core/warp.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/next_event.h"
+#include "engine/transport/common/path_sampler.h"
 #include "engine/transport/common/shadow_batch.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
 #include "engine/transport/irradiance_cache/cache_render.h"
 #include "engine/transport/run/camera_driver.h"
 #include "path_guide.h"
-#include "engine/transport/common/path_sampler.h"
 
 namespace foton {
 
@@ -285,6 +285,33 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     PathWorkspace& ws = static_cast<PathWorkspace&>(base);
     StageClock clock;
     const std::size_t n = jobs.size();
+    ws.keys.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
+    ws.samplers.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+        ws.samplers[i] =
+            PathSampler::for_job(ctx_.settings.sampler, ctx_.scene, jobs[i], ctx_.seed);
+    ws.rays.clear();
+    generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
+    start_camera_paths(ws, radiance, stats, clock);
+}
+
+void PathIntegrator::trace_camera_paths(const RayBatch& rays,
+                                        const std::vector<PathSampler>& samplers,
+                                        const std::vector<uint64_t>& keys,
+                                        IntegratorWorkspace& base, std::vector<RGB>& radiance,
+                                        RenderStats& stats) const {
+    PathWorkspace& ws = static_cast<PathWorkspace&>(base);
+    StageClock clock;
+    ws.keys = keys;
+    ws.samplers = samplers;
+    ws.rays = rays;
+    start_camera_paths(ws, radiance, stats, clock);
+}
+
+void PathIntegrator::start_camera_paths(PathWorkspace& ws, std::vector<RGB>& radiance,
+                                        RenderStats& stats, StageClock& clock) const {
+    const std::size_t n = ws.rays.size();
     radiance.assign(n, RGB{0.f});
     ws.beta.assign(n, RGB{1.f});
     ws.eta_scale.assign(n, 1.f);
@@ -295,16 +322,8 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     ws.p_prev.assign(n, Vec3{});
     ws.n_prev.assign(n, Vec3{});
     ws.path_length.assign(n, 0.f);
-    ws.keys.resize(n);
-    for (std::size_t i = 0; i < n; ++i) ws.keys[i] = jobs[i].id;
-    ws.samplers.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-        ws.samplers[i] =
-            PathSampler::for_job(ctx_.settings.sampler, ctx_.scene, jobs[i], ctx_.seed);
     ws.first_depth = 0;
     if (cache_) ws.cache.begin(cache_->levels(), cache_->bounds(), cache_->params());
-    ws.rays.clear();
-    generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
     stats.camera_rays += n;
     stats.add(Stage::Generate, n, clock);
     run(ws, radiance, nullptr, stats, clock);

@@ -25,11 +25,11 @@
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/kernel_materials.h"
 #include "engine/transport/common/mis.h"
+#include "engine/transport/common/path_sampler.h"
 #include "engine/transport/common/radiance_along_rays.h"
 #include "engine/transport/irradiance_cache/cache_evaluator.h"
 #include "engine/transport/run/render_context.h"
 #include "engine/transport/run/render_options.h"
-#include "engine/transport/common/path_sampler.h"
 
 namespace foton {
 
@@ -116,6 +116,12 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
     }
     void trace_phase(uint32_t phase, const std::vector<SampleJob>& jobs, IntegratorWorkspace& ws,
                      std::vector<RGB>& radiance, RenderStats& stats) const override;
+    // Paths from camera rays made elsewhere (ids 0..n-1), with their samplers and keys: what
+    // trace_phase does once it has made them (Metropolis light transport drives it with
+    // primary-sample vectors, path_sampler.h).
+    void trace_camera_paths(const RayBatch& rays, const std::vector<PathSampler>& samplers,
+                            const std::vector<uint64_t>& keys, IntegratorWorkspace& ws,
+                            std::vector<RGB>& radiance, RenderStats& stats) const;
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
     // rays); see RadianceAlongRays.
     void radiance_along(const RayBatch& rays, const std::vector<uint64_t>& keys,
@@ -123,6 +129,9 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
                         RenderStats& stats) const override;
 
   private:
+    // The camera paths of ws.rays (ids = slots), with ws.samplers and ws.keys set.
+    void start_camera_paths(PathWorkspace& ws, std::vector<RGB>& radiance, RenderStats& stats,
+                            StageClock& clock) const;
     // A bounce: the Lambertian hits through the SIMD kernel, the others one at a time.
     void shade(uint32_t depth, PathWorkspace& ws, std::vector<RGB>& radiance) const;
     void shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& ws,

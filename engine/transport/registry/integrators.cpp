@@ -7,6 +7,7 @@
 #include "engine/transport/ao/ao.h"
 #include "engine/transport/bidir/vcm_render.h"
 #include "engine/transport/light/light_render.h"
+#include "engine/transport/mlt/mlt.h"
 #include "engine/transport/path/path.h"
 #include "engine/transport/photon/photon_render.h"
 #include "engine/transport/photon/sppm.h"
@@ -47,6 +48,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia, parse_volpath, render_volpath},
         {"vpm", {"volumetric_photons"}, "volumetric photon mapping, progressive (media)", kCapLightSelection | kCapMedia, parse_vpm, render_vpm},
         {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
+        {"mlt", {"pssmlt"}, "Metropolis light transport in primary sample space (Kelemen 2002) over the path tracer", kCapLightSelection, parse_mlt, render_mlt},
     };
     // clang-format on
     return table;
