@@ -39,7 +39,7 @@ TEST_CASE("MLT converges to the path tracer's image on the Cornell boxes", "[mlt
         // fell 2-3 % short on all three boxes with seed 3 (1,000,000: within 0.2 %).
         m.bootstrap = 1000000;
         s.render.own = m;
-        const RenderResult mlt = render_with(s, "mlt", 256, 0, 3);
+        const RenderResult mlt = render_with(s, "mlt", 1024, 0, 3);
         s.render.own = {};
         const RenderResult path = render_with(s, "path", 1024, 0, 3);
         const ImageError e = compare_images(mlt.film, path.film);
@@ -49,7 +49,7 @@ TEST_CASE("MLT converges to the path tracer's image on the Cornell boxes", "[mlt
         CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.01));
         CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.01));
         CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(0.01));
-        CHECK(mlt.stats.samples == 1000000 + 256ull * 32 * 32);
+        CHECK(mlt.stats.samples == 1000000 + 1024ull * 32 * 32);
     }
 }
 

@@ -18,6 +18,7 @@
 #include "engine/core/sobol.h"
 #include "engine/core/zsobol.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/primary_vector.h"
 
 namespace foton {
 
@@ -35,15 +36,15 @@ class PathSampler {
         s.prefix_ = rng::stream_prefix(seed, kPathStream);
         return s;
     }
-    // Numbers read from a vector of primary samples (Metropolis light transport: number k of
-    // bounce d is primary[d * kPathDimsPerBounce + k]; `count` of them, the vector outliving the
-    // sampler); past its end, counter-based numbers keyed by `path_key`.
-    static PathSampler primary(const float* primary, uint32_t count, uint64_t path_key,
+    // Numbers of a Markov chain's primary-sample vector (Metropolis light transport: number k
+    // of bounce d is v[offset + d * kPathDimsPerBounce + k], made as the path reads it,
+    // primary_vector.h); the vector outlives the sampler and only this path reads it.
+    static PathSampler primary(PrimaryVector* v, uint32_t offset, uint64_t path_key,
                                uint64_t seed) {
         PathSampler s = uniform(path_key, seed);
         s.kind_ = Kind::Primary;
-        s.primary_ = primary;
-        s.n_ = count;
+        s.primary_ = v;
+        s.n_ = offset;
         return s;
     }
     // A camera sample's numbers under the renderer's sampler.
@@ -95,10 +96,8 @@ class PathSampler {
                 return halton::sample(i_, seed, key_, 2 + depth * kPathDimsPerBounce + k);
             case Kind::ZSobol:
                 return zsobol::sample1(z_, pair_of(depth, k), kCoord[k]);
-            case Kind::Primary: {
-                const uint64_t i = uint64_t(depth) * kPathDimsPerBounce + k;
-                return i < n_ ? primary_[i] : rng::uniform_from(prefix_, key_, i);
-            }
+            case Kind::Primary:
+                return primary_->get(n_ + depth * kPathDimsPerBounce + k);
             case Kind::Sobol:
                 break;
         }
@@ -126,9 +125,9 @@ class PathSampler {
     Kind kind_ = Kind::Uniform;
     uint64_t key_ = 0;        // Uniform: the path's key; Halton, Sobol': the pixel's pattern key
     uint64_t prefix_ = 0;     // Uniform: rng::stream_prefix(seed, kPathStream)
-    uint32_t i_ = 0, n_ = 0;  // Primary: n_ the vector's length
+    uint32_t i_ = 0, n_ = 0;  // Primary: n_ the path's first number in the vector
     zsobol::Index z_;
-    const float* primary_ = nullptr;
+    PrimaryVector* primary_ = nullptr;
 };
 
 }  // namespace foton

@@ -40,7 +40,8 @@ struct Scratch {
     std::vector<PathSampler> samplers;
     std::vector<uint64_t> keys;
     std::vector<RGB> radiance;
-    std::vector<float> x;  // vectors being made (bootstrap, proposals)
+    std::vector<PrimaryVector> boot;  // a bootstrap batch's vectors
+    std::vector<PrimaryVector*> v;    // the batch being traced
     RenderStats stats;
 };
 
@@ -52,25 +53,25 @@ class PrimaryPaths {
     uint32_t dims() const { return dims_; }
     std::unique_ptr<IntegratorWorkspace> make_workspace() const { return path_.make_workspace(); }
 
-    // The radiance and pixel of n vectors (x: n * dims numbers; keys: what keys the numbers
-    // past a vector's end, never reached within max_depth).
-    void evaluate(const float* x, const uint64_t* keys, std::size_t n, Scratch& s, RGB* L,
+    // The radiance and pixel of n vectors (their film position and lens, then the path's
+    // numbers, read as the path asks for them); keys: what keys numbers past a vector's end.
+    void evaluate(PrimaryVector* const* v, const uint64_t* keys, std::size_t n, Scratch& s, RGB* L,
                   uint32_t* pixel) const {
         const FilmSettings& film = ctx_.scene.film;
         s.rays.clear();
         s.samplers.resize(n);
         s.keys.assign(keys, keys + n);
         for (std::size_t i = 0; i < n; ++i) {
-            const float* v = x + i * dims_;
-            const float fx = v[0] * float(film.width), fy = v[1] * float(film.height);
+            const float fx = v[i]->get(0) * float(film.width),
+                        fy = v[i]->get(1) * float(film.height);
             const int px = std::min(int(fx), film.width - 1),
                       py = std::min(int(fy), film.height - 1);
             pixel[i] = uint32_t(py) * uint32_t(film.width) + uint32_t(px);
             Vec3 o, d;
-            ctx_.scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy, {v[2], v[3]}, o,
-                                       d);
+            ctx_.scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy,
+                                       {v[i]->get(2), v[i]->get(3)}, o, d);
             s.rays.push(o, d, 0.f, kInfinity, uint32_t(i));
-            s.samplers[i] = PathSampler::primary(v + 4, dims_ - 4, keys[i], ctx_.seed);
+            s.samplers[i] = PathSampler::primary(v[i], 4, keys[i], ctx_.seed);
         }
         path_.trace_camera_paths(s.rays, s.samplers, s.keys, *s.ws, s.radiance, s.stats);
         for (std::size_t i = 0; i < n; ++i)
@@ -117,13 +118,15 @@ class Chains {
             Scratch& s = scratch.local();
             const uint64_t i0 = bi * kBootstrapBatch;
             const uint64_t n = std::min<uint64_t>(kBootstrapBatch, nb - i0);
-            s.x.resize(n * dims_);
+            s.boot.resize(n);
+            s.v.resize(n);
             std::vector<uint64_t> keys(n);
             for (uint64_t j = 0; j < n; ++j) {
-                for (uint32_t k = 0; k < dims_; ++k) s.x[j * dims_ + k] = boot_number(i0 + j, k);
-                keys[j] = rng::hash(seed_, kMltBootstrapStream, i0 + j, ~0ull);
+                keys[j] = boot_key(i0 + j);
+                s.boot[j].reset(dims_, chain_prefix_, keys[j], ms_.sigma);
+                s.v[j] = &s.boot[j];
             }
-            paths_.evaluate(s.x.data(), keys.data(), n, s, &boot_L_[i0], &boot_pixel_[i0]);
+            paths_.evaluate(s.v.data(), keys.data(), n, s, &boot_L_[i0], &boot_pixel_[i0]);
         });
     }
 
@@ -136,13 +139,13 @@ class Chains {
         n_f_ = nb;
         if (!(sum_f_ > 0.0)) return false;
         const uint32_t chains = ms_.chains;
-        x_.resize(std::size_t(chains) * dims_);
+        vectors_.resize(chains);
         state_.resize(chains);
         for (uint32_t c = 0; c < chains; ++c) {
             const double u = double(rng::uniform(seed_, kMltChainStream, c, 0)) * sum_f_;
             const uint64_t j = std::min<uint64_t>(
                 nb - 1, uint64_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()));
-            for (uint32_t k = 0; k < dims_; ++k) x_[std::size_t(c) * dims_ + k] = boot_number(j, k);
+            vectors_[c].reset(dims_, chain_prefix_, boot_key(j), ms_.sigma);
             state_[c] = {boot_L_[j], target(boot_L_[j]), boot_pixel_[j]};
         }
         splats_.resize(2 * std::size_t(chains));
@@ -157,29 +160,32 @@ class Chains {
         tbb::parallel_for(uint32_t(0), groups, [&](uint32_t g) {
             Scratch& s = scratch.local();
             const uint32_t c0 = g * kGroupChains, n = std::min(kGroupChains, chains - c0);
-            s.x.resize(std::size_t(n) * dims_);
+            s.v.resize(n);
             std::vector<uint64_t> keys(n);
-            std::vector<uint8_t> large(n);
             for (uint32_t j = 0; j < n; ++j) {
                 keys[j] = rng::hash(seed_, kMltChainStream, c0 + j, t + 1);
-                large[j] = propose(keys[j], &x_[std::size_t(c0 + j) * dims_],
-                                   &s.x[std::size_t(j) * dims_]);
+                large_f_[c0 + j] = -1.f;
+                PrimaryVector& v = vectors_[c0 + j];
+                v.step(rng::uniform_from(chain_prefix_, keys[j], 0) < ms_.large_step, keys[j]);
+                s.v[j] = &v;
             }
             std::vector<RGB> L(n);
             std::vector<uint32_t> pixel(n);
-            paths_.evaluate(s.x.data(), keys.data(), n, s, L.data(), pixel.data());
+            paths_.evaluate(s.v.data(), keys.data(), n, s, L.data(), pixel.data());
             // Acceptance, and both states' expected-value splats.
             for (uint32_t j = 0; j < n; ++j) {
                 const uint32_t c = c0 + j;
                 ChainState& cur = state_[c];
                 const float fy = target(L[j]);
-                large_f_[c] = large[j] ? fy : -1.f;
+                if (vectors_[c].large()) large_f_[c] = fy;
                 const float a = cur.f > 0.f ? std::min(1.f, fy / cur.f) : 1.f;
                 splats_[2 * c] = {pixel[j], fy > 0.f ? L[j] * (a / fy) : RGB{}};
                 splats_[2 * c + 1] = {cur.pixel, cur.f > 0.f ? cur.L * ((1.f - a) / cur.f) : RGB{}};
-                if (rng::uniform(seed_, kMltChainStream, keys[j], 1) < a) {
+                if (rng::uniform_from(chain_prefix_, keys[j], 1) < a) {
                     cur = {L[j], fy, pixel[j]};
-                    std::copy_n(&s.x[std::size_t(j) * dims_], dims_, &x_[std::size_t(c) * dims_]);
+                    vectors_[c].accept();
+                } else {
+                    vectors_[c].reject();
                 }
             }
         });
@@ -216,43 +222,17 @@ class Chains {
     uint64_t steps() const { return steps_; }
 
   private:
-    float boot_number(uint64_t i, uint32_t k) const {
-        return rng::uniform_from(boot_prefix_, i, k);
-    }
-    // Chain vector `from`'s proposal into `to`: fresh with probability large_step, else every
-    // number moved by a Gaussian of width sigma, wrapped into [0, 1). True for a large step.
-    bool propose(uint64_t key, const float* from, float* to) const {
-        // uniform_from with the stream's prefix made once: rng::uniform's numbers, cheaper.
-        auto u = [&](uint32_t dim) { return rng::uniform_from(chain_prefix_, key, dim); };
-        const bool large = u(0) < ms_.large_step;
-        if (large) {
-            for (uint32_t k = 0; k < dims_; ++k) to[k] = u(2 + k);
-            return true;
-        }
-        // Box-Muller: two Gaussians from each pair of uniforms.
-        auto move = [&](uint32_t k, float n) {
-            float v = from[k] + ms_.sigma * n;
-            v -= std::floor(v);
-            to[k] = std::min(v, 0x1.fffffep-1f);
-        };
-        for (uint32_t k = 0; k < dims_; k += 2) {
-            const float r = std::sqrt(-2.f * std::log(std::max(u(2 + k), 1e-30f)));
-            const float phi = 2.f * float(kPi) * u(3 + k);
-            move(k, r * std::cos(phi));
-            if (k + 1 < dims_) move(k + 1, r * std::sin(phi));
-        }
-        return large;
-    }
+    // Bootstrap vector i's key: its numbers are the fresh values of it.
+    uint64_t boot_key(uint64_t i) const { return rng::hash(seed_, kMltBootstrapStream, i, 0); }
 
     const PrimaryPaths& paths_;
     const MltSettings ms_;
     const uint64_t seed_;
     const uint32_t dims_;
     const uint64_t chain_prefix_ = rng::stream_prefix(seed_, kMltChainStream);
-    const uint64_t boot_prefix_ = rng::stream_prefix(seed_, kMltBootstrapStream);
     std::vector<RGB> boot_L_;
     std::vector<uint32_t> boot_pixel_;
-    std::vector<float> x_;  // every chain's vector
+    std::vector<PrimaryVector> vectors_;  // every chain's state
     std::vector<ChainState> state_;
     std::vector<Splat> splats_;   // the step's: two per chain
     std::vector<float> large_f_;  // the step's large steps' f (-1: a small step)
@@ -292,6 +272,10 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
         s.ws = paths.make_workspace();
         return s;
     });
+    // The clock (and --time's budget) starts before the bootstrap.
+    RenderOptions pass_opt = opt;
+    if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f)) pass_opt.max_passes = 1;
+    PassControl control(pass_opt);
     Chains chains(paths, ms, opt.seed, npix);
     // The graph: the bootstrap once, then per step the proposals and their splats.
     StageGraph graph;
@@ -316,9 +300,6 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     // A pass is --spp mutations per pixel; passes as the other integrators count them.
     const uint64_t per_pass =
         (std::max<uint64_t>(1, uint64_t(opt.spp) * npix) + ms.chains - 1) / ms.chains;
-    RenderOptions pass_opt = opt;
-    if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f)) pass_opt.max_passes = 1;
-    PassControl control(pass_opt);
     const ProgressTask task = control.task("mlt mutations", per_pass);
     auto image = [&] {
         Film f(w, h);
