@@ -28,13 +28,13 @@ constexpr uint32_t kGroupChains = 256;     // the chains one task steps as one b
 constexpr uint32_t kBootstrapBatch = 256;  // bootstrap vectors traced as one batch
 
 // The row's parse leaves MltSettings in `own`; settings made by hand take the defaults.
-MltSettings own_settings(const RenderSettings& settings) {
+MltSettings mlt_settings_of(const RenderSettings& settings) {
     const MltSettings* m = std::any_cast<MltSettings>(&settings.own);
     return m ? *m : MltSettings{};
 }
 
 // A thread's buffers for tracing a batch of primary vectors.
-struct Scratch {
+struct MltScratch {
     std::unique_ptr<IntegratorWorkspace> ws;
     RayBatch rays;
     std::vector<PathSampler> samplers;
@@ -55,7 +55,7 @@ class PrimaryPaths {
 
     // The radiance and pixel of n vectors (their film position and lens, then the path's
     // numbers, read as the path asks for them); keys: what keys numbers past a vector's end.
-    void evaluate(PrimaryVector* const* v, const uint64_t* keys, std::size_t n, Scratch& s, RGB* L,
+    void evaluate(PrimaryVector* const* v, const uint64_t* keys, std::size_t n, MltScratch& s, RGB* L,
                   uint32_t* pixel) const {
         const FilmSettings& film = ctx_.scene.film;
         s.rays.clear();
@@ -85,7 +85,7 @@ class PrimaryPaths {
 };
 
 // The target function: the luminance of a path's radiance (0 for none or negative).
-float target(const RGB& L) {
+float mlt_target(const RGB& L) {
     return std::max(0.f, L.luminance());
 }
 
@@ -97,7 +97,7 @@ struct ChainState {
 };
 
 // A state's radiance added to its pixel with a weight.
-struct Splat {
+struct ChainSplat {
     uint32_t pixel = 0;
     RGB value;
 };
@@ -109,13 +109,13 @@ class Chains {
         : paths_(paths), ms_(ms), seed_(seed), dims_(paths.dims()), acc_(3 * pixels, 0.0) {}
 
     // Traces the bootstrap's vectors (in batches over the threads of the calling arena).
-    void bootstrap(tbb::enumerable_thread_specific<Scratch>& scratch) {
+    void bootstrap(tbb::enumerable_thread_specific<MltScratch>& scratch) {
         const uint64_t nb = ms_.bootstrap;
         boot_L_.resize(nb);
         boot_pixel_.resize(nb);
         const uint64_t batches = (nb + kBootstrapBatch - 1) / kBootstrapBatch;
         tbb::parallel_for(uint64_t(0), batches, [&](uint64_t bi) {
-            Scratch& s = scratch.local();
+            MltScratch& s = scratch.local();
             const uint64_t i0 = bi * kBootstrapBatch;
             const uint64_t n = std::min<uint64_t>(kBootstrapBatch, nb - i0);
             s.boot.resize(n);
@@ -135,7 +135,7 @@ class Chains {
     bool start() {
         const uint64_t nb = ms_.bootstrap;
         std::vector<double> cdf(nb);
-        for (uint64_t i = 0; i < nb; ++i) cdf[i] = sum_f_ += double(target(boot_L_[i]));
+        for (uint64_t i = 0; i < nb; ++i) cdf[i] = sum_f_ += double(mlt_target(boot_L_[i]));
         n_f_ = nb;
         if (!(sum_f_ > 0.0)) return false;
         const uint32_t chains = ms_.chains;
@@ -146,7 +146,7 @@ class Chains {
             const uint64_t j = std::min<uint64_t>(
                 nb - 1, uint64_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()));
             vectors_[c].reset(dims_, chain_prefix_, boot_key(j), ms_.sigma);
-            state_[c] = {boot_L_[j], target(boot_L_[j]), boot_pixel_[j]};
+            state_[c] = {boot_L_[j], mlt_target(boot_L_[j]), boot_pixel_[j]};
         }
         splats_.resize(2 * std::size_t(chains));
         large_f_.resize(chains);
@@ -154,11 +154,11 @@ class Chains {
     }
 
     // Step `t` of every chain: proposals traced in groups over the threads, accepted or not.
-    void step(uint64_t t, tbb::enumerable_thread_specific<Scratch>& scratch) {
+    void step(uint64_t t, tbb::enumerable_thread_specific<MltScratch>& scratch) {
         const uint32_t chains = ms_.chains;
         const uint32_t groups = (chains + kGroupChains - 1) / kGroupChains;
         tbb::parallel_for(uint32_t(0), groups, [&](uint32_t g) {
-            Scratch& s = scratch.local();
+            MltScratch& s = scratch.local();
             const uint32_t c0 = g * kGroupChains, n = std::min(kGroupChains, chains - c0);
             s.v.resize(n);
             std::vector<uint64_t> keys(n);
@@ -176,7 +176,7 @@ class Chains {
             for (uint32_t j = 0; j < n; ++j) {
                 const uint32_t c = c0 + j;
                 ChainState& cur = state_[c];
-                const float fy = target(L[j]);
+                const float fy = mlt_target(L[j]);
                 if (vectors_[c].large()) large_f_[c] = fy;
                 const float a = cur.f > 0.f ? std::min(1.f, fy / cur.f) : 1.f;
                 splats_[2 * c] = {pixel[j], fy > 0.f ? L[j] * (a / fy) : RGB{}};
@@ -199,7 +199,7 @@ class Chains {
                 sum_f_ += double(f);
                 ++n_f_;
             }
-        for (const Splat& sp : splats_) {
+        for (const ChainSplat& sp : splats_) {
             double* p = &acc_[3 * std::size_t(sp.pixel)];
             p[0] += sp.value.r;
             p[1] += sp.value.g;
@@ -234,7 +234,7 @@ class Chains {
     std::vector<uint32_t> boot_pixel_;
     std::vector<PrimaryVector> vectors_;  // every chain's state
     std::vector<ChainState> state_;
-    std::vector<Splat> splats_;   // the step's: two per chain
+    std::vector<ChainSplat> splats_;   // the step's: two per chain
     std::vector<float> large_f_;  // the step's large steps' f (-1: a small step)
     double sum_f_ = 0.0;          // f summed over the bootstrap and the large steps
     uint64_t n_f_ = 0;
@@ -259,7 +259,7 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
         throw InputError(scene.source, 0,
                          "type=\"mlt\" runs in one process (its chains' splats are summed in one "
                          "order); run it without mpirun");
-    const MltSettings ms = own_settings(settings);
+    const MltSettings ms = mlt_settings_of(settings);
     const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     const PrimaryPaths paths(ctx, 4 + (settings.max_depth + 1) * kPathDimsPerBounce);
@@ -267,8 +267,8 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     const std::size_t npix = std::size_t(w) * std::size_t(h);
     const int threads = resolve_threads(opt.threads);
     PinnedArena arena(threads);
-    tbb::enumerable_thread_specific<Scratch> scratch([&] {
-        Scratch s;
+    tbb::enumerable_thread_specific<MltScratch> scratch([&] {
+        MltScratch s;
         s.ws = paths.make_workspace();
         return s;
     });
@@ -320,7 +320,7 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     result.film = image();
     result.samples_per_pixel.assign(npix, uint32_t(chains.steps() * ms.chains / npix));
     RenderStats stats;
-    for (const Scratch& s : scratch) stats.merge(s.stats);
+    for (const MltScratch& s : scratch) stats.merge(s.stats);
     stats.samples = ms.bootstrap + chains.steps() * ms.chains;
     stats.passes = passes;
     stats.threads = threads;
