@@ -44,16 +44,18 @@ double hit_fraction(const Scene& scene, const LightSet& lights, uint32_t n) {
     RayBatch rays;
     for (uint32_t i = 0; i < n; ++i) {
         EmittedRay er;
-        REQUIRE(lights.sample_ray(
-            rng::uniform(3, 0, i, 0), {rng::uniform(3, 0, i, 1), rng::uniform(3, 0, i, 2)},
-            {rng::uniform(3, 0, i, 3), rng::uniform(3, 0, i, 4)}, rng::uniform(3, 0, i, 5), er));
+        // A sample that carries no light (a spot's direction past its cone) misses.
+        if (!lights.sample_ray(
+                rng::uniform(3, 0, i, 0), {rng::uniform(3, 0, i, 1), rng::uniform(3, 0, i, 2)},
+                {rng::uniform(3, 0, i, 3), rng::uniform(3, 0, i, 4)}, rng::uniform(3, 0, i, 5), er))
+            continue;
         rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
     }
     HitBatch hits;
     TraceCounters ts;
     accel->intersect(rays, hits, ts);
     uint32_t hit = 0;
-    for (uint32_t i = 0; i < n; ++i) hit += hits.geom[i] != kNoHit;
+    for (uint32_t i = 0; i < rays.size(); ++i) hit += hits.geom[i] != kNoHit;
     return double(hit) / n;
 }
 
@@ -174,5 +176,89 @@ TEST_CASE("environment projection maps: photon mapping and light tracing keep th
         CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
         CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
         CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(0.02));
+    }
+}
+
+namespace {
+
+// The floor and spheres lit by a point light, or by a wide spot, above them.
+std::string point_scene(bool spot) {
+    std::string s = kScene;
+    const std::size_t a = s.find("<directional"), b = s.find("</lights>");
+    const std::string light =
+        spot ? R"(<spot intensity="6" angle="70"><color r="1" g="0.9" b="0.8"/>)"
+               R"(<position x="0.3" y="3" z="-0.5"/><target x="0" y="0" z="0"/></spot>)"
+             : R"(<point intensity="6"><color r="1" g="0.9" b="0.8"/>)"
+               R"(<position x="0.3" y="3" z="-0.5"/></point>)";
+    return s.replace(a, b - a, light);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "point and spot projection maps: photons leave only towards the geometry, and every "
+    "direction that reaches it is kept",
+    "[photon][projection][point]") {
+    for (const bool spot : {false, true}) {
+        INFO((spot ? "spot" : "point"));
+        const TestScene scene = parse_scene(point_scene(spot), "p.xml", ".");
+        const LightSet with(scene, LightSelection::Power, true),
+            without(scene, LightSelection::Power, false);
+        REQUIRE(with.size() == 1);
+        REQUIRE(without.direction_projection(0) == nullptr);
+        const DirectionProjection* maps = with.direction_projection(0);
+        REQUIRE(maps != nullptr);
+        const double f_with = hit_fraction(scene, with, 40000);
+        const double f_without = hit_fraction(scene, without, 40000);
+        INFO("hit fraction with the map " << f_with << ", without " << f_without
+                                          << ", kept solid angle " << maps->kept_fraction());
+        CHECK(f_with >= 0.75);
+        CHECK(f_with > 1.3 * f_without);
+        // Conservative: every direction of the light's own sampling that hits geometry has a
+        // density under the map; and a drawn direction's density is pdf_le's.
+        const auto accel = make_intersector(scene, scene.accel);
+        RayBatch rays;
+        for (uint32_t i = 0; i < 40000; ++i) {
+            EmittedRay er;
+            if (!without.sample_ray(0.5f, {0.5f, 0.5f},
+                                    {rng::uniform(8, 0, i, 0), rng::uniform(8, 0, i, 1)}, 0.f, er))
+                continue;
+            rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
+        }
+        HitBatch hits;
+        TraceCounters ts;
+        accel->intersect(rays, hits, ts);
+        uint32_t hit = 0, covered = 0;
+        for (uint32_t r = 0; r < rays.size(); ++r) {
+            if (hits.geom[r] == kNoHit) continue;
+            ++hit;
+            covered += maps->pdf(rays.direction(r)) > 0.f;
+        }
+        REQUIRE(hit > 1000);
+        CHECK(covered == hit);
+        for (uint32_t i = 0; i < 200; ++i) {
+            EmittedRay er;
+            if (!with.sample_ray(0.5f, {0.5f, 0.5f},
+                                 {rng::uniform(9, 0, i, 0), rng::uniform(9, 0, i, 1)}, 0.f, er))
+                continue;
+            float pdf_pos, pdf_dir;
+            with.pdf_le(0, {}, er.emission.dir, pdf_pos, pdf_dir);
+            CHECK(pdf_dir == Approx(er.emission.pdf_dir).epsilon(1e-3));
+        }
+        // Photon mapping's and the light tracer's images keep their means.
+        TestScene s = parse_scene(point_scene(spot), "p.xml", ".");
+        for (const char* type : {"photon", "light"}) {
+            INFO(type);
+            s.render.integrator = type;
+            const uint32_t spp = std::string(type) == "light" ? 128 : 16;
+            s.render.projection_maps = true;
+            const Film a = render_test(s, spp, 0, 5).film;
+            s.render.projection_maps = false;
+            const Film b = render_test(s, spp, 0, 5).film;
+            const ImageError e = compare_images(a, b);
+            INFO("means " << e.mean_a.g << " with the map, " << e.mean_b.g << " without");
+            CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
+            CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
+        }
     }
 }

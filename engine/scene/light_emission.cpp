@@ -29,18 +29,28 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
         case EmitterType::Point:
             s.p = e.p;
             s.n = {};
-            s.dir = warp::uniform_sphere(u_dir);
             s.pdf_pos = 1.f;
-            s.pdf_dir = warp::kUniformSpherePdf;
             s.Le = e.value;
+            // Towards geometry only, with projection maps (direction_projection.h).
+            if (const DirectionProjection* maps = direction_projection(i)) {
+                s.dir = maps->sample(u_dir, s.pdf_dir);
+                return s.pdf_dir > 0.f;
+            }
+            s.dir = warp::uniform_sphere(u_dir);
+            s.pdf_dir = warp::kUniformSpherePdf;
             return true;
         case EmitterType::Spot: {
-            const warp::Frame fr(e.n);
-            const Vec3 local = warp::uniform_cone(u_dir, e.cos_outer);
             s.p = e.p;
             s.n = {};
-            s.dir = fr.to_world(local);
             s.pdf_pos = 1.f;
+            if (const DirectionProjection* maps = direction_projection(i)) {
+                s.dir = maps->sample(u_dir, s.pdf_dir);
+                s.Le = e.value * e.spot_falloff(dot(s.dir, e.n));
+                return s.pdf_dir > 0.f && !s.Le.is_black();
+            }
+            const warp::Frame fr(e.n);
+            const Vec3 local = warp::uniform_cone(u_dir, e.cos_outer);
+            s.dir = fr.to_world(local);
             s.pdf_dir = warp::uniform_cone_pdf(e.cos_outer);
             s.Le = e.value * e.spot_falloff(local.z);
             return !s.Le.is_black();
@@ -123,10 +133,16 @@ void LightSet::pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_po
     pdf_dir = 0.f;
     switch (e.type) {
         case EmitterType::Point:
-            pdf_dir = warp::kUniformSpherePdf;
+            if (const DirectionProjection* maps = direction_projection(i))
+                pdf_dir = maps->pdf(dir);
+            else
+                pdf_dir = warp::kUniformSpherePdf;
             return;
         case EmitterType::Spot:
-            pdf_dir = dot(dir, e.n) >= e.cos_outer ? warp::uniform_cone_pdf(e.cos_outer) : 0.f;
+            if (const DirectionProjection* maps = direction_projection(i))
+                pdf_dir = maps->pdf(dir);
+            else
+                pdf_dir = dot(dir, e.n) >= e.cos_outer ? warp::uniform_cone_pdf(e.cos_outer) : 0.f;
             return;
         case EmitterType::Environment: {
             // Light arrives only where geometry is: through a kept cell of -dir's bin.

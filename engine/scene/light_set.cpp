@@ -137,6 +137,11 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
         // estimation's pick) does not change with the maps; its photons carry less each.
         if (projection_maps) environment_projection_ = std::make_shared<LazyProjection>();
     }
+    // Point and spot lights' maps, built on first emission.
+    direction_projection_.resize(emitters_.size());
+    for (std::size_t i = 0; i < emitters_.size() && projection_maps; ++i)
+        if (emitters_[i].type == EmitterType::Point || emitters_[i].type == EmitterType::Spot)
+            direction_projection_[i] = std::make_shared<LazyDirections>();
     // A directional light's projection map, and its power then: what crosses the map's cells.
     projection_.resize(emitters_.size());
     for (std::size_t i = 0; i < emitters_.size() && projection_maps; ++i) {
@@ -163,6 +168,16 @@ const EnvironmentProjection* LightSet::environment_projection() const {
     if (!environment_projection_) return nullptr;
     LazyProjection& lazy = *environment_projection_;
     std::call_once(lazy.once, [&] { lazy.maps.build(*scene_, center_, radius_); });
+    return lazy.maps.empty() ? nullptr : &lazy.maps;
+}
+
+const DirectionProjection* LightSet::direction_projection(std::size_t i) const {
+    if (i >= direction_projection_.size() || !direction_projection_[i]) return nullptr;
+    LazyDirections& lazy = *direction_projection_[i];
+    const Emitter& e = emitters_[i];
+    std::call_once(lazy.once, [&] {
+        lazy.maps.build(*scene_, e.p, e.n, e.type == EmitterType::Spot ? e.cos_outer : -2.f);
+    });
     return lazy.maps.empty() ? nullptr : &lazy.maps;
 }
 

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <vector>
 
+#include "direction_projection.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
@@ -126,6 +127,9 @@ class LightSet {
     // for (by emission: a path tracer never pays for them); null without an environment, with
     // projection maps off, or for a scene with no geometry.
     const EnvironmentProjection* environment_projection() const;
+    // Point or spot light i's map of the directions towards geometry (direction_projection.h),
+    // built when first asked for; null for other lights or with projection maps off.
+    const DirectionProjection* direction_projection(std::size_t i) const;
 
     std::size_t size() const { return emitters_.size(); }
     bool empty() const { return emitters_.empty(); }
@@ -225,6 +229,11 @@ class LightSet {
         EnvironmentProjection maps;
     };
     std::shared_ptr<LazyProjection> environment_projection_;
+    struct LazyDirections {
+        std::once_flag once;
+        DirectionProjection maps;
+    };
+    std::vector<std::shared_ptr<LazyDirections>> direction_projection_;  // by emitter
 };
 
 }  // namespace foton

@@ -7,8 +7,6 @@
 
 namespace foton {
 
-namespace {
-
 // The convex hull of points, counter-clockwise (Andrew's monotone chain).
 std::vector<Point2> convex_hull(std::vector<Point2> p) {
     std::sort(p.begin(), p.end(), [](const Point2& a, const Point2& b) {
@@ -61,8 +59,6 @@ void mark_convex(const std::vector<Point2>& hull, float grow, int res, float hal
             if (!separated) mark[std::size_t(j) * std::size_t(res) + std::size_t(i)] = 1;
         }
 }
-
-}  // namespace
 
 void ProjectionMap::build(const Scene& scene, const Vec3& s, const Vec3& t, const Vec3& center,
                           float radius, int res) {

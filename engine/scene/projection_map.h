@@ -17,6 +17,14 @@ namespace foton {
 
 struct Scene;
 
+// The convex hull of 2D points, counter-clockwise (Andrew's monotone chain).
+std::vector<Point2> convex_hull(std::vector<Point2> points);
+// Marks the cells of `mark` (res x res, of side `cell` from (-half, -half)) that the convex
+// polygon `hull` (counter-clockwise; with fewer than 3 points, its box) overlaps, each cell grown
+// by `grow` on every side.
+void mark_convex(const std::vector<Point2>& hull, float grow, int res, float half, float cell,
+                 std::vector<uint8_t>& mark);
+
 class ProjectionMap {
   public:
     // The map for light travelling along unit `dir` over the sphere (center, radius), in the
