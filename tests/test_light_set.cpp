@@ -156,7 +156,9 @@ TEST_CASE("chi-square: next event estimation samples every area light as pdf_li 
 TEST_CASE("chi-square: emitted directions of point, spot, rectangle and two-sided lights",
           "[light]") {
     const Scene scene = light_scene();
-    const LightSet ls(scene);
+    // The lights' own emission, without projection maps (their test: test_projection_map.cpp;
+    // the mapped point light's directions are tested against its map's density below).
+    const LightSet ls(scene, LightSelection::Power, false);
     struct Case {
         EmitterType type;
         Vec3 axis;
@@ -211,11 +213,40 @@ TEST_CASE("chi-square: emitted directions of point, spot, rectangle and two-side
         INFO(emitter_name(c.type) << ": " << r.summary());
         CHECK(r.p_value > 1e-4);
     }
+    // With projection maps a point light draws its directions by the map's density.
+    const LightSet mapped(scene);
+    const uint32_t li = uint32_t(find(mapped, EmitterType::Point));
+    if (mapped.direction_projection(li)) {
+        test::ChiSquareSetup setup;
+        setup.axis = {0, 0, 1};
+        setup.samples = 100000;
+        const auto r = test::chi_square(
+            setup,
+            [&](int i, Vec3& w) {
+                EmissionSample s;
+                if (!mapped.sample_le(
+                        li, {0.5f, 0.5f},
+                        {rng::uniform(7, 0, uint64_t(i), 0), rng::uniform(7, 0, uint64_t(i), 1)},
+                        0.f, s))
+                    return false;
+                w = s.dir;
+                return true;
+            },
+            [&](const Vec3& w) {
+                float pdf_pos, pdf_dir;
+                mapped.pdf_le(li, {}, w, pdf_pos, pdf_dir);
+                return double(pdf_dir);
+            });
+        INFO("mapped point: " << r.summary());
+        CHECK(r.p_value > 1e-4);
+    }
 }
 
 TEST_CASE("emitted flux equals each light's power, and lights are chosen by power", "[light]") {
     const Scene scene = light_scene();
-    const LightSet ls(scene);
+    // Without projection maps: with them, a point light emits only the flux towards geometry
+    // (its power, the selection's weight, stays the whole sphere's).
+    const LightSet ls(scene, LightSelection::Power, false);
     for (std::size_t li = 0; li < ls.size(); ++li) {
         const Emitter& e = ls.emitter(li);
         if (e.type == EmitterType::Spot) continue;  // its power is the selection estimate
