@@ -17,13 +17,13 @@
 namespace foton {
 
 namespace {
-constexpr uint32_t kChunk = 4096;
+constexpr uint32_t kPhotonChunk = 4096;
 // Surfaces a shadow photon's line is followed through beyond its first hit.
 constexpr int kShadowCrossings = 8;
 // Random dimensions: light choice, position (2), triangle, direction shift (2); then per
 // bounce the BSDF lobe and direction (3) and Russian roulette.
-constexpr uint32_t kDimLight = 0, kDimPos = 1, kDimTriangle = 3, kDimFirstBounce = 8,
-                   kDimsPerBounce = 4;
+constexpr uint32_t kPhotonDimLight = 0, kPhotonDimPos = 1, kPhotonDimTriangle = 3,
+                   kPhotonDimFirstBounce = 8, kPhotonDimsPerBounce = 4;
 }  // namespace
 
 PhotonTracer::PhotonTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
@@ -55,10 +55,11 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         ux -= std::floor(ux);
         uy -= std::floor(uy);
         EmittedRay er;
-        if (!lights_.sample_ray(rand(s.pass, i, kDimLight),
-                                {rand(s.pass, i, kDimPos), rand(s.pass, i, kDimPos + 1)},
-                                {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
-                                rand(s.pass, i, kDimTriangle), er))
+        if (!lights_.sample_ray(
+                rand(s.pass, i, kPhotonDimLight),
+                {rand(s.pass, i, kPhotonDimPos), rand(s.pass, i, kPhotonDimPos + 1)},
+                {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
+                rand(s.pass, i, kPhotonDimTriangle), er))
             continue;
         ws.light[k] = uint16_t(er.light);
         ws.power[k] = er.beta * inv_n;
@@ -111,7 +112,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const float wl_ng = std::fabs(dot(wl, sp.ng));
                 if (wl_ng == 0.f) continue;
                 const float adj = std::fabs(wo.z) / wl_ng;
-                const uint32_t dim = kDimFirstBounce + depth * kDimsPerBounce;
+                const uint32_t dim = kPhotonDimFirstBounce + depth * kPhotonDimsPerBounce;
                 BsdfSample bs;
                 // A caustic pass follows only L S+ paths: its photons continue through the delta
                 // lobes alone (the sample then carries only their share of the throughput).
@@ -164,7 +165,7 @@ void PhotonTracer::trace_shadow_lines(ShadowLineWork& w, PhotonMap& shadow,
 
 PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, PhotonMap* shadow,
                             const ProgressTask* task, const Cluster* cluster) const {
-    const std::size_t chunks = std::size_t((s.emitted + kChunk - 1) / kChunk);
+    const std::size_t chunks = std::size_t((s.emitted + kPhotonChunk - 1) / kPhotonChunk);
     const Cluster& ranks = cluster_or_solo(cluster);
     const Share mine = share_of(chunks, ranks);
     std::vector<PhotonMap> parts(chunks), shadow_parts(shadow ? chunks : 0);
@@ -180,8 +181,8 @@ PhotonMap PhotonTracer::run(const PhotonPassSettings& s, RenderStats& stats, Pho
             RenderStats& local = st.local();
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 if (s.cancel && s.cancel->load(std::memory_order_relaxed)) return;
-                const uint64_t first = uint64_t(c) * kChunk;
-                const uint32_t n = uint32_t(std::min<uint64_t>(kChunk, s.emitted - first));
+                const uint64_t first = uint64_t(c) * kPhotonChunk;
+                const uint32_t n = uint32_t(std::min<uint64_t>(kPhotonChunk, s.emitted - first));
                 trace(s, first, n, ws, parts[c], shadow ? &shadow_parts[c] : nullptr, local);
                 if (task) task->advance(n);
             }
