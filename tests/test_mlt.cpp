@@ -14,14 +14,10 @@ using namespace foton;
 
 namespace {
 
+// `s` rendered by integrator `type` (test_util.h's render_test).
 RenderResult render_with(TestScene& s, const char* type, uint32_t spp, int threads, uint64_t seed) {
     s.render.integrator = type;
-    const auto acc = make_intersector(s, s.accel);
-    RenderOptions opt;
-    opt.spp = spp;
-    opt.threads = threads;
-    opt.seed = seed;
-    return render(s, s.render, *acc, opt);
+    return render_test(s, spp, threads, seed);
 }
 
 }  // namespace

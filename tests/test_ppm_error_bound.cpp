@@ -61,6 +61,22 @@ Coverage synthetic(uint32_t pixels, uint32_t passes, float beta, float bias_nois
     return c;
 }
 
+// A Cornell box at 32 x 32 for `type` (ppm, sppm) with the stopping rule at 25 %.
+TestScene stopping_box(const char* scene, const char* type) {
+    TestScene s = load_scene(test::source_path(scene));
+    s.set_resolution(32, 32);
+    s.render.integrator = type;
+    s.render.photon.initial_radius = 4.f;
+    s.render.photon.photons_per_pass = 65536;
+    s.render.photon.stop_error = 0.25f;
+    return s;
+}
+
+// Pixel i's scalar bound: the luminance of its ErrorBound channels.
+double bound_luminance(const AovLayer& layer, std::size_t i) {
+    return RGB{layer.at(i, 0), layer.at(i, 1), layer.at(i, 2)}.luminance();
+}
+
 double luminance_error(const Film& a, const Film& b, std::size_t i) {
     return std::fabs(double(a.pixels[i].luminance()) - double(b.pixels[i].luminance()));
 }
@@ -104,16 +120,8 @@ TEST_CASE("SPPM's stopping rule stops within its error bound on the Cornell boxe
          {Box{"scenes/cornell-caustics.xml", "refs/cornell_caustics_sppm_256it.exr"},
           Box{"scenes/cornell-diffuse.xml", "refs/cornell_diffuse_path_512spp.exr"}}) {
         INFO(box.scene);
-        TestScene s = load_scene(test::source_path(box.scene));
-        s.set_resolution(32, 32);
-        s.render.integrator = "sppm";
-        s.render.photon.initial_radius = 4.f;
-        s.render.photon.photons_per_pass = 65536;
-        s.render.photon.stop_error = 0.25f;
-        const auto acc = make_intersector(s, s.accel);
-        RenderOptions opt;
-        opt.spp = 400;  // the cap
-        const RenderResult r = render(s, s.render, *acc, opt);
+        TestScene s = stopping_box(box.scene, "sppm");
+        const RenderResult r = render_test(s, 400);  // 400 passes: the cap
         const Film ref = downsample(read_exr(test::shared_path(box.reference)), 16);
         // It stopped by the rule, with the bound it reports under the goal.
         INFO("passes " << r.stats.passes << ", mean bound " << r.stats.error_bound
@@ -129,11 +137,10 @@ TEST_CASE("SPPM's stopping rule stops within its error bound on the Cornell boxe
         double err = 0.0, bound = 0.0, covered = 0.0;
         const std::size_t n = ref.pixels.size();
         for (std::size_t i = 0; i < n; ++i) {
-            const RGB b{layer->at(i, 0), layer->at(i, 1), layer->at(i, 2)};
-            const double e = luminance_error(r.film, ref, i);
+            const double e = luminance_error(r.film, ref, i), b = bound_luminance(*layer, i);
             err += e;
-            bound += b.luminance();
-            covered += e <= b.luminance();
+            bound += b;
+            covered += e <= b;
         }
         INFO("mean error " << err / n << ", mean bound " << bound / n << ", covered "
                            << covered / n);
@@ -143,8 +150,7 @@ TEST_CASE("SPPM's stopping rule stops within its error bound on the Cornell boxe
         // Stopping changes nothing but when: the same passes without the rule give the same
         // image.
         s.render.photon.stop_error = 0.f;
-        opt.spp = r.stats.passes;
-        const RenderResult plain = render(s, s.render, *acc, opt);
+        const RenderResult plain = render_test(s, r.stats.passes);
         CHECK(plain.stats.error_confidence == 0.f);
         CHECK(plain.aovs.empty());
         CHECK(compare_images(plain.film, r.film).max_abs == 0.0);
@@ -153,17 +159,8 @@ TEST_CASE("SPPM's stopping rule stops within its error bound on the Cornell boxe
 
 TEST_CASE("PPM's stopping rule bounds its visible points' error and is thread-independent",
           "[photon][ppm][error_bound][reference]") {
-    TestScene s = load_scene(test::source_path("scenes/cornell-diffuse.xml"));
-    s.set_resolution(32, 32);
-    s.render.integrator = "ppm";
-    s.render.photon.initial_radius = 4.f;
-    s.render.photon.photons_per_pass = 65536;
-    s.render.photon.stop_error = 0.25f;
-    const auto acc = make_intersector(s, s.accel);
-    RenderOptions opt;
-    opt.spp = 400;
-    opt.threads = 2;
-    const RenderResult r = render(s, s.render, *acc, opt);
+    const TestScene s = stopping_box("scenes/cornell-diffuse.xml", "ppm");
+    const RenderResult r = render_test(s, 400, 2);
     INFO("passes " << r.stats.passes);
     CHECK(r.stats.passes < 400);
     CHECK(r.stats.error_bound <= 0.25 * r.stats.error_mean_value);
@@ -190,7 +187,7 @@ TEST_CASE("PPM's stopping rule bounds its visible points' error and is thread-in
             if (hi - lo >= 0.1 * mean) continue;
             const std::size_t i = std::size_t(y) * 32 + std::size_t(x);
             err += luminance_error(r.film, ref, i);
-            bound += RGB{layer->at(i, 0), layer->at(i, 1), layer->at(i, 2)}.luminance();
+            bound += bound_luminance(*layer, i);
             ++smooth;
         }
     INFO(smooth << " smooth pixels: mean error " << err / smooth << ", mean bound "
@@ -198,8 +195,7 @@ TEST_CASE("PPM's stopping rule bounds its visible points' error and is thread-in
     REQUIRE(smooth > 50);
     CHECK(err <= bound);
     // One thread stops after the same pass with the same image and bound.
-    opt.threads = 1;
-    const RenderResult one = render(s, s.render, *acc, opt);
+    const RenderResult one = render_test(s, 400, 1);
     CHECK(one.stats.passes == r.stats.passes);
     CHECK(compare_images(one.film, r.film).max_abs == 0.0);
     CHECK(one.aovs[0].values == r.aovs[0].values);

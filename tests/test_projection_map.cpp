@@ -38,25 +38,61 @@ std::string sky_scene() {
                          "\" intensity=\"1\"><up x=\"0\" y=\"1\" z=\"0\"/></environment>");
 }
 
-// The fraction of n emitted rays that hit the scene.
-double hit_fraction(const Scene& scene, const LightSet& lights, uint32_t n) {
-    const auto accel = make_intersector(scene, scene.accel);
+// n rays emitted by `lights` (numbers of stream `stream`) and where they hit the scene; a
+// sample that carries no light (a spot's direction past its cone) is left out.
+struct Emitted {
     RayBatch rays;
+    HitBatch hits;
+    // The number of rays that hit and, of those, how many `kept(dir, hit point)` accepts.
+    template <class Kept>
+    std::pair<uint32_t, uint32_t> hits_kept(Kept&& kept) const {
+        uint32_t hit = 0, covered = 0;
+        for (uint32_t i = 0; i < rays.size(); ++i) {
+            if (hits.geom[i] == kNoHit) continue;
+            ++hit;
+            covered += kept(rays.direction(i), rays.origin(i) + rays.direction(i) * hits.t[i]);
+        }
+        return {hit, covered};
+    }
+};
+Emitted emit(const Scene& scene, const LightSet& lights, uint32_t n, uint64_t stream) {
+    Emitted e;
     for (uint32_t i = 0; i < n; ++i) {
         EmittedRay er;
-        // A sample that carries no light (a spot's direction past its cone) misses.
-        if (!lights.sample_ray(
-                rng::uniform(3, 0, i, 0), {rng::uniform(3, 0, i, 1), rng::uniform(3, 0, i, 2)},
-                {rng::uniform(3, 0, i, 3), rng::uniform(3, 0, i, 4)}, rng::uniform(3, 0, i, 5), er))
-            continue;
-        rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
+        auto u = [&](uint32_t dim) { return rng::uniform(stream, 0, i, dim); };
+        if (lights.sample_ray(u(0), {u(1), u(2)}, {u(3), u(4)}, u(5), er))
+            e.rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
     }
-    HitBatch hits;
     TraceCounters ts;
-    accel->intersect(rays, hits, ts);
-    uint32_t hit = 0;
-    for (uint32_t i = 0; i < rays.size(); ++i) hit += hits.geom[i] != kNoHit;
-    return double(hit) / n;
+    make_intersector(scene, scene.accel)->intersect(e.rays, e.hits, ts);
+    return e;
+}
+
+// The fraction of n emitted rays that hit the scene.
+double hit_fraction(const Scene& scene, const LightSet& lights, uint32_t n) {
+    return double(emit(scene, lights, n, 3)
+                      .hits_kept([](const Vec3&, const Vec3&) { return true; })
+                      .first) /
+           n;
+}
+
+// The means of photon mapping's and the light tracer's images of `s` with and without
+// projection maps agree within 2 % (the light tracer's paths are per pixel: more of them).
+void check_means_kept(TestScene s) {
+    for (const char* type : {"photon", "light"}) {
+        INFO(type);
+        s.render.integrator = type;
+        const uint32_t spp = std::string(type) == "light" ? 128 : 16;
+        s.render.projection_maps = true;
+        const Film a = render_test(s, spp, 0, 5).film;
+        s.render.projection_maps = false;
+        const Film b = render_test(s, spp, 0, 5).film;
+        const ImageError e = compare_images(a, b);
+        INFO("means " << e.mean_a.g << " with the maps, " << e.mean_b.g << " without");
+        CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
+        CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
+        CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(0.02));
+    }
 }
 
 }  // namespace
@@ -122,26 +158,10 @@ TEST_CASE(
     CHECK(f_with > 1.8 * f_without);
     // Conservative: the rays of the whole disc that hit something all start in a kept cell of
     // their direction's map (were one not, the maps would lose its light).
-    const auto accel = make_intersector(scene, scene.accel);
-    RayBatch rays;
-    std::vector<Vec3> sky;
-    for (uint32_t i = 0; i < 40000; ++i) {
-        EmittedRay er;
-        REQUIRE(without.sample_ray(rng::uniform(5, 0, i, 0),
-                                   {rng::uniform(5, 0, i, 1), rng::uniform(5, 0, i, 2)},
-                                   {rng::uniform(5, 0, i, 3), rng::uniform(5, 0, i, 4)}, 0.f, er));
-        rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
-        sky.push_back(-er.emission.dir);
-    }
-    HitBatch hits;
-    TraceCounters ts;
-    accel->intersect(rays, hits, ts);
-    uint32_t hit = 0, covered = 0;
-    for (uint32_t i = 0; i < rays.size(); ++i) {
-        if (hits.geom[i] == kNoHit) continue;
-        ++hit;
-        covered += maps->covers(sky[i], rays.origin(i) + rays.direction(i) * hits.t[i]);
-    }
+    const auto [hit, covered] =
+        emit(scene, without, 40000, 5).hits_kept([&](const Vec3& d, const Vec3& p) {
+            return maps->covers(-d, p);
+        });
     REQUIRE(hit > 1000);
     CHECK(covered == hit);
     // The density of each emitted ray is pdf_le's for its direction, and the ray starts
@@ -161,22 +181,7 @@ TEST_CASE(
 
 TEST_CASE("environment projection maps: photon mapping and light tracing keep their means",
           "[photon][projection][environment]") {
-    TestScene scene = parse_scene(sky_scene(), "p.xml", ".");
-    for (const char* type : {"photon", "light"}) {
-        INFO(type);
-        scene.render.integrator = type;
-        scene.render.projection_maps = true;
-        // The light tracer's paths are per pixel: more of them for the same noise.
-        const uint32_t spp = std::string(type) == "light" ? 128 : 16;
-        const Film a = render_test(scene, spp, 0, 5).film;
-        scene.render.projection_maps = false;
-        const Film b = render_test(scene, spp, 0, 5).film;
-        const ImageError e = compare_images(a, b);
-        INFO("means " << e.mean_a.g << " with the maps, " << e.mean_b.g << " without");
-        CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
-        CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
-        CHECK(e.mean_a.b == Approx(e.mean_b.b).epsilon(0.02));
-    }
+    check_means_kept(parse_scene(sky_scene(), "p.xml", "."));
 }
 
 namespace {
@@ -216,24 +221,10 @@ TEST_CASE(
         CHECK(f_with > 1.3 * f_without);
         // Conservative: every direction of the light's own sampling that hits geometry has a
         // density under the map; and a drawn direction's density is pdf_le's.
-        const auto accel = make_intersector(scene, scene.accel);
-        RayBatch rays;
-        for (uint32_t i = 0; i < 40000; ++i) {
-            EmittedRay er;
-            if (!without.sample_ray(0.5f, {0.5f, 0.5f},
-                                    {rng::uniform(8, 0, i, 0), rng::uniform(8, 0, i, 1)}, 0.f, er))
-                continue;
-            rays.push(er.origin, er.emission.dir, 0.f, kInfinity, i);
-        }
-        HitBatch hits;
-        TraceCounters ts;
-        accel->intersect(rays, hits, ts);
-        uint32_t hit = 0, covered = 0;
-        for (uint32_t r = 0; r < rays.size(); ++r) {
-            if (hits.geom[r] == kNoHit) continue;
-            ++hit;
-            covered += maps->pdf(rays.direction(r)) > 0.f;
-        }
+        const auto [hit, covered] =
+            emit(scene, without, 40000, 8).hits_kept([&](const Vec3& d, const Vec3&) {
+                return maps->pdf(d) > 0.f;
+            });
         REQUIRE(hit > 1000);
         CHECK(covered == hit);
         for (uint32_t i = 0; i < 200; ++i) {
@@ -246,19 +237,6 @@ TEST_CASE(
             CHECK(pdf_dir == Approx(er.emission.pdf_dir).epsilon(1e-3));
         }
         // Photon mapping's and the light tracer's images keep their means.
-        TestScene s = parse_scene(point_scene(spot), "p.xml", ".");
-        for (const char* type : {"photon", "light"}) {
-            INFO(type);
-            s.render.integrator = type;
-            const uint32_t spp = std::string(type) == "light" ? 128 : 16;
-            s.render.projection_maps = true;
-            const Film a = render_test(s, spp, 0, 5).film;
-            s.render.projection_maps = false;
-            const Film b = render_test(s, spp, 0, 5).film;
-            const ImageError e = compare_images(a, b);
-            INFO("means " << e.mean_a.g << " with the map, " << e.mean_b.g << " without");
-            CHECK(e.mean_a.g == Approx(e.mean_b.g).epsilon(0.02));
-            CHECK(e.mean_a.r == Approx(e.mean_b.r).epsilon(0.02));
-        }
+        check_means_kept(parse_scene(point_scene(spot), "p.xml", "."));
     }
 }

@@ -27,7 +27,6 @@ void DirectionProjection::build(const Scene& scene, const Vec3& p, const Vec3& a
     kept_.clear();
     cdf_.clear();
     omega_ = 0.f;
-    keep_.assign(std::size_t(6 * n * n), 0);
     const std::vector<Bounds3> boxes = scene_outline(scene, kVoxels, false);
     if (boxes.empty()) return;
     // Whether bin (f, i, j)'s cone of directions reaches into the spot's (always, for a point).
@@ -86,7 +85,6 @@ void DirectionProjection::build(const Scene& scene, const Vec3& p, const Vec3& a
                 const std::size_t bin =
                     (std::size_t(f) * std::size_t(n) + std::size_t(j)) * std::size_t(n) +
                     std::size_t(i);
-                keep_[bin] = 1;
                 kept_.push_back(uint32_t(bin));
                 omega_ += float(cell_solid_angle(u0, u0 + cell, v0, v0 + cell));
                 cdf_.push_back(omega_);
@@ -99,6 +97,13 @@ void DirectionProjection::build(const Scene& scene, const Vec3& p, const Vec3& a
         cdf_.clear();
         omega_ = 0.f;
     }
+}
+
+float DirectionProjection::density(std::size_t k, float u, float v) const {
+    const float cell = 2.f / float(kFaceRes);
+    const float omega_bin = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.f);
+    const float r2 = 1.f + u * u + v * v;
+    return omega_bin / omega_ / (cell * cell) * r2 * std::sqrt(r2);
 }
 
 Vec3 DirectionProjection::sample(Point2 u, float& pdf) const {
@@ -116,8 +121,7 @@ Vec3 DirectionProjection::sample(Point2 u, float& pdf) const {
               i = int(bin % uint32_t(n));
     const float fu = -1.f + cell * (float(i) + ux), fv = -1.f + cell * (float(j) + u.y);
     // The density from the bin drawn (pdf() finds the same bin but for a direction on its edge).
-    const float r2 = 1.f + fu * fu + fv * fv;
-    pdf = (cdf_[k] - lo) / omega_ / (cell * cell) * r2 * std::sqrt(r2);
+    pdf = density(k, fu, fv);
     return normalize(face_direction(f, fu, fv));
 }
 
@@ -125,13 +129,9 @@ float DirectionProjection::pdf(const Vec3& d) const {
     if (kept_.empty()) return 0.f;
     const int n = kFaceRes;
     const CubeBin b = cube_bin(d, n);
-    if (!keep_[b.index]) return 0.f;
-    const float cell = 2.f / float(n);
-    const std::size_t k = std::size_t(
-        std::lower_bound(kept_.begin(), kept_.end(), uint32_t(b.index)) - kept_.begin());
-    const float omega_bin = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.f);
-    const float r2 = 1.f + b.u * b.u + b.v * b.v;
-    return omega_bin / omega_ / (cell * cell) * r2 * std::sqrt(r2);
+    const auto at = std::lower_bound(kept_.begin(), kept_.end(), uint32_t(b.index));
+    if (at == kept_.end() || *at != uint32_t(b.index)) return 0.f;
+    return density(std::size_t(at - kept_.begin()), b.u, b.v);
 }
 
 }  // namespace foton

@@ -34,9 +34,11 @@ class DirectionProjection {
     float kept_fraction() const { return omega_ / (4.f * float(kPi)); }
 
   private:
+    // The density of the direction at face coordinates (u, v) of kept bin k.
+    float density(std::size_t k, float u, float v) const;
+
     std::vector<uint32_t> kept_;  // bin indices, ascending
     std::vector<float> cdf_;      // by solid angle, over kept_
-    std::vector<uint8_t> keep_;   // per bin
     float omega_ = 0.f;           // the kept solid angle
 };
 

@@ -56,7 +56,7 @@ void EnvironmentProjection::sample(const Vec3& wi, Point2 u, Vec3& origin, float
     // Upstream along wi past every point of the bounding sphere on the ray's line.
     const float back = (radius_ + length(on_plane - center_)) * 1.01f;
     origin = on_plane + wi * back;
-    pdf_pos = 1.f / (b.map.area() * std::fabs(dot(b.c, wi)));
+    pdf_pos = this->pdf_pos(wi);
 }
 
 float EnvironmentProjection::pdf_pos(const Vec3& wi) const {

@@ -135,13 +135,14 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
         emitters_.push_back(e);
         // Its power stays that through the whole disc: the selection (and next event
         // estimation's pick) does not change with the maps; its photons carry less each.
-        if (projection_maps) environment_projection_ = std::make_shared<LazyProjection>();
+        if (projection_maps)
+            environment_projection_ = std::make_shared<Lazy<EnvironmentProjection>>();
     }
     // Point and spot lights' maps, built on first emission.
     direction_projection_.resize(emitters_.size());
     for (std::size_t i = 0; i < emitters_.size() && projection_maps; ++i)
         if (emitters_[i].type == EmitterType::Point || emitters_[i].type == EmitterType::Spot)
-            direction_projection_[i] = std::make_shared<LazyDirections>();
+            direction_projection_[i] = std::make_shared<Lazy<DirectionProjection>>();
     // A directional light's projection map, and its power then: what crosses the map's cells.
     projection_.resize(emitters_.size());
     for (std::size_t i = 0; i < emitters_.size() && projection_maps; ++i) {
@@ -166,14 +167,14 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
 
 const EnvironmentProjection* LightSet::environment_projection() const {
     if (!environment_projection_) return nullptr;
-    LazyProjection& lazy = *environment_projection_;
+    Lazy<EnvironmentProjection>& lazy = *environment_projection_;
     std::call_once(lazy.once, [&] { lazy.maps.build(*scene_, center_, radius_); });
     return lazy.maps.empty() ? nullptr : &lazy.maps;
 }
 
 const DirectionProjection* LightSet::direction_projection(std::size_t i) const {
     if (i >= direction_projection_.size() || !direction_projection_[i]) return nullptr;
-    LazyDirections& lazy = *direction_projection_[i];
+    Lazy<DirectionProjection>& lazy = *direction_projection_[i];
     const Emitter& e = emitters_[i];
     std::call_once(lazy.once, [&] {
         lazy.maps.build(*scene_, e.p, e.n, e.type == EmitterType::Spot ? e.cos_outer : -2.f);

@@ -224,16 +224,14 @@ class LightSet {
     Vec3 center_;
     float radius_ = 0.f;  // bounding sphere of the scene, for directional emission
     std::vector<ProjectionMap> projection_;  // by emitter
-    struct LazyProjection {
+    // Maps built on first use (call_once), shared by copies of the set.
+    template <class Maps>
+    struct Lazy {
         std::once_flag once;
-        EnvironmentProjection maps;
+        Maps maps;
     };
-    std::shared_ptr<LazyProjection> environment_projection_;
-    struct LazyDirections {
-        std::once_flag once;
-        DirectionProjection maps;
-    };
-    std::vector<std::shared_ptr<LazyDirections>> direction_projection_;  // by emitter
+    std::shared_ptr<Lazy<EnvironmentProjection>> environment_projection_;
+    std::vector<std::shared_ptr<Lazy<DirectionProjection>>> direction_projection_;  // by emitter
 };
 
 }  // namespace foton

@@ -33,7 +33,6 @@ class PrimaryVector {
         key_ = fresh_key;
         touched_.clear();
     }
-    uint32_t dims() const { return uint32_t(coords_.size()); }
     bool large() const { return large_; }
 
     // Begins a proposal: a large step (every number fresh) or a small one, its numbers keyed

@@ -40,8 +40,11 @@ struct MltScratch {
     std::vector<PathSampler> samplers;
     std::vector<uint64_t> keys;
     std::vector<RGB> radiance;
-    std::vector<PrimaryVector> boot;  // a bootstrap batch's vectors
-    std::vector<PrimaryVector*> v;    // the batch being traced
+    std::vector<PrimaryVector> boot;   // a bootstrap batch's vectors
+    std::vector<PrimaryVector*> v;     // the batch being traced
+    std::vector<uint64_t> batch_keys;  // its vectors' keys
+    std::vector<RGB> batch_L;          // a step's radiance and pixels
+    std::vector<uint32_t> batch_pixel;
     RenderStats stats;
 };
 
@@ -53,14 +56,15 @@ class PrimaryPaths {
     uint32_t dims() const { return dims_; }
     std::unique_ptr<IntegratorWorkspace> make_workspace() const { return path_.make_workspace(); }
 
-    // The radiance and pixel of n vectors (their film position and lens, then the path's
-    // numbers, read as the path asks for them); keys: what keys numbers past a vector's end.
-    void evaluate(PrimaryVector* const* v, const uint64_t* keys, std::size_t n, MltScratch& s, RGB* L,
-                  uint32_t* pixel) const {
+    // The radiance and pixel of the n vectors s.v (their film position and lens, then the
+    // path's numbers, read as the path asks for them); s.batch_keys key numbers past a vector's
+    // end.
+    void evaluate(std::size_t n, MltScratch& s, RGB* L, uint32_t* pixel) const {
         const FilmSettings& film = ctx_.scene.film;
+        const std::vector<PrimaryVector*>& v = s.v;
         s.rays.clear();
         s.samplers.resize(n);
-        s.keys.assign(keys, keys + n);
+        s.keys.assign(s.batch_keys.begin(), s.batch_keys.begin() + std::ptrdiff_t(n));
         for (std::size_t i = 0; i < n; ++i) {
             const float fx = v[i]->get(0) * float(film.width),
                         fy = v[i]->get(1) * float(film.height);
@@ -71,7 +75,7 @@ class PrimaryPaths {
             ctx_.scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy,
                                        {v[i]->get(2), v[i]->get(3)}, o, d);
             s.rays.push(o, d, 0.f, kInfinity, uint32_t(i));
-            s.samplers[i] = PathSampler::primary(v[i], 4, keys[i], ctx_.seed);
+            s.samplers[i] = PathSampler::primary(v[i], 4, s.keys[i], ctx_.seed);
         }
         path_.trace_camera_paths(s.rays, s.samplers, s.keys, *s.ws, s.radiance, s.stats);
         for (std::size_t i = 0; i < n; ++i)
@@ -120,13 +124,13 @@ class Chains {
             const uint64_t n = std::min<uint64_t>(kBootstrapBatch, nb - i0);
             s.boot.resize(n);
             s.v.resize(n);
-            std::vector<uint64_t> keys(n);
+            s.batch_keys.resize(n);
             for (uint64_t j = 0; j < n; ++j) {
-                keys[j] = boot_key(i0 + j);
-                s.boot[j].reset(dims_, chain_prefix_, keys[j], ms_.sigma);
+                s.batch_keys[j] = boot_key(i0 + j);
+                s.boot[j].reset(dims_, chain_prefix_, s.batch_keys[j], ms_.sigma);
                 s.v[j] = &s.boot[j];
             }
-            paths_.evaluate(s.v.data(), keys.data(), n, s, &boot_L_[i0], &boot_pixel_[i0]);
+            paths_.evaluate(n, s, &boot_L_[i0], &boot_pixel_[i0]);
         });
     }
 
@@ -161,7 +165,8 @@ class Chains {
             MltScratch& s = scratch.local();
             const uint32_t c0 = g * kGroupChains, n = std::min(kGroupChains, chains - c0);
             s.v.resize(n);
-            std::vector<uint64_t> keys(n);
+            std::vector<uint64_t>& keys = s.batch_keys;
+            keys.resize(n);
             for (uint32_t j = 0; j < n; ++j) {
                 keys[j] = rng::hash(seed_, kMltChainStream, c0 + j, t + 1);
                 large_f_[c0 + j] = -1.f;
@@ -169,9 +174,11 @@ class Chains {
                 v.step(rng::uniform_from(chain_prefix_, keys[j], 0) < ms_.large_step, keys[j]);
                 s.v[j] = &v;
             }
-            std::vector<RGB> L(n);
-            std::vector<uint32_t> pixel(n);
-            paths_.evaluate(s.v.data(), keys.data(), n, s, L.data(), pixel.data());
+            std::vector<RGB>& L = s.batch_L;
+            std::vector<uint32_t>& pixel = s.batch_pixel;
+            L.resize(n);
+            pixel.resize(n);
+            paths_.evaluate(n, s, L.data(), pixel.data());
             // Acceptance, and both states' expected-value splats.
             for (uint32_t j = 0; j < n; ++j) {
                 const uint32_t c = c0 + j;
@@ -234,9 +241,9 @@ class Chains {
     std::vector<uint32_t> boot_pixel_;
     std::vector<PrimaryVector> vectors_;  // every chain's state
     std::vector<ChainState> state_;
-    std::vector<ChainSplat> splats_;   // the step's: two per chain
-    std::vector<float> large_f_;  // the step's large steps' f (-1: a small step)
-    double sum_f_ = 0.0;          // f summed over the bootstrap and the large steps
+    std::vector<ChainSplat> splats_;  // the step's: two per chain
+    std::vector<float> large_f_;      // the step's large steps' f (-1: a small step)
+    double sum_f_ = 0.0;              // f summed over the bootstrap and the large steps
     uint64_t n_f_ = 0;
     std::vector<double> acc_;  // the splats, per pixel and channel
     uint64_t steps_ = 0;

@@ -296,16 +296,14 @@ void PathIntegrator::trace_phase(uint32_t /*phase*/, const std::vector<SampleJob
     start_camera_paths(ws, radiance, stats, clock);
 }
 
-void PathIntegrator::trace_camera_paths(const RayBatch& rays,
-                                        const std::vector<PathSampler>& samplers,
-                                        const std::vector<uint64_t>& keys,
-                                        IntegratorWorkspace& base, std::vector<RGB>& radiance,
-                                        RenderStats& stats) const {
+void PathIntegrator::trace_camera_paths(RayBatch& rays, std::vector<PathSampler>& samplers,
+                                        std::vector<uint64_t>& keys, IntegratorWorkspace& base,
+                                        std::vector<RGB>& radiance, RenderStats& stats) const {
     PathWorkspace& ws = static_cast<PathWorkspace&>(base);
     StageClock clock;
-    ws.keys = keys;
-    ws.samplers = samplers;
-    ws.rays = rays;
+    std::swap(ws.keys, keys);
+    std::swap(ws.samplers, samplers);
+    std::swap(ws.rays, rays);
     start_camera_paths(ws, radiance, stats, clock);
 }
 

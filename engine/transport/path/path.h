@@ -118,9 +118,10 @@ class PathIntegrator : public CameraIntegrator, public RadianceAlongRays {
                      std::vector<RGB>& radiance, RenderStats& stats) const override;
     // Paths from camera rays made elsewhere (ids 0..n-1), with their samplers and keys: what
     // trace_phase does once it has made them (Metropolis light transport drives it with
-    // primary-sample vectors, path_sampler.h).
-    void trace_camera_paths(const RayBatch& rays, const std::vector<PathSampler>& samplers,
-                            const std::vector<uint64_t>& keys, IntegratorWorkspace& ws,
+    // primary-sample vectors, path_sampler.h). Takes the three by swapping them with the
+    // workspace's (the caller gets buffers to refill, not copies).
+    void trace_camera_paths(RayBatch& rays, std::vector<PathSampler>& samplers,
+                            std::vector<uint64_t>& keys, IntegratorWorkspace& ws,
                             std::vector<RGB>& radiance, RenderStats& stats) const;
     // Path tracing onwards from rays leaving a scattering vertex (a cache record's hemisphere
     // rays); see RadianceAlongRays.
