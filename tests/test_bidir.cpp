@@ -9,9 +9,12 @@
 #include "engine/film/image_io.h"
 #include "engine/film/metrics.h"
 #include "engine/scene/xml_loader.h"
+#include "image_checks.h"
 #include "test_util.h"
 
 using namespace foton;
+using test::check_blocks;
+using test::check_means;
 
 namespace {
 
@@ -29,26 +32,6 @@ RGB mean_away_from_light(const Film& img, const Film& ref) {
     const std::vector<uint8_t> mask =
         grow_exclusion(luminance_mask(ref, 2.f), ref.width, ref.height, 2);
     return compare_images(img, ref, &mask).mean_a;
-}
-
-void check_blocks(const Film& img, const Film& ref, int block, double tolerance) {
-    const Film a = downsample(img, block), b = downsample(ref, block);
-    double worst = 0;
-    std::size_t where = 0;
-    for (std::size_t i = 0; i < b.pixels.size(); ++i) {
-        const double e = std::fabs(a.pixels[i].luminance() / b.pixels[i].luminance() - 1.0);
-        if (e > worst) worst = e, where = i;
-    }
-    INFO("worst " << block << "x" << block << " block " << worst << " at (" << where % b.width
-                  << ", " << where / b.width << ")");
-    CHECK(worst < tolerance);
-}
-
-void check_means(const RGB& a, const RGB& b, double tolerance) {
-    INFO("means " << a.r << " " << a.g << " " << a.b << " vs " << b.r << " " << b.g << " " << b.b);
-    CHECK(a.r == Approx(b.r).epsilon(tolerance));
-    CHECK(a.g == Approx(b.g).epsilon(tolerance));
-    CHECK(a.b == Approx(b.b).epsilon(tolerance));
 }
 
 // Renders `path` (a path-traced scene) with path_spp samples, then with bdpt and vcm for

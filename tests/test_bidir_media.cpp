@@ -7,22 +7,12 @@
 
 #include "engine/core/error.h"
 #include "engine/scene/xml_loader.h"
+#include "image_checks.h"
 #include "media_util.h"
 #include "test_util.h"
 
 using namespace foton;
-
-namespace {
-
-void check_means(const RGB& got, const RGB& ref, double tolerance) {
-    INFO("reference " << ref.r << " " << ref.g << " " << ref.b << ", got " << got.r << " " << got.g
-                      << " " << got.b);
-    CHECK(got.r == Approx(ref.r).epsilon(tolerance));
-    CHECK(got.g == Approx(ref.g).epsilon(tolerance));
-    CHECK(got.b == Approx(ref.b).epsilon(tolerance));
-}
-
-}  // namespace
+using test::check_means;
 
 TEST_CASE("bdpt and vcm through fog converge to volpath's image on the foggy Cornell box",
           "[media][bidir][render]") {

@@ -222,13 +222,18 @@ TEST_CASE("pbrt-v4: materials, named materials, textures and lights", "[pbrt][fa
         Shape "sphere"
         NamedMaterial "matte" Shape "sphere"
         Material "coateddiffuse" "rgb reflectance" [0.5 0.5 0.5] "float roughness" 0
+            "float thickness" 0.1 "rgb albedo" [0.2 0.3 0.4] "float g" 0.5 "integer maxdepth" 7
         Shape "sphere"
         Material "dielectric" "spectrum eta" "glass-BK7" Shape "sphere"
+        Material "coatedconductor" "float interface.eta" 1.6 "float interface.roughness" 0.09
+            "spectrum conductor.eta" "metal-Au-eta" "spectrum conductor.k" "metal-Au-k"
+            "float conductor.uroughness" 0.04 "float conductor.vroughness" 0.16
+        Shape "sphere"
         LightSource "point" "rgb I" [1 2 3] "point3 from" [0 4 0]
         LightSource "spot" "blackbody I" [3000] "float power" [100] "float coneangle" [20]
         LightSource "distant" "point3 to" [0 -1 0] "float illuminance" [3]
     )");
-    REQUIRE(s.spheres.size() == 4);
+    REQUIRE(s.spheres.size() == 5);
     auto sphere_material = [&](std::size_t i) -> const Material& {
         for (const Object& o : s.objects)
             if (o.kind == ObjectKind::Sphere && o.index == i) return s.materials[o.material];
@@ -243,11 +248,30 @@ TEST_CASE("pbrt-v4: materials, named materials, textures and lights", "[pbrt][fa
     CHECK(m0.lobe(0).color.r == Approx(0.75f));
     CHECK(m0.lobe(1).color.g == Approx(0.25f * 0.25f));
     CHECK(sphere_material(1).bsdf.lobe(0).color.b == Approx(0.375f));
+    // coateddiffuse: one layered lobe with pbrt-v4's parameters (smooth coat at roughness 0).
     const Bsdf& coat = sphere_material(2).bsdf;
-    REQUIRE(coat.size() == 2);
-    CHECK(coat.lobe(0).type == LobeType::Lambert);
-    CHECK(coat.lobe(0).color.r < 0.5f);
-    CHECK(coat.lobe(0).color.r > 0.4f);
+    REQUIRE(coat.size() == 1);
+    CHECK(coat.lobe(0).type == LobeType::Coated);
+    CHECK(coat.lobe(0).coat.base == CoatBase::Diffuse);
+    CHECK(coat.lobe(0).color.r == Approx(0.5f));
+    CHECK(coat.lobe(0).coat.coat_smooth);
+    CHECK(coat.lobe(0).coat.ior == Approx(1.5f));
+    CHECK(coat.lobe(0).coat.thickness == Approx(0.1f));
+    CHECK(coat.lobe(0).coat.albedo.b == Approx(0.4f));
+    CHECK(coat.lobe(0).coat.g == Approx(0.5f));
+    CHECK(coat.lobe(0).coat.max_depth == 7);
+    // coatedconductor: the conductor's index relative to the coat's, roughness remapped
+    // (alpha = sqrt(roughness)).
+    const Lobe& cc = sphere_material(4).bsdf.lobe(0);
+    CHECK(cc.type == LobeType::Coated);
+    CHECK(cc.coat.base == CoatBase::Conductor);
+    CHECK(cc.coat.ior == Approx(1.6f));
+    CHECK(!cc.coat.coat_smooth);
+    CHECK(cc.coat.coat.alpha == Approx(0.3f));
+    CHECK(cc.fresnel.eta.b == Approx(1.442f / 1.6f).epsilon(0.01));
+    CHECK(!cc.coat.base_smooth);
+    CHECK(cc.dist.alpha == Approx(0.2f));
+    CHECK(cc.dist.alpha_y == Approx(0.4f));
     CHECK(sphere_material(3).ior == Approx(1.5168f));
     REQUIRE(s.lights.points.size() == 1);
     CHECK(s.lights.points[0].intensity.b == Approx(3.f));

@@ -22,6 +22,9 @@ Vec3 mirror_dir(const Vec3& wo) {
 // The sampling weight of a lobe: its colour's luminance (the Fresnel term is left out so that
 // a plastic's highlight is not starved by its 4 % normal-incidence reflectance).
 float sampling_weight(const Lobe& l) {
+    // A coat reflects at least its Fresnel share even over a black base.
+    if (l.type == LobeType::Coated)
+        return l.coat.weight > 0.f ? std::max(l.color.luminance(), 0.05f) * l.coat.weight : 0.f;
     const float w = l.flags() & kTransmission
                         ? std::max(l.color.luminance(), l.transmit.luminance())
                         : l.color.luminance();
@@ -64,6 +67,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
             return !same_side(wo, wi) && wi.z != 0.f ? l.color * kInvPi : RGB{0.f};
         case LobeType::RoughDielectric:
             return rough_dielectric_f(l, wo, wi, ctx);
+        case LobeType::Coated:
+            return l.coat_is_delta() ? RGB{0.f} : coated_f(l, wo, wi, ctx);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return RGB{0.f};
@@ -92,6 +97,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             return !same_side(wo, wi) && wi.z != 0.f ? std::fabs(wi.z) * kInvPi : 0.f;
         case LobeType::RoughDielectric:
             return rough_dielectric_pdf(l, wo, wi, ctx);
+        case LobeType::Coated:
+            return l.coat_is_delta() ? 0.f : coated_pdf(l, wo, wi, ctx);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return 0.f;
@@ -147,6 +154,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
         }
         case LobeType::RoughDielectric:
             return rough_dielectric_sample(l, wo, uc, u, ctx, s);
+        case LobeType::Coated:
+            return coated_sample(l, wo, uc, u, ctx, s);
         case LobeType::Mirror: {
             s.wi = mirror_dir(wo);
             const float c = std::fabs(s.wi.z);
@@ -190,6 +199,7 @@ bool Bsdf::add(const Lobe& lobe) {
     weight_[std::size_t(n_)] = sampling_weight(lobe);
     flags_ |= lobe.flags();
     if ((lobe.flags() & kTransmission) && !lobe.is_delta()) transmits_non_delta_ = true;
+    if (lobe.is_stochastic()) stochastic_ = true;
     ++n_;
     return true;
 }
@@ -198,6 +208,10 @@ float Bsdf::continuation() const {
     RGB sum{0.f};
     for (int i = 0; i < n_; ++i) {
         const Lobe& l = lobes_[std::size_t(i)];
+        if (l.type == LobeType::Coated) {
+            sum += l.color * l.coat.weight;
+            continue;
+        }
         sum += l.flags() & kTransmission
                    ? RGB(std::max(l.color.r, l.transmit.r), std::max(l.color.g, l.transmit.g),
                          std::max(l.color.b, l.transmit.b))
@@ -208,9 +222,14 @@ float Bsdf::continuation() const {
 
 void Bsdf::scale(float w) {
     for (int i = 0; i < n_; ++i) {
-        lobes_[std::size_t(i)].color *= w;
-        lobes_[std::size_t(i)].transmit *= w;
-        weight_[std::size_t(i)] = sampling_weight(lobes_[std::size_t(i)]);
+        Lobe& l = lobes_[std::size_t(i)];
+        if (l.type == LobeType::Coated) {
+            l.coat.weight *= w;
+        } else {
+            l.color *= w;
+            l.transmit *= w;
+        }
+        weight_[std::size_t(i)] = sampling_weight(l);
     }
 }
 
@@ -279,9 +298,19 @@ bool Bsdf::sample(const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx, Bs
     const float uc2 = std::clamp((target - acc) / w, 0.f, 0x1.fffffep-1f);
     const Lobe& l = lobes_[std::size_t(chosen)];
     if (!lobe_sample(l, wo, uc2, u, ctx, s)) return false;
-    if (l.is_delta()) {
+    if (l.is_delta() || (stochastic_ && s.is_delta())) {
         s.pdf *= w / total;
         return s.pdf > 0.f;
+    }
+    if (stochastic_) {
+        // A walk's density is not known in closed form, so the sample is weighted as the
+        // chosen lobe's alone over the probability of choosing it (f |cos| / pdf stays that),
+        // and reports the mixture's estimated density, which is what MIS compares.
+        const float mis = pdf_restricted(wo, s.wi, ctx, only);
+        if (!(mis > 0.f)) return false;
+        s.f *= mis / (s.pdf * (w / total));
+        s.pdf = mis;
+        return true;
     }
     s.f = f_restricted(wo, s.wi, ctx, only);
     s.pdf = pdf_restricted(wo, s.wi, ctx, only);
@@ -296,6 +325,10 @@ int Bsdf::specular_directions(const Vec3& wo, const BsdfContext& ctx, Vec3* dirs
         if (l.type == LobeType::Mirror) {
             dirs[k] = mirror_dir(wo);
             weights[k++] = l.color * l.fresnel.eval(std::fabs(wo.z));
+        } else if (l.type == LobeType::Coated && l.coat.coat_smooth) {
+            // The smooth coat's mirror reflection (the whole stack's, when it is all specular).
+            dirs[k] = mirror_dir(wo);
+            weights[k++] = coated_mirror_weight(l, wo);
         } else if (l.type == LobeType::Dielectric) {
             // Both branches: uc = 0 forces reflection, uc -> 1 refraction (unless TIR).
             BsdfSample r, t;

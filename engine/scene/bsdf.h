@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 
+#include "coat_layer.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
@@ -60,6 +61,8 @@ enum class LobeType : uint8_t {
                           // (pbrt-v4's diffusetransmission with a Lambert lobe beside it)
     RoughDielectric,      // Walter et al. 2007: a rough dielectric interface, microfacet reflection
                           // and transmission (rough_dielectric.cpp)
+    Coated,               // a dielectric coat over a Lambertian or conductor base, evaluated by
+                          // random walks through the layer (pbrt-v4's LayeredBxDF; coated.cpp)
 };
 
 struct Lobe {
@@ -70,9 +73,21 @@ struct Lobe {
     float exponent = 1.f;          // Phong
     Fresnel fresnel;
     MicrofacetDistribution dist;
+    CoatLayer coat;  // Coated: the coat and the medium under it (the base is color, fresnel, dist)
 
     uint8_t flags() const;
-    bool is_delta() const { return type == LobeType::Mirror || type == LobeType::Dielectric; }
+    bool is_delta() const {
+        return type == LobeType::Mirror || type == LobeType::Dielectric ||
+               (type == LobeType::Coated && coat_is_delta());
+    }
+    // f and pdf are Monte Carlo estimates (a Coated lobe); a mixture holding one samples by
+    // lobe selection (Bsdf::sample).
+    bool is_stochastic() const { return type == LobeType::Coated; }
+    // Every path through a Coated lobe is specular: smooth coat, mirror base, no medium.
+    bool coat_is_delta() const {
+        return coat.coat_smooth && coat.base == CoatBase::Conductor && coat.base_smooth &&
+               coat.albedo.is_black();
+    }
 
     static Lobe lambert(const RGB& r);
     static Lobe oren_nayar(const RGB& r, float sigma_radians);
@@ -85,6 +100,12 @@ struct Lobe {
     // A rough interface of index ior (Trowbridge–Reitz `d`), tinted as a dielectric.
     static Lobe rough_dielectric(float ior, const MicrofacetDistribution& d, const RGB& reflect,
                                  const RGB& transmit);
+    // pbrt-v4's coateddiffuse: a coat `c` over a Lambertian base of reflectance r.
+    static Lobe coated_diffuse(const RGB& r, const CoatLayer& c);
+    // pbrt-v4's coatedconductor: a coat over a conductor of Fresnel `f` (eta and k relative to
+    // the coat), smooth or of roughness `d`.
+    static Lobe coated_conductor(const Fresnel& f, bool smooth, const MicrofacetDistribution& d,
+                                 const CoatLayer& c);
 };
 
 struct BsdfSample {
@@ -175,6 +196,7 @@ class Bsdf {
     int n_ = 0;
     uint8_t flags_ = 0;
     bool transmits_non_delta_ = false;
+    bool stochastic_ = false;  // some lobe is_stochastic()
 };
 
 // Single-lobe operations (exposed for the tests' chi-square and albedo checks).
@@ -184,8 +206,22 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
                  BsdfSample& s);
 // The same for a RoughDielectric lobe (rough_dielectric.cpp).
 RGB rough_dielectric_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
-float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+// `only` restricts pdf and sampling to reflection or transmission (kReflection, kTransmission).
+float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx,
+                           uint8_t only = kReflection | kTransmission);
 bool rough_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u,
-                             const BsdfContext& ctx, BsdfSample& s);
+                             const BsdfContext& ctx, BsdfSample& s,
+                             uint8_t only = kReflection | kTransmission);
+// The same for a Coated lobe (coated.cpp): f and pdf are estimates from random walks through
+// the layer whose random numbers are a hash of the directions (so f(wo, wi) is a function);
+// sample's f and pdf are the sampled walk's own, whose ratio is the weight to use.
+RGB coated_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+float coated_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
+bool coated_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx,
+                   BsdfSample& s);
+// A coated lobe's reflectance along the mirror direction of a smooth coat (the part f leaves
+// out as a delta): the coat's own Fresnel reflection, or, when the whole stack is specular,
+// every bounce between the coat and the mirror base in closed form.
+RGB coated_mirror_weight(const Lobe& l, const Vec3& wo);
 
 }  // namespace foton

@@ -48,6 +48,11 @@ uint8_t Lobe::flags() const {
             return kGlossy | kReflection | kTransmission;
         case LobeType::LambertTransmission:
             return kDiffuse | kTransmission;
+        case LobeType::Coated:
+            // Glossy, not pbrt's diffuse + specular: foton's integrators split a BSDF by its
+            // lobes' flags (delta lobes traced, the others estimated), and the walk mixes
+            // both. Its delta samples (the smooth coat's mirror reflection) say so themselves.
+            return coat_is_delta() ? kSpecular | kReflection : kGlossy | kReflection;
     }
     return 0;
 }
@@ -116,6 +121,28 @@ Lobe Lobe::rough_dielectric(float ior, const MicrofacetDistribution& d, const RG
     Lobe l = dielectric(ior, reflect, transmit);
     l.type = LobeType::RoughDielectric;
     l.dist = d;
+    return l;
+}
+
+Lobe Lobe::coated_diffuse(const RGB& r, const CoatLayer& c) {
+    Lobe l;
+    l.type = LobeType::Coated;
+    l.color = r;
+    l.coat = c;
+    l.coat.base = CoatBase::Diffuse;
+    return l;
+}
+
+Lobe Lobe::coated_conductor(const Fresnel& f, bool smooth, const MicrofacetDistribution& d,
+                            const CoatLayer& c) {
+    Lobe l;
+    l.type = LobeType::Coated;
+    l.color = RGB{1.f};
+    l.fresnel = f;
+    l.dist = d;
+    l.coat = c;
+    l.coat.base = CoatBase::Conductor;
+    l.coat.base_smooth = smooth;
     return l;
 }
 

@@ -14,7 +14,9 @@
 //   transmission f = tint_t D G (1 - F) |wi.wm| |wo.wm| / (|cos_o cos_i| (wi.wm + wo.wm / eta)^2)
 //                    (over eta^2 when radiance flows: Veach's non-symmetric refraction),
 // sampled by choosing reflection with probability F, each with the visible-normal density
-// and the half vector's Jacobian.
+// and the half vector's Jacobian. Restricted to one branch (`only`: a layered lobe's walk asks
+// for the coat's transmission alone, then its reflection alone), the branch is always taken
+// and its density is no longer multiplied by F or 1 - F.
 #include <cmath>
 
 #include "bsdf.h"
@@ -70,11 +72,15 @@ RGB rough_dielectric_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const Bsdf
     return l.transmit * t;
 }
 
-float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) {
+float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx,
+                           uint8_t only) {
     HalfVector h;
     if (!half_vector(l, wo, wi, ctx, h)) return 0.f;
+    if (!(only & (h.reflect ? kReflection : kTransmission))) return 0.f;
     const float om = dot(h.wo, h.wm), im = dot(h.wi, h.wm);
-    const float F = fresnel_dielectric(om, h.eta_i, h.eta_t);
+    float F = fresnel_dielectric(om, h.eta_i, h.eta_t);
+    if (!(only & kTransmission)) F = 1.f;
+    if (!(only & kReflection)) F = 0.f;
     // The visible normals' density G1(wo) D(wm) (wo.wm) / wo.z, times the Jacobian of the
     // half vector and the probability of the branch.
     const float visible = l.dist.g1(h.wo) / h.wo.z * l.dist.D(h.wm) * om;
@@ -84,7 +90,7 @@ float rough_dielectric_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const 
 }
 
 bool rough_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u,
-                             const BsdfContext& ctx, BsdfSample& s) {
+                             const BsdfContext& ctx, BsdfSample& s, uint8_t only) {
     if (wo.z == 0.f) return false;
     const float sign = wo.z < 0.f ? -1.f : 1.f;
     const Vec3 o = wo * sign;
@@ -94,7 +100,9 @@ bool rough_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u,
     const Vec3 wm = l.dist.sample_visible(o, u);
     const float om = dot(o, wm);
     if (om <= 0.f) return false;
-    const float F = fresnel_dielectric(om, eta_i, eta_t);
+    float F = fresnel_dielectric(om, eta_i, eta_t);
+    if (!(only & kTransmission)) F = 1.f;
+    if (!(only & kReflection)) F = 0.f;
     Vec3 wi;
     if (uc < F) {
         wi = wm * (2.f * om) - o;
@@ -107,7 +115,7 @@ bool rough_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u,
         s.eta = eta_t / eta_i;
     }
     s.wi = wi * sign;
-    s.pdf = rough_dielectric_pdf(l, wo, s.wi, ctx);
+    s.pdf = rough_dielectric_pdf(l, wo, s.wi, ctx, only);
     s.f = rough_dielectric_f(l, wo, s.wi, ctx);
     return s.pdf > 0.f;
 }

@@ -142,18 +142,32 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
     // Rough lobes: pbrt's Trowbridge–Reitz of alpha_x, alpha_y (remapped from roughness as
     // pbrt-v4's remaproughness does). Below pbrt's smoothness limit (both under 1e-3):
     // specular.
-    auto distribution = [&](bool& smooth) {
+    auto distribution = [&](bool& smooth, const std::string& prefix = "") {
         const bool remap = p.boolean("remaproughness", true);
-        float u = float_value(p, "roughness", 0.f), v = u;
-        if (p.has("uroughness") || p.has("vroughness")) {
-            u = float_value(p, "uroughness", u);
-            v = float_value(p, "vroughness", v);
+        float u = float_value(p, prefix + "roughness", 0.f), v = u;
+        if (p.has(prefix + "uroughness") || p.has(prefix + "vroughness")) {
+            u = float_value(p, prefix + "uroughness", u);
+            v = float_value(p, prefix + "vroughness", v);
         }
         const float ax = alpha_of(u, remap), ay = alpha_of(v, remap);
         smooth = std::max(ax, ay) < 1e-3f;
         if (!smooth && std::max(ax, ay) > 2.f) fail(t, what + ": roughness gives alpha above 2");
         return MicrofacetDistribution::trowbridge_reitz(std::clamp(ax, 1e-4f, 2.f),
                                                         std::clamp(ay, 1e-4f, 2.f));
+    };
+    // A conductor's Fresnel from `reflectance` or eta and k (pbrt-v4's default: copper).
+    auto conductor_of = [&](const std::string& prefix) {
+        if (p.has("reflectance"))
+            return conductor_from_reflectance(reflectance(p, "reflectance", RGB{1.f}, what));
+        const Metal& cu = metals()[2];
+        const auto eta = p.color(prefix + "eta", false), k = p.color(prefix + "k", false);
+        Fresnel f;
+        f.kind = FresnelKind::Conductor;
+        f.eta = eta ? *eta : cu.eta;
+        f.k = k ? *k : cu.k;
+        if (!(f.eta.r > 0.f && f.eta.g > 0.f && f.eta.b > 0.f))
+            fail(t, what + ": " + prefix + "eta must be positive");
+        return f;
     };
     if (type == "diffuse") {
         const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
@@ -162,19 +176,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         m.base_color = r;
         m.c_diffuse = 1.f;
     } else if (type == "conductor") {
-        Fresnel f;
-        if (p.has("reflectance")) {
-            f = conductor_from_reflectance(reflectance(p, "reflectance", RGB{1.f}, what));
-        } else {
-            // pbrt-v4's default conductor is copper.
-            const Metal& cu = metals()[2];
-            const auto eta = p.color("eta", false), k = p.color("k", false);
-            f.kind = FresnelKind::Conductor;
-            f.eta = eta ? *eta : cu.eta;
-            f.k = k ? *k : cu.k;
-            if (!(f.eta.r > 0.f && f.eta.g > 0.f && f.eta.b > 0.f))
-                fail(t, what + ": eta must be positive");
-        }
+        const Fresnel f = conductor_of("");
         bool smooth = true;
         const MicrofacetDistribution d = distribution(smooth);
         if (smooth)
@@ -210,36 +212,40 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         if (!tr.is_black()) m.bsdf.add(Lobe::lambert_transmission(tr));
         m.base_color = r;
         m.c_diffuse = 1.f;
-    } else if (type == "coateddiffuse") {
-        // Documented approximation: a dielectric coat's reflection over a Lambertian base
-        // that receives what the coat lets through (1 - the coat's mean Fresnel reflectance);
-        // pbrt-v4 simulates the layer's inner bounces stochastically.
-        const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
-        if (m.texture >= 0) m.textured_lobes = 1;
-        const float eta = p.real("eta", 1.5f);
-        if (!(eta > 1.f)) fail(t, what + ": eta must be above 1");
+    } else if (type == "coateddiffuse" || type == "coatedconductor") {
+        // The layer: pbrt-v4's LayeredBxDF, evaluated by the same random walk (coated.cpp).
+        const bool conductor = type == "coatedconductor";
+        const std::string coat = conductor ? "interface." : "";
+        CoatLayer c;
+        c.ior = p.real(coat + "eta", 1.5f);
+        if (!(c.ior > 0.f)) fail(t, what + ": eta must be positive");
+        c.thickness = float_value(p, "thickness", 0.01f);
+        if (!(c.thickness > 0.f)) fail(t, what + ": thickness must be positive");
+        c.g = std::clamp(float_value(p, "g", 0.f), -0.999f, 0.999f);
+        c.albedo = reflectance(p, "albedo", RGB{0.f}, what);
+        const int depth = p.integer("maxdepth", 10), samples = p.integer("nsamples", 1);
+        if (depth < 1 || depth > 100 || samples < 1 || samples > 64)
+            fail(t, what + ": maxdepth must be in [1, 100] and nsamples in [1, 64]");
+        c.max_depth = uint8_t(depth);
+        c.samples = uint8_t(samples);
         bool smooth = true;
-        const MicrofacetDistribution d = distribution(smooth);
-        Fresnel f;
-        f.kind = FresnelKind::Dielectric;
-        f.ior = eta;
-        // Hemispherical mean of the dielectric's Fresnel reflectance (cosine weighted).
-        float mean = 0.f;
-        for (int i = 0; i < 64; ++i) {
-            const float mu = (float(i) + 0.5f) / 64.f;
-            mean += 2.f * mu * f.eval(mu).r / 64.f;
+        c.coat = distribution(smooth, coat);
+        c.coat_smooth = smooth;
+        if (!conductor) {
+            const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
+            if (m.texture >= 0) m.textured_lobes = 1;
+            m.bsdf.add(Lobe::coated_diffuse(r, c));
+            m.base_color = r;
+            m.c_diffuse = 1.f;
+        } else {
+            Fresnel f = conductor_of("conductor.");
+            // Under the coat, the conductor's index is relative to the coat's.
+            f.eta *= 1.f / c.ior;
+            f.k *= 1.f / c.ior;
+            bool base_smooth = true;
+            const MicrofacetDistribution d = distribution(base_smooth, "conductor.");
+            m.bsdf.add(Lobe::coated_conductor(f, base_smooth, d, c));
         }
-        m.bsdf.add(Lobe::lambert(r * (1.f - mean)));
-        m.base_color = r * (1.f - mean);
-        m.c_diffuse = 1.f;
-        if (smooth)
-            m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
-        else
-            m.bsdf.add(Lobe::microfacet(RGB{1.f}, d, f));
-        for (const char* layer : {"thickness", "albedo", "g", "maxdepth", "nsamples"})
-            if (p.has(layer))
-                warn(file(), t.line, what + ": '" + layer + "' ignored by the approximation");
-        count("coateddiffuse (approximated as Lambert + dielectric coat)");
     } else if (type == "interface") {
         // No surface: only the boundary of the media its shapes' MediumInterface names.
         m.is_interface = true;
@@ -274,7 +280,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
     } else {
         fail(t, "unsupported material '" + type +
                     "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, "
-                    "interface, mix)");
+                    "coatedconductor, interface, mix)");
     }
     for (const char* ignored : {"normalmap", "displacement"})
         if (p.has(ignored)) warn(file(), t.line, what + ": '" + ignored + "' ignored");

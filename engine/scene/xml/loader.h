@@ -23,6 +23,13 @@ namespace foton::xml {
 
 using Names = std::initializer_list<const char*>;
 
+// The generic material types start with no diffuse part; the diffuse ones set it.
+inline void generic(Material& m) {
+    m.type = MaterialType::Generic;
+    m.c_diffuse = 0.f;
+    m.base_color = RGB{0.f};
+}
+
 inline bool in(const Names& names, const char* s) {
     return std::any_of(names.begin(), names.end(),
                        [&](const char* n) { return std::string_view(n) == s; });
@@ -198,6 +205,8 @@ class Loader {
     void conductor_material(const pugi::xml_node& n, bool top, Material& m);
     void dielectric_material(const pugi::xml_node& n, bool top, Material& m);
     void diffuse_transmission_material(const pugi::xml_node& n, bool top, Material& m);
+    void coated_material(const pugi::xml_node& n, bool top, Material& m);
+    CoatLayer coat_layer(const pugi::xml_node& n) const;
     void interface_material(const pugi::xml_node& n, bool top, Material& m);
     void microfacet_material(const pugi::xml_node& n, bool top, Material& m);
     void mix_material(const pugi::xml_node& n, bool top, Material& m);

@@ -50,13 +50,6 @@ void Loader::thesis_material(const pugi::xml_node& n, bool top, Material& m) {
     if (glass) m.bsdf.add(Lobe::dielectric(m.ior, RGB{1.f}, m.refraction_color));
 }
 
-// The generic types start with no diffuse part; the diffuse ones set it.
-static void generic(Material& m) {
-    m.type = MaterialType::Generic;
-    m.c_diffuse = 0.f;
-    m.base_color = RGB{0.f};
-}
-
 // lambert and oren_nayar: a diffuse reflectance in [0, 1].
 void Loader::lambert_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);

@@ -103,6 +103,8 @@ const std::vector<Loader::MaterialReader>& Loader::material_readers() {
         {"microfacet", &Loader::microfacet_material},
         {"mix", &Loader::mix_material},
         {"diffuse_transmission", &Loader::diffuse_transmission_material},
+        {"coated_diffuse", &Loader::coated_material},
+        {"coated_conductor", &Loader::coated_material},
         {"interface", &Loader::interface_material},
     };
     return readers;
@@ -152,13 +154,13 @@ void Loader::material_texture(const pugi::xml_node& n, Material& m) {
     // diffuse types add) and the base colour are multiplied by it.
     const std::string type = n.attribute("type").value();
     const bool diffuse = type == "matte" || type == "phong" || type == "reflective" ||
-                         type == "lambert" || type == "oren_nayar";
+                         type == "lambert" || type == "oren_nayar" || type == "coated_diffuse";
     if (!diffuse)
         fail(tx,
              "<texture> multiplies a diffuse reflectance: matte, phong, reflective, "
-             "lambert or oren_nayar (or put it on a mix's component)");
-    if (m.bsdf.empty() ||
-        (m.bsdf.lobe(0).type != LobeType::Lambert && m.bsdf.lobe(0).type != LobeType::OrenNayar))
+             "lambert, oren_nayar or coated_diffuse (or put it on a mix's component)");
+    const LobeType first = m.bsdf.empty() ? LobeType::Mirror : m.bsdf.lobe(0).type;
+    if (first != LobeType::Lambert && first != LobeType::OrenNayar && first != LobeType::Coated)
         fail(tx, "<texture> on a material without diffuse reflection (c_diffuse 0)");
     m.texture = parse_texture(tx);
     m.textured_lobes = 1;
