@@ -486,7 +486,7 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
          "test.pbrt:2: parameter 'radius': 'nan' is not a number"},
         {"WorldBegin\nShape \"sphere\" \"integer radius\" [ 1.5 ]", "is not an integer"},
         {"WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]", "test.pbrt:2: sphere radius"},
-        {"WorldBegin\nShape \"disk\"", "test.pbrt:2: unsupported shape 'disk'"},
+        {"WorldBegin\nShape \"curve\"", "test.pbrt:2: unsupported shape 'curve'"},
         {"WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] "
          "\"integer indices\" [0 1 3]",
          "test.pbrt:2: Shape \"trianglemesh\": index 3 outside the 3 points"},

@@ -19,8 +19,10 @@ Vec3 Affine::normal(const Vec3& n) const {
     const float c20 = m[0][1] * m[1][2] - m[0][2] * m[1][1];
     const float c21 = m[0][2] * m[1][0] - m[0][0] * m[1][2];
     const float c22 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    Vec3 r{c00 * n.x + c10 * n.y + c20 * n.z, c01 * n.x + c11 * n.y + c21 * n.z,
-           c02 * n.x + c12 * n.y + c22 * n.z};
+    // Row i of the cofactor matrix times n (its transpose, the adjugate, would apply the
+    // inverse: a rotation's normals turned the other way).
+    Vec3 r{c00 * n.x + c01 * n.y + c02 * n.z, c10 * n.x + c11 * n.y + c12 * n.z,
+           c20 * n.x + c21 * n.y + c22 * n.z};
     if (determinant() < 0.f) r = -r;
     return normalize(r);
 }

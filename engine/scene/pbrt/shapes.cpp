@@ -1,4 +1,5 @@
-// Shape and ObjectInstance: triangle and bilinear meshes, PLY meshes and spheres, placed in
+// Shape and ObjectInstance: triangle and bilinear meshes, PLY meshes, Loop subdivision
+// surfaces, spheres and tessellated disks and cylinders, placed in
 // world space with pbrt-v4's orientation rules (the side an area light emits from and a
 // dielectric's outside). Object instances share their prototype's meshes (placed by the
 // instance's transform, one acceleration structure each); their spheres are copied.
@@ -6,12 +7,20 @@
 #include <filesystem>
 
 #include "engine/core/input_file.h"
+#include "engine/scene/mesh_shapes.h"
 #include "engine/scene/ply_reader.h"
 #include "importer.h"
 
 namespace foton::pbrt {
 
 namespace {
+
+// Loop subdivision multiplies triangles by 4 a level; a file's levels stop where memory would.
+constexpr int kMaxSubdivisionLevels = 10;
+constexpr double kMaxSubdividedTriangles = 64e6;
+// Segments of a disk's or cylinder's full circle (the polygon keeps the circle's area; the
+// surface is within 0.02 % of the radius of the true one).
+constexpr int kCircleSegments = 256;
 
 // pbrt's geometric normal follows the winding, except that it faces the shading normals
 // where the mesh has them: turn each triangle that way.
@@ -54,6 +63,7 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
     TriangleMesh m;
     m.name = type;
     std::vector<Vec3> normals;
+    std::string label = "Shape " + type;  // what `foton info` lists as imported
     if (type == "trianglemesh" || type == "bilinearmesh") {
         const std::vector<Vec3> P = p.triples("P");
         std::vector<int> idx = p.integers("indices");
@@ -112,8 +122,57 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         for (std::size_t i = 0; i < m.normals.size(); i += 3)
             normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
         p.has("edgelength");  // only used with displacement, rejected above
+    } else if (type == "loopsubdiv") {
+        const std::vector<Vec3> P = p.triples("P");
+        const std::vector<int> idx = p.integers("indices");
+        const int levels = p.integer("levels", 3);
+        if (levels < 0 || levels > kMaxSubdivisionLevels)
+            fail(t,
+                 what + ": levels must be in [0, " + std::to_string(kMaxSubdivisionLevels) + "]");
+        if (P.empty() || idx.empty() || idx.size() % 3 != 0)
+            fail(t, what + " needs \"point3 P\" and \"integer indices\" (three per triangle)");
+        TriangleMesh control;
+        for (const Vec3& v : P) control.positions.insert(control.positions.end(), {v.x, v.y, v.z});
+        for (int i : idx) {
+            if (i < 0 || std::size_t(i) >= P.size())
+                fail(t, what + ": index " + std::to_string(i) + " outside the " +
+                            std::to_string(P.size()) + " points");
+            control.indices.push_back(uint32_t(i));
+        }
+        if (double(idx.size() / 3) * std::pow(4.0, levels) > kMaxSubdividedTriangles)
+            fail(t, what + ": " + std::to_string(levels) + " levels would make over " +
+                        std::to_string(uint64_t(kMaxSubdividedTriangles)) + " triangles");
+        try {
+            m = loop_subdivide(control, levels);
+        } catch (const std::invalid_argument& e) {
+            fail(t, what + ": " + e.what());
+        }
+        m.name = type;
+        for (std::size_t i = 0; i < m.normals.size(); i += 3)
+            normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
+    } else if (type == "disk" || type == "cylinder") {
+        const float radius = p.real("radius", 1.f);
+        const float phi_max = std::clamp(p.real("phimax", 360.f), 0.f, 360.f) * kPi / 180.f;
+        if (!(radius > 0.f) || !(phi_max > 0.f))
+            fail(t, what + ": radius and phimax must be positive");
+        if (type == "disk") {
+            const float inner = p.real("innerradius", 0.f);
+            if (!(inner >= 0.f && inner < radius))
+                fail(t, what + ": innerradius must be in [0, radius)");
+            m = tessellate_disk(p.real("height", 0.f), radius, inner, phi_max, kCircleSegments);
+        } else {
+            const float z0 = p.real("zmin", -1.f), z1 = p.real("zmax", 1.f);
+            if (!(z1 != z0)) fail(t, what + ": zmin and zmax must differ");
+            m = tessellate_cylinder(radius, std::min(z0, z1), std::max(z0, z1), phi_max,
+                                    kCircleSegments);
+        }
+        for (std::size_t i = 0; i < m.normals.size(); i += 3)
+            normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
+        label = "Shape " + type + " (tessellated, " + std::to_string(kCircleSegments) +
+                " segments a turn)";
     } else {
-        fail(t, "unsupported shape '" + type + "' (trianglemesh, plymesh, bilinearmesh, sphere)");
+        fail(t, "unsupported shape '" + type +
+                    "' (trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere, disk, cylinder)");
     }
     m.normals.clear();
     for (const Vec3& n : normals) {
@@ -131,7 +190,7 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
             std::swap(m.indices[3 * i + 1], m.indices[3 * i + 2]);
     }
     warn_unused(p, what);
-    count("Shape " + type);
+    count(label);
     const uint32_t id = target().add_mesh(std::move(m), scene_material(gs_), true);
     target().objects[id].media = shape_media();
 }
