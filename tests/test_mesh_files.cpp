@@ -195,8 +195,8 @@ void write_gltf(const test::TempDir& dir, const std::string& extra_material = ""
     {"attributes": {"POSITION": 1}, "indices": 5, "material": 1}]}],
   "materials": [
     {"name": "tex", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}},
-    {"name": "flat", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0},
-     "normalTexture": {"index": 0})" + extra_material +
+    {"name": "flat", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0})" +
+                                                extra_material +
                                                 R"(}],
   "textures": [{"source": 0}],
   "images": [{"uri": "t.png"}],
@@ -227,10 +227,6 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     CHECK(s.bounds().lo.x == Approx(0.f));
     CHECK(s.bounds().hi.x == Approx(1.f));
     REQUIRE(s.texture_images.size() == 1);
-    bool normal_map_noted = false;
-    for (const std::string& w : s.warnings)
-        normal_map_noted |= w.find("material 1 'flat': normalTexture ignored") != std::string::npos;
-    CHECK(normal_map_noted);
     const TextureImage& img = s.texture_images[0];
     // The left primitive's uv: u = 2x over [0, 0.5], v (foton's, up) = y.
     const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
@@ -238,6 +234,37 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.02);
+}
+
+TEST_CASE("glTF and MTL: normal maps are read linearly and set the material's map",
+          "[gltf][obj][normal_map][mesh-file][fast]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir, R"(, "normalTexture": {"index": 0})");
+    const MeshFile f = load_gltf(dir.file("quad.gltf"));
+    REQUIRE(f.materials.size() == 2);
+    CHECK(f.materials[0].normal_map.empty());
+    REQUIRE(!f.materials[1].normal_map.empty());
+    Scene s;
+    std::map<std::string, uint32_t> images;
+    const Material tex = s.materials[add_file_material(s, f.materials[0], f, images)];
+    const Material flat = s.materials[add_file_material(s, f.materials[1], f, images)];
+    CHECK(tex.normal_map < 0);
+    REQUIRE(flat.normal_map >= 0);
+    // The same PNG as colour (sRGB-decoded) and as a normal map (linear): two images.
+    REQUIRE(s.texture_images.size() == 2);
+    const TextureImage& colour = s.texture_images[s.textures[std::size_t(tex.texture)].image];
+    const TextureImage& normal = s.texture_images[s.textures[std::size_t(flat.normal_map)].image];
+    REQUIRE(colour.texels.size() == normal.texels.size());
+    for (std::size_t i = 0; i < colour.texels.size(); ++i)
+        CHECK(colour.texels[i].g == Approx(srgb_to_linear(normal.texels[i].g)).margin(1e-5));
+    // MTL's norm (the PBR extension's normal map).
+    std::vector<std::string> notes;
+    const auto m =
+        parse_mtl("newmtl n\nKd 0.5 0.5 0.5\nnorm t.png\n", "n.mtl", dir.path().string(), notes);
+    CHECK(m.at("n").normal_map == dir.file("t.png"));
+    const Material mtl = s.materials[add_file_material(s, m.at("n"), MeshFile{}, images)];
+    CHECK(mtl.normal_map >= 0);
 }
 
 TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",

@@ -231,7 +231,16 @@ class GltfReader {
             if (present) note(where + ": " + what + " ignored");
         };
         ignored(pbr.metallicRoughnessTexture.index >= 0, "metallicRoughnessTexture");
-        ignored(gm.normalTexture.index >= 0, "normalTexture");
+        if (gm.normalTexture.index >= 0) {
+            if (gm.normalTexture.texCoord != 0)
+                note(where + ": normalTexture uses TEXCOORD_" +
+                     std::to_string(gm.normalTexture.texCoord) + "; foton reads TEXCOORD_0");
+            if (gm.normalTexture.scale != 1.0)
+                note(where + ": normalTexture scale " + std::to_string(gm.normalTexture.scale) +
+                     " ignored (read as 1)");
+            // Tangents from the uv (the file's TANGENT attribute is not read).
+            f.normal_map = image(gm.normalTexture.index, where, true);
+        }
         ignored(gm.occlusionTexture.index >= 0, "occlusionTexture");
         ignored(gm.emissiveTexture.index >= 0, "emissiveTexture");
         ignored(gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty(), "alphaMode (foton is opaque)");
@@ -244,13 +253,13 @@ class GltfReader {
     }
 
     // The key of texture t's image in MeshFile::embedded_images, decoded once.
-    std::string image(int t, const std::string& where) {
+    std::string image(int t, const std::string& where, bool linear = false) {
         if (t < 0 || std::size_t(t) >= g_.textures.size())
             fail(where, "texture " + std::to_string(t) + " does not exist");
         const int src = g_.textures[std::size_t(t)].source;
         if (src < 0 || std::size_t(src) >= g_.images.size())
             fail(where, "texture " + std::to_string(t) + " has no image");
-        const std::string key = path_ + "#image" + std::to_string(src);
+        const std::string key = path_ + "#image" + std::to_string(src) + (linear ? "#linear" : "");
         if (out_.embedded_images.count(key)) return key;
         const tinygltf::Image& im = g_.images[std::size_t(src)];
         const std::string at = where + ", image " + std::to_string(src);
@@ -273,7 +282,7 @@ class GltfReader {
                 const std::size_t o = (i * std::size_t(im.component) + std::size_t(k)) * bytes;
                 uint16_t v = im.image[o];
                 if (bytes == 2) std::memcpy(&v, &im.image[o], 2);
-                c[k] = srgb_to_linear(float(v) / unit);
+                c[k] = linear ? float(v) / unit : srgb_to_linear(float(v) / unit);
             }
             // Grey (and grey + alpha) images repeat their one channel.
             if (im.component < 3) c[1] = c[2] = c[0];

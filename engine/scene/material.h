@@ -44,6 +44,11 @@ struct Material {
     // (their stored colour holds the rest: mix weights, coat transmission).
     int32_t texture = -1;
     uint8_t textured_lobes = 0;
+    // A tangent-space normal map (into Scene::textures, an image read linearly; -1: none):
+    // at a hit, the shading normal becomes T x + B y + N z for the texel's (2 rgb - 1), with
+    // N the interpolated normal, T the surface's dp/du made perpendicular to it and B = N x T
+    // (pbrt-v4's and glTF's convention; surface_at).
+    int32_t normal_map = -1;
 
     // The physically based model the Monte Carlo integrators use (also for the thesis'
     // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,

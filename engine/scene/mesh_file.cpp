@@ -155,6 +155,25 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
             m.texture = int32_t(scene.textures.size() - 1);
             m.textured_lobes = 1;  // the Lambert lobe, added first
         }
+        if (!f.normal_map.empty()) {
+            // Read linearly (its key differs from a colour map of the same file).
+            const std::string key = f.normal_map + "#linear";
+            uint32_t image;
+            if (const auto it = images.find(key); it != images.end()) {
+                image = it->second;
+            } else {
+                const auto emb = file.embedded_images.find(f.normal_map);
+                scene.texture_images.push_back(emb != file.embedded_images.end()
+                                                   ? emb->second
+                                                   : load_texture_image(f.normal_map, true));
+                image = images[key] = uint32_t(scene.texture_images.size() - 1);
+            }
+            Texture tx;
+            tx.kind = TextureKind::Image;
+            tx.image = image;
+            scene.textures.push_back(tx);
+            m.normal_map = int32_t(scene.textures.size() - 1);
+        }
         if (f.mirror && !ks.is_black()) {
             m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
         } else if (!ks.is_black() && f.exponent > 0.f) {

@@ -22,6 +22,7 @@ struct FileMaterial {
     std::string name;
     RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
     std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
+    std::string normal_map;   // a tangent-space normal map (resolved path or embedded key)
     float map_su = 1.f, map_sv = 1.f, map_du = 0.f, map_dv = 0.f;  // uv scale and offset
     RGB specular{0.f};  // MTL Ks: a Phong highlight of exponent Ns, or the mirror's colour
     float exponent = 0.f;

@@ -165,8 +165,16 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             cur->diffuse_map = (std::filesystem::path(base_dir) / file).string();
         } else if (key == "Ka" || key == "Tf" || key == "sharpness") {
             note(quoted(key) + " ignored (no physical meaning in foton's models)");
+        } else if (key == "norm") {
+            // The PBR extension's tangent-space normal map (options are not read).
+            if (t.size() < 2) throw InputError(name, line, "norm needs a file name");
+            if (t[1].substr(0, 1) == "-")
+                throw InputError(name, line, "norm options are not supported");
+            const char* b = t[1].data();
+            const std::string file(b, std::size_t(t.back().data() + t.back().size() - b));
+            cur->normal_map = (std::filesystem::path(base_dir) / file).string();
         } else if (key.substr(0, 4) == "map_" || key == "bump" || key == "disp" || key == "decal" ||
-                   key == "refl" || key == "norm") {
+                   key == "refl") {
             note(quoted(key) + " ignored: foton textures only the diffuse colour");
         } else {
             note("unknown MTL statement " + quoted(key) + " ignored");

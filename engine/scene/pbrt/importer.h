@@ -89,6 +89,8 @@ class Importer {
                     const std::string& what, int32_t& texture);
     // The Scene::texture_images index of an imagemap's file, decoded once per file.
     uint32_t image_texture(const Token& t, const ParamList& p);
+    // An image file into Scene::texture_images (decoded once per file and encoding).
+    uint32_t image_file(const Token& t, const std::string& rel, bool linear);
     // The texture bound to parameter `name` ("texture reflectance" "t"), nullptr when the
     // parameter is not texture-valued; an error when no texture of that kind is defined.
     const TextureDesc* texture_ref(const ParamList& p, const std::string& name,

@@ -113,14 +113,19 @@ uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
     p.real("maxanisotropy", 8.f);
     const std::string enc = p.text("encoding", "sRGB");
     if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
-    if (const auto it = images_.find(rel); it != images_.end()) return it->second;
+    return image_file(t, rel, enc == "linear");
+}
+
+uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linear) {
+    const std::string key = rel + (linear ? "#linear" : "");
+    if (const auto it = images_.find(key); it != images_.end()) return it->second;
     const std::string path = input_path(t, "texture", rel, kMaxMeshFileBytes);
     try {
-        scene_.texture_images.push_back(load_texture_image(path, enc == "linear"));
+        scene_.texture_images.push_back(load_texture_image(path, linear));
     } catch (const InputError& e) {
         fail(t, std::string("texture '") + rel + "': " + e.what());
     }
-    return images_[rel] = uint32_t(scene_.texture_images.size() - 1);
+    return images_[key] = uint32_t(scene_.texture_images.size() - 1);
 }
 
 namespace {
@@ -269,6 +274,12 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                 m.texture = sub.texture;
                 m.textured_lobes |= uint8_t(sub.textured_lobes << m.bsdf.size());
             }
+            if (sub.normal_map >= 0) {
+                // One shading frame for the mixture's lobes.
+                if (m.normal_map >= 0 && m.normal_map != sub.normal_map)
+                    fail(t, "a mix of two differently normal-mapped materials is not supported");
+                m.normal_map = sub.normal_map;
+            }
             Bsdf b = sub.bsdf;
             b.scale(w);
             for (int l = 0; l < b.size(); ++l)
@@ -282,8 +293,17 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                     "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, "
                     "coatedconductor, interface, mix)");
     }
-    for (const char* ignored : {"normalmap", "displacement"})
-        if (p.has(ignored)) warn(file(), t.line, what + ": '" + ignored + "' ignored");
+    if (p.has("normalmap")) {
+        // A tangent-space normal map, read linearly as pbrt-v4 reads it.
+        const std::string rel = p.text("normalmap", "");
+        if (rel.empty()) fail(t, what + ": \"string normalmap\" needs a file name");
+        Texture nm;
+        nm.kind = TextureKind::Image;
+        nm.image = image_file(t, rel, true);
+        scene_.textures.push_back(nm);
+        m.normal_map = int32_t(scene_.textures.size() - 1);
+    }
+    if (p.has("displacement")) warn(file(), t.line, what + ": 'displacement' ignored");
     warn_unused(p, what);
     count("Material " + type);
     return m;

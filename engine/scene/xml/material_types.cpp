@@ -200,6 +200,11 @@ void Loader::mix_material(const pugi::xml_node& n, bool top, Material& m) {
         const float w = non_negative(c, "weight", 1.f);
         total += w;
         Material sub = material(c, false);
+        if (sub.normal_map >= 0) {
+            // One shading frame for the mixture's lobes.
+            if (m.normal_map >= 0) fail(c, "a mix takes one normal-mapped component");
+            m.normal_map = sub.normal_map;
+        }
         if (!sub.emission.is_black()) fail(c, "put <emission> on the mix, not on its components");
         sub.bsdf.scale(w);
         if (sub.texture >= 0) {

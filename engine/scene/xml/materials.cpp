@@ -123,13 +123,15 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
     if (!reader) fail(n, "unknown material type '" + type + "' (" + names + ")");
     (this->*reader->read)(n, top, m);
     material_texture(n, m);
+    material_normal_map(n, m);
     material_emission(n, m);
     return m;
 }
 
 void Loader::check_material(const pugi::xml_node& n, bool top, Names attrs, Names children) const {
     const std::string type = n.attribute("type").value();
-    // Every material takes type (and a weight inside a mix), <emission> and <texture>.
+    // Every material takes type (and a weight inside a mix), <emission>, <texture> and
+    // <normal_map>.
     auto known_attr = [&](const char* a) {
         return in(attrs, a) || std::string_view(a) == "type" ||
                (!top && std::string_view(a) == "weight");
@@ -141,7 +143,7 @@ void Loader::check_material(const pugi::xml_node& n, bool top, Names attrs, Name
     for (const pugi::xml_node& c : n.children()) {
         if (c.type() != pugi::node_element) continue;
         if (!in(children, c.name()) && std::string_view(c.name()) != "emission" &&
-            std::string_view(c.name()) != "texture")
+            std::string_view(c.name()) != "texture" && std::string_view(c.name()) != "normal_map")
             fail(c, std::string("unknown element <") + c.name() + "> in <material type=\"" + type +
                         "\">");
     }
@@ -166,6 +168,15 @@ void Loader::material_texture(const pugi::xml_node& n, Material& m) {
     m.textured_lobes = 1;
 }
 
+// <normal_map src="..."/>: a tangent-space normal map (read linearly unless encoding says).
+void Loader::material_normal_map(const pugi::xml_node& n, Material& m) {
+    const pugi::xml_node nm = n.child("normal_map");
+    if (!nm) return;
+    if (nm.attribute("type") && std::string_view(nm.attribute("type").value()) != "image")
+        fail(nm, "a normal map is an image (<normal_map src=\"...\"/>)");
+    m.normal_map = parse_texture(nm, true);
+}
+
 void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
     const pugi::xml_node e = n.child("emission");
     if (!e) return;
@@ -183,7 +194,7 @@ void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
 }
 
 // <texture src="image" .../> or <texture type="checkerboard">: into Scene::textures.
-int32_t Loader::parse_texture(const pugi::xml_node& tx) {
+int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default) {
     const std::string kind = tx.attribute("type") ? tx.attribute("type").value() : "image";
     Texture t;
     t.su = number(tx, "scale_u", 1.f);
@@ -194,8 +205,9 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx) {
         check(tx, {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v"}, {});
         const std::string src = tx.attribute("src").value();
         if (src.empty()) fail(tx, "<texture> needs attribute 'src' (or type=\"checkerboard\")");
-        const std::string enc =
-            tx.attribute("encoding") ? tx.attribute("encoding").value() : "srgb";
+        const std::string enc = tx.attribute("encoding") ? tx.attribute("encoding").value()
+                                : linear_default         ? "linear"
+                                                         : "srgb";
         if (enc != "srgb" && enc != "linear")
             fail(tx, "unknown texture encoding '" + enc + "' (srgb, linear)");
         const std::string path = (std::filesystem::path(base_) / src).string();

@@ -5,12 +5,40 @@
 
 namespace foton {
 
+namespace {
+
+// dp/du of a triangle from its corners and their texture coordinates (0 when the uv are
+// degenerate: the map then has no tangent there and is not applied).
+Vec3 triangle_dpdu(const Vec3& p0, const Vec3& p1, const Vec3& p2, Point2 t0, Point2 t1,
+                   Point2 t2) {
+    const float du1 = t1.x - t0.x, dv1 = t1.y - t0.y, du2 = t2.x - t0.x, dv2 = t2.y - t0.y;
+    const float det = du1 * dv2 - dv1 * du2;
+    if (std::fabs(det) < 1e-12f) return {0.f, 0.f, 0.f};
+    return ((p1 - p0) * dv2 - (p2 - p0) * dv1) * (1.f / det);
+}
+
+// The shading normal n turned by a tangent-space normal map's texel: (2 rgb - 1) in the frame
+// of T = dpdu made perpendicular to n, B = n x T, n.
+Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel) {
+    const Vec3 t = dpdu - n * dot(n, dpdu);
+    const float len = length(t);
+    if (!(len > 1e-12f)) return n;
+    const Vec3 tx = t / len, bx = cross(n, tx);
+    const Vec3 m =
+        tx * (2.f * texel.r - 1.f) + bx * (2.f * texel.g - 1.f) + n * (2.f * texel.b - 1.f);
+    const float ml = length(m);
+    return ml > 0.f ? m / ml : n;
+}
+
+}  // namespace
+
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
     const Object& obj = scene.objects[geom];
-    const bool textured = scene.materials[obj.material].texture >= 0;
-    Vec3 n_geom, n_shade;
+    const Material& mat = scene.materials[obj.material];
+    const bool textured = mat.texture >= 0 || mat.normal_map >= 0;
+    Vec3 n_geom, n_shade, dpdu{0, 0, 0};
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
         const Instance* in = scene.instance_of(geom);
@@ -39,15 +67,16 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         }
         if (textured) {
             const uint32_t* ix = &m.indices[3 * prim];
-            if (m.uvs.empty()) {
-                // pbrt's default parametrisation of a triangle: (0, 0), (1, 0), (1, 1).
-                sp.uv = {u + v, v};
-            } else {
-                const float w = 1.f - u - v;
-                sp.uv = {
-                    m.uvs[2 * ix[0]] * w + m.uvs[2 * ix[1]] * u + m.uvs[2 * ix[2]] * v,
-                    m.uvs[2 * ix[0] + 1] * w + m.uvs[2 * ix[1] + 1] * u + m.uvs[2 * ix[2] + 1] * v};
+            // pbrt's default parametrisation of a triangle: (0, 0), (1, 0), (1, 1).
+            Point2 t0{0.f, 0.f}, t1{1.f, 0.f}, t2{1.f, 1.f};
+            if (!m.uvs.empty()) {
+                t0 = {m.uvs[2 * ix[0]], m.uvs[2 * ix[0] + 1]};
+                t1 = {m.uvs[2 * ix[1]], m.uvs[2 * ix[1] + 1]};
+                t2 = {m.uvs[2 * ix[2]], m.uvs[2 * ix[2] + 1]};
             }
+            const float w = 1.f - u - v;
+            sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
+            if (mat.normal_map >= 0) dpdu = triangle_dpdu(p0, p1, p2, t0, t1, t2);
         }
     } else {
         const Sphere& s = scene.spheres[obj.index];
@@ -59,8 +88,13 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             float phi = std::atan2(n_geom.y, n_geom.x);
             if (phi < 0.f) phi += 2.f * kPi;
             sp.uv = {phi / (2.f * kPi), 1.f - std::acos(std::clamp(n_geom.z, -1.f, 1.f)) / kPi};
+            dpdu = {-n_geom.y, n_geom.x, 0.f};  // along phi (zero at the poles)
         }
     }
+    if (mat.normal_map >= 0)
+        n_shade = normal_mapped(
+            n_shade, dpdu,
+            scene.textures[std::size_t(mat.normal_map)].eval(scene.texture_images, sp.uv));
     sp.front_face = dot(n_geom, dir) < 0.f;
     if (!sp.front_face) {
         n_geom = -n_geom;
