@@ -70,18 +70,37 @@ TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-inpu
           2);
     CHECK(run("render --no-such-flag").code == 2);
     CHECK(run("").code == 2);
-    // A model or an image given as the scene is named as what it is, not "malformed XML".
+    // A broken model given as the scene fails as a model, an image is named as what it is:
+    // neither is "malformed XML".
     const std::string glb = dir.file("model.GLB"), exr = dir.file("picture.exr");
     std::ofstream(glb) << "glTF\x02";
     std::ofstream(exr) << "v/1\x01";
     const Run model = run("render " + glb + " -o " + dir.file("m.exr"));
     CHECK(model.code == 2);
-    CHECK_THAT(model.output, Catch::Contains(glb + ": a glb model, not a scene"));
-    CHECK_THAT(model.output, Catch::Contains("<triangle_mesh src="));
+    CHECK_THAT(model.output, Catch::Contains(glb + ": malformed glTF"));
+    CHECK(!std::filesystem::exists(dir.file("m.exr")));
     const Run image = run("info " + exr);
     CHECK(image.code == 2);
     CHECK_THAT(image.output, Catch::Contains(exr + ": an image, not a scene"));
-    CHECK_THAT(model.output + image.output, !Catch::Contains("malformed"));
+    CHECK_THAT(model.output + image.output, !Catch::Contains("malformed XML"));
+}
+
+TEST_CASE("foton render model.obj: a model renders as a scene of its own", "[cli]") {
+    // A triangle facing +z: framed by the default camera, in front of the white sky.
+    foton::test::TempDir dir;
+    std::ofstream(dir.file("tri.obj")) << "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+    const Run r = run("render " + dir.file("tri.obj") + " --spp 4 --width 40 --height 30 -o " +
+                      dir.file("tri.exr"));
+    INFO(r.output);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.output, Catch::Contains("a model rendered as a scene"));
+    const foton::Film img = foton::read_exr(dir.file("tri.exr"));
+    REQUIRE(img.width == 40);
+    // The sky (radiance 1) at the corners, the grey triangle in the middle.
+    CHECK(img.at(0, 0).g == Approx(1.f).margin(1e-3));
+    CHECK(img.at(39, 29).g == Approx(1.f).margin(1e-3));
+    CHECK(img.at(20, 16).g < 0.9f);
+    CHECK(img.at(20, 16).g > 0.05f);
 }
 
 TEST_CASE("foton render: integrators, progressive snapshots, bad integrator input", "[cli]") {

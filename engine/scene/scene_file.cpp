@@ -6,6 +6,7 @@
 #include "engine/core/error.h"
 
 #include "engine/core/input_file.h"
+#include "model_scene.h"
 #include "pbrt_loader.h"
 #include "xml_loader.h"
 
@@ -16,13 +17,10 @@ Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
     // of the XML parser's "malformed" at its first binary byte.
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    for (const char* model : {".glb", ".gltf", ".obj", ".ply", ".mtl"})
-        if (ext == model)
-            throw InputError(path, 0,
-                             "a " + ext.substr(1) +
-                                 " model, not a scene: foton renders XML scenes (.xml) and "
-                                 "pbrt-v4 scenes (.pbrt); place the model in a scene with "
-                                 "<triangle_mesh src=\"...\"/>");
+    if (is_model_file(path)) return model_scene(path, overrides);
+    if (ext == ".mtl")
+        throw InputError(path, 0,
+                         "an OBJ material library, not a scene: render the .obj that names it");
     for (const char* image : {".exr", ".png", ".hdr", ".jpg", ".jpeg", ".bmp", ".tga", ".pfm"})
         if (ext == image)
             throw InputError(path, 0,
