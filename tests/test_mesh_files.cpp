@@ -267,6 +267,55 @@ TEST_CASE("glTF and MTL: normal maps are read linearly and set the material's ma
     CHECK(mtl.normal_map >= 0);
 }
 
+TEST_CASE("glTF: KHR_lights_punctual lights are placed by their nodes and the object",
+          "[gltf][mesh-file][fast]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir);
+    {
+        // Three lights on three more root nodes: a point light at (0, 2, 0), a spot light at
+        // (1, 1, 1) turned to shine along -y, and a directional light shining along -z.
+        std::ifstream in(dir.file("quad.gltf"));
+        std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        auto replace = [&](const std::string& from, const std::string& to) {
+            const std::size_t at = t.find(from);
+            REQUIRE(at != std::string::npos);
+            t.replace(at, from.size(), to);
+        };
+        replace(R"("scenes": [{"nodes": [0]}])", R"("scenes": [{"nodes": [0, 2, 3, 4]}])");
+        replace(R"({"scale": [0.5, 1, 1], "mesh": 0})", R"({"scale": [0.5, 1, 1], "mesh": 0},
+            {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"translation": [1, 1, 1], "rotation": [-0.7071068, 0, 0, 0.7071068],
+             "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"extensions": {"KHR_lights_punctual": {"light": 2}}})");
+        replace(R"("asset")", R"("extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+    {"type": "point", "color": [1, 0.5, 0.25], "intensity": 683},
+    {"type": "spot", "intensity": 1366, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
+    {"type": "directional", "intensity": 68.3}]}},
+  "asset")");
+        std::ofstream(dir.file("quad.gltf")) << t;
+    }
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf">
+        <transform><translate x="10" y="0" z="0"/></transform></triangle_mesh>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.lights.points.size() == 1);
+    REQUIRE(s.lights.spots.size() == 1);
+    REQUIRE(s.lights.directionals.size() == 2);  // the scene's own, then the file's
+    // Photometric over 683 lm/W; the object's translation moves the lights too.
+    CHECK(s.lights.points[0].intensity.g == Approx(0.5f));
+    CHECK(s.lights.points[0].position.x == Approx(10.f));
+    CHECK(s.lights.points[0].position.y == Approx(2.f));
+    const SpotLight& spot = s.lights.spots[0];
+    CHECK(spot.intensity.r == Approx(2.f));
+    CHECK(spot.position.x == Approx(11.f));
+    CHECK(spot.direction.y == Approx(-1.f).margin(1e-5));
+    CHECK(spot.cos_outer == Approx(std::cos(0.5f)));
+    CHECK(spot.cos_inner == Approx(std::cos(0.2f)));
+    CHECK(s.lights.directionals[1].direction.z == Approx(-1.f));
+    CHECK(s.lights.directionals[1].radiance.b == Approx(0.1f));
+}
+
 TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",
           "[gltf][mesh-file][fast]") {
     test::TempDir dir;

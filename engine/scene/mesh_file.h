@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/core/rgb.h"
+#include "light.h"
 #include "mesh.h"
 #include "texture.h"
 
@@ -39,9 +40,19 @@ struct MeshPart {
     bool has_normals = false;  // vertex normals came from the file (or its faces, for OBJ with uv)
 };
 
+// glTF's KHR_lights_punctual, placed by its node (the file's space): photometric values over
+// 683 lm/W (candela to W/sr, lux to W/m^2), as Blender's importer reads them.
+struct FileLights {
+    std::vector<PointLight> points;
+    std::vector<SpotLight> spots;
+    std::vector<DirectionalLight> directionals;
+    bool empty() const { return points.empty() && spots.empty() && directionals.empty(); }
+};
+
 struct MeshFile {
     std::vector<MeshPart> parts;
     std::vector<FileMaterial> materials;
+    FileLights lights;
     // Decoded images of glTF files that embed them (keyed by a name materials use as
     // diffuse_map); files on disk are decoded by add_file_material.
     std::map<std::string, TextureImage> embedded_images;

@@ -73,6 +73,10 @@ Scene model_scene(const std::string& path, const RendererOverrides& overrides) {
             if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
         throw InputError(path, 0, what);
     }
+    // A file with lights of its own (glTF's KHR_lights_punctual) is lit by them alone.
+    const bool own_lights =
+        !s.lights.points.empty() || !s.lights.spots.empty() || !s.lights.directionals.empty();
+    if (own_lights) s.environment.reset();
     const Bounds3 b = s.bounds();
     const Vec3 centre = (b.lo + b.hi) * 0.5f;
     const float radius = std::max(0.5f * length(b.hi - b.lo), 1e-6f);
@@ -83,8 +87,10 @@ Scene model_scene(const std::string& path, const RendererOverrides& overrides) {
     s.camera.target = centre;
     s.camera.up = {0.f, 1.f, 0.f};
     s.camera.setup();
-    s.warnings.push_back(path + ": a model rendered as a scene: a white sky, the path tracer, " +
-                         "a camera framing its bounds (put it in an XML scene for more)");
+    s.warnings.push_back(
+        path + ": a model rendered as a scene: " + (own_lights ? "its own lights" : "a white sky") +
+        ", the path tracer, a camera framing its bounds (put it in an XML scene "
+        "for more)");
     return s;
 }
 

@@ -74,6 +74,20 @@ void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
         scene_.warnings.push_back(name_ + ":" + std::to_string(line_of(o)) + ": the " +
                                   std::to_string(lf.file.materials.size()) + " materials of '" +
                                   src + "' are replaced by the object's <material>");
+    // The file's lights, under this placement.
+    for (PointLight p : lf.file.lights.points) {
+        p.position = xf.point(p.position);
+        scene_.lights.points.push_back(p);
+    }
+    for (SpotLight s : lf.file.lights.spots) {
+        s.position = xf.point(s.position);
+        s.direction = normalize(xf.vector(s.direction));
+        scene_.lights.spots.push_back(s);
+    }
+    for (DirectionalLight d : lf.file.lights.directionals) {
+        d.direction = normalize(xf.vector(d.direction));
+        scene_.lights.directionals.push_back(d);
+    }
     const std::string name = o.attribute("name") ? o.attribute("name").value() : src;
     for (std::size_t k = 0; k < lf.file.parts.size(); ++k) {
         MeshPart& part = lf.file.parts[k];
