@@ -214,6 +214,25 @@ void write_gltf(const test::TempDir& dir, const std::string& extra_material = ""
 })";
 }
 
+// Replaces text in a file, once per call (the replaced text must be there); written back when
+// it goes out of scope.
+class GltfEdit {
+  public:
+    explicit GltfEdit(std::string path) : path_(std::move(path)) {
+        std::ifstream in(path_);
+        text_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    ~GltfEdit() { std::ofstream(path_) << text_; }
+    void operator()(const std::string& from, const std::string& to) {
+        const std::size_t at = text_.find(from);
+        REQUIRE(at != std::string::npos);
+        text_.replace(at, from.size(), to);
+    }
+
+  private:
+    std::string path_, text_;
+};
+
 }  // namespace
 
 TEST_CASE("glTF: node transforms, base colour factors and textures render as the file says",
@@ -275,13 +294,7 @@ TEST_CASE("glTF: KHR_lights_punctual lights are placed by their nodes and the ob
     {
         // Three lights on three more root nodes: a point light at (0, 2, 0), a spot light at
         // (1, 1, 1) turned to shine along -y, and a directional light shining along -z.
-        std::ifstream in(dir.file("quad.gltf"));
-        std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        auto replace = [&](const std::string& from, const std::string& to) {
-            const std::size_t at = t.find(from);
-            REQUIRE(at != std::string::npos);
-            t.replace(at, from.size(), to);
-        };
+        GltfEdit replace(dir.file("quad.gltf"));
         replace(R"("scenes": [{"nodes": [0]}])", R"("scenes": [{"nodes": [0, 2, 3, 4]}])");
         replace(R"({"scale": [0.5, 1, 1], "mesh": 0})", R"({"scale": [0.5, 1, 1], "mesh": 0},
             {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
@@ -294,7 +307,6 @@ TEST_CASE("glTF: KHR_lights_punctual lights are placed by their nodes and the ob
     {"type": "spot", "intensity": 1366, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
     {"type": "directional", "intensity": 68.3}]}},
   "asset")");
-        std::ofstream(dir.file("quad.gltf")) << t;
     }
     write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf">
         <transform><translate x="10" y="0" z="0"/></transform></triangle_mesh>)");
@@ -314,6 +326,46 @@ TEST_CASE("glTF: KHR_lights_punctual lights are placed by their nodes and the ob
     CHECK(spot.cos_inner == Approx(std::cos(0.2f)));
     CHECK(s.lights.directionals[1].direction.z == Approx(-1.f));
     CHECK(s.lights.directionals[1].radiance.b == Approx(0.1f));
+}
+
+TEST_CASE(
+    "glTF: the first perspective camera is the file's view, transmission and ior a "
+    "dielectric",
+    "[gltf][mesh-file][fast]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir, R"(, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.75},
+        "KHR_materials_ior": {"ior": 1.33}})");
+    {
+        GltfEdit replace(dir.file("quad.gltf"));
+        // A camera at (0.5, 0.5, 3) looking down -z, 30 degrees vertically.
+        replace(R"("scenes": [{"nodes": [0]}])", R"("scenes": [{"nodes": [0, 2]}])");
+        replace(
+            R"({"scale": [0.5, 1, 1], "mesh": 0})",
+            R"({"scale": [0.5, 1, 1], "mesh": 0}, {"translation": [0.5, 0.5, 3], "camera": 0})");
+        replace(R"("asset")", R"("cameras": [{"type": "perspective",
+            "perspective": {"yfov": 0.5235988, "znear": 0.01}}], "asset")");
+    }
+    const MeshFile f = load_gltf(dir.file("quad.gltf"));
+    REQUIRE(f.view);
+    CHECK(f.view->eye.z == Approx(3.f));
+    CHECK(f.view->target.z == Approx(2.f));
+    CHECK(f.view->vertical_fov_degrees == Approx(30.f));
+    // Rendered directly, the file's camera is the scene's.
+    const Scene s = load_scene(dir.file("quad.gltf"));
+    CHECK(s.camera.eye.x == Approx(0.5f));
+    CHECK(s.camera.eye.z == Approx(3.f));
+    CHECK(s.camera.vertical_fov_degrees() == Approx(30.f).epsilon(1e-3));
+    // The flat material: 0.25 of its base colour diffuse, a dielectric of 1.33 for the rest.
+    REQUIRE(f.materials[1].transmission == Approx(0.75f));
+    Scene t;
+    std::map<std::string, uint32_t> images;
+    const Material m = t.materials[add_file_material(t, f.materials[1], f, images)];
+    REQUIRE(m.bsdf.size() == 2);
+    CHECK(m.bsdf.lobe(0).color.b == Approx(0.6f * 0.25f));
+    CHECK(m.bsdf.lobe(1).type == LobeType::RoughDielectric);  // roughnessFactor 1: alpha 1
+    CHECK(m.bsdf.lobe(1).fresnel.ior == Approx(1.33f));
+    CHECK(m.bsdf.lobe(1).transmit.g == Approx(0.4f * 0.75f));
 }
 
 TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",

@@ -83,7 +83,9 @@ TEST_CASE("normal maps: a Lambertian floor under a distant light follows the map
         {{-std::sin(a), 0.f, std::cos(a)}, -0.6 * std::sin(a) + 0.8 * std::cos(a)}};
     int k = 0;
     for (const Case& c : cases) {
-        const std::string map = write_map(dir, "m" + std::to_string(k++) + ".exr", c.map);
+        std::string name = std::to_string(k++);  // (GCC 12 misreads "m" + to_string: -Wrestrict)
+        name += ".exr";
+        const std::string map = write_map(dir, name, c.map);
         TestScene s(parse_pbrt_scene(floor_scene(map, l), "floor.pbrt", "."));
         const Film img = render_test(s, 4).film;
         RGB sum{0.f};

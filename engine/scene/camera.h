@@ -16,6 +16,13 @@
 namespace foton {
 
 enum class CameraType { Perspective, Orthographic, Equirectangular, Fisheye };
+
+// A perspective view a model file carries (glTF's first camera), in world space: what
+// `foton render model.gltf` looks through.
+struct ModelView {
+    Vec3 eye, target, up;
+    float vertical_fov_degrees = 40.f;
+};
 const char* camera_type_name(CameraType t);
 
 struct Camera {

@@ -11,6 +11,7 @@
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
 #include "gltf_inputs.h"
+#include "gltf_scene_parts.h"
 #include "mesh_file.h"
 
 namespace foton {
@@ -244,9 +245,11 @@ class GltfReader {
         ignored(gm.occlusionTexture.index >= 0, "occlusionTexture");
         ignored(gm.emissiveTexture.index >= 0, "emissiveTexture");
         ignored(gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty(), "alphaMode (foton is opaque)");
-        for (const auto& [ext, value] : gm.extensions)
-            if (ext != "KHR_materials_emissive_strength")
-                note(where + ": extension " + ext + " ignored");
+        try {
+            gltf_material_extensions(gm, f, out_.notes, path_ + ": " + where);
+        } catch (const std::invalid_argument& e) {
+            fail(where, e.what());
+        }
         const int index = int(out_.materials.size());
         out_.materials.push_back(f);
         return materials_[i] = index;
@@ -313,45 +316,12 @@ class GltfReader {
                 primitive(mesh.primitives[k], xf,
                           "mesh " + std::to_string(n.mesh) + " primitive " + std::to_string(k));
         }
-        if (n.camera >= 0) note("node " + std::to_string(i) + ": camera ignored");
-        if (const auto it = n.extensions.find("KHR_lights_punctual");
-            it != n.extensions.end() && it->second.Has("light"))
-            light(it->second.Get("light").GetNumberAsInt(), xf, "node " + std::to_string(i));
-        for (int c : n.children) node(c, xf, depth + 1);
-    }
-
-    // Light l of KHR_lights_punctual at a node placed by xf: at its origin, shining along its
-    // -z.
-    void light(int l, const Affine& xf, const std::string& where) {
-        if (l < 0 || std::size_t(l) >= g_.lights.size())
-            fail(where, "KHR_lights_punctual light " + std::to_string(l) + " does not exist");
-        const tinygltf::Light& gl = g_.lights[std::size_t(l)];
-        RGB colour{1.f};
-        if (gl.color.size() >= 3)
-            colour = RGB{float(gl.color[0]), float(gl.color[1]), float(gl.color[2])};
-        const RGB power = colour * float(gl.intensity / kLumensPerWatt);
-        if (!(std::min({power.r, power.g, power.b}) >= 0.f) ||
-            !std::isfinite(power.max_component()))
-            fail(where, "a light's colour and intensity must be finite and not negative");
-        if (gl.range > 0.0) note(where + ": light range ignored (inverse-square falloff)");
-        const Vec3 p = xf.point({0.f, 0.f, 0.f}), d = normalize(xf.vector({0.f, 0.f, -1.f}));
-        if (gl.type == "point") {
-            out_.lights.points.push_back({p, power, 0.f});
-        } else if (gl.type == "spot") {
-            SpotLight s;
-            s.position = p;
-            s.direction = d;
-            s.intensity = power;
-            s.cos_outer = float(std::cos(gl.spot.outerConeAngle));
-            s.cos_inner = float(std::cos(gl.spot.innerConeAngle));
-            if (!(s.cos_inner >= s.cos_outer))
-                fail(where, "a spot light's innerConeAngle exceeds its outerConeAngle");
-            out_.lights.spots.push_back(s);
-        } else if (gl.type == "directional") {
-            out_.lights.directionals.push_back({d, power});
-        } else {
-            fail(where, "unknown KHR_lights_punctual type '" + gl.type + "'");
+        try {
+            gltf_node_extras(g_, n, xf, out_, path_ + ": node " + std::to_string(i));
+        } catch (const std::invalid_argument& e) {
+            fail("node " + std::to_string(i), e.what());
         }
+        for (int c : n.children) node(c, xf, depth + 1);
     }
 
     MeshFile run() {
@@ -377,7 +347,6 @@ class GltfReader {
 
   private:
     static constexpr uint64_t kMaxNodePlacements = uint64_t(1) << 18;
-    static constexpr double kLumensPerWatt = 683.0;
     static constexpr uint64_t kMaxPlacedTriangles = uint64_t(1) << 26;
     const tinygltf::Model& g_;
     std::string path_;

@@ -124,7 +124,9 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
     } else {
         // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
         const float metal = std::clamp(f.metallic, 0.f, 1.f);
-        RGB kd = f.diffuse * (1.f - metal);
+        // glTF's transmission replaces that much of the dielectric base's diffuse part.
+        const float trans = std::clamp(f.transmission, 0.f, 1.f) * (1.f - metal);
+        RGB kd = f.diffuse * (1.f - metal - trans);
         RGB ks = f.specular;
         const float total = (kd + ks).max_component();
         if (total > 1.f) {
@@ -192,6 +194,20 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
                                                 std::min(alpha, 2.f), std::min(alpha, 2.f)),
                                             fr));
         }
+    }
+    if (!f.glass && f.transmission > 0.f) {
+        // A solid dielectric of the material's index, tinted by the base colour, smooth or GGX
+        // of alpha = roughness^2, weighted by the transmitting share.
+        const float trans =
+            std::clamp(f.transmission, 0.f, 1.f) * (1.f - std::clamp(f.metallic, 0.f, 1.f));
+        const float alpha = f.roughness * f.roughness;
+        if (alpha < 0.002f)
+            m.bsdf.add(Lobe::dielectric(f.ior, RGB{trans}, f.diffuse * trans));
+        else
+            m.bsdf.add(Lobe::rough_dielectric(f.ior,
+                                              MicrofacetDistribution::trowbridge_reitz(
+                                                  std::min(alpha, 2.f), std::min(alpha, 2.f)),
+                                              RGB{trans}, f.diffuse * trans));
     }
     scene.materials.push_back(m);
     return uint32_t(scene.materials.size() - 1);

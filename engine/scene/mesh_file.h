@@ -7,9 +7,11 @@
 // ("file:line: what"), shown like the pbrt importer's warnings: never silently dropped.
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "camera.h"
 #include "engine/core/rgb.h"
 #include "light.h"
 #include "mesh.h"
@@ -30,7 +32,8 @@ struct FileMaterial {
     float metallic = 0.f, roughness = 1.f;  // glTF metallic-roughness
     bool mirror = false;                    // MTL illum 3, 5
     bool glass = false;                     // MTL illum 4, 6, 7, 9
-    float ior = 1.5f;                       // MTL Ni
+    float ior = 1.5f;                       // MTL Ni, glTF KHR_materials_ior
+    float transmission = 0.f;               // glTF KHR_materials_transmission
     RGB emission{0.f};                      // MTL Ke, glTF emissiveFactor
 };
 
@@ -53,6 +56,7 @@ struct MeshFile {
     std::vector<MeshPart> parts;
     std::vector<FileMaterial> materials;
     FileLights lights;
+    std::optional<ModelView> view;  // glTF's first perspective camera, in the file's space
     // Decoded images of glTF files that embed them (keyed by a name materials use as
     // diffuse_map); files on disk are decoded by add_file_material.
     std::map<std::string, TextureImage> embedded_images;

@@ -77,6 +77,20 @@ Scene model_scene(const std::string& path, const RendererOverrides& overrides) {
     const bool own_lights =
         !s.lights.points.empty() || !s.lights.spots.empty() || !s.lights.directionals.empty();
     if (own_lights) s.environment.reset();
+    if (s.model_view) {
+        // The file's own camera.
+        const ModelView& v = *s.model_view;
+        s.camera.eye = v.eye;
+        s.camera.target = v.target;
+        s.camera.up = v.up;
+        s.film.pixel_size = 2.f * s.camera.d *
+                            std::tan(0.5f * v.vertical_fov_degrees * kPi / 180.f) /
+                            float(s.camera.height);
+        s.camera.pixel_size = s.film.pixel_size;
+        s.camera.setup();
+        s.warnings.push_back(path + ": a model rendered as a scene through its own camera");
+        return s;
+    }
     const Bounds3 b = s.bounds();
     const Vec3 centre = (b.lo + b.hi) * 0.5f;
     const float radius = std::max(0.5f * length(b.hi - b.lo), 1e-6f);

@@ -86,6 +86,9 @@ struct Scene {
     // light is sampled from it and no photon or light path starts on it).
     RGB background{0.f};
     std::optional<Environment> environment;
+    // The first camera of a placed model file (glTF), placed as the file: an XML scene renders
+    // through its own <camera>; a model rendered directly through this one (model_scene.h).
+    std::optional<ModelView> model_view;
     Ambient ambient;
     Lights lights;
     std::vector<Material> materials;

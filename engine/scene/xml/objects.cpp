@@ -74,6 +74,13 @@ void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
         scene_.warnings.push_back(name_ + ":" + std::to_string(line_of(o)) + ": the " +
                                   std::to_string(lf.file.materials.size()) + " materials of '" +
                                   src + "' are replaced by the object's <material>");
+    if (lf.file.view && !scene_.model_view) {
+        ModelView v = *lf.file.view;
+        v.eye = xf.point(v.eye);
+        v.target = xf.point(v.target);
+        v.up = normalize(xf.vector(v.up));
+        scene_.model_view = v;
+    }
     // The file's lights, under this placement.
     for (PointLight p : lf.file.lights.points) {
         p.position = xf.point(p.position);

@@ -1,0 +1,104 @@
+#include "gltf_scene_parts.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace foton {
+
+namespace {
+constexpr double kLumensPerWatt = 683.0;
+}  // namespace
+
+std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affine& xf) {
+    if (c < 0 || std::size_t(c) >= g.cameras.size())
+        throw std::invalid_argument("camera " + std::to_string(c) + " does not exist");
+    const tinygltf::Camera& gc = g.cameras[std::size_t(c)];
+    if (gc.type != "perspective") return std::nullopt;
+    const double yfov = gc.perspective.yfov * 180.0 / kPi;
+    if (!(yfov > 0.0 && yfov < 180.0))
+        throw std::invalid_argument("a camera's yfov must be in (0, pi)");
+    ModelView v;
+    v.eye = xf.point({0.f, 0.f, 0.f});
+    v.target = v.eye + normalize(xf.vector({0.f, 0.f, -1.f}));
+    v.up = normalize(xf.vector({0.f, 1.f, 0.f}));
+    v.vertical_fov_degrees = float(yfov);
+    return v;
+}
+
+void gltf_light(const tinygltf::Model& g, int l, const Affine& xf, FileLights& out,
+                std::vector<std::string>& notes, const std::string& where) {
+    if (l < 0 || std::size_t(l) >= g.lights.size())
+        throw std::invalid_argument("KHR_lights_punctual light " + std::to_string(l) +
+                                    " does not exist");
+    const tinygltf::Light& gl = g.lights[std::size_t(l)];
+    RGB colour{1.f};
+    if (gl.color.size() >= 3)
+        colour = RGB{float(gl.color[0]), float(gl.color[1]), float(gl.color[2])};
+    const RGB power = colour * float(gl.intensity / kLumensPerWatt);
+    if (!(std::min({power.r, power.g, power.b}) >= 0.f) || !std::isfinite(power.max_component()))
+        throw std::invalid_argument(
+            "a light's colour and intensity must be finite and not "
+            "negative");
+    if (gl.range > 0.0) notes.push_back(where + ": light range ignored (inverse-square falloff)");
+    const Vec3 p = xf.point({0.f, 0.f, 0.f}), d = normalize(xf.vector({0.f, 0.f, -1.f}));
+    if (gl.type == "point") {
+        out.points.push_back({p, power, 0.f});
+    } else if (gl.type == "spot") {
+        SpotLight s;
+        s.position = p;
+        s.direction = d;
+        s.intensity = power;
+        s.cos_outer = float(std::cos(gl.spot.outerConeAngle));
+        s.cos_inner = float(std::cos(gl.spot.innerConeAngle));
+        if (!(s.cos_inner >= s.cos_outer))
+            throw std::invalid_argument(
+                "a spot light's innerConeAngle exceeds its "
+                "outerConeAngle");
+        out.spots.push_back(s);
+    } else if (gl.type == "directional") {
+        out.directionals.push_back({d, power});
+    } else {
+        throw std::invalid_argument("unknown KHR_lights_punctual type '" + gl.type + "'");
+    }
+}
+
+void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const Affine& xf,
+                      MeshFile& out, const std::string& where) {
+    if (n.camera >= 0) {
+        if (out.view)
+            out.notes.push_back(where + ": camera " + std::to_string(n.camera) +
+                                " ignored (the first perspective camera is the file's view)");
+        else if (!(out.view = gltf_camera(g, n.camera, xf)))
+            out.notes.push_back(where + ": an orthographic camera ignored");
+    }
+    if (const auto it = n.extensions.find("KHR_lights_punctual");
+        it != n.extensions.end() && it->second.Has("light"))
+        gltf_light(g, it->second.Get("light").GetNumberAsInt(), xf, out.lights, out.notes, where);
+}
+
+void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
+                              std::vector<std::string>& notes, const std::string& where) {
+    if (const auto it = gm.extensions.find("KHR_materials_transmission");
+        it != gm.extensions.end() && it->second.Has("transmissionFactor")) {
+        f.transmission = float(it->second.Get("transmissionFactor").GetNumberAsDouble());
+        if (!(f.transmission >= 0.f && f.transmission <= 1.f))
+            throw std::invalid_argument("transmissionFactor must be in [0, 1]");
+        if (it->second.Has("transmissionTexture"))
+            notes.push_back(where + ": transmissionTexture ignored");
+    }
+    f.ior = 1.5f;  // glTF's default
+    if (const auto it = gm.extensions.find("KHR_materials_ior");
+        it != gm.extensions.end() && it->second.Has("ior")) {
+        f.ior = float(it->second.Get("ior").GetNumberAsDouble());
+        if (!(f.ior >= 1.f && f.ior < 10.f)) throw std::invalid_argument("ior must be in [1, 10)");
+    }
+    for (const auto& [ext, value] : gm.extensions)
+        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_materials_transmission" &&
+            ext != "KHR_materials_ior")
+            notes.push_back(where + ": extension " + ext + " ignored");
+}
+
+}  // namespace foton

@@ -1,0 +1,43 @@
+#pragma once
+// What a glTF file holds beside its meshes and core materials: KHR_lights_punctual lights and
+// perspective cameras at their nodes, and the material extensions foton's lobes can render
+// (KHR_materials_transmission, KHR_materials_ior; the emissive strength is the reader's, with
+// the emission). Problems
+// throw std::invalid_argument; the glTF reader adds the file and the element.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "engine/core/math.h"
+#include "mesh_file.h"
+
+namespace tinygltf {
+class Model;
+class Node;
+struct Material;
+}  // namespace tinygltf
+
+namespace foton {
+
+// Camera c of the model at a node placed by xf (looking along the node's -z, +y up); empty for
+// an orthographic camera.
+std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affine& xf);
+
+// Light l of KHR_lights_punctual at a node placed by xf, into `out`: photometric values over
+// 683 lm/W (candela to W/sr, lux to W/m^2, Blender's reading); a range is noted (foton's
+// lights fall off by the inverse square).
+void gltf_light(const tinygltf::Model& g, int l, const Affine& xf, FileLights& out,
+                std::vector<std::string>& notes, const std::string& where);
+
+// A node's camera (the file's view when it is the first perspective one; others noted) and
+// KHR_lights_punctual light, placed by xf, into `out`.
+void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const Affine& xf,
+                      MeshFile& out, const std::string& where);
+
+// The material extensions foton renders, into f; the others (but the emissive strength) are
+// noted.
+void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
+                              std::vector<std::string>& notes, const std::string& where);
+
+}  // namespace foton
