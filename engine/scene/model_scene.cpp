@@ -1,21 +1,15 @@
 #include "model_scene.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 
 #include "engine/core/error.h"
+#include "engine/core/input_file.h"
 
 namespace foton {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
 // An XML attribute value: the characters XML reads specially, escaped.
 std::string attribute_text(const std::string& s) {
