@@ -85,7 +85,7 @@ TEST_CASE("OBJ + MTL: materials by face and a textured half render as the file s
     std::ofstream(dir.file("quad.mtl"))
         << "# made by the test\nnewmtl tex\nKd 1 1 1\nmap_Kd t.png\n"
         << "Ka 0.1 0.1 0.1\nmap_Bump bump.png\n"
-        << "newmtl flat\nKd 0.2 0.4 0.6\nillum 1\nPr 0.5\n";
+        << "newmtl flat\nKd 0.2 0.4 0.6\nillum 1\nPs 0.5\n";
     std::ofstream(dir.file("quad.obj"))
         << "mtllib quad.mtl\n"
            "v 0 0 0\nv 0.5 0 0\nv 0.5 1 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\n"
@@ -105,7 +105,7 @@ TEST_CASE("OBJ + MTL: materials by face and a textured half render as the file s
     };
     CHECK(warned("quad.mtl:5: 'Ka' ignored"));
     CHECK(warned("quad.mtl:6: 'map_Bump' ignored"));
-    CHECK(warned("quad.mtl:10: unknown MTL statement 'Pr' ignored"));
+    CHECK(warned("quad.mtl:10: unknown MTL statement 'Ps' ignored"));
     const TextureImage& img = s.texture_images[0];
     const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
         return x < 0.5f ? img.bilinear({x, y}) : RGB{0.2f, 0.4f, 0.6f};
@@ -166,6 +166,16 @@ TEST_CASE("MTL: illumination models become foton's lobes", "[obj][mesh-file][fas
     fails("newmtl a\nillum 2.5\n", "bad.mtl:2: illum must be an integer");
     fails("newmtl a\nmap_Kd -bm 2 t.png\n", "bad.mtl:2: map_Kd option '-bm'");
     fails("newmtl a\nNs -3\n", "bad.mtl:2: Ns must be in");
+    fails("newmtl a\nPm 1.5\n", "bad.mtl:2: Pm must be in [0, 1]");
+    // The PBR extension's Pm and Pr: glTF's metallic-roughness reading (a rough conductor of
+    // the base colour's reflectance beside what is left of the Lambert).
+    const auto pbr = parse_mtl("newmtl gold\nKd 1 0.8 0.3\nPm 0.75\nPr 0.5\n", "p.mtl", ".", notes);
+    const Material gold = s.materials[add_file_material(s, pbr.at("gold"), none, images)];
+    REQUIRE(gold.bsdf.size() == 2);
+    CHECK(gold.bsdf.lobe(0).color.r == Approx(0.25f));
+    CHECK(gold.bsdf.lobe(1).type == LobeType::Microfacet);
+    CHECK(gold.bsdf.lobe(1).dist.alpha == Approx(0.25f));
+    CHECK(gold.bsdf.lobe(1).color.g == Approx(0.75f));
 }
 
 namespace {

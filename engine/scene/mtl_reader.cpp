@@ -124,6 +124,12 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             cur->exponent = one();
             if (cur->exponent < 0.f || cur->exponent > 1e6f)
                 throw InputError(name, line, "Ns must be in [0, 1e6]");
+        } else if (key == "Pm" || key == "Pr") {
+            // The PBR extension's metallic and roughness: glTF's metallic-roughness model.
+            const float v = one();
+            if (!(v >= 0.f && v <= 1.f))
+                throw InputError(name, line, std::string(key) + " must be in [0, 1]");
+            (key == "Pm" ? cur->metallic : cur->roughness) = v;
         } else if (key == "Ni") {
             cur->ior = one();
             if (!(cur->ior > 0.f)) throw InputError(name, line, "Ni must be positive");
