@@ -111,6 +111,22 @@ MeshFile load_mesh_file(const std::string& path) {
     throw InputError(path, 0, "unknown mesh format '" + ext + "' (.obj, .ply, .gltf, .glb)");
 }
 
+namespace {
+
+// A material's image (a file, or one the glTF file embeds) in Scene::texture_images, decoded
+// once per name and encoding (a normal map is read linearly, a colour map as sRGB).
+uint32_t file_image(Scene& scene, const MeshFile& file, std::map<std::string, uint32_t>& images,
+                    const std::string& name, bool linear) {
+    const std::string key = linear ? name + "#linear" : name;
+    if (const auto it = images.find(key); it != images.end()) return it->second;
+    const auto emb = file.embedded_images.find(name);
+    scene.texture_images.push_back(
+        emb != file.embedded_images.end() ? emb->second : load_texture_image(name, linear));
+    return images[key] = uint32_t(scene.texture_images.size() - 1);
+}
+
+}  // namespace
+
 uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& file,
                            std::map<std::string, uint32_t>& images) {
     Material m;
@@ -136,16 +152,7 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
         m.base_color = kd;
         m.bsdf.add(Lobe::lambert(kd));
         if (!f.diffuse_map.empty()) {
-            uint32_t image;
-            if (const auto it = images.find(f.diffuse_map); it != images.end()) {
-                image = it->second;
-            } else {
-                const auto emb = file.embedded_images.find(f.diffuse_map);
-                scene.texture_images.push_back(emb != file.embedded_images.end()
-                                                   ? emb->second
-                                                   : load_texture_image(f.diffuse_map));
-                image = images[f.diffuse_map] = uint32_t(scene.texture_images.size() - 1);
-            }
+            const uint32_t image = file_image(scene, file, images, f.diffuse_map, false);
             Texture tx;
             tx.kind = TextureKind::Image;
             tx.image = image;
@@ -158,18 +165,7 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
             m.textured_lobes = 1;  // the Lambert lobe, added first
         }
         if (!f.normal_map.empty()) {
-            // Read linearly (its key differs from a colour map of the same file).
-            const std::string key = f.normal_map + "#linear";
-            uint32_t image;
-            if (const auto it = images.find(key); it != images.end()) {
-                image = it->second;
-            } else {
-                const auto emb = file.embedded_images.find(f.normal_map);
-                scene.texture_images.push_back(emb != file.embedded_images.end()
-                                                   ? emb->second
-                                                   : load_texture_image(f.normal_map, true));
-                image = images[key] = uint32_t(scene.texture_images.size() - 1);
-            }
+            const uint32_t image = file_image(scene, file, images, f.normal_map, true);
             Texture tx;
             tx.kind = TextureKind::Image;
             tx.image = image;
@@ -194,20 +190,18 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
                                                 std::min(alpha, 2.f), std::min(alpha, 2.f)),
                                             fr));
         }
-    }
-    if (!f.glass && f.transmission > 0.f) {
-        // A solid dielectric of the material's index, tinted by the base colour, smooth or GGX
-        // of alpha = roughness^2, weighted by the transmitting share.
-        const float trans =
-            std::clamp(f.transmission, 0.f, 1.f) * (1.f - std::clamp(f.metallic, 0.f, 1.f));
-        const float alpha = f.roughness * f.roughness;
-        if (alpha < 0.002f)
-            m.bsdf.add(Lobe::dielectric(f.ior, RGB{trans}, f.diffuse * trans));
-        else
-            m.bsdf.add(Lobe::rough_dielectric(f.ior,
-                                              MicrofacetDistribution::trowbridge_reitz(
-                                                  std::min(alpha, 2.f), std::min(alpha, 2.f)),
-                                              RGB{trans}, f.diffuse * trans));
+        if (trans > 0.f) {
+            // A solid dielectric of the material's index, tinted by the base colour, smooth or
+            // GGX of alpha = roughness^2, weighted by the transmitting share.
+            const float alpha = f.roughness * f.roughness;
+            if (alpha < 0.002f)
+                m.bsdf.add(Lobe::dielectric(f.ior, RGB{trans}, f.diffuse * trans));
+            else
+                m.bsdf.add(Lobe::rough_dielectric(f.ior,
+                                                  MicrofacetDistribution::trowbridge_reitz(
+                                                      std::min(alpha, 2.f), std::min(alpha, 2.f)),
+                                                  RGB{trans}, f.diffuse * trans));
+        }
     }
     scene.materials.push_back(m);
     return uint32_t(scene.materials.size() - 1);

@@ -15,8 +15,7 @@ namespace foton {
 Scene load_scene(const std::string& path, const RendererOverrides& overrides) {
     // A model is not a scene: it has no camera, lights or film. Said before reading, instead
     // of the XML parser's "malformed" at its first binary byte.
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = lower_extension(path);
     if (is_model_file(path)) return model_scene(path, overrides);
     if (ext == ".mtl")
         throw InputError(path, 0,
