@@ -526,10 +526,10 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
          "Material \"diffuse\" \"spectrum reflectance\" \"metal-Zz-eta\"" +
              shape,
          "test.pbrt:3: parameter 'spectrum reflectance': unknown named spectrum"},
-        {"WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\"\n"
-         "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"c\"" +
+        {"WorldBegin\nTexture \"c\" \"float\" \"checkerboard\"\n"
+         "Texture \"s\" \"spectrum\" \"scale\" \"texture scale\" \"c\"" +
              shape,
-         "test.pbrt:3: 'tex': textures of varying textures are not supported"},
+         "test.pbrt:3: a varying texture on 'scale' is not supported"},
         {"WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"nope\"" + shape,
          "test.pbrt:2: unknown spectrum texture 'nope'"},
         {"WorldBegin", "the scene has no shapes"},

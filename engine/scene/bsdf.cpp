@@ -243,6 +243,16 @@ Bsdf Bsdf::with_texture(uint8_t lobes, const RGB& t) const {
     return b;
 }
 
+void Bsdf::set_alpha(int i, AlphaTarget target, float alpha) {
+    Lobe& l = lobes_[std::size_t(i)];
+    const bool coat = target == AlphaTarget::CoatX || target == AlphaTarget::CoatY;
+    MicrofacetDistribution& d = coat ? l.coat.coat : l.dist;
+    if (target == AlphaTarget::DistX || target == AlphaTarget::CoatX)
+        d.alpha = alpha;
+    else
+        d.alpha_y = alpha;
+}
+
 float Bsdf::weight_sum(uint8_t only) const {
     float sum = 0.f;
     for (int i = 0; i < n_; ++i)

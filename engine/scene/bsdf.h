@@ -108,6 +108,11 @@ struct Lobe {
                                  const CoatLayer& c);
 };
 
+// Which microfacet alpha of a lobe a roughness texture sets (Material::float_params): the
+// lobe's own distribution (a microfacet conductor, a rough dielectric, a coated lobe's
+// conductor base) or a coated lobe's coat, along x or y.
+enum class AlphaTarget : uint8_t { DistX, DistY, CoatX, CoatY };
+
 struct BsdfSample {
     Vec3 wi;
     RGB f;
@@ -170,6 +175,8 @@ class Bsdf {
     // A copy whose lobes in `lobes` (bit i: lobe i) have their colour multiplied by `t`:
     // a textured reflectance at one surface point. Sampling weights follow the colours.
     Bsdf with_texture(uint8_t lobes, const RGB& t) const;
+    // Sets one microfacet alpha of lobe i (a roughness texture's value at a surface point).
+    void set_alpha(int i, AlphaTarget target, float alpha);
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;

@@ -3,6 +3,7 @@
 // true Lambertian BRDF (c_diffuse * base / pi) so that area lights given in radiance give the
 // same direct light as a physically based renderer; the ambient term and the Phong lobe are
 // the thesis' empirical additions.
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -49,6 +50,33 @@ struct Material {
     // N the interpolated normal, T the surface's dp/du made perpendicular to it and B = N x T
     // (pbrt-v4's and glTF's convention; surface_at).
     int32_t normal_map = -1;
+    // Bump mapping: a displacement texture (into Scene::textures, read as a float in scene
+    // units; -1: none). At a hit, the shading normal becomes that of the displaced surface
+    // p + d(u, v) n, from finite differences of d along u and v (pbrt-v4's BumpMap). A
+    // normal map, when the material has both, wins (as in pbrt-v4).
+    int32_t bump = -1;
+    // Roughness textures: at a hit, each entry sets one microfacet alpha of one lobe to its
+    // texture's value there (a float texture: the mean of its channels).
+    static constexpr int kMaxFloatParams = 6;
+    struct FloatParam {
+        int32_t texture = -1;  // into Scene::textures
+        uint8_t lobe = 0;
+        AlphaTarget target = AlphaTarget::DistX;
+        bool remap = false;  // the texture holds pbrt's roughness: alpha = sqrt(value)
+    };
+    std::array<FloatParam, kMaxFloatParams> float_params{};
+    uint8_t num_float_params = 0;
+    // Adds a roughness texture; false when the material holds kMaxFloatParams already.
+    bool add_float_param(const FloatParam& p) {
+        if (num_float_params == kMaxFloatParams) return false;
+        float_params[num_float_params++] = p;
+        return true;
+    }
+    // The BSDF changes over the surface (a colour or roughness texture).
+    bool varies() const { return texture >= 0 || num_float_params > 0; }
+    // The shading normal is a texture's (normal or bump map).
+    bool perturbs_normal() const { return normal_map >= 0 || bump >= 0; }
+    bool needs_uv() const { return varies() || perturbs_normal(); }
 
     // The physically based model the Monte Carlo integrators use (also for the thesis'
     // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,

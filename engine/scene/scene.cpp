@@ -4,6 +4,7 @@
 
 #include "engine/core/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -178,10 +179,20 @@ uint32_t Scene::add_sphere(const Sphere& sphere, uint32_t material) {
 
 const Material& Scene::textured(const Material& m, Point2 uv,
                                 std::optional<Material>& scratch) const {
-    const RGB t = textures[std::size_t(m.texture)].eval(texture_images, uv);
     Material& out = scratch.emplace(m);
-    out.base_color = m.base_color * t;
-    out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
+    if (m.texture >= 0) {
+        const RGB t = textures[std::size_t(m.texture)].eval(texture_images, uv);
+        out.base_color = m.base_color * t;
+        out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
+    }
+    for (int i = 0; i < m.num_float_params; ++i) {
+        const Material::FloatParam& fp = m.float_params[std::size_t(i)];
+        const float v = textures[std::size_t(fp.texture)].eval_float(texture_images, uv);
+        const float alpha = fp.remap ? std::sqrt(std::max(v, 0.f)) : v;
+        // The lobe stays rough where the texture falls below pbrt's specular limit (1e-3): a
+        // lobe cannot change from glossy to delta between hits.
+        out.bsdf.set_alpha(fp.lobe, fp.target, std::clamp(alpha, 1e-3f, 2.f));
+    }
     return out;
 }
 

@@ -153,7 +153,7 @@ struct Scene {
     // untextured hits, the common case, construct nothing.)
     const Material& material_at(const Material& m, Point2 uv,
                                 std::optional<Material>& scratch) const {
-        return m.texture < 0 ? m : textured(m, uv, scratch);
+        return m.varies() ? textured(m, uv, scratch) : m;
     }
     // The same for the material of geometry `geom`.
     const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {

@@ -1,6 +1,7 @@
 #include "texture.h"
 
 #include <stb/stb_image.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -55,15 +56,20 @@ RGB TextureImage::bilinear(Point2 uv) const {
 
 RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
     const Point2 st{su * uv.x + du, sv * uv.y + dv};
+    RGB c = value;
     switch (kind) {
         case TextureKind::Constant:
-            return value * scale;
+            break;
         case TextureKind::Image:
-            return images[image].bilinear(st) * scale;
+            c = images[image].bilinear(st);
+            break;
         case TextureKind::Checkerboard:
-            return (checker_even(st) ? value : other) * scale;
+            c = checker_even(st) ? value : other;
+            break;
     }
-    return value;
+    c *= scale;
+    if (invert) c = {std::max(0.f, 1.f - c.r), std::max(0.f, 1.f - c.g), std::max(0.f, 1.f - c.b)};
+    return c;
 }
 
 TextureImage load_texture_image(const std::string& path, bool linear) {

@@ -1,8 +1,9 @@
 #pragma once
-// Textures on reflectances: constant, image (bilinear, repeating) and checkerboard, each
-// evaluated at a surface's (u, v). Images are decoded once into linear float RGB and shared
-// by every texture that names the same file (Scene::texture_images). Lookups are plain
-// bilinear filtering with no MIP-mapping: deterministic, the same for every thread count.
+// Textures on reflectances (and, read as floats, on roughness and displacement): constant, image
+// (bilinear, repeating) and checkerboard, each evaluated at a surface's (u, v). Images are decoded
+// once into linear float RGB and shared by every texture that names the same file
+// (Scene::texture_images). Lookups are plain bilinear filtering with no MIP-mapping: deterministic,
+// the same for every thread count.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,8 +31,15 @@ struct Texture {
     uint32_t image = 0;                            // Image: into Scene::texture_images
     float su = 1.f, sv = 1.f, du = 0.f, dv = 0.f;  // uv' = (su u + du, sv v + dv)
     RGB scale{1.f};                                // multiplies the result
+    bool invert = false;                           // max(0, 1 - scaled value) (pbrt's invert)
 
     RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
+    // As a float texture: the mean of the three channels (pbrt-v4's bilinear lookup of an RGB
+    // image for a float texture; a grey image's value).
+    float eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
+        const RGB c = eval(images, uv);
+        return (c.r + c.g + c.b) * (1.f / 3.f);
+    }
 };
 
 // The sRGB transfer function's inverse: an encoded value in [0, 1] to linear.

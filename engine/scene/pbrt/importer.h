@@ -80,6 +80,9 @@ class Importer {
 
     // materials.cpp
     Material make_material(const Token& t, const std::string& type, const ParamList& p);
+    uint32_t scene_material(const GraphicsState& gs);
+
+    // textures.cpp
     void texture(const Token& t, const std::string& name, const std::string& kind,
                  const std::string& type, const ParamList& p);
     RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
@@ -96,8 +99,11 @@ class Importer {
     const TextureDesc* texture_ref(const ParamList& p, const std::string& name,
                                    bool is_float) const;
     std::map<std::string, uint32_t> images_;  // file -> Scene::texture_images
+    // A float parameter or a constant float texture's value (a varying one: an error).
     float float_value(const ParamList& p, const std::string& name, float fallback);
-    uint32_t scene_material(const GraphicsState& gs);
+    // The same, where a varying texture may stand: its Scene::textures index, or -1.
+    float float_value(const ParamList& p, const std::string& name, float fallback,
+                      int32_t& texture);
 
     // lights.cpp
     void light_source(const Token& t, const std::string& type, const ParamList& p);

@@ -1,132 +1,12 @@
 // Material, MakeNamedMaterial and Texture: pbrt-v4's materials as foton BSDFs.
 #include <cmath>
+#include <vector>
 
 #include "engine/core/input_file.h"
 #include "engine/scene/metals.h"
 #include "importer.h"
 
 namespace foton::pbrt {
-
-const TextureDesc* Importer::texture_ref(const ParamList& p, const std::string& name,
-                                         bool is_float) const {
-    const std::string ref = p.texture(name);
-    if (ref.empty()) return nullptr;
-    const auto it = textures_.find(ref);
-    if (it == textures_.end() || it->second.is_float != is_float)
-        throw InputError(
-            p.file, p.find(name)->line,
-            std::string("unknown ") + (is_float ? "float" : "spectrum") + " texture '" + ref + "'");
-    return &it->second;
-}
-
-RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
-                          const std::string& what, int32_t& texture) {
-    const TextureDesc* tx = texture_ref(p, name, false);
-    texture = tx ? tx->scene_texture : -1;
-    return texture >= 0 ? RGB{1.f} : reflectance(p, name, fallback, what);
-}
-
-RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
-                          const std::string& what) {
-    RGB c = fallback;
-    if (const TextureDesc* tx = texture_ref(p, name, false)) {
-        if (tx->scene_texture >= 0)
-            throw InputError(p.file, p.find(name)->line,
-                             what + ": a varying texture on '" + name + "' is not supported");
-        c = tx->value;
-    } else if (const auto v = p.color(name, false)) {
-        c = *v;
-    }
-    if (c.max_component() > 1.f) {
-        warn(p.file, p.find(name)->line,
-             what + " " + name + " above 1 clamped to 1 (as pbrt-v4 does)");
-        c = {std::min(c.r, 1.f), std::min(c.g, 1.f), std::min(c.b, 1.f)};
-    }
-    return c;
-}
-
-float Importer::float_value(const ParamList& p, const std::string& name, float fallback) {
-    const TextureDesc* tx = texture_ref(p, name, true);
-    return tx ? tx->value.r : p.real(name, fallback);
-}
-
-void Importer::texture(const Token& t, const std::string& name, const std::string& kind,
-                       const std::string& type, const ParamList& p) {
-    if (kind != "spectrum" && kind != "float")
-        fail(t, "texture kind must be spectrum or float, not '" + kind + "'");
-    TextureDesc tex;
-    tex.type = type;
-    tex.is_float = kind == "float";
-    // A constant operand: a value, or a constant texture of this texture's kind.
-    auto value = [&](const std::string& key, RGB fallback) {
-        if (const TextureDesc* tx = texture_ref(p, key, tex.is_float)) {
-            if (tx->scene_texture >= 0)
-                fail(t, "'" + key + "': textures of varying textures are not supported");
-            return tx->value;
-        }
-        if (tex.is_float) return RGB{p.real(key, fallback.r)};
-        const auto c = p.color(key, false);
-        return c ? *c : fallback;
-    };
-    if (type == "constant") {
-        tex.value = value("value", RGB{1.f});
-    } else if (type == "scale") {
-        tex.value = value("tex", RGB{1.f}) * float_value(p, "scale", 1.f);
-    } else if ((type == "imagemap" || type == "checkerboard") && !tex.is_float) {
-        Texture st;
-        if (type == "imagemap") {
-            st.kind = TextureKind::Image;
-            st.image = image_texture(t, p);
-            st.scale = RGB{p.real("scale", 1.f)};
-            if (p.boolean("invert", false)) fail(t, "inverted image textures are not supported");
-        } else {
-            if (p.integer("dimension", 2) != 2) fail(t, "only 2D checkerboards are supported");
-            st.kind = TextureKind::Checkerboard;
-            st.value = value("tex1", RGB{1.f});
-            st.other = value("tex2", RGB{0.f});
-        }
-        const std::string mapping = p.text("mapping", "uv");
-        if (mapping != "uv") fail(t, "texture mapping '" + mapping + "' is not supported (uv)");
-        st.su = p.real("uscale", 1.f);
-        st.sv = p.real("vscale", 1.f);
-        st.du = p.real("udelta", 0.f);
-        st.dv = p.real("vdelta", 0.f);
-        scene_.textures.push_back(st);
-        tex.scene_texture = int32_t(scene_.textures.size() - 1);
-    } else {
-        fail(t, "texture type '" + type + "' is not supported (constant, scale, and spectrum " +
-                    "imagemap and checkerboard)");
-    }
-    textures_[name] = tex;
-    warn_unused(p, "Texture \"" + name + "\"");
-    count("Texture " + type);
-}
-
-uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
-    const std::string rel = p.text("filename", "");
-    if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
-    const std::string wrap = p.text("wrap", "repeat");
-    if (wrap != "repeat") fail(t, "texture wrap '" + wrap + "' is not supported (repeat)");
-    const std::string filter = p.text("filter", "bilinear");
-    if (filter != "bilinear")
-        warn(file(), t.line, "texture filter '" + filter + "': foton filters bilinearly");
-    p.real("maxanisotropy", 8.f);
-    const std::string enc = p.text("encoding", "sRGB");
-    if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
-    return image_file(t, rel, enc == "linear");
-}
-
-uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linear) {
-    const std::string key = rel + (linear ? "#linear" : "");
-    if (const auto it = images_.find(key); it != images_.end()) return it->second;
-    const std::string path = input_path(t, "texture", rel, kMaxMeshFileBytes);
-    try {
-        scene_.texture_images.push_back(load_texture_image(path, linear));
-    } catch (const InputError& e) {
-        fail(t, std::string("texture '") + rel + "': " + e.what());
-    }
-    return images_[key] = uint32_t(scene_.texture_images.size() - 1);
-}
 
 namespace {
 
@@ -146,19 +26,35 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
     const std::string what = "Material \"" + type + "\"";
     // Rough lobes: pbrt's Trowbridge–Reitz of alpha_x, alpha_y (remapped from roughness as
     // pbrt-v4's remaproughness does). Below pbrt's smoothness limit (both under 1e-3):
-    // specular.
-    auto distribution = [&](bool& smooth, const std::string& prefix = "") {
+    // specular. A roughness texture makes the lobe rough everywhere and is read at each hit
+    // (Material::float_params): `pending` holds it until add_lobe knows the lobe's index.
+    std::vector<Material::FloatParam> pending;
+    auto distribution = [&](bool& smooth, const std::string& prefix = "", bool coat = false) {
         const bool remap = p.boolean("remaproughness", true);
-        float u = float_value(p, prefix + "roughness", 0.f), v = u;
-        if (p.has(prefix + "uroughness") || p.has(prefix + "vroughness")) {
-            u = float_value(p, prefix + "uroughness", u);
-            v = float_value(p, prefix + "vroughness", v);
-        }
-        const float ax = alpha_of(u, remap), ay = alpha_of(v, remap);
-        smooth = std::max(ax, ay) < 1e-3f;
+        int32_t tu = -1, tv = -1;
+        float u = float_value(p, prefix + "roughness", 0.f, tu), v = u;
+        tv = tu;
+        if (p.has(prefix + "uroughness")) u = float_value(p, prefix + "uroughness", u, tu);
+        if (p.has(prefix + "vroughness")) v = float_value(p, prefix + "vroughness", v, tv);
+        // A textured axis' alpha until the first hit sets it.
+        const float ax = tu >= 0 ? 0.5f : alpha_of(u, remap),
+                    ay = tv >= 0 ? 0.5f : alpha_of(v, remap);
+        smooth = tu < 0 && tv < 0 && std::max(ax, ay) < 1e-3f;
         if (!smooth && std::max(ax, ay) > 2.f) fail(t, what + ": roughness gives alpha above 2");
+        if (tu >= 0)
+            pending.push_back({tu, 0, coat ? AlphaTarget::CoatX : AlphaTarget::DistX, remap});
+        if (tv >= 0)
+            pending.push_back({tv, 0, coat ? AlphaTarget::CoatY : AlphaTarget::DistY, remap});
         return MicrofacetDistribution::trowbridge_reitz(std::clamp(ax, 1e-4f, 2.f),
                                                         std::clamp(ay, 1e-4f, 2.f));
+    };
+    auto add_lobe = [&](const Lobe& lobe) {
+        m.bsdf.add(lobe);
+        for (Material::FloatParam fp : pending) {
+            fp.lobe = uint8_t(m.bsdf.size() - 1);
+            if (!m.add_float_param(fp)) fail(t, what + ": too many roughness textures");
+        }
+        pending.clear();
     };
     // A conductor's Fresnel from `reflectance` or eta and k (pbrt-v4's default: copper).
     auto conductor_of = [&](const std::string& prefix) {
@@ -185,9 +81,9 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         bool smooth = true;
         const MicrofacetDistribution d = distribution(smooth);
         if (smooth)
-            m.bsdf.add(Lobe::mirror(RGB{1.f}, f));
+            add_lobe(Lobe::mirror(RGB{1.f}, f));
         else
-            m.bsdf.add(Lobe::microfacet(RGB{1.f}, d, f));
+            add_lobe(Lobe::microfacet(RGB{1.f}, d, f));
     } else if (type == "dielectric") {
         float eta = 1.5f;
         if (const Param* q = p.find("eta")) {
@@ -204,9 +100,9 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         const MicrofacetDistribution d = distribution(smooth);
         m.ior = eta;
         if (smooth)
-            m.bsdf.add(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
+            add_lobe(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
         else
-            m.bsdf.add(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
+            add_lobe(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
     } else if (type == "diffusetransmission") {
         const float scale = p.real("scale", 1.f);
         if (!(scale >= 0.f)) fail(t, what + ": scale must not be negative");
@@ -234,12 +130,12 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         c.max_depth = uint8_t(depth);
         c.samples = uint8_t(samples);
         bool smooth = true;
-        c.coat = distribution(smooth, coat);
+        c.coat = distribution(smooth, coat, true);
         c.coat_smooth = smooth;
         if (!conductor) {
             const RGB r = reflectance(p, "reflectance", RGB{0.5f}, what, m.texture);
             if (m.texture >= 0) m.textured_lobes = 1;
-            m.bsdf.add(Lobe::coated_diffuse(r, c));
+            add_lobe(Lobe::coated_diffuse(r, c));
             m.base_color = r;
             m.c_diffuse = 1.f;
         } else {
@@ -249,7 +145,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             f.k *= 1.f / c.ior;
             bool base_smooth = true;
             const MicrofacetDistribution d = distribution(base_smooth, "conductor.");
-            m.bsdf.add(Lobe::coated_conductor(f, base_smooth, d, c));
+            add_lobe(Lobe::coated_conductor(f, base_smooth, d, c));
         }
     } else if (type == "interface") {
         // No surface: only the boundary of the media its shapes' MediumInterface names.
@@ -280,6 +176,16 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                     fail(t, "a mix of two differently normal-mapped materials is not supported");
                 m.normal_map = sub.normal_map;
             }
+            if (sub.bump >= 0) {
+                if (m.bump >= 0 && m.bump != sub.bump)
+                    fail(t, "a mix of two differently bump-mapped materials is not supported");
+                m.bump = sub.bump;
+            }
+            for (int f = 0; f < sub.num_float_params; ++f) {
+                Material::FloatParam fp = sub.float_params[std::size_t(f)];
+                fp.lobe = uint8_t(fp.lobe + m.bsdf.size());
+                if (!m.add_float_param(fp)) fail(t, "mix: too many roughness textures");
+            }
             Bsdf b = sub.bsdf;
             b.scale(w);
             for (int l = 0; l < b.size(); ++l)
@@ -303,7 +209,19 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         scene_.textures.push_back(nm);
         m.normal_map = int32_t(scene_.textures.size() - 1);
     }
-    if (p.has("displacement")) warn(file(), t.line, what + ": 'displacement' ignored");
+    if (p.has("displacement")) {
+        // Bump mapping by a float texture (a constant one too: it moves a curved surface's
+        // shading normal as pbrt-v4's BumpMap does).
+        int32_t bump = -1;
+        const float d = float_value(p, "displacement", 0.f, bump);
+        if (bump < 0 && d != 0.f) {
+            Texture c;
+            c.value = RGB{d};
+            scene_.textures.push_back(c);
+            bump = int32_t(scene_.textures.size() - 1);
+        }
+        if (bump >= 0) m.bump = bump;
+    }
     warn_unused(p, what);
     count("Material " + type);
     return m;

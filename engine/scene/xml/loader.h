@@ -213,6 +213,8 @@ class Loader {
     void material_texture(const pugi::xml_node& n, Material& m);
     void material_emission(const pugi::xml_node& n, Material& m) const;
     void material_normal_map(const pugi::xml_node& n, Material& m);
+    void material_bump(const pugi::xml_node& n, Material& m);
+    void material_roughness_map(const pugi::xml_node& n, Material& m);
     Fresnel conductor_fresnel(const pugi::xml_node& n) const;
     float roughness(const pugi::xml_node& n, const char* attr = "roughness") const;
     float exponent(const pugi::xml_node& n, const char* attr, float fallback) const;
@@ -220,7 +222,10 @@ class Loader {
     Affine parse_transform(const pugi::xml_node& object) const;
     void add_area_light(const pugi::xml_node& n);
     void add_environment(const pugi::xml_node& n);
-    int32_t parse_texture(const pugi::xml_node& n, bool linear_default = false);
+    // A <texture>-like element into Scene::textures; `amplitude`: it takes a `scale` that
+    // multiplies its value (a bump's height, a roughness map's range).
+    int32_t parse_texture(const pugi::xml_node& n, bool linear_default = false,
+                          bool amplitude = false);
 
     const std::string& xml_;
     std::string name_, base_;

@@ -124,14 +124,16 @@ Material Loader::material(const pugi::xml_node& n, bool top) {
     (this->*reader->read)(n, top, m);
     material_texture(n, m);
     material_normal_map(n, m);
+    material_bump(n, m);
+    material_roughness_map(n, m);
     material_emission(n, m);
     return m;
 }
 
 void Loader::check_material(const pugi::xml_node& n, bool top, Names attrs, Names children) const {
     const std::string type = n.attribute("type").value();
-    // Every material takes type (and a weight inside a mix), <emission>, <texture> and
-    // <normal_map>.
+    // Every material takes type (and a weight inside a mix), <emission>, <texture>,
+    // <normal_map>, <bump> and <roughness_map>.
     auto known_attr = [&](const char* a) {
         return in(attrs, a) || std::string_view(a) == "type" ||
                (!top && std::string_view(a) == "weight");
@@ -142,39 +144,12 @@ void Loader::check_material(const pugi::xml_node& n, bool top, Names attrs, Name
                         type + "\">");
     for (const pugi::xml_node& c : n.children()) {
         if (c.type() != pugi::node_element) continue;
-        if (!in(children, c.name()) && std::string_view(c.name()) != "emission" &&
-            std::string_view(c.name()) != "texture" && std::string_view(c.name()) != "normal_map")
+        const std::string_view name = c.name();
+        if (!in(children, c.name()) && name != "emission" && name != "texture" &&
+            name != "normal_map" && name != "bump" && name != "roughness_map")
             fail(c, std::string("unknown element <") + c.name() + "> in <material type=\"" + type +
                         "\">");
     }
-}
-
-void Loader::material_texture(const pugi::xml_node& n, Material& m) {
-    const pugi::xml_node tx = n.child("texture");
-    if (!tx) return;
-    // The diffuse reflectance's texture: the Lambert or Oren-Nayar lobe (the first one the
-    // diffuse types add) and the base colour are multiplied by it.
-    const std::string type = n.attribute("type").value();
-    const bool diffuse = type == "matte" || type == "phong" || type == "reflective" ||
-                         type == "lambert" || type == "oren_nayar" || type == "coated_diffuse";
-    if (!diffuse)
-        fail(tx,
-             "<texture> multiplies a diffuse reflectance: matte, phong, reflective, "
-             "lambert, oren_nayar or coated_diffuse (or put it on a mix's component)");
-    const LobeType first = m.bsdf.empty() ? LobeType::Mirror : m.bsdf.lobe(0).type;
-    if (first != LobeType::Lambert && first != LobeType::OrenNayar && first != LobeType::Coated)
-        fail(tx, "<texture> on a material without diffuse reflection (c_diffuse 0)");
-    m.texture = parse_texture(tx);
-    m.textured_lobes = 1;
-}
-
-// <normal_map src="..."/>: a tangent-space normal map (read linearly unless encoding says).
-void Loader::material_normal_map(const pugi::xml_node& n, Material& m) {
-    const pugi::xml_node nm = n.child("normal_map");
-    if (!nm) return;
-    if (nm.attribute("type") && std::string_view(nm.attribute("type").value()) != "image")
-        fail(nm, "a normal map is an image (<normal_map src=\"...\"/>)");
-    m.normal_map = parse_texture(nm, true);
 }
 
 void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
@@ -191,50 +166,6 @@ void Loader::material_emission(const pugi::xml_node& n, Material& m) const {
         else if (sm != "solid_angle")
             fail(e, "unknown emitter sampling '" + sm + "' (area, solid_angle)");
     }
-}
-
-// <texture src="image" .../> or <texture type="checkerboard">: into Scene::textures.
-int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default) {
-    const std::string kind = tx.attribute("type") ? tx.attribute("type").value() : "image";
-    Texture t;
-    t.su = number(tx, "scale_u", 1.f);
-    t.sv = number(tx, "scale_v", 1.f);
-    t.du = number(tx, "offset_u", 0.f);
-    t.dv = number(tx, "offset_v", 0.f);
-    if (kind == "image") {
-        check(tx, {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v"}, {});
-        const std::string src = tx.attribute("src").value();
-        if (src.empty()) fail(tx, "<texture> needs attribute 'src' (or type=\"checkerboard\")");
-        const std::string enc = tx.attribute("encoding") ? tx.attribute("encoding").value()
-                                : linear_default         ? "linear"
-                                                         : "srgb";
-        if (enc != "srgb" && enc != "linear")
-            fail(tx, "unknown texture encoding '" + enc + "' (srgb, linear)");
-        const std::string path = (std::filesystem::path(base_) / src).string();
-        const std::string key = path + (enc == "linear" ? "#linear" : "");
-        t.kind = TextureKind::Image;
-        if (const auto it = images_.find(key); it != images_.end()) {
-            t.image = it->second;
-        } else {
-            try {
-                scene_.texture_images.push_back(load_texture_image(path, enc == "linear"));
-            } catch (const InputError& e) {
-                fail(tx, "texture '" + src + "': " + e.what());
-            }
-            t.image = images_[key] = uint32_t(scene_.texture_images.size() - 1);
-        }
-    } else if (kind == "checkerboard") {
-        check(tx, {"type", "scale_u", "scale_v", "offset_u", "offset_v"}, {"even", "odd"});
-        t.kind = TextureKind::Checkerboard;
-        t.value = rgb_child(tx, "even", RGB{1.f});
-        t.other = rgb_child(tx, "odd", RGB{0.f});
-        if (t.value.max_component() > 1.f || t.other.max_component() > 1.f)
-            fail(tx, "checkerboard colours must be in [0, 1] (they multiply a reflectance)");
-    } else {
-        fail(tx, "unknown texture type '" + kind + "' (image, checkerboard)");
-    }
-    scene_.textures.push_back(t);
-    return int32_t(scene_.textures.size() - 1);
 }
 
 }  // namespace foton::xml

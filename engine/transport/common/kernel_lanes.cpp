@@ -7,8 +7,8 @@ namespace foton {
 bool put_hit(KernelLanes& L, std::size_t lane, const Scene& scene, const RayBatch& rays,
              const HitBatch& hits, std::size_t i) {
     const Object& obj = scene.objects[hits.geom[i]];
-    // Instances and normal-mapped surfaces are made by surface_at.
-    if (obj.instance >= 0 || scene.materials[obj.material].normal_map >= 0) return false;
+    // Instances and normal- or bump-mapped surfaces are made by surface_at.
+    if (obj.instance >= 0 || scene.materials[obj.material].perturbs_normal()) return false;
     float kind;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];

@@ -3,42 +3,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shading_normal.h"
+
 namespace foton {
-
-namespace {
-
-// dp/du of a triangle from its corners and their texture coordinates (0 when the uv are
-// degenerate: the map then has no tangent there and is not applied).
-Vec3 triangle_dpdu(const Vec3& p0, const Vec3& p1, const Vec3& p2, Point2 t0, Point2 t1,
-                   Point2 t2) {
-    const float du1 = t1.x - t0.x, dv1 = t1.y - t0.y, du2 = t2.x - t0.x, dv2 = t2.y - t0.y;
-    const float det = du1 * dv2 - dv1 * du2;
-    if (std::fabs(det) < 1e-12f) return {0.f, 0.f, 0.f};
-    return ((p1 - p0) * dv2 - (p2 - p0) * dv1) * (1.f / det);
-}
-
-// The shading normal n turned by a tangent-space normal map's texel: (2 rgb - 1) in the frame
-// of T = dpdu made perpendicular to n, B = n x T, n.
-Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel) {
-    const Vec3 t = dpdu - n * dot(n, dpdu);
-    const float len = length(t);
-    if (!(len > 1e-12f)) return n;
-    const Vec3 tx = t / len, bx = cross(n, tx);
-    const Vec3 m =
-        tx * (2.f * texel.r - 1.f) + bx * (2.f * texel.g - 1.f) + n * (2.f * texel.b - 1.f);
-    const float ml = length(m);
-    return ml > 0.f ? m / ml : n;
-}
-
-}  // namespace
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
     const Object& obj = scene.objects[geom];
     const Material& mat = scene.materials[obj.material];
-    const bool textured = mat.texture >= 0 || mat.normal_map >= 0;
-    Vec3 n_geom, n_shade, dpdu{0, 0, 0};
+    const bool textured = mat.needs_uv();
+    Vec3 n_geom, n_shade;
+    ShadingGeometry g;     // the parametrisation a normal or bump map reads
+    bool perturb = false;  // g is set
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
         const Instance* in = scene.instance_of(geom);
@@ -76,7 +53,34 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             }
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
-            if (mat.normal_map >= 0) dpdu = triangle_dpdu(p0, p1, p2, t0, t1, t2);
+            if (mat.perturbs_normal()) {
+                g.n = n_shade;
+                if (triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv)) {
+                    if (obj.smooth) {
+                        // pbrt-v4's shading tangents: dp/du made perpendicular to the
+                        // interpolated normal, and that normal crossed with it.
+                        const Vec3 ts = cross(n_shade, g.dpdu);
+                        if (length_squared(ts) > 0.f) {
+                            g.dpdu = cross(ts, n_shade);
+                            g.dpdv = ts;
+                        }
+                        Vec3 n0 = m.vertex_normal(ix[0]), n1 = m.vertex_normal(ix[1]),
+                             n2 = m.vertex_normal(ix[2]);
+                        if (in) {
+                            n0 = in->to_world.normal(n0);
+                            n1 = in->to_world.normal(n1);
+                            n2 = in->to_world.normal(n2);
+                        }
+                        if (!triangle_partials(n0, n1, n2, t0, t1, t2, g.dndu, g.dndv))
+                            g.dndu = g.dndv = {0.f, 0.f, 0.f};
+                    }
+                    perturb = true;
+                } else if (mat.bump >= 0) {
+                    // No tangents from the uv: any pair, as pbrt-v4 does.
+                    orthonormal_basis(n_shade, g.dpdu, g.dpdv);
+                    perturb = true;
+                }
+            }
         }
     } else {
         const Sphere& s = scene.spheres[obj.index];
@@ -88,13 +92,30 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             float phi = std::atan2(n_geom.y, n_geom.x);
             if (phi < 0.f) phi += 2.f * kPi;
             sp.uv = {phi / (2.f * kPi), 1.f - std::acos(std::clamp(n_geom.z, -1.f, 1.f)) / kPi};
-            dpdu = {-n_geom.y, n_geom.x, 0.f};  // along phi (zero at the poles)
+            const float sin_theta = std::sqrt(n_geom.x * n_geom.x + n_geom.y * n_geom.y);
+            if (mat.perturbs_normal() && sin_theta > 1e-6f) {
+                // pbrt's partials of that parametrisation; the normal turns as the point
+                // moves (dn = dp / r).
+                const float r = s.radius;
+                g.n = n_geom;
+                g.dpdu = Vec3{-n_geom.y, n_geom.x, 0.f} * (2.f * kPi * r);
+                g.dpdv = Vec3{n_geom.z * n_geom.x / sin_theta, n_geom.z * n_geom.y / sin_theta,
+                              -sin_theta} *
+                         (-kPi * r);
+                g.dndu = g.dpdu / r;
+                g.dndv = g.dpdv / r;
+                perturb = true;
+            }
         }
     }
-    if (mat.normal_map >= 0)
-        n_shade = normal_mapped(
-            n_shade, dpdu,
-            scene.textures[std::size_t(mat.normal_map)].eval(scene.texture_images, sp.uv));
+    if (perturb) {
+        n_shade = mat.normal_map >= 0
+                      ? normal_mapped(n_shade, g.dpdu,
+                                      scene.textures[std::size_t(mat.normal_map)].eval(
+                                          scene.texture_images, sp.uv))
+                      : bump_mapped(g, scene.textures[std::size_t(mat.bump)], scene.texture_images,
+                                    sp.uv);
+    }
     sp.front_face = dot(n_geom, dir) < 0.f;
     if (!sp.front_face) {
         n_geom = -n_geom;

@@ -1,0 +1,152 @@
+// Texture and the texture-valued parameters of materials: pbrt-v4's constant, scale,
+// imagemap and checkerboard textures, spectrum- and float-valued.
+#include <algorithm>
+
+#include "engine/core/input_file.h"
+#include "importer.h"
+
+namespace foton::pbrt {
+
+const TextureDesc* Importer::texture_ref(const ParamList& p, const std::string& name,
+                                         bool is_float) const {
+    const std::string ref = p.texture(name);
+    if (ref.empty()) return nullptr;
+    const auto it = textures_.find(ref);
+    if (it == textures_.end() || it->second.is_float != is_float)
+        throw InputError(
+            p.file, p.find(name)->line,
+            std::string("unknown ") + (is_float ? "float" : "spectrum") + " texture '" + ref + "'");
+    return &it->second;
+}
+
+RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                          const std::string& what, int32_t& texture) {
+    const TextureDesc* tx = texture_ref(p, name, false);
+    texture = tx ? tx->scene_texture : -1;
+    return texture >= 0 ? RGB{1.f} : reflectance(p, name, fallback, what);
+}
+
+RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallback,
+                          const std::string& what) {
+    RGB c = fallback;
+    if (const TextureDesc* tx = texture_ref(p, name, false)) {
+        if (tx->scene_texture >= 0)
+            throw InputError(p.file, p.find(name)->line,
+                             what + ": a varying texture on '" + name + "' is not supported");
+        c = tx->value;
+    } else if (const auto v = p.color(name, false)) {
+        c = *v;
+    }
+    if (c.max_component() > 1.f) {
+        warn(p.file, p.find(name)->line,
+             what + " " + name + " above 1 clamped to 1 (as pbrt-v4 does)");
+        c = {std::min(c.r, 1.f), std::min(c.g, 1.f), std::min(c.b, 1.f)};
+    }
+    return c;
+}
+
+float Importer::float_value(const ParamList& p, const std::string& name, float fallback) {
+    const TextureDesc* tx = texture_ref(p, name, true);
+    if (tx && tx->scene_texture >= 0)
+        throw InputError(p.file, p.find(name)->line,
+                         "a varying texture on '" + name + "' is not supported");
+    return tx ? tx->value.r : p.real(name, fallback);
+}
+
+float Importer::float_value(const ParamList& p, const std::string& name, float fallback,
+                            int32_t& texture) {
+    const TextureDesc* tx = texture_ref(p, name, true);
+    texture = tx ? tx->scene_texture : -1;
+    return texture >= 0 ? 0.f : float_value(p, name, fallback);
+}
+
+void Importer::texture(const Token& t, const std::string& name, const std::string& kind,
+                       const std::string& type, const ParamList& p) {
+    if (kind != "spectrum" && kind != "float")
+        fail(t, "texture kind must be spectrum or float, not '" + kind + "'");
+    TextureDesc tex;
+    tex.type = type;
+    tex.is_float = kind == "float";
+    // A constant operand: a value, or a constant texture of this texture's kind.
+    auto value = [&](const std::string& key, RGB fallback) {
+        if (const TextureDesc* tx = texture_ref(p, key, tex.is_float)) {
+            if (tx->scene_texture >= 0)
+                fail(t, "'" + key + "': textures of varying textures are not supported");
+            return tx->value;
+        }
+        if (tex.is_float) return RGB{p.real(key, fallback.r)};
+        const auto c = p.color(key, false);
+        return c ? *c : fallback;
+    };
+    if (type == "constant") {
+        tex.value = value("value", RGB{1.f});
+    } else if (type == "scale") {
+        // A constant factor folds into the texture it scales, varying or not.
+        const float factor = float_value(p, "scale", 1.f);
+        const TextureDesc* inner = texture_ref(p, "tex", tex.is_float);
+        if (inner && inner->scene_texture >= 0) {
+            Texture st = scene_.textures[std::size_t(inner->scene_texture)];
+            if (st.invert) fail(t, "a scale of an inverted texture is not supported");
+            st.scale *= factor;
+            scene_.textures.push_back(st);
+            tex.scene_texture = int32_t(scene_.textures.size() - 1);
+        } else {
+            tex.value = value("tex", RGB{1.f}) * factor;
+        }
+    } else if (type == "imagemap" || type == "checkerboard") {
+        Texture st;
+        if (type == "imagemap") {
+            st.kind = TextureKind::Image;
+            st.image = image_texture(t, p);
+            st.scale = RGB{p.real("scale", 1.f)};
+            st.invert = p.boolean("invert", false);
+        } else {
+            if (p.integer("dimension", 2) != 2) fail(t, "only 2D checkerboards are supported");
+            st.kind = TextureKind::Checkerboard;
+            st.value = value("tex1", RGB{1.f});
+            st.other = value("tex2", RGB{0.f});
+        }
+        const std::string mapping = p.text("mapping", "uv");
+        if (mapping != "uv") fail(t, "texture mapping '" + mapping + "' is not supported (uv)");
+        st.su = p.real("uscale", 1.f);
+        st.sv = p.real("vscale", 1.f);
+        st.du = p.real("udelta", 0.f);
+        st.dv = p.real("vdelta", 0.f);
+        scene_.textures.push_back(st);
+        tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    } else {
+        fail(t, "texture type '" + type +
+                    "' is not supported (constant, scale, imagemap and checkerboard)");
+    }
+    textures_[name] = tex;
+    warn_unused(p, "Texture \"" + name + "\"");
+    count("Texture " + type);
+}
+
+uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
+    const std::string rel = p.text("filename", "");
+    if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
+    const std::string wrap = p.text("wrap", "repeat");
+    if (wrap != "repeat") fail(t, "texture wrap '" + wrap + "' is not supported (repeat)");
+    const std::string filter = p.text("filter", "bilinear");
+    if (filter != "bilinear")
+        warn(file(), t.line, "texture filter '" + filter + "': foton filters bilinearly");
+    p.real("maxanisotropy", 8.f);
+    const std::string enc = p.text("encoding", "sRGB");
+    if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
+    return image_file(t, rel, enc == "linear");
+}
+
+uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linear) {
+    const std::string key = rel + (linear ? "#linear" : "");
+    if (const auto it = images_.find(key); it != images_.end()) return it->second;
+    const std::string path = input_path(t, "texture", rel, kMaxMeshFileBytes);
+    try {
+        scene_.texture_images.push_back(load_texture_image(path, linear));
+    } catch (const InputError& e) {
+        fail(t, std::string("texture '") + rel + "': " + e.what());
+    }
+    return images_[key] = uint32_t(scene_.texture_images.size() - 1);
+}
+
+}  // namespace foton::pbrt
