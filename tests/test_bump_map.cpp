@@ -254,3 +254,38 @@ TEST_CASE("shading normals: triangle partials are those of the linear parametris
     CHECK(dpdv.z == Approx(0.f).margin(1e-5));
     CHECK_FALSE(triangle_partials(p(0, 0), p(1, 1), p(2, 2), {0, 0}, {1, 1}, {2, 2}, dpdu, dpdv));
 }
+
+TEST_CASE("anisotropic lobes: the shading frame's x axis is the surface's dp/du",
+          "[bump][anisotropic][fast]") {
+    // pbrt-v4's convention: uroughness runs along dp/du. A floor with u along +x, and a
+    // sphere (u around z): at (1, 0, 0) dp/du is +y.
+    const Scene floor = parse_pbrt_scene(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+        "Material \"conductor\" \"float uroughness\" [0.05] \"float vroughness\" [0.3]\n"
+        "Shape \"trianglemesh\" \"point3 P\" [-50 -50 0  50 -50 0  50 50 0  -50 50 0]\n"
+        "  \"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 1 2  0 2 3]\n"
+        "AttributeBegin\nTranslate 0 0 -20\n"
+        "Material \"dielectric\" \"float uroughness\" [0.05] \"float vroughness\" [0.3]\n"
+        "Shape \"sphere\" \"float radius\" [1]\nAttributeEnd\n",
+        "a.pbrt", ".");
+    REQUIRE(floor.materials[floor.objects[0].material].needs_tangent());
+    const SurfacePoint f =
+        surface_at(floor, 0, 0, 5.f, 0.3f, 0.2f, {10.f, -20.f, 5.f}, {0.f, 0.f, -1.f});
+    CHECK(f.ss.x == Approx(1.f));
+    const warp::Frame fr = f.frame();
+    CHECK(fr.to_local(Vec3{1.f, 0.f, 0.f}).x == Approx(1.f));
+    CHECK(fr.to_local(f.ns).z == Approx(1.f));
+    const SurfacePoint s =
+        surface_at(floor, 1, 0, 4.f, 0.f, 0.f, {5.f, 0.f, -20.f}, {-1.f, 0.f, 0.f});
+    CHECK(s.ss.y == Approx(1.f));
+    CHECK(std::fabs(dot(s.ss, s.ns)) < 1e-6f);
+    // An isotropic material has no tangent: the frame is the normal's own basis, as before.
+    const Scene iso = parse_pbrt_scene(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+        "Material \"conductor\" \"float roughness\" [0.1]\n"
+        "Shape \"sphere\" \"float radius\" [1]\n",
+        "i.pbrt", ".");
+    CHECK_FALSE(iso.materials.back().needs_tangent());
+    const SurfacePoint si = surface_at(iso, 0, 0, 4.f, 0.f, 0.f, {5.f, 0.f, 0.f}, {-1.f, 0.f, 0.f});
+    CHECK(length(si.ss) == 0.f);
+}

@@ -257,9 +257,11 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     CHECK(s.bounds().hi.x == Approx(1.f));
     REQUIRE(s.texture_images.size() == 1);
     const TextureImage& img = s.texture_images[0];
-    // The left primitive's uv: u = 2x over [0, 0.5], v (foton's, up) = y.
+    // The left primitive's uv: u = 2x over [0, 0.5], v (foton's, up) = y. glTF's dielectric
+    // reflects F0 = 0.04 (index 1.5) by GGX of alpha = roughness^2 = 1 beside the diffuse
+    // 0.96 albedo: head-on under irradiance pi, F D G / 4 x pi = 0.04 / (4 pi) x pi = 0.01.
     const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
-        return x < 0.5f ? img.bilinear({x, y}) : RGB{0.2f, 0.4f, 0.6f};
+        return (x < 0.5f ? img.bilinear({x, y}) : RGB{0.2f, 0.4f, 0.6f}) * 0.96f + RGB{0.01f};
     });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.02);
@@ -366,16 +368,20 @@ TEST_CASE(
     CHECK(s.camera.eye.x == Approx(0.5f));
     CHECK(s.camera.eye.z == Approx(3.f));
     CHECK(s.camera.vertical_fov_degrees() == Approx(30.f).epsilon(1e-3));
-    // The flat material: 0.25 of its base colour diffuse, a dielectric of 1.33 for the rest.
+    // The flat material: 0.25 of its base colour diffuse (less the reflection's F0 of 1.33,
+    // 0.0201) beside that share's GGX reflection, a dielectric of 1.33 for the rest.
     REQUIRE(f.materials[1].transmission == Approx(0.75f));
     Scene t;
     std::map<std::string, uint32_t> images;
     const Material m = t.materials[add_file_material(t, f.materials[1], f, images)];
-    REQUIRE(m.bsdf.size() == 2);
-    CHECK(m.bsdf.lobe(0).color.b == Approx(0.6f * 0.25f));
-    CHECK(m.bsdf.lobe(1).type == LobeType::RoughDielectric);  // roughnessFactor 1: alpha 1
-    CHECK(m.bsdf.lobe(1).fresnel.ior == Approx(1.33f));
-    CHECK(m.bsdf.lobe(1).transmit.g == Approx(0.4f * 0.75f));
+    REQUIRE(m.bsdf.size() == 3);
+    CHECK(m.bsdf.lobe(0).color.b == Approx(0.6f * 0.25f * (1.f - 0.0201f)).epsilon(1e-3));
+    CHECK(m.bsdf.lobe(1).type == LobeType::Microfacet);
+    CHECK(m.bsdf.lobe(1).color.g == Approx(0.25f));
+    CHECK(m.bsdf.lobe(1).fresnel.kind == FresnelKind::Dielectric);
+    CHECK(m.bsdf.lobe(2).type == LobeType::RoughDielectric);  // roughnessFactor 1: alpha 1
+    CHECK(m.bsdf.lobe(2).fresnel.ior == Approx(1.33f));
+    CHECK(m.bsdf.lobe(2).transmit.g == Approx(0.4f * 0.75f));
 }
 
 TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",
@@ -401,6 +407,47 @@ TEST_CASE("glTF: metallic-roughness and emission become lobes and emission",
     REQUIRE(gold.bsdf.size() == 2);
     CHECK(gold.bsdf.lobe(0).color.r == 0.f);  // no diffuse part in a metal
     CHECK(gold.bsdf.lobe(1).type == LobeType::Microfacet);
+}
+
+TEST_CASE("glTF: a metallic-roughness texture weights and roughens the lobes per hit",
+          "[gltf][mesh-file][fast]") {
+    test::TempDir dir;
+    // t.png's texels (linear): red (1, 0, 0), green (0, 1, 0), blue (0, 0, 1), grey 128.
+    write_texture(dir.file("t.png"));
+    write_gltf(dir, R"(, "emissiveFactor": [2, 2, 2], "emissiveTexture": {"index": 0})");
+    {
+        GltfEdit replace(dir.file("quad.gltf"));
+        replace(R"("baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0})",
+                R"("baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0.8,
+                   "roughnessFactor": 0.5, "metallicRoughnessTexture": {"index": 0}})");
+    }
+    const MeshFile f = load_gltf(dir.file("quad.gltf"));
+    Scene s;
+    std::map<std::string, uint32_t> images;
+    const Material m = s.materials[add_file_material(s, f.materials[1], f, images)];
+    // Lambert, dielectric reflection, metal: weighted per hit by the blue channel (metallic).
+    REQUIRE(m.bsdf.size() == 3);
+    CHECK(m.num_float_params == 5);
+    CHECK(m.emission_texture >= 0);
+    std::optional<Material> scratch;
+    // The texel centres of the 2 x 2 image: (0.25, 0.75) red, (0.75, 0.75) green,
+    // (0.25, 0.25) blue (foton's v runs up).
+    const Material& blue = s.material_at(m, {0.25f, 0.25f}, scratch);
+    // metallic = 0.8 x 1: the Lambert keeps 0.2 of 0.96 of its colour, the metal 0.8;
+    // roughness = 0.5 x 0: alpha at its floor, 1e-3.
+    CHECK(blue.bsdf.lobe(0).color.b == Approx(0.6f * 0.96f * 0.2f).epsilon(1e-3));
+    CHECK(blue.bsdf.lobe(2).color.g == Approx(0.8f).epsilon(1e-3));
+    CHECK(blue.bsdf.lobe(2).dist.alpha == Approx(1e-3f));
+    // Emission: 2 x the texel (sRGB-decoded, blue).
+    CHECK(blue.emission.b == Approx(2.f).epsilon(1e-3));
+    CHECK(blue.emission.r == Approx(0.f).margin(1e-4));
+    std::optional<Material> scratch2;
+    const Material& green = s.material_at(m, {0.75f, 0.75f}, scratch2);
+    // metallic 0, roughness 0.5 x 1: alpha 0.25 on the reflection and the metal.
+    CHECK(green.bsdf.lobe(0).color.b == Approx(0.6f * 0.96f).epsilon(1e-3));
+    CHECK(green.bsdf.lobe(1).color.g == Approx(1.f).epsilon(1e-3));
+    CHECK(green.bsdf.lobe(1).dist.alpha == Approx(0.25f).epsilon(1e-3));
+    CHECK(green.bsdf.lobe(2).color.g == Approx(0.f).margin(1e-5));
 }
 
 TEST_CASE("mesh files: bad input names the file and line or glTF object",

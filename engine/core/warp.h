@@ -73,6 +73,17 @@ struct Frame {
     Vec3 s, t, n;
     Frame() = default;
     explicit Frame(const Vec3& normal) : n(normal) { orthonormal_basis(n, s, t); }
+    // Around `normal` with s along `tangent` (unit and perpendicular to it) and t = n x s, as
+    // pbrt-v4's shading frame: anisotropic BSDFs follow the surface's dp/du. A zero tangent
+    // gives the basis of Frame(normal).
+    Frame(const Vec3& normal, const Vec3& tangent) : n(normal) {
+        if (tangent.x == 0.f && tangent.y == 0.f && tangent.z == 0.f) {
+            orthonormal_basis(n, s, t);
+        } else {
+            s = tangent;
+            t = cross(n, s);
+        }
+    }
     Vec3 to_local(const Vec3& v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     Vec3 to_world(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };

@@ -21,6 +21,31 @@ Vec3 mirror_dir(const Vec3& wo) {
 
 // The sampling weight of a lobe: its colour's luminance (the Fresnel term is left out so that
 // a plastic's highlight is not starved by its 4 % normal-incidence reflectance).
+bool distribution_anisotropic(const MicrofacetDistribution& d) {
+    switch (d.kind) {
+        case MicrofacetKind::TrowbridgeReitz:
+            return d.alpha != d.alpha_y;
+        case MicrofacetKind::AshikhminShirley:
+            return d.nu != d.nv;
+        default:
+            return false;
+    }
+}
+
+bool lobe_anisotropic(const Lobe& l) {
+    switch (l.type) {
+        case LobeType::Microfacet:
+        case LobeType::RoughDielectric:
+            return distribution_anisotropic(l.dist);
+        case LobeType::Coated:
+            return (!l.coat.coat_smooth && distribution_anisotropic(l.coat.coat)) ||
+                   (l.coat.base == CoatBase::Conductor && !l.coat.base_smooth &&
+                    distribution_anisotropic(l.dist));
+        default:
+            return false;
+    }
+}
+
 float sampling_weight(const Lobe& l) {
     // A coat reflects at least its Fresnel share even over a black base.
     if (l.type == LobeType::Coated)
@@ -200,6 +225,7 @@ bool Bsdf::add(const Lobe& lobe) {
     flags_ |= lobe.flags();
     if ((lobe.flags() & kTransmission) && !lobe.is_delta()) transmits_non_delta_ = true;
     if (lobe.is_stochastic()) stochastic_ = true;
+    if (lobe_anisotropic(lobe)) anisotropic_ = true;
     ++n_;
     return true;
 }
@@ -221,16 +247,18 @@ float Bsdf::continuation() const {
 }
 
 void Bsdf::scale(float w) {
-    for (int i = 0; i < n_; ++i) {
-        Lobe& l = lobes_[std::size_t(i)];
-        if (l.type == LobeType::Coated) {
-            l.coat.weight *= w;
-        } else {
-            l.color *= w;
-            l.transmit *= w;
-        }
-        weight_[std::size_t(i)] = sampling_weight(l);
+    for (int i = 0; i < n_; ++i) scale_lobe(i, w);
+}
+
+void Bsdf::scale_lobe(int i, float w) {
+    Lobe& l = lobes_[std::size_t(i)];
+    if (l.type == LobeType::Coated) {
+        l.coat.weight *= w;
+    } else {
+        l.color *= w;
+        l.transmit *= w;
     }
+    weight_[std::size_t(i)] = sampling_weight(l);
 }
 
 Bsdf Bsdf::with_texture(uint8_t lobes, const RGB& t) const {
@@ -243,14 +271,16 @@ Bsdf Bsdf::with_texture(uint8_t lobes, const RGB& t) const {
     return b;
 }
 
-void Bsdf::set_alpha(int i, AlphaTarget target, float alpha) {
+void Bsdf::set_param(int i, LobeParam target, float v) {
     Lobe& l = lobes_[std::size_t(i)];
-    const bool coat = target == AlphaTarget::CoatX || target == AlphaTarget::CoatY;
+    if (target == LobeParam::Weight || target == LobeParam::WeightComplement) {
+        scale_lobe(i, target == LobeParam::Weight ? v : 1.f - v);
+        return;
+    }
+    const bool coat = target == LobeParam::CoatAlphaX || target == LobeParam::CoatAlphaY;
     MicrofacetDistribution& d = coat ? l.coat.coat : l.dist;
-    if (target == AlphaTarget::DistX || target == AlphaTarget::CoatX)
-        d.alpha = alpha;
-    else
-        d.alpha_y = alpha;
+    if (target != LobeParam::AlphaY && target != LobeParam::CoatAlphaY) d.alpha = v;
+    if (target != LobeParam::AlphaX && target != LobeParam::CoatAlphaX) d.alpha_y = v;
 }
 
 float Bsdf::weight_sum(uint8_t only) const {

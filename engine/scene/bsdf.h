@@ -108,10 +108,19 @@ struct Lobe {
                                  const CoatLayer& c);
 };
 
-// Which microfacet alpha of a lobe a roughness texture sets (Material::float_params): the
-// lobe's own distribution (a microfacet conductor, a rough dielectric, a coated lobe's
-// conductor base) or a coated lobe's coat, along x or y.
-enum class AlphaTarget : uint8_t { DistX, DistY, CoatX, CoatY };
+// What a texture sets on one lobe at a surface point (Material::float_params): a microfacet
+// alpha of the lobe's own distribution (a microfacet conductor, a rough dielectric, a coated
+// lobe's conductor base) or of a coated lobe's coat, along x or y; or the lobe's weight, as v
+// or 1 - v (glTF's metallic texture shares a surface between a metal and a dielectric).
+enum class LobeParam : uint8_t {
+    AlphaX,
+    AlphaY,
+    Alpha,  // both
+    CoatAlphaX,
+    CoatAlphaY,
+    Weight,
+    WeightComplement
+};
 
 struct BsdfSample {
     Vec3 wi;
@@ -135,6 +144,8 @@ class Bsdf {
     // Lobe i's sampling weight (sample() picks lobes in proportion to these).
     float weight(int i) const { return weight_[std::size_t(i)]; }
     bool empty() const { return n_ == 0; }
+    // Some lobe's roughness differs along x and y: its orientation is the frame's.
+    bool anisotropic() const { return anisotropic_; }
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
     // Some non-delta lobe transmits (a rough dielectric): light reaches the vertex from
     // behind its surface by other routes than a sampled delta refraction.
@@ -170,13 +181,14 @@ class Bsdf {
     // the bidirectional integrators continue a subpath with (Russian roulette whose
     // probability depends on the vertex alone, so both subpaths' MIS sums can include it).
     float continuation() const;
-    // Scales every lobe's colour (for mixtures).
+    // Scales every lobe's colour (for mixtures), or lobe i's.
     void scale(float w);
+    void scale_lobe(int i, float w);
     // A copy whose lobes in `lobes` (bit i: lobe i) have their colour multiplied by `t`:
     // a textured reflectance at one surface point. Sampling weights follow the colours.
     Bsdf with_texture(uint8_t lobes, const RGB& t) const;
-    // Sets one microfacet alpha of lobe i (a roughness texture's value at a surface point).
-    void set_alpha(int i, AlphaTarget target, float alpha);
+    // Sets parameter `target` of lobe i to v (a texture's value at a surface point).
+    void set_param(int i, LobeParam target, float v);
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;
@@ -204,6 +216,7 @@ class Bsdf {
     uint8_t flags_ = 0;
     bool transmits_non_delta_ = false;
     bool stochastic_ = false;  // some lobe is_stochastic()
+    bool anisotropic_ = false;
 };
 
 // Single-lobe operations (exposed for the tests' chi-square and albedo checks).

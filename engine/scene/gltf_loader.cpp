@@ -213,10 +213,14 @@ class GltfReader {
                 note(where + ": baseColorTexture uses TEXCOORD_" +
                      std::to_string(pbr.baseColorTexture.texCoord) + "; foton reads TEXCOORD_0");
             f.diffuse_map = image(pbr.baseColorTexture.index, where);
-            if (f.metallic > 0.f)
-                note(where +
-                     ": the metal's colour is baseColorFactor (the texture colours the "
-                     "diffuse part only)");
+        }
+        f.dielectric_specular = true;
+        if (pbr.metallicRoughnessTexture.index >= 0) {
+            if (pbr.metallicRoughnessTexture.texCoord != 0)
+                note(where + ": metallicRoughnessTexture uses TEXCOORD_" +
+                     std::to_string(pbr.metallicRoughnessTexture.texCoord) +
+                     "; foton reads TEXCOORD_0");
+            f.metallic_roughness_map = image(pbr.metallicRoughnessTexture.index, where, true);
         }
         if (gm.emissiveFactor.size() == 3) {
             f.emission = RGB{float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
@@ -231,7 +235,6 @@ class GltfReader {
         auto ignored = [&](bool present, const char* what) {
             if (present) note(where + ": " + what + " ignored");
         };
-        ignored(pbr.metallicRoughnessTexture.index >= 0, "metallicRoughnessTexture");
         if (gm.normalTexture.index >= 0) {
             if (gm.normalTexture.texCoord != 0)
                 note(where + ": normalTexture uses TEXCOORD_" +
@@ -242,8 +245,15 @@ class GltfReader {
             // Tangents from the uv (the file's TANGENT attribute is not read).
             f.normal_map = image(gm.normalTexture.index, where, true);
         }
-        ignored(gm.occlusionTexture.index >= 0, "occlusionTexture");
-        ignored(gm.emissiveTexture.index >= 0, "emissiveTexture");
+        // Ambient occlusion baked for rasterisers: light transport computes its own.
+        ignored(gm.occlusionTexture.index >= 0, "occlusionTexture (transport computes occlusion)");
+        f.emission_given = true;  // glTF's emissiveFactor defaults to black
+        if (gm.emissiveTexture.index >= 0) {
+            if (gm.emissiveTexture.texCoord != 0)
+                note(where + ": emissiveTexture uses TEXCOORD_" +
+                     std::to_string(gm.emissiveTexture.texCoord) + "; foton reads TEXCOORD_0");
+            f.emission_map = image(gm.emissiveTexture.index, where);
+        }
         ignored(gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty(), "alphaMode (foton is opaque)");
         try {
             gltf_material_extensions(gm, f, out_.notes, path_ + ": " + where);
@@ -265,33 +275,12 @@ class GltfReader {
         const std::string key = path_ + "#image" + std::to_string(src) + (linear ? "#linear" : "");
         if (out_.embedded_images.count(key)) return key;
         const tinygltf::Image& im = g_.images[std::size_t(src)];
-        const std::string at = where + ", image " + std::to_string(src);
-        if (im.width <= 0 || im.height <= 0 || (im.bits != 8 && im.bits != 16) ||
-            im.component < 1 || im.component > 4)
-            fail(at, "could not be decoded (PNG or JPEG of 8 or 16 bits expected)");
-        const std::size_t bytes = std::size_t(im.bits / 8);
-        const std::size_t texels = std::size_t(im.width) * std::size_t(im.height);
-        if (im.image.size() != texels * std::size_t(im.component) * bytes)
-            fail(at, "decoded size does not match its resolution");
-        TextureImage out;
-        out.path = im.uri.empty() ? key : im.uri;
-        out.width = im.width;
-        out.height = im.height;
-        out.texels.resize(texels);
-        const float unit = im.bits == 8 ? 255.f : 65535.f;
-        for (std::size_t i = 0; i < texels; ++i) {
-            float c[4] = {0.f, 0.f, 0.f, 0.f};
-            for (int k = 0; k < std::min(im.component, 3); ++k) {
-                const std::size_t o = (i * std::size_t(im.component) + std::size_t(k)) * bytes;
-                uint16_t v = im.image[o];
-                if (bytes == 2) std::memcpy(&v, &im.image[o], 2);
-                c[k] = linear ? float(v) / unit : srgb_to_linear(float(v) / unit);
-            }
-            // Grey (and grey + alpha) images repeat their one channel.
-            if (im.component < 3) c[1] = c[2] = c[0];
-            out.texels[i] = RGB{c[0], c[1], c[2]};
+        try {
+            out_.embedded_images[key] =
+                gltf_decode_image(im, im.uri.empty() ? key : im.uri, linear);
+        } catch (const std::invalid_argument& e) {
+            fail(where + ", image " + std::to_string(src), e.what());
         }
-        out_.embedded_images[key] = std::move(out);
         return key;
     }
 

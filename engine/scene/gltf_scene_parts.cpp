@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace foton {
@@ -99,6 +100,35 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
         if (ext != "KHR_materials_emissive_strength" && ext != "KHR_materials_transmission" &&
             ext != "KHR_materials_ior")
             notes.push_back(where + ": extension " + ext + " ignored");
+}
+
+TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear) {
+    if (im.width <= 0 || im.height <= 0 || (im.bits != 8 && im.bits != 16) || im.component < 1 ||
+        im.component > 4)
+        throw std::invalid_argument("could not be decoded (PNG or JPEG of 8 or 16 bits expected)");
+    const std::size_t bytes = std::size_t(im.bits / 8);
+    const std::size_t texels = std::size_t(im.width) * std::size_t(im.height);
+    if (im.image.size() != texels * std::size_t(im.component) * bytes)
+        throw std::invalid_argument("decoded size does not match its resolution");
+    TextureImage out;
+    out.path = name;
+    out.width = im.width;
+    out.height = im.height;
+    out.texels.resize(texels);
+    const float unit = im.bits == 8 ? 255.f : 65535.f;
+    for (std::size_t i = 0; i < texels; ++i) {
+        float c[4] = {0.f, 0.f, 0.f, 0.f};
+        for (int k = 0; k < std::min(im.component, 3); ++k) {
+            const std::size_t o = (i * std::size_t(im.component) + std::size_t(k)) * bytes;
+            uint16_t v = im.image[o];
+            if (bytes == 2) std::memcpy(&v, &im.image[o], 2);
+            c[k] = linear ? float(v) / unit : srgb_to_linear(float(v) / unit);
+        }
+        // Grey (and grey + alpha) images repeat their one channel.
+        if (im.component < 3) c[1] = c[2] = c[0];
+        out.texels[i] = RGB{c[0], c[1], c[2]};
+    }
+    return out;
 }
 
 }  // namespace foton

@@ -16,6 +16,7 @@ namespace tinygltf {
 class Model;
 class Node;
 struct Material;
+struct Image;
 }  // namespace tinygltf
 
 namespace foton {
@@ -39,5 +40,10 @@ void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const A
 // noted.
 void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
                               std::vector<std::string>& notes, const std::string& where);
+
+// An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
+// `linear` (a normal map); grey images repeat their channel, alpha is not read. `name` is
+// kept as its path.
+TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear);
 
 }  // namespace foton

@@ -100,7 +100,8 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
         case EmitterType::Sphere:
         case EmitterType::Mesh: {
             Vec3 q, nq;
-            sample_area_point(e, u_pos, uc, q, nq);
+            RGB le;
+            sample_area_point(e, u_pos, uc, q, nq, le);
             float side_pdf = 1.f;
             if (e.two_sided) {
                 // Either side with probability 1/2: u_dir.x picks it and is stretched back.
@@ -119,7 +120,7 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             s.dir = fr.to_world(local);
             s.pdf_pos = 1.f / e.area;
             s.pdf_dir = side_pdf * warp::cosine_hemisphere_pdf(local.z);
-            s.Le = e.value;
+            s.Le = le;
             return s.pdf_dir > 0.f;
         }
     }

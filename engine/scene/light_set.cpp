@@ -98,7 +98,13 @@ LightSet::LightSet(const Scene& scene, LightSelection selection, bool projection
         const Material& m = scene.materials[o.material];
         if (m.emission.is_black() || m.type == MaterialType::Emitter) continue;
         Emitter e;
-        e.value = m.emission;
+        e.value = e.emission = m.emission;
+        if (m.emission_texture >= 0) {
+            e.texture = m.emission_texture;
+            e.value = m.emission *
+                      scene.textures[std::size_t(m.emission_texture)].mean(scene.texture_images);
+            if (e.value.is_black()) continue;
+        }
         e.geom = g;
         e.two_sided = m.emission_two_sided;
         if (o.kind == ObjectKind::Sphere) {
@@ -197,8 +203,9 @@ uint32_t LightSet::select(float u, float& pmf) const {
     return i;
 }
 
-float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n,
+float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n, RGB& le,
                                   uint32_t tri) const {
+    le = e.value;
     if (e.type == EmitterType::Rect) {
         q = e.p + e.e1 * u.x + e.e2 * u.y;
         n = e.n;
@@ -207,6 +214,7 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     if (e.type == EmitterType::Sphere) {
         n = warp::uniform_sphere(u);
         q = e.p + n * e.radius;
+        if (e.texture >= 0) le = textured_radiance(e, sphere_uv(n));
         return e.area;
     }
     const uint32_t t = tri == kWholeEmitter ? triangle_by_area(e, uc) : tri;
@@ -216,7 +224,25 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     q = p0 * (1.f - b.x - b.y) + p1 * b.x + p2 * b.y;
     const Vec3 c = cross(p1 - p0, p2 - p0);
     n = normalize(c);
+    if (e.texture >= 0) {
+        // The triangle's texture coordinates at the point (pbrt's default without uv).
+        const TriangleMesh& m = scene_->meshes[e.mesh];
+        const uint32_t* ix = &m.indices[3 * std::size_t(t)];
+        Point2 t0{0.f, 0.f}, t1{1.f, 0.f}, t2{1.f, 1.f};
+        if (!m.uvs.empty()) {
+            t0 = {m.uvs[2 * ix[0]], m.uvs[2 * ix[0] + 1]};
+            t1 = {m.uvs[2 * ix[1]], m.uvs[2 * ix[1] + 1]};
+            t2 = {m.uvs[2 * ix[2]], m.uvs[2 * ix[2] + 1]};
+        }
+        const float w = 1.f - b.x - b.y;
+        le = textured_radiance(
+            e, {t0.x * w + t1.x * b.x + t2.x * b.y, t0.y * w + t1.y * b.x + t2.y * b.y});
+    }
     return tri == kWholeEmitter ? e.area : 0.5f * length(c);
+}
+
+RGB LightSet::textured_radiance(const Emitter& e, Point2 uv) const {
+    return e.emission * scene_->textures[std::size_t(e.texture)].eval(scene_->texture_images, uv);
 }
 
 uint32_t LightSet::triangle_by_area(const Emitter& e, float uc) const {
@@ -298,12 +324,13 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                     s.dist = ds;
                     s.n_light = n;
                     s.pdf = 1.f / (2.f * kPi * one_minus_cos);
-                    s.Li = e.value;
+                    s.Li = e.texture >= 0 ? textured_radiance(e, sphere_uv(n)) : e.value;
                     return s.pdf > 0.f && ds > 0.f;
                 }
             }
             Vec3 q, nq;
-            const float area = sample_area_point(e, u, uc, q, nq, tri);
+            RGB le;
+            const float area = sample_area_point(e, u, uc, q, nq, le, tri);
             const Vec3 to = q - p;
             const float d2 = length_squared(to);
             if (d2 == 0.f) return false;
@@ -315,7 +342,7 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             s.p_light = q;
             s.n_light = dot(nq, s.wi) < 0.f ? nq : -nq;
             s.pdf = d2 / (cos_l * area);
-            s.Li = e.value;
+            s.Li = le;
             return true;
         }
     }

@@ -43,6 +43,11 @@ struct Emitter {
     bool solid_angle = true;      // Sphere: sample the cone it subtends (else its area)
     bool two_sided = false;       // area kinds: emit from both sides
     RGB power;                    // emitted flux
+    // Area kinds: a texture on the emission (Material::emission_texture; -1: none). The
+    // radiance at a point is `emission` times its value there; `value` holds emission times
+    // the texture's mean, which the power and light selection go by.
+    int32_t texture = -1;
+    RGB emission;
 
     bool is_delta_position() const {
         return type == EmitterType::Point || type == EmitterType::Spot;
@@ -202,9 +207,11 @@ class LightSet {
     LightPick tree_pick(uint32_t prim, float pmf) const;
     // A point uniform over the area of a rectangle, sphere or mesh emitter (or one triangle of
     // it), with the geometry's own normal there (u, and uc for a mesh's triangle), and the
-    // area it is uniform over.
-    float sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n,
+    // area it is uniform over; `le`: the radiance emitted there.
+    float sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n, RGB& le,
                             uint32_t tri = kWholeEmitter) const;
+    // A textured emitter's radiance at texture coordinates uv.
+    RGB textured_radiance(const Emitter& e, Point2 uv) const;
     // The light BVH's primitives and tree (light_pick.cpp).
     void build_bvh();
 

@@ -30,7 +30,10 @@ struct Material {
     RGB reflective_color{0.f};
     float ior = 1.5f;
     RGB refraction_color{1.f};
-    RGB emission{0.f};                // radiance leaving the front side (any material may emit)
+    RGB emission{0.f};  // radiance leaving the front side (any material may emit)
+    // A texture on the emission (into Scene::textures, -1: none): at a point, the radiance
+    // is `emission` times its value there (glTF's emissiveTexture, MTL's map_Ke).
+    int32_t emission_texture = -1;
     bool emitter_solid_angle = true;  // sphere emitters: sample by solid angle (else by area)
     bool emission_two_sided = false;  // emit from both sides (e.g. a furnace seen from inside)
     bool emits_towards(bool front_face) const {
@@ -55,14 +58,20 @@ struct Material {
     // p + d(u, v) n, from finite differences of d along u and v (pbrt-v4's BumpMap). A
     // normal map, when the material has both, wins (as in pbrt-v4).
     int32_t bump = -1;
-    // Roughness textures: at a hit, each entry sets one microfacet alpha of one lobe to its
-    // texture's value there (a float texture: the mean of its channels).
-    static constexpr int kMaxFloatParams = 6;
+    // Roughness and weight textures: at a hit, each entry sets one parameter of one lobe to
+    // its texture's value there (a float texture: the mean of its channels, or one channel).
+    static constexpr int kMaxFloatParams = 8;
+    enum class Remap : uint8_t {
+        None,
+        Sqrt,    // the texture holds pbrt's roughness: alpha = sqrt(value)
+        Square,  // glTF's roughness: alpha = value^2
+    };
     struct FloatParam {
         int32_t texture = -1;  // into Scene::textures
         uint8_t lobe = 0;
-        AlphaTarget target = AlphaTarget::DistX;
-        bool remap = false;  // the texture holds pbrt's roughness: alpha = sqrt(value)
+        LobeParam target = LobeParam::AlphaX;
+        Remap remap = Remap::None;
+        uint8_t channel = 0;  // 0: the channels' mean; 1, 2, 3: red, green, blue alone
     };
     std::array<FloatParam, kMaxFloatParams> float_params{};
     uint8_t num_float_params = 0;
@@ -72,11 +81,14 @@ struct Material {
         float_params[num_float_params++] = p;
         return true;
     }
-    // The BSDF changes over the surface (a colour or roughness texture).
-    bool varies() const { return texture >= 0 || num_float_params > 0; }
+    // The material changes over the surface (a colour, roughness or emission texture).
+    bool varies() const { return texture >= 0 || num_float_params > 0 || emission_texture >= 0; }
     // The shading normal is a texture's (normal or bump map).
     bool perturbs_normal() const { return normal_map >= 0 || bump >= 0; }
     bool needs_uv() const { return varies() || perturbs_normal(); }
+    // The BSDF's frame must follow the surface's dp/du (an anisotropic lobe, or roughness
+    // textures, which may make one).
+    bool needs_tangent() const { return num_float_params > 0 || bsdf.anisotropic(); }
 
     // The physically based model the Monte Carlo integrators use (also for the thesis'
     // types: matte = Lambert, phong = Lambert + modified Phong, reflective = + mirror,

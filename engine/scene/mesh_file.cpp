@@ -125,6 +125,103 @@ uint32_t file_image(Scene& scene, const MeshFile& file, std::map<std::string, ui
     return images[key] = uint32_t(scene.texture_images.size() - 1);
 }
 
+// The lobes of a file's non-glass material: a Lambert of the diffuse colour, MTL's Phong
+// highlight or mirror, glTF's metal (a conductor of the base colour's reflectance, GGX of alpha
+// = roughness^2), its dielectric reflection and its transmission. With glTF's
+// metallic-roughness texture the metal and dielectric parts are weighted and roughened per hit
+// (Material::float_params): lobes at full weight, then v or 1 - v of the texture's metallic.
+void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file,
+                       std::map<std::string, uint32_t>& images, Material& m) {
+    int32_t mr = -1;
+    if (!f.metallic_roughness_map.empty()) {
+        Texture tx;
+        tx.kind = TextureKind::Image;
+        tx.image = file_image(scene, file, images, f.metallic_roughness_map, true);
+        tx.scale = RGB{1.f, f.roughness, f.metallic};  // glTF: factors times the channels
+        scene.textures.push_back(tx);
+        mr = int32_t(scene.textures.size() - 1);
+    }
+    auto param = [&](LobeParam target, uint8_t channel, Material::Remap remap) {
+        if (mr < 0) return;
+        const Material::FloatParam p{mr, uint8_t(m.bsdf.size() - 1), target, remap, channel};
+        if (!m.add_float_param(p))
+            throw InputError(m.name, 0, "too many textured parameters in one material");
+    };
+    auto alpha_param = [&] { param(LobeParam::Alpha, 2, Material::Remap::Square); };
+    // Per hit with a texture, else the factor now.
+    const float metal = mr >= 0 ? 1.f : std::clamp(f.metallic, 0.f, 1.f);
+    const float dielectric = mr >= 0 ? 1.f : 1.f - metal;
+    const float alpha = std::min(f.roughness * f.roughness, 2.f);
+    const bool smooth = mr < 0 && alpha < 0.002f;
+    const auto ggx =
+        MicrofacetDistribution::trowbridge_reitz(std::max(alpha, 1e-3f), std::max(alpha, 1e-3f));
+    // glTF's transmission replaces that much of the dielectric base's diffuse part; its
+    // reflection takes the rest's Fresnel share.
+    const float trans = std::clamp(f.transmission, 0.f, 1.f);
+    Fresnel glass;
+    glass.kind = FresnelKind::Dielectric;
+    glass.ior = f.ior;
+    const float f0 = (f.ior - 1.f) * (f.ior - 1.f) / ((f.ior + 1.f) * (f.ior + 1.f));
+    // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
+    RGB kd = f.diffuse * (dielectric * (1.f - trans) * (f.dielectric_specular ? 1.f - f0 : 1.f));
+    RGB ks = f.specular;
+    const float total = (kd + ks).max_component();
+    if (total > 1.f) {
+        kd *= 1.f / total;
+        ks *= 1.f / total;
+    }
+    m.base_color = kd;
+    m.bsdf.add(Lobe::lambert(kd));
+    param(LobeParam::WeightComplement, 3, Material::Remap::None);
+    if (!f.diffuse_map.empty()) {
+        Texture tx;
+        tx.kind = TextureKind::Image;
+        tx.image = file_image(scene, file, images, f.diffuse_map, false);
+        tx.su = f.map_su;
+        tx.sv = f.map_sv;
+        tx.du = f.map_du;
+        tx.dv = f.map_dv;
+        scene.textures.push_back(tx);
+        m.texture = int32_t(scene.textures.size() - 1);
+        m.textured_lobes = 1;  // the Lambert lobe, added first
+    }
+    if (!f.normal_map.empty()) {
+        Texture tx;
+        tx.kind = TextureKind::Image;
+        tx.image = file_image(scene, file, images, f.normal_map, true);
+        scene.textures.push_back(tx);
+        m.normal_map = int32_t(scene.textures.size() - 1);
+    }
+    if (f.mirror && !ks.is_black()) {
+        m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
+    } else if (!ks.is_black() && f.exponent > 0.f) {
+        m.bsdf.add(Lobe::phong(ks, f.exponent));
+    }
+    if (f.dielectric_specular && trans < 1.f && dielectric > 0.f) {
+        const RGB w{dielectric * (1.f - trans)};
+        m.bsdf.add(smooth ? Lobe::mirror(w, glass) : Lobe::microfacet(w, ggx, glass));
+        param(LobeParam::WeightComplement, 3, Material::Remap::None);
+        alpha_param();
+    }
+    if (metal > 0.f) {
+        // The base colour as a conductor's normal reflectance; a base colour texture tints it.
+        const Fresnel fr = conductor_from_reflectance(f.diffuse);
+        m.bsdf.add(smooth ? Lobe::mirror(RGB{metal}, fr) : Lobe::microfacet(RGB{metal}, ggx, fr));
+        if (m.texture >= 0) m.textured_lobes |= uint8_t(1u << (m.bsdf.size() - 1));
+        param(LobeParam::Weight, 3, Material::Remap::None);
+        alpha_param();
+    }
+    if (trans > 0.f) {
+        // A solid dielectric of the material's index, tinted by the base colour, weighted by
+        // the transmitting share.
+        const float w = dielectric * trans;
+        m.bsdf.add(smooth ? Lobe::dielectric(f.ior, RGB{w}, f.diffuse * w)
+                          : Lobe::rough_dielectric(f.ior, ggx, RGB{w}, f.diffuse * w));
+        param(LobeParam::WeightComplement, 3, Material::Remap::None);
+        alpha_param();
+    }
+}
+
 }  // namespace
 
 uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& file,
@@ -133,75 +230,20 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
     m.type = MaterialType::Generic;
     m.name = f.name.empty() ? "file material" : f.name;
     m.emission = f.emission;
+    if (!f.emission_map.empty()) {
+        if (!f.emission_given && m.emission.is_black()) m.emission = RGB{1.f};
+        Texture tx;
+        tx.kind = TextureKind::Image;
+        tx.image = file_image(scene, file, images, f.emission_map, false);
+        scene.textures.push_back(tx);
+        m.emission_texture = int32_t(scene.textures.size() - 1);
+    }
     m.ior = f.ior;
     if (f.glass) {
         m.bsdf.add(Lobe::dielectric(f.ior, RGB{1.f}, RGB{1.f}));
         m.base_color = RGB{0.f};
     } else {
-        // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
-        const float metal = std::clamp(f.metallic, 0.f, 1.f);
-        // glTF's transmission replaces that much of the dielectric base's diffuse part.
-        const float trans = std::clamp(f.transmission, 0.f, 1.f) * (1.f - metal);
-        RGB kd = f.diffuse * (1.f - metal - trans);
-        RGB ks = f.specular;
-        const float total = (kd + ks).max_component();
-        if (total > 1.f) {
-            kd *= 1.f / total;
-            ks *= 1.f / total;
-        }
-        m.base_color = kd;
-        m.bsdf.add(Lobe::lambert(kd));
-        if (!f.diffuse_map.empty()) {
-            const uint32_t image = file_image(scene, file, images, f.diffuse_map, false);
-            Texture tx;
-            tx.kind = TextureKind::Image;
-            tx.image = image;
-            tx.su = f.map_su;
-            tx.sv = f.map_sv;
-            tx.du = f.map_du;
-            tx.dv = f.map_dv;
-            scene.textures.push_back(tx);
-            m.texture = int32_t(scene.textures.size() - 1);
-            m.textured_lobes = 1;  // the Lambert lobe, added first
-        }
-        if (!f.normal_map.empty()) {
-            const uint32_t image = file_image(scene, file, images, f.normal_map, true);
-            Texture tx;
-            tx.kind = TextureKind::Image;
-            tx.image = image;
-            scene.textures.push_back(tx);
-            m.normal_map = int32_t(scene.textures.size() - 1);
-        }
-        if (f.mirror && !ks.is_black()) {
-            m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
-        } else if (!ks.is_black() && f.exponent > 0.f) {
-            m.bsdf.add(Lobe::phong(ks, f.exponent));
-        }
-        if (metal > 0.f) {
-            // glTF's metal: the base colour as a conductor's normal reflectance, GGX
-            // (Trowbridge–Reitz) of alpha = roughness^2.
-            const Fresnel fr = conductor_from_reflectance(f.diffuse);
-            const float alpha = f.roughness * f.roughness;
-            if (alpha < 0.002f)
-                m.bsdf.add(Lobe::mirror(RGB{metal}, fr));
-            else
-                m.bsdf.add(Lobe::microfacet(RGB{metal},
-                                            MicrofacetDistribution::trowbridge_reitz(
-                                                std::min(alpha, 2.f), std::min(alpha, 2.f)),
-                                            fr));
-        }
-        if (trans > 0.f) {
-            // A solid dielectric of the material's index, tinted by the base colour, smooth or
-            // GGX of alpha = roughness^2, weighted by the transmitting share.
-            const float alpha = f.roughness * f.roughness;
-            if (alpha < 0.002f)
-                m.bsdf.add(Lobe::dielectric(f.ior, RGB{trans}, f.diffuse * trans));
-            else
-                m.bsdf.add(Lobe::rough_dielectric(f.ior,
-                                                  MicrofacetDistribution::trowbridge_reitz(
-                                                      std::min(alpha, 2.f), std::min(alpha, 2.f)),
-                                                  RGB{trans}, f.diffuse * trans));
-        }
+        add_surface_lobes(scene, f, file, images, m);
     }
     scene.materials.push_back(m);
     return uint32_t(scene.materials.size() - 1);

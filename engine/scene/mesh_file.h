@@ -30,11 +30,18 @@ struct FileMaterial {
     RGB specular{0.f};  // MTL Ks: a Phong highlight of exponent Ns, or the mirror's colour
     float exponent = 0.f;
     float metallic = 0.f, roughness = 1.f;  // glTF metallic-roughness
-    bool mirror = false;                    // MTL illum 3, 5
-    bool glass = false;                     // MTL illum 4, 6, 7, 9
-    float ior = 1.5f;                       // MTL Ni, glTF KHR_materials_ior
-    float transmission = 0.f;               // glTF KHR_materials_transmission
-    RGB emission{0.f};                      // MTL Ke, glTF emissiveFactor
+    // glTF's metallicRoughnessTexture (read linearly): green scales roughness, blue metallic.
+    std::string metallic_roughness_map;
+    // glTF's dielectric: a GGX reflection of Fresnel index `ior` beside the diffuse part.
+    bool dielectric_specular = false;
+    bool mirror = false;       // MTL illum 3, 5
+    bool glass = false;        // MTL illum 4, 6, 7, 9
+    float ior = 1.5f;          // MTL Ni, glTF KHR_materials_ior
+    float transmission = 0.f;  // glTF KHR_materials_transmission
+    RGB emission{0.f};         // MTL Ke, glTF emissiveFactor
+    std::string emission_map;  // an image multiplying `emission` (MTL map_Ke, glTF emissiveTexture)
+    // MTL: whether Ke was given (a map_Ke without it emits the map itself, Ke = 1).
+    bool emission_given = false;
 };
 
 struct MeshPart {

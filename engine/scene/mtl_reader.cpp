@@ -120,6 +120,7 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
                 throw InputError(name, line, "Ks above 1 reflects more light than arrives");
         } else if (key == "Ke") {
             cur->emission = color();
+            cur->emission_given = true;
         } else if (key == "Ns") {
             cur->exponent = one();
             if (cur->exponent < 0.f || cur->exponent > 1e6f)
@@ -171,17 +172,19 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             cur->diffuse_map = (std::filesystem::path(base_dir) / file).string();
         } else if (key == "Ka" || key == "Tf" || key == "sharpness") {
             note(quoted(key) + " ignored (no physical meaning in foton's models)");
-        } else if (key == "norm") {
-            // The PBR extension's tangent-space normal map (options are not read).
-            if (t.size() < 2) throw InputError(name, line, "norm needs a file name");
+        } else if (key == "map_Ke" || key == "norm") {
+            // An emission map (radiance Ke times the map) or the PBR extension's tangent-space
+            // normal map; options are not read.
+            if (t.size() < 2) throw InputError(name, line, std::string(key) + " needs a file name");
             if (t[1].substr(0, 1) == "-")
-                throw InputError(name, line, "norm options are not supported");
+                throw InputError(name, line, std::string(key) + " options are not supported");
             const char* b = t[1].data();
             const std::string file(b, std::size_t(t.back().data() + t.back().size() - b));
-            cur->normal_map = (std::filesystem::path(base_dir) / file).string();
+            (key == "norm" ? cur->normal_map : cur->emission_map) =
+                (std::filesystem::path(base_dir) / file).string();
         } else if (key.substr(0, 4) == "map_" || key == "bump" || key == "disp" || key == "decal" ||
                    key == "refl") {
-            note(quoted(key) + " ignored: foton textures only the diffuse colour");
+            note(quoted(key) + " ignored: foton reads map_Kd, map_Ke and norm");
         } else {
             note("unknown MTL statement " + quoted(key) + " ignored");
         }

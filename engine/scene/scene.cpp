@@ -185,13 +185,28 @@ const Material& Scene::textured(const Material& m, Point2 uv,
         out.base_color = m.base_color * t;
         out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
     }
+    if (m.emission_texture >= 0)
+        out.emission =
+            m.emission * textures[std::size_t(m.emission_texture)].eval(texture_images, uv);
     for (int i = 0; i < m.num_float_params; ++i) {
         const Material::FloatParam& fp = m.float_params[std::size_t(i)];
-        const float v = textures[std::size_t(fp.texture)].eval_float(texture_images, uv);
-        const float alpha = fp.remap ? std::sqrt(std::max(v, 0.f)) : v;
+        const Texture& tx = textures[std::size_t(fp.texture)];
+        float v = tx.eval_float(texture_images, uv);
+        if (fp.channel > 0) {
+            const RGB c = tx.eval(texture_images, uv);
+            v = fp.channel == 1 ? c.r : fp.channel == 2 ? c.g : c.b;
+        }
+        if (fp.target == LobeParam::Weight || fp.target == LobeParam::WeightComplement) {
+            out.bsdf.set_param(fp.lobe, fp.target, std::clamp(v, 0.f, 1.f));
+            continue;
+        }
+        v = std::max(v, 0.f);
+        const float alpha = fp.remap == Material::Remap::Sqrt     ? std::sqrt(v)
+                            : fp.remap == Material::Remap::Square ? v * v
+                                                                  : v;
         // The lobe stays rough where the texture falls below pbrt's specular limit (1e-3): a
         // lobe cannot change from glossy to delta between hits.
-        out.bsdf.set_alpha(fp.lobe, fp.target, std::clamp(alpha, 1e-3f, 2.f));
+        out.bsdf.set_param(fp.lobe, fp.target, std::clamp(alpha, 1e-3f, 2.f));
     }
     return out;
 }

@@ -72,6 +72,26 @@ RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
     return c;
 }
 
+RGB Texture::mean(const std::vector<TextureImage>& images) const {
+    RGB c = value;
+    if (kind == TextureKind::Image) {
+        RGB sum{0.f};
+        for (const RGB& t : images[image].texels) sum += t;
+        c = sum * (1.f / float(images[image].texels.size()));
+    } else if (kind == TextureKind::Checkerboard) {
+        c = (value + other) * 0.5f;
+    }
+    c *= scale;
+    if (invert) c = {std::max(0.f, 1.f - c.r), std::max(0.f, 1.f - c.g), std::max(0.f, 1.f - c.b)};
+    return c;
+}
+
+Point2 sphere_uv(const Vec3& n) {
+    float phi = std::atan2(n.y, n.x);
+    if (phi < 0.f) phi += 2.f * kPi;
+    return {phi / (2.f * kPi), 1.f - std::acos(std::clamp(n.z, -1.f, 1.f)) / kPi};
+}
+
 TextureImage load_texture_image(const std::string& path, bool linear) {
     const std::string problem = input_file_problem(path, kMaxMeshFileBytes);
     if (!problem.empty()) throw InputError(path, 0, "cannot read texture: " + problem);

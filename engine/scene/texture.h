@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
 
@@ -34,6 +35,9 @@ struct Texture {
     bool invert = false;                           // max(0, 1 - scaled value) (pbrt's invert)
 
     RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
+    // The mean over the texture's period (an image's texel mean, a checkerboard's two
+    // colours' mean), as eval() scales and inverts: what an emitter's power is estimated by.
+    RGB mean(const std::vector<TextureImage>& images) const;
     // As a float texture: the mean of the three channels (pbrt-v4's bilinear lookup of an RGB
     // image for a float texture; a grey image's value).
     float eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
@@ -41,6 +45,10 @@ struct Texture {
         return (c.r + c.g + c.b) * (1.f / 3.f);
     }
 };
+
+// pbrt's parametrisation of a sphere at unit outward normal n: u = phi / 2 pi around z, v =
+// 1 - theta / pi (1 at the top, +z).
+Point2 sphere_uv(const Vec3& n);
 
 // The sRGB transfer function's inverse: an encoded value in [0, 1] to linear.
 float srgb_to_linear(float c);

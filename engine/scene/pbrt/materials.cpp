@@ -42,9 +42,11 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         smooth = tu < 0 && tv < 0 && std::max(ax, ay) < 1e-3f;
         if (!smooth && std::max(ax, ay) > 2.f) fail(t, what + ": roughness gives alpha above 2");
         if (tu >= 0)
-            pending.push_back({tu, 0, coat ? AlphaTarget::CoatX : AlphaTarget::DistX, remap});
+            pending.push_back({tu, 0, coat ? LobeParam::CoatAlphaX : LobeParam::AlphaX,
+                               remap ? Material::Remap::Sqrt : Material::Remap::None});
         if (tv >= 0)
-            pending.push_back({tv, 0, coat ? AlphaTarget::CoatY : AlphaTarget::DistY, remap});
+            pending.push_back({tv, 0, coat ? LobeParam::CoatAlphaY : LobeParam::AlphaY,
+                               remap ? Material::Remap::Sqrt : Material::Remap::None});
         return MicrofacetDistribution::trowbridge_reitz(std::clamp(ax, 1e-4f, 2.f),
                                                         std::clamp(ay, 1e-4f, 2.f));
     };

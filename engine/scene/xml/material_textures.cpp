@@ -53,8 +53,8 @@ void Loader::material_roughness_map(const pugi::xml_node& n, Material& m) {
     if (!r) return;
     const int32_t tex = parse_texture(r, true, true);
     bool any = false;
-    auto add = [&](int lobe, AlphaTarget target) {
-        if (!m.add_float_param({tex, uint8_t(lobe), target, false}))
+    auto add = [&](int lobe, LobeParam target) {
+        if (!m.add_float_param({tex, uint8_t(lobe), target, Material::Remap::None}))
             fail(r, "too many roughness maps in one material");
         any = true;
     };
@@ -63,13 +63,13 @@ void Loader::material_roughness_map(const pugi::xml_node& n, Material& m) {
         const MicrofacetKind k = l.dist.kind;
         if (l.type == LobeType::Coated) {
             if (!l.coat.coat_smooth) {
-                add(i, AlphaTarget::CoatX);
-                add(i, AlphaTarget::CoatY);
+                add(i, LobeParam::CoatAlphaX);
+                add(i, LobeParam::CoatAlphaY);
             }
         } else if ((l.type == LobeType::Microfacet || l.type == LobeType::RoughDielectric) &&
                    (k == MicrofacetKind::Beckmann || k == MicrofacetKind::TrowbridgeReitz)) {
-            add(i, AlphaTarget::DistX);
-            if (k == MicrofacetKind::TrowbridgeReitz) add(i, AlphaTarget::DistY);
+            add(i, LobeParam::AlphaX);
+            if (k == MicrofacetKind::TrowbridgeReitz) add(i, LobeParam::AlphaY);
         }
     }
     if (!any)

@@ -231,7 +231,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 }
                 if (len >= c.max_segments || mat.bsdf.empty()) continue;
 
-                const warp::Frame frame(sp.ns);
+                const warp::Frame frame = sp.frame();
                 const Vec3 wo = frame.to_local(-d);
                 const BsdfContext ctx{sp.front_face, Transport::Radiance};
                 const BsdfContext ictx{sp.front_face, Transport::Importance};
@@ -309,7 +309,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                             const float cos_l = std::fabs(dot(dir, lv.ng[j]));
                             if (batched && !lv.in_medium(j) && cos_l != 0.f &&
                                 dot(dir, lv.ng[j]) < 0.f && kernel_vertex(lv.geom[j])) {
-                                const warp::Frame lf(lv.ns[j]);
+                                const warp::Frame lf(lv.ns[j], lv.ss[j]);
                                 const uint32_t cam_pair = ws.pairs.add(material_of(geom), wo, dc);
                                 ws.pairs.add(material_of(lv.geom[j]), lf.to_local(lv.wo[j]),
                                              lf.to_local(-dir));

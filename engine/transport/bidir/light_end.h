@@ -19,7 +19,7 @@ struct LightVertexBsdf {
     warp::Frame frame;
     Vec3 wo;
     LightVertexBsdf(const Scene& scene, const LightVertices& v, std::size_t i)
-        : m(scene.material_at(v.geom[i], v.uv[i], scratch)), frame(v.ns[i]) {
+        : m(scene.material_at(v.geom[i], v.uv[i], scratch)), frame(v.ns[i], v.ss[i]) {
         wo = frame.to_local(v.wo[i]);
     }
 };

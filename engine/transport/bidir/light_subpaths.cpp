@@ -114,6 +114,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
         LightVertices& v = ws.local;
         v.px.push_back(p.x), v.py.push_back(p.y), v.pz.push_back(p.z);
         v.ng.push_back(sp ? sp->ng : Vec3{}), v.ns.push_back(sp ? sp->ns : Vec3{});
+        v.ss.push_back(sp ? sp->ss : Vec3{});
         v.wo.push_back(wl), v.beta.push_back(ws.beta[slot]), v.adj.push_back(adj);
         v.dvcm.push_back(m.dvcm), v.dvc.push_back(m.dvc), v.dvm.push_back(m.dvm);
         v.length.push_back(len), v.front.push_back(sp ? sp->front_face : 1);
@@ -216,7 +217,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             arrive(slot, sp.p, d, cos_in,
                    media.on ? length_squared(sp.p - media.from[slot]) : t * t, len);
             if (mat.bsdf.empty() || len > max_length) continue;
-            const warp::Frame frame(sp.ns);
+            const warp::Frame frame = sp.frame();
             const Vec3 wl = -d;
             const Vec3 wo = frame.to_local(wl);
             const float adj = std::fabs(wo.z) / cos_in;

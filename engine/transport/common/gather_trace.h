@@ -70,7 +70,7 @@ std::size_t trace_gather(const Scene& scene, const Intersector& accel, GatherBuf
                 // parts are taken whole, so neither is reweighted.
                 if (m.bsdf.has_non_delta()) at_hit(slot, w, sp, m, d);
                 if (m.bsdf.has_delta() && depth < kGatherSpecularDepth) {
-                    const warp::Frame frame(sp.ns);
+                    const warp::Frame frame = sp.frame();
                     const Vec3 wo = frame.to_local(-d);
                     const BsdfContext ctx{sp.front_face, Transport::Radiance};
                     Vec3 dirs[Bsdf::kMaxLobes * 2];

@@ -7,8 +7,10 @@ namespace foton {
 bool put_hit(KernelLanes& L, std::size_t lane, const Scene& scene, const RayBatch& rays,
              const HitBatch& hits, std::size_t i) {
     const Object& obj = scene.objects[hits.geom[i]];
-    // Instances and normal- or bump-mapped surfaces are made by surface_at.
-    if (obj.instance >= 0 || scene.materials[obj.material].perturbs_normal()) return false;
+    // Instances, normal- or bump-mapped surfaces and anisotropic ones (their tangent) are made
+    // by surface_at.
+    const Material& mat = scene.materials[obj.material];
+    if (obj.instance >= 0 || mat.perturbs_normal() || mat.needs_tangent()) return false;
     float kind;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];

@@ -48,7 +48,8 @@ bool glossy_lobe(const Lobe& l, GlossyMaterial& g) {
 // glossy lobe alone; one Oren–Nayar lobe; or one mirror or dielectric lobe.
 KernelKind kernel_material(const Material& m, RGB& rho, float& on_a, float& on_b,
                            SpecularMaterial& spec, GlossyMaterial& glossy) {
-    if (m.varies() || !m.emission.is_black() || m.bsdf.empty()) return KernelKind::None;
+    if (m.varies() || m.needs_tangent() || !m.emission.is_black() || m.bsdf.empty())
+        return KernelKind::None;
     const Lobe& first = m.bsdf.lobe(0);
     if (m.bsdf.size() == 1 && m.bsdf.weight(0) > 0.f &&
         first.fresnel.kind != FresnelKind::Schlick &&

@@ -14,8 +14,8 @@ namespace foton {
 
 // The local parametrisation at a surface point (pbrt's shading geometry).
 struct ShadingGeometry {
-    Vec3 n;           // the shading normal, unit, on the geometry's outward side
-    Vec3 dpdu, dpdv;  // the shading tangents
+    Vec3 n{0.f, 0.f, 1.f};                          // the shading normal, unit, outward
+    Vec3 dpdu{0.f, 0.f, 0.f}, dpdv{0.f, 0.f, 0.f};  // the shading tangents
     Vec3 dndu{0.f, 0.f, 0.f}, dndv{0.f, 0.f, 0.f};  // 0 where the normal does not turn
 };
 

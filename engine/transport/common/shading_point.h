@@ -16,7 +16,7 @@ struct ShadingPoint {
                  uint32_t slot_, uint32_t depth_, uint64_t key_)
         : sp(sp_),
           m(m_),
-          frame(sp_.ns),
+          frame(sp_.frame()),
           wo(frame.to_local(-d)),
           weight(weight_),
           slot(slot_),

@@ -12,7 +12,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     SurfacePoint sp;
     const Object& obj = scene.objects[geom];
     const Material& mat = scene.materials[obj.material];
-    const bool textured = mat.needs_uv();
+    // An anisotropic BSDF's frame follows dp/du: the parametrisation is needed then too.
+    const bool tangent = mat.needs_tangent();
+    const bool textured = mat.needs_uv() || tangent;
     Vec3 n_geom, n_shade;
     ShadingGeometry g;     // the parametrisation a normal or bump map reads
     bool perturb = false;  // g is set
@@ -53,7 +55,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             }
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
-            if (mat.perturbs_normal()) {
+            if (mat.perturbs_normal() || tangent) {
                 g.n = n_shade;
                 if (triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv)) {
                     if (obj.smooth) {
@@ -74,7 +76,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
                         if (!triangle_partials(n0, n1, n2, t0, t1, t2, g.dndu, g.dndv))
                             g.dndu = g.dndv = {0.f, 0.f, 0.f};
                     }
-                    perturb = true;
+                    perturb = mat.perturbs_normal();
                 } else if (mat.bump >= 0) {
                     // No tangents from the uv: any pair, as pbrt-v4 does.
                     orthonormal_basis(n_shade, g.dpdu, g.dpdv);
@@ -88,12 +90,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         n_geom = (sp.p - s.center) / s.radius;
         n_shade = n_geom;
         if (textured) {
-            // pbrt's sphere: u = phi / 2 pi around z, v = 1 - theta / pi (1 at the top, +z).
-            float phi = std::atan2(n_geom.y, n_geom.x);
-            if (phi < 0.f) phi += 2.f * kPi;
-            sp.uv = {phi / (2.f * kPi), 1.f - std::acos(std::clamp(n_geom.z, -1.f, 1.f)) / kPi};
+            sp.uv = sphere_uv(n_geom);
             const float sin_theta = std::sqrt(n_geom.x * n_geom.x + n_geom.y * n_geom.y);
-            if (mat.perturbs_normal() && sin_theta > 1e-6f) {
+            if ((mat.perturbs_normal() || tangent) && sin_theta > 1e-6f) {
                 // pbrt's partials of that parametrisation; the normal turns as the point
                 // moves (dn = dp / r).
                 const float r = s.radius;
@@ -104,7 +103,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
                          (-kPi * r);
                 g.dndu = g.dpdu / r;
                 g.dndv = g.dpdv / r;
-                perturb = true;
+                perturb = mat.perturbs_normal();
             }
         }
     }
@@ -125,6 +124,12 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     if (dot(n_shade, dir) >= 0.f) n_shade = n_geom;
     sp.ng = n_geom;
     sp.ns = n_shade;
+    if (tangent) {
+        // dp/du in the final shading plane (after a bump, the unbumped dp/du projected).
+        const Vec3 ts = g.dpdu - n_shade * dot(n_shade, g.dpdu);
+        const float len = length(ts);
+        if (len > 1e-12f && std::isfinite(len)) sp.ss = ts / len;
+    }
     sp.epsilon = offset_epsilon(sp.p, t);
     return sp;
 }

@@ -6,6 +6,7 @@
 
 #include "engine/core/math.h"
 #include "engine/core/ray_batch.h"
+#include "engine/core/warp.h"
 #include "engine/scene/light_set.h"
 #include "engine/scene/scene.h"
 
@@ -18,6 +19,11 @@ struct SurfacePoint {
     bool front_face;  // the ray hit the side the geometry's own normal points to
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
     Point2 uv;        // texture coordinates (computed only where the material is textured)
+    // The shading tangent: dp/du made perpendicular to ns, unit, where the material's BSDF
+    // is anisotropic (Material::needs_tangent); zero elsewhere.
+    Vec3 ss{0.f, 0.f, 0.f};
+    // The BSDF's frame: around ns, its x axis along ss when there is one.
+    warp::Frame frame() const { return warp::Frame(ns, ss); }
 };
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,

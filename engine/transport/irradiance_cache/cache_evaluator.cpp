@@ -344,7 +344,7 @@ void CacheEvaluator::evaluate(uint32_t level, CacheWorkspace& ws, RenderStats& s
                 work.L[id] += w * photons_(sp, m, d);
                 return;
             }
-            const warp::Frame frame(sp.ns);
+            const warp::Frame frame = sp.frame();
             const PendingLookup& q = work.pending[work.requests[id / strata_.count()].pending];
             const uint64_t key = rng::hash(q.key, id % strata_.count(), kCacheStream, 2);
             DirectSample ds;

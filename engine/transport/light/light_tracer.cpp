@@ -86,7 +86,7 @@ void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
     const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
     if (m.bsdf.empty() || vertex > rs.max_depth) return;
     RGB& beta = ws.beta[slot];
-    const warp::Frame frame(sp.ns);
+    const warp::Frame frame = sp.frame();
     const Vec3 wl = -d;  // towards the light
     const Vec3 wo = frame.to_local(wl);
     const BsdfContext ctx{sp.front_face, Transport::Importance};

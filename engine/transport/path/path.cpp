@@ -46,7 +46,7 @@ bool PathIntegrator::shade_cached(uint32_t depth, const SurfacePoint& sp, const 
     RGB rho;
     if (!m.bsdf.has_non_delta() || !m.bsdf.lambert_albedo(rho)) return false;
     const uint64_t key = ws.keys[slot];
-    const warp::Frame frame(sp.ns);
+    const warp::Frame frame = sp.frame();
     const Vec3 wo = frame.to_local(-d);
     RGB& beta = ws.beta[slot];
     const auto vertex = [&] { return ShadingPoint(sp, m, d, beta, slot, depth, key); };

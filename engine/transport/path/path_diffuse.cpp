@@ -15,6 +15,7 @@ namespace foton {
 // one-sided spheres by their cone (from inside one it gives nothing, as sample_li); 0 for the
 // others, sampled before the kernel.
 float PathIntegrator::kernel_light_kind(const Emitter& e) {
+    if (e.texture >= 0) return 0.f;  // its radiance varies: sample_li evaluates the texture
     switch (e.type) {
         case EmitterType::Rect:
             return kern::kLightParallelogram;

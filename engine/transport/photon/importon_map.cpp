@@ -80,7 +80,7 @@ void ImportonMap::build(const Scene& scene, const Intersector& accel, const Impo
                     continue;
                 }
                 if (specular++ >= s.max_specular) break;
-                const warp::Frame frame(sp.ns);
+                const warp::Frame frame = sp.frame();
                 BsdfSample bs;
                 const BsdfContext ctx{sp.front_face, Transport::Radiance};
                 if (!m.bsdf.sample(frame.to_local(-d), u(dim + 2), {u(dim), u(dim + 1)}, ctx, bs))

@@ -52,7 +52,7 @@ void PhotonIntegrator::photon_radiance_batch(FinalGatherBatch& b) const {
         const EstimateParams& gp = maps_.global_params;
         const auto estimate = [&](std::size_t q, uint32_t count, uint32_t* idx, float* d2) {
             const FinalGatherBatch::Hit& h = b.hits[b.full[q]];
-            const warp::Frame frame(h.sp.ns);
+            const warp::Frame frame = h.sp.frame();
             const BsdfContext ctx{h.sp.front_face, Transport::Radiance};
             b.L[b.full[q]] += map->radiance_from(h.sp.p, frame.s, frame.t, frame.n, h.m->bsdf,
                                                  frame.to_local(-h.d), ctx, gp, count, idx, d2);

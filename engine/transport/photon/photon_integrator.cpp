@@ -193,7 +193,7 @@ void PhotonIntegrator::gather_rays(const ShadingPoint& v, PhotonCameraWorkspace&
 
 RGB PhotonIntegrator::photon_radiance(const SurfacePoint& sp, const Material& m,
                                       const Vec3& d) const {
-    const warp::Frame frame(sp.ns);
+    const warp::Frame frame = sp.frame();
     const Vec3 wo = frame.to_local(-d);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     RGB sum;
@@ -302,7 +302,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const float p_delta = m.bsdf.selection_probability(kSpecular);
                 if (m.bsdf.has_delta() && rand(job.id, depth, kDimChoice) < p_delta) {
                     if (depth >= ctx_.settings.max_depth) continue;
-                    const warp::Frame frame(sp.ns);
+                    const warp::Frame frame = sp.frame();
                     const Vec3 wo = frame.to_local(-d);
                     const BsdfContext ctx{sp.front_face, Transport::Radiance};
                     BsdfSample bs;

@@ -105,7 +105,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                     ws.shadow.power.push_back(power);
                     ws.shadow.light.push_back(ws.light[slot]);
                 }
-                const warp::Frame frame(sp.ns);
+                const warp::Frame frame = sp.frame();
                 const Vec3 wl = -d;
                 const Vec3 wo = frame.to_local(wl);
                 const BsdfContext ctx{sp.front_face, Transport::Importance};

@@ -66,7 +66,7 @@ void VisiblePoints::shade(uint64_t pass, uint64_t light_pass, uint32_t y, uint32
     const Material& m = ctx_.scene.material_at(work.hits.geom[r], sp.uv, scratch);
     if (m.emits_towards(sp.front_face)) px.pass_direct += beta * m.emission;
     if (m.bsdf.empty()) return;
-    const warp::Frame frame(sp.ns);
+    const warp::Frame frame = sp.frame();
     const Vec3 wo = frame.to_local(-d);
     const BsdfContext ctx{sp.front_face, Transport::Radiance};
     const uint32_t dim = 8 + depth * 8;

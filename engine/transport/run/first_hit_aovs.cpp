@@ -74,7 +74,7 @@ void trace_row(const Scene& scene, const RenderSettings& settings, const Interse
         const SurfacePoint sp = surface_at(scene, rays, hits, i);
         std::optional<Material> scratch;
         const Material& m = scene.material_at(hits.geom[i], sp.uv, scratch);
-        const warp::Frame frame(sp.ns);
+        const warp::Frame frame = sp.frame();
         const BsdfContext ctx{sp.front_face, Transport::Radiance};
         px.albedo +=
             directional_albedo(m.bsdf, frame.to_local(-rays.direction(i)), ctx, seed, jobs[i].id);

@@ -55,7 +55,7 @@ void VolumeLightTracer::shade_surface(std::size_t r, uint64_t path, VolumeLightW
     const uint32_t vertex = ++ws.bounces[slot];
     if (m.bsdf.empty() || vertex > rs.max_depth) return;
     RGB& beta = ws.beta[slot];
-    const warp::Frame frame(sp.ns);
+    const warp::Frame frame = sp.frame();
     const Vec3 wo = frame.to_local(-d);
     const BsdfContext ctx{sp.front_face, Transport::Importance};
     const float wl_ng = std::fabs(dot(d, sp.ng));

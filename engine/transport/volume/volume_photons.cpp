@@ -134,7 +134,7 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
                 out.surface.push(sp.p, power, -d, sp.ng, ws.bounces[slot] == 0 ? kPhotonDirect : 0,
                                  ws.light[slot]);
             if (++ws.bounces[slot] >= max_depth) continue;
-            const warp::Frame frame(sp.ns);
+            const warp::Frame frame = sp.frame();
             const Vec3 wo = frame.to_local(-d);
             const BsdfContext ctx{sp.front_face, Transport::Importance};
             const float wl_ng = std::fabs(dot(d, sp.ng));

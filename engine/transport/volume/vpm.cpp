@@ -184,7 +184,7 @@ class VpmCamera {
         }
         RGB add = m.emits_towards(sp.front_face) ? beta * m.emission : RGB{0.f};
         if (m.bsdf.empty()) return add;
-        const warp::Frame frame(sp.ns);
+        const warp::Frame frame = sp.frame();
         const Vec3 wo = frame.to_local(-d);
         const BsdfContext ctx{sp.front_face, Transport::Radiance};
         if (m.bsdf.has_non_delta()) {
