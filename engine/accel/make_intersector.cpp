@@ -1,3 +1,4 @@
+#include "alpha_intersector.h"
 #include "brute_accel.h"
 #include "bvh_accel.h"
 #include "embree_accel.h"
@@ -6,7 +7,9 @@
 
 namespace foton {
 
-std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads) {
+namespace {
+
+std::unique_ptr<Intersector> make_backend(const Scene& scene, AccelType type, int threads) {
     switch (type) {
         case AccelType::Brute:
             return std::make_unique<BruteAccel>(scene, false);
@@ -27,6 +30,16 @@ std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type
             return std::make_unique<KdTreeAccel>(scene, threads);
     }
     return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads) {
+    std::unique_ptr<Intersector> backend = make_backend(scene, type, threads);
+    for (const Object& o : scene.objects)
+        if (scene.materials[o.material].cuts_out())
+            return std::make_unique<AlphaIntersector>(scene, std::move(backend));
+    return backend;
 }
 
 }  // namespace foton

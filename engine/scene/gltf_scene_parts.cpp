@@ -127,7 +127,19 @@ TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& nam
         // Grey (and grey + alpha) images repeat their one channel.
         if (im.component < 3) c[1] = c[2] = c[0];
         out.texels[i] = RGB{c[0], c[1], c[2]};
+        if (im.component == 2 || im.component == 4) {
+            // Alpha is linear; kept for alphaMode MASK and BLEND.
+            const std::size_t o =
+                (i * std::size_t(im.component) + std::size_t(im.component - 1)) * bytes;
+            uint16_t v = im.image[o];
+            if (bytes == 2) std::memcpy(&v, &im.image[o], 2);
+            if (out.alpha.empty()) out.alpha.assign(texels, 1.f);
+            out.alpha[i] = float(v) / unit;
+        }
     }
+    bool opaque = true;
+    for (float a : out.alpha) opaque = opaque && a >= 1.f;
+    if (opaque) out.alpha.clear();
     return out;
 }
 

@@ -42,8 +42,8 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
                               std::vector<std::string>& notes, const std::string& where);
 
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
-// `linear` (a normal map); grey images repeat their channel, alpha is not read. `name` is
-// kept as its path.
+// `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it
+// is 1 everywhere. `name` is kept as its path.
 TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear);
 
 }  // namespace foton

@@ -226,14 +226,8 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     n = normalize(c);
     if (e.texture >= 0) {
         // The triangle's texture coordinates at the point (pbrt's default without uv).
-        const TriangleMesh& m = scene_->meshes[e.mesh];
-        const uint32_t* ix = &m.indices[3 * std::size_t(t)];
-        Point2 t0{0.f, 0.f}, t1{1.f, 0.f}, t2{1.f, 1.f};
-        if (!m.uvs.empty()) {
-            t0 = {m.uvs[2 * ix[0]], m.uvs[2 * ix[0] + 1]};
-            t1 = {m.uvs[2 * ix[1]], m.uvs[2 * ix[1] + 1]};
-            t2 = {m.uvs[2 * ix[2]], m.uvs[2 * ix[2] + 1]};
-        }
+        Point2 t0, t1, t2;
+        scene_->meshes[e.mesh].corner_uvs(t, t0, t1, t2);
         const float w = 1.f - b.x - b.y;
         le = textured_radiance(
             e, {t0.x * w + t1.x * b.x + t2.x * b.y, t0.y * w + t1.y * b.x + t2.y * b.y});

@@ -53,6 +53,15 @@ struct Material {
     // N the interpolated normal, T the surface's dp/du made perpendicular to it and B = N x T
     // (pbrt-v4's and glTF's convention; surface_at).
     int32_t normal_map = -1;
+    // Alpha cut-outs (pbrt-v4's shape `alpha`, glTF's alphaMode): a hit counts where the alpha
+    // (`alpha` times the float texture `alpha_texture`'s value, -1: none) is at least 1,
+    // never where it is 0, and in between where a hash of the ray falls below it (pbrt-v4's
+    // stochastic test), or, with a cutoff (glTF's MASK), where alpha >= alpha_cutoff. Rays
+    // pass cut-out points as if nothing were there, in every backend (AlphaIntersector).
+    float alpha = 1.f;
+    int32_t alpha_texture = -1;
+    float alpha_cutoff = -1.f;  // < 0: the stochastic test
+    bool cuts_out() const { return alpha < 1.f || alpha_texture >= 0; }
     // Bump mapping: a displacement texture (into Scene::textures, read as a float in scene
     // units; -1: none). At a hit, the shading normal becomes that of the displaced surface
     // p + d(u, v) n, from finite differences of d along u and v (pbrt-v4's BumpMap). A

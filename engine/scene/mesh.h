@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/core/math.h"
+#include "engine/core/sampler.h"
 
 namespace foton {
 
@@ -28,6 +29,18 @@ struct TriangleMesh {
         p0 = vertex(indices[3 * tri]);
         p1 = vertex(indices[3 * tri + 1]);
         p2 = vertex(indices[3 * tri + 2]);
+    }
+    // The texture coordinates of triangle tri's corners: its uv, or pbrt's default
+    // parametrisation (0, 0), (1, 0), (1, 1) when the mesh has none.
+    void corner_uvs(uint32_t tri, Point2& t0, Point2& t1, Point2& t2) const {
+        if (uvs.empty()) {
+            t0 = {0.f, 0.f}, t1 = {1.f, 0.f}, t2 = {1.f, 1.f};
+            return;
+        }
+        const uint32_t* ix = &indices[3 * std::size_t(tri)];
+        t0 = {uvs[2 * ix[0]], uvs[2 * ix[0] + 1]};
+        t1 = {uvs[2 * ix[1]], uvs[2 * ix[1] + 1]};
+        t2 = {uvs[2 * ix[2]], uvs[2 * ix[2] + 1]};
     }
     Bounds3 bounds() const;
     // Area-weighted vertex normals from the faces (for meshes given without normals).

@@ -36,22 +36,51 @@ float srgb_to_linear(float c) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-RGB TextureImage::bilinear(Point2 uv) const {
-    // Texel centres at half-integers; v runs up the image.
+namespace {
+
+// The four texels around uv and their bilinear weights (texel centres at half-integers; v
+// runs up the image).
+struct TextureTaps {
+    std::size_t i[4];  // (x0, y0), (x1, y0), (x0, y1), (x1, y1)
+    float tx, ty;
+};
+
+TextureTaps texture_taps(Point2 uv, int width, int height) {
     const float x = uv.x * float(width) - 0.5f, y = (1.f - uv.y) * float(height) - 0.5f;
     const float fx = std::floor(x), fy = std::floor(y);
-    if (!std::isfinite(fx) || !std::isfinite(fy)) return texels[0];
+    if (!std::isfinite(fx) || !std::isfinite(fy)) return {{0, 0, 0, 0}, 0.f, 0.f};
     const float tx = x - fx, ty = y - fy;
     // Wrap in double: a huge uv must not overflow the int conversion.
     const int x0 = int(std::fmod(double(fx), double(width))),
               y0 = int(std::fmod(double(fy), double(height)));
     const int xa = wrap(x0, width), xb = wrap(x0 + 1, width);
     const int ya = wrap(y0, height), yb = wrap(y0 + 1, height);
-    auto at = [&](int i, int j) {
-        return texels[std::size_t(j) * std::size_t(width) + std::size_t(i)];
-    };
-    return (at(xa, ya) * (1.f - tx) + at(xb, ya) * tx) * (1.f - ty) +
-           (at(xa, yb) * (1.f - tx) + at(xb, yb) * tx) * ty;
+    auto at = [&](int i, int j) { return std::size_t(j) * std::size_t(width) + std::size_t(i); };
+    return {{at(xa, ya), at(xb, ya), at(xa, yb), at(xb, yb)}, tx, ty};
+}
+
+}  // namespace
+
+RGB TextureImage::bilinear(Point2 uv) const {
+    const TextureTaps b = texture_taps(uv, width, height);
+    return (texels[b.i[0]] * (1.f - b.tx) + texels[b.i[1]] * b.tx) * (1.f - b.ty) +
+           (texels[b.i[2]] * (1.f - b.tx) + texels[b.i[3]] * b.tx) * b.ty;
+}
+
+float TextureImage::bilinear_alpha(Point2 uv) const {
+    if (alpha.empty()) return 1.f;
+    const TextureTaps b = texture_taps(uv, width, height);
+    return (alpha[b.i[0]] * (1.f - b.tx) + alpha[b.i[1]] * b.tx) * (1.f - b.ty) +
+           (alpha[b.i[2]] * (1.f - b.tx) + alpha[b.i[3]] * b.tx) * b.ty;
+}
+
+float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
+    if (kind == TextureKind::Image && !images[image].alpha.empty()) {
+        float a = images[image].bilinear_alpha({su * uv.x + du, sv * uv.y + dv}) * scale.r;
+        return invert ? std::max(0.f, 1.f - a) : a;
+    }
+    const RGB c = eval(images, uv);
+    return (c.r + c.g + c.b) * (1.f / 3.f);
 }
 
 RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
@@ -114,6 +143,8 @@ TextureImage load_texture_image(const std::string& path, bool linear) {
         img.width = w;
         img.height = h;
         img.texels.resize(std::size_t(w) * std::size_t(h));
+        // A file with alpha (grey + alpha, RGBA) keeps it, linear as PNG defines it.
+        const int n = c == 2 || c == 4 ? 4 : 3;
         auto store = [&](auto* data, float unit, bool encoded) {
             if (!data)
                 throw InputError(path, 0,
@@ -122,23 +153,29 @@ TextureImage load_texture_image(const std::string& path, bool linear) {
                 stbi_image_free(data);
                 throw InputError(path, 0, "the image changed while it was read");
             }
+            if (n == 4) img.alpha.resize(img.texels.size());
             for (std::size_t i = 0; i < img.texels.size(); ++i) {
                 float v[3];
                 for (int k = 0; k < 3; ++k) {
-                    v[k] = float(data[3 * i + std::size_t(k)]) / unit;
+                    v[k] = float(data[std::size_t(n) * i + std::size_t(k)]) / unit;
                     if (encoded && !linear) v[k] = srgb_to_linear(v[k]);
                 }
                 img.texels[i] = {v[0], v[1], v[2]};
+                if (n == 4) img.alpha[i] = float(data[4 * i + 3]) / unit;
             }
             stbi_image_free(data);
+            // An alpha channel that is everywhere 1 cuts nothing: dropped.
+            bool opaque = true;
+            for (float a : img.alpha) opaque = opaque && a >= 1.f;
+            if (opaque) img.alpha.clear();
         };
         // Radiance HDR files are linear; 8- and 16-bit files are sRGB encoded.
         if (stbi_is_hdr(path.c_str()))
-            store(stbi_loadf(path.c_str(), &w, &h, &c, 3), 1.f, false);
+            store(stbi_loadf(path.c_str(), &w, &h, &c, n), 1.f, false);
         else if (stbi_is_16_bit(path.c_str()))
-            store(stbi_load_16(path.c_str(), &w, &h, &c, 3), 65535.f, true);
+            store(stbi_load_16(path.c_str(), &w, &h, &c, n), 65535.f, true);
         else
-            store(stbi_load(path.c_str(), &w, &h, &c, 3), 255.f, true);
+            store(stbi_load(path.c_str(), &w, &h, &c, n), 255.f, true);
     }
     for (const RGB& t : img.texels)
         if (!std::isfinite(t.r) || !std::isfinite(t.g) || !std::isfinite(t.b) || t.r < 0.f ||

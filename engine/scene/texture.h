@@ -18,9 +18,12 @@ struct TextureImage {
     std::string path;
     int width = 0, height = 0;
     std::vector<RGB> texels;  // row 0 is the image's top
+    // The alpha channel, when the file has one that is not everywhere 1 (empty otherwise).
+    std::vector<float> alpha;
     // Bilinear lookup at (u, v), repeating; v = 0 is the image's bottom (pbrt's and glTF's
     // convention after its flip, OBJ's).
     RGB bilinear(Point2 uv) const;
+    float bilinear_alpha(Point2 uv) const;
 };
 
 enum class TextureKind : uint8_t { Constant, Image, Checkerboard };
@@ -39,11 +42,9 @@ struct Texture {
     // colours' mean), as eval() scales and inverts: what an emitter's power is estimated by.
     RGB mean(const std::vector<TextureImage>& images) const;
     // As a float texture: the mean of the three channels (pbrt-v4's bilinear lookup of an RGB
-    // image for a float texture; a grey image's value).
-    float eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
-        const RGB c = eval(images, uv);
-        return (c.r + c.g + c.b) * (1.f / 3.f);
-    }
+    // image for a float texture; a grey image's value), or an image's alpha when it has one
+    // (pbrt-v4 reads a four-channel image's alpha as its float value: alpha cut-outs).
+    float eval_float(const std::vector<TextureImage>& images, Point2 uv) const;
 };
 
 // pbrt's parametrisation of a sphere at unit outward normal n: u = phi / 2 pi around z, v =

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/core/error.h"
@@ -156,7 +157,11 @@ class Importer {
     std::vector<Material> materials_;
     std::map<std::string, uint32_t> named_materials_;
     std::map<std::string, TextureDesc> textures_;
-    std::map<std::pair<uint32_t, int>, uint32_t> scene_materials_;
+    // (material, area light, alpha, alpha texture) -> Scene::materials
+    std::map<std::tuple<uint32_t, int, float, int32_t>, uint32_t> scene_materials_;
+    // The current shape's `alpha` (a float or a float texture), read by shape().
+    float shape_alpha_ = 1.f;
+    int32_t shape_alpha_texture_ = -1;
     int area_lights_ = 0;
 
     // The geometry of each ObjectBegin/ObjectEnd block, in world space at its definition

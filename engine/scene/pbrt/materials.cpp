@@ -230,7 +230,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
 }
 
 uint32_t Importer::scene_material(const GraphicsState& gs) {
-    const auto key = std::make_pair(gs.material, gs.area.id);
+    const auto key = std::make_tuple(gs.material, gs.area.id, shape_alpha_, shape_alpha_texture_);
     const auto it = scene_materials_.find(key);
     if (it != scene_materials_.end()) return it->second;
     Material m = materials_[gs.material];
@@ -238,6 +238,8 @@ uint32_t Importer::scene_material(const GraphicsState& gs) {
         m.emission = gs.area.radiance;
         m.emission_two_sided = gs.area.two_sided;
     }
+    m.alpha = shape_alpha_;
+    m.alpha_texture = shape_alpha_texture_;
     scene_.materials.push_back(m);
     const uint32_t index = uint32_t(scene_.materials.size() - 1);
     scene_materials_[key] = index;

@@ -39,7 +39,10 @@ void orient_by_normals(TriangleMesh& m) {
 
 void Importer::shape(const Token& t, const std::string& type, const ParamList& p) {
     const std::string what = "Shape \"" + type + "\"";
-    if (p.has("alpha")) fail(t, what + ": alpha cut-outs are not supported");
+    // Alpha cut-outs: a constant in [0, 1] or a float texture (an RGBA image's alpha).
+    shape_alpha_ = float_value(p, "alpha", 1.f, shape_alpha_texture_);
+    if (shape_alpha_texture_ >= 0) shape_alpha_ = 1.f;
+    if (!(shape_alpha_ >= 0.f && shape_alpha_ <= 1.f)) fail(t, what + ": alpha must be in [0, 1]");
     if (type == "sphere") {
         const float radius = p.real("radius", 1.f);
         if (!(radius > 0.f)) fail(t, "sphere radius must be positive");

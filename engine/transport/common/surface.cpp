@@ -46,13 +46,8 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         }
         if (textured) {
             const uint32_t* ix = &m.indices[3 * prim];
-            // pbrt's default parametrisation of a triangle: (0, 0), (1, 0), (1, 1).
-            Point2 t0{0.f, 0.f}, t1{1.f, 0.f}, t2{1.f, 1.f};
-            if (!m.uvs.empty()) {
-                t0 = {m.uvs[2 * ix[0]], m.uvs[2 * ix[0] + 1]};
-                t1 = {m.uvs[2 * ix[1]], m.uvs[2 * ix[1] + 1]};
-                t2 = {m.uvs[2 * ix[2]], m.uvs[2 * ix[2] + 1]};
-            }
+            Point2 t0, t1, t2;
+            m.corner_uvs(prim, t0, t1, t2);
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
             if (mat.perturbs_normal() || tangent) {
