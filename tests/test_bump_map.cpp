@@ -13,6 +13,7 @@
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/shading_normal.h"
 #include "engine/transport/common/surface.h"
+#include "lit_floor_scene.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -43,20 +44,10 @@ std::string write_flat(const test::TempDir& dir, const std::string& name, float 
     return path;
 }
 
-// The floor of test_normal_map.cpp (z = 0 over [-50, 50]^2, u along +x), its Lambert bumped
-// by `bump` ("" for none), under a distant light from l.
+// The shared lit floor (lit_floor_scene.h), its Lambert bumped by `bump` ("" for none).
 std::string floor_scene(const std::string& textures, const std::string& bump, const Vec3& l) {
-    return "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [30]\n"
-           "Film \"rgb\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
-           "Sampler \"independent\" \"integer pixelsamples\" [1]\n"
-           "Integrator \"path\" \"integer maxdepth\" [1]\nWorldBegin\n"
-           "LightSource \"distant\" \"point3 from\" [" +
-           std::to_string(l.x) + " " + std::to_string(l.y) + " " + std::to_string(l.z) +
-           "] \"point3 to\" [0 0 0] \"rgb L\" [1 1 1]\n" + textures +
-           "Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]" +
-           (bump.empty() ? std::string() : " \"texture displacement\" \"" + bump + "\"") +
-           "\nShape \"trianglemesh\" \"point3 P\" [-50 -50 0  50 -50 0  50 50 0  -50 50 0]\n"
-           "  \"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 1 2  0 2 3]\n";
+    return test::lit_floor_scene(
+        textures, bump.empty() ? std::string() : "\"texture displacement\" \"" + bump + "\"", l);
 }
 
 std::string ramp_texture(const std::string& path, float scale) {

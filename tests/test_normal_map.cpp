@@ -10,6 +10,7 @@
 #include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/common/surface.h"
+#include "lit_floor_scene.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -25,20 +26,10 @@ std::string write_map(const test::TempDir& dir, const std::string& name, const V
     return path;
 }
 
-// A floor z = 0 over [-50, 50]^2 with u along +x and v along +y, seen from above, under a
-// distant light of irradiance 1 arriving along -l; its Lambert of 0.5 carries `map`.
+// The shared lit floor (lit_floor_scene.h), its Lambert carrying normal map `map`.
 std::string floor_scene(const std::string& map, const Vec3& l) {
-    return "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [30]\n"
-           "Film \"rgb\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
-           "Sampler \"independent\" \"integer pixelsamples\" [1]\n"
-           "Integrator \"path\" \"integer maxdepth\" [1]\nWorldBegin\n"
-           "LightSource \"distant\" \"point3 from\" [" +
-           std::to_string(l.x) + " " + std::to_string(l.y) + " " + std::to_string(l.z) +
-           "] \"point3 to\" [0 0 0] \"rgb L\" [1 1 1]\n"
-           "Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]" +
-           (map.empty() ? std::string() : " \"string normalmap\" \"" + map + "\"") +
-           "\nShape \"trianglemesh\" \"point3 P\" [-50 -50 0  50 -50 0  50 50 0  -50 50 0]\n"
-           "  \"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 1 2  0 2 3]\n";
+    return test::lit_floor_scene(
+        "", map.empty() ? std::string() : "\"string normalmap\" \"" + map + "\"", l);
 }
 
 }  // namespace

@@ -191,8 +191,11 @@ const Material& Scene::textured(const Material& m, Point2 uv,
     for (int i = 0; i < m.num_float_params; ++i) {
         const Material::FloatParam& fp = m.float_params[std::size_t(i)];
         const Texture& tx = textures[std::size_t(fp.texture)];
-        float v = tx.eval_float(texture_images, uv);
-        if (fp.channel > 0) {
+        // One lookup: the float value, or the one channel a packed texture keeps it in.
+        float v;
+        if (fp.channel == 0) {
+            v = tx.eval_float(texture_images, uv);
+        } else {
             const RGB c = tx.eval(texture_images, uv);
             v = fp.channel == 1 ? c.r : fp.channel == 2 ? c.g : c.b;
         }
