@@ -135,9 +135,8 @@ TEST_CASE("MTL: illumination models become foton's lobes", "[obj][mesh-file][fas
     CHECK(m.at("glass").glass);
     CHECK(m.at("glass").ior == Approx(1.33f));
     CHECK(m.at("lamp").emission.g == 4.f);
-    bool ghost = false;
-    for (const std::string& n : notes) ghost |= n.find("'ghost': dissolve") != std::string::npos;
-    CHECK(ghost);
+    CHECK(m.at("ghost").alpha == Approx(0.3f));  // dissolve: coverage
+    CHECK(m.at("glass").alpha == 1.f);
     Scene s;
     MeshFile none;
     std::map<std::string, uint32_t> images;
@@ -554,4 +553,86 @@ TEST_CASE("XML textures: an image and a checkerboard on diffuse reflectances",
         <material type="lambert" weight="0.5"><texture src="t.png"/></material>
         <material type="lambert" weight="0.5"><texture src="t.png"/></material></material>)"),
                Catch::Contains("a mix takes one textured component"));
+}
+
+TEST_CASE("glTF and MTL: alphaMode and dissolve cut the surface out as the file says",
+          "[gltf][obj][alpha][mesh-file][fast]") {
+    test::TempDir dir;
+    // RGBA texels (alpha 0, 1 / 100/255, 1) for the textured half under MASK, cutoff 0.3; its
+    // uv is the plane's (x, y), so it shows the left column (alpha 0 and 0.39) at u = 0.25.
+    const unsigned char px[] = {255, 0, 0, 0, 0, 255, 0, 255, 0, 0, 255, 100, 128, 128, 128, 255};
+    REQUIRE(stbi_write_png(dir.file("t.png").c_str(), 2, 2, 4, px, 8) != 0);
+    write_gltf(dir, R"(, "alphaMode": "BLEND")");
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit("[0.2, 0.4, 0.6, 1]", "[0.2, 0.4, 0.6, 0.25]");
+        edit(R"("name": "tex", )", R"("name": "tex", "alphaMode": "MASK", "alphaCutoff": 0.3, )");
+    }
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    TestScene s(load_scene(dir.file("s.xml")));
+    const Material& tex = material_of_part(s, 0);
+    const Material& flat = material_of_part(s, 1);
+    CHECK(tex.alpha_texture >= 0);
+    CHECK(tex.alpha_cutoff == Approx(0.3f));
+    CHECK(flat.alpha == Approx(0.25f));
+    CHECK(flat.alpha_texture < 0);
+    CHECK(flat.alpha_cutoff < 0.f);
+    // Rays straight down: at the textured half's texel centres the mask cuts alpha 0 and keeps
+    // 0.39 (above the cutoff); the BLEND half stops a quarter of many rays.
+    const auto acc = make_intersector(s, AccelType::Bvh);
+    auto hits = [&](float x, float y) {
+        RayBatch r;
+        r.push({x, y, 1.f}, {0.f, 0.f, -1.f}, 0.f, kInfinity, 0);
+        HitBatch h;
+        TraceCounters c;
+        acc->intersect(r, h, c);
+        return h.geom[0] != kNoHit;
+    };
+    CHECK(hits(0.25f, 0.25f) != hits(0.25f, 0.75f));
+    CHECK(tex.alpha_texture >= 0);
+    const Texture& mask = s.textures[std::size_t(tex.alpha_texture)];
+    for (const float v : {0.25f, 0.75f}) {
+        const float a = mask.eval_float(s.texture_images, {0.25f, v});
+        CHECK((std::fabs(a) < 1e-6f || std::fabs(a - 100.f / 255.f) < 1e-6f));
+        CHECK(hits(0.25f, v) == (a >= 0.3f));
+    }
+    int stopped = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i)
+        stopped +=
+            hits(0.5f + 0.5f * (float(i % 200) + 0.5f) / 200.f, (float(i / 200) + 0.5f) / 100.f)
+                ? 1
+                : 0;
+    INFO("BLEND stopped " << stopped << " of " << n);
+    CHECK(std::fabs(double(stopped) / n - 0.25) < 0.02);
+    // OPAQUE ignores the alpha; an unknown mode is an error naming the material.
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("alphaMode": "BLEND")", R"("alphaMode": "OPAQUE")");
+    }
+    CHECK(!load_scene(dir.file("s.xml")).material_of(1).cuts_out());
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("alphaMode": "OPAQUE")", R"("alphaMode": "CLIP")");
+    }
+    CHECK_THROWS_WITH(load_gltf(dir.file("quad.gltf")),
+                      Catch::Contains("material 1") && Catch::Contains("alphaMode 'CLIP'"));
+    // MTL: d and Tr are coverage, map_d a float image; glass ignores its dissolve.
+    std::vector<std::string> notes;
+    const auto m = parse_mtl(
+        "newmtl a\nKd 0.5 0.5 0.5\nd 0.4\nnewmtl b\nKd 0.5 0.5 0.5\nTr 0.25\nmap_d t.png\n"
+        "newmtl g\nillum 7\nd 0.5\n",
+        "m.mtl", dir.path().string(), notes);
+    CHECK(m.at("a").alpha == Approx(0.4f));
+    CHECK(m.at("b").alpha == Approx(0.75f));
+    CHECK(m.at("b").alpha_map == dir.file("t.png"));
+    CHECK(m.at("g").alpha == 1.f);
+    Scene sm;
+    std::map<std::string, uint32_t> images;
+    const Material b = sm.materials[add_file_material(sm, m.at("b"), MeshFile{}, images)];
+    REQUIRE(b.alpha_texture >= 0);
+    CHECK(b.alpha == Approx(0.75f));
+    CHECK(!sm.materials[add_file_material(sm, m.at("g"), MeshFile{}, images)].cuts_out());
+    CHECK_THROWS_WITH(parse_mtl("newmtl a\nd 1.5\n", "m.mtl", ".", notes),
+                      Catch::Contains("m.mtl:2: d must be in [0, 1]"));
 }

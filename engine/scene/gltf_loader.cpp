@@ -254,8 +254,8 @@ class GltfReader {
                      std::to_string(gm.emissiveTexture.texCoord) + "; foton reads TEXCOORD_0");
             f.emission_map = image(gm.emissiveTexture.index, where);
         }
-        ignored(gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty(), "alphaMode (foton is opaque)");
         try {
+            gltf_alpha_mode(gm, f);
             gltf_material_extensions(gm, f, out_.notes, path_ + ": " + where);
         } catch (const std::invalid_argument& e) {
             fail(where, e.what());

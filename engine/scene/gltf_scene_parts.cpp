@@ -102,6 +102,26 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
             notes.push_back(where + ": extension " + ext + " ignored");
 }
 
+void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f) {
+    const std::string& mode = gm.alphaMode;
+    if (mode.empty() || mode == "OPAQUE") return;  // the base colour's alpha is ignored
+    if (mode != "MASK" && mode != "BLEND")
+        throw std::invalid_argument("alphaMode '" + mode + "' (OPAQUE, MASK or BLEND expected)");
+    const auto& factor = gm.pbrMetallicRoughness.baseColorFactor;
+    f.alpha = factor.size() == 4 ? float(factor[3]) : 1.f;
+    if (!(f.alpha >= 0.f && f.alpha <= 1.f))
+        throw std::invalid_argument("baseColorFactor's alpha must be in [0, 1]");
+    // The base colour texture's alpha channel, when its image has one (add_file_material).
+    f.alpha_map = f.diffuse_map;
+    if (mode == "MASK") {
+        f.alpha_cutoff = float(gm.alphaCutoff);
+        if (!(f.alpha_cutoff >= 0.f && f.alpha_cutoff <= 1.f))
+            throw std::invalid_argument("alphaCutoff must be in [0, 1]");
+    }
+    // BLEND: the alpha is the fraction of light the surface stops, which is what the
+    // stochastic test (Material::alpha_cutoff < 0) renders in expectation.
+}
+
 TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear) {
     if (im.width <= 0 || im.height <= 0 || (im.bits != 8 && im.bits != 16) || im.component < 1 ||
         im.component > 4)

@@ -41,6 +41,11 @@ void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const A
 void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
                               std::vector<std::string>& notes, const std::string& where);
 
+// glTF's alphaMode into f: MASK cuts where the base colour's alpha (factor times the texture's
+// alpha channel) is below alphaCutoff; BLEND lets that alpha's share of the light through
+// (stochastically, as pbrt-v4's alpha); OPAQUE ignores it.
+void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f);
+
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
 // `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it
 // is 1 everywhere. `name` is kept as its path.

@@ -238,6 +238,23 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
         scene.textures.push_back(tx);
         m.emission_texture = int32_t(scene.textures.size() - 1);
     }
+    if (f.alpha < 1.f || !f.alpha_map.empty()) {
+        m.alpha = f.alpha;
+        m.alpha_cutoff = f.alpha_cutoff;
+        if (!f.alpha_map.empty()) {
+            // glTF's map is the base colour image (sRGB colour, linear alpha) and cuts only by
+            // an alpha channel; MTL's map_d is a linear float image.
+            const bool colour = f.alpha_map == f.diffuse_map;
+            const uint32_t im = file_image(scene, file, images, f.alpha_map, !colour);
+            if (!colour || !scene.texture_images[im].alpha.empty()) {
+                Texture tx;
+                tx.kind = TextureKind::Image;
+                tx.image = im;
+                scene.textures.push_back(tx);
+                m.alpha_texture = int32_t(scene.textures.size() - 1);
+            }
+        }
+    }
     m.ior = f.ior;
     if (f.glass) {
         m.bsdf.add(Lobe::dielectric(f.ior, RGB{1.f}, RGB{1.f}));

@@ -40,6 +40,13 @@ struct FileMaterial {
     float transmission = 0.f;  // glTF KHR_materials_transmission
     RGB emission{0.f};         // MTL Ke, glTF emissiveFactor
     std::string emission_map;  // an image multiplying `emission` (MTL map_Ke, glTF emissiveTexture)
+    // Cut-outs (Material::alpha): MTL d and map_d, glTF's base colour alpha under alphaMode
+    // MASK (with its cutoff) or BLEND. The map's float value (its alpha channel, or the mean of
+    // its channels) multiplies `alpha`; glTF's map is the base colour image, used only where
+    // that image has an alpha channel.
+    float alpha = 1.f;
+    std::string alpha_map;
+    float alpha_cutoff = -1.f;  // < 0: stochastic
     // MTL: whether Ke was given (a map_Ke without it emits the map itself, Ke = 1).
     bool emission_given = false;
 };

@@ -71,9 +71,14 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             notes.push_back(name + ": material '" + cur->name + "': illum " +
                             std::to_string(illum) + " rendered as illum 2");
         }
-        if (dissolve < 1.f && !cur->glass)
-            notes.push_back(name + ": material '" + cur->name +
-                            "': dissolve (d/Tr) ignored: foton has no cut-out transparency");
+        // Dissolve is coverage: the share of light the surface stops (glass is transparent
+        // by its own lobe).
+        if (!cur->glass) {
+            cur->alpha = dissolve;
+        } else if (!cur->alpha_map.empty()) {
+            cur->alpha_map.clear();
+            notes.push_back(name + ": material '" + cur->name + "': map_d on glass ignored");
+        }
     };
     const char* p = text.data();
     const char* end = p + text.size();
@@ -134,10 +139,11 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
         } else if (key == "Ni") {
             cur->ior = one();
             if (!(cur->ior > 0.f)) throw InputError(name, line, "Ni must be positive");
-        } else if (key == "d") {
-            dissolve = one();
-        } else if (key == "Tr") {
-            dissolve = 1.f - one();
+        } else if (key == "d" || key == "Tr") {
+            const float v = one();
+            if (!(v >= 0.f && v <= 1.f))
+                throw InputError(name, line, std::string(key) + " must be in [0, 1]");
+            dissolve = key == "d" ? v : 1.f - v;
         } else if (key == "illum") {
             const float v = one();
             if (v != std::floor(v) || v < 0.f || v > 10.f)
@@ -172,19 +178,21 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             cur->diffuse_map = (std::filesystem::path(base_dir) / file).string();
         } else if (key == "Ka" || key == "Tf" || key == "sharpness") {
             note(quoted(key) + " ignored (no physical meaning in foton's models)");
-        } else if (key == "map_Ke" || key == "norm") {
-            // An emission map (radiance Ke times the map) or the PBR extension's tangent-space
-            // normal map; options are not read.
+        } else if (key == "map_Ke" || key == "norm" || key == "map_d") {
+            // An emission map (radiance Ke times the map), the PBR extension's tangent-space
+            // normal map or a dissolve map (cut-outs); options are not read.
             if (t.size() < 2) throw InputError(name, line, std::string(key) + " needs a file name");
             if (t[1].substr(0, 1) == "-")
                 throw InputError(name, line, std::string(key) + " options are not supported");
             const char* b = t[1].data();
             const std::string file(b, std::size_t(t.back().data() + t.back().size() - b));
-            (key == "norm" ? cur->normal_map : cur->emission_map) =
+            (key == "norm"    ? cur->normal_map
+             : key == "map_d" ? cur->alpha_map
+                              : cur->emission_map) =
                 (std::filesystem::path(base_dir) / file).string();
         } else if (key.substr(0, 4) == "map_" || key == "bump" || key == "disp" || key == "decal" ||
                    key == "refl") {
-            note(quoted(key) + " ignored: foton reads map_Kd, map_Ke and norm");
+            note(quoted(key) + " ignored: foton reads map_Kd, map_Ke, map_d and norm");
         } else {
             note("unknown MTL statement " + quoted(key) + " ignored");
         }
