@@ -1,8 +1,9 @@
 // Alpha cut-outs (Material::alpha, AlphaIntersector): every backend finds the same hits as
 // brute force through checkerboard-masked and stochastic layers, rays pass the cut-out cells to
-// what lies behind, a half-transparent layer stops half the rays (two stop three quarters), a
-// floor under a screen of alpha 0.5 receives half the light; the pbrt importer reads `alpha`
-// as a float or an RGBA image's alpha; bad alpha fails at its line.
+// what lies behind, a half-transparent layer stops half the rays, a sphere of alpha 0.3 stops
+// 1 - 0.7^2 of those through its middle (entry and exit independent), a floor under a screen
+// of alpha 0.5 receives half the light; the pbrt importer reads `alpha` as a float or an RGBA
+// image's alpha; bad alpha fails at its line.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -130,6 +131,17 @@ TEST_CASE("alpha: the mask is where the texture says, stochastic layers stop the
         INFO("alpha " << a);
         // Binomial: 5 standard deviations of 20,000 draws.
         CHECK(stopped / n == Approx(a).margin(5.0 * std::sqrt(0.25 / n)));
+        // Down through the middle of the sphere of alpha 0.3: its entry and its exit each stop
+        // 0.3, independently (as pbrt-v4's test of each from a new ray), 1 - 0.7^2 in all.
+        rays.clear();
+        for (uint32_t i = 0; i < n; ++i)
+            rays.push({0.4f * rng::uniform(6, 0, i, 0) - 0.2f,
+                       0.4f * rng::uniform(6, 0, i, 1) - 0.2f, 6.f},
+                      {0.f, 0.f, -1.f}, 0.f, kInfinity, i);
+        accel->intersect(rays, hits, c);
+        double on_sphere = 0.0;
+        for (uint32_t i = 0; i < n; ++i) on_sphere += hits.geom[i] == 4 ? 1.0 : 0.0;
+        CHECK(on_sphere / n == Approx(0.51).margin(5.0 * std::sqrt(0.25 / n)));
     }
 }
 
@@ -183,7 +195,7 @@ TEST_CASE("alpha: an RGBA image's alpha is the float texture, bad alpha fails at
     const Texture& t = s.textures[std::size_t(s.materials.back().alpha_texture)];
     CHECK(t.eval_float(s.texture_images, {0.25f, 0.5f}) == Approx(1.f));
     CHECK(t.eval_float(s.texture_images, {0.75f, 0.5f}) == Approx(0.f));
-    CHECK(alpha_hit_counts(s, 0, 0, 5.f, 0.1f, 0.05f, {-0.8f, 0.f, 5.f}, {0.f, 0.f, -1.f}));
+    CHECK(alpha_hit_counts(s, 0, 0, 5.f, 0.1f, 0.05f, {-0.8f, 0.f, 5.f}, {0.f, 0.f, -1.f}, 0));
     CHECK_THROWS_WITH(
         parse_pbrt_scene("WorldBegin\nShape \"sphere\" \"float alpha\" [2]\n", "b.pbrt", "."),
         Catch::Contains("b.pbrt:2") && Catch::Contains("alpha"));

@@ -35,13 +35,14 @@ Point2 alpha_hit_uv(const Scene& scene, uint32_t geom, uint32_t prim, float t, f
     return {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
 }
 
-// A uniform number of the ray and the primitive it met: the same in every backend and run;
-// the primitive decorrelates the layers one ray passes.
-float alpha_hash(const Vec3& o, const Vec3& d, uint32_t geom, uint32_t prim) {
+// A uniform number of the ray, the primitive it met and how many cut-out points it passed
+// before: the same in every backend and run. The count decorrelates the two sides of one
+// primitive (a sphere's entry and exit): pbrt-v4 tests each from a new ray, independently.
+float alpha_hash(const Vec3& o, const Vec3& d, uint32_t geom, uint32_t prim, uint32_t passed) {
     auto bits = [](float a, float b) {
         return (uint64_t(std::bit_cast<uint32_t>(a)) << 32) | std::bit_cast<uint32_t>(b);
     };
-    uint64_t h = rng::mix64((uint64_t(geom) << 32) | prim);
+    uint64_t h = rng::mix64((uint64_t(geom) << 32) | prim) ^ rng::mix64(uint64_t(passed) + 1);
     h = rng::mix64(h ^ bits(d.y, d.z));
     h = rng::mix64(h ^ bits(o.z, d.x));
     h = rng::mix64(h ^ bits(o.x, o.y));
@@ -51,7 +52,7 @@ float alpha_hash(const Vec3& o, const Vec3& d, uint32_t geom, uint32_t prim) {
 }  // namespace
 
 bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
-                      const Vec3& o, const Vec3& d) {
+                      const Vec3& o, const Vec3& d, uint32_t passed) {
     const Material& m = scene.material_of(geom);
     if (!m.cuts_out()) return true;
     float a = m.alpha;
@@ -61,20 +62,20 @@ bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t,
     if (m.alpha_cutoff >= 0.f) return a >= m.alpha_cutoff;
     if (a >= 1.f) return true;
     if (!(a > 0.f)) return false;
-    return alpha_hash(o, d, geom, prim) < a;
+    return alpha_hash(o, d, geom, prim, passed) < a;
 }
 
 void AlphaIntersector::resolve(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
-    auto cut = [&](std::size_t i) {
+    auto cut = [&](std::size_t i, uint32_t passed) {
         return hits.geom[i] != kNoHit &&
                !alpha_hit_counts(scene_, hits.geom[i], hits.prim[i], hits.t[i], hits.u[i],
-                                 hits.v[i], rays.origin(i), rays.direction(i));
+                                 hits.v[i], rays.origin(i), rays.direction(i), passed);
     };
     RayBatch again;
     HitBatch found;
     std::vector<uint32_t> which;
     for (std::size_t i = 0; i < rays.size(); ++i)
-        if (cut(i)) which.push_back(uint32_t(i));
+        if (cut(i, 0)) which.push_back(uint32_t(i));
     for (int layer = 0; !which.empty(); ++layer) {
         if (layer == kMaxLayers) {
             for (const uint32_t i : which) hits.geom[i] = hits.prim[i] = kNoHit;
@@ -95,7 +96,7 @@ void AlphaIntersector::resolve(const RayBatch& rays, HitBatch& hits, TraceCounte
             hits.v[i] = found.v[k];
             hits.prim[i] = found.prim[k];
             hits.geom[i] = found.geom[k];
-            if (cut(i)) next.push_back(i);
+            if (cut(i, uint32_t(layer) + 1)) next.push_back(i);
         }
         which.swap(next);
     }
@@ -127,7 +128,9 @@ bool AlphaIntersector::intersect1(const kern::Ray1& ray, Hit1& hit, TraceCounter
     for (int layer = 0; layer < kMaxLayers; ++layer) {
         hit = Hit1{};
         if (!inner_->intersect1(r, hit, c)) return false;
-        if (alpha_hit_counts(scene_, hit.geom, hit.prim, hit.t, hit.u, hit.v, o, d)) return true;
+        if (alpha_hit_counts(scene_, hit.geom, hit.prim, hit.t, hit.u, hit.v, o, d,
+                             uint32_t(layer)))
+            return true;
         r.tmin = alpha_search_start(hit.t);
     }
     hit = Hit1{};

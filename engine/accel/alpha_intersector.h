@@ -13,9 +13,10 @@
 namespace foton {
 
 // Whether a hit on geometry `geom` (primitive `prim`, barycentrics or sphere point by t)
-// counts for a ray from o along d: its material is opaque there, or the ray's hash passes.
+// counts for a ray from o along d that has passed `passed` cut-out points before it: its
+// material is opaque there, or the hash of the ray and the count passes.
 bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
-                      const Vec3& o, const Vec3& d);
+                      const Vec3& o, const Vec3& d, uint32_t passed);
 
 class AlphaIntersector final : public Intersector {
   public:
