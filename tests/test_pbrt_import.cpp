@@ -486,7 +486,15 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
          "test.pbrt:2: parameter 'radius': 'nan' is not a number"},
         {"WorldBegin\nShape \"sphere\" \"integer radius\" [ 1.5 ]", "is not an integer"},
         {"WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]", "test.pbrt:2: sphere radius"},
-        {"WorldBegin\nShape \"curve\"", "test.pbrt:2: unsupported shape 'curve'"},
+        {"WorldBegin\nShape \"cone\"", "test.pbrt:2: unsupported shape 'cone'"},
+        {"WorldBegin\nShape \"curve\" \"point3 P\" [0 0 0 1 0 0 2 0 0]",
+         "test.pbrt:2: Shape \"curve\": a degree 3 Bézier curve needs 3 k + 1 points, not 3"},
+        {"WorldBegin\nShape \"curve\" \"string type\" \"ribbon\" \"point3 P\" [0 0 0 1 0 0 "
+         "2 0 0 3 0 0]",
+         "test.pbrt:2: Shape \"curve\": a ribbon needs \"normal N\""},
+        {"WorldBegin\nShape \"curve\" \"string type\" \"round\" \"point3 P\" [0 0 0 1 0 0 "
+         "2 0 0 3 0 0]",
+         "test.pbrt:2: Shape \"curve\": type 'round'"},
         {"WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] "
          "\"integer indices\" [0 1 3]",
          "test.pbrt:2: Shape \"trianglemesh\": index 3 outside the 3 points"},

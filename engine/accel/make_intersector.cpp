@@ -1,6 +1,7 @@
 #include "alpha_intersector.h"
 #include "brute_accel.h"
 #include "bvh_accel.h"
+#include "curve_intersector.h"
 #include "embree_accel.h"
 #include "grid_accel.h"
 #include "mesh_tree_accel.h"
@@ -37,8 +38,12 @@ std::unique_ptr<Intersector> make_backend(const Scene& scene, AccelType type, in
 std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads) {
     std::unique_ptr<Intersector> backend = make_backend(scene, type, threads);
     for (const Object& o : scene.objects)
-        if (scene.materials[o.material].cuts_out())
-            return std::make_unique<AlphaIntersector>(scene, std::move(backend));
+        if (o.kind != ObjectKind::Curves && scene.materials[o.material].cuts_out()) {
+            backend = std::make_unique<AlphaIntersector>(scene, std::move(backend));
+            break;
+        }
+    // Curves (never cut out: the importers refuse alpha on them) above everything else.
+    if (scene.has_curves()) backend = std::make_unique<CurveIntersector>(scene, std::move(backend));
     return backend;
 }
 

@@ -38,6 +38,7 @@ const char* stage_name(Stage s);
 struct TraceCounters {
     uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
     uint64_t sphere_tests = 0;
+    uint64_t curve_tests = 0;      // ray/curve segment tests (CurveIntersector)
     uint64_t cells = 0;            // grid cells visited (grid backend only)
     uint64_t bvh_nodes = 0;        // wide BVH nodes visited, N box tests each (bvh backend only)
     uint64_t instance_visits = 0;  // rays taken into an instance's space (its BLAS traced)
@@ -45,6 +46,7 @@ struct TraceCounters {
         instance_visits += o.instance_visits;
         triangle_tests += o.triangle_tests;
         sphere_tests += o.sphere_tests;
+        curve_tests += o.curve_tests;
         cells += o.cells;
         bvh_nodes += o.bvh_nodes;
     }

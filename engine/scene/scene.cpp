@@ -84,6 +84,7 @@ std::size_t Scene::num_stored_triangles() const {
 Bounds3 Scene::object_bounds(uint32_t geom) const {
     const Object& o = objects[geom];
     if (o.kind == ObjectKind::Sphere) return spheres[o.index].bounds();
+    if (o.kind == ObjectKind::Curves) return curves[o.index].bounds();
     const Bounds3 b = meshes[o.index].bounds();
     const Instance* in = instance_of(geom);
     if (!in) return b;
@@ -143,6 +144,7 @@ std::size_t Scene::memory_bytes() const {
     std::size_t n = spheres.size() * sizeof(Sphere) + objects.size() * sizeof(Object) +
                     materials.size() * sizeof(Material) + instances.size() * sizeof(Instance);
     for (const auto& m : meshes) n += m.memory_bytes();
+    for (const auto& c : curves) n += c.memory_bytes();
     if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
 }
@@ -163,6 +165,16 @@ uint32_t Scene::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
     o.material = material;
     o.smooth = smooth && !mesh.normals.empty();
     meshes.push_back(std::move(mesh));
+    objects.push_back(o);
+    return uint32_t(objects.size() - 1);
+}
+
+uint32_t Scene::add_curves(CurveSet set, uint32_t material) {
+    Object o;
+    o.kind = ObjectKind::Curves;
+    o.index = uint32_t(curves.size());
+    o.material = material;
+    curves.push_back(std::move(set));
     objects.push_back(o);
     return uint32_t(objects.size() - 1);
 }
@@ -246,6 +258,13 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "triangles  %zu (%zu degenerate skipped)\n", num_triangles(),
                   skipped_degenerate);
     s += buf;
+    if (!curves.empty()) {
+        std::size_t segments = 0;
+        for (const CurveSet& c : curves) segments += c.size();
+        std::snprintf(buf, sizeof buf, "curves     %zu segments in %zu sets\n", segments,
+                      curves.size());
+        s += buf;
+    }
     if (!instances.empty()) {
         std::snprintf(buf, sizeof buf, "instances  %zu placements sharing %zu stored triangles\n",
                       instances.size(), num_stored_triangles());

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "curves.h"
 #include "engine/core/math.h"
 #include "engine/core/params.h"
 #include "engine/core/rgb.h"
@@ -29,12 +30,12 @@ enum class AccelType { Brute, BruteSimd, Grid, Bvh, Embree, Octree, KdTree };
 const char* accel_name(AccelType a);
 bool parse_accel(const std::string& s, AccelType& out);
 
-enum class ObjectKind { Mesh, Sphere };
+enum class ObjectKind { Mesh, Sphere, Curves };
 
 // One geometry of the scene: its index is the geometry id reported in hits.
 struct Object {
     ObjectKind kind = ObjectKind::Mesh;
-    uint32_t index = 0;     // into Scene::meshes or Scene::spheres
+    uint32_t index = 0;     // into Scene::meshes, Scene::spheres or Scene::curves
     uint32_t material = 0;  // into Scene::materials
     bool smooth = false;    // interpolate vertex normals (meshes)
     // A mesh placed by a transform (into Scene::instances), -1: none. The mesh is then kept
@@ -94,6 +95,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
+    std::vector<CurveSet> curves;
     std::vector<Object> objects;
     std::vector<Instance> instances;
     std::vector<Texture> textures;
@@ -133,6 +135,8 @@ struct Scene {
     // when `smooth` and it has vertex normals.
     uint32_t add_mesh(TriangleMesh mesh, uint32_t material, bool smooth);
     uint32_t add_sphere(const Sphere& sphere, uint32_t material);
+    uint32_t add_curves(CurveSet curves, uint32_t material);
+    bool has_curves() const { return !curves.empty(); }
     // Places mesh `mesh` (kept in its own space, shared) by `to_world` (not singular), with
     // its material; returns the geometry id.
     uint32_t add_instance(uint32_t mesh, const Affine& to_world, uint32_t material, bool smooth);

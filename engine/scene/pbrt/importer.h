@@ -140,6 +140,10 @@ class Importer {
     // Where shapes go: the scene, or the object definition being read.
     Scene& target() { return proto_ ? *proto_ : scene_; }
     void object_instance(const Token& t, const std::string& name);
+    // curves.cpp
+    void curve(const Token& t, const ParamList& p);
+    // (scene material, curve form, medium) -> the curve set object holding such curves
+    std::map<std::tuple<uint32_t, int, int32_t>, uint32_t> curve_objects_;
 
     std::vector<std::unique_ptr<Tokenizer>> files_;
     std::string base_;

@@ -1,5 +1,5 @@
 // Shape and ObjectInstance: triangle and bilinear meshes, PLY meshes, Loop subdivision
-// surfaces, spheres and tessellated disks and cylinders, placed in
+// surfaces, spheres and tessellated disks and cylinders (curves: curves.cpp), placed in
 // world space with pbrt-v4's orientation rules (the side an area light emits from and a
 // dielectric's outside). Object instances share their prototype's meshes (placed by the
 // instance's transform, one acceleration structure each); their spheres are copied.
@@ -43,6 +43,10 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
     shape_alpha_ = float_value(p, "alpha", 1.f, shape_alpha_texture_);
     if (shape_alpha_texture_ >= 0) shape_alpha_ = 1.f;
     if (!(shape_alpha_ >= 0.f && shape_alpha_ <= 1.f)) fail(t, what + ": alpha must be in [0, 1]");
+    if (type == "curve") {
+        curve(t, p);
+        return;
+    }
     if (type == "sphere") {
         const float radius = p.real("radius", 1.f);
         if (!(radius > 0.f)) fail(t, "sphere radius must be positive");
@@ -175,7 +179,8 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
                 " segments a turn)";
     } else {
         fail(t, "unsupported shape '" + type +
-                    "' (trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere, disk, cylinder)");
+                    "' (trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere, disk, cylinder, "
+                    "curve)");
     }
     m.normals.clear();
     for (const Vec3& n : normals) {

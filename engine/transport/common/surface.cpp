@@ -18,6 +18,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     Vec3 n_geom, n_shade;
     ShadingGeometry g;     // the parametrisation a normal or bump map reads
     bool perturb = false;  // g is set
+    float curve_width = 0.f;
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
         const Instance* in = scene.instance_of(geom);
@@ -79,6 +80,16 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
                 }
             }
         }
+    } else if (obj.kind == ObjectKind::Curves) {
+        const CurvePoint c = curve_point_at(scene.curves[obj.index], prim, u, v, dir);
+        sp.p = origin + dir * t;
+        n_geom = n_shade = c.n;
+        sp.uv = {c.u, v};
+        g.n = c.n;
+        g.dpdu = c.dpdu;
+        g.dpdv = c.dpdv;
+        perturb = mat.perturbs_normal();
+        curve_width = c.width;
     } else {
         const Sphere& s = scene.spheres[obj.index];
         sp.p = origin + dir * t;
@@ -125,7 +136,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         const float len = length(ts);
         if (len > 1e-12f && std::isfinite(len)) sp.ss = ts / len;
     }
-    sp.epsilon = offset_epsilon(sp.p, t);
+    // A curve's hit lies on the ribbon through its axis: rays leave it a width away, outside
+    // the fibre it stands for (pbrt-v4 bounds a curve point's error by the width too).
+    sp.epsilon = std::max(offset_epsilon(sp.p, t), curve_width);
     return sp;
 }
 

@@ -1,0 +1,102 @@
+#include "curve_intersector.h"
+
+#include <tbb/parallel_invoke.h>
+
+namespace foton {
+
+CurveIntersector::CurveIntersector(const Scene& scene, std::unique_ptr<Intersector> inner)
+    : scene_(scene), inner_(std::move(inner)) {
+    std::vector<kern::PrimRef> boxes;
+    for (uint32_t g = 0; g < scene.objects.size(); ++g) {
+        const Object& o = scene.objects[g];
+        if (o.kind != ObjectKind::Curves) continue;
+        const CurveSet& set = scene.curves[o.index];
+        for (uint32_t s = 0; s < set.size(); ++s) {
+            kern::PrimRef r;
+            kern::curve_bounds(set.segments[s], r.lo, r.hi);
+            r.id = uint32_t(refs_.size());
+            r.pad = 0;
+            boxes.push_back(r);
+            refs_.push_back({g, s, set.form == CurveForm::Ribbon});
+        }
+    }
+    kern::BvhBuildParams p;
+    p.leaf_block = 1;
+    p.max_leaf = 4;
+    p.parallel = [](const std::function<void()>& a, const std::function<void()>& b) {
+        tbb::parallel_invoke(a, b);
+    };
+    bvh_ = kern::build_binary_bvh(boxes, p);
+}
+
+std::size_t CurveIntersector::memory_bytes() const {
+    return inner_->memory_bytes() + refs_.size() * sizeof(SegmentRef) +
+           bvh_.used * sizeof(kern::BinaryNode) + bvh_.prims.size() * sizeof(uint32_t);
+}
+
+bool CurveIntersector::closest_curve(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    bool found = false;
+    kern::CurveHit ch;
+    ch.t = std::min(hit.t, ray.tmax);
+    kern::walk_binary_bvh(
+        bvh_, ray, [&] { return ch.t; },
+        [&](uint32_t id) {
+            const SegmentRef& r = refs_[id];
+            ++c.curve_tests;
+            const kern::CurveSegment& s =
+                scene_.curves[scene_.objects[r.geom].index].segments[r.segment];
+            if (kern::intersect_curve(ray, s, r.ribbon, ch)) {
+                hit = Hit1{ch.t, ch.u, ch.v, r.segment, r.geom};
+                found = true;
+            }
+            return false;
+        });
+    return found;
+}
+
+bool CurveIntersector::any_curve(const kern::Ray1& ray, TraceCounters& c) const {
+    bool found = false;
+    kern::walk_binary_bvh(
+        bvh_, ray, [&] { return ray.tmax; },
+        [&](uint32_t id) {
+            const SegmentRef& r = refs_[id];
+            ++c.curve_tests;
+            found = kern::occluded_curve(
+                ray, scene_.curves[scene_.objects[r.geom].index].segments[r.segment], r.ribbon);
+            return found;
+        });
+    return found;
+}
+
+void CurveIntersector::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
+    inner_->intersect(rays, hits, c);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        Hit1 h{hits.t[i], hits.u[i], hits.v[i], hits.prim[i], hits.geom[i]};
+        if (h.geom == kNoHit) h.t = kInfinity;
+        if (!closest_curve(ray_at(rays, i), h, c)) continue;
+        hits.t[i] = h.t;
+        hits.u[i] = h.u;
+        hits.v[i] = h.v;
+        hits.prim[i] = h.prim;
+        hits.geom[i] = h.geom;
+    }
+}
+
+void CurveIntersector::occluded(const RayBatch& rays, std::vector<uint8_t>& occ,
+                                TraceCounters& c) const {
+    inner_->occluded(rays, occ, c);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        if (!occ[i]) occ[i] = any_curve(ray_at(rays, i), c) ? 1 : 0;
+}
+
+bool CurveIntersector::intersect1(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
+    const bool inner_hit = inner_->intersect1(ray, hit, c);
+    if (!inner_hit) hit.t = kInfinity;
+    return closest_curve(ray, hit, c) || inner_hit;
+}
+
+bool CurveIntersector::occluded1(const kern::Ray1& ray, TraceCounters& c) const {
+    return inner_->occluded1(ray, c) || any_curve(ray, c);
+}
+
+}  // namespace foton
