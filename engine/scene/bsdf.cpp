@@ -21,31 +21,6 @@ Vec3 mirror_dir(const Vec3& wo) {
 
 // The sampling weight of a lobe: its colour's luminance (the Fresnel term is left out so that
 // a plastic's highlight is not starved by its 4 % normal-incidence reflectance).
-bool distribution_anisotropic(const MicrofacetDistribution& d) {
-    switch (d.kind) {
-        case MicrofacetKind::TrowbridgeReitz:
-            return d.alpha != d.alpha_y;
-        case MicrofacetKind::AshikhminShirley:
-            return d.nu != d.nv;
-        default:
-            return false;
-    }
-}
-
-bool lobe_anisotropic(const Lobe& l) {
-    switch (l.type) {
-        case LobeType::Microfacet:
-        case LobeType::RoughDielectric:
-            return distribution_anisotropic(l.dist);
-        case LobeType::Coated:
-            return (!l.coat.coat_smooth && distribution_anisotropic(l.coat.coat)) ||
-                   (l.coat.base == CoatBase::Conductor && !l.coat.base_smooth &&
-                    distribution_anisotropic(l.dist));
-        default:
-            return false;
-    }
-}
-
 float sampling_weight(const Lobe& l) {
     // A coat reflects at least its Fresnel share even over a black base.
     if (l.type == LobeType::Coated)
@@ -94,6 +69,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
             return rough_dielectric_f(l, wo, wi, ctx);
         case LobeType::Coated:
             return l.coat_is_delta() ? RGB{0.f} : coated_f(l, wo, wi, ctx);
+        case LobeType::Hair:
+            return hair_f(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return RGB{0.f};
@@ -124,6 +101,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             return rough_dielectric_pdf(l, wo, wi, ctx);
         case LobeType::Coated:
             return l.coat_is_delta() ? 0.f : coated_pdf(l, wo, wi, ctx);
+        case LobeType::Hair:
+            return hair_pdf(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return 0.f;
@@ -181,6 +160,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             return rough_dielectric_sample(l, wo, uc, u, ctx, s);
         case LobeType::Coated:
             return coated_sample(l, wo, uc, u, ctx, s);
+        case LobeType::Hair:
+            return hair_sample(l, wo, uc, u, s);
         case LobeType::Mirror: {
             s.wi = mirror_dir(wo);
             const float c = std::fabs(s.wi.z);
@@ -225,7 +206,7 @@ bool Bsdf::add(const Lobe& lobe) {
     flags_ |= lobe.flags();
     if ((lobe.flags() & kTransmission) && !lobe.is_delta()) transmits_non_delta_ = true;
     if (lobe.is_stochastic()) stochastic_ = true;
-    if (lobe_anisotropic(lobe)) anisotropic_ = true;
+    if (lobe.anisotropic()) anisotropic_ = true;
     ++n_;
     return true;
 }
@@ -273,6 +254,10 @@ Bsdf Bsdf::with_texture(uint8_t lobes, const RGB& t) const {
 
 void Bsdf::set_param(int i, LobeParam target, float v) {
     Lobe& l = lobes_[std::size_t(i)];
+    if (target == LobeParam::HairOffset) {
+        l.hair.h = v;
+        return;
+    }
     if (target == LobeParam::Weight || target == LobeParam::WeightComplement) {
         scale_lobe(i, target == LobeParam::Weight ? v : 1.f - v);
         return;

@@ -16,6 +16,7 @@
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
+#include "hair_fiber.h"
 #include "microfacet.h"
 
 namespace foton {
@@ -63,6 +64,7 @@ enum class LobeType : uint8_t {
                           // and transmission (rough_dielectric.cpp)
     Coated,               // a dielectric coat over a Lambertian or conductor base, evaluated by
                           // random walks through the layer (pbrt-v4's LayeredBxDF; coated.cpp)
+    Hair,                 // Chiang et al. 2016's fibre scattering (pbrt-v4's hair; hair.cpp)
 };
 
 struct Lobe {
@@ -74,8 +76,12 @@ struct Lobe {
     Fresnel fresnel;
     MicrofacetDistribution dist;
     CoatLayer coat;  // Coated: the coat and the medium under it (the base is color, fresnel, dist)
+    HairFiber hair;  // Hair (color: the mix weight)
 
     uint8_t flags() const;
+    // Its frame's orientation about the normal matters: roughness differing along x and y, or
+    // a fibre (x along it).
+    bool anisotropic() const;
     bool is_delta() const {
         return type == LobeType::Mirror || type == LobeType::Dielectric ||
                (type == LobeType::Coated && coat_is_delta());
@@ -106,6 +112,8 @@ struct Lobe {
     // the coat), smooth or of roughness `d`.
     static Lobe coated_conductor(const Fresnel& f, bool smooth, const MicrofacetDistribution& d,
                                  const CoatLayer& c);
+    // pbrt-v4's hair: a fibre of these parameters (its offset h set per hit).
+    static Lobe hair_fiber(const HairFiber& h);
 };
 
 // What a texture sets on one lobe at a surface point (Material::float_params): a microfacet
@@ -119,7 +127,8 @@ enum class LobeParam : uint8_t {
     CoatAlphaX,
     CoatAlphaY,
     Weight,
-    WeightComplement
+    WeightComplement,
+    HairOffset,  // a hair lobe's h, -1 to 1 across the fibre
 };
 
 struct BsdfSample {
@@ -146,6 +155,12 @@ class Bsdf {
     bool empty() const { return n_ == 0; }
     // Some lobe's roughness differs along x and y: its orientation is the frame's.
     bool anisotropic() const { return anisotropic_; }
+    // Some lobe is a hair fibre (its offset h is set per hit).
+    bool has_hair() const {
+        for (int i = 0; i < n_; ++i)
+            if (lobes_[std::size_t(i)].type == LobeType::Hair) return true;
+        return false;
+    }
     bool has_non_delta() const { return (flags_ & (kDiffuse | kGlossy)) != 0; }
     // Some non-delta lobe transmits (a rough dielectric): light reaches the vertex from
     // behind its surface by other routes than a sampled delta refraction.
@@ -239,6 +254,10 @@ RGB coated_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& c
 float coated_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
 bool coated_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx,
                    BsdfSample& s);
+// The same for a Hair lobe (hair.cpp): its frame's x runs along the fibre.
+RGB hair_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
+float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi);
+bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s);
 // A coated lobe's reflectance along the mirror direction of a smooth coat (the part f leaves
 // out as a delta): the coat's own Fresnel reflection, or, when the whole stack is specular,
 // every bounce between the coat and the mirror base in closed form.

@@ -32,6 +32,38 @@ Fresnel Fresnel::schlick(const RGB& f0) {
     return f;
 }
 
+namespace {
+
+bool distribution_anisotropic(const MicrofacetDistribution& d) {
+    switch (d.kind) {
+        case MicrofacetKind::TrowbridgeReitz:
+            return d.alpha != d.alpha_y;
+        case MicrofacetKind::AshikhminShirley:
+            return d.nu != d.nv;
+        default:
+            return false;
+    }
+}
+
+}  // namespace
+
+bool Lobe::anisotropic() const {
+    const Lobe& l = *this;
+    switch (l.type) {
+        case LobeType::Microfacet:
+        case LobeType::RoughDielectric:
+            return distribution_anisotropic(l.dist);
+        case LobeType::Hair:
+            return true;  // its frame's x must run along the fibre
+        case LobeType::Coated:
+            return (!l.coat.coat_smooth && distribution_anisotropic(l.coat.coat)) ||
+                   (l.coat.base == CoatBase::Conductor && !l.coat.base_smooth &&
+                    distribution_anisotropic(l.dist));
+        default:
+            return false;
+    }
+}
+
 uint8_t Lobe::flags() const {
     switch (type) {
         case LobeType::Lambert:
@@ -45,6 +77,7 @@ uint8_t Lobe::flags() const {
         case LobeType::Dielectric:
             return kSpecular | kReflection | kTransmission;
         case LobeType::RoughDielectric:
+        case LobeType::Hair:  // a fibre scatters all round
             return kGlossy | kReflection | kTransmission;
         case LobeType::LambertTransmission:
             return kDiffuse | kTransmission;
@@ -55,6 +88,14 @@ uint8_t Lobe::flags() const {
             return coat_is_delta() ? kSpecular | kReflection : kGlossy | kReflection;
     }
     return 0;
+}
+
+Lobe Lobe::hair_fiber(const HairFiber& h) {
+    Lobe l;
+    l.type = LobeType::Hair;
+    l.color = RGB{1.f};
+    l.hair = h;
+    return l;
 }
 
 Lobe Lobe::lambert(const RGB& r) {

@@ -90,8 +90,11 @@ struct Material {
         float_params[num_float_params++] = p;
         return true;
     }
-    // The material changes over the surface (a colour, roughness or emission texture).
-    bool varies() const { return texture >= 0 || num_float_params > 0 || emission_texture >= 0; }
+    // The material changes over the surface (a colour, roughness or emission texture, or a
+    // hair fibre's offset h, read from v).
+    bool varies() const {
+        return texture >= 0 || num_float_params > 0 || emission_texture >= 0 || bsdf.has_hair();
+    }
     // The shading normal is a texture's (normal or bump map).
     bool perturbs_normal() const { return normal_map >= 0 || bump >= 0; }
     bool needs_uv() const { return varies() || perturbs_normal(); }

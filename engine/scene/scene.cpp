@@ -200,6 +200,10 @@ const Material& Scene::textured(const Material& m, Point2 uv,
     if (m.emission_texture >= 0)
         out.emission =
             m.emission * textures[std::size_t(m.emission_texture)].eval(texture_images, uv);
+    // pbrt-v4's hair: the fibre's offset across its width from v.
+    for (int i = 0; i < m.bsdf.size(); ++i)
+        if (m.bsdf.lobe(i).type == LobeType::Hair)
+            out.bsdf.set_param(i, LobeParam::HairOffset, -1.f + 2.f * std::clamp(uv.y, 0.f, 1.f));
     for (int i = 0; i < m.num_float_params; ++i) {
         const Material::FloatParam& fp = m.float_params[std::size_t(i)];
         const Texture& tx = textures[std::size_t(fp.texture)];

@@ -196,10 +196,46 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             m.base_color += materials_[it->second].base_color * w;
         }
         m.c_diffuse = 1.f;
+    } else if (type == "hair") {
+        // Chiang et al.'s fibre (hair.cpp); its absorption from sigma_a, else from a
+        // reflectance, else from melanin (pbrt-v4's order and defaults: eumelanin 1.3).
+        HairFiber h;
+        h.eta = float_value(p, "eta", 1.55f);
+        h.beta_m = std::max(1e-2f, float_value(p, "beta_m", 0.3f));
+        h.beta_n = std::max(1e-2f, float_value(p, "beta_n", 0.3f));
+        h.alpha_degrees = float_value(p, "alpha", 2.f);
+        if (!(h.eta > 0.f) || !(h.beta_m <= 1.f) || !(h.beta_n <= 1.f) ||
+            !std::isfinite(h.alpha_degrees))
+            fail(t, what + ": eta must be positive, beta_m and beta_n in [0, 1]");
+        const bool melanin = p.has("eumelanin") || p.has("pheomelanin");
+        auto ignored = [&](bool given, const char* name, const char* why) {
+            if (given) warn(file(), t.line, what + ": " + name + " ignored (" + why + " given)");
+        };
+        if (p.has("sigma_a")) {
+            if (texture_ref(p, "sigma_a", false))
+                fail(t, what + ": a sigma_a texture is not supported (an rgb value is)");
+            h.sigma_a = *p.color("sigma_a", false);
+            ignored(p.has("reflectance"), "reflectance", "sigma_a");
+            ignored(melanin, "eumelanin and pheomelanin", "sigma_a");
+        } else if (p.has("reflectance")) {
+            m.base_color = reflectance(p, "reflectance", RGB{0.5f}, what);
+            h.sigma_a = hair_sigma_a_from_reflectance(m.base_color, h.beta_n);
+            ignored(melanin, "eumelanin and pheomelanin", "reflectance");
+        } else {
+            h.sigma_a = hair_sigma_a_from_melanin(
+                std::max(0.f, float_value(p, "eumelanin", melanin ? 0.f : 1.3f)),
+                std::max(0.f, float_value(p, "pheomelanin", 0.f)));
+        }
+        if (!(h.sigma_a.r >= 0.f && h.sigma_a.g >= 0.f && h.sigma_a.b >= 0.f))
+            fail(t, what + ": sigma_a must not be negative");
+        if (m.base_color.is_black())
+            m.base_color =
+                RGB{std::exp(-h.sigma_a.r), std::exp(-h.sigma_a.g), std::exp(-h.sigma_a.b)};
+        m.bsdf.add(Lobe::hair_fiber(h));
     } else {
         fail(t, "unsupported material '" + type +
                     "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, "
-                    "coatedconductor, interface, mix)");
+                    "coatedconductor, hair, interface, mix)");
     }
     if (p.has("normalmap")) {
         // A tangent-space normal map, read linearly as pbrt-v4 reads it.
