@@ -81,6 +81,10 @@ TEST_CASE("hair: the sampler's weight is 1 without absorption or tilt", "[hair][
                 if (!hair_sample(l, wo, rng::uniform(23, k, i, 3),
                                  {rng::uniform(23, k, i, 4), rng::uniform(23, k, i, 5)}, s))
                     continue;
+                // The sample says the side it went to: the integrators drop a "transmission"
+                // that stays on wo's side (every reflection was lost so at first).
+                CHECK((s.flags & kReflection) == (s.wi.z * wo.z > 0.f ? kReflection : 0));
+                CHECK((s.flags & kTransmission) == (s.wi.z * wo.z < 0.f ? kTransmission : 0));
                 const float w = s.f.g * std::fabs(s.wi.z) / s.pdf;
                 INFO("beta_m " << beta_m << " beta_n " << beta_n << " sample " << i);
                 REQUIRE(w == Approx(1.f).margin(2e-3));

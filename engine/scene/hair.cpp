@@ -215,7 +215,9 @@ bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& 
     s.wi = {sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)};
     s.pdf = hair_pdf(l, wo, s.wi);
     s.f = hair_f(l, wo, s.wi);
-    s.flags = l.flags();
+    // The side it went to, as the integrators read a sample (a reflection stays on wo's side
+    // of the surface, a transmission crosses it).
+    s.flags = kGlossy | (s.wi.z * wo.z > 0.f ? kReflection : kTransmission);
     s.eta = 1.f;
     return s.pdf > 0.f;
 }
