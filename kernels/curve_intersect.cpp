@@ -38,24 +38,11 @@ V3 bezier(const V3 cp[4], float t, V3* deriv) {
     return d + (e - d) * t;
 }
 
-// The ray's frame: z along the unit direction, x and y any orthonormal pair (Duff et al. 2017).
-struct RayFrame {
-    V3 o, ex, ey, ez;
-    float length;  // |d|: ray-space z is t * length
-    explicit RayFrame(const Ray1& r) {
-        o = {r.ox, r.oy, r.oz};
-        length = std::sqrt(r.dx * r.dx + r.dy * r.dy + r.dz * r.dz);
-        ez = V3{r.dx, r.dy, r.dz} * (1.f / length);
-        const float sign = std::copysign(1.f, ez.z);
-        const float a = -1.f / (sign + ez.z), b = ez.x * ez.y * a;
-        ex = {1.f + sign * ez.x * ez.x * a, sign * b, -sign * ez.x};
-        ey = {b, sign + ez.y * ez.y * a, -ez.y};
-    }
-    V3 to_ray(const float p[3]) const {
-        const V3 q = load(p) - o;
-        return {dot(q, ex), dot(q, ey), dot(q, ez)};
-    }
-};
+// A point in the ray's frame.
+V3 to_ray(const CurveRay& r, const float p[3]) {
+    const V3 q = load(p) - load(r.o);
+    return {dot(q, load(r.ex)), dot(q, load(r.ey)), dot(q, load(r.ez))};
+}
 
 V3 slerp_normal(const CurveSegment& s, float u) {
     const V3 n0 = load(s.n0), n1 = load(s.n1);
@@ -159,14 +146,12 @@ int subdivision_depth(const V3 cp[4], float max_width) {
     return std::clamp(log2 / 2, 0, 10);
 }
 
-bool run(const Ray1& ray, const CurveSegment& s, bool ribbon, bool any, float tmax, CurveHit& out) {
-    const RayFrame f(ray);
-    if (!(f.length > 0.f) || !std::isfinite(f.length)) return false;
+bool run(const CurveRay& ray, const CurveSegment& s, bool ribbon, bool any, float tmax,
+         CurveHit& out) {
+    if (!(ray.length > 0.f) || !std::isfinite(ray.length)) return false;
     V3 cp[4];
-    for (int k = 0; k < 4; ++k) cp[k] = f.to_ray(s.cp[k]);
-    Search search{s,     ribbon, any, f.ez, 1.f / f.length, ray.tmin * f.length, tmax * f.length,
-                  false, {}};
-    const int depth = subdivision_depth(cp, std::max(s.w0, s.w1));
+    for (int k = 0; k < 4; ++k) cp[k] = to_ray(ray, s.cp[k]);
+    const float zmin = ray.tmin * ray.length, zmax = tmax * ray.length;
     // The whole segment's box first (the recursion tests its halves).
     const float r = 0.5f * std::max(s.w0, s.w1);
     float lo[3] = {cp[0].x, cp[0].y, cp[0].z}, hi[3] = {cp[0].x, cp[0].y, cp[0].z};
@@ -178,22 +163,80 @@ bool run(const Ray1& ray, const CurveSegment& s, bool ribbon, bool any, float tm
         }
     }
     if (lo[0] - r > 0.f || hi[0] + r < 0.f || lo[1] - r > 0.f || hi[1] + r < 0.f ||
-        lo[2] - r > search.zmax || hi[2] + r < search.zmin)
+        lo[2] - r > zmax || hi[2] + r < zmin)
         return false;
-    if (!search.recurse(cp, 0.f, 1.f, depth)) return false;
+    Search search{s, ribbon, any, load(ray.ez), 1.f / ray.length, zmin, zmax, false, {}};
+    if (!search.recurse(cp, 0.f, 1.f, subdivision_depth(cp, std::max(s.w0, s.w1)))) return false;
     out = search.hit;
     return true;
 }
 
 }  // namespace
 
-bool intersect_curve(const Ray1& ray, const CurveSegment& s, bool ribbon, CurveHit& hit) {
+CurveRay::CurveRay(const Ray1& r) : tmin(r.tmin), tmax(r.tmax) {
+    o[0] = r.ox, o[1] = r.oy, o[2] = r.oz;
+    length = std::sqrt(r.dx * r.dx + r.dy * r.dy + r.dz * r.dz);
+    const V3 z = V3{r.dx, r.dy, r.dz} * (1.f / length);
+    // Any orthonormal pair around z (Duff et al. 2017).
+    const float sign = std::copysign(1.f, z.z);
+    const float a = -1.f / (sign + z.z), b = z.x * z.y * a;
+    const V3 x{1.f + sign * z.x * z.x * a, sign * b, -sign * z.x}, y{b, sign + z.y * z.y * a, -z.y};
+    ex[0] = x.x, ex[1] = x.y, ex[2] = x.z;
+    ey[0] = y.x, ey[1] = y.y, ey[2] = y.z;
+    ez[0] = z.x, ez[1] = z.y, ez[2] = z.z;
+}
+
+bool intersect_curve(const CurveRay& ray, const CurveSegment& s, bool ribbon, CurveHit& hit) {
     return run(ray, s, ribbon, false, std::min(ray.tmax, hit.t), hit);
 }
 
-bool occluded_curve(const Ray1& ray, const CurveSegment& s, bool ribbon) {
+bool intersect_curve(const Ray1& ray, const CurveSegment& s, bool ribbon, CurveHit& hit) {
+    return intersect_curve(CurveRay(ray), s, ribbon, hit);
+}
+
+bool occluded_curve(const CurveRay& ray, const CurveSegment& s, bool ribbon) {
     CurveHit h;
     return run(ray, s, ribbon, true, ray.tmax, h);
+}
+
+bool occluded_curve(const Ray1& ray, const CurveSegment& s, bool ribbon) {
+    return occluded_curve(CurveRay(ray), s, ribbon);
+}
+
+CurveSegment curve_part(const CurveSegment& s, float a, float b) {
+    const V3 cp[4] = {load(s.cp[0]), load(s.cp[1]), load(s.cp[2]), load(s.cp[3])};
+    // Split at b keeping [0, b], then that at a / b keeping the rest.
+    auto split_left = [](const V3 c[4], float t, V3 out[4]) {
+        const V3 a1 = c[0] + (c[1] - c[0]) * t, b1 = c[1] + (c[2] - c[1]) * t,
+                 c1 = c[2] + (c[3] - c[2]) * t;
+        const V3 a2 = a1 + (b1 - a1) * t, b2 = b1 + (c1 - b1) * t;
+        out[0] = c[0], out[1] = a1, out[2] = a2, out[3] = a2 + (b2 - a2) * t;
+    };
+    auto split_right = [](const V3 c[4], float t, V3 out[4]) {
+        const V3 a1 = c[0] + (c[1] - c[0]) * t, b1 = c[1] + (c[2] - c[1]) * t,
+                 c1 = c[2] + (c[3] - c[2]) * t;
+        const V3 a2 = a1 + (b1 - a1) * t, b2 = b1 + (c1 - b1) * t;
+        out[0] = a2 + (b2 - a2) * t, out[1] = b2, out[2] = c1, out[3] = c[3];
+    };
+    V3 left[4], part[4];
+    split_left(cp, b, left);
+    if (b > 0.f) {
+        split_right(left, a / b, part);
+    } else {
+        for (int k = 0; k < 4; ++k) part[k] = left[k];
+    }
+    CurveSegment out = s;
+    for (int k = 0; k < 4; ++k) {
+        out.cp[k][0] = part[k].x;
+        out.cp[k][1] = part[k].y;
+        out.cp[k][2] = part[k].z;
+    }
+    out.w0 = lerp(a, s.w0, s.w1);
+    out.w1 = lerp(b, s.w0, s.w1);
+    const V3 n0 = slerp_normal(s, a), n1 = slerp_normal(s, b);
+    out.n0[0] = n0.x, out.n0[1] = n0.y, out.n0[2] = n0.z;
+    out.n1[0] = n1.x, out.n1[1] = n1.y, out.n1[2] = n1.z;
+    return out;
 }
 
 void curve_bounds(const CurveSegment& s, float lo[3], float hi[3]) {
@@ -219,12 +262,12 @@ void curve_ribbon_normal(const CurveSegment& s, float u, float n[3]) {
 
 float curve_reference(const Ray1& ray, const CurveSegment& s, bool ribbon, int samples,
                       CurveHit& hit) {
-    const RayFrame f(ray);
+    const CurveRay f(ray);
     V3 cp[4];
-    for (int k = 0; k < 4; ++k) cp[k] = f.to_ray(s.cp[k]);
+    for (int k = 0; k < 4; ++k) cp[k] = to_ray(f, s.cp[k]);
     auto width = [&](double u) {
         float w = lerp(float(u), s.w0, s.w1);
-        if (ribbon) w *= std::fabs(dot(slerp_normal(s, float(u)), f.ez));
+        if (ribbon) w *= std::fabs(dot(slerp_normal(s, float(u)), load(f.ez)));
         return double(w);
     };
     // Distance from the axis minus half the width: negative inside the ribbon.

@@ -34,12 +34,27 @@ struct CurveHit {
     float u = 0.f, v = 0.f;
 };
 
+// A ray with the frame the test projects into (z along its unit direction), made once per ray
+// for all the segments it meets.
+struct CurveRay {
+    float o[3], ex[3], ey[3], ez[3];
+    float length = 0.f;  // |d|: ray-space z is t * length
+    float tmin = 0.f, tmax = kInf;
+    explicit CurveRay(const Ray1& r);
+};
+
 // The first hit of `ray` (within [tmin, min(tmax, hit.t)]) with the segment: true and `hit`
 // updated when one is found. `ribbon`: the segment keeps its normals' orientation.
+bool intersect_curve(const CurveRay& ray, const CurveSegment& s, bool ribbon, CurveHit& hit);
 bool intersect_curve(const Ray1& ray, const CurveSegment& s, bool ribbon, CurveHit& hit);
 
 // Whether the ray meets the segment within [tmin, tmax] (stops at the first hit found).
+bool occluded_curve(const CurveRay& ray, const CurveSegment& s, bool ribbon);
 bool occluded_curve(const Ray1& ray, const CurveSegment& s, bool ribbon);
+
+// The part of s over u in [a, b] as a segment of its own (de Casteljau; widths and ribbon
+// normals follow), so that its u runs 0..1 over what was a..b.
+CurveSegment curve_part(const CurveSegment& s, float a, float b);
 
 // Box of the segment: its control points' box widened by half its largest width (the curve
 // lies in its control points' hull).

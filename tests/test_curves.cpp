@@ -147,6 +147,12 @@ TEST_CASE("curves: B-spline and quadratic input become the Bezier segments that 
     REQUIRE(qb.size() == 3);
     CHECK(length(at(qb.segments[0], 0.f) - (p[0] + p[1]) * 0.5f) < 1e-5f);
     CHECK(length(at(qb.segments[2], 1.f) - (p[3] + p[4]) * 0.5f) < 1e-5f);
+    // A part of a segment (what the BVH stores): the same curve over the mapped u.
+    const kern::CurveSegment part = kern::curve_part(set.segments[1], 0.25f, 0.625f);
+    for (const float u : {0.f, 0.4f, 1.f})
+        CHECK(length(at(part, u) - at(set.segments[1], 0.25f + 0.375f * u)) < 1e-5f);
+    CHECK(part.w0 == Approx(0.2f + 0.1f * 0.25f));
+    CHECK(part.w1 == Approx(0.2f + 0.1f * 0.625f));
     // Counts that fit no curve, a ribbon's normals, widths.
     in.degree = 3;
     in.basis = "bezier";
@@ -207,7 +213,7 @@ TEST_CASE("curves: every backend finds brute force's hits with curves in the sce
     const auto brute = make_intersector(s, AccelType::Brute);
     HitBatch want;
     brute->intersect(rays, want, c);
-    // The curve BVH against a loop over every segment.
+    // The curve BVH against a loop over every segment's parts.
     std::size_t on_curves = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         kern::CurveHit best;
@@ -215,10 +221,14 @@ TEST_CASE("curves: every backend finds brute force's hits with curves in the sce
         for (uint32_t g = 0; g < s.objects.size(); ++g) {
             if (s.objects[g].kind != ObjectKind::Curves) continue;
             const CurveSet& set = s.curves[s.objects[g].index];
+            // The BVH holds each segment as 8 parts (pbrt-v4's split depth 3).
             for (const kern::CurveSegment& seg : set.segments)
-                if (kern::intersect_curve(ray_at(rays, i), seg, set.form == CurveForm::Ribbon,
-                                          best))
-                    geom = g;
+                for (int k = 0; k < 8; ++k)
+                    if (kern::intersect_curve(
+                            ray_at(rays, i),
+                            kern::curve_part(seg, float(k) / 8.f, float(k + 1) / 8.f),
+                            set.form == CurveForm::Ribbon, best))
+                        geom = g;
         }
         if (geom == kNoHit) continue;
         INFO("ray " << i);

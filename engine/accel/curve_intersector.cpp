@@ -6,66 +6,39 @@ namespace foton {
 
 CurveIntersector::CurveIntersector(const Scene& scene, std::unique_ptr<Intersector> inner)
     : scene_(scene), inner_(std::move(inner)) {
-    std::vector<kern::PrimRef> boxes;
+    std::vector<kern::CurveSegment> segments;
+    std::vector<uint8_t> ribbon;
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
         if (o.kind != ObjectKind::Curves) continue;
         const CurveSet& set = scene.curves[o.index];
         for (uint32_t s = 0; s < set.size(); ++s) {
-            kern::PrimRef r;
-            kern::curve_bounds(set.segments[s], r.lo, r.hi);
-            r.id = uint32_t(refs_.size());
-            r.pad = 0;
-            boxes.push_back(r);
-            refs_.push_back({g, s, set.form == CurveForm::Ribbon});
+            segments.push_back(set.segments[s]);
+            ribbon.push_back(set.form == CurveForm::Ribbon ? 1 : 0);
+            refs_.push_back({g, s});
         }
     }
-    kern::BvhBuildParams p;
-    p.leaf_block = 1;
-    p.max_leaf = 4;
-    p.parallel = [](const std::function<void()>& a, const std::function<void()>& b) {
-        tbb::parallel_invoke(a, b);
-    };
-    bvh_ = kern::build_binary_bvh(boxes, p);
+    bvh_ = kern::CurveBvh(segments, ribbon,
+                          [](const std::function<void()>& a, const std::function<void()>& b) {
+                              tbb::parallel_invoke(a, b);
+                          });
 }
 
 std::size_t CurveIntersector::memory_bytes() const {
-    return inner_->memory_bytes() + refs_.size() * sizeof(SegmentRef) +
-           bvh_.used * sizeof(kern::BinaryNode) + bvh_.prims.size() * sizeof(uint32_t);
+    return inner_->memory_bytes() + refs_.size() * sizeof(SegmentRef) + bvh_.memory_bytes();
 }
 
 bool CurveIntersector::closest_curve(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const {
-    bool found = false;
     kern::CurveHit ch;
-    ch.t = std::min(hit.t, ray.tmax);
-    kern::walk_binary_bvh(
-        bvh_, ray, [&] { return ch.t; },
-        [&](uint32_t id) {
-            const SegmentRef& r = refs_[id];
-            ++c.curve_tests;
-            const kern::CurveSegment& s =
-                scene_.curves[scene_.objects[r.geom].index].segments[r.segment];
-            if (kern::intersect_curve(ray, s, r.ribbon, ch)) {
-                hit = Hit1{ch.t, ch.u, ch.v, r.segment, r.geom};
-                found = true;
-            }
-            return false;
-        });
-    return found;
+    ch.t = hit.t;
+    uint32_t id = 0;
+    if (!bvh_.closest(ray, ch, id, c.curve_tests)) return false;
+    hit = Hit1{ch.t, ch.u, ch.v, refs_[id].segment, refs_[id].geom};
+    return true;
 }
 
 bool CurveIntersector::any_curve(const kern::Ray1& ray, TraceCounters& c) const {
-    bool found = false;
-    kern::walk_binary_bvh(
-        bvh_, ray, [&] { return ray.tmax; },
-        [&](uint32_t id) {
-            const SegmentRef& r = refs_[id];
-            ++c.curve_tests;
-            found = kern::occluded_curve(
-                ray, scene_.curves[scene_.objects[r.geom].index].segments[r.segment], r.ribbon);
-            return found;
-        });
-    return found;
+    return bvh_.any(ray, c.curve_tests);
 }
 
 void CurveIntersector::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "intersector.h"
-#include "kernels/bvh_build.h"
+#include "kernels/curve_bvh.h"
 
 namespace foton {
 
@@ -28,12 +28,11 @@ class CurveIntersector final : public Intersector {
   private:
     struct SegmentRef {
         uint32_t geom, segment;
-        bool ribbon;
     };
     const Scene& scene_;
     std::unique_ptr<Intersector> inner_;
-    std::vector<SegmentRef> refs_;
-    kern::BinaryBvh bvh_;
+    std::vector<SegmentRef> refs_;  // the BVH's segment ids -> their object and index
+    kern::CurveBvh bvh_;
 };
 
 }  // namespace foton
