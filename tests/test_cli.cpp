@@ -455,6 +455,31 @@ TEST_CASE("bad mesh files, textures and environment maps exit 2 with no image",
     scene_with(R"(<environment src="wide.exr" mapping="equalarea"/>)",
                sphere + "<material type=\"lambert\"/></sphere>");
     expect("must be square, not 6x4");
+    // Issue 36's three: a broken .ply.gz (plain text where gzip data belongs) through pbrt's
+    // plymesh, a truncated PFM environment map, a glTF texture index out of range.
+    std::ofstream(dir.file("broken.ply.gz")) << "ply\nformat ascii 1.0\nelement vertex 3\n";
+    std::ofstream(dir.file("b.pbrt"))
+        << "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nFilm \"rgb\" \"integer "
+           "xresolution\" [8] \"integer yresolution\" [8]\nWorldBegin\n"
+           "Shape \"plymesh\" \"string filename\" \"broken.ply.gz\"\n";
+    const Run ply = run("render " + dir.file("b.pbrt") + " -q -o " + dir.file("out.exr"));
+    CHECK(ply.code == 2);
+    CHECK_THAT(ply.output, Catch::Contains("b.pbrt:5:") && Catch::Contains("corrupt gzip data"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("out.exr")));
+    std::ofstream(dir.file("cut.pfm"), std::ios::binary) << "PF\n4 2\n-1\n"
+                                                         << std::string(40, '\0');
+    scene_with(R"(<environment src="cut.pfm"/>)", sphere + "<material type=\"lambert\"/></sphere>");
+    expect("PFM data is short");
+    std::ofstream(dir.file("quad.gltf"))
+        << R"({"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes":
+           {"POSITION": 0}, "material": 0}]}], "nodes": [{"mesh": 0}],
+           "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 5}}}],
+           "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "bufferView": 0,
+           "min": [0, 0, 0], "max": [1, 1, 0]}],
+           "bufferViews": [{"buffer": 0, "byteLength": 36}],
+           "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
+    scene_with("", R"(<triangle_mesh src="quad.gltf"/>)");
+    expect("texture 5 does not exist");
 }
 
 TEST_CASE("foton render --preview writes the tone-mapped image as PNG, JPEG or BMP", "[cli]") {
