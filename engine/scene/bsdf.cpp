@@ -70,7 +70,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
         case LobeType::Coated:
             return l.coat_is_delta() ? RGB{0.f} : coated_f(l, wo, wi, ctx);
         case LobeType::Hair:
-            return hair_f(l, wo, wi);
+            return ctx.mode == Transport::Importance ? hair_adjoint_f(l, wo, wi)
+                                                     : hair_f(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
             return RGB{0.f};
@@ -161,7 +162,7 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
         case LobeType::Coated:
             return coated_sample(l, wo, uc, u, ctx, s);
         case LobeType::Hair:
-            return hair_sample(l, wo, uc, u, s);
+            return hair_sample(l, wo, uc, u, s, ctx.mode);
         case LobeType::Mirror: {
             s.wi = mirror_dir(wo);
             const float c = std::fabs(s.wi.z);

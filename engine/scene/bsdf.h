@@ -254,10 +254,15 @@ RGB coated_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& c
 float coated_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx);
 bool coated_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfContext& ctx,
                    BsdfSample& s);
-// The same for a Hair lobe (hair.cpp): its frame's x runs along the fibre.
+// The same for a Hair lobe (hair.cpp): its frame's x runs along the fibre. lobe_f and
+// lobe_sample give importance transport the adjoint f(wi, wo): the fibre is not reciprocal.
 RGB hair_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
+// What importance transport (light paths) reads: f(wi, wo) times cos(theta_i) / |wi.z|, the
+// width the fibre shows towards wi over that of the ribbon the light path met, which faces wo.
+RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
 float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi);
-bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s);
+bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s,
+                 Transport mode = Transport::Radiance);
 // A coated lobe's reflectance along the mirror direction of a smooth coat (the part f leaves
 // out as a delta): the coat's own Fresnel reflection, or, when the whole stack is specular,
 // every bounce between the coat and the mirror base in closed form.

@@ -4,7 +4,9 @@
 // each p is a longitudinal lobe M_p (a von Mises-Fisher-like function of width v_p, shifted by
 // the scales' tilt 2^k alpha) times the attenuation A_p (Fresnel and absorption along the
 // refracted path) times an azimuthal lobe N_p (a trimmed logistic around the deflection of a
-// smooth cylinder). f divides by |cos theta_i|, as the BSDF's cosine multiplies it back.
+// smooth cylinder). f divides by |cos theta_i|, as the BSDF's cosine multiplies it back. The
+// model is not reciprocal, so importance (light paths) takes its adjoint, f(wi, wo), with the
+// ribbon's cosine made the fibre's (hair_adjoint_f).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -180,6 +182,16 @@ RGB hair_f(const Lobe& l, const Vec3& wo, const Vec3& wi) {
     return f * l.color;
 }
 
+RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi) {
+    // Importance arrives from wo and leaves along wi: the fibre scatters by S(wi, wo) (its
+    // radiance form, over the wo side's cosine). The ribbon a light path met faces wo, so the
+    // integrators' cosine |wi.z| for the next vertex is that ribbon's, where a fibre shows the
+    // width facing wi (cos theta_i, as a camera path's ribbon does): rescaled to it.
+    const float cz = std::fabs(wi.z);
+    if (cz < 1e-6f) return RGB{0.f};
+    return hair_f(l, wi, wo) * (safe_sqrt(1.f - wi.x * wi.x) / cz);
+}
+
 float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi) {
     const HairFiber& h = l.hair;
     const Derived d(h);
@@ -189,7 +201,7 @@ float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi) {
     return hair_sum(h, d, wo, wi, r, [&](int p) { return ap[std::size_t(p)]; });
 }
 
-bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s) {
+bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s, Transport mode) {
     const HairFiber& h = l.hair;
     const Derived d(h);
     const float sin_o = std::clamp(wo.x, -1.f, 1.f), cos_o = safe_sqrt(1.f - sin_o * sin_o);
@@ -214,7 +226,8 @@ bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& 
     const float phi_i = std::atan2(wo.z, wo.y) + dphi;
     s.wi = {sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)};
     s.pdf = hair_pdf(l, wo, s.wi);
-    s.f = hair_f(l, wo, s.wi);
+    // Importance flows the other way: the adjoint (the fibre is not reciprocal).
+    s.f = mode == Transport::Importance ? hair_adjoint_f(l, wo, s.wi) : hair_f(l, wo, s.wi);
     // The side it went to, as the integrators read a sample (a reflection stays on wo's side
     // of the surface, a transmission crosses it).
     s.flags = kGlossy | (s.wi.z * wo.z > 0.f ? kReflection : kTransmission);
