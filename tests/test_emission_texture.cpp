@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "engine/film/image_io.h"
+#include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "test_util.h"
 
@@ -114,4 +115,36 @@ TEST_CASE("emission textures: light sampling, BSDF sampling, light tracing and b
         CHECK(other.left == Approx(nee.left).epsilon(0.02));
         CHECK(other.right == Approx(nee.right).epsilon(0.02));
     }
+}
+
+TEST_CASE("emission textures: pbrt-v4's image area light shows its image at the shape's uv",
+          "[emission_texture][pbrt][fast]") {
+    test::TempDir dir;
+    write_emission_map(dir.file("glow.exr"));
+    // The quad faces the camera (+z) and fills the orthographic view; uv over it.
+    const std::string head =
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" "
+        "[-0.5 0.5 -0.5 0.5]\nFilm \"rgb\" \"integer xresolution\" [16] \"integer yresolution\" "
+        "[16]\nSampler \"independent\" \"integer pixelsamples\" [4]\nIntegrator \"path\" "
+        "\"integer maxdepth\" [1]\nWorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" ";
+    const std::string quad =
+        "\nShape \"trianglemesh\" \"point3 P\" [-0.5 -0.5 0  0.5 -0.5 0  0.5 0.5 0  -0.5 0.5 0] "
+        "\"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 1 2  0 2 3]\nAttributeEnd\n";
+    TestScene s(
+        parse_pbrt_scene(head + "\"string filename\" \"glow.exr\" \"float scale\" [2]" + quad,
+                         "a.pbrt", dir.path().string()));
+    REQUIRE(s.materials[s.objects[0].material].emission_texture >= 0);
+    const Film img = render_test(s, 4).film;
+    // u < 0.5: 2 x (1, 0.5, 0.25); u > 0.5: 2 x 0.05 (pixels away from the seam). pbrt's
+    // camera looking down -z with y up has world +x on the image's left.
+    for (const int x : {2, 13}) {
+        const RGB& p = img.pixels[std::size_t(8 * 16 + x)];
+        INFO("pixel " << x << ": " << p.r << " " << p.g << " " << p.b);
+        CHECK(p.r == Approx(x > 8 ? 2.f : 0.1f).epsilon(1e-3));
+        CHECK(p.b == Approx(x > 8 ? 0.5f : 0.1f).epsilon(1e-3));
+    }
+    CHECK_THROWS_WITH(
+        parse_pbrt_scene(head + "\"string filename\" \"glow.exr\" \"rgb L\" [1 1 1]" + quad,
+                         "b.pbrt", dir.path().string()),
+        Catch::Contains("b.pbrt:8") && Catch::Contains("not both"));
 }

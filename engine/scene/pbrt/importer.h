@@ -23,6 +23,7 @@ namespace foton::pbrt {
 
 struct AreaLightDesc {
     RGB radiance{0.f};
+    int32_t texture = -1;  // an image ("filename") multiplying radiance: into Scene::textures
     bool two_sided = false;
     int id = -1;  // -1: shapes do not emit
 };

@@ -134,11 +134,21 @@ void Importer::area_light(const Token& t, const std::string& type, const ParamLi
     if (type != "diffuse") fail(t, "unsupported area light '" + type + "' (diffuse)");
     if (!defining_.empty())
         fail(t, "area lights inside an object definition are not supported (as in pbrt-v4)");
-    if (p.has("filename")) fail(t, "image area lights are not supported");
     if (p.has("power")) fail(t, "\"power\" on area lights is not supported: give L and scale");
     if (p.real("scale", 1.f) < 0.f) fail(t, "scale must not be negative");
     const float scale = p.real("scale", 1.f) * imaging_ratio();
     const auto radiance = p.color("L", true);
+    gs_.area.texture = -1;
+    if (const std::string rel = p.text("filename", ""); !rel.empty()) {
+        // pbrt-v4's image area light: the image's RGB at the surface's uv (v up, as
+        // pbrt-v4 flips it), times scale: Material::emission_texture.
+        if (radiance) fail(t, "AreaLightSource \"diffuse\": give \"L\" or \"filename\", not both");
+        Texture tx;
+        tx.kind = TextureKind::Image;
+        tx.image = image_file(t, rel, false);
+        scene_.textures.push_back(tx);
+        gs_.area.texture = int32_t(scene_.textures.size() - 1);
+    }
     gs_.area.radiance = (radiance ? *radiance : RGB{1.f}) * scale;
     if (const std::string why = emission_problem(gs_.area.radiance); !why.empty())
         fail(t, "AreaLightSource \"diffuse\": the emitted colour x scale " + why);

@@ -273,6 +273,7 @@ uint32_t Importer::scene_material(const GraphicsState& gs) {
     if (gs.area.id >= 0) {
         m.emission = gs.area.radiance;
         m.emission_two_sided = gs.area.two_sided;
+        m.emission_texture = gs.area.texture;
     }
     m.alpha = shape_alpha_;
     m.alpha_texture = shape_alpha_texture_;
