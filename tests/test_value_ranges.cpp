@@ -125,8 +125,8 @@ TEST_CASE("Checkerboards: the pattern is defined for any scale (1e30 once was UB
     t.kind = TextureKind::Checkerboard;
     t.value = RGB{1.f};
     t.other = RGB{0.f};
-    t.su = 1e30f;
-    t.sv = 1e30f;
+    t.uv.su = 1e30f;
+    t.uv.sv = 1e30f;
     const RGB v = t.eval({}, Point2{0.3f, 0.7f});
     CHECK(std::isfinite(v.r));
 }

@@ -198,6 +198,13 @@ class GltfReader {
         FileMaterial f;
         f.name = gm.name.empty() ? "gltf material " + std::to_string(i) : gm.name;
         const auto& pbr = gm.pbrMetallicRoughness;
+        auto uv_map = [&](const tinygltf::ExtensionMap& ext) {
+            try {
+                return gltf_uv_map(ext, out_.notes, path_ + ": " + where);
+            } catch (const std::invalid_argument& e) {
+                fail(where, e.what());
+            }
+        };
         if (pbr.baseColorFactor.size() >= 3)
             f.diffuse = RGB{float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
                             float(pbr.baseColorFactor[2])};
@@ -213,6 +220,7 @@ class GltfReader {
                 note(where + ": baseColorTexture uses TEXCOORD_" +
                      std::to_string(pbr.baseColorTexture.texCoord) + "; foton reads TEXCOORD_0");
             f.diffuse_map = image(pbr.baseColorTexture.index, where);
+            f.diffuse_uv = uv_map(pbr.baseColorTexture.extensions);
         }
         f.dielectric_specular = true;
         if (pbr.metallicRoughnessTexture.index >= 0) {
@@ -221,6 +229,7 @@ class GltfReader {
                      std::to_string(pbr.metallicRoughnessTexture.texCoord) +
                      "; foton reads TEXCOORD_0");
             f.metallic_roughness_map = image(pbr.metallicRoughnessTexture.index, where, true);
+            f.metallic_roughness_uv = uv_map(pbr.metallicRoughnessTexture.extensions);
         }
         if (gm.emissiveFactor.size() == 3) {
             f.emission = RGB{float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
@@ -244,6 +253,7 @@ class GltfReader {
                      " ignored (read as 1)");
             // Tangents from the uv (the file's TANGENT attribute is not read).
             f.normal_map = image(gm.normalTexture.index, where, true);
+            f.normal_uv = uv_map(gm.normalTexture.extensions);
         }
         // Ambient occlusion baked for rasterisers: light transport computes its own.
         ignored(gm.occlusionTexture.index >= 0, "occlusionTexture (transport computes occlusion)");
@@ -253,6 +263,7 @@ class GltfReader {
                 note(where + ": emissiveTexture uses TEXCOORD_" +
                      std::to_string(gm.emissiveTexture.texCoord) + "; foton reads TEXCOORD_0");
             f.emission_map = image(gm.emissiveTexture.index, where);
+            f.emission_uv = uv_map(gm.emissiveTexture.extensions);
         }
         try {
             gltf_alpha_mode(gm, f);

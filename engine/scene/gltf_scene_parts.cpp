@@ -122,6 +122,41 @@ void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f) {
     // stochastic test (Material::alpha_cutoff < 0) renders in expectation.
 }
 
+UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
+                  std::vector<std::string>& notes, const std::string& where) {
+    UvMap m;
+    const auto it = extensions.find("KHR_texture_transform");
+    if (it == extensions.end()) return m;
+    const tinygltf::Value& t = it->second;
+    auto pair = [&](const char* key, float x, float y) {
+        if (!t.Has(key)) return std::pair{x, y};
+        const tinygltf::Value& a = t.Get(key);
+        if (!a.IsArray() || a.ArrayLen() != 2)
+            throw std::invalid_argument(std::string("KHR_texture_transform ") + key +
+                                        " must be two numbers");
+        return std::pair{float(a.Get(0).GetNumberAsDouble()), float(a.Get(1).GetNumberAsDouble())};
+    };
+    const auto [ox, oy] = pair("offset", 0.f, 0.f);
+    const auto [sx, sy] = pair("scale", 1.f, 1.f);
+    const float r = t.Has("rotation") ? float(t.Get("rotation").GetNumberAsDouble()) : 0.f;
+    if (!std::isfinite(ox + oy + sx + sy + r))
+        throw std::invalid_argument("KHR_texture_transform values must be finite");
+    if (t.Has("texCoord") && t.Get("texCoord").GetNumberAsInt() != 0)
+        notes.push_back(where + ": KHR_texture_transform texCoord " +
+                        std::to_string(t.Get("texCoord").GetNumberAsInt()) +
+                        " ignored (foton reads TEXCOORD_0)");
+    // glTF: uv' = T R S uv with R = [cos sin; -sin cos], in coordinates whose v runs down;
+    // foton's v is 1 - glTF's, on both sides.
+    const float c = std::cos(r), s = std::sin(r);
+    m.su = c * sx;
+    m.suv = -s * sy;
+    m.du = s * sy + ox;
+    m.svu = s * sx;
+    m.sv = c * sy;
+    m.dv = 1.f - c * sy - oy;
+    return m;
+}
+
 TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear) {
     if (im.width <= 0 || im.height <= 0 || (im.bits != 8 && im.bits != 16) || im.component < 1 ||
         im.component > 4)

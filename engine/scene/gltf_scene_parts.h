@@ -4,6 +4,7 @@
 // (KHR_materials_transmission, KHR_materials_ior; the emissive strength is the reader's, with
 // the emission). Problems
 // throw std::invalid_argument; the glTF reader adds the file and the element.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ class Model;
 class Node;
 struct Material;
 struct Image;
+class Value;
 }  // namespace tinygltf
 
 namespace foton {
@@ -45,6 +47,12 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
 // alpha channel) is below alphaCutoff; BLEND lets that alpha's share of the light through
 // (stochastically, as pbrt-v4's alpha); OPAQUE ignores it.
 void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f);
+
+// A texture reference's KHR_texture_transform (offset, rotation, scale) as foton's uv map
+// (glTF's v runs down, foton's up); the identity without one. A texCoord override other than
+// 0 is noted (foton reads TEXCOORD_0).
+UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
+                  std::vector<std::string>& notes, const std::string& where);
 
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
 // `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it

@@ -137,6 +137,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         Texture tx;
         tx.kind = TextureKind::Image;
         tx.image = file_image(scene, file, images, f.metallic_roughness_map, true);
+        tx.uv = f.metallic_roughness_uv;
         tx.scale = RGB{1.f, f.roughness, f.metallic};  // glTF: factors times the channels
         scene.textures.push_back(tx);
         mr = int32_t(scene.textures.size() - 1);
@@ -177,10 +178,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         Texture tx;
         tx.kind = TextureKind::Image;
         tx.image = file_image(scene, file, images, f.diffuse_map, false);
-        tx.su = f.map_su;
-        tx.sv = f.map_sv;
-        tx.du = f.map_du;
-        tx.dv = f.map_dv;
+        tx.uv = f.diffuse_uv;
         scene.textures.push_back(tx);
         m.texture = int32_t(scene.textures.size() - 1);
         m.textured_lobes = 1;  // the Lambert lobe, added first
@@ -189,6 +187,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         Texture tx;
         tx.kind = TextureKind::Image;
         tx.image = file_image(scene, file, images, f.normal_map, true);
+        tx.uv = f.normal_uv;
         scene.textures.push_back(tx);
         m.normal_map = int32_t(scene.textures.size() - 1);
     }
@@ -235,6 +234,7 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
         Texture tx;
         tx.kind = TextureKind::Image;
         tx.image = file_image(scene, file, images, f.emission_map, false);
+        tx.uv = f.emission_uv;
         scene.textures.push_back(tx);
         m.emission_texture = int32_t(scene.textures.size() - 1);
     }
@@ -250,6 +250,7 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
                 Texture tx;
                 tx.kind = TextureKind::Image;
                 tx.image = im;
+                if (colour) tx.uv = f.diffuse_uv;  // glTF: the base colour texture's alpha
                 scene.textures.push_back(tx);
                 m.alpha_texture = int32_t(scene.textures.size() - 1);
             }

@@ -26,7 +26,8 @@ struct FileMaterial {
     RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
     std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
     std::string normal_map;   // a tangent-space normal map (resolved path or embedded key)
-    float map_su = 1.f, map_sv = 1.f, map_du = 0.f, map_dv = 0.f;  // uv scale and offset
+    // Each map's uv transform (MTL's -s and -o on map_Kd, glTF's KHR_texture_transform).
+    UvMap diffuse_uv, normal_uv, metallic_roughness_uv, emission_uv;
     RGB specular{0.f};  // MTL Ks: a Phong highlight of exponent Ns, or the mirror's colour
     float exponent = 0.f;
     float metallic = 0.f, roughness = 1.f;  // glTF metallic-roughness

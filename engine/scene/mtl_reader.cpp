@@ -159,11 +159,11 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
                     const float u = number(t[i + 1]), v = number(t[i + 2]);
                     (void)number(t[i + 3]);
                     if (opt == "-s") {
-                        cur->map_su = u;
-                        cur->map_sv = v;
+                        cur->diffuse_uv.su = u;
+                        cur->diffuse_uv.sv = v;
                     } else {
-                        cur->map_du = u;
-                        cur->map_dv = v;
+                        cur->diffuse_uv.du = u;
+                        cur->diffuse_uv.dv = v;
                     }
                     i += 4;
                 } else {

@@ -76,7 +76,7 @@ float TextureImage::bilinear_alpha(Point2 uv) const {
 
 float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
     if (kind == TextureKind::Image && !images[image].alpha.empty()) {
-        float a = images[image].bilinear_alpha({su * uv.x + du, sv * uv.y + dv}) * scale.r;
+        float a = images[image].bilinear_alpha(this->uv(uv)) * scale.r;
         return invert ? std::max(0.f, 1.f - a) : a;
     }
     const RGB c = eval(images, uv);
@@ -84,7 +84,7 @@ float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) co
 }
 
 RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
-    const Point2 st{su * uv.x + du, sv * uv.y + dv};
+    const Point2 st = this->uv(uv);
     RGB c = value;
     switch (kind) {
         case TextureKind::Constant:

@@ -28,14 +28,23 @@ struct TextureImage {
 
 enum class TextureKind : uint8_t { Constant, Image, Checkerboard };
 
+// A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
+// (scale and offset from the XML, pbrt and MTL; glTF's KHR_texture_transform also rotates).
+struct UvMap {
+    float su = 1.f, sv = 1.f, du = 0.f, dv = 0.f, suv = 0.f, svu = 0.f;
+    Point2 operator()(Point2 uv) const {
+        return {su * uv.x + suv * uv.y + du, svu * uv.x + sv * uv.y + dv};
+    }
+};
+
 struct Texture {
     TextureKind kind = TextureKind::Constant;
-    RGB value{1.f};                                // Constant; Checkerboard's first colour
-    RGB other{0.f};                                // Checkerboard's second colour
-    uint32_t image = 0;                            // Image: into Scene::texture_images
-    float su = 1.f, sv = 1.f, du = 0.f, dv = 0.f;  // uv' = (su u + du, sv v + dv)
-    RGB scale{1.f};                                // multiplies the result
-    bool invert = false;                           // max(0, 1 - scaled value) (pbrt's invert)
+    RGB value{1.f};       // Constant; Checkerboard's first colour
+    RGB other{0.f};       // Checkerboard's second colour
+    uint32_t image = 0;   // Image: into Scene::texture_images
+    UvMap uv;             // where a surface uv reads it
+    RGB scale{1.f};       // multiplies the result
+    bool invert = false;  // max(0, 1 - scaled value) (pbrt's invert)
 
     RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two

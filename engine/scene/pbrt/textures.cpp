@@ -108,10 +108,10 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         }
         const std::string mapping = p.text("mapping", "uv");
         if (mapping != "uv") fail(t, "texture mapping '" + mapping + "' is not supported (uv)");
-        st.su = p.real("uscale", 1.f);
-        st.sv = p.real("vscale", 1.f);
-        st.du = p.real("udelta", 0.f);
-        st.dv = p.real("vdelta", 0.f);
+        st.uv.su = p.real("uscale", 1.f);
+        st.uv.sv = p.real("vscale", 1.f);
+        st.uv.du = p.real("udelta", 0.f);
+        st.uv.dv = p.real("vdelta", 0.f);
         scene_.textures.push_back(st);
         tex.scene_texture = int32_t(scene_.textures.size() - 1);
     } else {

@@ -84,10 +84,10 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default, boo
     Texture t;
     if (amplitude) t.scale = RGB{number(tx, "scale", 1.f)};
 
-    t.su = number(tx, "scale_u", 1.f);
-    t.sv = number(tx, "scale_v", 1.f);
-    t.du = number(tx, "offset_u", 0.f);
-    t.dv = number(tx, "offset_v", 0.f);
+    t.uv.su = number(tx, "scale_u", 1.f);
+    t.uv.sv = number(tx, "scale_v", 1.f);
+    t.uv.du = number(tx, "offset_u", 0.f);
+    t.uv.dv = number(tx, "offset_v", 0.f);
     if (kind == "image") {
         if (amplitude)
             check(
