@@ -7,6 +7,7 @@ namespace foton::kern {
 CurveBvh::CurveBvh(const std::vector<CurveSegment>& segments, const std::vector<uint8_t>& ribbon,
                    const BvhBuildParams::ParallelInvoke& parallel, int split) {
     const uint32_t parts = 1u << std::clamp(split, 0, 6);
+    part_du_ = 1.f / float(parts);
     std::vector<CurveSegment> all;
     std::vector<uint32_t> owner;
     std::vector<float> u0;
@@ -36,7 +37,6 @@ CurveBvh::CurveBvh(const std::vector<CurveSegment>& segments, const std::vector<
         segments_.push_back(all[part]);
         ids_.push_back(owner[part]);
         u0_.push_back(u0[part]);
-        du_.push_back(1.f / float(parts));
         ribbon_.push_back(ribbon[owner[part]]);
         bvh_.prims[i] = uint32_t(i);
     }
@@ -54,7 +54,7 @@ bool CurveBvh::closest(const Ray1& ray, CurveHit& hit, uint32_t& id, uint64_t& t
             return false;
         });
     if (best == UINT32_MAX) return false;
-    hit.u = u0_[best] + du_[best] * hit.u;
+    hit.u = u0_[best] + part_du_ * hit.u;
     id = ids_[best];
     return true;
 }
@@ -74,7 +74,7 @@ bool CurveBvh::any(const Ray1& ray, uint64_t& tests) const {
 
 std::size_t CurveBvh::memory_bytes() const {
     return bvh_.used * sizeof(BinaryNode) + bvh_.prims.size() * sizeof(uint32_t) +
-           segments_.size() * (sizeof(CurveSegment) + sizeof(uint32_t) + 2 * sizeof(float) + 1);
+           segments_.size() * (sizeof(CurveSegment) + sizeof(uint32_t) + sizeof(float) + 1);
 }
 
 }  // namespace foton::kern

@@ -28,7 +28,8 @@ class CurveBvh {
     BinaryBvh bvh_;                       // prims[i] = i: leaves index the arrays below
     std::vector<CurveSegment> segments_;  // the parts, in leaf order
     std::vector<uint32_t> ids_;           // leaf order -> the build's index
-    std::vector<float> u0_, du_;          // a part's range of its segment's u
+    std::vector<float> u0_;               // where a part starts in its segment's u
+    float part_du_ = 1.f;                 // every part spans 1 / 2^split of it
     std::vector<uint8_t> ribbon_;
 };
 

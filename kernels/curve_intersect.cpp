@@ -60,7 +60,6 @@ struct Search {
     V3 dir;         // the ray's unit direction (ribbons narrow by their normal's angle to it)
     float inv_len;  // 1 / |d|
     float zmin, zmax;
-    bool found = false;
     CurveHit hit;
 
     float width_at(float u) const {
@@ -92,7 +91,6 @@ struct Search {
         hit.u = u;
         hit.v = edge > 0.f ? 0.5f + dist / width : 0.5f - dist / width;
         zmax = pc.z;  // later pieces must be closer
-        found = true;
         return true;
     }
 
@@ -165,7 +163,7 @@ bool run(const CurveRay& ray, const CurveSegment& s, bool ribbon, bool any, floa
     if (lo[0] - r > 0.f || hi[0] + r < 0.f || lo[1] - r > 0.f || hi[1] + r < 0.f ||
         lo[2] - r > zmax || hi[2] + r < zmin)
         return false;
-    Search search{s, ribbon, any, load(ray.ez), 1.f / ray.length, zmin, zmax, false, {}};
+    Search search{s, ribbon, any, load(ray.ez), 1.f / ray.length, zmin, zmax, {}};
     if (!search.recurse(cp, 0.f, 1.f, subdivision_depth(cp, std::max(s.w0, s.w1)))) return false;
     out = search.hit;
     return true;

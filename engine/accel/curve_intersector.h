@@ -21,11 +21,11 @@ class CurveIntersector final : public Intersector {
     bool occluded1(const kern::Ray1& ray, TraceCounters& c) const override;
     std::size_t memory_bytes() const override;
 
+  private:
     // The curve segments alone (no backend): the closest curve hit closer than hit.t.
     bool closest_curve(const kern::Ray1& ray, Hit1& hit, TraceCounters& c) const;
     bool any_curve(const kern::Ray1& ray, TraceCounters& c) const;
 
-  private:
     struct SegmentRef {
         uint32_t geom, segment;
     };

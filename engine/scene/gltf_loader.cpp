@@ -198,9 +198,17 @@ class GltfReader {
         FileMaterial f;
         f.name = gm.name.empty() ? "gltf material " + std::to_string(i) : gm.name;
         const auto& pbr = gm.pbrMetallicRoughness;
-        auto uv_map = [&](const tinygltf::ExtensionMap& ext) {
+        // A texture reference (TextureInfo or NormalTextureInfo): its image into `map`, its
+        // KHR_texture_transform into `uv`; a texCoord other than 0 is noted.
+        auto texture = [&](const auto& info, const char* name, bool linear, std::string& map,
+                           UvMap& uv) {
+            if (info.index < 0) return;
+            if (info.texCoord != 0)
+                note(where + ": " + name + " uses TEXCOORD_" + std::to_string(info.texCoord) +
+                     "; foton reads TEXCOORD_0");
+            map = image(info.index, where, linear);
             try {
-                return gltf_uv_map(ext, out_.notes, path_ + ": " + where);
+                uv = gltf_uv_map(info.extensions, out_.notes, path_ + ": " + where);
             } catch (const std::invalid_argument& e) {
                 fail(where, e.what());
             }
@@ -215,22 +223,10 @@ class GltfReader {
         f.roughness = float(pbr.roughnessFactor);
         if (!(f.metallic >= 0.f && f.metallic <= 1.f && f.roughness >= 0.f && f.roughness <= 1.f))
             fail(where, "metallicFactor and roughnessFactor must be in [0, 1]");
-        if (pbr.baseColorTexture.index >= 0) {
-            if (pbr.baseColorTexture.texCoord != 0)
-                note(where + ": baseColorTexture uses TEXCOORD_" +
-                     std::to_string(pbr.baseColorTexture.texCoord) + "; foton reads TEXCOORD_0");
-            f.diffuse_map = image(pbr.baseColorTexture.index, where);
-            f.diffuse_uv = uv_map(pbr.baseColorTexture.extensions);
-        }
+        texture(pbr.baseColorTexture, "baseColorTexture", false, f.diffuse_map, f.diffuse_uv);
         f.dielectric_specular = true;
-        if (pbr.metallicRoughnessTexture.index >= 0) {
-            if (pbr.metallicRoughnessTexture.texCoord != 0)
-                note(where + ": metallicRoughnessTexture uses TEXCOORD_" +
-                     std::to_string(pbr.metallicRoughnessTexture.texCoord) +
-                     "; foton reads TEXCOORD_0");
-            f.metallic_roughness_map = image(pbr.metallicRoughnessTexture.index, where, true);
-            f.metallic_roughness_uv = uv_map(pbr.metallicRoughnessTexture.extensions);
-        }
+        texture(pbr.metallicRoughnessTexture, "metallicRoughnessTexture", true,
+                f.metallic_roughness_map, f.metallic_roughness_uv);
         if (gm.emissiveFactor.size() == 3) {
             f.emission = RGB{float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
                              float(gm.emissiveFactor[2])};
@@ -244,27 +240,15 @@ class GltfReader {
         auto ignored = [&](bool present, const char* what) {
             if (present) note(where + ": " + what + " ignored");
         };
-        if (gm.normalTexture.index >= 0) {
-            if (gm.normalTexture.texCoord != 0)
-                note(where + ": normalTexture uses TEXCOORD_" +
-                     std::to_string(gm.normalTexture.texCoord) + "; foton reads TEXCOORD_0");
-            if (gm.normalTexture.scale != 1.0)
-                note(where + ": normalTexture scale " + std::to_string(gm.normalTexture.scale) +
-                     " ignored (read as 1)");
-            // Tangents from the uv (the file's TANGENT attribute is not read).
-            f.normal_map = image(gm.normalTexture.index, where, true);
-            f.normal_uv = uv_map(gm.normalTexture.extensions);
-        }
+        // Tangents from the uv (the file's TANGENT attribute is not read).
+        texture(gm.normalTexture, "normalTexture", true, f.normal_map, f.normal_uv);
+        if (gm.normalTexture.index >= 0 && gm.normalTexture.scale != 1.0)
+            note(where + ": normalTexture scale " + std::to_string(gm.normalTexture.scale) +
+                 " ignored (read as 1)");
         // Ambient occlusion baked for rasterisers: light transport computes its own.
         ignored(gm.occlusionTexture.index >= 0, "occlusionTexture (transport computes occlusion)");
         f.emission_given = true;  // glTF's emissiveFactor defaults to black
-        if (gm.emissiveTexture.index >= 0) {
-            if (gm.emissiveTexture.texCoord != 0)
-                note(where + ": emissiveTexture uses TEXCOORD_" +
-                     std::to_string(gm.emissiveTexture.texCoord) + "; foton reads TEXCOORD_0");
-            f.emission_map = image(gm.emissiveTexture.index, where);
-            f.emission_uv = uv_map(gm.emissiveTexture.extensions);
-        }
+        texture(gm.emissiveTexture, "emissiveTexture", false, f.emission_map, f.emission_uv);
         try {
             gltf_alpha_mode(gm, f);
             gltf_material_extensions(gm, f, out_.notes, path_ + ": " + where);

@@ -170,16 +170,31 @@ auto hair_sum(const HairFiber& h, const Derived& d, const Vec3& wo, const Vec3& 
     return sum;
 }
 
+// What depends on the fibre and wo alone, made once per evaluation or sample.
+struct FibreAt {
+    const HairFiber& h;
+    Derived d;
+    float sin_o, cos_o;
+    Refraction r;
+    FibreAt(const HairFiber& fibre, const Vec3& wo)
+        : h(fibre),
+          d(fibre),
+          sin_o(std::clamp(wo.x, -1.f, 1.f)),
+          cos_o(safe_sqrt(1.f - sin_o * sin_o)),
+          r(fibre, sin_o, cos_o) {}
+    RGB f(const Vec3& wo, const Vec3& wi) const {
+        RGB v = hair_sum(h, d, wo, wi, r, [&](int p) { return r.ap[std::size_t(p)]; });
+        return std::fabs(wi.z) > 0.f ? v * (1.f / std::fabs(wi.z)) : v;
+    }
+    float pdf(const std::array<float, kPMax + 1>& ap, const Vec3& wo, const Vec3& wi) const {
+        return hair_sum(h, d, wo, wi, r, [&](int p) { return ap[std::size_t(p)]; });
+    }
+};
+
 }  // namespace
 
 RGB hair_f(const Lobe& l, const Vec3& wo, const Vec3& wi) {
-    const HairFiber& h = l.hair;
-    const Derived d(h);
-    const float sin_o = std::clamp(wo.x, -1.f, 1.f), cos_o = safe_sqrt(1.f - sin_o * sin_o);
-    const Refraction r(h, sin_o, cos_o);
-    RGB f = hair_sum(h, d, wo, wi, r, [&](int p) { return r.ap[std::size_t(p)]; });
-    if (std::fabs(wi.z) > 0.f) f *= 1.f / std::fabs(wi.z);
-    return f * l.color;
+    return FibreAt(l.hair, wo).f(wo, wi) * l.color;
 }
 
 RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi) {
@@ -193,19 +208,16 @@ RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi) {
 }
 
 float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi) {
-    const HairFiber& h = l.hair;
-    const Derived d(h);
-    const float sin_o = std::clamp(wo.x, -1.f, 1.f), cos_o = safe_sqrt(1.f - sin_o * sin_o);
-    const Refraction r(h, sin_o, cos_o);
-    const auto ap = r.pdf();
-    return hair_sum(h, d, wo, wi, r, [&](int p) { return ap[std::size_t(p)]; });
+    const FibreAt at(l.hair, wo);
+    return at.pdf(at.r.pdf(), wo, wi);
 }
 
 bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s, Transport mode) {
-    const HairFiber& h = l.hair;
-    const Derived d(h);
-    const float sin_o = std::clamp(wo.x, -1.f, 1.f), cos_o = safe_sqrt(1.f - sin_o * sin_o);
-    const Refraction r(h, sin_o, cos_o);
+    const FibreAt at(l.hair, wo);
+    const HairFiber& h = at.h;
+    const Derived& d = at.d;
+    const Refraction& r = at.r;
+    const float sin_o = at.sin_o, cos_o = at.cos_o;
     const auto ap = r.pdf();
     // Pick p by the attenuations; uc is reused for the azimuth, rescaled within p's share.
     int p = 0;
@@ -225,9 +237,9 @@ bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& 
                   : 2.f * kPi * uc;
     const float phi_i = std::atan2(wo.z, wo.y) + dphi;
     s.wi = {sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)};
-    s.pdf = hair_pdf(l, wo, s.wi);
+    s.pdf = at.pdf(ap, wo, s.wi);
     // Importance flows the other way: the adjoint (the fibre is not reciprocal).
-    s.f = mode == Transport::Importance ? hair_adjoint_f(l, wo, s.wi) : hair_f(l, wo, s.wi);
+    s.f = mode == Transport::Importance ? hair_adjoint_f(l, wo, s.wi) : at.f(wo, s.wi) * l.color;
     // The side it went to, as the integrators read a sample (a reflection stays on wo's side
     // of the surface, a transmission crosses it).
     s.flags = kGlossy | (s.wi.z * wo.z > 0.f ? kReflection : kTransmission);

@@ -125,6 +125,20 @@ uint32_t file_image(Scene& scene, const MeshFile& file, std::map<std::string, ui
     return images[key] = uint32_t(scene.texture_images.size() - 1);
 }
 
+// An image texture of the material (its image decoded once through file_image) read through
+// `uv` and scaled by `scale`, added to Scene::textures; returns its index.
+int32_t image_texture(Scene& scene, const MeshFile& file, std::map<std::string, uint32_t>& images,
+                      const std::string& name, bool linear, const UvMap& uv,
+                      const RGB& scale = RGB{1.f}) {
+    Texture tx;
+    tx.kind = TextureKind::Image;
+    tx.image = file_image(scene, file, images, name, linear);
+    tx.uv = uv;
+    tx.scale = scale;
+    scene.textures.push_back(tx);
+    return int32_t(scene.textures.size() - 1);
+}
+
 // The lobes of a file's non-glass material: a Lambert of the diffuse colour, MTL's Phong
 // highlight or mirror, glTF's metal (a conductor of the base colour's reflectance, GGX of alpha
 // = roughness^2), its dielectric reflection and its transmission. With glTF's
@@ -134,13 +148,9 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
                        std::map<std::string, uint32_t>& images, Material& m) {
     int32_t mr = -1;
     if (!f.metallic_roughness_map.empty()) {
-        Texture tx;
-        tx.kind = TextureKind::Image;
-        tx.image = file_image(scene, file, images, f.metallic_roughness_map, true);
-        tx.uv = f.metallic_roughness_uv;
-        tx.scale = RGB{1.f, f.roughness, f.metallic};  // glTF: factors times the channels
-        scene.textures.push_back(tx);
-        mr = int32_t(scene.textures.size() - 1);
+        // glTF: the factors times the channels.
+        mr = image_texture(scene, file, images, f.metallic_roughness_map, true,
+                           f.metallic_roughness_uv, RGB{1.f, f.roughness, f.metallic});
     }
     auto param = [&](LobeParam target, uint8_t channel, Material::Remap remap) {
         if (mr < 0) return;
@@ -175,21 +185,11 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     m.bsdf.add(Lobe::lambert(kd));
     param(LobeParam::WeightComplement, 3, Material::Remap::None);
     if (!f.diffuse_map.empty()) {
-        Texture tx;
-        tx.kind = TextureKind::Image;
-        tx.image = file_image(scene, file, images, f.diffuse_map, false);
-        tx.uv = f.diffuse_uv;
-        scene.textures.push_back(tx);
-        m.texture = int32_t(scene.textures.size() - 1);
+        m.texture = image_texture(scene, file, images, f.diffuse_map, false, f.diffuse_uv);
         m.textured_lobes = 1;  // the Lambert lobe, added first
     }
     if (!f.normal_map.empty()) {
-        Texture tx;
-        tx.kind = TextureKind::Image;
-        tx.image = file_image(scene, file, images, f.normal_map, true);
-        tx.uv = f.normal_uv;
-        scene.textures.push_back(tx);
-        m.normal_map = int32_t(scene.textures.size() - 1);
+        m.normal_map = image_texture(scene, file, images, f.normal_map, true, f.normal_uv);
     }
     if (f.mirror && !ks.is_black()) {
         m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
@@ -231,12 +231,8 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
     m.emission = f.emission;
     if (!f.emission_map.empty()) {
         if (!f.emission_given && m.emission.is_black()) m.emission = RGB{1.f};
-        Texture tx;
-        tx.kind = TextureKind::Image;
-        tx.image = file_image(scene, file, images, f.emission_map, false);
-        tx.uv = f.emission_uv;
-        scene.textures.push_back(tx);
-        m.emission_texture = int32_t(scene.textures.size() - 1);
+        m.emission_texture =
+            image_texture(scene, file, images, f.emission_map, false, f.emission_uv);
     }
     if (f.alpha < 1.f || !f.alpha_map.empty()) {
         m.alpha = f.alpha;
@@ -246,14 +242,10 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
             // an alpha channel; MTL's map_d is a linear float image.
             const bool colour = f.alpha_map == f.diffuse_map;
             const uint32_t im = file_image(scene, file, images, f.alpha_map, !colour);
-            if (!colour || !scene.texture_images[im].alpha.empty()) {
-                Texture tx;
-                tx.kind = TextureKind::Image;
-                tx.image = im;
-                if (colour) tx.uv = f.diffuse_uv;  // glTF: the base colour texture's alpha
-                scene.textures.push_back(tx);
-                m.alpha_texture = int32_t(scene.textures.size() - 1);
-            }
+            // (file_image decodes once: the texture reuses that image.)
+            if (!colour || !scene.texture_images[im].alpha.empty())
+                m.alpha_texture = image_texture(scene, file, images, f.alpha_map, !colour,
+                                                colour ? f.diffuse_uv : UvMap{});
         }
     }
     m.ior = f.ior;
