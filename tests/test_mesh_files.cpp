@@ -266,6 +266,43 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     CHECK(worst < 0.02);
 }
 
+TEST_CASE("glTF: KHR_materials_specular weights and tints the dielectric reflection",
+          "[gltf][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    SECTION("specularFactor 0: a Lambert of the base colour, nothing taken for a reflection") {
+        write_gltf(dir, R"(, "extensions": {"KHR_materials_specular": {"specularFactor": 0}})");
+        write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+        const Scene s = load_scene(dir.file("s.xml"));
+        const TextureImage& img = s.texture_images[0];
+        const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+            return x < 0.5f ? img.bilinear({x, y}) * 0.96f + RGB{0.01f} : RGB{0.2f, 0.4f, 0.6f};
+        });
+        INFO("worst pixel difference " << worst);
+        CHECK(worst < 0.02);
+    }
+    SECTION("half strength and a tint: Schlick from F0 = 0.04 x tint, the diffuse keeps the rest") {
+        write_gltf(dir, R"(, "extensions": {"KHR_materials_specular":
+            {"specularFactor": 0.5, "specularColorFactor": [2, 1, 0.5]}})");
+        write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+        const Scene s = load_scene(dir.file("s.xml"));
+        const TextureImage& img = s.texture_images[0];
+        // Head-on, alpha 1: the reflection is weight x F0 / 4 = (0.01, 0.005, 0.0025); the
+        // Lambert keeps 1 - 0.5 x max(F0) = 0.96 of the colour.
+        const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+            return x < 0.5f ? img.bilinear({x, y}) * 0.96f + RGB{0.01f}
+                            : RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f, 0.005f, 0.0025f};
+        });
+        INFO("worst pixel difference " << worst);
+        CHECK(worst < 0.003);
+    }
+    SECTION("out-of-range factors are errors naming the material") {
+        write_gltf(dir, R"(, "extensions": {"KHR_materials_specular": {"specularFactor": 2}})");
+        CHECK_THROWS_WITH(load_gltf(dir.file("quad.gltf")),
+                          Catch::Contains("specularFactor must be in [0, 1]"));
+    }
+}
+
 TEST_CASE("glTF and MTL: normal maps are read linearly and set the material's map",
           "[gltf][obj][normal_map][mesh-file][fast]") {
     test::TempDir dir;

@@ -80,6 +80,34 @@ void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const A
         gltf_light(g, it->second.Get("light").GetNumberAsInt(), xf, out.lights, out.notes, where);
 }
 
+namespace {
+
+// KHR_materials_specular's factors: the dielectric reflection's weight and F0 tint.
+void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::string>& notes,
+                   const std::string& where) {
+    if (v.Has("specularFactor")) {
+        f.dielectric_weight = float(v.Get("specularFactor").GetNumberAsDouble());
+        if (!(f.dielectric_weight >= 0.f && f.dielectric_weight <= 1.f))
+            throw std::invalid_argument("specularFactor must be in [0, 1]");
+    }
+    if (v.Has("specularColorFactor")) {
+        const tinygltf::Value& c = v.Get("specularColorFactor");
+        if (!c.IsArray() || c.ArrayLen() != 3)
+            throw std::invalid_argument("specularColorFactor must be 3 numbers");
+        float rgb[3];
+        for (int i = 0; i < 3; ++i) {
+            rgb[i] = float(c.Get(i).GetNumberAsDouble());
+            if (!(rgb[i] >= 0.f && std::isfinite(rgb[i])))
+                throw std::invalid_argument("specularColorFactor must be finite, not negative");
+        }
+        f.dielectric_tint = RGB{rgb[0], rgb[1], rgb[2]};
+    }
+    for (const char* tex : {"specularTexture", "specularColorTexture"})
+        if (v.Has(tex)) notes.push_back(where + ": KHR_materials_specular " + tex + " ignored");
+}
+
+}  // namespace
+
 void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
                               std::vector<std::string>& notes, const std::string& where) {
     if (const auto it = gm.extensions.find("KHR_materials_transmission");
@@ -96,9 +124,11 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
         f.ior = float(it->second.Get("ior").GetNumberAsDouble());
         if (!(f.ior >= 1.f && f.ior < 10.f)) throw std::invalid_argument("ior must be in [1, 10)");
     }
+    if (const auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
+        gltf_specular(it->second, f, notes, where);
     for (const auto& [ext, value] : gm.extensions)
         if (ext != "KHR_materials_emissive_strength" && ext != "KHR_materials_transmission" &&
-            ext != "KHR_materials_ior")
+            ext != "KHR_materials_ior" && ext != "KHR_materials_specular")
             notes.push_back(where + ": extension " + ext + " ignored");
 }
 

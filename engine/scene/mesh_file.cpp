@@ -172,7 +172,14 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     Fresnel glass;
     glass.kind = FresnelKind::Dielectric;
     glass.ior = f.ior;
-    const float f0 = (f.ior - 1.f) * (f.ior - 1.f) / ((f.ior + 1.f) * (f.ior + 1.f));
+    const float f0_ior = (f.ior - 1.f) * (f.ior - 1.f) / ((f.ior + 1.f) * (f.ior + 1.f));
+    const RGB t = f.dielectric_tint;
+    const RGB f0_tinted{std::min(t.r * f0_ior, 1.f), std::min(t.g * f0_ior, 1.f),
+                        std::min(t.b * f0_ior, 1.f)};
+    const bool tinted = t.r != 1.f || t.g != 1.f || t.b != 1.f;
+    if (tinted) glass = Fresnel::schlick(f0_tinted);
+    // The diffuse base keeps what the reflection leaves at normal incidence.
+    const float f0 = f.dielectric_weight * f0_tinted.max_component();
     // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
     RGB kd = f.diffuse * (dielectric * (1.f - trans) * (f.dielectric_specular ? 1.f - f0 : 1.f));
     RGB ks = f.specular;
@@ -196,8 +203,8 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     } else if (!ks.is_black() && f.exponent > 0.f) {
         m.bsdf.add(Lobe::phong(ks, f.exponent));
     }
-    if (f.dielectric_specular && trans < 1.f && dielectric > 0.f) {
-        const RGB w{dielectric * (1.f - trans)};
+    if (f.dielectric_specular && trans < 1.f && dielectric > 0.f && f.dielectric_weight > 0.f) {
+        const RGB w{dielectric * (1.f - trans) * f.dielectric_weight};
         m.bsdf.add(smooth ? Lobe::mirror(w, glass) : Lobe::microfacet(w, ggx, glass));
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
         alpha_param();

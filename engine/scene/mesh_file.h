@@ -35,6 +35,10 @@ struct FileMaterial {
     std::string metallic_roughness_map;
     // glTF's dielectric: a GGX reflection of Fresnel index `ior` beside the diffuse part.
     bool dielectric_specular = false;
+    // KHR_materials_specular: the reflection's strength and its normal-incidence tint (with a
+    // tint, Schlick's Fresnel from min(F0(ior) x tint, 1), as the extension defines it).
+    float dielectric_weight = 1.f;
+    RGB dielectric_tint{1.f};
     bool mirror = false;       // MTL illum 3, 5
     bool glass = false;        // MTL illum 4, 6, 7, 9
     float ior = 1.5f;          // MTL Ni, glTF KHR_materials_ior
