@@ -140,3 +140,26 @@ TEST_CASE("glTF: an embedded image whose header claims 16384^2 is refused before
     CHECK_THAT(load_error(dir.file("img.gltf")),
                Catch::Contains("img.gltf") && Catch::Contains("16384x16384"));
 }
+
+TEST_CASE("glTF: an image file outside the model's folder or missing is an error saying why",
+          "[gltf][security][fast]") {
+    test::TempDir dir;
+    std::filesystem::create_directories(dir.path() / "model");
+    std::ofstream(dir.file("outside.png"), std::ios::binary) << "not read";
+    auto error_for = [&](const std::string& uri) {
+        const std::string image = R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture":
+            {"index": 0}}}], "textures": [{"source": 0}], "images": [{"uri": ")" +
+                                  uri + "\"}]";
+        // The triangle wears the material, so its texture is read.
+        std::string text = gltf(embedded_triangle(), R"([{"mesh": 0}])", image);
+        const std::string prim = R"({"POSITION": 0})";
+        text.replace(text.find(prim), prim.size(), prim + R"(, "material": 0)");
+        std::ofstream(dir.file("model/m.gltf")) << text;
+        return load_error(dir.file("model/m.gltf"));
+    };
+    CHECK_THAT(error_for("../outside.png"),
+               Catch::Contains("m.gltf") && Catch::Contains("'../outside.png' could not be read") &&
+                   Catch::Contains("outside the model's folder"));
+    CHECK_THAT(error_for("nothing.png"), Catch::Contains("'nothing.png' could not be read") &&
+                                             Catch::Contains("File not found"));
+}

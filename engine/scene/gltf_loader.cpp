@@ -20,8 +20,9 @@ namespace {
 
 class GltfReader {
   public:
-    GltfReader(const tinygltf::Model& model, std::string path)
-        : g_(model), path_(std::move(path)) {}
+    // `load_warnings`: tinygltf's, which say why an external image could not be read.
+    GltfReader(const tinygltf::Model& model, std::string path, std::string load_warnings)
+        : g_(model), path_(std::move(path)), load_warnings_(std::move(load_warnings)) {}
 
     [[noreturn]] void fail(const std::string& where, const std::string& what) const {
         throw InputError(path_, 0, where + ": " + what);
@@ -270,6 +271,9 @@ class GltfReader {
         const std::string key = path_ + "#image" + std::to_string(src) + (linear ? "#linear" : "");
         if (out_.embedded_images.count(key)) return key;
         const tinygltf::Image& im = g_.images[std::size_t(src)];
+        if (im.image.empty() && !im.uri.empty() && im.uri.rfind("data:", 0) != 0)
+            fail(where + ", image " + std::to_string(src),
+                 gltf_unread_image_reason(load_warnings_, im.uri));
         try {
             out_.embedded_images[key] =
                 gltf_decode_image(im, im.uri.empty() ? key : im.uri, linear);
@@ -334,6 +338,7 @@ class GltfReader {
     static constexpr uint64_t kMaxPlacedTriangles = uint64_t(1) << 26;
     const tinygltf::Model& g_;
     std::string path_;
+    std::string load_warnings_;
     MeshFile out_;
     std::map<int, int> materials_;
     uint64_t visits_ = 0, placed_triangles_ = 0;
@@ -365,7 +370,7 @@ MeshFile parse_gltf(const std::string& bytes, const std::string& name, const std
         throw InputError(name, 0,
                          "malformed glTF: " + (err.empty() ? std::string("unreadable") : err));
     }
-    GltfReader reader(model, name);
+    GltfReader reader(model, name, warn);
     MeshFile out = reader.run();
     if (!warn.empty()) out.notes.push_back(name + ": " + warn);
     return out;

@@ -228,4 +228,18 @@ TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& nam
     return out;
 }
 
+std::string gltf_unread_image_reason(const std::string& load_warnings, const std::string& uri) {
+    std::size_t at = 0;
+    while (at < load_warnings.size()) {
+        std::size_t end = load_warnings.find('\n', at);
+        if (end == std::string::npos) end = load_warnings.size();
+        const std::string line = load_warnings.substr(at, end - at);
+        if (line.find(uri) != std::string::npos &&
+            (line.rfind("File read error", 0) == 0 || line.rfind("File not found", 0) == 0))
+            return "'" + uri + "' could not be read (" + line + ")";
+        at = end + 1;
+    }
+    return "'" + uri + "' could not be read";
+}
+
 }  // namespace foton

@@ -59,4 +59,8 @@ UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
 // is 1 everywhere. `name` is kept as its path.
 TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& name, bool linear);
 
+// Why the external image `uri` was not read, from tinygltf's load warnings (the line naming it:
+// missing, outside the model's folder, unreadable), else a plain statement.
+std::string gltf_unread_image_reason(const std::string& load_warnings, const std::string& uri);
+
 }  // namespace foton
