@@ -392,7 +392,7 @@ TEST_CASE(
             R"({"scale": [0.5, 1, 1], "mesh": 0})",
             R"({"scale": [0.5, 1, 1], "mesh": 0}, {"translation": [0.5, 0.5, 3], "camera": 0})");
         replace(R"("asset")", R"("cameras": [{"type": "perspective",
-            "perspective": {"yfov": 0.5235988, "znear": 0.01}}], "asset")");
+            "perspective": {"yfov": 0.5235988, "aspectRatio": 2, "znear": 0.01}}], "asset")");
     }
     const MeshFile f = load_gltf(dir.file("quad.gltf"));
     REQUIRE(f.view);
@@ -404,6 +404,13 @@ TEST_CASE(
     CHECK(s.camera.eye.x == Approx(0.5f));
     CHECK(s.camera.eye.z == Approx(3.f));
     CHECK(s.camera.vertical_fov_degrees() == Approx(30.f).epsilon(1e-3));
+    // At the file's aspect ratio; another size (--width, --height) keeps the vertical field
+    // of view the file gives (a scene's own camera keeps its horizontal one).
+    CHECK(s.film.width == 640);
+    CHECK(s.film.height == 320);
+    Scene resized = load_scene(dir.file("quad.gltf"));
+    resized.set_resolution(300, 100);
+    CHECK(resized.camera.vertical_fov_degrees() == Approx(30.f).epsilon(1e-3));
     // The flat material: 0.25 of its base colour diffuse (less the reflection's F0 of 1.33,
     // 0.0201) beside that share's GGX reflection, a dielectric of 1.33 for the rest.
     REQUIRE(f.materials[1].transmission == Approx(0.75f));

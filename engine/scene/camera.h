@@ -22,6 +22,7 @@ enum class CameraType { Perspective, Orthographic, Equirectangular, Fisheye };
 struct ModelView {
     Vec3 eye, target, up;
     float vertical_fov_degrees = 40.f;
+    float aspect = 0.f;  // width / height the file asks for (glTF's aspectRatio); 0: none
 };
 const char* camera_type_name(CameraType t);
 

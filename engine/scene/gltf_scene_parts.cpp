@@ -26,6 +26,8 @@ std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affi
     v.target = v.eye + normalize(xf.vector({0.f, 0.f, -1.f}));
     v.up = normalize(xf.vector({0.f, 1.f, 0.f}));
     v.vertical_fov_degrees = float(yfov);
+    if (gc.perspective.aspectRatio > 0.0 && gc.perspective.aspectRatio < 100.0)
+        v.aspect = float(gc.perspective.aspectRatio);
     return v;
 }
 

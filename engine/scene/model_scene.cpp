@@ -74,6 +74,10 @@ Scene model_scene(const std::string& path, const RendererOverrides& overrides) {
     if (s.model_view) {
         // The file's own camera.
         const ModelView& v = *s.model_view;
+        // The file's aspect ratio, 640 pixels wide (--width and --height apply after this,
+        // keeping the file's vertical field of view).
+        if (v.aspect > 0.f) s.set_resolution(640, std::max(1, int(std::lround(640.f / v.aspect))));
+        s.vertical_fov_fixed = true;
         s.camera.eye = v.eye;
         s.camera.target = v.target;
         s.camera.up = v.up;

@@ -233,10 +233,11 @@ const Material& Scene::textured(const Material& m, Point2 uv,
 void Scene::set_resolution(int width, int height) {
     // Keep the view plane's extent: the field of view does not change with resolution.
     const float view_w = film.pixel_size * float(film.width);
+    const float view_h = film.pixel_size * float(film.height);
     film.width = film.full_width = width;
     film.height = film.full_height = height;
     film.x0 = film.y0 = 0;
-    film.pixel_size = view_w / float(width);
+    film.pixel_size = vertical_fov_fixed ? view_h / float(height) : view_w / float(width);
     camera.width = width;
     camera.height = height;
     camera.crop(0, 0, width, height);

@@ -177,8 +177,11 @@ struct Scene {
     Bounds3 object_bounds(uint32_t geom) const;
     std::size_t memory_bytes() const;
     std::string summary() const;  // foton info (the scene; the renderer's line is the app's)
-    // Applies film/camera consistency after width/height changes.
+    // Applies film/camera consistency after width/height changes: the view plane keeps its
+    // width (its height when vertical_fov_fixed), so the field of view does not change.
     void set_resolution(int width, int height);
+    // The camera's vertical field of view is the given one (a glTF camera's yfov).
+    bool vertical_fov_fixed = false;
     // Renders only pixels [x0, x1) x [y0, y1) of the image (after set_resolution).
     void set_crop(int x0, int x1, int y0, int y1);
 };
