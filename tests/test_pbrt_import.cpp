@@ -746,3 +746,57 @@ Shape "sphere" "float radius" 1
     CHECK(mean.g == Approx(std::exp(-1.f)).epsilon(0.01));
     CHECK(mean.b == Approx(std::exp(-2.f)).epsilon(0.01));
 }
+
+TEST_CASE("pbrt-v4: a mix's texture amount weighs its two materials per hit", "[pbrt][texture]") {
+    test::TempDir dir;
+    // Irradiance pi on a unit quad seen head-on: each pixel's radiance is its albedo. The
+    // amount is a float checkerboard of 0 and 0.25 in 2 x 2 cells over the quad.
+    std::ofstream(dir.file("mix.pbrt"))
+        << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
+           "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+           "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\n"
+           "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
+           "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
+           "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
+           "Texture \"amount\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2 "
+           "\"float tex1\" 0 \"float tex2\" 0.25\n"
+           "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.1 "
+           "0.1]\n"
+           "MakeNamedMaterial \"blue\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" "
+           "[0.1 0.1 0.8] \"float roughness\" 0.3\n"
+           "Material \"mix\" \"string materials\" [\"red\" \"blue\"] \"texture amount\" "
+           "\"amount\"\n"
+           "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+           "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n";
+    const Scene s = load_scene(dir.file("mix.pbrt"));
+    const Material& m = s.materials[s.objects.at(0).material];
+    REQUIRE(m.bsdf.size() == 2);
+    REQUIRE(m.num_float_params == 2);
+    std::optional<Material> scratch;
+    // Cell (0, 0): amount 0, the red Lambert alone; cell (1, 0): amount 0.25.
+    const Material& a = s.textured(m, {0.25f, 0.25f}, scratch);
+    CHECK(a.bsdf.lobe(0).color.r == Approx(0.8f));
+    CHECK(a.bsdf.lobe(1).coat.weight == Approx(0.f).margin(1e-6));
+    std::optional<Material> scratch2;
+    const Material& b = s.textured(m, {0.75f, 0.25f}, scratch2);
+    CHECK(b.bsdf.lobe(0).color.r == Approx(0.8f * 0.75f).epsilon(1e-4));
+    CHECK(b.bsdf.lobe(1).coat.weight == Approx(0.25f).epsilon(1e-4));
+    // Rendered: the red cells are the red albedo; the others three quarters of it and a
+    // quarter of the coated blue (whose albedo is below its reflectance's 0.8 in blue).
+    TestScene ts(load_scene(dir.file("mix.pbrt")));
+    const auto acc = make_intersector(ts, ts.accel);
+    RenderOptions opt = ts.render.run;
+    opt.spp = 64;
+    const Film f = render(ts, ts.render, *acc, opt).film;
+    auto px = [&](int x, int y) { return f.pixels[std::size_t(y) * 64 + std::size_t(x)]; };
+    // Image rows run down and v up: pixel (16, 48) is in cell (0, 0).
+    for (const auto& [x, y] : {std::pair{16, 48}, std::pair{48, 16}}) {
+        CHECK(px(x, y).r == Approx(0.8f).epsilon(0.02));
+        CHECK(px(x, y).b == Approx(0.1f).epsilon(0.02));
+    }
+    for (const auto& [x, y] : {std::pair{48, 48}, std::pair{16, 16}}) {
+        CHECK(px(x, y).r == Approx(0.6f).margin(0.03));  // 0.75 x 0.8 + a little red of the coat
+        CHECK(px(x, y).b > 0.075f + 0.1f);               // a quarter of the blue's albedo added
+        CHECK(px(x, y).b < 0.075f + 0.25f * 0.8f + 0.02f);
+    }
+}

@@ -157,13 +157,16 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         const Param* q = p.find("materials");
         if (!q || q->type != "string" || q->strings.size() != 2)
             fail(t, "mix needs \"string materials\" with two named materials");
-        const float amount = float_value(p, "amount", 0.5f);
+        // A texture amount weighs the two materials' lobes per hit (1 - v and v: pbrt-v4
+        // picks one of them with those probabilities, the same expected image).
+        int32_t amount_texture = -1;
+        const float amount = float_value(p, "amount", 0.5f, amount_texture);
         if (!(amount >= 0.f && amount <= 1.f)) fail(t, "mix amount must be in [0, 1]");
         for (int i = 0; i < 2; ++i) {
             const auto it = named_materials_.find(q->strings[std::size_t(i)]);
             if (it == named_materials_.end())
                 fail(t, "unknown named material '" + q->strings[std::size_t(i)] + "'");
-            const float w = i == 0 ? 1.f - amount : amount;
+            const float w = amount_texture >= 0 ? 1.f : i == 0 ? 1.f - amount : amount;
             const Material& sub = materials_[it->second];
             if (sub.is_interface) fail(t, "mix: an interface material cannot be mixed");
             if (sub.texture >= 0) {
@@ -190,10 +193,18 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             }
             Bsdf b = sub.bsdf;
             b.scale(w);
-            for (int l = 0; l < b.size(); ++l)
+            for (int l = 0; l < b.size(); ++l) {
                 if (!m.bsdf.add(b.lobe(l)))
                     fail(t, "a mix may hold at most " + std::to_string(Bsdf::kMaxLobes) + " lobes");
-            m.base_color += materials_[it->second].base_color * w;
+                const Material::FloatParam share{
+                    amount_texture, uint8_t(m.bsdf.size() - 1),
+                    i == 0 ? LobeParam::WeightComplement : LobeParam::Weight, Material::Remap::None,
+                    0};
+                if (amount_texture >= 0 && !m.add_float_param(share))
+                    fail(t, "mix: too many textured parameters");
+            }
+            // (With a texture amount, the base colour takes the two halves.)
+            m.base_color += materials_[it->second].base_color * (amount_texture >= 0 ? 0.5f : w);
         }
         m.c_diffuse = 1.f;
     } else if (type == "hair") {
