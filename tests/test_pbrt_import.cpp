@@ -800,3 +800,42 @@ TEST_CASE("pbrt-v4: a mix's texture amount weighs its two materials per hit", "[
         CHECK(px(x, y).b < 0.075f + 0.25f * 0.8f + 0.02f);
     }
 }
+
+TEST_CASE("pbrt-v4: mix textures lerp their operands by a float amount", "[pbrt][texture][fast]") {
+    const Scene s = world("", R"(
+        Texture "amount" "float" "checkerboard" "float uscale" 2 "float vscale" 2
+            "float tex1" 0.25 "float tex2" 1
+        Texture "stripes" "spectrum" "checkerboard" "float uscale" 4 "float vscale" 1
+            "rgb tex1" [0 0 1] "rgb tex2" [0 1 0]
+        Texture "colour" "spectrum" "mix" "rgb tex1" [1 0 0] "texture tex2" "stripes"
+            "texture amount" "amount"
+        Texture "bump" "float" "mix" "texture amount" "amount" "float tex1" 0 "float tex2" 0.01
+        Texture "still" "spectrum" "mix" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1] "float amount" 0.25
+        Texture "scaled" "spectrum" "scale" "texture tex" "colour" "float scale" 2
+        Material "diffuse" "texture reflectance" "scaled" "texture displacement" "bump"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "still"
+        Shape "sphere"
+    )");
+    const Material& m = s.materials[s.objects.at(0).material];
+    REQUIRE(m.texture >= 0);
+    REQUIRE(m.bump >= 0);
+    const Texture& colour = s.textures[std::size_t(m.texture)];
+    // (0.1, 0.1): amount 0.25, stripes blue; (0.6, 0.1): amount 1, stripes blue; (0.4, 0.1):
+    // amount 0.25, stripes green. Times the scale texture's 2.
+    const RGB a = colour.eval(s.texture_images, {0.1f, 0.1f});
+    CHECK(a.r == Approx(2.f * 0.75f));
+    CHECK(a.b == Approx(2.f * 0.25f));
+    const RGB b = colour.eval(s.texture_images, {0.6f, 0.1f});
+    CHECK(b.r == Approx(0.f).margin(1e-6));
+    CHECK(b.b == Approx(2.f));
+    CHECK(colour.eval(s.texture_images, {0.4f, 0.1f}).g == Approx(2.f * 0.25f));
+    const Texture& bump = s.textures[std::size_t(m.bump)];
+    CHECK(bump.eval_float(s.texture_images, {0.1f, 0.1f}) == Approx(0.0025f));
+    CHECK(bump.eval_float(s.texture_images, {0.6f, 0.1f}) == Approx(0.01f));
+    // Constant operands fold into a constant reflectance.
+    const Material& still = s.materials[s.objects.at(1).material];
+    CHECK(still.texture < 0);
+    CHECK(still.bsdf.lobe(0).color.r == Approx(0.75f));
+    CHECK(still.bsdf.lobe(0).color.b == Approx(0.25f));
+}

@@ -75,6 +75,14 @@ float TextureImage::bilinear_alpha(Point2 uv) const {
 }
 
 float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
+    if (kind == TextureKind::Mix) {
+        // The operands as floats (an RGBA image's alpha, as for any float texture).
+        const float t = operands[2].eval_float(images, uv);
+        float v = (operands[0].eval_float(images, uv) * (1.f - t) +
+                   operands[1].eval_float(images, uv) * t) *
+                  scale.r;
+        return invert ? std::max(0.f, 1.f - v) : v;
+    }
     if (kind == TextureKind::Image && !images[image].alpha.empty()) {
         float a = images[image].bilinear_alpha(this->uv(uv)) * scale.r;
         return invert ? std::max(0.f, 1.f - a) : a;
@@ -87,6 +95,11 @@ RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
     const Point2 st = this->uv(uv);
     RGB c = value;
     switch (kind) {
+        case TextureKind::Mix: {
+            const float t = operands[2].eval_float(images, uv);
+            c = operands[0].eval(images, uv) * (1.f - t) + operands[1].eval(images, uv) * t;
+            break;
+        }
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
@@ -109,6 +122,12 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         c = sum * (1.f / float(images[image].texels.size()));
     } else if (kind == TextureKind::Checkerboard) {
         c = (value + other) * 0.5f;
+    } else if (kind == TextureKind::Mix) {
+        // The operands' means mixed by the amount's (exact when the amount is constant or
+        // independent of the operands).
+        const RGB a = operands[2].mean(images);
+        const float t = (a.r + a.g + a.b) * (1.f / 3.f);
+        c = operands[0].mean(images) * (1.f - t) + operands[1].mean(images) * t;
     }
     c *= scale;
     if (invert) c = {std::max(0.f, 1.f - c.r), std::max(0.f, 1.f - c.g), std::max(0.f, 1.f - c.b)};

@@ -92,6 +92,8 @@ class Importer {
     // The same, where a varying texture may stand: its Scene::textures index, or -1.
     RGB reflectance(const ParamList& p, const std::string& name, RGB fallback,
                     const std::string& what, int32_t& texture);
+    // pbrt-v4's "mix" texture into `tex` (a constant when its operands are).
+    void mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
     // The Scene::texture_images index of an imagemap's file, decoded once per file.
     uint32_t image_texture(const Token& t, const ParamList& p);
     // An image file into Scene::texture_images (decoded once per file and encoding).

@@ -114,13 +114,60 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         st.uv.dv = p.real("vdelta", 0.f);
         scene_.textures.push_back(st);
         tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    } else if (type == "mix") {
+        mix_texture(t, p, tex);
     } else {
         fail(t, "texture type '" + type +
-                    "' is not supported (constant, scale, imagemap and checkerboard)");
+                    "' is not supported (constant, scale, mix, imagemap and checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
     count("Texture " + type);
+}
+
+namespace {
+
+// How deep a mix texture nests mixes (operands are copies: a chain of mixes grows the copy).
+int mix_depth(const Texture& tx) {
+    int d = 0;
+    for (const Texture& o : tx.operands) d = std::max(d, mix_depth(o));
+    return tx.kind == TextureKind::Mix ? d + 1 : d;
+}
+
+}  // namespace
+
+void Importer::mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
+    // pbrt-v4's defaults: tex1 0, tex2 1, amount 0.5.
+    bool varies = false;
+    auto operand = [&](const std::string& key, bool is_float, float fallback) {
+        Texture o;
+        if (const TextureDesc* d = texture_ref(p, key, is_float)) {
+            if (d->scene_texture >= 0) {
+                varies = true;
+                return scene_.textures[std::size_t(d->scene_texture)];
+            }
+            o.value = d->value;
+        } else if (is_float) {
+            o.value = RGB{p.real(key, fallback)};
+        } else {
+            const auto c = p.color(key, false);
+            o.value = c ? *c : RGB{fallback};
+        }
+        return o;
+    };
+    Texture mix;
+    mix.kind = TextureKind::Mix;
+    mix.operands = {operand("tex1", tex.is_float, 0.f), operand("tex2", tex.is_float, 1.f),
+                    operand("amount", true, 0.5f)};
+    if (!varies) {
+        // Constants: the mixture is a constant.
+        const float a = mix.operands[2].value.r;
+        tex.value = mix.operands[0].value * (1.f - a) + mix.operands[1].value * a;
+        return;
+    }
+    if (mix_depth(mix) > 8) fail(t, "mix textures nest deeper than 8");
+    scene_.textures.push_back(std::move(mix));
+    tex.scene_texture = int32_t(scene_.textures.size() - 1);
 }
 
 uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
