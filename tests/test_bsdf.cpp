@@ -283,6 +283,54 @@ TEST_CASE("dielectric: reflection chosen with probability F, TIR, radiance vs im
     CHECK(w[1].r == Approx((1 - F) / 2.25f));
 }
 
+TEST_CASE("thin dielectric: the slab's summed reflectance, light through undeviated", "[bsdf]") {
+    // Head-on the sum R0 + T0^2 R0 / (1 - R0^2) is 2 R0 / (1 + R0): 0.08 / 1.04 for glass.
+    CHECK(thin_dielectric_reflectance(1.f, 1.5f) == Approx(0.08f / 1.04f).epsilon(1e-5));
+    // Against the series summed term by term, at several angles.
+    for (float theta : {0.f, 30.f, 60.f, 85.f}) {
+        const float c = std::cos(theta * kPi / 180.f);
+        const double r0 = fresnel_dielectric(c, 1.f, 1.5f), t0 = 1.0 - r0;
+        double series = r0, bounce = t0 * t0 * r0;
+        for (int k = 0; k < 200; ++k, bounce *= r0 * r0) series += bounce;
+        CHECK(thin_dielectric_reflectance(c, 1.5f) == Approx(series).epsilon(1e-5));
+    }
+    const Lobe pane = Lobe::thin_dielectric(1.5f, RGB{1.f}, RGB{1.f});
+    CHECK(pane.is_delta());
+    for (bool front : {true, false}) {
+        const Vec3 wo = direction(40.f, 0.3f);
+        const float R = thin_dielectric_reflectance(wo.z, 1.5f);
+        const int n = 50000;
+        int reflected = 0;
+        for (int i = 0; i < n; ++i) {
+            BsdfSample s;
+            REQUIRE(lobe_sample(pane, wo, rng::uniform(11, 0, uint64_t(i), 0), {}, {front}, s));
+            // Every sample carries weight 1 (nothing absorbed) and no change of medium.
+            CHECK(s.f.r * std::fabs(s.wi.z) / s.pdf == Approx(1.f));
+            CHECK(s.eta == 1.f);
+            if (s.flags & kReflection) {
+                ++reflected;
+                CHECK(s.wi.z == Approx(wo.z));
+            } else {
+                CHECK(s.wi.x == Approx(-wo.x));
+                CHECK(s.wi.z == Approx(-wo.z));
+            }
+        }
+        const double sigma = std::sqrt(R * (1 - R) / n);
+        CHECK(double(reflected) / n == Approx(R).margin(5 * sigma));
+    }
+    // The Whitted tracer's two branches: R and 1 - R.
+    Bsdf b;
+    b.add(pane);
+    Vec3 dirs[4];
+    RGB w[4];
+    const Vec3 wo = direction(30.f, 0.f);
+    REQUIRE(b.specular_directions(wo, {true}, dirs, w, 4) == 2);
+    const float R = thin_dielectric_reflectance(wo.z, 1.5f);
+    CHECK(w[0].r == Approx(R));
+    CHECK(w[1].r == Approx(1.f - R));
+    CHECK(dirs[1].z == Approx(-wo.z));
+}
+
 TEST_CASE("conductor Fresnel: k = 0 is a dielectric, reflectance form, metals", "[bsdf]") {
     for (float c : {0.05f, 0.3f, 0.7f, 1.f}) {
         CHECK(fresnel_conductor(c, 1.5f, 0.f) ==

@@ -74,6 +74,7 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
                                                      : hair_f(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
+        case LobeType::ThinDielectric:
             return RGB{0.f};
     }
     return RGB{0.f};
@@ -106,6 +107,7 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             return hair_pdf(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
+        case LobeType::ThinDielectric:
             return 0.f;
     }
     return 0.f;
@@ -163,6 +165,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             return coated_sample(l, wo, uc, u, ctx, s);
         case LobeType::Hair:
             return hair_sample(l, wo, uc, u, s, ctx.mode);
+        case LobeType::ThinDielectric:
+            return thin_dielectric_sample(l, wo, uc, s);
         case LobeType::Mirror: {
             s.wi = mirror_dir(wo);
             const float c = std::fabs(s.wi.z);
@@ -355,7 +359,7 @@ int Bsdf::specular_directions(const Vec3& wo, const BsdfContext& ctx, Vec3* dirs
             // The smooth coat's mirror reflection (the whole stack's, when it is all specular).
             dirs[k] = mirror_dir(wo);
             weights[k++] = coated_mirror_weight(l, wo);
-        } else if (l.type == LobeType::Dielectric) {
+        } else if (l.type == LobeType::Dielectric || l.type == LobeType::ThinDielectric) {
             // Both branches: uc = 0 forces reflection, uc -> 1 refraction (unless TIR).
             BsdfSample r, t;
             if (lobe_sample(l, wo, 0.f, {}, ctx, r) && r.pdf > 0.f) {

@@ -65,6 +65,9 @@ enum class LobeType : uint8_t {
     Coated,               // a dielectric coat over a Lambertian or conductor base, evaluated by
                           // random walks through the layer (pbrt-v4's LayeredBxDF; coated.cpp)
     Hair,                 // Chiang et al. 2016's fibre scattering (pbrt-v4's hair; hair.cpp)
+    ThinDielectric,       // a thin slab (a window pane): specular reflection with the slab's
+                          // inter-reflections, transmission straight through (pbrt-v4's
+                          // thindielectric; thin_dielectric.cpp)
 };
 
 struct Lobe {
@@ -84,7 +87,7 @@ struct Lobe {
     bool anisotropic() const;
     bool is_delta() const {
         return type == LobeType::Mirror || type == LobeType::Dielectric ||
-               (type == LobeType::Coated && coat_is_delta());
+               type == LobeType::ThinDielectric || (type == LobeType::Coated && coat_is_delta());
     }
     // f and pdf are Monte Carlo estimates (a Coated lobe); a mixture holding one samples by
     // lobe selection (Bsdf::sample).
@@ -100,6 +103,8 @@ struct Lobe {
     static Lobe phong(const RGB& ks, float exponent);
     static Lobe mirror(const RGB& r, const Fresnel& f);
     static Lobe dielectric(float ior, const RGB& reflect, const RGB& transmit);
+    // A thin slab of index ior: light passes through undeviated or reflects.
+    static Lobe thin_dielectric(float ior, const RGB& reflect, const RGB& transmit);
     static Lobe microfacet(const RGB& tint, const MicrofacetDistribution& d, const Fresnel& f);
     // Diffuse transmission of tint t (paper, leaves, lamp shades).
     static Lobe lambert_transmission(const RGB& t);
@@ -263,6 +268,10 @@ RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
 float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi);
 bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s,
                  Transport mode = Transport::Radiance);
+// A ThinDielectric lobe (thin_dielectric.cpp): the slab's reflectance R at |cos theta| (the
+// interface's Fresnel R0 plus every inner reflection, T0^2 R0 / (1 - R0^2)); it transmits 1 - R.
+float thin_dielectric_reflectance(float cos_theta, float ior);
+bool thin_dielectric_sample(const Lobe& l, const Vec3& wo, float uc, BsdfSample& s);
 // A coated lobe's reflectance along the mirror direction of a smooth coat (the part f leaves
 // out as a delta): the coat's own Fresnel reflection, or, when the whole stack is specular,
 // every bounce between the coat and the mirror base in closed form.

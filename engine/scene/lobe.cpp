@@ -75,6 +75,7 @@ uint8_t Lobe::flags() const {
         case LobeType::Mirror:
             return kSpecular | kReflection;
         case LobeType::Dielectric:
+        case LobeType::ThinDielectric:
             return kSpecular | kReflection | kTransmission;
         case LobeType::RoughDielectric:
         case LobeType::Hair:  // a fibre scatters all round
@@ -138,6 +139,12 @@ Lobe Lobe::dielectric(float ior, const RGB& reflect, const RGB& transmit) {
     l.transmit = transmit;
     l.fresnel.kind = FresnelKind::Dielectric;
     l.fresnel.ior = ior;
+    return l;
+}
+
+Lobe Lobe::thin_dielectric(float ior, const RGB& reflect, const RGB& transmit) {
+    Lobe l = dielectric(ior, reflect, transmit);
+    l.type = LobeType::ThinDielectric;
     return l;
 }
 

@@ -86,7 +86,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             add_lobe(Lobe::mirror(RGB{1.f}, f));
         else
             add_lobe(Lobe::microfacet(RGB{1.f}, d, f));
-    } else if (type == "dielectric") {
+    } else if (type == "dielectric" || type == "thindielectric") {
         float eta = 1.5f;
         if (const Param* q = p.find("eta")) {
             if (q->type == "float") {
@@ -98,13 +98,18 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             }
         }
         if (!(eta > 0.f)) fail(t, what + ": eta must be positive");
-        bool smooth = true;
-        const MicrofacetDistribution d = distribution(smooth);
         m.ior = eta;
-        if (smooth)
-            add_lobe(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
-        else
-            add_lobe(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
+        if (type == "thindielectric") {
+            // A pane: smooth (pbrt-v4's has no roughness), light keeps its direction.
+            add_lobe(Lobe::thin_dielectric(eta, RGB{1.f}, RGB{1.f}));
+        } else {
+            bool smooth = true;
+            const MicrofacetDistribution d = distribution(smooth);
+            if (smooth)
+                add_lobe(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
+            else
+                add_lobe(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
+        }
     } else if (type == "diffusetransmission") {
         const float scale = p.real("scale", 1.f);
         if (!(scale >= 0.f)) fail(t, what + ": scale must not be negative");
@@ -245,7 +250,8 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         m.bsdf.add(Lobe::hair_fiber(h));
     } else {
         fail(t, "unsupported material '" + type +
-                    "' (diffuse, conductor, dielectric, diffusetransmission, coateddiffuse, "
+                    "' (diffuse, conductor, dielectric, thindielectric, diffusetransmission, "
+                    "coateddiffuse, "
                     "coatedconductor, hair, interface, mix)");
     }
     if (p.has("normalmap")) {
