@@ -537,10 +537,6 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
          "Material \"diffuse\" \"spectrum reflectance\" \"metal-Zz-eta\"" +
              shape,
          "test.pbrt:3: parameter 'spectrum reflectance': unknown named spectrum"},
-        {"WorldBegin\nTexture \"c\" \"float\" \"checkerboard\"\n"
-         "Texture \"s\" \"spectrum\" \"scale\" \"texture scale\" \"c\"" +
-             shape,
-         "test.pbrt:3: a varying texture on 'scale' is not supported"},
         {"WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"nope\"" + shape,
          "test.pbrt:2: unknown spectrum texture 'nope'"},
         {"WorldBegin", "the scene has no shapes"},
@@ -801,7 +797,8 @@ TEST_CASE("pbrt-v4: a mix's texture amount weighs its two materials per hit", "[
     }
 }
 
-TEST_CASE("pbrt-v4: mix textures lerp their operands by a float amount", "[pbrt][texture][fast]") {
+TEST_CASE("pbrt-v4: mix textures lerp their operands, scale textures multiply them",
+          "[pbrt][texture][fast]") {
     const Scene s = world("", R"(
         Texture "amount" "float" "checkerboard" "float uscale" 2 "float vscale" 2
             "float tex1" 0.25 "float tex2" 1
@@ -811,10 +808,16 @@ TEST_CASE("pbrt-v4: mix textures lerp their operands by a float amount", "[pbrt]
             "texture amount" "amount"
         Texture "bump" "float" "mix" "texture amount" "amount" "float tex1" 0 "float tex2" 0.01
         Texture "still" "spectrum" "mix" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1] "float amount" 0.25
+        Texture "dimmed" "spectrum" "scale" "texture tex" "stripes" "texture scale" "amount"
+        Texture "tinted" "spectrum" "scale" "rgb tex" [0.5 0.5 0.5] "texture scale" "amount"
         Texture "scaled" "spectrum" "scale" "texture tex" "colour" "float scale" 2
         Material "diffuse" "texture reflectance" "scaled" "texture displacement" "bump"
         Shape "sphere"
         Material "diffuse" "texture reflectance" "still"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "dimmed"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "tinted"
         Shape "sphere"
     )");
     const Material& m = s.materials[s.objects.at(0).material];
@@ -838,4 +841,13 @@ TEST_CASE("pbrt-v4: mix textures lerp their operands by a float amount", "[pbrt]
     CHECK(still.texture < 0);
     CHECK(still.bsdf.lobe(0).color.r == Approx(0.75f));
     CHECK(still.bsdf.lobe(0).color.b == Approx(0.25f));
+    // A scale texture whose scale varies: the product at each point (varying x varying and
+    // constant x varying).
+    const Texture& dimmed = s.textures[std::size_t(s.materials[s.objects.at(2).material].texture)];
+    CHECK(dimmed.eval(s.texture_images, {0.1f, 0.1f}).b == Approx(0.25f));
+    CHECK(dimmed.eval(s.texture_images, {0.4f, 0.1f}).g == Approx(0.25f));
+    CHECK(dimmed.eval(s.texture_images, {0.6f, 0.1f}).b == Approx(1.f));
+    const Texture& tinted = s.textures[std::size_t(s.materials[s.objects.at(3).material].texture)];
+    CHECK(tinted.eval(s.texture_images, {0.1f, 0.1f}).r == Approx(0.125f));
+    CHECK(tinted.eval(s.texture_images, {0.6f, 0.1f}).r == Approx(0.5f));
 }

@@ -75,6 +75,11 @@ float TextureImage::bilinear_alpha(Point2 uv) const {
 }
 
 float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
+    if (kind == TextureKind::Product) {
+        const float v =
+            operands[0].eval_float(images, uv) * operands[1].eval_float(images, uv) * scale.r;
+        return invert ? std::max(0.f, 1.f - v) : v;
+    }
     if (kind == TextureKind::Mix) {
         // The operands as floats (an RGBA image's alpha, as for any float texture).
         const float t = operands[2].eval_float(images, uv);
@@ -100,6 +105,9 @@ RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
             c = operands[0].eval(images, uv) * (1.f - t) + operands[1].eval(images, uv) * t;
             break;
         }
+        case TextureKind::Product:
+            c = operands[0].eval(images, uv) * operands[1].eval_float(images, uv);
+            break;
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
@@ -128,6 +136,10 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         const RGB a = operands[2].mean(images);
         const float t = (a.r + a.g + a.b) * (1.f / 3.f);
         c = operands[0].mean(images) * (1.f - t) + operands[1].mean(images) * t;
+    } else if (kind == TextureKind::Product) {
+        // Exact when the two are independent (different images or periods).
+        const RGB s = operands[1].mean(images);
+        c = operands[0].mean(images) * ((s.r + s.g + s.b) * (1.f / 3.f));
     }
     c *= scale;
     if (invert) c = {std::max(0.f, 1.f - c.r), std::max(0.f, 1.f - c.g), std::max(0.f, 1.f - c.b)};

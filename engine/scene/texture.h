@@ -26,7 +26,7 @@ struct TextureImage {
     float bilinear_alpha(Point2 uv) const;
 };
 
-enum class TextureKind : uint8_t { Constant, Image, Checkerboard, Mix };
+enum class TextureKind : uint8_t { Constant, Image, Checkerboard, Mix, Product };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
 // (scale and offset from the XML, pbrt and MTL; glTF's KHR_texture_transform also rotates).
@@ -47,7 +47,8 @@ struct Texture {
     bool invert = false;  // max(0, 1 - scaled value) (pbrt's invert)
     // Mix (pbrt-v4's "mix"): (1 - t) tex1 + t tex2 with t = amount's float value, each operand
     // a texture of its own (a constant one for a value), read at the surface's uv.
-    std::vector<Texture> operands;  // tex1, tex2, amount
+    // Product (pbrt-v4's "scale" of a varying texture by a varying one): tex x scale's float.
+    std::vector<Texture> operands;  // Mix: tex1, tex2, amount; Product: tex, scale
 
     RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two

@@ -94,6 +94,12 @@ class Importer {
                     const std::string& what, int32_t& texture);
     // pbrt-v4's "mix" texture into `tex` (a constant when its operands are).
     void mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // pbrt-v4's "scale" texture whose scale varies: a product texture into `tex`.
+    void product_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // A mix's or product's operand `key`: a copy of the texture it names, or a constant
+    // texture of its value (`varies` set when it is a varying texture).
+    Texture texture_operand(const ParamList& p, const std::string& key, bool is_float,
+                            float fallback, bool& varies);
     // The Scene::texture_images index of an imagemap's file, decoded once per file.
     uint32_t image_texture(const Token& t, const ParamList& p);
     // An image file into Scene::texture_images (decoded once per file and encoding).

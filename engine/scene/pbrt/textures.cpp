@@ -81,7 +81,16 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     if (type == "constant") {
         tex.value = value("value", RGB{1.f});
     } else if (type == "scale") {
-        // A constant factor folds into the texture it scales, varying or not.
+        // A constant factor folds into the texture it scales, varying or not; a varying
+        // factor makes a product texture.
+        const TextureDesc* varying = texture_ref(p, "scale", true);
+        if (varying && varying->scene_texture >= 0) {
+            product_texture(t, p, tex);
+            textures_[name] = tex;
+            warn_unused(p, "Texture \"" + name + "\"");
+            count("Texture " + type);
+            return;
+        }
         const float factor = float_value(p, "scale", 1.f);
         const TextureDesc* inner = texture_ref(p, "tex", tex.is_float);
         if (inner && inner->scene_texture >= 0) {
@@ -127,33 +136,49 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
 
 namespace {
 
-// How deep a mix texture nests mixes (operands are copies: a chain of mixes grows the copy).
+// How deep a mix or product texture nests them (operands are copies: a chain grows the copy).
 int mix_depth(const Texture& tx) {
     int d = 0;
     for (const Texture& o : tx.operands) d = std::max(d, mix_depth(o));
-    return tx.kind == TextureKind::Mix ? d + 1 : d;
+    return tx.operands.empty() ? d : d + 1;
 }
 
 }  // namespace
+
+Texture Importer::texture_operand(const ParamList& p, const std::string& key, bool is_float,
+                                  float fallback, bool& varies) {
+    Texture o;
+    if (const TextureDesc* d = texture_ref(p, key, is_float)) {
+        if (d->scene_texture >= 0) {
+            varies = true;
+            return scene_.textures[std::size_t(d->scene_texture)];
+        }
+        o.value = d->value;
+    } else if (is_float) {
+        o.value = RGB{p.real(key, fallback)};
+    } else {
+        const auto c = p.color(key, false);
+        o.value = c ? *c : RGB{fallback};
+    }
+    return o;
+}
+
+void Importer::product_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
+    bool varies = true;
+    Texture product;
+    product.kind = TextureKind::Product;
+    product.operands = {texture_operand(p, "tex", tex.is_float, 1.f, varies),
+                        texture_operand(p, "scale", true, 1.f, varies)};
+    if (mix_depth(product) > 8) fail(t, "mix and scale textures nest deeper than 8");
+    scene_.textures.push_back(std::move(product));
+    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+}
 
 void Importer::mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
     // pbrt-v4's defaults: tex1 0, tex2 1, amount 0.5.
     bool varies = false;
     auto operand = [&](const std::string& key, bool is_float, float fallback) {
-        Texture o;
-        if (const TextureDesc* d = texture_ref(p, key, is_float)) {
-            if (d->scene_texture >= 0) {
-                varies = true;
-                return scene_.textures[std::size_t(d->scene_texture)];
-            }
-            o.value = d->value;
-        } else if (is_float) {
-            o.value = RGB{p.real(key, fallback)};
-        } else {
-            const auto c = p.color(key, false);
-            o.value = c ? *c : RGB{fallback};
-        }
-        return o;
+        return texture_operand(p, key, is_float, fallback, varies);
     };
     Texture mix;
     mix.kind = TextureKind::Mix;
