@@ -96,8 +96,6 @@ void append_curve(CurveSet& set, const CurveInput& in) {
             s.n1[0] = u1.x, s.n1[1] = u1.y, s.n1[2] = u1.z;
         }
         set.segments.push_back(s);
-        set.u0.push_back(a0);
-        set.u1.push_back(a1);
     }
 }
 
@@ -108,7 +106,7 @@ CurvePoint curve_point_at(const CurveSet& set, uint32_t segment, float u, float 
     float p[3], d[3];
     kern::curve_point(s, u, p, d);
     c.dpdu = {d[0], d[1], d[2]};
-    c.u = set.u0[segment] + (set.u1[segment] - set.u0[segment]) * u;
+    c.u = u;
     c.width = s.w0 + (s.w1 - s.w0) * u;
     Vec3 tangent = c.dpdu;
     if (!(length_squared(tangent) > 0.f)) {

@@ -17,13 +17,9 @@ using CurveForm = kern::CurveForm;
 struct CurveSet {
     CurveForm form = CurveForm::Flat;
     std::vector<kern::CurveSegment> segments;
-    // Each segment's share of its whole curve's parameter (the texture u: pbrt's uMin, uMax).
-    std::vector<float> u0, u1;
     std::size_t size() const { return segments.size(); }
     Bounds3 bounds() const;
-    std::size_t memory_bytes() const {
-        return segments.size() * (sizeof(kern::CurveSegment) + 2 * sizeof(float));
-    }
+    std::size_t memory_bytes() const { return segments.size() * sizeof(kern::CurveSegment); }
 };
 
 // What one curve statement holds, in world space: its control points by its basis and degree,
@@ -46,7 +42,9 @@ void append_curve(CurveSet& set, const CurveInput& in);
 // normal dp/du x dp/dv, unit (either side: surface_at turns it to the viewer).
 struct CurvePoint {
     Vec3 n, dpdu, dpdv;
-    float u = 0.f;      // the whole curve's parameter (texture u)
+    // The texture u: the segment's own parameter, as pbrt-v4 makes each segment of a curve
+    // statement a curve of its own (u 0 to 1 along every segment).
+    float u = 0.f;
     float width = 0.f;  // the curve's width at the hit
 };
 CurvePoint curve_point_at(const CurveSet& set, uint32_t segment, float u, float v, const Vec3& dir);
