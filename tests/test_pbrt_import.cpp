@@ -851,3 +851,83 @@ TEST_CASE("pbrt-v4: mix textures lerp their operands, scale textures multiply th
     CHECK(tinted.eval(s.texture_images, {0.1f, 0.1f}).r == Approx(0.125f));
     CHECK(tinted.eval(s.texture_images, {0.6f, 0.1f}).r == Approx(0.5f));
 }
+
+TEST_CASE("pbrt-v4: spherical, cylindrical and planar mappings and directionmix textures",
+          "[pbrt][texture][fast]") {
+    const Scene s = world("", R"(
+        AttributeBegin
+          Translate 1 2 3
+          Texture "sph" "spectrum" "checkerboard" "string mapping" "spherical"
+        AttributeEnd
+        AttributeBegin
+          Scale 1 1 12
+          Texture "cyl" "spectrum" "checkerboard" "string mapping" "cylindrical"
+        AttributeEnd
+        Texture "plane" "spectrum" "checkerboard" "string mapping" "planar"
+            "vector3 v1" [0 0.25 0] "vector3 v2" [0 0 -0.025] "float udelta" 0.55
+            "float vdelta" -0.2
+        AttributeBegin
+          Rotate 90 0 0 1
+          Texture "dirmix" "spectrum" "directionmix" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1]
+              "vector3 dir" [1 0 0]
+        AttributeEnd
+        Material "diffuse" "texture reflectance" "sph" Shape "sphere"
+        Material "diffuse" "texture reflectance" "cyl" Shape "sphere"
+        Material "diffuse" "texture reflectance" "plane" Shape "sphere"
+        Material "diffuse" "texture reflectance" "dirmix" Shape "sphere"
+    )");
+    auto tex = [&](int i) -> const Texture& {
+        return s.textures[std::size_t(s.materials[s.objects.at(std::size_t(i)).material].texture)];
+    };
+    auto st = [](const Texture& t, Vec3 p) { return t.st(TexPoint{{0.f, 0.f}, p, {0, 0, 1}}); };
+    // Spherical about (1, 2, 3): theta / pi and phi / 2 pi of the direction from there.
+    CHECK(st(tex(0), {1, 2, 4}).x == Approx(0.f).margin(1e-6));
+    CHECK(st(tex(0), {2, 2, 3}).x == Approx(0.5f));
+    CHECK(st(tex(0), {2, 2, 3}).y == Approx(0.f).margin(1e-6));
+    CHECK(st(tex(0), {1, 3, 3}).y == Approx(0.25f));
+    // Cylindrical in a space stretched 12 times along z: ((pi + atan2(y, x)) / 2 pi, z / 12).
+    CHECK(st(tex(1), {1, 0, 6}).x == Approx(0.5f));
+    CHECK(st(tex(1), {1, 0, 6}).y == Approx(0.5f));
+    CHECK(st(tex(1), {0, 1, 0}).x == Approx(0.75f));
+    // Planar: (udelta + p . v1, vdelta + p . v2).
+    CHECK(st(tex(2), {7, 4, 10}).x == Approx(1.55f));
+    CHECK(st(tex(2), {7, 4, 10}).y == Approx(-0.45f));
+    // directionmix: dir (1, 0, 0) turned 90 degrees about z is y; tex1 where the normal is
+    // along it, tex2 across, |n . dir| between.
+    const Texture& dm = tex(3);
+    CHECK(dm.eval(s.texture_images, TexPoint{{0, 0}, {}, {0, 1, 0}}).r == Approx(1.f));
+    CHECK(dm.eval(s.texture_images, TexPoint{{0, 0}, {}, {1, 0, 0}}).b == Approx(1.f));
+    const RGB mid = dm.eval(s.texture_images, TexPoint{{0, 0}, {}, {0, -0.6f, 0.8f}});
+    CHECK(mid.r == Approx(0.6f));
+    CHECK(mid.b == Approx(0.4f));
+}
+
+TEST_CASE("pbrt-v4: a planar-mapped texture renders by position, not by uv", "[pbrt][texture]") {
+    test::TempDir dir;
+    // A unit quad without uv under irradiance pi, seen head-on: each pixel's radiance is its
+    // albedo. The checkerboard's cells are 0.5 wide in x and y through the planar mapping.
+    std::ofstream(dir.file("planar.pbrt"))
+        << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
+           "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+           "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+           "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
+           "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
+           "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
+           "Texture \"checks\" \"spectrum\" \"checkerboard\" \"string mapping\" \"planar\" "
+           "\"vector3 v1\" [2 0 0] \"vector3 v2\" [0 2 0] \"rgb tex1\" [0.8 0.1 0.1] "
+           "\"rgb tex2\" [0.1 0.1 0.8]\n"
+           "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+           "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+           "\"integer indices\" [0 1 2 0 2 3]\n";
+    TestScene ts(load_scene(dir.file("planar.pbrt")));
+    const auto acc = make_intersector(ts, ts.accel);
+    RenderOptions opt = ts.render.run;
+    opt.spp = 4;
+    const Film f = render(ts, ts.render, *acc, opt).film;
+    auto px = [&](int x, int y) { return f.pixels[std::size_t(y) * 32 + std::size_t(x)]; };
+    // Image rows run down: pixel (8, 24) is at x, y = 0.25 (cell 0, 0: tex1).
+    CHECK(px(8, 24).r == Approx(0.8f).epsilon(0.02));
+    CHECK(px(24, 24).b == Approx(0.8f).epsilon(0.02));
+    CHECK(px(8, 8).b == Approx(0.8f).epsilon(0.02));
+    CHECK(px(24, 8).r == Approx(0.8f).epsilon(0.02));
+}

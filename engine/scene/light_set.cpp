@@ -214,7 +214,7 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     if (e.type == EmitterType::Sphere) {
         n = warp::uniform_sphere(u);
         q = e.p + n * e.radius;
-        if (e.texture >= 0) le = textured_radiance(e, sphere_uv(n));
+        if (e.texture >= 0) le = textured_radiance(e, TexPoint{sphere_uv(n), q, n});
         return e.area;
     }
     const uint32_t t = tri == kWholeEmitter ? triangle_by_area(e, uc) : tri;
@@ -230,13 +230,14 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
         scene_->meshes[e.mesh].corner_uvs(t, t0, t1, t2);
         const float w = 1.f - b.x - b.y;
         le = textured_radiance(
-            e, {t0.x * w + t1.x * b.x + t2.x * b.y, t0.y * w + t1.y * b.x + t2.y * b.y});
+            e, TexPoint{
+                   {t0.x * w + t1.x * b.x + t2.x * b.y, t0.y * w + t1.y * b.x + t2.y * b.y}, q, n});
     }
     return tri == kWholeEmitter ? e.area : 0.5f * length(c);
 }
 
-RGB LightSet::textured_radiance(const Emitter& e, Point2 uv) const {
-    return e.emission * scene_->textures[std::size_t(e.texture)].eval(scene_->texture_images, uv);
+RGB LightSet::textured_radiance(const Emitter& e, const TexPoint& at) const {
+    return e.emission * scene_->textures[std::size_t(e.texture)].eval(scene_->texture_images, at);
 }
 
 uint32_t LightSet::triangle_by_area(const Emitter& e, float uc) const {
@@ -318,7 +319,9 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
                     s.dist = ds;
                     s.n_light = n;
                     s.pdf = 1.f / (2.f * kPi * one_minus_cos);
-                    s.Li = e.texture >= 0 ? textured_radiance(e, sphere_uv(n)) : e.value;
+                    s.Li = e.texture >= 0
+                               ? textured_radiance(e, TexPoint{sphere_uv(n), s.p_light, n})
+                               : e.value;
                     return s.pdf > 0.f && ds > 0.f;
                 }
             }

@@ -211,7 +211,7 @@ class LightSet {
     float sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q, Vec3& n, RGB& le,
                             uint32_t tri = kWholeEmitter) const;
     // A textured emitter's radiance at texture coordinates uv.
-    RGB textured_radiance(const Emitter& e, Point2 uv) const;
+    RGB textured_radiance(const Emitter& e, const TexPoint& at) const;
     // The light BVH's primitives and tree (light_pick.cpp).
     void build_bvh();
 

@@ -189,17 +189,18 @@ uint32_t Scene::add_sphere(const Sphere& sphere, uint32_t material) {
     return uint32_t(objects.size() - 1);
 }
 
-const Material& Scene::textured(const Material& m, Point2 uv,
+const Material& Scene::textured(const Material& m, const TexPoint& at,
                                 std::optional<Material>& scratch) const {
+    const Point2 uv = at.uv;
     Material& out = scratch.emplace(m);
     if (m.texture >= 0) {
-        const RGB t = textures[std::size_t(m.texture)].eval(texture_images, uv);
+        const RGB t = textures[std::size_t(m.texture)].eval(texture_images, at);
         out.base_color = m.base_color * t;
         out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
     }
     if (m.emission_texture >= 0)
         out.emission =
-            m.emission * textures[std::size_t(m.emission_texture)].eval(texture_images, uv);
+            m.emission * textures[std::size_t(m.emission_texture)].eval(texture_images, at);
     // pbrt-v4's hair: the fibre's offset across its width from v.
     for (int i = 0; i < m.bsdf.size(); ++i)
         if (m.bsdf.lobe(i).type == LobeType::Hair)
@@ -210,9 +211,9 @@ const Material& Scene::textured(const Material& m, Point2 uv,
         // One lookup: the float value, or the one channel a packed texture keeps it in.
         float v;
         if (fp.channel == 0) {
-            v = tx.eval_float(texture_images, uv);
+            v = tx.eval_float(texture_images, at);
         } else {
-            const RGB c = tx.eval(texture_images, uv);
+            const RGB c = tx.eval(texture_images, at);
             v = fp.channel == 1 ? c.r : fp.channel == 2 ? c.g : c.b;
         }
         if (fp.target == LobeParam::Weight || fp.target == LobeParam::WeightComplement) {

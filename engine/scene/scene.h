@@ -155,19 +155,21 @@ struct Scene {
     // Material `m` at a surface point of uv coordinates `uv`: m itself, or, when it is
     // textured, a copy in `scratch` with the texture's value applied. (An optional:
     // untextured hits, the common case, construct nothing.)
-    const Material& material_at(const Material& m, Point2 uv,
+    const Material& material_at(const Material& m, const TexPoint& at,
                                 std::optional<Material>& scratch) const {
-        return m.varies() ? textured(m, uv, scratch) : m;
+        return m.varies() ? textured(m, at, scratch) : m;
     }
     // The same for the material of geometry `geom`.
-    const Material& material_at(uint32_t geom, Point2 uv, std::optional<Material>& scratch) const {
-        return material_at(material_of(geom), uv, scratch);
+    const Material& material_at(uint32_t geom, const TexPoint& at,
+                                std::optional<Material>& scratch) const {
+        return material_at(material_of(geom), at, scratch);
     }
     // Radiance along a ray of direction d that leaves the scene.
     RGB background_along(const Vec3& d) const {
         return environment ? environment->Le(d) : background;
     }
-    const Material& textured(const Material& m, Point2 uv, std::optional<Material>& scratch) const;
+    const Material& textured(const Material& m, const TexPoint& at,
+                             std::optional<Material>& scratch) const;
     std::size_t num_triangles() const;         // as rendered: an instanced mesh per placement
     std::size_t num_stored_triangles() const;  // as stored: an instanced mesh once
     Bounds3 bounds() const;

@@ -74,47 +74,48 @@ float TextureImage::bilinear_alpha(Point2 uv) const {
            (alpha[b.i[2]] * (1.f - b.tx) + alpha[b.i[3]] * b.tx) * b.ty;
 }
 
-float Texture::eval_float(const std::vector<TextureImage>& images, Point2 uv) const {
+float Texture::eval_float(const std::vector<TextureImage>& images, const TexPoint& at) const {
+    float v;
     if (kind == TextureKind::Product) {
-        const float v =
-            operands[0].eval_float(images, uv) * operands[1].eval_float(images, uv) * scale.r;
-        return invert ? std::max(0.f, 1.f - v) : v;
-    }
-    if (kind == TextureKind::Mix) {
+        v = operands[0].eval_float(images, at) * operands[1].eval_float(images, at);
+    } else if (kind == TextureKind::Mix || kind == TextureKind::DirectionMix) {
         // The operands as floats (an RGBA image's alpha, as for any float texture).
-        const float t = operands[2].eval_float(images, uv);
-        float v = (operands[0].eval_float(images, uv) * (1.f - t) +
-                   operands[1].eval_float(images, uv) * t) *
-                  scale.r;
-        return invert ? std::max(0.f, 1.f - v) : v;
+        const float t = kind == TextureKind::Mix ? operands[2].eval_float(images, at)
+                                                 : 1.f - std::fabs(dot(at.n, mix_dir));
+        v = operands[0].eval_float(images, at) * (1.f - t) + operands[1].eval_float(images, at) * t;
+    } else if (kind == TextureKind::Image && !images[image].alpha.empty()) {
+        v = images[image].bilinear_alpha(st(at));
+    } else {
+        const RGB c = eval(images, at);
+        return (c.r + c.g + c.b) * (1.f / 3.f);
     }
-    if (kind == TextureKind::Image && !images[image].alpha.empty()) {
-        float a = images[image].bilinear_alpha(this->uv(uv)) * scale.r;
-        return invert ? std::max(0.f, 1.f - a) : a;
-    }
-    const RGB c = eval(images, uv);
-    return (c.r + c.g + c.b) * (1.f / 3.f);
+    v *= scale.r;
+    return invert ? std::max(0.f, 1.f - v) : v;
 }
 
-RGB Texture::eval(const std::vector<TextureImage>& images, Point2 uv) const {
-    const Point2 st = this->uv(uv);
+RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) const {
     RGB c = value;
     switch (kind) {
         case TextureKind::Mix: {
-            const float t = operands[2].eval_float(images, uv);
-            c = operands[0].eval(images, uv) * (1.f - t) + operands[1].eval(images, uv) * t;
+            const float t = operands[2].eval_float(images, at);
+            c = operands[0].eval(images, at) * (1.f - t) + operands[1].eval(images, at) * t;
+            break;
+        }
+        case TextureKind::DirectionMix: {
+            const float a = std::fabs(dot(at.n, mix_dir));
+            c = operands[0].eval(images, at) * a + operands[1].eval(images, at) * (1.f - a);
             break;
         }
         case TextureKind::Product:
-            c = operands[0].eval(images, uv) * operands[1].eval_float(images, uv);
+            c = operands[0].eval(images, at) * operands[1].eval_float(images, at);
             break;
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
-            c = images[image].bilinear(st);
+            c = images[image].bilinear(st(at));
             break;
         case TextureKind::Checkerboard:
-            c = checker_even(st) ? value : other;
+            c = checker_even(st(at)) ? value : other;
             break;
     }
     c *= scale;
@@ -130,6 +131,8 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         c = sum * (1.f / float(images[image].texels.size()));
     } else if (kind == TextureKind::Checkerboard) {
         c = (value + other) * 0.5f;
+    } else if (kind == TextureKind::DirectionMix) {
+        c = (operands[0].mean(images) + operands[1].mean(images)) * 0.5f;
     } else if (kind == TextureKind::Mix) {
         // The operands' means mixed by the amount's (exact when the amount is constant or
         // independent of the operands).

@@ -26,7 +26,22 @@ struct TextureImage {
     float bilinear_alpha(Point2 uv) const;
 };
 
-enum class TextureKind : uint8_t { Constant, Image, Checkerboard, Mix, Product };
+enum class TextureKind : uint8_t { Constant, Image, Checkerboard, Mix, Product, DirectionMix };
+
+// How a texture finds its (s, t) at a surface point: the surface's uv through a UvMap, or the
+// hit point in the texture's own space (pbrt-v4's spherical, cylindrical, planar mappings).
+enum class TextureMapping : uint8_t { UV, Spherical, Cylindrical, Planar };
+
+// Where a texture is read: the surface's uv and, for textures mapped by position or mixed by
+// direction, the hit point and its (geometric) normal in world space.
+struct TexPoint {
+    Point2 uv;
+    Vec3 p{0.f, 0.f, 0.f};
+    Vec3 n{0.f, 0.f, 1.f};
+    TexPoint(Point2 uv_) : uv(uv_) {}
+    TexPoint(float u, float v) : uv{u, v} {}
+    TexPoint(Point2 uv_, const Vec3& p_, const Vec3& n_) : uv(uv_), p(p_), n(n_) {}
+};
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
 // (scale and offset from the XML, pbrt and MTL; glTF's KHR_texture_transform also rotates).
@@ -48,16 +63,25 @@ struct Texture {
     // Mix (pbrt-v4's "mix"): (1 - t) tex1 + t tex2 with t = amount's float value, each operand
     // a texture of its own (a constant one for a value), read at the surface's uv.
     // Product (pbrt-v4's "scale" of a varying texture by a varying one): tex x scale's float.
-    std::vector<Texture> operands;  // Mix: tex1, tex2, amount; Product: tex, scale
+    // DirectionMix: a tex1 + (1 - a) tex2 with a = |n . mix_dir| (pbrt-v4's directionmix).
+    std::vector<Texture> operands;  // Mix: tex1, tex2, amount; Product: tex, scale; DirectionMix
+    Vec3 mix_dir{0.f, 0.f, 1.f};    // DirectionMix: unit, world space
+    // A mapping by position: world to the texture's space (the transform when the texture was
+    // declared, inverted); Planar: s = du + q.plane_s, t = dv + q.plane_t (uv's du, dv).
+    TextureMapping mapping = TextureMapping::UV;
+    Affine to_texture;
+    Vec3 plane_s{1.f, 0.f, 0.f}, plane_t{0.f, 1.f, 0.f};
+    // The (s, t) this texture reads at `at` (texture_mapping.cpp).
+    Point2 st(const TexPoint& at) const;
 
-    RGB eval(const std::vector<TextureImage>& images, Point2 uv) const;
+    RGB eval(const std::vector<TextureImage>& images, const TexPoint& at) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two
     // colours' mean), as eval() scales and inverts: what an emitter's power is estimated by.
     RGB mean(const std::vector<TextureImage>& images) const;
     // As a float texture: the mean of the three channels (pbrt-v4's bilinear lookup of an RGB
     // image for a float texture; a grey image's value), or an image's alpha when it has one
     // (pbrt-v4 reads a four-channel image's alpha as its float value: alpha cut-outs).
-    float eval_float(const std::vector<TextureImage>& images, Point2 uv) const;
+    float eval_float(const std::vector<TextureImage>& images, const TexPoint& at) const;
 };
 
 // pbrt's parametrisation of a sphere at unit outward normal n: u = phi / 2 pi around z, v =

@@ -94,6 +94,11 @@ class Importer {
                     const std::string& what, int32_t& texture);
     // pbrt-v4's "mix" texture into `tex` (a constant when its operands are).
     void mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // pbrt-v4's "directionmix": tex1 where the normal is along dir, tex2 across it.
+    void direction_mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // An imagemap's or checkerboard's mapping: uv (uscale, vscale, udelta, vdelta), or by
+    // position (spherical, cylindrical, planar) through the current transform.
+    void texture_mapping(const Token& t, const ParamList& p, Texture& st);
     // pbrt-v4's "scale" texture whose scale varies: a product texture into `tex`.
     void product_texture(const Token& t, const ParamList& p, TextureDesc& tex);
     // A mix's or product's operand `key`: a copy of the texture it names, or a constant

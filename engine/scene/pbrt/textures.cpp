@@ -115,19 +115,17 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
             st.value = value("tex1", RGB{1.f});
             st.other = value("tex2", RGB{0.f});
         }
-        const std::string mapping = p.text("mapping", "uv");
-        if (mapping != "uv") fail(t, "texture mapping '" + mapping + "' is not supported (uv)");
-        st.uv.su = p.real("uscale", 1.f);
-        st.uv.sv = p.real("vscale", 1.f);
-        st.uv.du = p.real("udelta", 0.f);
-        st.uv.dv = p.real("vdelta", 0.f);
+        texture_mapping(t, p, st);
         scene_.textures.push_back(st);
         tex.scene_texture = int32_t(scene_.textures.size() - 1);
     } else if (type == "mix") {
         mix_texture(t, p, tex);
+    } else if (type == "directionmix") {
+        direction_mix_texture(t, p, tex);
     } else {
         fail(t, "texture type '" + type +
-                    "' is not supported (constant, scale, mix, imagemap and checkerboard)");
+                    "' is not supported (constant, scale, mix, directionmix, imagemap and "
+                    "checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
@@ -171,6 +169,60 @@ void Importer::product_texture(const Token& t, const ParamList& p, TextureDesc& 
                         texture_operand(p, "scale", true, 1.f, varies)};
     if (mix_depth(product) > 8) fail(t, "mix and scale textures nest deeper than 8");
     scene_.textures.push_back(std::move(product));
+    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+}
+
+void Importer::texture_mapping(const Token& t, const ParamList& p, Texture& st) {
+    const std::string mapping = p.text("mapping", "uv");
+    st.uv.du = p.real("udelta", 0.f);
+    st.uv.dv = p.real("vdelta", 0.f);
+    if (mapping == "uv") {
+        st.uv.su = p.real("uscale", 1.f);
+        st.uv.sv = p.real("vscale", 1.f);
+        return;
+    }
+    // By position: the point in the space the texture was declared in (pbrt-v4 ignores
+    // uscale and vscale there; planar takes udelta and vdelta as its offsets).
+    if (std::fabs(gs_.ctm.determinant()) < 1e-12f)
+        fail(t, "a texture's transform must be invertible for its " + mapping + " mapping");
+    st.to_texture = gs_.ctm.inverse();
+    if (mapping == "spherical") {
+        st.mapping = TextureMapping::Spherical;
+    } else if (mapping == "cylindrical") {
+        st.mapping = TextureMapping::Cylindrical;
+    } else if (mapping == "planar") {
+        st.mapping = TextureMapping::Planar;
+        auto vec = [&](const std::string& key, Vec3 fallback) {
+            const Param* q = p.find(key);
+            if (!q) return fallback;
+            if (q->numbers.size() != 3) fail(t, "planar mapping: " + key + " needs 3 numbers");
+            return Vec3{float(q->numbers[0]), float(q->numbers[1]), float(q->numbers[2])};
+        };
+        st.plane_s = vec("v1", {1.f, 0.f, 0.f});
+        st.plane_t = vec("v2", {0.f, 1.f, 0.f});
+    } else {
+        fail(t, "texture mapping '" + mapping +
+                    "' is not supported (uv, spherical, cylindrical, planar)");
+    }
+}
+
+void Importer::direction_mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
+    bool varies = false;
+    Texture mix;
+    mix.kind = TextureKind::DirectionMix;
+    mix.operands = {texture_operand(p, "tex1", tex.is_float, 0.f, varies),
+                    texture_operand(p, "tex2", tex.is_float, 1.f, varies)};
+    Vec3 dir{0.f, 1.f, 0.f};  // pbrt-v4's default
+    if (const Param* q = p.find("dir")) {
+        if (q->numbers.size() != 3) fail(t, "directionmix: dir needs 3 numbers");
+        dir = {float(q->numbers[0]), float(q->numbers[1]), float(q->numbers[2])};
+    }
+    // Declared in the texture's space, used in world space.
+    dir = gs_.ctm.vector(dir);
+    if (!(length(dir) > 0.f)) fail(t, "directionmix: dir must not be zero");
+    mix.mix_dir = normalize(dir);
+    if (mix_depth(mix) > 8) fail(t, "mix and scale textures nest deeper than 8");
+    scene_.textures.push_back(std::move(mix));
     tex.scene_texture = int32_t(scene_.textures.size() - 1);
 }
 

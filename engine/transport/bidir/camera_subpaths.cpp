@@ -197,7 +197,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                 }
                 const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);
                 std::optional<Material> scratch;
-                const Material& mat = scene.material_at(geom, sp.uv, scratch);
+                const Material& mat = scene.material_at(geom, sp.tex(), scratch);
                 if (media.on && mat.is_interface) {
                     cross_interface(scene, geom, sp, d, slot, media.medium[slot],
                                     media.crossings[slot], ws.next);

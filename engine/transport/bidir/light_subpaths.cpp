@@ -203,7 +203,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             if (geom == kNoHit) continue;
             const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);
             std::optional<Material> scratch;
-            const Material& mat = scene.material_at(geom, sp.uv, scratch);
+            const Material& mat = scene.material_at(geom, sp.tex(), scratch);
             if (media.on && mat.is_interface) {
                 cross_interface(scene, geom, sp, d, slot, media.medium[slot], media.crossings[slot],
                                 ws.next);

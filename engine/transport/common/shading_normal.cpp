@@ -28,11 +28,15 @@ Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel) {
 }
 
 Vec3 bump_mapped(const ShadingGeometry& g, const Texture& displacement,
-                 const std::vector<TextureImage>& images, Point2 uv) {
+                 const std::vector<TextureImage>& images, const TexPoint& at) {
     constexpr float kStep = 0.0005f;
-    const float d = displacement.eval_float(images, uv);
-    const float d_u = displacement.eval_float(images, {uv.x + kStep, uv.y});
-    const float d_v = displacement.eval_float(images, {uv.x, uv.y + kStep});
+    // The step moves the point too (textures mapped by position see it), as pbrt-v4's does.
+    const Point2 uv = at.uv;
+    const float d = displacement.eval_float(images, at);
+    const float d_u = displacement.eval_float(
+        images, TexPoint{{uv.x + kStep, uv.y}, at.p + g.dpdu * kStep, at.n});
+    const float d_v = displacement.eval_float(
+        images, TexPoint{{uv.x, uv.y + kStep}, at.p + g.dpdv * kStep, at.n});
     const Vec3 pu = g.dpdu + g.n * ((d_u - d) / kStep) + g.dndu * d;
     const Vec3 pv = g.dpdv + g.n * ((d_v - d) / kStep) + g.dndv * d;
     const Vec3 m = cross(pu, pv);

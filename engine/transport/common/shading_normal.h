@@ -33,6 +33,6 @@ Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel);
 // dpdu + (d(u + du, v) - d) / du n + d dndu (likewise for v) from forward differences of
 // step 0.0005 in texture space (pbrt-v4's step without ray differentials), on the side of n.
 Vec3 bump_mapped(const ShadingGeometry& g, const Texture& displacement,
-                 const std::vector<TextureImage>& images, Point2 uv);
+                 const std::vector<TextureImage>& images, const TexPoint& at);
 
 }  // namespace foton

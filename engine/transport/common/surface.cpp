@@ -117,9 +117,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         n_shade = mat.normal_map >= 0
                       ? normal_mapped(n_shade, g.dpdu,
                                       scene.textures[std::size_t(mat.normal_map)].eval(
-                                          scene.texture_images, sp.uv))
+                                          scene.texture_images, TexPoint{sp.uv, sp.p, n_geom}))
                       : bump_mapped(g, scene.textures[std::size_t(mat.bump)], scene.texture_images,
-                                    sp.uv);
+                                    TexPoint{sp.uv, sp.p, n_geom});
     }
     sp.front_face = dot(n_geom, dir) < 0.f;
     if (!sp.front_face) {

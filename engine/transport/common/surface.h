@@ -24,6 +24,9 @@ struct SurfacePoint {
     Vec3 ss{0.f, 0.f, 0.f};
     // The BSDF's frame: around ns, its x axis along ss when there is one.
     warp::Frame frame() const { return warp::Frame(ns, ss); }
+    // Where its textures read themselves (uv, and the point and normal for textures mapped
+    // by position or mixed by direction).
+    TexPoint tex() const { return {uv, p, ng}; }
 };
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,

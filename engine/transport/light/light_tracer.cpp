@@ -83,7 +83,7 @@ void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
     const Vec3 d = ws.rays.direction(i);
     const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
     std::optional<Material> scratch;
-    const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+    const Material& m = ctx_.scene.material_at(geom, sp.tex(), scratch);
     if (m.bsdf.empty() || vertex > rs.max_depth) return;
     RGB& beta = ws.beta[slot];
     const warp::Frame frame = sp.frame();

@@ -63,7 +63,7 @@ void ImportonMap::build(const Scene& scene, const Intersector& accel, const Impo
                 const SurfacePoint sp =
                     surface_at(scene, hit.geom, hit.prim, hit.t, hit.u, hit.v, o, d);
                 std::optional<Material> scratch;
-                const Material& m = scene.material_at(hit.geom, sp.uv, scratch);
+                const Material& m = scene.material_at(hit.geom, sp.tex(), scratch);
                 const uint32_t dim = 4 + 4 * bounce;
                 if (m.bsdf.empty()) {  // an interface: pass through
                     o = offset_origin(sp, d);

@@ -290,7 +290,7 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 ws.path_length[slot] += ws.hits.t[i];
                 const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
                 std::optional<Material> scratch;
-                const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+                const Material& m = ctx_.scene.material_at(geom, sp.tex(), scratch);
                 // Emitters seen from the camera or through specular chains (L S* E paths have no
                 // diffuse vertex, so no photon estimate holds them).
                 if (m.emits_towards(sp.front_face) &&

@@ -81,7 +81,7 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 const Vec3 d = ws.rays.direction(r);
                 const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
                 std::optional<Material> scratch;
-                const Material& m = scene_.material_at(geom, sp.uv, scratch);
+                const Material& m = scene_.material_at(geom, sp.tex(), scratch);
                 if (m.bsdf.empty()) continue;
                 RGB& power = ws.power[slot];
                 if (m.bsdf.has_non_delta()) {

@@ -63,7 +63,7 @@ void VisiblePoints::shade(uint64_t pass, uint64_t light_pass, uint32_t y, uint32
     const SurfacePoint sp = surface_at(ctx_.scene, work.rays, work.hits, r);
     const uint32_t mi = ctx_.scene.objects[work.hits.geom[r]].material;
     std::optional<Material> scratch;
-    const Material& m = ctx_.scene.material_at(work.hits.geom[r], sp.uv, scratch);
+    const Material& m = ctx_.scene.material_at(work.hits.geom[r], sp.tex(), scratch);
     if (m.emits_towards(sp.front_face)) px.pass_direct += beta * m.emission;
     if (m.bsdf.empty()) return;
     const warp::Frame frame = sp.frame();

@@ -73,7 +73,7 @@ void trace_row(const Scene& scene, const RenderSettings& settings, const Interse
         if (hits.geom[i] == kNoHit) continue;
         const SurfacePoint sp = surface_at(scene, rays, hits, i);
         std::optional<Material> scratch;
-        const Material& m = scene.material_at(hits.geom[i], sp.uv, scratch);
+        const Material& m = scene.material_at(hits.geom[i], sp.tex(), scratch);
         const warp::Frame frame = sp.frame();
         const BsdfContext ctx{sp.front_face, Transport::Radiance};
         px.albedo +=

@@ -209,7 +209,7 @@ class VolPathIntegrator : public CameraIntegrator {
         RGB& beta = ws.beta[slot];
         const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
-        const Material& m = ctx_.scene.material_at(geom, sp.uv, scratch);
+        const Material& m = ctx_.scene.material_at(geom, sp.tex(), scratch);
         if (m.is_interface) {
             // No vertex: on into the medium beyond, with everything else as it was.
             if (++ws.crossings[slot] > kMaxCrossings) return;

@@ -47,7 +47,7 @@ void VolumeLightTracer::shade_surface(std::size_t r, uint64_t path, VolumeLightW
     const Vec3 d = ws.rays.direction(r);
     const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, r);
     std::optional<Material> scratch;
-    const Material& m = scene.material_at(geom, sp.uv, scratch);
+    const Material& m = scene.material_at(geom, sp.tex(), scratch);
     if (m.is_interface) {
         cross_interface(scene, geom, sp, d, slot, ws.medium[slot], ws.crossings[slot], ws.next);
         return;

@@ -123,7 +123,7 @@ void VolumePhotonTracer::trace(uint64_t pass, uint64_t emitted, uint64_t first, 
             if (geom == kNoHit) continue;
             const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, r);
             std::optional<Material> scratch;
-            const Material& m = scene_.material_at(geom, sp.uv, scratch);
+            const Material& m = scene_.material_at(geom, sp.tex(), scratch);
             if (m.is_interface) {
                 cross_interface(scene_, geom, sp, d, slot, ws.medium[slot], ws.crossings[slot],
                                 ws.next);

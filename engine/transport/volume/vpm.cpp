@@ -175,7 +175,7 @@ class VpmCamera {
             return beta * (scene_.environment ? scene_.environment->Le(d) : scene_.background);
         const SurfacePoint sp = surface_at(scene_, w.rays, w.hits, r);
         std::optional<Material> scratch;
-        const Material& m = scene_.material_at(geom, sp.uv, scratch);
+        const Material& m = scene_.material_at(geom, sp.tex(), scratch);
         if (m.is_interface) {
             if (++w.crossings[slot] > kMaxPathCrossings) return RGB{0.f};
             w.medium[slot] = medium_after(scene_, geom, sp, d, w.medium[slot]);

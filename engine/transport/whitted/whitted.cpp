@@ -187,7 +187,7 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
         const Vec3 d = ws.rays.direction(i);
         const SurfacePoint sp = surface_at(scene_, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
-        const Material& m = scene_.material_at(geom, sp.uv, scratch);
+        const Material& m = scene_.material_at(geom, sp.tex(), scratch);
         const Vec3 wo = -d;
         if (m.emits_towards(sp.front_face)) radiance[slot] += weight * m.emission;
         switch (m.type) {
