@@ -9,6 +9,7 @@
 #include "engine/core/input_file.h"
 #include "engine/film/image_io.h"
 #include "engine/film/pfm_reader.h"
+#include "noise.h"
 
 namespace foton {
 
@@ -93,6 +94,19 @@ float Texture::eval_float(const std::vector<TextureImage>& images, const TexPoin
     return invert ? std::max(0.f, 1.f - v) : v;
 }
 
+float Texture::noise_value(const Vec3& q) const {
+    switch (noise) {
+        case NoiseKind::FBm:
+            return fbm(q, omega, octaves);
+        case NoiseKind::Wrinkled:
+            return turbulence(q, omega, octaves);
+        case NoiseKind::Windy:
+            // pbrt-v4's waves: a slow fbm's strength times a finer one's height.
+            return std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6);
+    }
+    return 0.f;
+}
+
 RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) const {
     RGB c = value;
     switch (kind) {
@@ -108,6 +122,9 @@ RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) c
         }
         case TextureKind::Product:
             c = operands[0].eval(images, at) * operands[1].eval_float(images, at);
+            break;
+        case TextureKind::Noise:
+            c = RGB{noise_value(to_texture.point(at.p))};
             break;
         case TextureKind::Constant:
             break;
@@ -133,6 +150,12 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         c = (value + other) * 0.5f;
     } else if (kind == TextureKind::DirectionMix) {
         c = (operands[0].mean(images) + operands[1].mean(images)) * 0.5f;
+    } else if (kind == TextureKind::Noise) {
+        // Over a fixed scatter of points (the noise has no period to average over).
+        float sum = 0.f;
+        for (int i = 0; i < 256; ++i)
+            sum += noise_value({float(i) * 0.377f, float(i) * 0.713f, float(i) * 0.131f});
+        c = RGB{sum / 256.f};
     } else if (kind == TextureKind::Mix) {
         // The operands' means mixed by the amount's (exact when the amount is constant or
         // independent of the operands).

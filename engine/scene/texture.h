@@ -26,7 +26,17 @@ struct TextureImage {
     float bilinear_alpha(Point2 uv) const;
 };
 
-enum class TextureKind : uint8_t { Constant, Image, Checkerboard, Mix, Product, DirectionMix };
+enum class TextureKind : uint8_t {
+    Constant,
+    Image,
+    Checkerboard,
+    Mix,
+    Product,
+    DirectionMix,
+    Noise,  // pbrt-v4's fbm, wrinkled and windy: Perlin noise at the point (noise.h)
+};
+
+enum class NoiseKind : uint8_t { FBm, Wrinkled, Windy };
 
 // How a texture finds its (s, t) at a surface point: the surface's uv through a UvMap, or the
 // hit point in the texture's own space (pbrt-v4's spherical, cylindrical, planar mappings).
@@ -66,6 +76,10 @@ struct Texture {
     // DirectionMix: a tex1 + (1 - a) tex2 with a = |n . mix_dir| (pbrt-v4's directionmix).
     std::vector<Texture> operands;  // Mix: tex1, tex2, amount; Product: tex, scale; DirectionMix
     Vec3 mix_dir{0.f, 0.f, 1.f};    // DirectionMix: unit, world space
+    // Noise: read at the point in the texture's space (to_texture), octaves of weight omega^k.
+    NoiseKind noise = NoiseKind::FBm;
+    float omega = 0.5f;
+    int octaves = 8;
     // A mapping by position: world to the texture's space (the transform when the texture was
     // declared, inverted); Planar: s = du + q.plane_s, t = dv + q.plane_t (uv's du, dv).
     TextureMapping mapping = TextureMapping::UV;
@@ -73,6 +87,8 @@ struct Texture {
     Vec3 plane_s{1.f, 0.f, 0.f}, plane_t{0.f, 1.f, 0.f};
     // The (s, t) this texture reads at `at` (texture_mapping.cpp).
     Point2 st(const TexPoint& at) const;
+    // A Noise texture's value at q in its own space.
+    float noise_value(const Vec3& q) const;
 
     RGB eval(const std::vector<TextureImage>& images, const TexPoint& at) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two

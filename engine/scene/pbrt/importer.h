@@ -94,6 +94,9 @@ class Importer {
                     const std::string& what, int32_t& texture);
     // pbrt-v4's "mix" texture into `tex` (a constant when its operands are).
     void mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
+    // pbrt-v4's fbm, wrinkled and windy float textures (Perlin noise at the point).
+    void noise_texture(const Token& t, const std::string& type, const ParamList& p,
+                       TextureDesc& tex);
     // pbrt-v4's "directionmix": tex1 where the normal is along dir, tex2 across it.
     void direction_mix_texture(const Token& t, const ParamList& p, TextureDesc& tex);
     // An imagemap's or checkerboard's mapping: uv (uscale, vscale, udelta, vdelta), or by

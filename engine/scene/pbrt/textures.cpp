@@ -122,10 +122,12 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         mix_texture(t, p, tex);
     } else if (type == "directionmix") {
         direction_mix_texture(t, p, tex);
+    } else if (type == "fbm" || type == "wrinkled" || type == "windy") {
+        noise_texture(t, type, p, tex);
     } else {
         fail(t, "texture type '" + type +
-                    "' is not supported (constant, scale, mix, directionmix, imagemap and "
-                    "checkerboard)");
+                    "' is not supported (constant, scale, mix, directionmix, fbm, wrinkled, "
+                    "windy, imagemap and checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
@@ -204,6 +206,28 @@ void Importer::texture_mapping(const Token& t, const ParamList& p, Texture& st) 
         fail(t, "texture mapping '" + mapping +
                     "' is not supported (uv, spherical, cylindrical, planar)");
     }
+}
+
+void Importer::noise_texture(const Token& t, const std::string& type, const ParamList& p,
+                             TextureDesc& tex) {
+    if (!tex.is_float) fail(t, "'" + type + "' is a float texture in pbrt-v4");
+    Texture st;
+    st.kind = TextureKind::Noise;
+    st.noise = type == "fbm"        ? NoiseKind::FBm
+               : type == "wrinkled" ? NoiseKind::Wrinkled
+                                    : NoiseKind::Windy;
+    if (st.noise != NoiseKind::Windy) {
+        st.octaves = p.integer("octaves", 8);
+        st.omega = p.real("roughness", 0.5f);
+        if (st.octaves < 1 || st.octaves > 32 || !(st.omega >= 0.f && st.omega <= 1.f))
+            fail(t, type + ": octaves must be in [1, 32] and roughness in [0, 1]");
+    }
+    // Read at the point in the space the texture was declared in.
+    if (std::fabs(gs_.ctm.determinant()) < 1e-12f)
+        fail(t, type + ": the texture's transform must be invertible");
+    st.to_texture = gs_.ctm.inverse();
+    scene_.textures.push_back(st);
+    tex.scene_texture = int32_t(scene_.textures.size() - 1);
 }
 
 void Importer::direction_mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
