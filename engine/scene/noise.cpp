@@ -24,29 +24,29 @@ constexpr uint8_t kPerm[256] = {
     115, 121, 50,  45,  127, 4,   150, 254, 138, 236, 205, 93,  222, 114, 67,  29,  24,  72,  243,
     141, 128, 195, 78,  66,  215, 61,  156, 180};
 
-int perm(int i) {
+int noise_perm(int i) {
     return kPerm[i & 255];
 }
 
 // The dot product of one of twelve edge gradients (chosen by h) with (x, y, z).
-float gradient(int h, float x, float y, float z) {
+float noise_gradient(int h, float x, float y, float z) {
     h &= 15;
     const float u = h < 8 ? x : y;
     const float v = h < 4 ? y : (h == 12 || h == 14 ? x : z);
     return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
 }
 
-float fade(float t) {
+float noise_fade(float t) {
     return t * t * t * (t * (t * 6.f - 15.f) + 10.f);
 }
 
-float lerp(float t, float a, float b) {
+float noise_lerp(float t, float a, float b) {
     return a + t * (b - a);
 }
 
 // The lattice cell of a coordinate (its low 8 bits: the table repeats every 256) and the
 // offset in it, in double so that a huge coordinate does not overflow the int.
-int cell(float v, float& frac) {
+int lattice_cell(float v, float& frac) {
     const double f = std::floor(double(v));
     frac = float(double(v) - f);
     return int(std::fmod(f, 256.0) + 256.0) & 255;
@@ -57,18 +57,22 @@ int cell(float v, float& frac) {
 float perlin_noise(const Vec3& p) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return 0.f;
     float x, y, z;
-    const int X = cell(p.x, x), Y = cell(p.y, y), Z = cell(p.z, z);
-    const float u = fade(x), v = fade(y), w = fade(z);
-    const int a = perm(X) + Y, aa = perm(a) + Z, ab = perm(a + 1) + Z;
-    const int b = perm(X + 1) + Y, ba = perm(b) + Z, bb = perm(b + 1) + Z;
-    return lerp(
+    const int X = lattice_cell(p.x, x), Y = lattice_cell(p.y, y), Z = lattice_cell(p.z, z);
+    const float u = noise_fade(x), v = noise_fade(y), w = noise_fade(z);
+    const int a = noise_perm(X) + Y, aa = noise_perm(a) + Z, ab = noise_perm(a + 1) + Z;
+    const int b = noise_perm(X + 1) + Y, ba = noise_perm(b) + Z, bb = noise_perm(b + 1) + Z;
+    return noise_lerp(
         w,
-        lerp(v, lerp(u, gradient(perm(aa), x, y, z), gradient(perm(ba), x - 1, y, z)),
-             lerp(u, gradient(perm(ab), x, y - 1, z), gradient(perm(bb), x - 1, y - 1, z))),
-        lerp(v,
-             lerp(u, gradient(perm(aa + 1), x, y, z - 1), gradient(perm(ba + 1), x - 1, y, z - 1)),
-             lerp(u, gradient(perm(ab + 1), x, y - 1, z - 1),
-                  gradient(perm(bb + 1), x - 1, y - 1, z - 1))));
+        noise_lerp(v,
+                   noise_lerp(u, noise_gradient(noise_perm(aa), x, y, z),
+                              noise_gradient(noise_perm(ba), x - 1, y, z)),
+                   noise_lerp(u, noise_gradient(noise_perm(ab), x, y - 1, z),
+                              noise_gradient(noise_perm(bb), x - 1, y - 1, z))),
+        noise_lerp(v,
+                   noise_lerp(u, noise_gradient(noise_perm(aa + 1), x, y, z - 1),
+                              noise_gradient(noise_perm(ba + 1), x - 1, y, z - 1)),
+                   noise_lerp(u, noise_gradient(noise_perm(ab + 1), x, y - 1, z - 1),
+                              noise_gradient(noise_perm(bb + 1), x - 1, y - 1, z - 1))));
 }
 
 float fbm(const Vec3& p, float omega, int octaves) {
