@@ -2,7 +2,9 @@
 // Perlin's gradient noise ("Improving noise", SIGGRAPH 2002: the quintic fade and his
 // permutation table) and the sums pbrt-v4's procedural textures build from it: fractional
 // Brownian motion (fbm) and turbulence (wrinkled). Without ray footprints every octave is
-// summed (pbrt-v4 drops the octaves finer than a pixel's footprint).
+// summed (pbrt-v4 drops the octaves finer than a pixel's footprint). The gradients are
+// Perlin's reference set; pbrt-v4 picks others for 4 of the 16 hashes: the same kind of
+// noise, not the same pattern.
 #include "engine/core/math.h"
 
 namespace foton {
