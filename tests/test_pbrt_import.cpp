@@ -931,3 +931,24 @@ TEST_CASE("pbrt-v4: a planar-mapped texture renders by position, not by uv", "[p
     CHECK(px(8, 8).b == Approx(0.8f).epsilon(0.02));
     CHECK(px(24, 8).r == Approx(0.8f).epsilon(0.02));
 }
+
+TEST_CASE("pbrt-v4: Film maxcomponentvalue and the XML's max_sample_value set the sample clamp",
+          "[pbrt][fast]") {
+    const Scene s = parse_pbrt_scene(
+        "Film \"rgb\" \"float maxcomponentvalue\" 10\nWorldBegin\nShape \"sphere\"\n", "m.pbrt",
+        ".");
+    CHECK(s.film.max_sample_value == 10.f);
+    CHECK(std::isinf(
+        parse_pbrt_scene("WorldBegin\nShape \"sphere\"\n", "n.pbrt", ".").film.max_sample_value));
+    CHECK_THROWS_WITH(parse_pbrt_scene("Film \"rgb\" \"float maxcomponentvalue\" 0\nWorldBegin\n"
+                                       "Shape \"sphere\"\n",
+                                       "z.pbrt", "."),
+                      Catch::Contains("z.pbrt:1: maxcomponentvalue must be positive"));
+    const Scene x = parse_scene(
+        R"(<scene><objects><sphere radius="1"><center x="0" y="0" z="0"/><material type="matte"/>
+        </sphere></objects>
+        <film width="8" height="8" max_sample_value="2"/>
+        <camera><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/></camera></scene>)",
+        "m.xml", ".");
+    CHECK(x.film.max_sample_value == 2.f);
+}

@@ -1,8 +1,10 @@
 // End-to-end renders: analytic direct lighting, determinism across thread counts and
 // accelerators, and a stored low-resolution reference.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 #include "engine/accel/intersector.h"
 #include "engine/film/image_io.h"
@@ -299,4 +301,41 @@ TEST_CASE("every integrator reports its stage graph, and photon mapping's runs t
     // apart down to every pixel, 5 passes), and the photon passes ran once.
     CHECK(cached.graph.nodes[index(cached.graph, "cache-fill-records")].runs == 5);
     CHECK(cached.graph.nodes[index(cached.graph, "photons-global")].runs == 1);
+}
+
+TEST_CASE("max_sample_value clamps each camera sample and each splat, as pbrt-v4's film does",
+          "[render]") {
+    TestScene s = load_scene(test::source_path("scenes/cornell-box.xml"));
+    s.set_resolution(24, 24);
+    auto brightest = [](const Film& f) {
+        float m = 0.f;
+        for (const RGB& p : f.pixels) m = std::max(m, p.max_component());
+        return m;
+    };
+    const RenderResult free_run = render_scene(s, AccelType::Bvh, 2, 8, 3);
+    REQUIRE(brightest(free_run.film) > 1.f);  // the light is seen
+    s.film.max_sample_value = 0.5f;
+    // Path tracing: a pixel is a mean of clamped samples, so none exceeds the bound, and
+    // pixels whose samples all stayed below it keep their values.
+    const RenderResult clamped = render_scene(s, AccelType::Bvh, 2, 8, 3);
+    CHECK(brightest(clamped.film) <= 0.5f + 1e-5f);
+    int unchanged = 0;
+    for (std::size_t i = 0; i < clamped.film.pixels.size(); ++i)
+        unchanged += free_run.film.pixels[i].max_component() < 0.2f &&
+                     clamped.film.pixels[i].r == free_run.film.pixels[i].r;
+    CHECK(unchanged > 0);
+    // The light tracer's splats are clamped one by one: the image only darkens.
+    s.render.integrator = "light";
+    s.film.max_sample_value = std::numeric_limits<float>::infinity();
+    const RenderResult light_free = render_scene(s, AccelType::Bvh, 2, 4, 3);
+    s.film.max_sample_value = 0.05f;
+    const RenderResult light_clamped = render_scene(s, AccelType::Bvh, 2, 4, 3);
+    double sum_free = 0.0, sum_clamped = 0.0;
+    for (std::size_t i = 0; i < light_free.film.pixels.size(); ++i) {
+        sum_free += light_free.film.pixels[i].luminance();
+        sum_clamped += light_clamped.film.pixels[i].luminance();
+        CHECK(light_clamped.film.pixels[i].max_component() <=
+              light_free.film.pixels[i].max_component() + 1e-6f);
+    }
+    CHECK(sum_clamped < sum_free);
 }

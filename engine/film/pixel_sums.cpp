@@ -15,7 +15,8 @@ std::size_t PixelSums::add_splats(const std::vector<std::vector<Splat>>& chunks,
     std::size_t count = 0;
     if (!cluster.distributed()) {
         for (uint64_t c = mine.begin; c < mine.end; ++c) {
-            for (const Splat& s : chunks[c]) sum_[s.pixel] += s.value;
+            for (const Splat& s : chunks[c])
+                sum_[s.pixel] += clamp_max_component(s.value, max_sample_);
             count += chunks[c].size();
         }
         return count;
@@ -33,7 +34,8 @@ std::size_t PixelSums::add_splats(const std::vector<std::vector<Splat>>& chunks,
     for (const Bytes& part : parts)
         for (Unpacker in(part); !in.done();) {
             const Splat s = in.value<Splat>();
-            if (owners_.empty() || owners_[s.pixel] == me) sum_[s.pixel] += s.value, ++count;
+            if (owners_.empty() || owners_[s.pixel] == me)
+                sum_[s.pixel] += clamp_max_component(s.value, max_sample_), ++count;
         }
     return count;
 }

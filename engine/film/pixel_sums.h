@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "engine/core/cluster.h"
@@ -37,6 +38,12 @@ struct SampleMoments {
     }
 };
 
+// v scaled down so that its largest channel is at most `max` (pbrt-v4's maxcomponentvalue).
+inline RGB clamp_max_component(const RGB& v, float max) {
+    const float m = v.max_component();
+    return m > max ? v * (max / m) : v;
+}
+
 // What one light path sends to a film pixel (light tracing; BDPT's and VCM's t = 1 paths).
 struct Splat {
     uint32_t pixel;
@@ -60,10 +67,14 @@ class PixelSums {
     // no samples of a pixel).
     void keep_moments() { moments_.assign(sum_.size(), SampleMoments{}); }
     bool keeps_moments() const { return !moments_.empty(); }
-    // One camera sample, with its moments when they are kept.
+    // Camera samples and splats are clamped to this largest channel (FilmSettings).
+    void set_max_sample_value(float max) { max_sample_ = max; }
+    float max_sample_value() const { return max_sample_; }
+    // One camera sample (clamped), with its moments when they are kept.
     void add_sample(std::size_t pixel, const RGB& value) {
-        add(pixel, value);
-        if (!moments_.empty()) moments_[pixel].add(value);
+        const RGB v = clamp_max_component(value, max_sample_);
+        add(pixel, v);
+        if (!moments_.empty()) moments_[pixel].add(v);
     }
     // A tile's pixel of `samples` samples whose moments are `m` (adaptive sampling).
     void add(std::size_t pixel, const RGB& value, uint32_t samples, const SampleMoments& m) {
@@ -97,6 +108,7 @@ class PixelSums {
     std::vector<uint32_t> count_;
     std::vector<SampleMoments> moments_;
     PixelOwners owners_;
+    float max_sample_ = std::numeric_limits<float>::infinity();
 };
 
 }  // namespace foton

@@ -2,6 +2,7 @@
 // The scene model: everything the XML file describes, in world space, ready for the
 // accelerators and integrators.
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,9 @@ struct FilmSettings {
     int width = 512, height = 512;  // the pixels rendered (a crop window's, when cropped)
     float pixel_size = 0.001f;
     float gamma = 2.2f;
+    // pbrt-v4's maxcomponentvalue: each camera sample and each light-path splat is scaled down
+    // so that its largest channel is at most this (fireflies tamed at the cost of bias).
+    float max_sample_value = std::numeric_limits<float>::infinity();
     // A crop window: the rendered pixels are [x0, x0 + width) x [y0, y0 + height) of an image
     // of full_width x full_height (equal to width x height without a crop).
     int x0 = 0, y0 = 0;

@@ -56,6 +56,11 @@ void Importer::film(const Token& t, const std::string& type, const ParamList& p)
              "Film sensor \"" + sensor + "\" is rendered with the cie1931 sensor (XYZ matching)");
     if (p.real("whitebalance", 0.f) != 0.f)
         warn(file(), t.line, "Film whitebalance ignored (no chromatic adaptation)");
+    // pbrt-v4's clamp of each sample's largest channel (default: none).
+    if (p.has("maxcomponentvalue")) {
+        scene_.film.max_sample_value = p.real("maxcomponentvalue", 0.f);
+        if (!(scene_.film.max_sample_value > 0.f)) fail(t, "maxcomponentvalue must be positive");
+    }
     width_ = p.integer("xresolution", 1280);
     height_ = p.integer("yresolution", 720);
     if (width_ < 1 || height_ < 1) fail(t, "xresolution and yresolution must be positive");

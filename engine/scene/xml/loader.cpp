@@ -88,7 +88,7 @@ Scene Loader::run() {
 }
 
 void Loader::parse_film(const pugi::xml_node& n) {
-    check(n, {"width", "height", "size", "gamma"}, {});
+    check(n, {"width", "height", "size", "gamma", "max_sample_value"}, {});
     FilmSettings& f = scene_.film;
     f.width = int(count(n, "width", 512));
     f.height = int(count(n, "height", 512));
@@ -97,6 +97,7 @@ void Loader::parse_film(const pugi::xml_node& n) {
     f.full_height = f.height;
     f.pixel_size = positive(n, "size", 0.001f);
     f.gamma = positive(n, "gamma", 2.2f);
+    if (n.attribute("max_sample_value")) f.max_sample_value = positive(n, "max_sample_value", 1.f);
 }
 
 // The <renderer> attributes, and those of its <adaptive> element as adaptive_*, become

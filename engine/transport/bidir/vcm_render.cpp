@@ -85,6 +85,7 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
     const Share light_mine = share_of(light_chunks, cluster);
     const std::vector<uint64_t> camera_mine = dealt_in_turn(camera_chunks, cluster);
     PixelSums sums(scene.film.width, scene.film.height);
+    sums.set_max_sample_value(scene.film.max_sample_value);
     if (cluster.distributed()) sums.set_owners(owners_by_run(pixels, kCameraChunk, cluster.size()));
     std::vector<LightVertices> chunk_vertices(light_chunks);
     std::vector<std::vector<Splat>> splats(light_chunks);
@@ -177,7 +178,9 @@ RenderResult render_bidir(BidirMode mode, const Scene& scene, const RenderSettin
                     const uint32_t first = uint32_t(k) * kCameraChunk;
                     const uint32_t n = std::min(kCameraChunk, pixels - first);
                     trace_camera_subpaths(ctx, store, first, n, ws, radiance, &by_layer, st);
-                    for (uint32_t i = 0; i < n; ++i) sums.add(first + i, radiance[i]);
+                    for (uint32_t i = 0; i < n; ++i)
+                        sums.add(first + i,
+                                 clamp_max_component(radiance[i], scene.film.max_sample_value));
                     for (uint32_t i = 0; i < n; ++i)
                         for (uint32_t l = 0; l < n_layers; ++l)
                             layer_sums[l].add(first + i, by_layer[std::size_t(i) * n_layers + l]);

@@ -37,6 +37,7 @@ RenderResult render_light_paths(const Scene& scene, const Tracer& tracer,
     const Share mine = share_of(chunks, cluster);
     // Rank 0 adds every splat (no owners): its sums are the image.
     PixelSums sums(scene.film.width, scene.film.height);
+    sums.set_max_sample_value(scene.film.max_sample_value);
     std::vector<std::vector<Splat>> splats(chunks);
     tbb::enumerable_thread_specific<Workspace> workspaces;
     tbb::enumerable_thread_specific<RenderStats> stats;

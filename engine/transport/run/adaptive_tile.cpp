@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/film/pixel_sums.h"
+
 namespace foton {
 
 namespace {
@@ -61,9 +63,10 @@ void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad,
         st.samples += jobs.size();
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t l = local(jobs[i]);
-            mom[l].add(out[i].luminance());
-            sums.sum[l] += out[i];
-            sums.moments[l].add(out[i]);
+            const RGB v = clamp_max_component(out[i], scene.film.max_sample_value);
+            mom[l].add(v.luminance());
+            sums.sum[l] += v;
+            sums.moments[l].add(v);
             for (uint32_t c = 0; c < n_parts; ++c)
                 sums.parts[l * n_parts + c] += ws.parts[i * n_parts + c];
         }

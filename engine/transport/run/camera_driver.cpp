@@ -90,6 +90,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                            StageGraph& graph, const std::vector<uint32_t>& after) {
     RenderResult result;
     PixelSums acc(scene.film.width, scene.film.height);
+    acc.set_max_sample_value(scene.film.max_sample_value);
     if (settings.aovs & kAovVariance) acc.keep_moments();
     // The components AOV: a pixel sum per part of the integrator's estimate.
     const std::vector<std::string> part_names =
