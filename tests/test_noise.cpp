@@ -73,3 +73,43 @@ Material "diffuse" "texture displacement" "waves" Shape "sphere"
                          "bad.pbrt", "."),
         Catch::Contains("bad.pbrt:2: 'fbm' is a float texture in pbrt-v4"));
 }
+
+TEST_CASE("pbrt-v4: bilerp and dots textures", "[noise][pbrt][texture][fast]") {
+    const Scene s = parse_pbrt_scene(R"(LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+WorldBegin
+Texture "ramp" "spectrum" "bilerp" "rgb v00" [0 0 0] "rgb v01" [0 1 0] "rgb v10" [1 0 0]
+    "rgb v11" [1 1 1]
+Texture "spots" "float" "dots" "float inside" 2 "float outside" 0.5 "float uscale" 4
+    "float vscale" 4
+Material "diffuse" "texture reflectance" "ramp" "texture displacement" "spots"
+Shape "sphere"
+)",
+                                     "tex.pbrt", ".");
+    const Material& m = s.materials[s.objects.at(0).material];
+    const Texture& ramp = s.textures[std::size_t(m.texture)];
+    const Texture& spots = s.textures[std::size_t(m.bump)];
+    // Bilinear in (s, t): v10 at s = 1, v01 at t = 1; halfway a quarter of each corner.
+    const RGB mid = ramp.eval(s.texture_images, TexPoint{0.25f, 0.75f});
+    CHECK(mid.r == Approx(0.25f));
+    CHECK(mid.g == Approx(0.75f));
+    CHECK(mid.b == Approx(0.25f * 0.75f));
+    // Dots: only the two values; never at a cell's corner (0.35 + 0.15 sqrt 2 < 0.5 sqrt 2);
+    // over many cells some have dots, some not.
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 200; ++i)
+        for (int j = 0; j < 8; ++j) {
+            // (s, t) = (i, j): a cell's centre, inside its dot whenever it has one (the dot
+            // moves at most 0.15 each way).
+            const float v =
+                spots.eval_float(s.texture_images, TexPoint{float(i) / 4.f, float(j) / 4.f});
+            REQUIRE((v == Approx(2.f) || v == Approx(0.5f)));
+            (v > 1.f ? inside : outside)++;
+            // A cell's corner (s, t half-integers) is outside every dot.
+            CHECK(spots.eval_float(s.texture_images,
+                                   TexPoint{(float(i) + 0.5f) / 4.f, (float(j) + 0.5f) / 4.f}) ==
+                  Approx(0.5f));
+        }
+    CHECK(inside > 100);
+    CHECK(outside > 100);
+}

@@ -94,6 +94,18 @@ float Texture::eval_float(const std::vector<TextureImage>& images, const TexPoin
     return invert ? std::max(0.f, 1.f - v) : v;
 }
 
+bool Texture::in_dot(Point2 q) const {
+    // The unit cell around the nearest integer point holds a dot where the noise at its
+    // centre is positive; the dot's centre is shifted within the cell by two more draws.
+    const float s_cell = std::floor(q.x + 0.5f), t_cell = std::floor(q.y + 0.5f);
+    if (!(perlin_noise({s_cell + 0.5f, t_cell + 0.5f, 0.5f}) > 0.f)) return false;
+    constexpr float kRadius = 0.35f, kMaxShift = 0.5f - kRadius;
+    const float sc = s_cell + kMaxShift * perlin_noise({s_cell + 1.5f, t_cell + 2.8f, 0.5f});
+    const float tc = t_cell + kMaxShift * perlin_noise({s_cell + 4.5f, t_cell + 9.8f, 0.5f});
+    const float ds = q.x - sc, dt = q.y - tc;
+    return ds * ds + dt * dt < kRadius * kRadius;
+}
+
 float Texture::noise_value(const Vec3& q) const {
     switch (noise) {
         case NoiseKind::FBm:
@@ -126,6 +138,17 @@ RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) c
         case TextureKind::Noise:
             c = RGB{noise_value(to_texture.point(at.p))};
             break;
+        case TextureKind::Bilerp: {
+            const Point2 q = st(at);
+            c = operands[0].eval(images, at) * ((1.f - q.x) * (1.f - q.y)) +
+                operands[1].eval(images, at) * ((1.f - q.x) * q.y) +
+                operands[2].eval(images, at) * (q.x * (1.f - q.y)) +
+                operands[3].eval(images, at) * (q.x * q.y);
+            break;
+        }
+        case TextureKind::Dots:
+            c = operands[in_dot(st(at)) ? 0 : 1].eval(images, at);
+            break;
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
@@ -150,6 +173,14 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         c = (value + other) * 0.5f;
     } else if (kind == TextureKind::DirectionMix) {
         c = (operands[0].mean(images) + operands[1].mean(images)) * 0.5f;
+    } else if (kind == TextureKind::Bilerp) {
+        c = (operands[0].mean(images) + operands[1].mean(images) + operands[2].mean(images) +
+             operands[3].mean(images)) *
+            0.25f;
+    } else if (kind == TextureKind::Dots) {
+        // A dot covers pi 0.35^2 of about half the cells.
+        const float f = 0.5f * kPi * 0.35f * 0.35f;
+        c = operands[0].mean(images) * f + operands[1].mean(images) * (1.f - f);
     } else if (kind == TextureKind::Noise) {
         // Over a fixed scatter of points (the noise has no period to average over).
         float sum = 0.f;

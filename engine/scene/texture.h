@@ -33,7 +33,9 @@ enum class TextureKind : uint8_t {
     Mix,
     Product,
     DirectionMix,
-    Noise,  // pbrt-v4's fbm, wrinkled and windy: Perlin noise at the point (noise.h)
+    Noise,   // pbrt-v4's fbm, wrinkled and windy: Perlin noise at the point (noise.h)
+    Bilerp,  // pbrt-v4's bilerp: operands v00, v01, v10, v11 bilinearly over (s, t), unwrapped
+    Dots,    // pbrt-v4's dots: operands inside, outside; a dot of radius 0.35 in some unit cells
 };
 
 enum class NoiseKind : uint8_t { FBm, Wrinkled, Windy };
@@ -89,6 +91,8 @@ struct Texture {
     Point2 st(const TexPoint& at) const;
     // A Noise texture's value at q in its own space.
     float noise_value(const Vec3& q) const;
+    // A Dots texture: whether (s, t) lies in a dot.
+    bool in_dot(Point2 q) const;
 
     RGB eval(const std::vector<TextureImage>& images, const TexPoint& at) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two

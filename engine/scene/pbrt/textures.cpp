@@ -45,6 +45,17 @@ RGB Importer::reflectance(const ParamList& p, const std::string& name, RGB fallb
     return c;
 }
 
+namespace {
+
+// How deep a mix or product texture nests them (operands are copies: a chain grows the copy).
+int mix_depth(const Texture& tx) {
+    int d = 0;
+    for (const Texture& o : tx.operands) d = std::max(d, mix_depth(o));
+    return tx.operands.empty() ? d : d + 1;
+}
+
+}  // namespace
+
 float Importer::float_value(const ParamList& p, const std::string& name, float fallback) {
     const TextureDesc* tx = texture_ref(p, name, true);
     if (tx && tx->scene_texture >= 0)
@@ -124,26 +135,35 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         direction_mix_texture(t, p, tex);
     } else if (type == "fbm" || type == "wrinkled" || type == "windy") {
         noise_texture(t, type, p, tex);
+    } else if (type == "bilerp" || type == "dots") {
+        // Both read (s, t) through the 2D mapping; their operands are values or textures.
+        bool varies = true;
+        Texture st;
+        if (type == "bilerp") {
+            st.kind = TextureKind::Bilerp;
+            st.operands = {texture_operand(p, "v00", tex.is_float, 0.f, varies),
+                           texture_operand(p, "v01", tex.is_float, 1.f, varies),
+                           texture_operand(p, "v10", tex.is_float, 0.f, varies),
+                           texture_operand(p, "v11", tex.is_float, 1.f, varies)};
+        } else {
+            st.kind = TextureKind::Dots;
+            st.operands = {texture_operand(p, "inside", tex.is_float, 1.f, varies),
+                           texture_operand(p, "outside", tex.is_float, 0.f, varies)};
+        }
+        texture_mapping(t, p, st);
+        if (mix_depth(st) > 8) fail(t, "textures nest deeper than 8");
+        scene_.textures.push_back(std::move(st));
+        tex.scene_texture = int32_t(scene_.textures.size() - 1);
     } else {
         fail(t, "texture type '" + type +
                     "' is not supported (constant, scale, mix, directionmix, fbm, wrinkled, "
-                    "windy, imagemap and checkerboard)");
+                    "windy, bilerp, dots, imagemap and checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
     count("Texture " + type);
 }
 
-namespace {
-
-// How deep a mix or product texture nests them (operands are copies: a chain grows the copy).
-int mix_depth(const Texture& tx) {
-    int d = 0;
-    for (const Texture& o : tx.operands) d = std::max(d, mix_depth(o));
-    return tx.operands.empty() ? d : d + 1;
-}
-
-}  // namespace
 
 Texture Importer::texture_operand(const ParamList& p, const std::string& key, bool is_float,
                                   float fallback, bool& varies) {
