@@ -164,7 +164,6 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     count("Texture " + type);
 }
 
-
 Texture Importer::texture_operand(const ParamList& p, const std::string& key, bool is_float,
                                   float fallback, bool& varies) {
     Texture o;
