@@ -33,6 +33,21 @@ Scene world(const std::string& options, const std::string& world) {
         "10] \"integer indices\" [0 1 2 0 2 3]\n");
 }
 
+// The head of a pbrt file that sees the unit square z = 0 head-on through an orthographic
+// camera at `res` x `res` pixels under irradiance pi: a Lambertian surface there shows its
+// albedo as its radiance.
+std::string head_on_unit_square(int res) {
+    const std::string r = std::to_string(res);
+    return "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
+           "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+           "Film \"rgb\" \"integer xresolution\" " +
+           r + " \"integer yresolution\" " + r +
+           "\n"
+           "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
+           "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
+           "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n";
+}
+
 std::string error_of(const std::string& body) {
     try {
         import_text(body);
@@ -611,28 +626,23 @@ TEST_CASE("textures: a textured quad renders the texture's colours", "[texture][
         f.write(reinterpret_cast<const char*>(px), sizeof px);
         // Irradiance pi on a Lambertian quad: its radiance is its albedo, texel by texel.
         std::ofstream(dir.file("quad.pbrt"))
-            << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
-               "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-               "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\n"
-               "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
-               "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
-               "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
-               "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"t.ppm\"\n"
-               "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 "
-               "\"float vscale\" 4 \"rgb tex1\" [0.8 0.8 0.8] \"rgb tex2\" [0.1 0.2 0.3]\n"
-               "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" "
-               "\"img\"\n"
-               "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" "
-               "\"checks\"\n"
-               "MakeNamedMaterial \"c\" \"string type\" \"diffuse\"\n"
-               "Material \"mix\" \"string materials\" [\"c\" \"a\"] \"float amount\" 1\n"
-               "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
-               "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
-               "AttributeBegin Translate 0 0 -1 NamedMaterial \"b\"\n"
-               "Shape \"trianglemesh\" \"point3 P\" [-1 -1 0 2 -1 0 2 2 0 -1 2 0] "
-               "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
-               "AttributeEnd\n"
-               "Material \"mix\" \"string materials\" [\"a\" \"b\"] \"float amount\" 0.5\n";
+            << head_on_unit_square(64) +
+                   "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"t.ppm\"\n"
+                   "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 "
+                   "\"float vscale\" 4 \"rgb tex1\" [0.8 0.8 0.8] \"rgb tex2\" [0.1 0.2 0.3]\n"
+                   "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" "
+                   "\"img\"\n"
+                   "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" "
+                   "\"checks\"\n"
+                   "MakeNamedMaterial \"c\" \"string type\" \"diffuse\"\n"
+                   "Material \"mix\" \"string materials\" [\"c\" \"a\"] \"float amount\" 1\n"
+                   "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+                   "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
+                   "AttributeBegin Translate 0 0 -1 NamedMaterial \"b\"\n"
+                   "Shape \"trianglemesh\" \"point3 P\" [-1 -1 0 2 -1 0 2 2 0 -1 2 0] "
+                   "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
+                   "AttributeEnd\n"
+                   "Material \"mix\" \"string materials\" [\"a\" \"b\"] \"float amount\" 0.5\n";
     }
     CHECK_THROWS_WITH(load_scene(dir.file("quad.pbrt")),
                       Catch::Contains("quad.pbrt:18: a mix of two differently textured"));
@@ -748,22 +758,18 @@ TEST_CASE("pbrt-v4: a mix's texture amount weighs its two materials per hit", "[
     // Irradiance pi on a unit quad seen head-on: each pixel's radiance is its albedo. The
     // amount is a float checkerboard of 0 and 0.25 in 2 x 2 cells over the quad.
     std::ofstream(dir.file("mix.pbrt"))
-        << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
-           "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-           "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\n"
-           "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
-           "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
-           "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
-           "Texture \"amount\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2 "
-           "\"float tex1\" 0 \"float tex2\" 0.25\n"
-           "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.1 "
-           "0.1]\n"
-           "MakeNamedMaterial \"blue\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" "
-           "[0.1 0.1 0.8] \"float roughness\" 0.3\n"
-           "Material \"mix\" \"string materials\" [\"red\" \"blue\"] \"texture amount\" "
-           "\"amount\"\n"
-           "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
-           "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n";
+        << head_on_unit_square(64) +
+               "Texture \"amount\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" "
+               "2 "
+               "\"float tex1\" 0 \"float tex2\" 0.25\n"
+               "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.1 "
+               "0.1]\n"
+               "MakeNamedMaterial \"blue\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" "
+               "[0.1 0.1 0.8] \"float roughness\" 0.3\n"
+               "Material \"mix\" \"string materials\" [\"red\" \"blue\"] \"texture amount\" "
+               "\"amount\"\n"
+               "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+               "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n";
     const Scene s = load_scene(dir.file("mix.pbrt"));
     const Material& m = s.materials[s.objects.at(0).material];
     REQUIRE(m.bsdf.size() == 2);
@@ -907,18 +913,13 @@ TEST_CASE("pbrt-v4: a planar-mapped texture renders by position, not by uv", "[p
     // A unit quad without uv under irradiance pi, seen head-on: each pixel's radiance is its
     // albedo. The checkerboard's cells are 0.5 wide in x and y through the planar mapping.
     std::ofstream(dir.file("planar.pbrt"))
-        << "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
-           "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-           "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
-           "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
-           "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
-           "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n"
-           "Texture \"checks\" \"spectrum\" \"checkerboard\" \"string mapping\" \"planar\" "
-           "\"vector3 v1\" [2 0 0] \"vector3 v2\" [0 2 0] \"rgb tex1\" [0.8 0.1 0.1] "
-           "\"rgb tex2\" [0.1 0.1 0.8]\n"
-           "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
-           "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
-           "\"integer indices\" [0 1 2 0 2 3]\n";
+        << head_on_unit_square(32) +
+               "Texture \"checks\" \"spectrum\" \"checkerboard\" \"string mapping\" \"planar\" "
+               "\"vector3 v1\" [2 0 0] \"vector3 v2\" [0 2 0] \"rgb tex1\" [0.8 0.1 0.1] "
+               "\"rgb tex2\" [0.1 0.1 0.8]\n"
+               "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+               "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] "
+               "\"integer indices\" [0 1 2 0 2 3]\n";
     TestScene ts(load_scene(dir.file("planar.pbrt")));
     const auto acc = make_intersector(ts, ts.accel);
     RenderOptions opt = ts.render.run;
@@ -951,4 +952,17 @@ TEST_CASE("pbrt-v4: Film maxcomponentvalue and the XML's max_sample_value set th
         <camera><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/></camera></scene>)",
         "m.xml", ".");
     CHECK(x.film.max_sample_value == 2.f);
+}
+
+TEST_CASE("pbrt-v4: textures made of textures are refused past 8 levels", "[pbrt][texture][fast]") {
+    // Each mix copies the one before as an operand: a chain of 9 is an error at its line.
+    std::string text = "WorldBegin\nTexture \"m0\" \"float\" \"checkerboard\"\n";
+    for (int i = 1; i <= 9; ++i)
+        text += "Texture \"m" + std::to_string(i) + "\" \"float\" \"mix\" \"texture tex1\" \"m" +
+                std::to_string(i - 1) + "\" \"float amount\" 0.5\n";
+    CHECK_THAT(error_of(text + "Shape \"sphere\"\n"),
+               Catch::Contains("test.pbrt:11: textures made of textures nest deeper than 8"));
+    // Eight levels are fine.
+    text = text.substr(0, text.rfind("Texture \"m9\""));
+    CHECK(error_of(text + "Shape \"sphere\"\n").empty());
 }

@@ -59,6 +59,8 @@ bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t,
     if (m.alpha_texture >= 0)
         a *= scene.textures[std::size_t(m.alpha_texture)].eval_float(
             scene.texture_images,
+            // The hit point for textures mapped by position; the surface normal is not
+            // computed here, so a directionmix alpha reads the ray's direction instead.
             TexPoint{alpha_hit_uv(scene, geom, prim, t, u, v, o, d), o + d * t, -d});
     if (m.alpha_cutoff >= 0.f) return a >= m.alpha_cutoff;
     if (a >= 1.f) return true;

@@ -102,6 +102,9 @@ class Importer {
     // An imagemap's or checkerboard's mapping: uv (uscale, vscale, udelta, vdelta), or by
     // position (spherical, cylindrical, planar) through the current transform.
     void texture_mapping(const Token& t, const ParamList& p, Texture& st);
+    // A texture into Scene::textures (its index); one made of textures (mix, product, ...)
+    // nested more than 8 deep is an error at `t` (operands are copies: nesting multiplies).
+    int32_t add_texture(const Token& t, Texture tx);
     // pbrt-v4's "scale" texture whose scale varies: a product texture into `tex`.
     void product_texture(const Token& t, const ParamList& p, TextureDesc& tex);
     // A mix's or product's operand `key`: a copy of the texture it names, or a constant

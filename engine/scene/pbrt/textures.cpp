@@ -151,9 +151,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
                            texture_operand(p, "outside", tex.is_float, 0.f, varies)};
         }
         texture_mapping(t, p, st);
-        if (mix_depth(st) > 8) fail(t, "textures nest deeper than 8");
-        scene_.textures.push_back(std::move(st));
-        tex.scene_texture = int32_t(scene_.textures.size() - 1);
+        tex.scene_texture = add_texture(t, std::move(st));
     } else {
         fail(t, "texture type '" + type +
                     "' is not supported (constant, scale, mix, directionmix, fbm, wrinkled, "
@@ -182,15 +180,19 @@ Texture Importer::texture_operand(const ParamList& p, const std::string& key, bo
     return o;
 }
 
+int32_t Importer::add_texture(const Token& t, Texture tx) {
+    if (mix_depth(tx) > 8) fail(t, "textures made of textures nest deeper than 8");
+    scene_.textures.push_back(std::move(tx));
+    return int32_t(scene_.textures.size() - 1);
+}
+
 void Importer::product_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
     bool varies = true;
     Texture product;
     product.kind = TextureKind::Product;
     product.operands = {texture_operand(p, "tex", tex.is_float, 1.f, varies),
                         texture_operand(p, "scale", true, 1.f, varies)};
-    if (mix_depth(product) > 8) fail(t, "mix and scale textures nest deeper than 8");
-    scene_.textures.push_back(std::move(product));
-    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    tex.scene_texture = add_texture(t, std::move(product));
 }
 
 void Importer::texture_mapping(const Token& t, const ParamList& p, Texture& st) {
@@ -245,8 +247,7 @@ void Importer::noise_texture(const Token& t, const std::string& type, const Para
     if (std::fabs(gs_.ctm.determinant()) < 1e-12f)
         fail(t, type + ": the texture's transform must be invertible");
     st.to_texture = gs_.ctm.inverse();
-    scene_.textures.push_back(st);
-    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    tex.scene_texture = add_texture(t, std::move(st));
 }
 
 void Importer::direction_mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
@@ -264,30 +265,24 @@ void Importer::direction_mix_texture(const Token& t, const ParamList& p, Texture
     dir = gs_.ctm.vector(dir);
     if (!(length(dir) > 0.f)) fail(t, "directionmix: dir must not be zero");
     mix.mix_dir = normalize(dir);
-    if (mix_depth(mix) > 8) fail(t, "mix and scale textures nest deeper than 8");
-    scene_.textures.push_back(std::move(mix));
-    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    tex.scene_texture = add_texture(t, std::move(mix));
 }
 
 void Importer::mix_texture(const Token& t, const ParamList& p, TextureDesc& tex) {
     // pbrt-v4's defaults: tex1 0, tex2 1, amount 0.5.
     bool varies = false;
-    auto operand = [&](const std::string& key, bool is_float, float fallback) {
-        return texture_operand(p, key, is_float, fallback, varies);
-    };
     Texture mix;
     mix.kind = TextureKind::Mix;
-    mix.operands = {operand("tex1", tex.is_float, 0.f), operand("tex2", tex.is_float, 1.f),
-                    operand("amount", true, 0.5f)};
+    mix.operands = {texture_operand(p, "tex1", tex.is_float, 0.f, varies),
+                    texture_operand(p, "tex2", tex.is_float, 1.f, varies),
+                    texture_operand(p, "amount", true, 0.5f, varies)};
     if (!varies) {
         // Constants: the mixture is a constant.
         const float a = mix.operands[2].value.r;
         tex.value = mix.operands[0].value * (1.f - a) + mix.operands[1].value * a;
         return;
     }
-    if (mix_depth(mix) > 8) fail(t, "mix textures nest deeper than 8");
-    scene_.textures.push_back(std::move(mix));
-    tex.scene_texture = int32_t(scene_.textures.size() - 1);
+    tex.scene_texture = add_texture(t, std::move(mix));
 }
 
 uint32_t Importer::image_texture(const Token& t, const ParamList& p) {
