@@ -45,7 +45,7 @@ BvhAccel::BvhAccel(const Scene& scene, int threads, std::size_t stream_min_bytes
             next += uint32_t(m.num_triangles());
             continue;
         }
-        if (o.kind == ObjectKind::Curves) continue;  // CurveIntersector's
+        if (!traced_by_backend(o.kind)) continue;  // the wrappers'
         sphere_refs.push_back(padded_object_ref(scene, g));
     }
     auto build = [&] {

@@ -99,7 +99,7 @@ EmbreeAccel::EmbreeAccel(const Scene& scene, int threads) : scene_(scene) {
     std::vector<int> child_of_mesh(scene.meshes.size(), -1);
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
-        if (o.kind == ObjectKind::Curves) continue;  // CurveIntersector's
+        if (!traced_by_backend(o.kind)) continue;  // the wrappers'
         RTCGeometry geom;
         if (o.instance >= 0) {
             int& child = child_of_mesh[o.index];

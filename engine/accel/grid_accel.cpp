@@ -54,7 +54,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
     std::vector<std::vector<uint32_t>> cells(ncells);
     for (uint32_t g = 0; g < n; ++g) {
         if (scene.objects[g].instance >= 0) continue;               // in the instance layer
-        if (scene.objects[g].kind == ObjectKind::Curves) continue;  // CurveIntersector's
+        if (!traced_by_backend(scene.objects[g].kind)) continue;  // the wrappers'
         int clo[3], chi[3];
         for (int a = 0; a < 3; ++a) {
             clo[a] = top_.cell_of(a, ob[g].lo[a]);

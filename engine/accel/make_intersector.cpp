@@ -5,6 +5,7 @@
 #include "embree_accel.h"
 #include "grid_accel.h"
 #include "mesh_tree_accel.h"
+#include "shape_intersector.h"
 
 namespace foton {
 
@@ -38,12 +39,15 @@ std::unique_ptr<Intersector> make_backend(const Scene& scene, AccelType type, in
 std::unique_ptr<Intersector> make_intersector(const Scene& scene, AccelType type, int threads) {
     std::unique_ptr<Intersector> backend = make_backend(scene, type, threads);
     for (const Object& o : scene.objects)
-        if (o.kind != ObjectKind::Curves && scene.materials[o.material].cuts_out()) {
+        if (traced_by_backend(o.kind) && scene.materials[o.material].cuts_out()) {
             backend = std::make_unique<AlphaIntersector>(scene, std::move(backend));
             break;
         }
-    // Curves (never cut out: the importers refuse alpha on them) above everything else.
+    // Curves (never cut out: the importers refuse alpha on them) above the cut-outs.
     if (scene.has_curves()) backend = std::make_unique<CurveIntersector>(scene, std::move(backend));
+    // Analytic shapes and CSG trees (never cut out either) on top.
+    if (!scene.shapes.empty())
+        backend = std::make_unique<ShapeIntersector>(scene, std::move(backend));
     return backend;
 }
 

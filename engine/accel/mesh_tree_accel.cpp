@@ -27,7 +27,7 @@ MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene, int threads)
         for (uint32_t g = 0; g < scene.objects.size(); ++g) {
             const Object& o = scene.objects[g];
             if (o.instance >= 0) continue;               // in the instance layer
-            if (o.kind == ObjectKind::Curves) continue;  // CurveIntersector's
+            if (!traced_by_backend(o.kind)) continue;  // the wrappers'
             if (o.kind == ObjectKind::Mesh) {
                 const TriangleMesh& m = scene.meshes[o.index];
                 if constexpr (std::is_same_v<Tree, kern::TriangleKdTree>) {

@@ -39,8 +39,9 @@ std::string geometry_hash(const Scene& scene) {
         h = hash_vector(m.positions, h);
         h = hash_vector(m.indices, h);
     }
-    const uint64_t spheres = scene.spheres.size();
-    return hex(fnv1a(&spheres, sizeof spheres, h));
+    // Spheres and analytic shapes come from the scene file, whose bytes are compared.
+    const uint64_t counts[2] = {scene.spheres.size(), scene.shapes.size()};
+    return hex(fnv1a(counts, sizeof counts, h));
 }
 
 std::string text(double v) {
@@ -85,7 +86,8 @@ JobFingerprint job_fingerprint(const std::string& scene_path, const RenderJob& j
     return {
         {"scene file's bytes", file_hash(scene_path)},
         {"geometry", std::to_string(scene.meshes.size()) + " meshes, " +
-                         std::to_string(scene.spheres.size()) + " spheres (" +
+                         std::to_string(scene.spheres.size()) + " spheres, " +
+                         std::to_string(scene.shapes.size()) + " shapes (" +
                          geometry_hash(scene) + ")"},
         {"resolution", std::to_string(film.width) + "x" + std::to_string(film.height)},
         {"crop", std::to_string(film.x0) + "," + std::to_string(film.y0) + " of " +

@@ -105,9 +105,10 @@ std::string RenderStats::table() const {
         s += buf;
     }
     std::snprintf(buf, sizeof buf,
-                  "tests: ray/triangle %llu, ray/sphere %llu, grid cells %llu, bvh nodes %llu, "
-                  "instance visits %llu\n",
+                  "tests: ray/triangle %llu, ray/sphere %llu, ray/curve %llu, ray/shape %llu, "
+                  "grid cells %llu, bvh nodes %llu, instance visits %llu\n",
                   (unsigned long long)trace.triangle_tests, (unsigned long long)trace.sphere_tests,
+                  (unsigned long long)trace.curve_tests, (unsigned long long)trace.shape_tests,
                   (unsigned long long)trace.cells, (unsigned long long)trace.bvh_nodes,
                   (unsigned long long)trace.instance_visits);
     s += buf;
@@ -155,6 +156,8 @@ nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& ru
     j["samples_per_second"] = wall_seconds > 0 ? double(samples) / wall_seconds : 0.0;
     j["triangle_tests"] = trace.triangle_tests;
     j["sphere_tests"] = trace.sphere_tests;
+    j["curve_tests"] = trace.curve_tests;
+    j["shape_tests"] = trace.shape_tests;
     j["grid_cells"] = trace.cells;
     j["bvh_nodes"] = trace.bvh_nodes;
     j["instance_visits"] = trace.instance_visits;

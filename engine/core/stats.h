@@ -39,6 +39,7 @@ struct TraceCounters {
     uint64_t triangle_tests = 0;  // ray/triangle tests (a SIMD block counts its W lanes)
     uint64_t sphere_tests = 0;
     uint64_t curve_tests = 0;      // ray/curve segment tests (CurveIntersector)
+    uint64_t shape_tests = 0;      // ray/analytic shape or CSG tree tests (ShapeIntersector)
     uint64_t cells = 0;            // grid cells visited (grid backend only)
     uint64_t bvh_nodes = 0;        // wide BVH nodes visited, N box tests each (bvh backend only)
     uint64_t instance_visits = 0;  // rays taken into an instance's space (its BLAS traced)
@@ -47,6 +48,7 @@ struct TraceCounters {
         triangle_tests += o.triangle_tests;
         sphere_tests += o.sphere_tests;
         curve_tests += o.curve_tests;
+        shape_tests += o.shape_tests;
         cells += o.cells;
         bvh_nodes += o.bvh_nodes;
     }
@@ -160,6 +162,8 @@ struct RenderStats {
         f(a.cache.visibility_rejections, b.cache.visibility_rejections);
         f(a.trace.triangle_tests, b.trace.triangle_tests);
         f(a.trace.sphere_tests, b.trace.sphere_tests);
+        f(a.trace.curve_tests, b.trace.curve_tests);
+        f(a.trace.shape_tests, b.trace.shape_tests);
         f(a.trace.cells, b.trace.cells);
         f(a.trace.bvh_nodes, b.trace.bvh_nodes);
         f(a.trace.instance_visits, b.trace.instance_visits);

@@ -85,6 +85,7 @@ Bounds3 Scene::object_bounds(uint32_t geom) const {
     const Object& o = objects[geom];
     if (o.kind == ObjectKind::Sphere) return spheres[o.index].bounds();
     if (o.kind == ObjectKind::Curves) return curves[o.index].bounds();
+    if (o.kind == ObjectKind::Shape) return shapes[o.index].bounds();
     const Bounds3 b = meshes[o.index].bounds();
     const Instance* in = instance_of(geom);
     if (!in) return b;
@@ -145,6 +146,7 @@ std::size_t Scene::memory_bytes() const {
                     materials.size() * sizeof(Material) + instances.size() * sizeof(Instance);
     for (const auto& m : meshes) n += m.memory_bytes();
     for (const auto& c : curves) n += c.memory_bytes();
+    for (const auto& sh : shapes) n += sizeof(AnalyticShape) + sh.shapes().size() * sizeof(ShapePrimitive);
     if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
 }
@@ -175,6 +177,16 @@ uint32_t Scene::add_curves(CurveSet set, uint32_t material) {
     o.index = uint32_t(curves.size());
     o.material = material;
     curves.push_back(std::move(set));
+    objects.push_back(o);
+    return uint32_t(objects.size() - 1);
+}
+
+uint32_t Scene::add_shape(AnalyticShape shape, uint32_t material) {
+    Object o;
+    o.kind = ObjectKind::Shape;
+    o.index = uint32_t(shapes.size());
+    o.material = material;
+    shapes.push_back(std::move(shape));
     objects.push_back(o);
     return uint32_t(objects.size() - 1);
 }
@@ -270,6 +282,17 @@ std::string Scene::summary() const {
         std::snprintf(buf, sizeof buf, "curves     %zu segments in %zu sets\n", segments,
                       curves.size());
         s += buf;
+    }
+    if (!shapes.empty()) {
+        // "shapes     3: cylinder, torus, CSG of 3 solids"
+        s += "shapes     " + std::to_string(shapes.size()) + ":";
+        for (std::size_t i = 0; i < shapes.size(); ++i) {
+            const AnalyticShape& sh = shapes[i];
+            s += i ? ", " : " ";
+            s += sh.csg() ? "CSG of " + std::to_string(sh.shapes().size()) + " solids"
+                          : std::string(shape_type_name(sh.shapes()[0].type));
+        }
+        s += "\n";
     }
     if (!instances.empty()) {
         std::snprintf(buf, sizeof buf, "instances  %zu placements sharing %zu stored triangles\n",

@@ -18,6 +18,7 @@
 #include "material.h"
 #include "medium.h"
 #include "mesh.h"
+#include "shapes/csg_shape.h"
 #include "texture.h"
 
 namespace foton {
@@ -31,12 +32,18 @@ enum class AccelType { Brute, BruteSimd, Grid, Bvh, Embree, Octree, KdTree };
 const char* accel_name(AccelType a);
 bool parse_accel(const std::string& s, AccelType& out);
 
-enum class ObjectKind { Mesh, Sphere, Curves };
+enum class ObjectKind { Mesh, Sphere, Curves, Shape };
+// Meshes and spheres are traced by each backend; curves and analytic shapes by the wrappers
+// above every backend (accel/curve_intersector.h, accel/shape_intersector.h), which the
+// backends leave them to.
+inline bool traced_by_backend(ObjectKind k) {
+    return k == ObjectKind::Mesh || k == ObjectKind::Sphere;
+}
 
 // One geometry of the scene: its index is the geometry id reported in hits.
 struct Object {
     ObjectKind kind = ObjectKind::Mesh;
-    uint32_t index = 0;     // into Scene::meshes, Scene::spheres or Scene::curves
+    uint32_t index = 0;     // into Scene::meshes, spheres, curves or shapes
     uint32_t material = 0;  // into Scene::materials
     bool smooth = false;    // interpolate vertex normals (meshes)
     // A mesh placed by a transform (into Scene::instances), -1: none. The mesh is then kept
@@ -100,6 +107,7 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<CurveSet> curves;
+    std::vector<AnalyticShape> shapes;  // disks, cylinders, cones, tori, boxes and CSG trees
     std::vector<Object> objects;
     std::vector<Instance> instances;
     std::vector<Texture> textures;
@@ -141,6 +149,7 @@ struct Scene {
     uint32_t add_sphere(const Sphere& sphere, uint32_t material);
     uint32_t add_curves(CurveSet curves, uint32_t material);
     bool has_curves() const { return !curves.empty(); }
+    uint32_t add_shape(AnalyticShape shape, uint32_t material);
     // Places mesh `mesh` (kept in its own space, shared) by `to_world` (not singular), with
     // its material; returns the geometry id.
     uint32_t add_instance(uint32_t mesh, const Affine& to_world, uint32_t material, bool smooth);

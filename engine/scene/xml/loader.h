@@ -171,6 +171,12 @@ class Loader {
     void vdb_temperature(const pugi::xml_node& e, Medium& m) const;
     std::map<std::string, int32_t> medium_ids_;
     void parse_objects(const pugi::xml_node& n);
+    // shapes.cpp: analytic shapes and CSG trees.
+    static bool is_shape_element(std::string_view k);
+    ShapePrimitive shape_primitive(const pugi::xml_node& o, bool in_csg) const;
+    uint32_t csg_node(const pugi::xml_node& o, const Affine& outer, AnalyticShape& shape,
+                      int depth) const;
+    void parse_shape_object(const pugi::xml_node& o);
     void parse_film(const pugi::xml_node& n);
     void parse_renderer(const pugi::xml_node& n);
     void parse_camera(const pugi::xml_node& n);

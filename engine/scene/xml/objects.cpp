@@ -1,4 +1,4 @@
-// <objects>: meshes, spheres, quads and their transforms.
+// <objects>: meshes, spheres, quads and their transforms (analytic shapes: shapes.cpp).
 #include "loader.h"
 
 #include <filesystem>
@@ -138,7 +138,7 @@ void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
 }
 
 void Loader::parse_objects(const pugi::xml_node& n) {
-    check(n, {}, {"triangle_mesh", "sphere", "quad"});
+    check(n, {}, {"triangle_mesh", "sphere", "quad", "disk", "cylinder", "cone", "torus", "box", "csg"});
     // How often each mesh file is placed: more than once, and its placements are instances.
     std::map<std::string, int> placements;
     for (const pugi::xml_node& o : n.children("triangle_mesh"))
@@ -147,7 +147,9 @@ void Loader::parse_objects(const pugi::xml_node& n) {
     for (const pugi::xml_node& o : n.children()) {
         if (o.type() != pugi::node_element) continue;
         const std::string_view kind = o.name();
-        if (kind == "triangle_mesh") {
+        if (is_shape_element(kind)) {
+            parse_shape_object(o);
+        } else if (kind == "triangle_mesh") {
             check(o, {"src", "smooth", "name", "medium_inside", "medium_outside"},
                   {"material", "transform"});
             const std::string src = o.attribute("src").value();

@@ -10,7 +10,7 @@ bool put_hit(KernelLanes& L, std::size_t lane, const Scene& scene, const RayBatc
     // Instances, normal- or bump-mapped surfaces and anisotropic ones (their tangent) are made
     // by surface_at.
     const Material& mat = scene.materials[obj.material];
-    if (obj.instance >= 0 || obj.kind == ObjectKind::Curves || mat.perturbs_normal() ||
+    if (obj.instance >= 0 || !traced_by_backend(obj.kind) || mat.perturbs_normal() ||
         mat.needs_tangent())
         return false;
     float kind;

@@ -90,6 +90,26 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         g.dpdv = c.dpdv;
         perturb = mat.perturbs_normal();
         curve_width = c.width;
+    } else if (obj.kind == ObjectKind::Shape) {
+        const AnalyticShape& shape = scene.shapes[obj.index];
+        const ShapePrimitive& leaf = shape.shapes()[prim_shape(prim)];
+        sp.p = origin + dir * t;
+        const ShapeSurface ss = shape_surface(leaf, prim_part(prim), leaf.to_object.point(sp.p));
+        // A surface subtracted in a CSG tree bounds the result from the other side; a
+        // mirroring placement turns Affine::normal's cofactor normal inwards.
+        const float side = shape.inverted(prim_shape(prim)) ? -1.f : 1.f;
+        const float det = leaf.to_world.determinant();
+        n_geom = n_shade = normalize(leaf.to_world.normal(ss.n)) * (det < 0.f ? -side : side);
+        sp.uv = ss.uv;
+        g.n = n_geom;
+        g.dpdu = leaf.to_world.vector(ss.dpdu);
+        g.dpdv = leaf.to_world.vector(ss.dpdv);
+        // The unit normal's derivatives turn with the placement but do not scale (exact for
+        // rotations and uniform scales).
+        const float unscale = side / std::cbrt(std::fabs(det));
+        g.dndu = leaf.to_world.vector(ss.dndu) * unscale;
+        g.dndv = leaf.to_world.vector(ss.dndv) * unscale;
+        perturb = mat.perturbs_normal();
     } else {
         const Sphere& s = scene.spheres[obj.index];
         sp.p = origin + dir * t;
