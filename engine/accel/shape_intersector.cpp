@@ -35,9 +35,8 @@ bool ShapeIntersector::closest_shape(const kern::Ray1& ray, Hit1& hit, TraceCoun
             ++c.shape_tests;
             float t;
             uint32_t prim;
-            if (scene_.shapes[scene_.objects[g].index].closest(org, dir, ray.tmin,
-                                                                std::min(hit.t, ray.tmax), t,
-                                                                prim)) {
+            if (scene_.shapes[scene_.objects[g].index].closest(
+                    org, dir, ray.tmin, std::min(hit.t, ray.tmax), t, prim)) {
                 hit = Hit1{t, 0.f, 0.f, prim, g};
                 found = true;
             }

@@ -87,8 +87,8 @@ JobFingerprint job_fingerprint(const std::string& scene_path, const RenderJob& j
         {"scene file's bytes", file_hash(scene_path)},
         {"geometry", std::to_string(scene.meshes.size()) + " meshes, " +
                          std::to_string(scene.spheres.size()) + " spheres, " +
-                         std::to_string(scene.shapes.size()) + " shapes (" +
-                         geometry_hash(scene) + ")"},
+                         std::to_string(scene.shapes.size()) + " shapes (" + geometry_hash(scene) +
+                         ")"},
         {"resolution", std::to_string(film.width) + "x" + std::to_string(film.height)},
         {"crop", std::to_string(film.x0) + "," + std::to_string(film.y0) + " of " +
                      std::to_string(film.full_width) + "x" + std::to_string(film.full_height)},

@@ -146,7 +146,8 @@ std::size_t Scene::memory_bytes() const {
                     materials.size() * sizeof(Material) + instances.size() * sizeof(Instance);
     for (const auto& m : meshes) n += m.memory_bytes();
     for (const auto& c : curves) n += c.memory_bytes();
-    for (const auto& sh : shapes) n += sizeof(AnalyticShape) + sh.shapes().size() * sizeof(ShapePrimitive);
+    for (const auto& sh : shapes)
+        n += sizeof(AnalyticShape) + sh.shapes().size() * sizeof(ShapePrimitive);
     if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
 }

@@ -10,7 +10,6 @@ namespace foton::pbrt {
 
 void Importer::curve(const Token& t, const ParamList& p) {
     const std::string what = "Shape \"curve\"";
-    if (proto_) fail(t, what + " inside ObjectBegin is not supported (instanced curves)");
     if (gs_.area.id >= 0) fail(t, what + ": curves cannot be area lights");
     if (shape_alpha_ < 1.f || shape_alpha_texture_ >= 0)
         fail(t, what + ": alpha on curves is not supported");
@@ -56,17 +55,19 @@ void Importer::curve(const Token& t, const ParamList& p) {
     const MediumInterface media = shape_media();
     if (media.transition()) fail(t, what + ": a curve cannot bound a medium (MediumInterface)");
     const uint32_t material = scene_material(gs_);
-    const auto key = std::make_tuple(material, int(form), media.inside);
+    // Inside ObjectBegin the curves belong to the object, placed again by each instance.
+    Scene& into = target();
+    const auto key = std::make_tuple(&into, material, int(form), media.inside);
     auto it = curve_objects_.find(key);
     if (it == curve_objects_.end()) {
         CurveSet set;
         set.form = form;
-        const uint32_t id = scene_.add_curves(std::move(set), material);
-        scene_.objects[id].media = media;
+        const uint32_t id = into.add_curves(std::move(set), material);
+        into.objects[id].media = media;
         it = curve_objects_.emplace(key, id).first;
     }
     try {
-        append_curve(scene_.curves[scene_.objects[it->second].index], in);
+        append_curve(into.curves[into.objects[it->second].index], in);
     } catch (const std::invalid_argument& e) {
         fail(t, what + ": " + e.what());
     }

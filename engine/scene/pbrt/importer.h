@@ -157,13 +157,16 @@ class Importer {
 
     // shapes.cpp
     void shape(const Token& t, const std::string& type, const ParamList& p);
+    bool refracts(uint32_t material) const;  // the material has a transmission lobe
+    ShapePrimitive disk_or_cylinder(const Token& t, const std::string& type, const ParamList& p);
     // Where shapes go: the scene, or the object definition being read.
     Scene& target() { return proto_ ? *proto_ : scene_; }
     void object_instance(const Token& t, const std::string& name);
     // curves.cpp
     void curve(const Token& t, const ParamList& p);
     // (scene material, curve form, medium) -> the curve set object holding such curves
-    std::map<std::tuple<uint32_t, int, int32_t>, uint32_t> curve_objects_;
+    // The curve set of each (scene or object definition, material, form, medium).
+    std::map<std::tuple<const Scene*, uint32_t, int, int32_t>, uint32_t> curve_objects_;
 
     std::vector<std::unique_ptr<Tokenizer>> files_;
     std::string base_;

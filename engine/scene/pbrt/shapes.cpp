@@ -1,8 +1,10 @@
 // Shape and ObjectInstance: triangle and bilinear meshes, PLY meshes, Loop subdivision
-// surfaces, spheres and tessellated disks and cylinders (curves: curves.cpp), placed in
+// surfaces, spheres, analytic (or, where needed, tessellated) disks and cylinders (curves:
+// curves.cpp), placed in
 // world space with pbrt-v4's orientation rules (the side an area light emits from and a
 // dielectric's outside). Object instances share their prototype's meshes (placed by the
-// instance's transform, one acceleration structure each); their spheres are copied.
+// instance's transform, one acceleration structure each); their spheres, analytic shapes and
+// curves are copied and placed.
 #include <cmath>
 #include <filesystem>
 
@@ -37,6 +39,41 @@ void orient_by_normals(TriangleMesh& m) {
 
 }  // namespace
 
+bool Importer::refracts(uint32_t material) const {
+    const Bsdf& b = materials_[material].bsdf;
+    for (int i = 0; i < b.size(); ++i)
+        if ((b.lobe(i).flags() & kTransmission) != 0) return true;
+    return false;
+}
+
+// pbrt-v4's disk (radius, innerradius, height, phimax) or cylinder (radius, zmin, zmax,
+// phimax) in the shape's object space: the canonical shape lifted to its height or zmin.
+ShapePrimitive Importer::disk_or_cylinder(const Token& t, const std::string& type,
+                                          const ParamList& p) {
+    const std::string what = "Shape \"" + type + "\"";
+    ShapePrimitive s;
+    s.radius = p.real("radius", 1.f);
+    s.phi_max = std::clamp(p.real("phimax", 360.f), 0.f, 360.f) * kPi / 180.f;
+    if (!(s.radius > 0.f) || !(s.phi_max > 0.f))
+        fail(t, what + ": radius and phimax must be positive");
+    float lift;
+    if (type == "disk") {
+        s.type = ShapeType::Disk;
+        s.inner_radius = p.real("innerradius", 0.f);
+        if (!(s.inner_radius >= 0.f && s.inner_radius < s.radius))
+            fail(t, what + ": innerradius must be in [0, radius)");
+        lift = p.real("height", 0.f);
+    } else {
+        s.type = ShapeType::Cylinder;
+        const float z0 = p.real("zmin", -1.f), z1 = p.real("zmax", 1.f);
+        if (!(z1 != z0)) fail(t, what + ": zmin and zmax must differ");
+        s.height = std::fabs(z1 - z0);
+        lift = std::min(z0, z1);
+    }
+    s.place(Affine::translate({0.f, 0.f, lift}));
+    return s;
+}
+
 void Importer::shape(const Token& t, const std::string& type, const ParamList& p) {
     const std::string what = "Shape \"" + type + "\"";
     // Alpha cut-outs: a constant in [0, 1] or a float texture (an RGBA image's alpha).
@@ -53,10 +90,7 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         if (p.real("zmin", -radius) > -radius || p.real("zmax", radius) < radius ||
             p.real("phimax", 360.f) < 360.f)
             fail(t, "partial spheres (zmin, zmax, phimax) are not supported");
-        const Bsdf& b = materials_[gs_.material].bsdf;
-        bool refracts = false;
-        for (int i = 0; i < b.size(); ++i) refracts |= (b.lobe(i).flags() & kTransmission) != 0;
-        if (gs_.reverse && (gs_.area.id >= 0 || refracts))
+        if (gs_.reverse && (gs_.area.id >= 0 || refracts(gs_.material)))
             fail(t, "ReverseOrientation on an emitting or refracting sphere is not supported");
         Sphere s;
         s.radius = radius;
@@ -65,6 +99,18 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         count("Shape " + type);
         const uint32_t id = target().add_sphere(s, scene_material(gs_));
         target().objects[id].media = shape_media();
+        return;
+    }
+    // Disks and cylinders are analytic unless an analytic shape cannot do what is asked:
+    // emit (light sampling knows meshes and spheres), cut out, or bound a medium (they are
+    // open surfaces). A reversed orientation only matters to those and to refraction.
+    if ((type == "disk" || type == "cylinder") && gs_.area.id < 0 && shape_alpha_ >= 1.f &&
+        shape_alpha_texture_ < 0 && !shape_media().transition() && !refracts(gs_.material)) {
+        ShapePrimitive sp = disk_or_cylinder(t, type, p);
+        if (!sp.place(gs_.ctm)) fail(t, what + ": the transform is singular");
+        warn_unused(p, what);
+        count("Shape " + type);
+        target().add_shape(AnalyticShape(sp), scene_material(gs_));
         return;
     }
     TriangleMesh m;
@@ -158,25 +204,16 @@ void Importer::shape(const Token& t, const std::string& type, const ParamList& p
         for (std::size_t i = 0; i < m.normals.size(); i += 3)
             normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
     } else if (type == "disk" || type == "cylinder") {
-        const float radius = p.real("radius", 1.f);
-        const float phi_max = std::clamp(p.real("phimax", 360.f), 0.f, 360.f) * kPi / 180.f;
-        if (!(radius > 0.f) || !(phi_max > 0.f))
-            fail(t, what + ": radius and phimax must be positive");
-        if (type == "disk") {
-            const float inner = p.real("innerradius", 0.f);
-            if (!(inner >= 0.f && inner < radius))
-                fail(t, what + ": innerradius must be in [0, radius)");
-            m = tessellate_disk(p.real("height", 0.f), radius, inner, phi_max, kCircleSegments);
-        } else {
-            const float z0 = p.real("zmin", -1.f), z1 = p.real("zmax", 1.f);
-            if (!(z1 != z0)) fail(t, what + ": zmin and zmax must differ");
-            m = tessellate_cylinder(radius, std::min(z0, z1), std::max(z0, z1), phi_max,
-                                    kCircleSegments);
-        }
+        const ShapePrimitive sp = disk_or_cylinder(t, type, p);
+        if (sp.type == ShapeType::Disk)
+            m = tessellate_disk(0.f, sp.radius, sp.inner_radius, sp.phi_max, kCircleSegments);
+        else
+            m = tessellate_cylinder(sp.radius, 0.f, sp.height, sp.phi_max, kCircleSegments);
+        m.transform(sp.to_world);  // its height or zmin, before the CTM below
         for (std::size_t i = 0; i < m.normals.size(); i += 3)
             normals.push_back({m.normals[i], m.normals[i + 1], m.normals[i + 2]});
         label = "Shape " + type + " (tessellated, " + std::to_string(kCircleSegments) +
-                " segments a turn)";
+                " segments a turn: it emits, cuts out or bounds a medium)";
     } else {
         fail(t, "unsupported shape '" + type +
                     "' (trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere, disk, cylinder, "
@@ -222,6 +259,28 @@ void Importer::object_instance(const Token& t, const std::string& name) {
             const uint32_t id =
                 scene_.add_instance(shared->second[o.index], gs_.ctm, o.material, o.smooth);
             scene_.objects[id].media = o.media;
+        } else if (o.kind == ObjectKind::Shape) {
+            AnalyticShape sh = pr.shapes[o.index];
+            if (!sh.place(gs_.ctm)) fail(t, "ObjectInstance: the transform is singular");
+            scene_.objects[scene_.add_shape(std::move(sh), o.material)].media = o.media;
+        } else if (o.kind == ObjectKind::Curves) {
+            // Placed as Shape "curve" places them: points and normals by the transform,
+            // widths by its mean scale.
+            CurveSet set = pr.curves[o.index];
+            const float scale = std::cbrt(std::fabs(gs_.ctm.determinant()));
+            for (kern::CurveSegment& seg : set.segments) {
+                for (auto& c : seg.cp) {
+                    const Vec3 q = gs_.ctm.point({c[0], c[1], c[2]});
+                    c[0] = q.x, c[1] = q.y, c[2] = q.z;
+                }
+                for (float* n : {seg.n0, seg.n1}) {
+                    const Vec3 q = gs_.ctm.normal({n[0], n[1], n[2]});
+                    n[0] = q.x, n[1] = q.y, n[2] = q.z;
+                }
+                seg.w0 *= scale;
+                seg.w1 *= scale;
+            }
+            scene_.objects[scene_.add_curves(std::move(set), o.material)].media = o.media;
         } else {
             Sphere s = pr.spheres[o.index];
             if (!s.transform(gs_.ctm))

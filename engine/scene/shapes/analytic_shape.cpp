@@ -11,7 +11,9 @@ namespace {
 
 constexpr double kLineEnd = HUGE_VAL;
 
-double ddot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double ddot3(const double* a, const double* b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // A piece of the line: [t0, t1] with the parts its ends lie on.
 struct LineInterval {
@@ -29,7 +31,8 @@ int quadric_inside(double A, double B, double C, uint8_t part, LineInterval* out
             return 1;
         }
         const double r = -C / B;
-        out[0] = B > 0.0 ? LineInterval{-kLineEnd, r, part, part} : LineInterval{r, kLineEnd, part, part};
+        out[0] = B > 0.0 ? LineInterval{-kLineEnd, r, part, part}
+                         : LineInterval{r, kLineEnd, part, part};
         return 1;
     }
     double roots[2];
@@ -51,7 +54,7 @@ int quadric_inside(double A, double B, double C, uint8_t part, LineInterval* out
 // The slab lo <= o + t d <= hi along one axis, its ends on part_lo and part_hi; false when
 // the line misses it.
 bool line_slab(double o, double d, double lo, double hi, uint8_t part_lo, uint8_t part_hi,
-          LineInterval& out) {
+               LineInterval& out) {
     if (d == 0.0) {
         if (o < lo || o > hi) return false;
         out = {-kLineEnd, kLineEnd, part_lo, part_hi};
@@ -98,60 +101,61 @@ int solid_intervals(const ShapePrimitive& s, const ShapeRay& r, LineInterval* ou
     const double* o = r.o;
     const double* d = r.d;
     switch (s.type) {
-    case ShapeType::Sphere: {
-        const double R = s.radius;
-        return quadric_inside(ddot3(d, d), 2.0 * ddot3(o, d), ddot3(o, o) - R * R, 0, out);
-    }
-    case ShapeType::Box: {
-        LineInterval acc{-kLineEnd, kLineEnd, 0, 0}, ax;
-        for (int a = 0; a < 3; ++a) {
-            const double h = (&s.half.x)[a];
-            if (!line_slab(o[a], d[a], -h, h, uint8_t(2 * a), uint8_t(2 * a + 1), ax) ||
-                !clip_interval(acc, ax, acc))
-                return 0;
+        case ShapeType::Sphere: {
+            const double R = s.radius;
+            return quadric_inside(ddot3(d, d), 2.0 * ddot3(o, d), ddot3(o, o) - R * R, 0, out);
         }
-        out[0] = acc;
-        return 1;
-    }
-    case ShapeType::Cylinder:
-    case ShapeType::Cone: {
-        double A, B, C;
-        side_quadric(s, r, A, B, C);
-        LineInterval inside[2], z;
-        const int n = quadric_inside(A, B, C, 0, inside);
-        if (!line_slab(o[2], d[2], 0.0, s.height, 1, s.type == ShapeType::Cone ? 0 : 2, z)) return 0;
-        int k = 0;
-        for (int i = 0; i < n; ++i)
-            if (clip_interval(inside[i], z, out[k])) ++k;
-        return k;
-    }
-    case ShapeType::Torus: {
-        // In s = (t - t_c) |d|, from the line's closest point to the centre: the quartic has no
-        // cubic term and its roots lie within the torus' outer radius of that point.
-        const double dd = ddot3(d, d), len = std::sqrt(dd);
-        const double tc = -ddot3(o, d) / dd;
-        const double p[3] = {o[0] + tc * d[0], o[1] + tc * d[1], o[2] + tc * d[2]};
-        const double e[3] = {d[0] / len, d[1] / len, d[2] / len};
-        const double R = s.radius, rr = s.minor_radius, outer = R + rr;
-        const double p2 = ddot3(p, p);
-        if (p2 >= outer * outer) return 0;
-        const double reach = std::sqrt(outer * outer - p2) * (1.0 + 1e-9) + 1e-12 * outer;
-        const double k = p2 + R * R - rr * rr;
-        const double c[5] = {k * k - 4.0 * R * R * (p[0] * p[0] + p[1] * p[1]),
-                             -8.0 * R * R * (p[0] * e[0] + p[1] * e[1]),
-                             2.0 * k - 4.0 * R * R * (e[0] * e[0] + e[1] * e[1]), 0.0, 1.0};
-        double roots[4];
-        const int n = polynomial_roots(c, 4, -reach, reach, roots);
-        // Inside where the quartic is negative: test between roots (an odd count from a
-        // grazing ray still pairs up correctly).
-        int m = 0;
-        for (int i = 0; i + 1 < n; ++i)
-            if (polynomial_value(c, 4, 0.5 * (roots[i] + roots[i + 1])) < 0.0)
-                out[m++] = {tc + roots[i] / len, tc + roots[i + 1] / len, 0, 0};
-        return std::min(m, kMaxShapeSpans);
-    }
-    default:
-        return 0;
+        case ShapeType::Box: {
+            LineInterval acc{-kLineEnd, kLineEnd, 0, 0}, ax;
+            for (int a = 0; a < 3; ++a) {
+                const double h = (&s.half.x)[a];
+                if (!line_slab(o[a], d[a], -h, h, uint8_t(2 * a), uint8_t(2 * a + 1), ax) ||
+                    !clip_interval(acc, ax, acc))
+                    return 0;
+            }
+            out[0] = acc;
+            return 1;
+        }
+        case ShapeType::Cylinder:
+        case ShapeType::Cone: {
+            double A, B, C;
+            side_quadric(s, r, A, B, C);
+            LineInterval inside[2], z;
+            const int n = quadric_inside(A, B, C, 0, inside);
+            if (!line_slab(o[2], d[2], 0.0, s.height, 1, s.type == ShapeType::Cone ? 0 : 2, z))
+                return 0;
+            int k = 0;
+            for (int i = 0; i < n; ++i)
+                if (clip_interval(inside[i], z, out[k])) ++k;
+            return k;
+        }
+        case ShapeType::Torus: {
+            // In s = (t - t_c) |d|, from the line's closest point to the centre: the quartic has no
+            // cubic term and its roots lie within the torus' outer radius of that point.
+            const double dd = ddot3(d, d), len = std::sqrt(dd);
+            const double tc = -ddot3(o, d) / dd;
+            const double p[3] = {o[0] + tc * d[0], o[1] + tc * d[1], o[2] + tc * d[2]};
+            const double e[3] = {d[0] / len, d[1] / len, d[2] / len};
+            const double R = s.radius, rr = s.minor_radius, outer = R + rr;
+            const double p2 = ddot3(p, p);
+            if (p2 >= outer * outer) return 0;
+            const double reach = std::sqrt(outer * outer - p2) * (1.0 + 1e-9) + 1e-12 * outer;
+            const double k = p2 + R * R - rr * rr;
+            const double c[5] = {k * k - 4.0 * R * R * (p[0] * p[0] + p[1] * p[1]),
+                                 -8.0 * R * R * (p[0] * e[0] + p[1] * e[1]),
+                                 2.0 * k - 4.0 * R * R * (e[0] * e[0] + e[1] * e[1]), 0.0, 1.0};
+            double roots[4];
+            const int n = polynomial_roots(c, 4, -reach, reach, roots);
+            // Inside where the quartic is negative: test between roots (an odd count from a
+            // grazing ray still pairs up correctly).
+            int m = 0;
+            for (int i = 0; i + 1 < n; ++i)
+                if (polynomial_value(c, 4, 0.5 * (roots[i] + roots[i + 1])) < 0.0)
+                    out[m++] = {tc + roots[i] / len, tc + roots[i + 1] / len, 0, 0};
+            return std::min(m, kMaxShapeSpans);
+        }
+        default:
+            return 0;
     }
 }
 
@@ -159,12 +163,18 @@ int solid_intervals(const ShapePrimitive& s, const ShapeRay& r, LineInterval* ou
 
 const char* shape_type_name(ShapeType t) {
     switch (t) {
-    case ShapeType::Disk: return "disk";
-    case ShapeType::Cylinder: return "cylinder";
-    case ShapeType::Cone: return "cone";
-    case ShapeType::Torus: return "torus";
-    case ShapeType::Sphere: return "sphere";
-    case ShapeType::Box: return "box";
+        case ShapeType::Disk:
+            return "disk";
+        case ShapeType::Cylinder:
+            return "cylinder";
+        case ShapeType::Cone:
+            return "cone";
+        case ShapeType::Torus:
+            return "torus";
+        case ShapeType::Sphere:
+            return "sphere";
+        case ShapeType::Box:
+            return "box";
     }
     return "shape";
 }
@@ -179,33 +189,39 @@ bool ShapePrimitive::place(const Affine& xf) {
 
 bool ShapePrimitive::solid() const {
     switch (type) {
-    case ShapeType::Sphere:
-    case ShapeType::Box:
-    case ShapeType::Torus: return true;
-    case ShapeType::Cylinder:
-    case ShapeType::Cone: return capped && phi_max >= 2.f * kPi;
-    default: return false;
+        case ShapeType::Sphere:
+        case ShapeType::Box:
+        case ShapeType::Torus:
+            return true;
+        case ShapeType::Cylinder:
+        case ShapeType::Cone:
+            return capped && phi_max >= 2.f * kPi;
+        default:
+            return false;
     }
 }
 
 Bounds3 ShapePrimitive::object_bounds() const {
     Bounds3 b;
     switch (type) {
-    case ShapeType::Disk: b.extend(Vec3{-radius, -radius, 0.f}), b.extend(Vec3{radius, radius, 0.f});
-        break;
-    case ShapeType::Cylinder:
-    case ShapeType::Cone:
-        b.extend(Vec3{-radius, -radius, 0.f}), b.extend(Vec3{radius, radius, height});
-        break;
-    case ShapeType::Torus: {
-        const float o = radius + minor_radius;
-        b.extend(Vec3{-o, -o, -minor_radius}), b.extend(Vec3{o, o, minor_radius});
-        break;
-    }
-    case ShapeType::Sphere: b.extend(Vec3{-radius, -radius, -radius}), b.extend(Vec3{radius, radius, radius});
-        break;
-    case ShapeType::Box: b.extend(-half), b.extend(half);
-        break;
+        case ShapeType::Disk:
+            b.extend(Vec3{-radius, -radius, 0.f}), b.extend(Vec3{radius, radius, 0.f});
+            break;
+        case ShapeType::Cylinder:
+        case ShapeType::Cone:
+            b.extend(Vec3{-radius, -radius, 0.f}), b.extend(Vec3{radius, radius, height});
+            break;
+        case ShapeType::Torus: {
+            const float o = radius + minor_radius;
+            b.extend(Vec3{-o, -o, -minor_radius}), b.extend(Vec3{o, o, minor_radius});
+            break;
+        }
+        case ShapeType::Sphere:
+            b.extend(Vec3{-radius, -radius, -radius}), b.extend(Vec3{radius, radius, radius});
+            break;
+        case ShapeType::Box:
+            b.extend(-half), b.extend(half);
+            break;
     }
     return b;
 }
@@ -223,8 +239,8 @@ ShapeRay to_object_space(const ShapePrimitive& s, const Vec3& o, const Vec3& d) 
     const auto& m = s.to_object.m;
     ShapeRay r;
     for (int i = 0; i < 3; ++i) {
-        r.o[i] = double(m[i][0]) * o.x + double(m[i][1]) * o.y + double(m[i][2]) * o.z +
-                 double(m[i][3]);
+        r.o[i] =
+            double(m[i][0]) * o.x + double(m[i][1]) * o.y + double(m[i][2]) * o.z + double(m[i][3]);
         r.d[i] = double(m[i][0]) * d.x + double(m[i][1]) * d.y + double(m[i][2]) * d.z;
     }
     return r;

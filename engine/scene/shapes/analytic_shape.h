@@ -26,9 +26,9 @@ const char* shape_type_name(ShapeType t);
 
 struct ShapePrimitive {
     ShapeType type = ShapeType::Sphere;
-    float radius = 1.f;        // disk, cylinder, cone (at its base), torus (major), sphere
-    float inner_radius = 0.f;  // disk
-    float height = 1.f;        // cylinder, cone
+    float radius = 1.f;          // disk, cylinder, cone (at its base), torus (major), sphere
+    float inner_radius = 0.f;    // disk
+    float height = 1.f;          // cylinder, cone
     float minor_radius = 0.25f;  // torus
     Vec3 half{1.f, 1.f, 1.f};    // box
     float phi_max = 2.f * kPi;   // disk, cylinder, cone

@@ -16,9 +16,12 @@ struct CsgSpans {
 
 bool csg_inside(CsgOp op, bool a, bool b) {
     switch (op) {
-    case CsgOp::Union: return a || b;
-    case CsgOp::Intersection: return a && b;
-    default: return a && !b;  // Difference
+        case CsgOp::Union:
+            return a || b;
+        case CsgOp::Intersection:
+            return a && b;
+        default:
+            return a && !b;  // Difference
     }
 }
 
@@ -59,7 +62,7 @@ void combine_csg_spans(const CsgSpans& A, const CsgSpans& B, CsgOp op, CsgSpans&
 }
 
 void eval_csg_node(const std::vector<CsgNode>& nodes, const std::vector<ShapePrimitive>& shapes,
-               uint32_t node, const Vec3& o, const Vec3& d, CsgSpans& out) {
+                   uint32_t node, const Vec3& o, const Vec3& d, CsgSpans& out) {
     const CsgNode& n = nodes[node];
     if (n.op == CsgOp::Leaf) {
         const ShapePrimitive& s = shapes[n.a];
@@ -94,8 +97,9 @@ AnalyticShape::AnalyticShape(const ShapePrimitive& s) : shapes_{s}, inverted_{0}
 }
 
 uint32_t AnalyticShape::leaf(const ShapePrimitive& s) {
-    if (!s.solid()) throw std::invalid_argument(std::string("a ") + shape_type_name(s.type) +
-                                                " that is not a closed solid cannot be in CSG");
+    if (!s.solid())
+        throw std::invalid_argument(std::string("a ") + shape_type_name(s.type) +
+                                    " that is not a closed solid cannot be in CSG");
     if (shapes_.size() >= kMaxCsgSolids)
         throw std::invalid_argument("a CSG tree holds at most " + std::to_string(kMaxCsgSolids) +
                                     " solids");
@@ -146,6 +150,16 @@ void AnalyticShape::finish() {
         stack.push_back({n.a, it.flip});
         stack.push_back({n.b, uint8_t(n.op == CsgOp::Difference ? !it.flip : it.flip)});
     }
+}
+
+bool AnalyticShape::place(const Affine& xf) {
+    if (!(std::fabs(xf.determinant()) > 0.f)) return false;
+    for (ShapePrimitive& s : shapes_) s.place(xf);
+    if (csg())
+        finish();
+    else
+        bounds_ = shapes_[0].world_bounds();
+    return true;
 }
 
 bool AnalyticShape::closest(const Vec3& o, const Vec3& d, float tmin, float tmax, float& t,

@@ -23,9 +23,15 @@ struct CsgNode {
 };
 
 // Hits on an AnalyticShape name their primitive as (shape << 3) | part.
-inline uint32_t shape_prim(uint32_t shape, uint32_t part) { return (shape << 3) | part; }
-inline uint32_t prim_shape(uint32_t prim) { return prim >> 3; }
-inline uint8_t prim_part(uint32_t prim) { return uint8_t(prim & 7u); }
+inline uint32_t shape_prim(uint32_t shape, uint32_t part) {
+    return (shape << 3) | part;
+}
+inline uint32_t prim_shape(uint32_t prim) {
+    return prim >> 3;
+}
+inline uint8_t prim_part(uint32_t prim) {
+    return uint8_t(prim & 7u);
+}
 
 class AnalyticShape {
   public:
@@ -37,6 +43,9 @@ class AnalyticShape {
     uint32_t leaf(const ShapePrimitive& s);  // a solid; returns its node
     uint32_t combine(CsgOp op, uint32_t a, uint32_t b);
     void finish();
+    // Places the whole shape by xf after its current placement (an object instance); false,
+    // unchanged, when xf is singular.
+    bool place(const Affine& xf);
 
     // The closest surface crossing with tmin < t < tmax: t and the primitive (shape << 3 |
     // part).

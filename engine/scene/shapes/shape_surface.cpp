@@ -22,7 +22,8 @@ ShapeSurface polar_face(const Vec3& p, float radius, float inner, float phi_max,
     s.n = {0.f, 0.f, nz};
     s.uv = {shape_angle(p.x, p.y) / phi_max, (radius - rho) / (radius - inner)};
     s.dpdu = Vec3{-p.y, p.x, 0.f} * phi_max;
-    s.dpdv = rho > 0.f ? Vec3{p.x, p.y, 0.f} * ((inner - radius) / rho) : Vec3{inner - radius, 0, 0};
+    s.dpdv =
+        rho > 0.f ? Vec3{p.x, p.y, 0.f} * ((inner - radius) / rho) : Vec3{inner - radius, 0, 0};
     s.dndu = s.dndv = {0.f, 0.f, 0.f};
     return s;
 }
@@ -48,56 +49,59 @@ ShapeSurface shape_surface(const ShapePrimitive& sh, uint8_t part, const Vec3& p
     s.dndv = {0.f, 0.f, 0.f};
     const float phi = shape_angle(p.x, p.y);
     switch (sh.type) {
-    case ShapeType::Disk: return polar_face(p, sh.radius, sh.inner_radius, sh.phi_max, 1.f);
-    case ShapeType::Box: return box_face(sh, part, p);
-    case ShapeType::Cylinder:
-    case ShapeType::Cone: {
-        if (part == 1) return polar_face(p, sh.radius, 0.f, 2.f * kPi, -1.f);
-        if (part == 2) return polar_face(p, sh.radius, 0.f, 2.f * kPi, 1.f);
-        const float H = sh.height, v = std::clamp(p.z / H, 0.f, 1.f);
-        s.uv = {phi / sh.phi_max, v};
-        s.dpdu = Vec3{-p.y, p.x, 0.f} * sh.phi_max;
-        if (sh.type == ShapeType::Cylinder) {
-            s.n = normalize(Vec3{p.x, p.y, 0.f});
-            s.dpdv = {0.f, 0.f, H};
-            s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
-        } else {
-            // The gradient of x^2 + y^2 - k^2 (H - z)^2; the normal only turns with phi.
-            const float k = sh.radius / H;
-            s.n = normalize(Vec3{std::cos(phi), std::sin(phi), k});
-            s.dpdv = Vec3{-std::cos(phi) * sh.radius, -std::sin(phi) * sh.radius, H};
-            s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
+        case ShapeType::Disk:
+            return polar_face(p, sh.radius, sh.inner_radius, sh.phi_max, 1.f);
+        case ShapeType::Box:
+            return box_face(sh, part, p);
+        case ShapeType::Cylinder:
+        case ShapeType::Cone: {
+            if (part == 1) return polar_face(p, sh.radius, 0.f, 2.f * kPi, -1.f);
+            if (part == 2) return polar_face(p, sh.radius, 0.f, 2.f * kPi, 1.f);
+            const float H = sh.height, v = std::clamp(p.z / H, 0.f, 1.f);
+            s.uv = {phi / sh.phi_max, v};
+            s.dpdu = Vec3{-p.y, p.x, 0.f} * sh.phi_max;
+            if (sh.type == ShapeType::Cylinder) {
+                s.n = normalize(Vec3{p.x, p.y, 0.f});
+                s.dpdv = {0.f, 0.f, H};
+                s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
+            } else {
+                // The gradient of x^2 + y^2 - k^2 (H - z)^2; the normal only turns with phi.
+                const float k = sh.radius / H;
+                s.n = normalize(Vec3{std::cos(phi), std::sin(phi), k});
+                s.dpdv = Vec3{-std::cos(phi) * sh.radius, -std::sin(phi) * sh.radius, H};
+                s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
+            }
+            return s;
         }
-        return s;
-    }
-    case ShapeType::Torus: {
-        const float rho = std::sqrt(p.x * p.x + p.y * p.y);
-        float theta = std::atan2(p.z, rho - sh.radius);
-        if (theta < 0.f) theta += 2.f * kPi;
-        const float ct = std::cos(theta), st = std::sin(theta), cp = std::cos(phi),
-                    sp = std::sin(phi);
-        s.n = {ct * cp, ct * sp, st};
-        s.uv = {phi / (2.f * kPi), theta / (2.f * kPi)};
-        s.dpdu = Vec3{-p.y, p.x, 0.f} * (2.f * kPi);
-        s.dpdv = Vec3{-st * cp, -st * sp, ct} * (2.f * kPi * sh.minor_radius);
-        s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * (2.f * kPi);
-        s.dndv = s.dpdv / sh.minor_radius;
-        return s;
-    }
-    case ShapeType::Sphere: {
-        const float r = sh.radius;
-        s.n = p / r;
-        const float nz = std::clamp(s.n.z, -1.f, 1.f);
-        s.uv = {phi / (2.f * kPi), 1.f - std::acos(nz) / kPi};
-        const float sin_theta = std::sqrt(s.n.x * s.n.x + s.n.y * s.n.y);
-        s.dpdu = Vec3{-s.n.y, s.n.x, 0.f} * (2.f * kPi * r);
-        s.dpdv = sin_theta > 1e-6f ? Vec3{nz * s.n.x / sin_theta, nz * s.n.y / sin_theta,
-                                          -sin_theta} * (-kPi * r)
-                                   : Vec3{0.f, 0.f, 0.f};
-        s.dndu = s.dpdu / r;
-        s.dndv = s.dpdv / r;
-        return s;
-    }
+        case ShapeType::Torus: {
+            const float rho = std::sqrt(p.x * p.x + p.y * p.y);
+            float theta = std::atan2(p.z, rho - sh.radius);
+            if (theta < 0.f) theta += 2.f * kPi;
+            const float ct = std::cos(theta), st = std::sin(theta), cp = std::cos(phi),
+                        sp = std::sin(phi);
+            s.n = {ct * cp, ct * sp, st};
+            s.uv = {phi / (2.f * kPi), theta / (2.f * kPi)};
+            s.dpdu = Vec3{-p.y, p.x, 0.f} * (2.f * kPi);
+            s.dpdv = Vec3{-st * cp, -st * sp, ct} * (2.f * kPi * sh.minor_radius);
+            s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * (2.f * kPi);
+            s.dndv = s.dpdv / sh.minor_radius;
+            return s;
+        }
+        case ShapeType::Sphere: {
+            const float r = sh.radius;
+            s.n = p / r;
+            const float nz = std::clamp(s.n.z, -1.f, 1.f);
+            s.uv = {phi / (2.f * kPi), 1.f - std::acos(nz) / kPi};
+            const float sin_theta = std::sqrt(s.n.x * s.n.x + s.n.y * s.n.y);
+            s.dpdu = Vec3{-s.n.y, s.n.x, 0.f} * (2.f * kPi * r);
+            s.dpdv =
+                sin_theta > 1e-6f
+                    ? Vec3{nz * s.n.x / sin_theta, nz * s.n.y / sin_theta, -sin_theta} * (-kPi * r)
+                    : Vec3{0.f, 0.f, 0.f};
+            s.dndu = s.dpdu / r;
+            s.dndv = s.dpdv / r;
+            return s;
+        }
     }
     return s;
 }

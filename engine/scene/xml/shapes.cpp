@@ -45,8 +45,8 @@ ShapePrimitive Loader::shape_primitive(const pugi::xml_node& o, bool in_csg) con
         const Names object_attrs{"name", "medium_inside", "medium_outside"};
         for (const pugi::xml_attribute& a : o.attributes())
             if (!in(own_attrs, a.name()) && (in_csg || !in(object_attrs, a.name())))
-                fail(o, std::string("unknown attribute '") + a.name() + "' on <" + o.name() +
-                            ">" + (in_csg ? " in <csg>" : ""));
+                fail(o, std::string("unknown attribute '") + a.name() + "' on <" + o.name() + ">" +
+                            (in_csg ? " in <csg>" : ""));
         for (const pugi::xml_node& c : o.children()) {
             if (c.type() != pugi::node_element) continue;
             const std::string_view cn = c.name();

@@ -95,11 +95,10 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         const ShapePrimitive& leaf = shape.shapes()[prim_shape(prim)];
         sp.p = origin + dir * t;
         const ShapeSurface ss = shape_surface(leaf, prim_part(prim), leaf.to_object.point(sp.p));
-        // A surface subtracted in a CSG tree bounds the result from the other side; a
-        // mirroring placement turns Affine::normal's cofactor normal inwards.
+        // A surface subtracted in a CSG tree bounds the result from the other side.
         const float side = shape.inverted(prim_shape(prim)) ? -1.f : 1.f;
         const float det = leaf.to_world.determinant();
-        n_geom = n_shade = normalize(leaf.to_world.normal(ss.n)) * (det < 0.f ? -side : side);
+        n_geom = n_shade = leaf.to_world.normal(ss.n) * side;
         sp.uv = ss.uv;
         g.n = n_geom;
         g.dpdu = leaf.to_world.vector(ss.dpdu);
