@@ -34,6 +34,8 @@ enum RandomStream : uint64_t {
     kImportonStoreStream = 0x1e02,      // photon storage decided by the importon map
     kMltBootstrapStream = 0x3171,       // MLT: the bootstrap's primary samples
     kMltChainStream = 0x3172,           // MLT: chain starts, proposals and acceptance
+    kAdaptivePhotonStream = 0xa9f0,     // adaptive photon tracing: uniform proposals
+    kAdaptiveMutationStream = 0xa9f1,   // adaptive photon tracing: mutations
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -60,6 +62,8 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kImportonStream,
                                                      kImportonStoreStream,
                                                      kMltBootstrapStream,
-                                                     kMltChainStream};
+                                                     kMltChainStream,
+                                                     kAdaptivePhotonStream,
+                                                     kAdaptiveMutationStream};
 
 }  // namespace foton

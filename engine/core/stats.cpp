@@ -86,6 +86,18 @@ std::string RenderStats::table() const {
                       error_mean_value);
         s += buf;
     }
+    if (adaptive_uniform > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "adaptive photons: %.4g %% of %llu uniform paths seen, %.3g %% of %llu "
+                      "mutations accepted\n",
+                      100.0 * double(adaptive_seen) / double(adaptive_uniform),
+                      (unsigned long long)adaptive_uniform,
+                      adaptive_mutations
+                          ? 100.0 * double(adaptive_accepted) / double(adaptive_mutations)
+                          : 0.0,
+                      (unsigned long long)adaptive_mutations);
+        s += buf;
+    }
     if (shadow_rays_saved > 0) {
         std::snprintf(buf, sizeof buf, "shadow photons decided %llu shadow rays\n",
                       (unsigned long long)shadow_rays_saved);
@@ -176,6 +188,10 @@ nlohmann::ordered_json RenderStats::json_object(const nlohmann::ordered_json& ru
     j["photons_global"] = photons_global;
     j["photons_caustic"] = photons_caustic;
     j["shadow_rays_saved"] = shadow_rays_saved;
+    j["adaptive_uniform"] = adaptive_uniform;
+    j["adaptive_seen"] = adaptive_seen;
+    j["adaptive_mutations"] = adaptive_mutations;
+    j["adaptive_accepted"] = adaptive_accepted;
     j["cache_candidates"] = cache.candidates;
     j["cache_used"] = cache.used;
     j["cache_visibility_tests"] = cache.visibility_tests;

@@ -112,6 +112,9 @@ struct RenderStats {
     uint64_t photons_global = 0, photons_caustic = 0;  // stored (photon mapping)
     double photon_seconds = 0.0;     // wall time of the photon passes and the balancing
     uint64_t shadow_rays_saved = 0;  // visibility decided by shadow photons instead
+    // Adaptive photon tracing (sppm, ppm): uniform proposals and those a visible point saw;
+    // mutations and those accepted.
+    uint64_t adaptive_uniform = 0, adaptive_seen = 0, adaptive_mutations = 0, adaptive_accepted = 0;
     // Irradiance cache: records computed (by fill passes and, unstored, by the final pass),
     // records kept (set once, not merged), and the lookups of the final pass.
     uint64_t cache_records = 0, cache_stored = 0;
@@ -154,6 +157,10 @@ struct RenderStats {
         f(a.samples, b.samples);
         f(a.shadow_rays_saved, b.shadow_rays_saved);
         f(a.cache_records, b.cache_records);
+        f(a.adaptive_uniform, b.adaptive_uniform);
+        f(a.adaptive_seen, b.adaptive_seen);
+        f(a.adaptive_mutations, b.adaptive_mutations);
+        f(a.adaptive_accepted, b.adaptive_accepted);
         f(a.cache.lookups, b.cache.lookups);
         f(a.cache.interpolated, b.cache.interpolated);
         f(a.cache.candidates, b.cache.candidates);

@@ -111,6 +111,18 @@ void PhotonMap::append(const PhotonMap& o) {
     flags_.insert(flags_.end(), o.flags_.begin(), o.flags_.end());
 }
 
+void PhotonMap::push_from(const PhotonMap& o, std::size_t i, float scale) {
+    if (compact_ || o.compact_) throw std::logic_error("PhotonMap::push_from of compact maps");
+    x_.push_back(o.x_[i]);
+    y_.push_back(o.y_[i]);
+    z_.push_back(o.z_[i]);
+    power_.push_back(o.power_[i] * scale);
+    dir_.push_back(o.dir_[i]);
+    normal_.push_back(o.normal_[i]);
+    flags_.push_back(o.flags_[i]);
+    light_.push_back(o.light_[i]);
+}
+
 PhotonMap PhotonMap::extract(uint8_t flag) {
     if (compact_) throw std::logic_error("PhotonMap::extract after compact_power()");
     PhotonMap out;

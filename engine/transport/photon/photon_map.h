@@ -57,6 +57,8 @@ class PhotonMap {
               uint8_t flags, uint16_t light = 0);
     // Appends another map's photons (before build).
     void append(const PhotonMap& other);
+    // Appends photon i of another map with its power times `scale` (before build).
+    void push_from(const PhotonMap& other, std::size_t i, float scale);
     // Replaces the photons, on every MPI rank of `cluster`, by every rank's in rank order
     // (before build). Collective.
     void all_gather(const Cluster& cluster);

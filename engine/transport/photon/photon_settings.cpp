@@ -59,6 +59,7 @@ void parse_photon_settings(const ParamSet& p, PhotonSettings& s) {
     s.alpha = p.real("alpha", s.alpha);
     if (!(s.alpha > 0.f && s.alpha <= 1.f)) p.fail("alpha", "alpha must be in (0, 1]");
     s.photons_per_pass = p.integer("photons_per_pass", s.photons_per_pass, 0, 4000000000ull);
+    s.adaptive_photons = p.boolean("adaptive_photons", s.adaptive_photons);
     s.stop_error = p.real("stop_error", s.stop_error, 0.f);
     s.stop_confidence = p.real("stop_confidence", s.stop_confidence);
     if (!(s.stop_confidence > 0.f && s.stop_confidence < 1.f))

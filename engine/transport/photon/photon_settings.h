@@ -66,6 +66,9 @@ struct PhotonSettings {
     float initial_radius = 0.f;     // 0: 1 % of the scene's bounding radius
     float alpha = 2.f / 3.f;        // fraction of new photons kept per pass
     uint64_t photons_per_pass = 0;  // 0: one per pixel
+    // Adaptive photon tracing (adaptive_photons.h; Hachisuka and Jensen 2011): photon paths
+    // from Markov chains over the paths the pass's visible points see.
+    bool adaptive_photons = false;
     // The stopping rule (ppm_error_bound.h; the thesis' 8.1.1): stop once the mean per-pixel
     // error bound at `stop_confidence` is at most `stop_error` times the image's mean
     // luminance; 0: off (the passes are --spp or --time's).

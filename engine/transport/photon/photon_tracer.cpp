@@ -20,10 +20,6 @@ namespace {
 constexpr uint32_t kPhotonChunk = 4096;
 // Surfaces a shadow photon's line is followed through beyond its first hit.
 constexpr int kShadowCrossings = 8;
-// Random dimensions: light choice, position (2), triangle, direction shift (2); then per
-// bounce the BSDF lobe and direction (3) and Russian roulette.
-constexpr uint32_t kPhotonDimLight = 0, kPhotonDimPos = 1, kPhotonDimTriangle = 3,
-                   kPhotonDimFirstBounce = 8, kPhotonDimsPerBounce = 4;
 }  // namespace
 
 PhotonTracer::PhotonTracer(const Scene& scene, const Intersector& accel, const LightSet& lights,
@@ -52,17 +48,21 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
         const uint64_t i = first + k;
         float ux = (float(i) + 0.5f) * inv_n + shift_x;
         float uy = radical_inverse2(uint32_t(i)) + shift_y;
+        if (s.numbers) {
+            ux = number(s, first, k, kPhotonDimDirection);
+            uy = number(s, first, k, kPhotonDimDirection + 1);
+        }
         ux -= std::floor(ux);
         uy -= std::floor(uy);
         EmittedRay er;
         if (!lights_.sample_ray(
-                rand(s.pass, i, kPhotonDimLight),
-                {rand(s.pass, i, kPhotonDimPos), rand(s.pass, i, kPhotonDimPos + 1)},
+                number(s, first, k, kPhotonDimLight),
+                {number(s, first, k, kPhotonDimPos), number(s, first, k, kPhotonDimPos + 1)},
                 {std::min(ux, 0x1.fffffep-1f), std::min(uy, 0x1.fffffep-1f)},
-                rand(s.pass, i, kPhotonDimTriangle), er))
+                number(s, first, k, kPhotonDimTriangle), er))
             continue;
         ws.light[k] = uint16_t(er.light);
-        ws.power[k] = er.beta * inv_n;
+        ws.power[k] = s.numbers ? er.beta : er.beta * inv_n;
         ws.rays.push(er.origin, er.emission.dir, 0.f, kInfinity, k);
     }
     stats.add(Stage::PhotonEmit, count, clock);
@@ -93,9 +93,11 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                     const float q = s.importance ? s.importance->store_probability(sp.p) : 1.f;
                     if ((s.kind == PhotonMapKind::Global || caustic) &&
                         (q >= 1.f || rng::uniform(seed_ + s.pass * 0x9e3779b97f4a7c15ull,
-                                                  kImportonStoreStream, i, depth) < q))
+                                                  kImportonStoreStream, i, depth) < q)) {
                         out.push(sp.p, q >= 1.f ? power : power * (1.f / q), -d, sp.ng, flags,
                                  ws.light[slot]);
+                        if (s.stored_by) s.stored_by->push_back(slot);
+                    }
                 }
                 if (depth == 0 && shadow && s.shadow_photons) {
                     // The photon's line beyond its first hit: every further surface is in shadow
@@ -117,16 +119,17 @@ void PhotonTracer::trace(const PhotonPassSettings& s, uint64_t first, uint32_t c
                 // A caustic pass follows only L S+ paths: its photons continue through the delta
                 // lobes alone (the sample then carries only their share of the throughput).
                 const uint8_t only = s.kind == PhotonMapKind::Caustic ? uint8_t(kSpecular) : 0xff;
-                if (!m.bsdf.sample(wo, rand(s.pass, i, dim),
-                                   {rand(s.pass, i, dim + 1), rand(s.pass, i, dim + 2)}, ctx, bs,
-                                   only))
+                if (!m.bsdf.sample(
+                        wo, number(s, first, slot, dim),
+                        {number(s, first, slot, dim + 1), number(s, first, slot, dim + 2)}, ctx, bs,
+                        only))
                     continue;
                 const Vec3 wi = frame.to_world(bs.wi);
                 const float side = dot(wi, sp.ng);
                 if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) continue;
                 RGB w = bs.f * (adj * std::fabs(side) / bs.pdf);
                 const float q = std::min(1.f, w.max_component());
-                if (!(q > 0.f) || rand(s.pass, i, dim + 3) >= q) continue;
+                if (!(q > 0.f) || number(s, first, slot, dim + 3) >= q) continue;
                 if (!s.unscaled_roulette) power *= w * (1.f / q);
                 if (!bs.is_delta()) ws.specular_only[slot] = 0;
                 ws.last_specular[slot] = uint8_t(bs.is_delta());

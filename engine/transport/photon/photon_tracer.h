@@ -48,7 +48,23 @@ struct PhotonPassSettings {
     // Visual importance (importon_map.h): a photon is stored with the map's probability q at
     // its position and its power divided by q. Null: every photon is stored.
     const ImportonMap* importance = nullptr;
+    // Adaptive photon tracing (adaptive_photons.h): photon k of a trace call takes its random
+    // numbers from numbers[k * number_dims + dim] (its primary sample vector; the emitted
+    // direction from dims 4-5, not the pass's Hammersley set) and carries its light's whole
+    // power (emitted is ignored); stored_by[j] says which photon stored photon j of `out`.
+    const float* numbers = nullptr;
+    uint32_t number_dims = 0;
+    std::vector<uint32_t>* stored_by = nullptr;
 };
+
+// A photon's random dimensions: light choice, position (2), triangle, direction (2), then per
+// bounce the BSDF lobe and direction (3) and Russian roulette.
+inline constexpr uint32_t kPhotonDimLight = 0, kPhotonDimPos = 1, kPhotonDimTriangle = 3,
+                          kPhotonDimDirection = 4, kPhotonDimFirstBounce = 8,
+                          kPhotonDimsPerBounce = 4;
+inline uint32_t photon_dims(uint32_t max_depth) {
+    return kPhotonDimFirstBounce + kPhotonDimsPerBounce * max_depth;
+}
 
 // Shadow photons' lines (Jensen 1995), traced as a batch after the first hits of a chunk.
 struct ShadowLineWork {
@@ -95,6 +111,11 @@ class PhotonTracer {
 
   private:
     float rand(uint64_t pass, uint64_t photon, uint32_t dim) const;
+    // Photon `slot` of a trace call's number `dim`: the pass's stream, or s.numbers.
+    float number(const PhotonPassSettings& s, uint64_t first, uint32_t slot, uint32_t dim) const {
+        return s.numbers ? s.numbers[std::size_t(slot) * s.number_dims + dim]
+                         : rand(s.pass, first + slot, dim);
+    }
     // Follows every queued line through up to kShadowCrossings further surfaces and stores a
     // shadow photon at each that takes photons, line after line as a photon-by-photon walk
     // would (so the map, and the image, do not depend on the batching).

@@ -17,6 +17,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/surface.h"
+#include "engine/transport/photon/adaptive_photons.h"
 #include "engine/transport/photon/photon_tracer.h"
 #include "engine/transport/photon/ppm_error_bound.h"
 #include "engine/transport/photon/sppm_visible.h"
@@ -110,6 +111,11 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     const VisiblePoints visible_points(RenderContext{scene, settings, accel, lights, opt.seed});
     tbb::enumerable_thread_specific<VisibleRowWork> row_work;
     const PhotonTracer tracer(scene, accel, lights, opt.seed);
+    // Adaptive photon tracing: chains kept across passes, steered by the pass's visible points.
+    std::optional<AdaptivePhotonTracer> adaptive;
+    VisiblePointGrid seen;
+    if (ps.adaptive_photons)
+        adaptive.emplace(tracer, opt.seed, settings.max_depth, ps.unscaled_roulette);
     // The error bound's per-pixel sums, kept when the stopping rule is on.
     std::optional<PpmErrorBound> error;
     if (ps.stop_error > 0.f) error.emplace(npix, ps.stop_confidence);
@@ -177,7 +183,12 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         s.unscaled_roulette = ps.unscaled_roulette;
         s.pass = 1000 + pass;
         s.cancel = opt.cancel;
-        photons = tracer.run(s, local.local(), nullptr, nullptr, opt.cluster);
+        if (adaptive) {
+            seen.build(pixels);
+            photons = adaptive->run(s.pass, per_pass, seen, local.local(), opt.cancel, opt.cluster);
+        } else {
+            photons = tracer.run(s, local.local(), nullptr, nullptr, opt.cluster);
+        }
         if (settings.photon.compact_power) photons.compact_power();
         return per_pass;
     });
@@ -208,6 +219,9 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
         st.samples += gathered;
         return gathered;
     });
+    // Adaptive photons follow the pass's visible points (and their radii, updated by the
+    // last gather, which precedes this pass's graph).
+    if (adaptive) graph.edge(visible, trace);
     graph.edge(trace, balance);
     graph.edge(visible, gather);
     graph.edge(balance, gather);
@@ -228,6 +242,13 @@ RenderResult render_progressive_photons(const Scene& scene, const RenderSettings
     stats.wall_seconds = control.elapsed();
     stats.threads = threads;
     stats.passes = pass;
+    if (adaptive) {
+        const AdaptiveStats& a = adaptive->totals();
+        stats.adaptive_uniform = a.uniform;
+        stats.adaptive_seen = a.uniform_visible;
+        stats.adaptive_mutations = a.mutations;
+        stats.adaptive_accepted = a.accepted;
+    }
     result.stats = stats;
     result.stats.graph = graph.report();
     result.film = image(pass);

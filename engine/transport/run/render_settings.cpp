@@ -96,6 +96,13 @@ RenderSettings parse_render_settings(const ParamSet& params, const IntegratorTra
                         it.name + "\"");
         r.photon.stop_error = 0.f;
     }
+    if (r.photon.adaptive_photons && r.integrator != "ppm" && r.integrator != "sppm") {
+        params.warn("adaptive_photons",
+                    "adaptive_photons applies to type=\"ppm\" and type=\"sppm\"; ignored by "
+                    "type=\"" +
+                        it.name + "\"");
+        r.photon.adaptive_photons = false;
+    }
     parse_cache_settings(params, r.indirect, r.cache);
     parse_path_guide_settings(params, it, r.guide, r.rr_depth);
     parse_bidir_settings(params, it, r.mis, r.bidir);
