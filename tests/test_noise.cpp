@@ -1,4 +1,4 @@
-// Perlin noise and pbrt-v4's noise textures (fbm, wrinkled, windy).
+// Perlin noise and pbrt-v4's noise textures (fbm, wrinkled, windy, marble).
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -72,6 +72,43 @@ Material "diffuse" "texture displacement" "waves" Shape "sphere"
         parse_pbrt_scene("WorldBegin\nTexture \"n\" \"spectrum\" \"fbm\"\nShape \"sphere\"",
                          "bad.pbrt", "."),
         Catch::Contains("bad.pbrt:2: 'fbm' is a float texture in pbrt-v4"));
+}
+
+TEST_CASE("pbrt-v4: the marble texture's veins follow its spline", "[noise][pbrt][fast]") {
+    const std::string text = R"(WorldBegin
+Texture "calm" "spectrum" "marble" "float variation" 0 "float scale" 2
+Texture "veined" "spectrum" "marble"
+Material "diffuse" "texture reflectance" "calm" Shape "sphere"
+Material "diffuse" "texture reflectance" "veined" Shape "sphere"
+)";
+    const Scene s = parse_pbrt_scene(text, "marble.pbrt", ".");
+    const Texture& calm = s.textures[std::size_t(s.materials[s.objects.at(0).material].texture)];
+    auto at = [](float y) { return TexPoint{{0.f, 0.f}, {0.3f, y, -0.2f}, {0.f, 0.f, 1.f}}; };
+    // Without variation t = (1 + sin(2 y)) / 2: the spline's middle control point at t = 1/2,
+    // its ends (the light grey 0.58, 0.58, 0.6, times 1.5) at t = 0 and 1.
+    const RGB mid = calm.eval(s.texture_images, at(0.f));
+    CHECK(mid.r == Approx(0.75f));
+    CHECK(mid.b == Approx(0.75f));
+    for (float y : {-kPi / 4.f, kPi / 4.f}) {
+        const RGB end = calm.eval(s.texture_images, at(y));
+        CHECK(end.r == Approx(0.87f).epsilon(1e-4));
+        CHECK(end.b == Approx(0.9f).epsilon(1e-4));
+    }
+    // With variation the veins wander: values stay within the spline's hull and vary.
+    const Texture& veined = s.textures[std::size_t(s.materials[s.objects.at(1).material].texture)];
+    float lo = 10.f, hi = 0.f;
+    for (int i = 0; i < 2000; ++i) {
+        const RGB c = veined.eval(s.texture_images, at(0.01f * float(i)));
+        lo = std::min(lo, c.g);
+        hi = std::max(hi, c.g);
+    }
+    CHECK(lo >= 1.5f * 0.2f - 1e-4f);
+    CHECK(hi <= 1.5f * 0.6f + 1e-4f);
+    CHECK(hi - lo > 0.2f);
+    CHECK_THROWS_WITH(
+        parse_pbrt_scene("WorldBegin\nTexture \"m\" \"float\" \"marble\"\nShape \"sphere\"",
+                         "bad.pbrt", "."),
+        Catch::Contains("bad.pbrt:2: 'marble' is a spectrum texture in pbrt-v4"));
 }
 
 TEST_CASE("pbrt-v4: bilerp and dots textures", "[noise][pbrt][texture][fast]") {

@@ -106,17 +106,42 @@ bool Texture::in_dot(Point2 q) const {
     return ds * ds + dt * dt < kRadius * kRadius;
 }
 
-float Texture::noise_value(const Vec3& q) const {
+namespace {
+
+// pbrt-v4's marble: t = (1 + sin(y + variation fbm)) / 2 read from a cubic Bezier spline
+// through veined greys, its segment chosen by t (its colour table; the same construction).
+RGB marble_color(const Vec3& q, float variation, float omega, int octaves) {
+    static constexpr float kVeins[9][3] = {{.58f, .58f, .6f}, {.58f, .58f, .6f}, {.58f, .58f, .6f},
+                                           {.5f, .5f, .5f},   {.6f, .59f, .58f}, {.58f, .58f, .6f},
+                                           {.58f, .58f, .6f}, {.2f, .2f, .33f},  {.58f, .58f, .6f}};
+    constexpr int kSegments = 9 - 3;
+    float t = 0.5f + 0.5f * std::sin(q.y + variation * fbm(q, omega, octaves));
+    const int first = std::clamp(int(std::floor(t * kSegments)), 0, kSegments - 1);
+    t = t * kSegments - float(first);
+    // The Bezier of control points kVeins[first .. first + 3] at t.
+    const float s = 1.f - t;
+    const float w[4] = {s * s * s, 3.f * s * s * t, 3.f * s * t * t, t * t * t};
+    RGB c{0.f};
+    for (int k = 0; k < 4; ++k)
+        c += RGB{kVeins[first + k][0], kVeins[first + k][1], kVeins[first + k][2]} * w[k];
+    return c * 1.5f;
+}
+
+}  // namespace
+
+RGB Texture::noise_value(const Vec3& q) const {
     switch (noise) {
         case NoiseKind::FBm:
-            return fbm(q, omega, octaves);
+            return RGB{fbm(q, omega, octaves)};
         case NoiseKind::Wrinkled:
-            return turbulence(q, omega, octaves);
+            return RGB{turbulence(q, omega, octaves)};
         case NoiseKind::Windy:
             // pbrt-v4's waves: a slow fbm's strength times a finer one's height.
-            return std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6);
+            return RGB{std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6)};
+        case NoiseKind::Marble:
+            return marble_color(q * noise_scale, variation, omega, octaves);
     }
-    return 0.f;
+    return RGB{0.f};
 }
 
 RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) const {
@@ -136,7 +161,7 @@ RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) c
             c = operands[0].eval(images, at) * operands[1].eval_float(images, at);
             break;
         case TextureKind::Noise:
-            c = RGB{noise_value(to_texture.point(at.p))};
+            c = noise_value(to_texture.point(at.p));
             break;
         case TextureKind::Bilerp: {
             const Point2 q = st(at);
@@ -183,10 +208,10 @@ RGB Texture::mean(const std::vector<TextureImage>& images) const {
         c = operands[0].mean(images) * f + operands[1].mean(images) * (1.f - f);
     } else if (kind == TextureKind::Noise) {
         // Over a fixed scatter of points (the noise has no period to average over).
-        float sum = 0.f;
+        RGB sum{0.f};
         for (int i = 0; i < 256; ++i)
             sum += noise_value({float(i) * 0.377f, float(i) * 0.713f, float(i) * 0.131f});
-        c = RGB{sum / 256.f};
+        c = sum * (1.f / 256.f);
     } else if (kind == TextureKind::Mix) {
         // The operands' means mixed by the amount's (exact when the amount is constant or
         // independent of the operands).

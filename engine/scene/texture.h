@@ -38,7 +38,7 @@ enum class TextureKind : uint8_t {
     Dots,    // pbrt-v4's dots: operands inside, outside; a dot of radius 0.35 in some unit cells
 };
 
-enum class NoiseKind : uint8_t { FBm, Wrinkled, Windy };
+enum class NoiseKind : uint8_t { FBm, Wrinkled, Windy, Marble };
 
 // How a texture finds its (s, t) at a surface point: the surface's uv through a UvMap, or the
 // hit point in the texture's own space (pbrt-v4's spherical, cylindrical, planar mappings).
@@ -82,6 +82,9 @@ struct Texture {
     NoiseKind noise = NoiseKind::FBm;
     float omega = 0.5f;
     int octaves = 8;
+    // Marble (pbrt-v4's "marble", a colour): the point scaled by noise_scale, its y plus
+    // variation x fbm through sin, read from a spline of veined greys.
+    float noise_scale = 1.f, variation = 0.2f;
     // A mapping by position: world to the texture's space (the transform when the texture was
     // declared, inverted); Planar: s = du + q.plane_s, t = dv + q.plane_t (uv's du, dv).
     TextureMapping mapping = TextureMapping::UV;
@@ -89,8 +92,8 @@ struct Texture {
     Vec3 plane_s{1.f, 0.f, 0.f}, plane_t{0.f, 1.f, 0.f};
     // The (s, t) this texture reads at `at` (texture_mapping.cpp).
     Point2 st(const TexPoint& at) const;
-    // A Noise texture's value at q in its own space.
-    float noise_value(const Vec3& q) const;
+    // A Noise texture's value at q in its own space (a grey for the float kinds).
+    RGB noise_value(const Vec3& q) const;
     // A Dots texture: whether (s, t) lies in a dot.
     bool in_dot(Point2 q) const;
 

@@ -133,7 +133,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         mix_texture(t, p, tex);
     } else if (type == "directionmix") {
         direction_mix_texture(t, p, tex);
-    } else if (type == "fbm" || type == "wrinkled" || type == "windy") {
+    } else if (type == "fbm" || type == "wrinkled" || type == "windy" || type == "marble") {
         noise_texture(t, type, p, tex);
     } else if (type == "bilerp" || type == "dots") {
         // Both read (s, t) through the 2D mapping; their operands are values or textures.
@@ -155,7 +155,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
     } else {
         fail(t, "texture type '" + type +
                     "' is not supported (constant, scale, mix, directionmix, fbm, wrinkled, "
-                    "windy, bilerp, dots, imagemap and checkerboard)");
+                    "windy, marble, bilerp, dots, imagemap and checkerboard)");
     }
     textures_[name] = tex;
     warn_unused(p, "Texture \"" + name + "\"");
@@ -231,12 +231,21 @@ void Importer::texture_mapping(const Token& t, const ParamList& p, Texture& st) 
 
 void Importer::noise_texture(const Token& t, const std::string& type, const ParamList& p,
                              TextureDesc& tex) {
-    if (!tex.is_float) fail(t, "'" + type + "' is a float texture in pbrt-v4");
+    const bool marble = type == "marble";
+    if (tex.is_float == marble)
+        fail(t, "'" + type + "' is a " + (marble ? "spectrum" : "float") + " texture in pbrt-v4");
     Texture st;
     st.kind = TextureKind::Noise;
     st.noise = type == "fbm"        ? NoiseKind::FBm
                : type == "wrinkled" ? NoiseKind::Wrinkled
+               : marble             ? NoiseKind::Marble
                                     : NoiseKind::Windy;
+    if (marble) {
+        st.noise_scale = p.real("scale", 1.f);
+        st.variation = p.real("variation", 0.2f);
+        if (!std::isfinite(st.noise_scale) || !std::isfinite(st.variation))
+            fail(t, "marble: scale and variation must be finite");
+    }
     if (st.noise != NoiseKind::Windy) {
         st.octaves = p.integer("octaves", 8);
         st.omega = p.real("roughness", 0.5f);
