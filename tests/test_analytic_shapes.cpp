@@ -470,3 +470,40 @@ Shape "disk" "float radius" 3 "float height" -1
     REQUIRE(acc->intersect1({2.5f, 0.5f, 5.f, 0.f, 0.f, -1.f, 0.f, kInfinity}, h, c));
     CHECK(h.t == Approx(6.f));
 }
+
+TEST_CASE("shapes: closed shapes bound media: an ink cylinder and a CSG tube absorb exp(-sigma d)",
+          "[shapes][csg][media][render]") {
+    // Under a white sky, seen along their axes through a window 0.1 wide: a capped cylinder
+    // of height 2, and a cylinder of height 3 with a hollow of height 1 inside (a difference:
+    // the rays leave and re-enter the ink through the subtracted solid's caps), 2 units of ink.
+    auto transmittance = [](const std::string& object) {
+        const std::string xml = R"(<scene>
+  <lights><environment intensity="1"><color r="1" g="1" b="1"/></environment></lights>
+  <media><medium name="ink"><sigma_a r="0.2" g="0.5" b="1"/></medium></media>
+  <objects>)" + object + R"(</objects>
+  <film width="4" height="4" size="0.025"/>
+  <renderer type="volpath" spp="16" max_depth="10"/>
+  <camera type="orthographic"><eye x="0" y="0" z="10"/><target x="0" y="0" z="0"/>
+    <up x="0" y="1" z="0"/></camera>
+</scene>)";
+        TestScene s(parse_scene(xml, "ink.xml", "."));
+        const RenderResult r = render_test(s, 16);
+        RGB mean{0.f};
+        for (const RGB& p : r.film.pixels) mean += p * (1.f / float(r.film.pixels.size()));
+        return mean;
+    };
+    const RGB cyl = transmittance(
+        R"(<cylinder radius="1" capped="true" medium_inside="ink"><base x="0" y="0" z="-1"/>
+           <top x="0" y="0" z="1"/><material type="interface"/></cylinder>)");
+    CHECK(cyl.r == Approx(std::exp(-0.4f)).epsilon(0.01));
+    CHECK(cyl.g == Approx(std::exp(-1.f)).epsilon(0.01));
+    CHECK(cyl.b == Approx(std::exp(-2.f)).epsilon(0.01));
+    const RGB tube = transmittance(
+        R"(<csg op="difference" medium_inside="ink">
+             <cylinder radius="1"><base x="0" y="0" z="-1.5"/><top x="0" y="0" z="1.5"/></cylinder>
+             <cylinder radius="0.5"><base x="0" y="0" z="-0.5"/><top x="0" y="0" z="0.5"/></cylinder>
+             <material type="interface"/></csg>)");
+    CHECK(tube.r == Approx(std::exp(-0.4f)).epsilon(0.01));
+    CHECK(tube.g == Approx(std::exp(-1.f)).epsilon(0.01));
+    CHECK(tube.b == Approx(std::exp(-2.f)).epsilon(0.01));
+}
