@@ -72,8 +72,10 @@ TEST_CASE("shapes: polynomial roots are found in order and in range", "[shapes][
     CHECK(r[1] == Approx(std::sqrt(2.0)).epsilon(1e-14));
 }
 
-TEST_CASE("shapes: disk, cylinder, cone and torus meet rays where their equations say",
-          "[shapes][fast]") {
+TEST_CASE(
+    "shapes: disk, cylinder, cone, paraboloid, hyperboloid and torus meet rays where "
+    "their equations say",
+    "[shapes][fast]") {
     ShapePrimitive disk;
     disk.type = ShapeType::Disk;
     disk.radius = 2.f;
@@ -109,6 +111,43 @@ TEST_CASE("shapes: disk, cylinder, cone and torus meet rays where their equation
         CHECK(first_hit(placed(cone), {-5.f, 0.f, z}, {1, 0, 0}) ==
               Approx(5.f - (1.f - z / 2.f)).epsilon(1e-6));
     CHECK(first_hit(placed(cone), {-5.f, 0.f, 2.5f}, {1, 0, 0}) < 0.f);  // the other nappe
+
+    // The paraboloid x^2 + y^2 = z (radius 1 at height 1) and the hyperboloid of waist 0.5 and
+    // ends of radius 1 over height 2: at height z their radii are sqrt(z) and
+    // sqrt(0.25 + 0.75 (z - 1)^2).
+    ShapePrimitive para;
+    para.type = ShapeType::Paraboloid;
+    para.radius = 1.f;
+    para.height = 1.f;
+    ShapePrimitive hyper;
+    hyper.type = ShapeType::Hyperboloid;
+    hyper.radius = 1.f;
+    hyper.inner_radius = 0.5f;
+    hyper.height = 2.f;
+    for (float z : {0.1f, 0.5f, 0.9f}) {
+        CHECK(first_hit(placed(para), {-5.f, 0.f, z}, {1, 0, 0}) ==
+              Approx(5.f - std::sqrt(z)).epsilon(1e-6));
+        const float zh = 2.f * z;
+        CHECK(first_hit(placed(hyper), {-5.f, 0.f, zh}, {1, 0, 0}) ==
+              Approx(5.f - std::sqrt(0.25f + 0.75f * (zh - 1.f) * (zh - 1.f))).epsilon(1e-6));
+    }
+    // Open: down the axis nothing but the paraboloid's vertex; capped: the top first.
+    CHECK(first_hit(placed(hyper), {0.f, 0.f, 5.f}, {0, 0, -1}) < 0.f);
+    CHECK(first_hit(placed(para), {0.f, 0.f, 5.f}, {0, 0, -1}) == Approx(5.f));
+    para.capped = hyper.capped = true;
+    CHECK(first_hit(placed(para), {0.1f, 0.f, 5.f}, {0, 0, -1}, &prim) == Approx(4.f));
+    CHECK(prim_part(prim) == 2);
+    CHECK(first_hit(placed(hyper), {0.1f, 0.f, 5.f}, {0, 0, -1}, &prim) == Approx(3.f));
+    CHECK(prim_part(prim) == 2);
+    CHECK(first_hit(placed(hyper), {0.1f, 0.f, -5.f}, {0, 0, 1}, &prim) == Approx(5.f));
+    CHECK(prim_part(prim) == 1);
+    // Normals: the paraboloid's side at (1, 0, 1) along (2, 0, -1), the hyperboloid's waist
+    // straight out.
+    const Vec3 np = shape_surface(placed(para), 0, {1.f, 0.f, 1.f}).n;
+    CHECK(np.x == Approx(2.f / std::sqrt(5.f)));
+    CHECK(np.z == Approx(-1.f / std::sqrt(5.f)));
+    const Vec3 nh = shape_surface(placed(hyper), 0, {0.f, 0.5f, 1.f}).n;
+    CHECK(nh.y == Approx(1.f));
 
     ShapePrimitive torus;
     torus.type = ShapeType::Torus;
@@ -276,6 +315,8 @@ const char* kShapeRoom = R"(<scene>
     <disk radius="0.5"><center x="-2" y="2" z="0.2"/><normal x="0" y="1" z="1"/><material type="lambert"/></disk>
     <cylinder radius="0.4" capped="true"><base x="-2" y="-2" z="-1"/><top x="-2" y="-1" z="0.5"/><material type="lambert"/></cylinder>
     <cone radius="0.5" phi_max="200"><base x="2" y="-2" z="-1"/><apex x="2" y="-2" z="0.5"/><material type="lambert"/></cone>
+    <paraboloid radius="0.4" capped="true"><apex x="-1" y="0" z="-1"/><top x="-1" y="0.3" z="0"/><material type="lambert"/></paraboloid>
+    <hyperboloid radius="0.4" waist_radius="0.2" phi_max="300"><base x="1" y="0" z="-1"/><top x="1.2" y="0" z="0.2"/><material type="lambert"/></hyperboloid>
     <torus major_radius="0.6" minor_radius="0.2"><center x="0" y="0" z="0"/><axis x="1" y="1" z="1"/>
       <transform><scale x="1" y="1.5" z="1"/></transform><material type="lambert"/></torus>
     <csg op="difference"><transform><scale x="-1" y="1" z="1"/><translate x="0" y="2" z="0"/></transform>
@@ -291,7 +332,7 @@ const char* kShapeRoom = R"(<scene>
 TEST_CASE("shapes: every backend finds the same hits with shapes in the scene",
           "[shapes][accel][fast]") {
     const Scene s = parse_scene(kShapeRoom, "room.xml", ".");
-    REQUIRE(s.shapes.size() == 5);
+    REQUIRE(s.shapes.size() == 7);
     RayBatch rays;
     for (uint32_t i = 0; i < 4000; ++i) {
         const Vec3 o = unit_at(i, 20) * 6.f;

@@ -80,7 +80,8 @@ bool within_phi(double x, double y, double phi_max) {
     return phi <= phi_max;
 }
 
-// The quadric of a cylinder's or cone's side crossed by the line: A t^2 + B t + C.
+// The quadric of a cylinder's, cone's, paraboloid's or hyperboloid's side crossed by the
+// line: A t^2 + B t + C, negative inside.
 void side_quadric(const ShapePrimitive& s, const ShapeRay& r, double& A, double& B, double& C) {
     const double* o = r.o;
     const double* d = r.d;
@@ -88,13 +89,31 @@ void side_quadric(const ShapePrimitive& s, const ShapeRay& r, double& A, double&
     A = d[0] * d[0] + d[1] * d[1];
     B = 2.0 * (o[0] * d[0] + o[1] * d[1]);
     C = o[0] * o[0] + o[1] * o[1] - R * R;
+    const double H = s.height;
     if (s.type == ShapeType::Cone) {
         // x^2 + y^2 - k^2 (H - z)^2 with k = R / H.
-        const double k = R / double(s.height), w = double(s.height) - o[2];
+        const double k = R / H, w = H - o[2];
         A -= k * k * d[2] * d[2];
         B += 2.0 * k * k * w * d[2];
         C = o[0] * o[0] + o[1] * o[1] - k * k * w * w;
+    } else if (s.type == ShapeType::Paraboloid) {
+        // x^2 + y^2 - (R^2 / H) z.
+        const double k = R * R / H;
+        B -= k * d[2];
+        C = o[0] * o[0] + o[1] * o[1] - k * o[2];
+    } else if (s.type == ShapeType::Hyperboloid) {
+        // x^2 + y^2 - a^2 - (R^2 - a^2) w^2 with w = 2 z / H - 1 = wo + t wd along the ray.
+        const double a = s.inner_radius, k = R * R - a * a;
+        const double wo = 2.0 * o[2] / H - 1.0, wd = 2.0 * d[2] / H;
+        A -= k * wd * wd;
+        B -= 2.0 * k * wo * wd;
+        C = o[0] * o[0] + o[1] * o[1] - a * a - k * wo * wo;
     }
+}
+
+bool quadric_side(ShapeType t) {
+    return t == ShapeType::Cylinder || t == ShapeType::Cone || t == ShapeType::Paraboloid ||
+           t == ShapeType::Hyperboloid;
 }
 
 int solid_intervals(const ShapePrimitive& s, const ShapeRay& r, LineInterval* out) {
@@ -117,13 +136,17 @@ int solid_intervals(const ShapePrimitive& s, const ShapeRay& r, LineInterval* ou
             return 1;
         }
         case ShapeType::Cylinder:
-        case ShapeType::Cone: {
+        case ShapeType::Cone:
+        case ShapeType::Paraboloid:
+        case ShapeType::Hyperboloid: {
             double A, B, C;
             side_quadric(s, r, A, B, C);
             LineInterval inside[2], z;
             const int n = quadric_inside(A, B, C, 0, inside);
-            if (!line_slab(o[2], d[2], 0.0, s.height, 1, s.type == ShapeType::Cone ? 0 : 2, z))
-                return 0;
+            // The cone's top is its apex and the paraboloid's bottom its vertex: no caps.
+            const uint8_t bottom = s.type == ShapeType::Paraboloid ? 0 : 1;
+            const uint8_t top = s.type == ShapeType::Cone ? 0 : 2;
+            if (!line_slab(o[2], d[2], 0.0, s.height, bottom, top, z)) return 0;
             int k = 0;
             for (int i = 0; i < n; ++i)
                 if (clip_interval(inside[i], z, out[k])) ++k;
@@ -175,6 +198,10 @@ const char* shape_type_name(ShapeType t) {
             return "sphere";
         case ShapeType::Box:
             return "box";
+        case ShapeType::Paraboloid:
+            return "paraboloid";
+        case ShapeType::Hyperboloid:
+            return "hyperboloid";
     }
     return "shape";
 }
@@ -195,6 +222,8 @@ bool ShapePrimitive::solid() const {
             return true;
         case ShapeType::Cylinder:
         case ShapeType::Cone:
+        case ShapeType::Paraboloid:
+        case ShapeType::Hyperboloid:
             return capped && phi_max >= 2.f * kPi;
         default:
             return false;
@@ -209,6 +238,8 @@ Bounds3 ShapePrimitive::object_bounds() const {
             break;
         case ShapeType::Cylinder:
         case ShapeType::Cone:
+        case ShapeType::Paraboloid:
+        case ShapeType::Hyperboloid:
             b.extend(Vec3{-radius, -radius, 0.f}), b.extend(Vec3{radius, radius, height});
             break;
         case ShapeType::Torus: {
@@ -277,7 +308,7 @@ int shape_crossings(const ShapePrimitive& s, const ShapeRay& r, ShapeCrossing* o
         keep(t, 0, rho2 <= R * R && rho2 >= ri * ri && within_phi(x, y, s.phi_max));
         return k;
     }
-    if (s.type != ShapeType::Cylinder && s.type != ShapeType::Cone) return 0;
+    if (!quadric_side(s.type)) return 0;
     // An open side (uncapped, or cut in phi): the quadric's roots within its height and phi.
     double A, B, C, roots[2];
     side_quadric(s, r, A, B, C);

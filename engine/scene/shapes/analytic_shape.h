@@ -10,10 +10,14 @@
 //   cylinder  x^2 + y^2 = radius^2, 0 <= z <= height; caps: part 1 at z = 0, 2 at z = height
 //   cone      x^2 + y^2 = (radius (1 - z / height))^2, 0 <= z <= height (apex at the top);
 //             cap: part 1 at z = 0
+//   paraboloid x^2 + y^2 = radius^2 z / height, 0 <= z <= height; cap: part 2 at the top
+//   hyperboloid x^2 + y^2 = inner_radius^2 + (radius^2 - inner_radius^2) (2 z / height - 1)^2,
+//             0 <= z <= height (one sheet: its waist of inner_radius halfway up); caps 1, 2
 //   torus     (sqrt(x^2 + y^2) - radius)^2 + z^2 = minor_radius^2
 //   sphere    x^2 + y^2 + z^2 = radius^2
 //   box       |x| <= half.x, |y| <= half.y, |z| <= half.z; part 2 axis + (side > 0)
-// Disk, cylinder and cone may be cut to 0 <= phi <= phi_max (then they are open surfaces).
+// Disk, cylinder, cone, paraboloid and hyperboloid may be cut to 0 <= phi <= phi_max (then
+// they are open surfaces).
 #include <cstdint>
 
 #include "engine/core/math.h"
@@ -21,7 +25,16 @@
 
 namespace foton {
 
-enum class ShapeType : uint8_t { Disk, Cylinder, Cone, Torus, Sphere, Box };
+enum class ShapeType : uint8_t {
+    Disk,
+    Cylinder,
+    Cone,
+    Torus,
+    Sphere,
+    Box,
+    Paraboloid,
+    Hyperboloid
+};
 const char* shape_type_name(ShapeType t);
 
 struct ShapePrimitive {
@@ -32,14 +45,14 @@ struct ShapePrimitive {
     float minor_radius = 0.25f;  // torus
     Vec3 half{1.f, 1.f, 1.f};    // box
     float phi_max = 2.f * kPi;   // disk, cylinder, cone
-    bool capped = false;         // cylinder, cone: closed by disks into a solid
+    bool capped = false;  // cylinder, cone, paraboloid, hyperboloid: closed by disks (a solid)
     Affine to_world, to_object;
 
     // Places the shape (to_world = xf after the current placement); false, unchanged, when
     // xf is singular.
     bool place(const Affine& xf);
     // A solid bounds a volume (CSG takes only solids; media need one): sphere, box, torus,
-    // and capped full cylinders and cones.
+    // and capped full cylinders, cones, paraboloids and hyperboloids.
     bool solid() const;
     Bounds3 object_bounds() const;
     Bounds3 world_bounds() const;  // the placed object box's eight corners

@@ -54,7 +54,9 @@ ShapeSurface shape_surface(const ShapePrimitive& sh, uint8_t part, const Vec3& p
         case ShapeType::Box:
             return box_face(sh, part, p);
         case ShapeType::Cylinder:
-        case ShapeType::Cone: {
+        case ShapeType::Cone:
+        case ShapeType::Paraboloid:
+        case ShapeType::Hyperboloid: {
             if (part == 1) return polar_face(p, sh.radius, 0.f, 2.f * kPi, -1.f);
             if (part == 2) return polar_face(p, sh.radius, 0.f, 2.f * kPi, 1.f);
             const float H = sh.height, v = std::clamp(p.z / H, 0.f, 1.f);
@@ -63,6 +65,23 @@ ShapeSurface shape_surface(const ShapePrimitive& sh, uint8_t part, const Vec3& p
             if (sh.type == ShapeType::Cylinder) {
                 s.n = normalize(Vec3{p.x, p.y, 0.f});
                 s.dpdv = {0.f, 0.f, H};
+                s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
+            } else if (sh.type == ShapeType::Paraboloid || sh.type == ShapeType::Hyperboloid) {
+                // The gradient of x^2 + y^2 - g(z), and dp/dv along the generator rho(v).
+                const float R = sh.radius, a = sh.inner_radius;
+                float dg_dz, drho_dv;
+                if (sh.type == ShapeType::Paraboloid) {
+                    dg_dz = R * R / H;
+                    const float rho = R * std::sqrt(v);
+                    drho_dv = rho > 0.f ? R * R / (2.f * rho) : 0.f;
+                } else {
+                    const float w = 2.f * v - 1.f, k = R * R - a * a;
+                    dg_dz = 4.f * k * w / H;
+                    const float rho = std::sqrt(a * a + k * w * w);
+                    drho_dv = rho > 0.f ? 2.f * k * w / rho : 0.f;
+                }
+                s.n = normalize(Vec3{2.f * p.x, 2.f * p.y, -dg_dz});
+                s.dpdv = Vec3{std::cos(phi) * drho_dv, std::sin(phi) * drho_dv, H};
                 s.dndu = Vec3{-s.n.y, s.n.x, 0.f} * sh.phi_max;
             } else {
                 // The gradient of x^2 + y^2 - k^2 (H - z)^2; the normal only turns with phi.

@@ -139,7 +139,8 @@ void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
 
 void Loader::parse_objects(const pugi::xml_node& n) {
     check(n, {},
-          {"triangle_mesh", "sphere", "quad", "disk", "cylinder", "cone", "torus", "box", "csg"});
+          {"triangle_mesh", "sphere", "quad", "disk", "cylinder", "cone", "torus", "box",
+           "paraboloid", "hyperboloid", "csg"});
     // How often each mesh file is placed: more than once, and its placements are instances.
     std::map<std::string, int> placements;
     for (const pugi::xml_node& o : n.children("triangle_mesh"))

@@ -25,14 +25,14 @@ Affine axis_frame(const Vec3& origin, const Vec3& axis) {
 
 bool is_solid_element(std::string_view k) {
     return k == "sphere" || k == "box" || k == "cylinder" || k == "cone" || k == "torus" ||
-           k == "csg";
+           k == "paraboloid" || k == "hyperboloid" || k == "csg";
 }
 
 }  // namespace
 
 bool Loader::is_shape_element(std::string_view k) {
     return k == "disk" || k == "cylinder" || k == "cone" || k == "torus" || k == "box" ||
-           k == "csg";
+           k == "paraboloid" || k == "hyperboloid" || k == "csg";
 }
 
 // One shape element, placed (its own points, then its <transform>). Inside a CSG tree only
@@ -72,22 +72,37 @@ ShapePrimitive Loader::shape_primitive(const pugi::xml_node& o, bool in_csg) con
         const Vec3 c = o.child("center") ? xyz_child(o, "center") : Vec3{0.f, 0.f, 0.f};
         const Vec3 n = o.child("normal") ? direction(o, "normal") : Vec3{0.f, 0.f, 1.f};
         frame = axis_frame(c, n);
-    } else if (k == "cylinder" || k == "cone") {
-        const char* tip = k == "cylinder" ? "top" : "apex";
+    } else if (k == "cylinder" || k == "cone" || k == "paraboloid" || k == "hyperboloid") {
+        // From the base (a paraboloid's vertex: its <apex>) along the axis to the top (a
+        // cone's <apex>).
+        const char* base_name = k == "paraboloid" ? "apex" : "base";
+        const char* tip = k == "cone" ? "apex" : "top";
         if (k == "cylinder")
             check_shape({"radius", "capped", "phi_max"}, {"base", "top"});
-        else
+        else if (k == "cone")
             check_shape({"radius", "capped", "phi_max"}, {"base", "apex"});
-        s.type = k == "cylinder" ? ShapeType::Cylinder : ShapeType::Cone;
+        else if (k == "paraboloid")
+            check_shape({"radius", "capped", "phi_max"}, {"apex", "top"});
+        else
+            check_shape({"radius", "waist_radius", "capped", "phi_max"}, {"base", "top"});
+        s.type = k == "cylinder"     ? ShapeType::Cylinder
+                 : k == "cone"       ? ShapeType::Cone
+                 : k == "paraboloid" ? ShapeType::Paraboloid
+                                     : ShapeType::Hyperboloid;
         s.radius = positive(o, "radius", 1.f);
+        if (s.type == ShapeType::Hyperboloid) {
+            s.inner_radius = positive(o, "waist_radius", 0.5f * s.radius);
+            if (!(s.inner_radius <= s.radius))
+                fail(o, "waist_radius must be at most radius (the ends' radius)");
+        }
         s.capped = in_csg || boolean(o, "capped", false);
         s.phi_max = phi_max();
         if (s.capped && s.phi_max < 2.f * kPi)
             fail(o, std::string("a capped ") + std::string(k) +
                         " must be whole (phi_max 360): its cut would be open");
-        const Vec3 base = xyz_child(o, "base"), top = xyz_child(o, tip);
+        const Vec3 base = xyz_child(o, base_name), top = xyz_child(o, tip);
         const float h = length(top - base);
-        if (!(h > 0.f)) fail(o, std::string("<base> and <") + tip + "> must differ");
+        if (!(h > 0.f)) fail(o, std::string("<") + base_name + "> and <" + tip + "> must differ");
         s.height = h;
         frame = axis_frame(base, (top - base) / h);
     } else if (k == "torus") {
@@ -140,8 +155,10 @@ uint32_t Loader::csg_node(const pugi::xml_node& o, const Affine& outer, Analytic
     if (depth > int(kMaxCsgSolids)) fail(o, "<csg> is nested too deeply");
     const bool top = depth == 0;
     check(o, top ? Names{"op", "name", "medium_inside", "medium_outside"} : Names{"op"},
-          top ? Names{"material", "transform", "sphere", "box", "cylinder", "cone", "torus", "csg"}
-              : Names{"transform", "sphere", "box", "cylinder", "cone", "torus", "csg"});
+          top ? Names{"material", "transform", "sphere", "box", "cylinder", "cone", "torus",
+                      "paraboloid", "hyperboloid", "csg"}
+              : Names{"transform", "sphere", "box", "cylinder", "cone", "torus", "paraboloid",
+                      "hyperboloid", "csg"});
     const std::string op = o.attribute("op").value();
     CsgOp cop;
     if (op == "union")
