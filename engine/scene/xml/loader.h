@@ -174,6 +174,10 @@ class Loader {
     // shapes.cpp: analytic shapes and CSG trees.
     static bool is_shape_element(std::string_view k);
     ShapePrimitive shape_primitive(const pugi::xml_node& o, bool in_csg) const;
+    void check_shape(const pugi::xml_node& o, bool in_csg, const Names& own_attrs,
+                     const Names& own_children) const;
+    float shape_phi_max(const pugi::xml_node& o) const;
+    Affine axial_shape(const pugi::xml_node& o, bool in_csg, ShapePrimitive& s) const;
     uint32_t csg_node(const pugi::xml_node& o, const Affine& outer, AnalyticShape& shape,
                       int depth) const;
     void parse_shape_object(const pugi::xml_node& o);

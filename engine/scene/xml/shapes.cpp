@@ -35,78 +35,91 @@ bool Loader::is_shape_element(std::string_view k) {
            k == "paraboloid" || k == "hyperboloid" || k == "csg";
 }
 
+// An object takes a material, a name and media; a solid inside <csg> only its own
+// attributes and a transform.
+void Loader::check_shape(const pugi::xml_node& o, bool in_csg, const Names& own_attrs,
+                         const Names& own_children) const {
+    const Names object_attrs{"name", "medium_inside", "medium_outside"};
+    for (const pugi::xml_attribute& a : o.attributes())
+        if (!in(own_attrs, a.name()) && (in_csg || !in(object_attrs, a.name())))
+            fail(o, std::string("unknown attribute '") + a.name() + "' on <" + o.name() + ">" +
+                        (in_csg ? " in <csg>" : ""));
+    for (const pugi::xml_node& c : o.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const std::string_view cn = c.name();
+        if (!in(own_children, c.name()) && cn != "transform" && (in_csg || cn != "material"))
+            fail(c, std::string("unknown element <") + c.name() + "> in <" + o.name() + ">" +
+                        (in_csg ? " (a solid in <csg> takes no material of its own)" : ""));
+    }
+}
+
+float Loader::shape_phi_max(const pugi::xml_node& o) const {
+    const float deg = number(o, "phi_max", 360.f);
+    if (!(deg > 0.f && deg <= 360.f)) fail(o, "phi_max must be in (0, 360] degrees");
+    return deg >= 360.f ? 2.f * kPi : deg * kPi / 180.f;
+}
+
+// A shape about an axis from a base point to a top one (cylinder, cone, paraboloid,
+// hyperboloid) into s; returns the placement of its canonical frame.
+Affine Loader::axial_shape(const pugi::xml_node& o, bool in_csg, ShapePrimitive& s) const {
+    const std::string_view k = o.name();
+    // From the base (a paraboloid's vertex: its <apex>) along the axis to the top (a
+    // cone's <apex>).
+    const char* base_name = k == "paraboloid" ? "apex" : "base";
+    const char* tip = k == "cone" ? "apex" : "top";
+    if (k == "cylinder")
+        check_shape(o, in_csg, {"radius", "capped", "phi_max"}, {"base", "top"});
+    else if (k == "cone")
+        check_shape(o, in_csg, {"radius", "capped", "phi_max"}, {"base", "apex"});
+    else if (k == "paraboloid")
+        check_shape(o, in_csg, {"radius", "capped", "phi_max"}, {"apex", "top"});
+    else
+        check_shape(o, in_csg, {"radius", "waist_radius", "capped", "phi_max"}, {"base", "top"});
+    s.type = k == "cylinder"     ? ShapeType::Cylinder
+             : k == "cone"       ? ShapeType::Cone
+             : k == "paraboloid" ? ShapeType::Paraboloid
+                                 : ShapeType::Hyperboloid;
+    s.radius = positive(o, "radius", 1.f);
+    if (s.type == ShapeType::Hyperboloid) {
+        s.inner_radius = positive(o, "waist_radius", 0.5f * s.radius);
+        if (!(s.inner_radius <= s.radius))
+            fail(o, "waist_radius must be at most radius (the ends' radius)");
+    }
+    s.capped = in_csg || boolean(o, "capped", false);
+    s.phi_max = shape_phi_max(o);
+    if (s.capped && s.phi_max < 2.f * kPi)
+        fail(o, std::string("a capped ") + std::string(k) +
+                    " must be whole (phi_max 360): its cut would be open");
+    const Vec3 base = xyz_child(o, base_name), top = xyz_child(o, tip);
+    const float h = length(top - base);
+    if (!(h > 0.f)) fail(o, std::string("<") + base_name + "> and <" + tip + "> must differ");
+    s.height = h;
+    return axis_frame(base, (top - base) / h);
+}
+
 // One shape element, placed (its own points, then its <transform>). Inside a CSG tree only
 // solids are allowed, and a <sphere> is one of them.
 ShapePrimitive Loader::shape_primitive(const pugi::xml_node& o, bool in_csg) const {
     const std::string_view k = o.name();
-    // An object takes a material, a name and media; a solid inside <csg> only its own
-    // attributes and a transform.
-    auto check_shape = [&](Names own_attrs, Names own_children) {
-        const Names object_attrs{"name", "medium_inside", "medium_outside"};
-        for (const pugi::xml_attribute& a : o.attributes())
-            if (!in(own_attrs, a.name()) && (in_csg || !in(object_attrs, a.name())))
-                fail(o, std::string("unknown attribute '") + a.name() + "' on <" + o.name() + ">" +
-                            (in_csg ? " in <csg>" : ""));
-        for (const pugi::xml_node& c : o.children()) {
-            if (c.type() != pugi::node_element) continue;
-            const std::string_view cn = c.name();
-            if (!in(own_children, c.name()) && cn != "transform" && (in_csg || cn != "material"))
-                fail(c, std::string("unknown element <") + c.name() + "> in <" + o.name() + ">" +
-                            (in_csg ? " (a solid in <csg> takes no material of its own)" : ""));
-        }
+    auto check = [&](const Names& own_attrs, const Names& own_children) {
+        check_shape(o, in_csg, own_attrs, own_children);
     };
     ShapePrimitive s;
     Affine frame;
-    auto phi_max = [&] {
-        const float deg = number(o, "phi_max", 360.f);
-        if (!(deg > 0.f && deg <= 360.f)) fail(o, "phi_max must be in (0, 360] degrees");
-        return deg >= 360.f ? 2.f * kPi : deg * kPi / 180.f;
-    };
     if (k == "disk") {
-        check_shape({"radius", "inner_radius", "phi_max"}, {"center", "normal"});
+        check({"radius", "inner_radius", "phi_max"}, {"center", "normal"});
         s.type = ShapeType::Disk;
         s.radius = positive(o, "radius", 1.f);
         s.inner_radius = non_negative(o, "inner_radius", 0.f);
         if (!(s.inner_radius < s.radius)) fail(o, "inner_radius must be less than radius");
-        s.phi_max = phi_max();
+        s.phi_max = shape_phi_max(o);
         const Vec3 c = o.child("center") ? xyz_child(o, "center") : Vec3{0.f, 0.f, 0.f};
         const Vec3 n = o.child("normal") ? direction(o, "normal") : Vec3{0.f, 0.f, 1.f};
         frame = axis_frame(c, n);
     } else if (k == "cylinder" || k == "cone" || k == "paraboloid" || k == "hyperboloid") {
-        // From the base (a paraboloid's vertex: its <apex>) along the axis to the top (a
-        // cone's <apex>).
-        const char* base_name = k == "paraboloid" ? "apex" : "base";
-        const char* tip = k == "cone" ? "apex" : "top";
-        if (k == "cylinder")
-            check_shape({"radius", "capped", "phi_max"}, {"base", "top"});
-        else if (k == "cone")
-            check_shape({"radius", "capped", "phi_max"}, {"base", "apex"});
-        else if (k == "paraboloid")
-            check_shape({"radius", "capped", "phi_max"}, {"apex", "top"});
-        else
-            check_shape({"radius", "waist_radius", "capped", "phi_max"}, {"base", "top"});
-        s.type = k == "cylinder"     ? ShapeType::Cylinder
-                 : k == "cone"       ? ShapeType::Cone
-                 : k == "paraboloid" ? ShapeType::Paraboloid
-                                     : ShapeType::Hyperboloid;
-        s.radius = positive(o, "radius", 1.f);
-        if (s.type == ShapeType::Hyperboloid) {
-            s.inner_radius = positive(o, "waist_radius", 0.5f * s.radius);
-            if (!(s.inner_radius <= s.radius))
-                fail(o, "waist_radius must be at most radius (the ends' radius)");
-        }
-        s.capped = in_csg || boolean(o, "capped", false);
-        s.phi_max = phi_max();
-        if (s.capped && s.phi_max < 2.f * kPi)
-            fail(o, std::string("a capped ") + std::string(k) +
-                        " must be whole (phi_max 360): its cut would be open");
-        const Vec3 base = xyz_child(o, base_name), top = xyz_child(o, tip);
-        const float h = length(top - base);
-        if (!(h > 0.f)) fail(o, std::string("<") + base_name + "> and <" + tip + "> must differ");
-        s.height = h;
-        frame = axis_frame(base, (top - base) / h);
+        frame = axial_shape(o, in_csg, s);
     } else if (k == "torus") {
-        check_shape({"major_radius", "minor_radius"}, {"center", "axis"});
+        check({"major_radius", "minor_radius"}, {"center", "axis"});
         s.type = ShapeType::Torus;
         s.radius = positive(o, "major_radius", 1.f);
         s.minor_radius = positive(o, "minor_radius", 0.25f);
@@ -116,7 +129,7 @@ ShapePrimitive Loader::shape_primitive(const pugi::xml_node& o, bool in_csg) con
         const Vec3 a = o.child("axis") ? direction(o, "axis") : Vec3{0.f, 0.f, 1.f};
         frame = axis_frame(c, a);
     } else if (k == "box") {
-        check_shape({}, {"min", "max"});
+        check({}, {"min", "max"});
         s.type = ShapeType::Box;
         const Vec3 lo = xyz_child(o, "min"), hi = xyz_child(o, "max");
         if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
@@ -124,7 +137,7 @@ ShapePrimitive Loader::shape_primitive(const pugi::xml_node& o, bool in_csg) con
         s.half = (hi - lo) * 0.5f;
         frame = Affine::translate((lo + hi) * 0.5f);
     } else if (k == "sphere" && in_csg) {
-        check_shape({"radius"}, {"center"});
+        check({"radius"}, {"center"});
         s.type = ShapeType::Sphere;
         s.radius = positive(o, "radius", 1.f);
         frame = Affine::translate(o.child("center") ? xyz_child(o, "center") : Vec3{0.f, 0.f, 0.f});
