@@ -5,7 +5,7 @@
 namespace foton {
 
 CurveIntersector::CurveIntersector(const Scene& scene, std::unique_ptr<Intersector> inner)
-    : LayeredIntersector(std::move(inner)), scene_(scene) {
+    : LayeredIntersector(std::move(inner)) {
     std::vector<kern::CurveSegment> segments;
     std::vector<uint8_t> ribbon;
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {

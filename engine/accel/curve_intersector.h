@@ -23,7 +23,6 @@ class CurveIntersector final : public LayeredIntersector<CurveIntersector> {
     struct SegmentRef {
         uint32_t geom, segment;
     };
-    const Scene& scene_;
     std::vector<SegmentRef> refs_;  // the BVH's segment ids -> their object and index
     kern::CurveBvh bvh_;
 };
