@@ -20,7 +20,8 @@ double derivative_value(const double* c, int n, double x) {
 }
 
 // The root in [a, b], where f(a) and f(b) have opposite signs: Newton steps while they stay
-// inside the bracket, bisection otherwise; the bracket shrinks every step.
+// inside the bracket, bisection otherwise, until the bracket or a Newton step is down to the
+// last bits.
 double refine_root(const double* c, int n, double a, double b, double fa) {
     double x = 0.5 * (a + b);
     for (int it = 0; it < 100; ++it) {
@@ -36,7 +37,12 @@ double refine_root(const double* c, int n, double a, double b, double fa) {
         if (width <= 4e-16 * (std::fabs(a) + std::fabs(b)) || width == 0.0) break;
         const double dfx = derivative_value(c, n, x);
         double next = dfx != 0.0 ? x - fx / dfx : a;
-        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        if (!(next > a && next < b)) {
+            next = 0.5 * (a + b);
+        } else if (std::fabs(next - x) <= 1e-15 * (std::fabs(x) + width)) {
+            // Newton has converged (from one side the bracket would shrink no further).
+            return next;
+        }
         x = next;
     }
     return x;
