@@ -12,7 +12,7 @@ BruteAccel::BruteAccel(const Scene& scene, bool simd)
       instances_(scene, simd ? AccelType::BruteSimd : AccelType::Brute, 0) {
     for (uint32_t g = 0; g < scene.objects.size(); ++g) {
         const Object& o = scene.objects[g];
-        if (o.instance >= 0) continue;               // in the instance layer
+        if (o.instance >= 0) continue;             // in the instance layer
         if (!traced_by_backend(o.kind)) continue;  // the wrappers'
         if (o.kind == ObjectKind::Sphere) {
             sphere_objects_.push_back(g);

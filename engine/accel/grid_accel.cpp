@@ -53,7 +53,7 @@ GridAccel::GridAccel(const Scene& scene, const kern::GridParams& mesh_params)
     const uint32_t ncells = top_.num_cells();
     std::vector<std::vector<uint32_t>> cells(ncells);
     for (uint32_t g = 0; g < n; ++g) {
-        if (scene.objects[g].instance >= 0) continue;               // in the instance layer
+        if (scene.objects[g].instance >= 0) continue;             // in the instance layer
         if (!traced_by_backend(scene.objects[g].kind)) continue;  // the wrappers'
         int clo[3], chi[3];
         for (int a = 0; a < 3; ++a) {

@@ -26,7 +26,7 @@ MeshTreeAccel<Tree, kType>::MeshTreeAccel(const Scene& scene, int threads)
     auto build_meshes = [&] {
         for (uint32_t g = 0; g < scene.objects.size(); ++g) {
             const Object& o = scene.objects[g];
-            if (o.instance >= 0) continue;               // in the instance layer
+            if (o.instance >= 0) continue;             // in the instance layer
             if (!traced_by_backend(o.kind)) continue;  // the wrappers'
             if (o.kind == ObjectKind::Mesh) {
                 const TriangleMesh& m = scene.meshes[o.index];
