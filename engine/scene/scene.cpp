@@ -161,45 +161,42 @@ void check_image_size(int width, int height, const std::string& file, int line) 
                              ", at most " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
-uint32_t Scene::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
+namespace {
+
+// The object of kind `kind` at `index` of its vector (each adder pushes the geometry first).
+uint32_t add_object(std::vector<Object>& objects, ObjectKind kind, std::size_t index,
+                    uint32_t material) {
     Object o;
-    o.kind = ObjectKind::Mesh;
-    o.index = uint32_t(meshes.size());
+    o.kind = kind;
+    o.index = uint32_t(index);
     o.material = material;
-    o.smooth = smooth && !mesh.normals.empty();
-    meshes.push_back(std::move(mesh));
     objects.push_back(o);
     return uint32_t(objects.size() - 1);
+}
+
+}  // namespace
+
+uint32_t Scene::add_mesh(TriangleMesh mesh, uint32_t material, bool smooth) {
+    const bool has_normals = !mesh.normals.empty();
+    meshes.push_back(std::move(mesh));
+    const uint32_t id = add_object(objects, ObjectKind::Mesh, meshes.size() - 1, material);
+    objects[id].smooth = smooth && has_normals;
+    return id;
 }
 
 uint32_t Scene::add_curves(CurveSet set, uint32_t material) {
-    Object o;
-    o.kind = ObjectKind::Curves;
-    o.index = uint32_t(curves.size());
-    o.material = material;
     curves.push_back(std::move(set));
-    objects.push_back(o);
-    return uint32_t(objects.size() - 1);
+    return add_object(objects, ObjectKind::Curves, curves.size() - 1, material);
 }
 
 uint32_t Scene::add_shape(AnalyticShape shape, uint32_t material) {
-    Object o;
-    o.kind = ObjectKind::Shape;
-    o.index = uint32_t(shapes.size());
-    o.material = material;
     shapes.push_back(std::move(shape));
-    objects.push_back(o);
-    return uint32_t(objects.size() - 1);
+    return add_object(objects, ObjectKind::Shape, shapes.size() - 1, material);
 }
 
 uint32_t Scene::add_sphere(const Sphere& sphere, uint32_t material) {
-    Object o;
-    o.kind = ObjectKind::Sphere;
-    o.index = uint32_t(spheres.size());
-    o.material = material;
     spheres.push_back(sphere);
-    objects.push_back(o);
-    return uint32_t(objects.size() - 1);
+    return add_object(objects, ObjectKind::Sphere, spheres.size() - 1, material);
 }
 
 const Material& Scene::textured(const Material& m, const TexPoint& at,
