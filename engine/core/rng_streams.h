@@ -36,6 +36,7 @@ enum RandomStream : uint64_t {
     kMltChainStream = 0x3172,           // MLT: chain starts, proposals and acceptance
     kAdaptivePhotonStream = 0xa9f0,     // adaptive photon tracing: uniform proposals
     kAdaptiveMutationStream = 0xa9f1,   // adaptive photon tracing: mutations
+    kSubsurfaceStream = 0x55b0,         // subsurface scattering: probes, exits, exit lights
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -64,6 +65,7 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kMltBootstrapStream,
                                                      kMltChainStream,
                                                      kAdaptivePhotonStream,
-                                                     kAdaptiveMutationStream};
+                                                     kAdaptiveMutationStream,
+                                                     kSubsurfaceStream};
 
 }  // namespace foton

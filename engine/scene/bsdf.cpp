@@ -65,6 +65,13 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
         }
         case LobeType::LambertTransmission:
             return !same_side(wo, wi) && wi.z != 0.f ? l.color * kInvPi : RGB{0.f};
+        case LobeType::SubsurfaceExit: {
+            if (!same_side(wo, wi)) return RGB{0.f};
+            const float eta = l.fresnel.ior;
+            const float t = 1.f - fresnel_dielectric(std::fabs(wi.z), 1.f, eta);
+            // Radiance leaving is eta^2 times the radiance the medium carries.
+            return l.color * (t * kInvPi * (ctx.mode == Transport::Radiance ? eta * eta : 1.f));
+        }
         case LobeType::RoughDielectric:
             return rough_dielectric_f(l, wo, wi, ctx);
         case LobeType::Coated:
@@ -84,6 +91,7 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
     switch (l.type) {
         case LobeType::Lambert:
         case LobeType::OrenNayar:
+        case LobeType::SubsurfaceExit:
             return same_side(wo, wi) ? std::fabs(wi.z) * kInvPi : 0.f;
         case LobeType::Phong: {
             if (wo.z <= 0.f || wi.z <= 0.f) return 0.f;
@@ -118,7 +126,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
     s.flags = l.flags();
     switch (l.type) {
         case LobeType::Lambert:
-        case LobeType::OrenNayar: {
+        case LobeType::OrenNayar:
+        case LobeType::SubsurfaceExit: {
             s.wi = warp::cosine_hemisphere(u);
             if (wo.z < 0.f) s.wi.z = -s.wi.z;
             s.pdf = lobe_pdf(l, wo, s.wi, ctx);

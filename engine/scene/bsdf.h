@@ -68,6 +68,9 @@ enum class LobeType : uint8_t {
     ThinDielectric,       // a thin slab (a window pane): specular reflection with the slab's
                           // inter-reflections, transmission straight through (pbrt-v4's
                           // thindielectric; thin_dielectric.cpp)
+    SubsurfaceExit,       // where light leaves a subsurface material (the BSSRDF's directional
+                          // part, pbrt-v4's NormalizedFresnelBxDF): (1 - F(wi)) / (c pi) with c
+                          // normalising it to reflect everything, times eta^2 for radiance
 };
 
 struct Lobe {
@@ -117,6 +120,8 @@ struct Lobe {
     // the coat), smooth or of roughness `d`.
     static Lobe coated_conductor(const Fresnel& f, bool smooth, const MicrofacetDistribution& d,
                                  const CoatLayer& c);
+    // The BSSRDF's directional part at an exit point of a material of index eta.
+    static Lobe subsurface_exit(float eta);
     // pbrt-v4's hair: a fibre of these parameters (its offset h set per hit).
     static Lobe hair_fiber(const HairFiber& h);
 };

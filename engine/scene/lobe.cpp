@@ -4,6 +4,7 @@
 
 #include "bsdf.h"
 #include "engine/core/optics.h"
+#include "subsurface/bssrdf_table.h"
 
 namespace foton {
 
@@ -68,6 +69,7 @@ uint8_t Lobe::flags() const {
     switch (type) {
         case LobeType::Lambert:
         case LobeType::OrenNayar:
+        case LobeType::SubsurfaceExit:
             return kDiffuse | kReflection;
         case LobeType::Phong:
         case LobeType::Microfacet:
@@ -161,6 +163,16 @@ Lobe Lobe::lambert_transmission(const RGB& t) {
     Lobe l;
     l.type = LobeType::LambertTransmission;
     l.color = t;
+    return l;
+}
+
+Lobe Lobe::subsurface_exit(float eta) {
+    Lobe l;
+    l.type = LobeType::SubsurfaceExit;
+    l.fresnel.kind = FresnelKind::Dielectric;
+    l.fresnel.ior = eta;
+    // 1 / c: c = 1 - 2 int_0^1 F(mu) mu dmu is the share of diffuse light the boundary lets in.
+    l.color = RGB{float(1.0 / (1.0 - 2.0 * fresnel_moment(1, 1.0, double(eta))))};
     return l;
 }
 

@@ -62,6 +62,10 @@ struct Material {
     int32_t alpha_texture = -1;
     float alpha_cutoff = -1.f;  // < 0: the stochastic test
     bool cuts_out() const { return alpha < 1.f || alpha_texture >= 0; }
+    // Light that enters through the surface scatters below it and leaves elsewhere (a
+    // subsurface material: into Scene::subsurfaces, -1: none). Its bsdf is the boundary, a
+    // dielectric of the medium's index; what it transmits goes into the BSSRDF.
+    int32_t subsurface = -1;
     // Bump mapping: a displacement texture (into Scene::textures, read as a float in scene
     // units; -1: none). At a hit, the shading normal becomes that of the displaced surface
     // p + d(u, v) n, from finite differences of d along u and v (pbrt-v4's BumpMap). A

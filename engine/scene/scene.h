@@ -19,6 +19,7 @@
 #include "medium.h"
 #include "mesh.h"
 #include "shapes/csg_shape.h"
+#include "subsurface/subsurface.h"
 #include "texture.h"
 
 namespace foton {
@@ -112,6 +113,17 @@ struct Scene {
     std::vector<Instance> instances;
     std::vector<Texture> textures;
     std::vector<TextureImage> texture_images;  // decoded once, shared by textures
+    // The media under subsurface materials' surfaces (Material::subsurface), and where the
+    // scene first asks for one: integrators that do not follow light under surfaces refuse
+    // such a scene at that file and line.
+    std::vector<Subsurface> subsurfaces;
+    std::string subsurface_file;
+    int subsurface_line = 0;
+    // The diffusion profiles of asymmetry g under a boundary of index eta, computed once and
+    // shared between the subsurface media of equal (g, eta).
+    std::shared_ptr<const BssrdfTable> subsurface_table(float g, float eta);
+    // A subsurface medium (its table from subsurface_table) made at file:line; its index.
+    uint32_t add_subsurface(const Subsurface& s, const std::string& file, int line);
     // Participating media (medium.h), and the one the camera sits in.
     std::vector<Medium> media;
     int32_t camera_medium = kNoMedium;

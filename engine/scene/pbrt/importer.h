@@ -82,6 +82,10 @@ class Importer {
 
     // materials.cpp
     Material make_material(const Token& t, const std::string& type, const ParamList& p);
+    // subsurface.cpp: pbrt-v4's subsurface material's medium into the scene, m.subsurface
+    // and m.ior set (its boundary's lobe is make_material's).
+    void subsurface_material(const Token& t, const ParamList& p, Material& m,
+                             const std::string& what);
     uint32_t scene_material(const GraphicsState& gs);
 
     // textures.cpp

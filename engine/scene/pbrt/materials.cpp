@@ -154,6 +154,13 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             const MicrofacetDistribution d = distribution(base_smooth, "conductor.");
             add_lobe(Lobe::coated_conductor(f, base_smooth, d, c));
         }
+    } else if (type == "subsurface") {
+        // A dielectric boundary (smooth or rough) over the scattering medium (subsurface.cpp).
+        subsurface_material(t, p, m, what);
+        bool smooth = true;
+        const MicrofacetDistribution d = distribution(smooth);
+        add_lobe(smooth ? Lobe::dielectric(m.ior, RGB{1.f}, RGB{1.f})
+                        : Lobe::rough_dielectric(m.ior, d, RGB{1.f}, RGB{1.f}));
     } else if (type == "interface") {
         // No surface: only the boundary of the media its shapes' MediumInterface names.
         m.is_interface = true;

@@ -218,6 +218,7 @@ class Loader {
     void coated_material(const pugi::xml_node& n, bool top, Material& m);
     CoatLayer coat_layer(const pugi::xml_node& n) const;
     void interface_material(const pugi::xml_node& n, bool top, Material& m);
+    void subsurface_material(const pugi::xml_node& n, bool top, Material& m);
     void microfacet_material(const pugi::xml_node& n, bool top, Material& m);
     void mix_material(const pugi::xml_node& n, bool top, Material& m);
     void material_texture(const pugi::xml_node& n, Material& m);

@@ -106,6 +106,7 @@ const std::vector<Loader::MaterialReader>& Loader::material_readers() {
         {"coated_diffuse", &Loader::coated_material},
         {"coated_conductor", &Loader::coated_material},
         {"interface", &Loader::interface_material},
+        {"subsurface", &Loader::subsurface_material},
     };
     return readers;
 }

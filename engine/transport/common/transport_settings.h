@@ -28,6 +28,7 @@ enum Capability : uint32_t {
     kCapLightSelection = 1u << 8,   // light_selection: next event estimation's light choice
     kCapComponents = 1u << 9,       // the components AOV: its estimate's parts apart
     kCapMedia = 1u << 10,           // traces participating media (scenes with <media>)
+    kCapSubsurface = 1u << 11,      // follows light under subsurface materials (BSSRDF)
 };
 
 // The AOVs (film/aov.h's bits) only integrators with a capability make: asked for by name

@@ -45,7 +45,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"bdpt", {}, "bidirectional path tracing (through media too)", kCapBidirectional | kCapStrategyDebug | kCapMedia, nullptr, render_bdpt},
         {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
         {"vcm", {}, "vertex connection and merging (media: connections; merges at surfaces)", kCapBidirectional | kCapMerging | kCapMedia, nullptr, render_vcm},
-        {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia, parse_volpath, render_volpath},
+        {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia | kCapSubsurface, parse_volpath, render_volpath},
         {"vpm", {"volumetric_photons"}, "volumetric photon mapping, progressive (media)", kCapLightSelection | kCapMedia, parse_vpm, render_vpm},
         {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
         {"mlt", {"pssmlt"}, "Metropolis light transport in primary sample space (Kelemen 2002) over the path tracer", kCapLightSelection, parse_mlt, render_mlt},

@@ -28,6 +28,13 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
                          "the scene has participating media, which type=\"" +
                              std::string(info->name) + "\" does not trace: use " +
                              integrators_with(kCapMedia));
+    // Subsurface materials would be glass to an integrator that does not follow light under
+    // surfaces.
+    if (!scene.subsurface_file.empty() && !info->has(kCapSubsurface))
+        throw InputError(scene.subsurface_file, scene.subsurface_line,
+                         "the scene has subsurface materials, which type=\"" +
+                             std::string(info->name) + "\" does not follow under surfaces: use " +
+                             integrators_with(kCapSubsurface));
     // oneTBB runs no more threads than the hardware has unless told otherwise: a request
     // for more (a scaling study, a determinism test) raises the limit for this render, so
     // the threads recorded are the threads that ran.

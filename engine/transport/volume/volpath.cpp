@@ -16,6 +16,7 @@
 #include "engine/transport/run/camera_driver.h"
 #include "engine/transport/run/render_context.h"
 #include "grid_flights.h"
+#include "subsurface_exit.h"
 
 namespace foton {
 
@@ -49,6 +50,7 @@ struct VolPathWorkspace : IntegratorWorkspace {
     // ray's flight there (-1: none).
     GridFlights flights;
     std::vector<int32_t> flight_of;
+    TraceCounters probes;  // the bounce's subsurface probes (traced one by one)
 };
 
 class VolPathIntegrator : public CameraIntegrator {
@@ -57,7 +59,16 @@ class VolPathIntegrator : public CameraIntegrator {
         : ctx_(ctx),
           own_(own),
           mis_{ctx.settings.mis, ctx.settings.mis_beta},
-          flight_prefix_(rng::stream_prefix(ctx.seed, kMediumStream)) {}
+          flight_prefix_(rng::stream_prefix(ctx.seed, kMediumStream)),
+          subsurface_prefix_(rng::stream_prefix(ctx.seed, kSubsurfaceStream)) {
+        // Each subsurface medium's exit BSDF (the BSSRDF's directional part).
+        for (const Subsurface& sub : ctx.scene.subsurfaces) {
+            Material exit;
+            exit.type = MaterialType::Generic;
+            exit.bsdf.add(Lobe::subsurface_exit(sub.eta));
+            exits_.push_back(exit);
+        }
+    }
 
     std::unique_ptr<IntegratorWorkspace> make_workspace() const override {
         return std::make_unique<VolPathWorkspace>();
@@ -97,6 +108,8 @@ class VolPathIntegrator : public CameraIntegrator {
                 ws.shadow.clear();
                 track_grid_flights(ws);
                 for (std::size_t i = 0; i < ws.rays.size(); ++i) shade_ray(i, ws, radiance);
+                stats.trace.merge(ws.probes);
+                ws.probes = TraceCounters{};
             },
             [&](uint32_t) {
                 ws.shadow.resolve(ctx_.scene, ctx_.accel, own_.transmittance, ctx_.seed, radiance,
@@ -250,9 +263,49 @@ class VolPathIntegrator : public CameraIntegrator {
         if ((bs.flags & kTransmission) ? side >= 0.f : side <= 0.f) return;
         beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
         if (beta.is_black()) return;
+        if (m.subsurface >= 0 && (bs.flags & kTransmission)) {
+            subsurface_vertex(slot, geom, sp, ws);
+            return;
+        }
         ws.eta_scale[slot] *= bs.eta * bs.eta;
         ws.medium[slot] = medium_after(ctx_.scene, geom, sp, wi, ws.medium[slot]);
         go_on(slot, sp.p, sp.ng, offset_origin(sp, wi), wi, bs.pdf, bs.is_delta(), ws);
+    }
+
+    // Light the path sent into a subsurface material at `entry` comes out at a probe's exit
+    // point (subsurface_exit.h), where the BSSRDF's directional part takes a light sample and
+    // scatters the path on, as at a diffuse surface. Like pbrt-v4's volpath, the hop is no
+    // vertex of its own: its numbers come from kSubsurfaceStream, not the path's sampler.
+    void subsurface_vertex(uint32_t slot, uint32_t geom, const SurfacePoint& entry,
+                           VolPathWorkspace& ws) const {
+        float u[11];
+        for (uint32_t k = 0; k < 11; ++k)
+            u[k] = rng::uniform_from(subsurface_prefix_, ws.keys[slot],
+                                     uint64_t(ws.vertices[slot]) * 16 + k);
+        SubsurfaceExitPoint ex;
+        if (!find_subsurface_exit(ctx_.scene, ctx_.accel, geom, entry, u, ws.probes, ex)) return;
+        RGB& beta = ws.beta[slot];
+        beta *= ex.weight;
+        if (beta.is_black()) return;
+        const Material& exit = exits_[std::size_t(ctx_.scene.material_of(geom).subsurface)];
+        // Seen from outside along the normal: the exit BSDF's frame is the outward normal's.
+        const ShadingPoint v(ex.sp, exit, -ex.sp.ns, beta, slot, ws.vertices[slot], ws.keys[slot]);
+        LightPick pick;
+        DirectSample ds;
+        if (ctx_.settings.nee && !ctx_.lights.empty() &&
+            ctx_.lights.pick(u[4], ex.sp.p, ex.sp.ng, pick) &&
+            sample_light(ctx_.lights, {pick.light, pick.pmf, {u[5], u[6]}, u[7], pick.tri}, v,
+                         kDiffuse | kGlossy, mis_, 1.f, ds))
+            ws.shadow.push(ds.origin, ds.dir, ds.tmax, ws.medium[slot], slot, ds.value,
+                           rng::hash(ws.keys[slot], ws.vertices[slot], 1, 0));
+        BsdfSample bs;
+        if (!exit.bsdf.sample(v.wo, u[8], {u[9], u[10]}, BsdfContext{true, Transport::Radiance},
+                              bs))
+            return;
+        const Vec3 wi = v.frame.to_world(bs.wi);
+        if (dot(wi, ex.sp.ng) <= 0.f) return;
+        beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+        go_on(slot, ex.sp.p, ex.sp.ng, offset_origin(ex.sp, wi), wi, bs.pdf, false, ws);
     }
 
     // The path leaves vertex p (normal n, zero in a medium) from `origin` along wi, sampled
@@ -277,6 +330,8 @@ class VolPathIntegrator : public CameraIntegrator {
     const VolPathSettings own_;
     const Mis mis_;
     const uint64_t flight_prefix_;
+    const uint64_t subsurface_prefix_;
+    std::vector<Material> exits_;  // per Scene::subsurfaces entry
 };
 
 }  // namespace
