@@ -231,6 +231,7 @@ Shape "sphere" "float radius" 0.5
 )",
                                      "ss.pbrt", ".");
     REQUIRE(p.subsurfaces.size() == 2);
+    CHECK(p.subsurfaces[1].from_reflectance);
     CHECK(p.subsurfaces[0].sigma_a.b == Approx(0.028f));
     CHECK(p.subsurfaces[0].sigma_s.r == Approx(5.1f));
     CHECK(p.subsurfaces[0].eta == Approx(1.33f));
@@ -239,4 +240,29 @@ Shape "sphere" "float radius" 0.5
     CHECK(q.sigma_s.g + q.sigma_a.g == Approx(4.f));
     CHECK(q.table->eta == Approx(1.5f));
     CHECK(q.table->albedo_for(0.5f) == Approx(rho));
+    // A reflectance texture sets the coefficients where the path enters.
+    Material textured;
+    textured.texture = 0;
+    textured.base_color = RGB{0.2f, 0.5f, 0.8f};
+    RGB sa, ss;
+    q.coefficients(textured, sa, ss);
+    CHECK(ss.r / (sa.r + ss.r) == Approx(q.table->albedo_for(0.2f)));
+    CHECK(ss.b / (sa.b + ss.b) == Approx(q.table->albedo_for(0.8f)));
+    CHECK(sa.g + ss.g == Approx(4.f));
+    // Measured media by name, in pbrt and in XML; unknown names list the known ones.
+    const Scene named = parse_pbrt_scene(R"(Camera "perspective"
+WorldBegin
+Material "subsurface" "string name" "Skin1" "float scale" 10
+Shape "sphere"
+MakeNamedMedium "milk" "string type" "homogeneous" "string preset" "Wholemilk"
+)",
+                                         "named.pbrt", ".");
+    REQUIRE(named.subsurfaces.size() == 1);
+    CHECK(named.subsurfaces[0].sigma_a.r == Approx(0.32f));
+    CHECK(named.subsurfaces[0].sigma_s.b == Approx(10.1f));
+    CHECK(named.subsurfaces[0].table->g == 0.f);
+    CHECK_THAT(error_of(R"(<material type="subsurface" preset="Skin9"/>)", "volpath"),
+               Contains("Skin1") && Contains("Ketchup"));
+    CHECK(error_of(R"(<material type="subsurface" preset="Marble" scale="100"/>)", "volpath") ==
+          "no error");
 }

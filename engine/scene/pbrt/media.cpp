@@ -1,6 +1,7 @@
 // MakeNamedMedium, MediumInterface and the camera's medium: pbrt-v4's participating media as
 // foton's (scene/medium.h): homogeneous, uniformgrid, rgbgrid and nanovdb media (their grids:
 // media_grids.cpp).
+#include "engine/scene/measured_media.h"
 #include "importer.h"
 
 namespace foton::pbrt {
@@ -13,8 +14,15 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
         fail(t, what + ": medium type '" + type +
                     "' is not supported yet (homogeneous, uniformgrid, rgbgrid, nanovdb)");
     if (media_.count(name)) fail(t, what + ": defined twice");
-    if (p.has("preset"))
-        fail(t, what + ": named scattering presets are not supported (give sigma_a, sigma_s)");
+    // A preset (measured_media.h) stands for sigma_a and sigma_s.
+    const MeasuredMedium* preset = nullptr;
+    if (p.has("preset")) {
+        if (type != "homogeneous") fail(t, what + ": only a homogeneous medium takes a preset");
+        preset = find_measured_medium(p.text("preset", ""));
+        if (!preset)
+            fail(t, what + ": unknown preset '" + p.text("preset", "") + "' (" +
+                        measured_media_names() + ")");
+    }
     Medium m;
     m.name = name;
     const float scale = p.real("scale", 1.f);
@@ -26,8 +34,10 @@ void Importer::make_named_medium(const Token& t, const std::string& name, const 
     } else {
         // pbrt-v4's defaults: sigma_a = sigma_s = 1 per unit length, times scale.
         const auto sa = p.color("sigma_a", false), ss = p.color("sigma_s", false);
-        m.sigma_a = (sa ? *sa : RGB{1.f}) * scale;
-        m.sigma_s = (ss ? *ss : RGB{1.f}) * scale;
+        if (preset && (sa || ss))
+            fail(t, what + ": give a preset or sigma_a and sigma_s, not both");
+        m.sigma_a = (preset ? preset->sigma_a : sa ? *sa : RGB{1.f}) * scale;
+        m.sigma_s = (preset ? preset->sigma_s : ss ? *ss : RGB{1.f}) * scale;
         if (!(m.majorant() < 1e12f)) fail(t, what + ": the extinction must be below 1e12");
         const auto le = p.color("Le", true);
         if (le) m.Le = *le;

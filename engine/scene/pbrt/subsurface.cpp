@@ -3,6 +3,7 @@
 // coefficients per mm), each times `scale`.
 #include <algorithm>
 
+#include "engine/scene/measured_media.h"
 #include "importer.h"
 
 namespace foton::pbrt {
@@ -17,11 +18,23 @@ float smallest(const RGB& c) {
 
 void Importer::subsurface_material(const Token& t, const ParamList& p, Material& m,
                                    const std::string& what) {
-    if (p.has("name"))
-        fail(t, what +
-                    ": named scattering presets are not supported (give sigma_a and "
-                    "sigma_s, or reflectance and mfp)");
-    const float scale = p.real("scale", 1.f), g = p.real("g", 0.f), eta = p.real("eta", 1.33f);
+    // A measured medium by name (measured_media.h): its reduced coefficients, so g = 0.
+    const MeasuredMedium* named = nullptr;
+    if (p.has("name")) {
+        named = find_measured_medium(p.text("name", ""));
+        if (!named)
+            fail(t, what + ": unknown name '" + p.text("name", "") + "' (" +
+                        measured_media_names() + ")");
+        if (p.has("sigma_a") || p.has("sigma_s") || p.has("reflectance"))
+            fail(t, what + ": give a name, sigma_a and sigma_s, or a reflectance, not two");
+        if (p.has("g") && p.real("g", 0.f) != 0.f)
+            warn(file(), t.line,
+                 what +
+                     ": g ignored with a named medium (its coefficients "
+                     "are the reduced ones)");
+    }
+    const float scale = p.real("scale", 1.f), eta = p.real("eta", 1.33f);
+    const float g = named ? 0.f : p.real("g", 0.f);
     if (!(scale > 0.f && scale < 1e12f)) fail(t, what + ": scale must be in (0, 1e12)");
     if (!(g > -1.f && g < 1.f)) fail(t, what + ": g must be in (-1, 1)");
     if (!(eta > 0.f && eta < 10.f)) fail(t, what + ": eta must be in (0, 10)");
@@ -30,15 +43,22 @@ void Importer::subsurface_material(const Token& t, const ParamList& p, Material&
     Subsurface s;
     s.eta = eta;
     s.table = scene_.subsurface_table(g, eta);
-    if (p.has("sigma_a")) {
+    if (named) {
+        s.sigma_a = named->sigma_a * scale;
+        s.sigma_s = named->sigma_s * scale;
+    } else if (p.has("sigma_a")) {
         s.sigma_a = *p.color("sigma_a", false) * scale;
         s.sigma_s = *p.color("sigma_s", false) * scale;
     } else if (p.has("reflectance")) {
-        const RGB r = reflectance(p, "reflectance", RGB{1.f}, what);
+        // A reflectance texture is read at each entry point (Subsurface::coefficients).
+        const RGB r = reflectance(p, "reflectance", RGB{1.f}, what, m.texture);
         const auto mfp = p.color("mfp", false);
-        const RGB free_path = (mfp ? *mfp : RGB{1.f}) * scale;
-        if (!(smallest(free_path) > 0.f)) fail(t, what + ": mfp must be positive");
-        subsurface_from_reflectance(*s.table, r, free_path, s.sigma_a, s.sigma_s);
+        s.mfp = (mfp ? *mfp : RGB{1.f}) * scale;
+        if (!(smallest(s.mfp) > 0.f)) fail(t, what + ": mfp must be positive");
+        s.from_reflectance = true;
+        m.base_color = r;
+        m.textured_lobes = 0;
+        subsurface_from_reflectance(*s.table, r, s.mfp, s.sigma_a, s.sigma_s);
     } else {
         s.sigma_a = RGB{0.0011f, 0.0024f, 0.014f} * scale;
         s.sigma_s = RGB{2.55f, 3.21f, 3.77f} * scale;

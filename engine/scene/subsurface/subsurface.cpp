@@ -15,6 +15,15 @@ void subsurface_from_reflectance(const BssrdfTable& table, const RGB& reflectanc
     sigma_s = {ss[0], ss[1], ss[2]};
 }
 
+void Subsurface::coefficients(const Material& m, RGB& sa, RGB& ss) const {
+    if (from_reflectance && m.texture >= 0) {
+        subsurface_from_reflectance(*table, m.base_color, mfp, sa, ss);
+    } else {
+        sa = sigma_a;
+        ss = sigma_s;
+    }
+}
+
 std::shared_ptr<const BssrdfTable> Scene::subsurface_table(float g, float eta) {
     for (const Subsurface& other : subsurfaces)
         if (other.table->g == g && other.table->eta == eta) return other.table;

@@ -7,6 +7,7 @@
 
 #include "bssrdf_table.h"
 #include "engine/core/rgb.h"
+#include "engine/scene/material.h"
 
 namespace foton {
 
@@ -14,6 +15,13 @@ struct Subsurface {
     RGB sigma_a{0.f}, sigma_s{0.f};
     float eta = 1.33f;  // the boundary's index (inside over outside)
     std::shared_ptr<const BssrdfTable> table;
+    // Given by a diffuse reflectance and mean free path: with a reflectance texture on the
+    // material (Material::texture, its value the textured material's base_color), the
+    // coefficients are made per entry point from it and `mfp`.
+    bool from_reflectance = false;
+    RGB mfp{1.f};
+    // The coefficients at a point of material `m` (textured there).
+    void coefficients(const Material& m, RGB& sa, RGB& ss) const;
 };
 
 // The coefficients of a medium (pbrt-v4's SubsurfaceFromDiffuse) whose multiple scattering

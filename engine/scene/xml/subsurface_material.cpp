@@ -1,8 +1,9 @@
 // <material type="subsurface">: a dielectric boundary (ior, smooth or with a GGX roughness)
 // over a scattering medium given by <sigma_a> and <sigma_s> (per unit length), or by a
 // diffuse <reflectance> and <mfp> (mean free path), each times `scale`; `g` its phase
-// asymmetry. Light under the surface is followed by the BSSRDF (scene/subsurface/), which
-// only type="volpath" traces.
+// asymmetry; or by a measured medium's name, preset="Skin1" (measured_media.h). Light under the
+// surface is followed by the BSSRDF (scene/subsurface/), which only type="volpath" traces.
+#include "engine/scene/measured_media.h"
 #include "loader.h"
 
 namespace foton::xml {
@@ -10,7 +11,8 @@ namespace foton::xml {
 void Loader::subsurface_material(const pugi::xml_node& n, bool top, Material& m) {
     generic(m);
     if (!top) fail(n, "a subsurface material cannot be a component of a mix");
-    check_material(n, top, {"ior", "g", "scale", "roughness", "roughness_v", "distribution"},
+    check_material(n, top,
+                   {"ior", "g", "scale", "roughness", "roughness_v", "distribution", "preset"},
                    {"sigma_a", "sigma_s", "reflectance", "mfp"});
     if (n.child("texture") || n.child("emission"))
         fail(n, "a subsurface material takes neither a texture nor an emission");
@@ -19,12 +21,24 @@ void Loader::subsurface_material(const pugi::xml_node& n, bool top, Material& m)
     if (!(g > -1.f && g < 1.f)) fail(n, "g must be in (-1, 1)");
     const bool by_sigma = n.child("sigma_a") || n.child("sigma_s");
     const bool by_reflectance = n.child("reflectance") || n.child("mfp");
-    if (by_sigma == by_reflectance)
-        fail(n, "give <sigma_a> and <sigma_s>, or <reflectance> and <mfp>");
+    // A measured medium (measured_media.h, per mm: scale converts to the scene's units).
+    const MeasuredMedium* preset = nullptr;
+    if (n.attribute("preset")) {
+        preset = find_measured_medium(n.attribute("preset").value());
+        if (!preset)
+            fail(n, std::string("unknown preset '") + n.attribute("preset").value() + "' (" +
+                        measured_media_names() + ")");
+        if (g != 0.f) fail(n, "a preset's coefficients are the reduced ones: g must be 0");
+    }
+    if (int(by_sigma) + int(by_reflectance) + int(preset != nullptr) != 1)
+        fail(n, "give <sigma_a> and <sigma_s>, <reflectance> and <mfp>, or a preset");
     Subsurface s;
     s.eta = m.ior;
     s.table = scene_.subsurface_table(g, m.ior);
-    if (by_sigma) {
+    if (preset) {
+        s.sigma_a = preset->sigma_a * scale;
+        s.sigma_s = preset->sigma_s * scale;
+    } else if (by_sigma) {
         if (!n.child("sigma_a") || !n.child("sigma_s"))
             fail(n, "give both <sigma_a> and <sigma_s>");
         s.sigma_a = rgb_child(n, "sigma_a", RGB{0.f}) * scale;

@@ -15,12 +15,13 @@ constexpr int kMaxProbeHits = 64;
 }  // namespace
 
 bool find_subsurface_exit(const Scene& scene, const Intersector& accel, uint32_t geom,
-                          const SurfacePoint& entry, const float u[4], TraceCounters& counters,
-                          SubsurfaceExitPoint& out) {
+                          const Material& m, const SurfacePoint& entry, const float u[4],
+                          TraceCounters& counters, SubsurfaceExitPoint& out) {
     const uint32_t material = scene.objects[geom].material;
-    const Material& m = scene.materials[material];
     const Subsurface& sub = scene.subsurfaces[std::size_t(m.subsurface)];
-    const TabulatedBssrdf bssrdf(*sub.table, entry.p, entry.ns, sub.sigma_a, sub.sigma_s);
+    RGB sigma_a, sigma_s;
+    sub.coefficients(m, sigma_a, sigma_s);
+    const TabulatedBssrdf bssrdf(*sub.table, entry.p, entry.ns, sigma_a, sigma_s);
     BssrdfProbe probe;
     if (!bssrdf.sample_probe(u[0], {u[1], u[2]}, probe)) return false;
     const Vec3 span = probe.p1 - probe.p0;

@@ -19,11 +19,11 @@ struct SubsurfaceExitPoint {
     RGB weight;
 };
 
-// The exit for light entering at `entry` on geometry `geom` (a material with a
-// subsurface), numbers u[0..2] choosing the probe and u[3] the hit; false when the probe
-// finds no surface of the material (the path ends there, as in pbrt-v4).
+// The exit for light entering at `entry` on geometry `geom` of material `m` (with a
+// subsurface; textured at the entry), numbers u[0..2] choosing the probe and u[3] the hit; false
+// when the probe finds no surface of the material (the path ends there, as in pbrt-v4).
 bool find_subsurface_exit(const Scene& scene, const Intersector& accel, uint32_t geom,
-                          const SurfacePoint& entry, const float u[4], TraceCounters& counters,
-                          SubsurfaceExitPoint& out);
+                          const Material& m, const SurfacePoint& entry, const float u[4],
+                          TraceCounters& counters, SubsurfaceExitPoint& out);
 
 }  // namespace foton

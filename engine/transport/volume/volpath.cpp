@@ -264,7 +264,7 @@ class VolPathIntegrator : public CameraIntegrator {
         beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
         if (beta.is_black()) return;
         if (m.subsurface >= 0 && (bs.flags & kTransmission)) {
-            subsurface_vertex(slot, geom, sp, ws);
+            subsurface_vertex(slot, geom, m, sp, ws);
             return;
         }
         ws.eta_scale[slot] *= bs.eta * bs.eta;
@@ -276,18 +276,18 @@ class VolPathIntegrator : public CameraIntegrator {
     // point (subsurface_exit.h), where the BSSRDF's directional part takes a light sample and
     // scatters the path on, as at a diffuse surface. Like pbrt-v4's volpath, the hop is no
     // vertex of its own: its numbers come from kSubsurfaceStream, not the path's sampler.
-    void subsurface_vertex(uint32_t slot, uint32_t geom, const SurfacePoint& entry,
-                           VolPathWorkspace& ws) const {
+    void subsurface_vertex(uint32_t slot, uint32_t geom, const Material& m,
+                           const SurfacePoint& entry, VolPathWorkspace& ws) const {
         float u[11];
         for (uint32_t k = 0; k < 11; ++k)
             u[k] = rng::uniform_from(subsurface_prefix_, ws.keys[slot],
                                      uint64_t(ws.vertices[slot]) * 16 + k);
         SubsurfaceExitPoint ex;
-        if (!find_subsurface_exit(ctx_.scene, ctx_.accel, geom, entry, u, ws.probes, ex)) return;
+        if (!find_subsurface_exit(ctx_.scene, ctx_.accel, geom, m, entry, u, ws.probes, ex)) return;
         RGB& beta = ws.beta[slot];
         beta *= ex.weight;
         if (beta.is_black()) return;
-        const Material& exit = exits_[std::size_t(ctx_.scene.material_of(geom).subsurface)];
+        const Material& exit = exits_[std::size_t(m.subsurface)];
         // Seen from outside along the normal: the exit BSDF's frame is the outward normal's.
         const ShadingPoint v(ex.sp, exit, -ex.sp.ns, beta, slot, ws.vertices[slot], ws.keys[slot]);
         LightPick pick;
