@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "camera_medium_vertex.h"
+#include "camera_starts.h"
 #include "engine/core/rng.h"
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
@@ -31,7 +32,6 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     const VcmWeights& W = c.weights;
     const LightVertices& lv = store.vertices;
     const float n_paths = float(c.light_paths);
-    const uint32_t width = uint32_t(scene.film.width);
     StageClock clock;
     // What a strategy adds goes to the sample's radiance and, with strategy_images, to its
     // layer (strategy_layers.h).
@@ -43,6 +43,8 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
         if (split) (*layers)[std::size_t(slot) * n_layers + layer] += value;
     };
     auto rand = [&](uint32_t slot, uint32_t depth, uint32_t k) {
+        if (c.primary)
+            return c.primary[ws.path[slot]]->get(primary_camera_dim(depth * kDimsPerBounce + k));
         return rng::uniform(c.seed, kBidirCameraStream, c.iteration * c.light_paths + ws.path[slot],
                             uint64_t(depth) * kDimsPerBounce + k);
     };
@@ -111,20 +113,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
     media.reset(c.media, c.seed, kBidirCameraMediumStream, count);
     ws.rays.clear();
     {
-        std::vector<SampleJob> jobs(count);
-        const uint64_t npix = scene.film.full_pixels();
-        for (uint32_t k = 0; k < count; ++k) {
-            const uint32_t pixel = first + k;
-            SampleJob& j = jobs[k];
-            j.x = pixel % width;
-            j.y = pixel / width;
-            ws.path[k] = uint32_t(scene.film.pixel_id(j.x, j.y));
-            j.pat_i = c.pass_sample;
-            j.pat_n = c.pass_samples;
-            j.pat_round = c.pass;
-            j.id = c.iteration * npix + scene.film.pixel_id(j.x, j.y);
-        }
-        generate_camera_rays(scene, c.settings.sampler, jobs, c.seed, ws.rays);
+        start_camera_rays(c, first, count, ws);
         for (uint32_t k = 0; k < count; ++k) {
             const float cos_cam = dot(ws.rays.direction(k), cam.w);
             // Per pixel sample, the pinhole's solid-angle density is its importance at unit

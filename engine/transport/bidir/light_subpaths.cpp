@@ -27,6 +27,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
     const float n_paths = float(c.light_paths);
     StageClock clock;
     auto rand = [&](uint32_t slot, uint32_t dim) {
+        if (c.primary) return c.primary[first + slot]->get(primary_light_dim(dim));
         return rng::uniform(c.seed, kBidirLightStream, c.iteration * c.light_paths + first + slot,
                             dim);
     };
@@ -155,7 +156,9 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
             media.on && sp ? medium_after(scene, geom, *sp, wc, media.medium[slot]) : medium;
         ws.joins.push(media.on, {sp ? offset_origin(*sp, wc) : p, wc, dist * (1.f - 1e-4f)}, med,
                       cam.film_pixel(fx, fy), value,
-                      splat_layers ? c.layers.of(int(len) + 1, 1) : 0u,
+                      c.primary      ? first + slot
+                      : splat_layers ? c.layers.of(int(len) + 1, 1)
+                                     : 0u,
                       rng::hash(path_key(slot), 0x11, len, 0));
     };
     // A flight of path `slot` scattered at p in medium mi, the ray having come along d.

@@ -30,8 +30,9 @@ struct LightSubpathWorkspace : LightTracerWorkspace {
 
 // Traces light paths [first, first + count) of the iteration; appends their vertices, path
 // by path, to `out` and their camera splats to `splats` (values already divided by N); with
-// c.layers enabled and `splat_layers` given, each splat's strategy layer to it. Through media
-// when the scene has them (subpath_media.h).
+// c.layers enabled and `splat_layers` given, each splat's strategy layer to it (with
+// c.primary, its path's index instead). Through media when the scene has them
+// (subpath_media.h).
 void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                           LightSubpathWorkspace& ws, LightVertices& out, std::vector<Splat>& splats,
                           std::vector<uint32_t>* splat_layers, RenderStats& stats);

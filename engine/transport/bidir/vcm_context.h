@@ -8,6 +8,7 @@
 #include "engine/core/rng_streams.h"
 #include "engine/scene/light_set.h"
 #include "engine/transport/common/kernel_materials.h"
+#include "engine/transport/common/primary_vector.h"
 #include "engine/transport/run/render_settings.h"
 #include "strategy_layers.h"
 #include "vcm_mis.h"
@@ -39,6 +40,22 @@ struct VcmContext {
     // medium, where its light paths start.
     bool media = false;
     const std::vector<int32_t>* light_medium = nullptr;
+    // Metropolis light transport over bidirectional paths (mlt_paths="bdpt"): camera path i
+    // and light path i of the batch read their numbers from primary[i] (the camera path's
+    // film position and lens first, then the two subpaths' numbers interleaved:
+    // primary_camera_dim, primary_light_dim) instead of counter-based streams; null: not.
+    PrimaryVector* const* primary = nullptr;
 };
+
+// Where a bidirectional sample's numbers lie in its primary vector: the film position (2)
+// and lens (2), then camera number d and light number d side by side, so that a mutation
+// that lengthens one subpath leaves the other's numbers where they were.
+inline constexpr uint32_t kPrimaryBidirStart = 4;
+inline uint32_t primary_camera_dim(uint32_t d) {
+    return kPrimaryBidirStart + 2 * d;
+}
+inline uint32_t primary_light_dim(uint32_t d) {
+    return kPrimaryBidirStart + 2 * d + 1;
+}
 
 }  // namespace foton
