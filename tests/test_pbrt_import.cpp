@@ -395,7 +395,7 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     for (const std::string& w : b.warnings)
         said |= w.find("visualizeweights ignored") != std::string::npos;
     CHECK(said);
-    // pbrt-v4's mlt is foton's (over path-traced paths, said), with its parameters.
+    // pbrt-v4's mlt is foton's over bdpt paths (its difference said), with its parameters.
     const Scene m = world(R"(Integrator "mlt" "integer maxdepth" 6 "integer bootstrapsamples" 5000
         "integer chains" 300 "integer mutationsperpixel" 12 "float largestepprobability" 0.25
         "float sigma" 0.02)",
@@ -404,12 +404,13 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
     CHECK(m.renderer.text("max_depth") == "6");
     CHECK(m.renderer.text("mlt_bootstrap") == "5000");
     CHECK(m.renderer.text("mlt_chains") == "300");
+    CHECK(m.renderer.text("mlt_paths") == "bdpt");
     CHECK(m.renderer.text("spp") == "12");
     CHECK(std::stof(m.renderer.text("large_step")) == Approx(0.25f));
     CHECK(std::stof(m.renderer.text("mlt_sigma")) == Approx(0.02f));
     bool mlt_said = false;
     for (const std::string& w : m.warnings)
-        mlt_said |= w.find("mutates bdpt paths") != std::string::npos;
+        mlt_said |= w.find("one strategy at a time") != std::string::npos;
     CHECK(mlt_said);
 }
 

@@ -163,12 +163,15 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
         if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
             warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
     } else if (type == "mlt") {
-        // foton's mlt is Kelemen's primary-sample-space MLT over its path tracer; pbrt-v4's
-        // mutates bidirectional paths: the same expected image, other noise.
+        // Both mutate bidirectional paths in primary sample space; pbrt-v4's chains carry one
+        // (s, t) strategy each, foton's every strategy of a pair of subpaths (Kelemen's):
+        // the same expected image, other noise.
         warn(here, t.line,
-             "Integrator \"mlt\" is rendered with foton's mlt over path-traced paths (pbrt-v4's "
-             "mutates bdpt paths; the same expected image)");
+             "Integrator \"mlt\" is rendered with foton's mlt over bdpt paths, all strategies "
+             "of a pair of subpaths per sample (pbrt-v4's mutates bdpt paths one strategy at a "
+             "time; the same expected image)");
         renderer_.set("type", "mlt", here, t.line);
+        renderer_.set("mlt_paths", "bdpt", here, t.line);
         depth();
         auto pass_on = [&](const char* key, const char* ours, bool integer) {
             if (!p.has(key)) return;

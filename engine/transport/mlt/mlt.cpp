@@ -15,10 +15,9 @@
 #include "engine/core/rng_streams.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
-#include "engine/transport/common/path_sampler.h"
-#include "engine/transport/path/path.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
+#include "mlt_paths.h"
 
 namespace foton {
 
@@ -33,163 +32,113 @@ MltSettings mlt_settings_of(const RenderSettings& settings) {
     return m ? *m : MltSettings{};
 }
 
-// A thread's buffers for tracing a batch of primary vectors.
-struct MltScratch {
-    std::unique_ptr<IntegratorWorkspace> ws;
-    RayBatch rays;
-    std::vector<PathSampler> samplers;
-    std::vector<uint64_t> keys;
-    std::vector<RGB> radiance;
-    std::vector<PrimaryVector> boot;   // a bootstrap batch's vectors
-    std::vector<PrimaryVector*> v;     // the batch being traced
-    std::vector<uint64_t> batch_keys;  // its vectors' keys
-    std::vector<RGB> batch_L;          // a step's radiance and pixels
-    std::vector<uint32_t> batch_pixel;
-    RenderStats stats;
+// A thread's buffers: its paths' scratch, a batch, and the bootstrap's vectors.
+struct ThreadState {
+    std::unique_ptr<MltScratch> scratch;
+    MltBatch batch;
+    std::vector<PrimaryVector> boot;
 };
 
-// The paths of primary vectors: film position (2), lens (2), then the path tracer's numbers.
-class PrimaryPaths {
-  public:
-    PrimaryPaths(const RenderContext& ctx, uint32_t dims)
-        : ctx_(ctx), path_(ctx, VertexRules::path(ctx.settings)), dims_(dims) {}
-    uint32_t dims() const { return dims_; }
-    std::unique_ptr<IntegratorWorkspace> make_workspace() const { return path_.make_workspace(); }
-
-    // The radiance and pixel of the n vectors s.v (their film position and lens, then the
-    // path's numbers, read as the path asks for them); s.batch_keys key numbers past a vector's
-    // end.
-    void evaluate(std::size_t n, MltScratch& s, RGB* L, uint32_t* pixel) const {
-        const FilmSettings& film = ctx_.scene.film;
-        const std::vector<PrimaryVector*>& v = s.v;
-        s.rays.clear();
-        s.samplers.resize(n);
-        s.keys.assign(s.batch_keys.begin(), s.batch_keys.begin() + std::ptrdiff_t(n));
-        for (std::size_t i = 0; i < n; ++i) {
-            const float fx = v[i]->get(0) * float(film.width),
-                        fy = v[i]->get(1) * float(film.height);
-            const int px = std::min(int(fx), film.width - 1),
-                      py = std::min(int(fy), film.height - 1);
-            pixel[i] = uint32_t(py) * uint32_t(film.width) + uint32_t(px);
-            Vec3 o, d;
-            ctx_.scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy,
-                                       {v[i]->get(2), v[i]->get(3)}, o, d);
-            s.rays.push(o, d, 0.f, kInfinity, uint32_t(i));
-            s.samplers[i] = PathSampler::primary(v[i], 4, s.keys[i], ctx_.seed);
-        }
-        path_.trace_camera_paths(s.rays, s.samplers, s.keys, *s.ws, s.radiance, s.stats);
-        for (std::size_t i = 0; i < n; ++i)
-            L[i] = s.radiance[i].is_finite() ? s.radiance[i] : RGB{};
-    }
-
-  private:
-    const RenderContext& ctx_;
-    const PathIntegrator path_;
-    uint32_t dims_;
-};
-
-// The target function: the luminance of a path's radiance (0 for none or negative).
-float mlt_target(const RGB& L) {
-    return std::max(0.f, L.luminance());
-}
-
-// A Markov chain's current state.
-struct ChainState {
-    RGB L;
-    float f = 0.f;
-    uint32_t pixel = 0;
-};
-
-// A state's radiance added to its pixel with a weight.
+// A contribution added to the image with a weight.
 struct ChainSplat {
     uint32_t pixel = 0;
     RGB value;
 };
 
+// A Markov chain's current state: what it deposits, and its target value.
+struct ChainState {
+    std::vector<MltContribution> contrib;
+    float f = 0.f;
+};
+
 // The chains and the image they splat into: a bootstrap, then steps of every chain at once.
 class Chains {
   public:
-    Chains(const PrimaryPaths& paths, const MltSettings& ms, uint64_t seed, std::size_t pixels)
+    Chains(const MltPaths& paths, const MltSettings& ms, uint64_t seed, std::size_t pixels)
         : paths_(paths), ms_(ms), seed_(seed), dims_(paths.dims()), acc_(3 * pixels, 0.0) {}
 
-    // Traces the bootstrap's vectors (in batches over the threads of the calling arena).
-    void bootstrap(tbb::enumerable_thread_specific<MltScratch>& scratch) {
+    // Traces the bootstrap's vectors (in batches over the threads of the calling arena) for
+    // their f.
+    void bootstrap(tbb::enumerable_thread_specific<ThreadState>& threads) {
         const uint64_t nb = ms_.bootstrap;
-        boot_L_.resize(nb);
-        boot_pixel_.resize(nb);
+        boot_f_.resize(nb);
         const uint64_t batches = (nb + kBootstrapBatch - 1) / kBootstrapBatch;
         tbb::parallel_for(uint64_t(0), batches, [&](uint64_t bi) {
-            MltScratch& s = scratch.local();
+            ThreadState& t = threads.local();
             const uint64_t i0 = bi * kBootstrapBatch;
             const uint64_t n = std::min<uint64_t>(kBootstrapBatch, nb - i0);
-            s.boot.resize(n);
-            s.v.resize(n);
-            s.batch_keys.resize(n);
-            for (uint64_t j = 0; j < n; ++j) {
-                s.batch_keys[j] = boot_key(i0 + j);
-                s.boot[j].reset(dims_, chain_prefix_, s.batch_keys[j], ms_.sigma);
-                s.v[j] = &s.boot[j];
-            }
-            paths_.evaluate(n, s, &boot_L_[i0], &boot_pixel_[i0]);
+            fill_boot(t, i0, n);
+            paths_.evaluate(t.batch, *t.scratch);
+            std::copy(t.batch.f.begin(), t.batch.f.end(), boot_f_.begin() + std::ptrdiff_t(i0));
         });
     }
 
-    // The chains' starts, drawn from the bootstrap in proportion to f; false when no vector
-    // carried light (the image is black).
-    bool start() {
+    // The chains' starts, drawn from the bootstrap in proportion to f (their deposits traced
+    // again); false when no vector carried light (the image is black).
+    bool start(tbb::enumerable_thread_specific<ThreadState>& threads) {
         const uint64_t nb = ms_.bootstrap;
         std::vector<double> cdf(nb);
-        for (uint64_t i = 0; i < nb; ++i) cdf[i] = sum_f_ += double(mlt_target(boot_L_[i]));
+        for (uint64_t i = 0; i < nb; ++i) cdf[i] = sum_f_ += double(boot_f_[i]);
         n_f_ = nb;
         if (!(sum_f_ > 0.0)) return false;
         const uint32_t chains = ms_.chains;
         vectors_.resize(chains);
         state_.resize(chains);
+        std::vector<uint64_t> start(chains);
         for (uint32_t c = 0; c < chains; ++c) {
             const double u = double(rng::uniform(seed_, kMltChainStream, c, 0)) * sum_f_;
             const uint64_t j = std::min<uint64_t>(
                 nb - 1, uint64_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()));
-            vectors_[c].reset(dims_, chain_prefix_, boot_key(j), ms_.sigma);
-            state_[c] = {boot_L_[j], mlt_target(boot_L_[j]), boot_pixel_[j]};
+            start[c] = boot_key(j);
+            vectors_[c].reset(dims_, chain_prefix_, start[c], ms_.sigma);
         }
-        splats_.resize(2 * std::size_t(chains));
+        for_groups(threads, [&](ThreadState& t, uint32_t c0, uint32_t n) {
+            MltBatch& b = t.batch;
+            b.v.resize(n);
+            b.keys.resize(n);
+            for (uint32_t j = 0; j < n; ++j) {
+                b.v[j] = &vectors_[c0 + j];
+                b.keys[j] = start[c0 + j];
+            }
+            paths_.evaluate(b, *t.scratch);
+            for (uint32_t j = 0; j < n; ++j) keep(c0 + j, b, j);
+        });
+        splats_.resize(chains);
         large_f_.resize(chains);
         return true;
     }
 
-    // Step `t` of every chain: proposals traced in groups over the threads, accepted or not.
-    void step(uint64_t t, tbb::enumerable_thread_specific<MltScratch>& scratch) {
-        const uint32_t chains = ms_.chains;
-        const uint32_t groups = (chains + kGroupChains - 1) / kGroupChains;
-        tbb::parallel_for(uint32_t(0), groups, [&](uint32_t g) {
-            MltScratch& s = scratch.local();
-            const uint32_t c0 = g * kGroupChains, n = std::min(kGroupChains, chains - c0);
-            s.v.resize(n);
-            std::vector<uint64_t>& keys = s.batch_keys;
-            keys.resize(n);
+    // Step `t` of every chain: proposals traced in groups over the threads, accepted or not,
+    // both states' expected-value splats kept per chain.
+    void step(uint64_t t, tbb::enumerable_thread_specific<ThreadState>& threads) {
+        for_groups(threads, [&](ThreadState& ts, uint32_t c0, uint32_t n) {
+            MltBatch& b = ts.batch;
+            b.v.resize(n);
+            b.keys.resize(n);
             for (uint32_t j = 0; j < n; ++j) {
-                keys[j] = rng::hash(seed_, kMltChainStream, c0 + j, t + 1);
+                b.keys[j] = rng::hash(seed_, kMltChainStream, c0 + j, t + 1);
                 large_f_[c0 + j] = -1.f;
                 PrimaryVector& v = vectors_[c0 + j];
-                v.step(rng::uniform_from(chain_prefix_, keys[j], 0) < ms_.large_step, keys[j]);
-                s.v[j] = &v;
+                v.step(rng::uniform_from(chain_prefix_, b.keys[j], 0) < ms_.large_step, b.keys[j]);
+                b.v[j] = &v;
             }
-            std::vector<RGB>& L = s.batch_L;
-            std::vector<uint32_t>& pixel = s.batch_pixel;
-            L.resize(n);
-            pixel.resize(n);
-            paths_.evaluate(n, s, L.data(), pixel.data());
-            // Acceptance, and both states' expected-value splats.
+            paths_.evaluate(b, *ts.scratch);
             for (uint32_t j = 0; j < n; ++j) {
                 const uint32_t c = c0 + j;
                 ChainState& cur = state_[c];
-                const float fy = mlt_target(L[j]);
+                const float fy = b.f[j];
                 if (vectors_[c].large()) large_f_[c] = fy;
                 const float a = cur.f > 0.f ? std::min(1.f, fy / cur.f) : 1.f;
-                splats_[2 * c] = {pixel[j], fy > 0.f ? L[j] * (a / fy) : RGB{}};
-                splats_[2 * c + 1] = {cur.pixel, cur.f > 0.f ? cur.L * ((1.f - a) / cur.f) : RGB{}};
-                if (rng::uniform_from(chain_prefix_, keys[j], 1) < a) {
-                    cur = {L[j], fy, pixel[j]};
+                std::vector<ChainSplat>& out = splats_[c];
+                out.clear();
+                if (fy > 0.f)
+                    for (uint32_t k = b.first[j]; k < b.first[j + 1]; ++k)
+                        out.push_back({b.contrib[k].pixel, b.contrib[k].value * (a / fy)});
+                if (cur.f > 0.f)
+                    for (const MltContribution& m : cur.contrib)
+                        out.push_back({m.pixel, m.value * ((1.f - a) / cur.f)});
+                if (rng::uniform_from(chain_prefix_, b.keys[j], 1) < a) {
+                    keep(c, b, j);
                     vectors_[c].accept();
                 } else {
                     vectors_[c].reject();
@@ -206,12 +155,13 @@ class Chains {
                 sum_f_ += double(f);
                 ++n_f_;
             }
-        for (const ChainSplat& sp : splats_) {
-            double* p = &acc_[3 * std::size_t(sp.pixel)];
-            p[0] += sp.value.r;
-            p[1] += sp.value.g;
-            p[2] += sp.value.b;
-        }
+        for (const std::vector<ChainSplat>& chain : splats_)
+            for (const ChainSplat& sp : chain) {
+                double* p = &acc_[3 * std::size_t(sp.pixel)];
+                p[0] += sp.value.r;
+                p[1] += sp.value.g;
+                p[2] += sp.value.b;
+            }
         ++steps_;
     }
 
@@ -232,18 +182,44 @@ class Chains {
     // Bootstrap vector i's key: its numbers are the fresh values of it.
     uint64_t boot_key(uint64_t i) const { return rng::hash(seed_, kMltBootstrapStream, i, 0); }
 
-    const PrimaryPaths& paths_;
+    void fill_boot(ThreadState& t, uint64_t i0, uint64_t n) const {
+        t.boot.resize(n);
+        t.batch.v.resize(n);
+        t.batch.keys.resize(n);
+        for (uint64_t j = 0; j < n; ++j) {
+            t.batch.keys[j] = boot_key(i0 + j);
+            t.boot[j].reset(dims_, chain_prefix_, t.batch.keys[j], ms_.sigma);
+            t.batch.v[j] = &t.boot[j];
+        }
+    }
+    // Chain c's state becomes vector j of the batch.
+    void keep(uint32_t c, const MltBatch& b, uint32_t j) {
+        ChainState& s = state_[c];
+        s.f = b.f[j];
+        s.contrib.assign(b.contrib.begin() + b.first[j], b.contrib.begin() + b.first[j + 1]);
+    }
+    // Calls fn(thread state, first chain, count) for each group of chains, over the threads.
+    template <class Fn>
+    void for_groups(tbb::enumerable_thread_specific<ThreadState>& threads, Fn&& fn) {
+        const uint32_t chains = ms_.chains;
+        const uint32_t groups = (chains + kGroupChains - 1) / kGroupChains;
+        tbb::parallel_for(uint32_t(0), groups, [&](uint32_t g) {
+            const uint32_t c0 = g * kGroupChains;
+            fn(threads.local(), c0, std::min(kGroupChains, chains - c0));
+        });
+    }
+
+    const MltPaths& paths_;
     const MltSettings ms_;
     const uint64_t seed_;
     const uint32_t dims_;
     const uint64_t chain_prefix_ = rng::stream_prefix(seed_, kMltChainStream);
-    std::vector<RGB> boot_L_;
-    std::vector<uint32_t> boot_pixel_;
+    std::vector<float> boot_f_;
     std::vector<PrimaryVector> vectors_;  // every chain's state
     std::vector<ChainState> state_;
-    std::vector<ChainSplat> splats_;  // the step's: two per chain
-    std::vector<float> large_f_;      // the step's large steps' f (-1: a small step)
-    double sum_f_ = 0.0;              // f summed over the bootstrap and the large steps
+    std::vector<std::vector<ChainSplat>> splats_;  // the step's, per chain
+    std::vector<float> large_f_;                   // the step's large steps' f (-1: a small step)
+    double sum_f_ = 0.0;                           // f summed over the bootstrap and large steps
     uint64_t n_f_ = 0;
     std::vector<double> acc_;  // the splats, per pixel and channel
     uint64_t steps_ = 0;
@@ -257,6 +233,9 @@ void parse_mlt(const ParamSet& params, RenderSettings& settings) {
     m.bootstrap = params.integer("mlt_bootstrap", m.bootstrap, 1, 1ull << 32);
     m.large_step = params.real("large_step", m.large_step, 0.f, 1.f);
     m.sigma = params.real("mlt_sigma", m.sigma, 1e-6f, 1.f);
+    static const EnumTable<MltPathKind> kinds{
+        {{"path", MltPathKind::Path}, {"bdpt", MltPathKind::Bidirectional}}};
+    m.paths = params.choice("mlt_paths", kinds, m.paths);
     settings.own = m;
 }
 
@@ -269,21 +248,23 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     const MltSettings ms = mlt_settings_of(settings);
     const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
-    const PrimaryPaths paths(ctx, 4 + (settings.max_depth + 1) * kPathDimsPerBounce);
+    const std::unique_ptr<MltPaths> paths = ms.paths == MltPathKind::Bidirectional
+                                                ? make_bidir_mlt_paths(ctx)
+                                                : make_path_mlt_paths(ctx);
     const int w = scene.film.width, h = scene.film.height;
     const std::size_t npix = std::size_t(w) * std::size_t(h);
     const int threads = resolve_threads(opt.threads);
     PinnedArena arena(threads);
-    tbb::enumerable_thread_specific<MltScratch> scratch([&] {
-        MltScratch s;
-        s.ws = paths.make_workspace();
+    tbb::enumerable_thread_specific<ThreadState> scratch([&] {
+        ThreadState s;
+        s.scratch = paths->make_scratch();
         return s;
     });
     // The clock (and --time's budget) starts before the bootstrap.
     RenderOptions pass_opt = opt;
     if (pass_opt.max_passes == 0 && !(opt.time_limit > 0.f)) pass_opt.max_passes = 1;
     PassControl control(pass_opt);
-    Chains chains(paths, ms, opt.seed, npix);
+    Chains chains(*paths, ms, opt.seed, npix);
     // The graph: the bootstrap once, then per step the proposals and their splats.
     StageGraph graph;
     graph.set_progress(opt.progress);
@@ -303,7 +284,8 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     graph.edge(boot, mutate);
     graph.edge(mutate, splat);
     graph.run(arena, {boot});
-    const bool lit = chains.start();
+    bool lit = false;
+    arena.execute([&] { lit = chains.start(scratch); });
     // A pass is --spp mutations per pixel; passes as the other integrators count them.
     const uint64_t per_pass =
         (std::max<uint64_t>(1, uint64_t(opt.spp) * npix) + ms.chains - 1) / ms.chains;
@@ -327,7 +309,7 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     result.film = image();
     result.samples_per_pixel.assign(npix, uint32_t(chains.steps() * ms.chains / npix));
     RenderStats stats;
-    for (const MltScratch& s : scratch) stats.merge(s.stats);
+    for (const ThreadState& s : scratch) stats.merge(s.scratch->stats);
     stats.samples = ms.bootstrap + chains.steps() * ms.chains;
     stats.passes = passes;
     stats.threads = threads;
