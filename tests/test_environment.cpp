@@ -119,14 +119,16 @@ TEST_CASE("chi-square: environment map directions follow the map's pdf", "[env]"
             [&](int i, Vec3& w) {
                 float pdf;
                 w = env.sample(
+                    Vec3{},
                     {rng::uniform(5, uint64_t(i), 0, 0), rng::uniform(5, uint64_t(i), 0, 1)}, pdf);
                 REQUIRE(pdf > 0.f);
                 // The density and the radiance where it was drawn agree with the lookups.
-                if (std::fabs(pdf - env.pdf(w)) > 2e-3f * pdf || !(env.Le(w).luminance() > 0.f))
+                if (std::fabs(pdf - env.pdf(Vec3{}, w)) > 2e-3f * pdf ||
+                    !(env.Le(Vec3{}, w).luminance() > 0.f))
                     ++mismatched;
                 return true;
             },
-            [&](const Vec3& w) { return double(env.pdf(w)); });
+            [&](const Vec3& w) { return double(env.pdf(Vec3{}, w)); });
         INFO(r.summary());
         CHECK(mismatched < setup.samples / 1000);
         CHECK(r.p_value > 1e-3);
@@ -155,9 +157,9 @@ TEST_CASE("the light set samples the environment as its pdf says, selection incl
         if (!ls.sample_li(1, p, {rng::uniform(6, i, 0, 0), rng::uniform(6, i, 0, 1)}, 0.f, smp))
             continue;
         REQUIRE(std::isinf(smp.dist));
-        REQUIRE(smp.pdf == Approx(s.environment->pdf(smp.wi)).epsilon(2e-3));
+        REQUIRE(smp.pdf == Approx(s.environment->pdf(Vec3{}, smp.wi)).epsilon(2e-3));
         REQUIRE(ls.environment_pdf(smp.wi) == Approx(ls.pmf(1) * smp.pdf).epsilon(2e-3));
-        REQUIRE(smp.Li.r == s.environment->Le(smp.wi).r);
+        REQUIRE(smp.Li.r == s.environment->Le(Vec3{}, smp.wi).r);
         // Emitted rays start outside the scene and head into it.
         EmissionSample es;
         REQUIRE(ls.sample_le(1, {rng::uniform(7, i, 0, 0), rng::uniform(7, i, 0, 1)},
@@ -174,7 +176,7 @@ TEST_CASE("the environment's integral is its radiance over the sphere", "[env]")
         const int n = 400000;
         double sum[3] = {0, 0, 0};
         for (int i = 0; i < n; ++i) {
-            const RGB L = env.Le(random_direction(uint64_t(i)));
+            const RGB L = env.Le(Vec3{}, random_direction(uint64_t(i)));
             sum[0] += L.r;
             sum[1] += L.g;
             sum[2] += L.b;
@@ -197,10 +199,10 @@ TEST_CASE("importance sampling the map beats uniform sampling at equal samples",
             const Point2 u{rng::uniform(8, trial, uint64_t(k), 0),
                            rng::uniform(8, trial, uint64_t(k), 1)};
             float pdf;
-            const Vec3 w = importance ? env.sample(u, pdf) : warp::uniform_sphere(u);
+            const Vec3 w = importance ? env.sample(Vec3{}, u, pdf) : warp::uniform_sphere(u);
             if (!importance) pdf = warp::kUniformSpherePdf;
             const float c = dot(w, n);
-            if (c > 0.f && pdf > 0.f) e += double(env.Le(w).luminance() * c / pdf);
+            if (c > 0.f && pdf > 0.f) e += double(env.Le(Vec3{}, w).luminance() * c / pdf);
         }
         return e / count;
     };
@@ -323,7 +325,7 @@ TEST_CASE("bad environment input is reported at its line", "[env][bad-input]") {
     const Scene ok = load(R"(<environment src="wide.exr" intensity="2"><up x="0" y="0" z="1"/>
       <front x="1" y="0" z="0"/></environment>)");
     REQUIRE(ok.environment);
-    CHECK(ok.environment->Le({0, 0, 1}).r == 2.f);
+    CHECK(ok.environment->Le({}, {0, 0, 1}).r == 2.f);
 }
 
 TEST_CASE("uniform and importance sampling of a map converge to the same image",

@@ -309,10 +309,10 @@ TEST_CASE("pbrt-v4: infinite lights, constant and equal-area image", "[pbrt][env
     // Constant: L times scale, or scaled to an illuminance (pi L for a constant sky).
     const Scene c = world("", R"(LightSource "infinite" "rgb L" [0.5 1 2] "float scale" 2)");
     REQUIRE(c.environment);
-    CHECK(c.environment->mapping() == EnvMapping::Constant);
-    CHECK(c.environment->Le({0, 1, 0}).b == Approx(4.f));
+    CHECK(c.environment->layers()[0].mapping == EnvMapping::Constant);
+    CHECK(c.environment->Le({}, {0, 1, 0}).b == Approx(4.f));
     const Scene e = world("", R"(LightSource "infinite" "float illuminance" [3.14159265])");
-    CHECK(e.environment->Le({1, 0, 0}).g == Approx(1.f));
+    CHECK(e.environment->Le({}, {1, 0, 0}).g == Approx(1.f));
     // An image in the light's frame: pbrt's +z pole, here rotated to world +y. The map is
     // bright in its upper half (the square's centre is the pole) and dark below.
     test::TempDir dir;
@@ -330,13 +330,13 @@ TEST_CASE("pbrt-v4: infinite lights, constant and equal-area image", "[pbrt][env
         Shape "sphere")",
                                 dir.path().string());
     REQUIRE(i.environment);
-    CHECK(i.environment->mapping() == EnvMapping::EqualArea);
+    CHECK(i.environment->layers()[0].mapping == EnvMapping::EqualArea);
     // Scaled so that a surface facing the pole gets illuminance 10: the upper hemisphere of
     // radiance 2 x k gives 2 pi k, about (texels straddle the horizon).
-    const float k = i.environment->Le({0, 1, 0}).r / 2.f;
+    const float k = i.environment->Le({}, {0, 1, 0}).r / 2.f;
     CHECK(2.f * kPi * k == Approx(10.f).epsilon(0.05));
-    CHECK(i.environment->Le({0, -1, 0}).r == Approx(0.25f * k));
-    CHECK(i.environment->Le({0, 0, 1}).r > 0.f);
+    CHECK(i.environment->Le({}, {0, -1, 0}).r == Approx(0.25f * k));
+    CHECK(i.environment->Le({}, {0, 0, 1}).r > 0.f);
     const std::string summary = i.summary();
     CHECK(summary.find("environment equalarea 32x32") != std::string::npos);
     // A non-square map is not an equal-area map.

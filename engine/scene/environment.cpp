@@ -18,6 +18,8 @@ const char* env_mapping_name(EnvMapping m) {
             return "latlong";
         case EnvMapping::EqualArea:
             return "equalarea";
+        case EnvMapping::Portal:
+            return "portal";
     }
     return "?";
 }
@@ -55,33 +57,55 @@ Point2 equal_area_sphere_to_square(const Vec3& d) {
     return {0.5f * (u + 1.f), 0.5f * (v + 1.f)};
 }
 
+void env_map_frame(const Vec3& up, const Vec3& front, Vec3& ex, Vec3& ey, Vec3& ez) {
+    ez = normalize(up);
+    ex = front - ez * dot(front, ez);
+    if (!(length_squared(ex) > 1e-12f)) {
+        Vec3 t;
+        orthonormal_basis(ez, ex, t);
+    }
+    ex = normalize(ex);
+    ey = cross(ez, ex);
+}
+
+void check_env_texels(const TextureImage& map, const RGB& scale) {
+    // The brightest texel times the scale is what a ray can bring back (an HDR exponent of
+    // 255 decodes to 1.7e38).
+    RGB brightest{0.f};
+    for (const RGB& t : map.texels) {
+        if (!std::isfinite(t.r) || !std::isfinite(t.g) || !std::isfinite(t.b))
+            throw InputError(map.path, 0, "the environment map holds NaN or infinite texels");
+        brightest =
+            RGB{std::max(brightest.r, t.r), std::max(brightest.g, t.g), std::max(brightest.b, t.b)};
+    }
+    if (const std::string why = emission_problem(brightest * scale); !why.empty())
+        throw InputError(map.path, 0, "the brightest texel times the scale " + why);
+}
+
 Environment Environment::constant(const RGB& radiance) {
     Environment e;
-    e.mapping_ = EnvMapping::Constant;
-    e.scale_ = radiance;
-    e.integral_ = radiance * (4.f * kPi);
+    EnvLayer l;
+    l.mapping = EnvMapping::Constant;
+    l.scale = radiance;
+    l.integral = radiance * (4.f * kPi);
+    e.layers_.push_back(l);
+    e.finish();
     return e;
 }
 
 Environment Environment::image(TextureImage map, EnvMapping mapping, const RGB& scale,
                                const Vec3& up, const Vec3& front) {
-    Environment e;
-    e.mapping_ = mapping;
-    e.scale_ = scale;
-    e.map_ = std::move(map);
-    const int w = e.map_.width, h = e.map_.height;
+    EnvLayer l;
+    l.mapping = mapping;
+    l.scale = scale;
+    l.map = std::move(map);
+    const int w = l.map.width, h = l.map.height;
     if (mapping == EnvMapping::EqualArea && w != h)
-        throw InputError(e.map_.path, 0,
+        throw InputError(l.map.path, 0,
                          "an equal-area environment map must be square, not " + std::to_string(w) +
                              "x" + std::to_string(h));
-    e.ez_ = normalize(up);
-    e.ex_ = front - e.ez_ * dot(front, e.ez_);
-    if (!(length_squared(e.ex_) > 1e-12f)) {
-        Vec3 t;
-        orthonormal_basis(e.ez_, e.ex_, t);
-    }
-    e.ex_ = normalize(e.ex_);
-    e.ey_ = cross(e.ez_, e.ex_);
+    env_map_frame(up, front, l.ex, l.ey, l.ez);
+    check_env_texels(l.map, scale);
     // Texel weights: luminance times the solid angle a texel covers per unit of map area
     // (sin theta for lat-long at the row's centre; constant for the equal-area square).
     std::vector<float> weights(std::size_t(w) * std::size_t(h));
@@ -92,37 +116,65 @@ Environment Environment::image(TextureImage map, EnvMapping mapping, const RGB& 
         RGB row_sum{0.f};
         for (int col = 0; col < w; ++col) {
             const std::size_t i = std::size_t(row) * std::size_t(w) + std::size_t(col);
-            const RGB& t = e.map_.texels[i];
+            const RGB& t = l.map.texels[i];
             weights[i] = std::max(0.f, t.luminance()) * jac;
             row_sum += t;
         }
         sum += row_sum * jac;
     }
-    // The brightest texel times the scale is what a ray can bring back (an HDR exponent of
-    // 255 decodes to 1.7e38).
-    RGB brightest{0.f};
-    for (const RGB& t : e.map_.texels) {
-        if (!std::isfinite(t.r) || !std::isfinite(t.g) || !std::isfinite(t.b))
-            throw InputError(e.map_.path, 0, "the environment map holds NaN or infinite texels");
-        brightest =
-            RGB{std::max(brightest.r, t.r), std::max(brightest.g, t.g), std::max(brightest.b, t.b)};
-    }
-    if (const std::string why = emission_problem(brightest * scale); !why.empty())
-        throw InputError(e.map_.path, 0, "the brightest texel times the scale " + why);
     try {
-        e.dist_ = Distribution2D(weights, w, h);
+        l.dist = Distribution2D(weights, w, h);
     } catch (const std::invalid_argument&) {
-        throw InputError(e.map_.path, 0, "the environment map is black: it would light nothing");
+        throw InputError(l.map.path, 0, "the environment map is black: it would light nothing");
     }
     // The solid angle of the square's unit area: 2 pi^2 (lat-long, with sin theta) or 4 pi.
     const float per_area = mapping == EnvMapping::LatLong ? 2.f * kPi * kPi : 4.f * kPi;
-    e.integral_ = sum * e.scale_ * (per_area / (float(w) * float(h)));
+    l.integral = sum * l.scale * (per_area / (float(w) * float(h)));
+    Environment e;
+    e.layers_.push_back(std::move(l));
+    e.finish();
     return e;
 }
 
-Point2 Environment::to_map(const Vec3& wi) const {
-    const Vec3 l{dot(wi, ex_), dot(wi, ey_), dot(wi, ez_)};
-    if (mapping_ == EnvMapping::EqualArea) {
+void Environment::add(const Environment& other) {
+    layers_.insert(layers_.end(), other.layers_.begin(), other.layers_.end());
+    finish();
+}
+
+bool Environment::has_portal() const {
+    for (const EnvLayer& l : layers_)
+        if (l.mapping == EnvMapping::Portal) return true;
+    return false;
+}
+
+void Environment::finish() {
+    integral_ = RGB{0.f};
+    float total = 0.f;
+    for (const EnvLayer& l : layers_) {
+        integral_ += l.integral;
+        total += std::max(l.integral.luminance(), 1e-12f);
+    }
+    for (EnvLayer& l : layers_) l.pick = std::max(l.integral.luminance(), 1e-12f) / total;
+}
+
+const EnvLayer& Environment::pick(Point2& u) const {
+    float acc = 0.f;
+    for (std::size_t i = 0; i + 1 < layers_.size(); ++i) {
+        const EnvLayer& l = layers_[i];
+        if (u.x < acc + l.pick) {
+            u.x = std::min((u.x - acc) / l.pick, 0x1.fffffep-1f);
+            return l;
+        }
+        acc += l.pick;
+    }
+    const EnvLayer& l = layers_.back();
+    u.x = std::clamp((u.x - acc) / l.pick, 0.f, 0x1.fffffep-1f);
+    return l;
+}
+
+Point2 EnvLayer::to_map(const Vec3& wi) const {
+    const Vec3 l{dot(wi, ex), dot(wi, ey), dot(wi, ez)};
+    if (mapping == EnvMapping::EqualArea) {
         const Point2 s = equal_area_sphere_to_square(l);
         return {s.x, s.y};
     }
@@ -132,51 +184,150 @@ Point2 Environment::to_map(const Vec3& wi) const {
     return {phi * (0.5f * kInvPi), theta * kInvPi};
 }
 
-Vec3 Environment::from_map(Point2 uv) const {
+Vec3 EnvLayer::from_map(Point2 uv) const {
     Vec3 l;
-    if (mapping_ == EnvMapping::EqualArea) {
+    if (mapping == EnvMapping::EqualArea) {
         l = equal_area_square_to_sphere(uv);
     } else {
         const float phi = 2.f * kPi * uv.x, theta = kPi * uv.y;
         const float st = std::sin(theta);
         l = {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
     }
-    return ex_ * l.x + ey_ * l.y + ez_ * l.z;
+    return ex * l.x + ey * l.y + ez * l.z;
 }
 
-RGB Environment::Le(const Vec3& wi) const {
-    if (mapping_ == EnvMapping::Constant) return scale_;
-    const Point2 uv = to_map(wi);
-    const int w = map_.width, h = map_.height;
+RGB EnvLayer::texel(Point2 uv) const {
+    const int w = map.width, h = map.height;
     const int col = std::clamp(int(uv.x * float(w)), 0, w - 1);
     const int row = std::clamp(int(uv.y * float(h)), 0, h - 1);
-    return map_.texels[std::size_t(row) * std::size_t(w) + std::size_t(col)] * scale_;
+    return map.texels[std::size_t(row) * std::size_t(w) + std::size_t(col)] * scale;
 }
 
-Vec3 Environment::sample(Point2 u, float& pdf) const {
-    if (mapping_ == EnvMapping::Constant || uniform_) {
+namespace {
+
+// A lat-long or equal-area layer's pdf of direction wi from its map density.
+float map_pdf(const EnvLayer& l, const Vec3& wi) {
+    const Point2 uv = l.to_map(wi);
+    const float pdf_uv = l.dist.pdf(uv);
+    if (l.mapping == EnvMapping::EqualArea) return pdf_uv / (4.f * kPi);
+    const float st = std::sin(kPi * uv.y);
+    return st > 0.f ? pdf_uv / (2.f * kPi * kPi * st) : 0.f;
+}
+
+// A layer's radiance from wi, seen from p (`windowed`) or along a ray from outside.
+RGB layer_le(const EnvLayer& l, const Vec3& p, const Vec3& wi, bool windowed) {
+    switch (l.mapping) {
+        case EnvMapping::Constant:
+            return l.scale;
+        case EnvMapping::Portal: {
+            Point2 uv;
+            if (!l.to_portal(wi, uv)) return RGB{0.f};
+            if (windowed) {
+                Window2 w;
+                return l.window_from(p, w) && w.contains(uv) ? l.texel(uv) : RGB{0.f};
+            }
+            return l.crosses_portal(p, -wi) ? l.texel(uv) : RGB{0.f};
+        }
+        default:
+            return l.texel(l.to_map(wi));
+    }
+}
+
+// A layer's direction for u (from p within a portal's window when `window` is given).
+Vec3 layer_sample(const EnvLayer& l, const Window2* window, Point2 u, float& pdf) {
+    pdf = 0.f;
+    if (l.mapping == EnvMapping::Constant) {
         pdf = warp::kUniformSpherePdf;
         return warp::uniform_sphere(u);
     }
-    float pdf_uv;
-    const Point2 uv = dist_.sample(u, pdf_uv);
-    const Vec3 wi = from_map(uv);
-    if (mapping_ == EnvMapping::EqualArea) {
-        pdf = pdf_uv / (4.f * kPi);
-    } else {
-        const float st = std::sin(kPi * uv.y);
-        pdf = st > 0.f ? pdf_uv / (2.f * kPi * kPi * st) : 0.f;
+    if (l.mapping == EnvMapping::Portal) {
+        Point2 uv;
+        float pdf_uv, dw_duv;
+        if (!l.window_dist.sample(u, window ? *window : Window2{}, uv, pdf_uv)) return Vec3{};
+        const Vec3 wi = l.from_portal(uv, dw_duv);
+        pdf = dw_duv > 0.f ? pdf_uv / dw_duv : 0.f;
+        return wi;
     }
+    float pdf_uv;
+    const Point2 uv = l.dist.sample(u, pdf_uv);
+    const Vec3 wi = l.from_map(uv);
+    pdf = map_pdf(l, wi);
     return wi;
 }
 
-float Environment::pdf(const Vec3& wi) const {
-    if (mapping_ == EnvMapping::Constant || uniform_) return warp::kUniformSpherePdf;
-    const Point2 uv = to_map(wi);
-    const float pdf_uv = dist_.pdf(uv);
-    if (mapping_ == EnvMapping::EqualArea) return pdf_uv / (4.f * kPi);
-    const float st = std::sin(kPi * uv.y);
-    return st > 0.f ? pdf_uv / (2.f * kPi * kPi * st) : 0.f;
+float layer_pdf(const EnvLayer& l, const Window2* window, const Vec3& wi) {
+    if (l.mapping == EnvMapping::Constant) return warp::kUniformSpherePdf;
+    if (l.mapping != EnvMapping::Portal) return map_pdf(l, wi);
+    Point2 uv;
+    float dw_duv;
+    if (!l.to_portal(wi, uv, &dw_duv) || !(dw_duv > 0.f)) return 0.f;
+    return l.window_dist.pdf(uv, window ? *window : Window2{}) / dw_duv;
+}
+
+}  // namespace
+
+RGB Environment::Le(const Vec3& p, const Vec3& wi) const {
+    RGB sum{0.f};
+    for (const EnvLayer& l : layers_) sum += layer_le(l, p, wi, true);
+    return sum;
+}
+
+RGB Environment::Le_emitted(const Vec3& from, const Vec3& wi) const {
+    RGB sum{0.f};
+    for (const EnvLayer& l : layers_) sum += layer_le(l, from, wi, false);
+    return sum;
+}
+
+Vec3 Environment::sample(const Vec3& p, Point2 u, float& pdf) const {
+    if (uniform_) {
+        const Vec3 wi = warp::uniform_sphere(u);
+        pdf = warp::kUniformSpherePdf;
+        return wi;
+    }
+    const EnvLayer& l = pick(u);
+    Window2 w;
+    if (l.mapping == EnvMapping::Portal && !l.window_from(p, w)) {
+        pdf = 0.f;
+        return Vec3{};
+    }
+    float own = 0.f;
+    const Vec3 wi = layer_sample(l, &w, u, own);
+    if (!(own > 0.f)) {
+        pdf = 0.f;
+        return wi;
+    }
+    pdf = this->pdf(p, wi);
+    return wi;
+}
+
+float Environment::pdf(const Vec3& p, const Vec3& wi) const {
+    if (uniform_) return warp::kUniformSpherePdf;
+    float sum = 0.f;
+    for (const EnvLayer& l : layers_) {
+        Window2 w;
+        if (l.mapping == EnvMapping::Portal && !l.window_from(p, w)) continue;
+        sum += l.pick * layer_pdf(l, &w, wi);
+    }
+    return sum;
+}
+
+Vec3 Environment::sample_emission(Point2 u, float& pdf) const {
+    if (uniform_) {
+        pdf = warp::kUniformSpherePdf;
+        return warp::uniform_sphere(u);
+    }
+    const EnvLayer& l = pick(u);
+    float own = 0.f;
+    const Vec3 wi = layer_sample(l, nullptr, u, own);
+    pdf = own > 0.f ? pdf_emission(wi) : 0.f;
+    return wi;
+}
+
+float Environment::pdf_emission(const Vec3& wi) const {
+    if (uniform_) return warp::kUniformSpherePdf;
+    float sum = 0.f;
+    for (const EnvLayer& l : layers_) sum += l.pick * layer_pdf(l, nullptr, wi);
+    return sum;
 }
 
 }  // namespace foton

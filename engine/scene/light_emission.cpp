@@ -59,7 +59,7 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             // A direction towards the sky by its density; the ray comes from there, through
             // a disc covering the scene's bounding sphere, upstream of it.
             float pdf;
-            const Vec3 wi = scene_->environment->sample(u_dir, pdf);
+            const Vec3 wi = scene_->environment->sample_emission(u_dir, pdf);
             if (!(pdf > 0.f)) return false;
             // Or, with projection maps, over the geometry's outline seen from wi's bin.
             if (const EnvironmentProjection* maps = environment_projection()) {
@@ -73,7 +73,7 @@ bool LightSet::sample_le(uint32_t i, Point2 u_pos, Point2 u_dir, float uc,
             s.n = -wi;
             s.dir = -wi;
             s.pdf_dir = pdf;
-            s.Le = scene_->environment->Le(wi);
+            s.Le = scene_->environment->Le_emitted(s.p, wi);
             return !s.Le.is_black();
         }
         case EmitterType::Directional: {
@@ -149,7 +149,7 @@ void LightSet::pdf_le(uint32_t i, const Vec3& nq, const Vec3& dir, float& pdf_po
             // Light arrives only where geometry is: through a kept cell of -dir's bin.
             const EnvironmentProjection* maps = environment_projection();
             pdf_pos = maps ? maps->pdf_pos(-dir) : 1.f / (kPi * radius_ * radius_);
-            pdf_dir = scene_->environment->pdf(-dir);
+            pdf_dir = scene_->environment->pdf_emission(-dir);
             return;
         }
         case EmitterType::Directional:

@@ -198,10 +198,10 @@ float LightSet::nee_pdf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3&
     return pmf == 0.f ? 0.f : pmf * pdf_li(light, p, q, nq, unit);
 }
 
-float LightSet::nee_environment_pdf(const Vec3& wi) const {
+float LightSet::nee_environment_pdf(const Vec3& p, const Vec3& wi) const {
     if (environment_ < 0) return 0.f;
     return pick_pmf(uint32_t(environment_), kWholeEmitter, Vec3{}, Vec3{}) *
-           scene_->environment->pdf(wi);
+           scene_->environment->pdf(p, wi);
 }
 
 }  // namespace foton

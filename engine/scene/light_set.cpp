@@ -274,11 +274,11 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
             return true;
         }
         case EmitterType::Environment: {
-            s.wi = scene_->environment->sample(u, s.pdf);
+            s.wi = scene_->environment->sample(p, u, s.pdf);
             if (!(s.pdf > 0.f)) return false;
             s.dist = kInfinity;
             s.p_light = p + s.wi * (2.f * radius_);
-            s.Li = scene_->environment->Le(s.wi);
+            s.Li = scene_->environment->Le(p, s.wi);
             return !s.Li.is_black();
         }
         case EmitterType::Directional:
@@ -348,14 +348,14 @@ bool LightSet::sample_li(uint32_t i, const Vec3& p, Point2 u, float uc, LightSam
 
 float LightSet::environment_pdf(const Vec3& wi) const {
     if (environment_ < 0) return 0.f;
-    return pmf_[std::size_t(environment_)] * scene_->environment->pdf(wi);
+    return pmf_[std::size_t(environment_)] * scene_->environment->pdf_emission(wi);
 }
 
 float LightSet::pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq,
                        uint32_t tri) const {
     const Emitter& e = emitters_[i];
     if (e.is_delta()) return 0.f;
-    if (e.type == EmitterType::Environment) return scene_->environment->pdf(normalize(q - p));
+    if (e.type == EmitterType::Environment) return scene_->environment->pdf(p, normalize(q - p));
     if (e.type == EmitterType::Sphere && e.solid_angle) {
         const float dc2 = length_squared(e.p - p);
         if (dc2 > e.radius * e.radius * 1.0001f) {

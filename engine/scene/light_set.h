@@ -163,8 +163,8 @@ class LightSet {
     // what a BSDF sample that hit the light is weighed against.
     float nee_pdf(uint32_t light, uint32_t tri, const Vec3& p, const Vec3& n, const Vec3& q,
                   const Vec3& nq) const;
-    // The same for a direction wi on the environment.
-    float nee_environment_pdf(const Vec3& wi) const;
+    // The same for a direction wi on the environment seen from p.
+    float nee_environment_pdf(const Vec3& p, const Vec3& wi) const;
 
     // Samples a direction from `p` towards emitter i (only its triangle `tri` when one is
     // given); u and uc are uniform. False when the light cannot reach p (behind a one-sided
@@ -176,8 +176,9 @@ class LightSet {
     float pdf_li(uint32_t i, const Vec3& p, const Vec3& q, const Vec3& nq,
                  uint32_t tri = kWholeEmitter) const;
     // The environment's emitter index (-1 without one), and the solid-angle density with
-    // which sample_li picks direction wi on it, the light's selection included: what a
-    // BSDF-sampled ray that leaves the scene along wi is weighed against.
+    // which light paths leave it along -wi, the light's selection included (the bidirectional
+    // integrators weigh both a camera path's escape and an emitted ray by it: without a
+    // portal it is also sample_li's density from any point; with one they refuse the scene).
     int environment() const { return environment_; }
     float environment_pdf(const Vec3& wi) const;
     // Samples an emitted ray: position with u_pos (and uc for the triangle of a mesh),

@@ -148,7 +148,9 @@ std::size_t Scene::memory_bytes() const {
     for (const auto& c : curves) n += c.memory_bytes();
     for (const auto& sh : shapes)
         n += sizeof(AnalyticShape) + sh.shapes().size() * sizeof(ShapePrimitive);
-    if (environment) n += environment->map().texels.size() * sizeof(RGB) * 2;  // + its density
+    if (environment)
+        for (const EnvLayer& e : environment->layers())
+            n += e.map.texels.size() * sizeof(RGB) * 2;  // + its density
     return n;
 }
 
@@ -302,18 +304,18 @@ std::string Scene::summary() const {
                   lights.count(), lights.points.size(), lights.directionals.size(),
                   lights.spots.size(), lights.areas.size(), double(ambient.intensity));
     s += buf;
-    if (environment) {
-        const Environment& e = *environment;
-        if (e.mapping() == EnvMapping::Constant)
-            std::snprintf(buf, sizeof buf, "environment constant (%g, %g, %g)\n",
-                          double(e.scale().r), double(e.scale().g), double(e.scale().b));
-        else
-            std::snprintf(buf, sizeof buf, "environment %s %dx%d %s, scale (%g, %g, %g)\n",
-                          env_mapping_name(e.mapping()), e.map().width, e.map().height,
-                          e.map().path.c_str(), double(e.scale().r), double(e.scale().g),
-                          double(e.scale().b));
-        s += buf;
-    }
+    if (environment)
+        for (const EnvLayer& e : environment->layers()) {
+            if (e.mapping == EnvMapping::Constant)
+                std::snprintf(buf, sizeof buf, "environment constant (%g, %g, %g)\n",
+                              double(e.scale.r), double(e.scale.g), double(e.scale.b));
+            else
+                std::snprintf(buf, sizeof buf, "environment %s %dx%d %s, scale (%g, %g, %g)\n",
+                              env_mapping_name(e.mapping), e.map.width, e.map.height,
+                              e.map.path.c_str(), double(e.scale.r), double(e.scale.g),
+                              double(e.scale.b));
+            s += buf;
+        }
     std::size_t emitting = 0;
     for (const Object& o : objects) emitting += materials[o.material].emission.is_black() ? 0 : 1;
     if (emitting > 0) {

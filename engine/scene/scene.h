@@ -189,9 +189,9 @@ struct Scene {
                                 std::optional<Material>& scratch) const {
         return material_at(material_of(geom), at, scratch);
     }
-    // Radiance along a ray of direction d that leaves the scene.
-    RGB background_along(const Vec3& d) const {
-        return environment ? environment->Le(d) : background;
+    // Radiance along a ray from o of direction d that leaves the scene.
+    RGB background_along(const Vec3& o, const Vec3& d) const {
+        return environment ? environment->Le(o, d) : background;
     }
     const Material& textured(const Material& m, const TexPoint& at,
                              std::optional<Material>& scratch) const;

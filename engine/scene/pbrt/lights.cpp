@@ -86,26 +86,49 @@ void Importer::light_source(const Token& t, const std::string& type, const Param
 }
 
 // pbrt-v4's "infinite" light: a constant L, or an equal-area square image ("filename") in
-// the light's frame (its +z is the square's pole). "illuminance" scales it to that
-// illuminance at a surface facing the light's +z, as pbrt-v4 does.
+// the light's frame (its +z is the square's pole); with "portal" (four corners in world
+// space) the image, or L, arrives only through that rectangle. "illuminance" scales it to
+// that illuminance at a surface facing the light's +z, as pbrt-v4 does. Several infinite
+// lights add up.
 void Importer::infinite_light(const Token& t, const ParamList& p, float scale) {
     const std::string what = "LightSource \"infinite\"";
-    if (scene_.environment) fail(t, what + ": the scene has an infinite light already");
-    if (p.has("portal")) fail(t, what + ": portals are not supported");
     const auto radiance = p.color("L", true);
     const std::string rel = p.text("filename", "");
     if (radiance && !rel.empty()) fail(t, what + ": give \"L\" or \"filename\", not both");
+    const std::vector<Vec3> portal = p.triples("portal");
+    if (!portal.empty() && portal.size() != 4)
+        fail(t, what + ": a portal has 4 corners, not " + std::to_string(portal.size()));
     const float illuminance = p.real("illuminance", -1.f);
     const Vec3 up = gs_.ctm.vector({0, 0, 1}), front = gs_.ctm.vector({1, 0, 0});
     if (!(length_squared(cross(up, front)) > 0.f))
         fail(t, what + ": the transformation is degenerate");
+    // What the environment classes and the image reader throw, at this line.
+    auto made = [&](auto&& make) -> Environment {
+        try {
+            return make();
+        } catch (const InputError& e) {
+            fail(t, (rel.empty() ? what : "environment map '" + rel + "'") + ": " + e.what());
+        }
+        return Environment{};
+    };
+    std::optional<Environment> env;
     if (rel.empty()) {
         const RGB L = radiance ? *radiance : RGB{1.f};
         // A constant sky of radiance L gives illuminance pi L.
-        const float k = illuminance > 0.f ? illuminance / kPi : 1.f;
+        const float k = illuminance > 0.f && portal.empty() ? illuminance / kPi : 1.f;
         if (const std::string why = emission_problem(L * (scale * k)); !why.empty())
             fail(t, what + ": the emitted colour x scale " + why);
-        scene_.environment = Environment::constant(L * (scale * k));
+        if (portal.empty()) {
+            env = Environment::constant(L * (scale * k));
+        } else {
+            // pbrt-v4 makes a 1 x 1 image of L for a portal.
+            TextureImage one;
+            one.width = one.height = 1;
+            one.path = file();
+            one.texels = {L};
+            env = made(
+                [&] { return Environment::portal(one, RGB{scale}, up, front, portal.data()); });
+        }
     } else {
         const std::string path = input_path(t, "environment map", rel, kMaxMeshFileBytes);
         TextureImage map;
@@ -121,13 +144,17 @@ void Importer::infinite_light(const Token& t, const ParamList& p, float scale) {
                 fail(t, what + ": \"illuminance\" given, but the map's upper half is black");
             k = float(double(illuminance) / e);
         }
-        try {
-            scene_.environment = Environment::image(std::move(map), EnvMapping::EqualArea,
-                                                    RGB{scale * k}, up, front);
-        } catch (const InputError& e) {
-            fail(t, "environment map '" + rel + "': " + e.what());
-        }
+        env = made([&] {
+            return portal.empty()
+                       ? Environment::image(std::move(map), EnvMapping::EqualArea, RGB{scale * k},
+                                            up, front)
+                       : Environment::portal(map, RGB{scale * k}, up, front, portal.data());
+        });
     }
+    if (scene_.environment)
+        scene_.environment->add(*env);
+    else
+        scene_.environment = std::move(env);
 }
 
 void Importer::area_light(const Token& t, const std::string& type, const ParamList& p) {

@@ -181,7 +181,7 @@ void trace_camera_subpaths(const VcmContext& c, const LightPathStore& store, uin
                                    W.mis(emit) * m.dvc);
                     }
                     add(slot, c.layers.of(0, t),
-                        beta * scene.environment->Le(d) * W.strategy(0, t, w));
+                        beta * scene.environment->Le(ws.rays.origin(i), d) * W.strategy(0, t, w));
                     continue;
                 }
                 const SurfacePoint sp = surface_at(scene, ws.rays, ws.hits, i);

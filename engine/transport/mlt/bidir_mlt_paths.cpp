@@ -41,6 +41,10 @@ class BidirMltPaths : public MltPaths {
                              "mlt_paths=\"bdpt\" needs a perspective camera (light subpaths are "
                              "joined to the camera)");
         if (lights_.empty()) throw InputError(scene.source, 0, "mlt_paths=\"bdpt\" needs a light");
+        if (scene.environment && scene.environment->has_portal())
+            throw InputError(scene.source, 0,
+                             "mlt_paths=\"bdpt\" does not weigh an environment light with a "
+                             "portal: use mlt_paths=\"path\"");
         // bdpt's weights for an image of N light paths (vcm_render.cpp's first iteration).
         const float n = float(scene.film.full_pixels());
         vcm_.max_segments = ctx.settings.max_depth + 1;

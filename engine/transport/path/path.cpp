@@ -142,8 +142,10 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
         if (!ctx_.scene.environment)
             radiance[slot] += beta * ctx_.scene.background;
         else if (counts_emission)
-            radiance[slot] += beta * ctx_.scene.environment->Le(d) *
-                              emission_weight([&] { return ctx_.lights.nee_environment_pdf(d); });
+            radiance[slot] +=
+                beta * ctx_.scene.environment->Le(ws.rays.origin(i), d) * emission_weight([&] {
+                    return ctx_.lights.nee_environment_pdf(ws.rays.origin(i), d);
+                });
         return;
     }
     const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);

@@ -280,7 +280,8 @@ void PhotonIntegrator::trace_phase(uint32_t phase, const std::vector<SampleJob>&
                 const uint32_t geom = ws.hits.geom[i];
                 if (geom == kNoHit) {
                     if (ctx_.settings.lighting != Lighting::Indirect) {
-                        const RGB L = beta * ctx_.scene.background_along(ws.rays.direction(i));
+                        const RGB L = beta * ctx_.scene.background_along(ws.rays.origin(i),
+                                                                         ws.rays.direction(i));
                         radiance[slot] += L;
                         ws.add_part(slot, kPartEmitted, L);
                     }

@@ -57,7 +57,7 @@ void VisiblePoints::shade(uint64_t pass, uint64_t light_pass, uint32_t y, uint32
     RGB& beta = work.beta[x];
     const Vec3 d = work.rays.direction(r);
     if (work.hits.geom[r] == kNoHit) {
-        px.pass_direct += beta * ctx_.scene.background_along(d);
+        px.pass_direct += beta * ctx_.scene.background_along(work.rays.origin(r), d);
         return;
     }
     const SurfacePoint sp = surface_at(ctx_.scene, work.rays, work.hits, r);

@@ -35,6 +35,14 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
                          "the scene has subsurface materials, which type=\"" +
                              std::string(info->name) + "\" does not follow under surfaces: use " +
                              integrators_with(kCapSubsurface));
+    // A portal's light depends on where it is seen from; the bidirectional integrators'
+    // weights read one density for an escaping camera ray and an emitted one.
+    if (scene.environment && scene.environment->has_portal() && info->has(kCapBidirectional))
+        throw InputError(scene.source, 0,
+                         "the scene's environment light has a portal, which type=\"" +
+                             std::string(info->name) +
+                             "\" does not weigh: use the path tracers, the light tracer or "
+                             "photon mapping");
     // oneTBB runs no more threads than the hardware has unless told otherwise: a request
     // for more (a scaling study, a determinism test) raises the limit for this render, so
     // the threads recorded are the threads that ran.

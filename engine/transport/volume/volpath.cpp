@@ -172,9 +172,10 @@ class VolPathIntegrator : public CameraIntegrator {
             if (!ctx_.scene.environment)
                 radiance[slot] += beta * ctx_.scene.background;
             else
-                radiance[slot] +=
-                    beta * ctx_.scene.environment->Le(d) *
-                    emission_weight(ws, slot, [&] { return ctx_.lights.nee_environment_pdf(d); });
+                radiance[slot] += beta * ctx_.scene.environment->Le(ws.rays.origin(i), d) *
+                                  emission_weight(ws, slot, [&] {
+                                      return ctx_.lights.nee_environment_pdf(ws.rays.origin(i), d);
+                                  });
             return;
         }
         surface_vertex(i, ws, radiance);

@@ -171,8 +171,7 @@ class VpmCamera {
         RGB& beta = w.beta[slot];
         const VolumePhotonMaps& maps = photons.maps;
         const float r_surface = photons.r_surface;
-        if (geom == kNoHit)
-            return beta * (scene_.environment ? scene_.environment->Le(d) : scene_.background);
+        if (geom == kNoHit) return beta * scene_.background_along(w.rays.origin(r), d);
         const SurfacePoint sp = surface_at(scene_, w.rays, w.hits, r);
         std::optional<Material> scratch;
         const Material& m = scene_.material_at(geom, sp.tex(), scratch);

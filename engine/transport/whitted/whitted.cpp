@@ -124,8 +124,8 @@ void WhittedIntegrator::direct_light(const SurfacePoint& sp, const Brdf& brdf, c
         for (uint32_t k = 0; k < n; ++k) {
             float pdf;
             const Vec3 wi =
-                env.sample(sample_pattern(SamplerKind::Jittered, k, n, seed_, key), pdf);
-            if (pdf > 0.f) add(wi, kInfinity, env.Le(wi) * (1.f / (float(n) * pdf)));
+                env.sample(sp.p, sample_pattern(SamplerKind::Jittered, k, n, seed_, key), pdf);
+            if (pdf > 0.f) add(wi, kInfinity, env.Le(sp.p, wi) * (1.f / (float(n) * pdf)));
         }
     }
 }
@@ -181,7 +181,8 @@ void WhittedIntegrator::shade(uint32_t depth, const std::vector<SampleJob>& jobs
         const RGB& weight = ws.weight[i];
         const uint32_t geom = ws.hits.geom[i];
         if (geom == kNoHit) {
-            radiance[slot] += weight * scene_.background_along(ws.rays.direction(i));
+            radiance[slot] +=
+                weight * scene_.background_along(ws.rays.origin(i), ws.rays.direction(i));
             continue;
         }
         const Vec3 d = ws.rays.direction(i);
