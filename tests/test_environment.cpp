@@ -308,7 +308,11 @@ TEST_CASE("bad environment input is reported at its line", "[env][bad-input]") {
         }
     };
     fails_with(R"(<environment src="missing.exr"/>)", "env.xml:3: environment map 'missing.exr'");
-    fails_with(R"(<environment/><environment/>)", "more than one <environment>");
+    fails_with(R"(<environment><portal><corner x="0" y="0" z="0"/></portal></environment>)",
+               "a <portal> has 4 <corner>s");
+    fails_with(
+        R"(<environment src="sky.hdr"><portal><corner x="0" y="0" z="0"/><corner x="0" y="1" z="0"/><corner x="1" y="1" z="0"/><corner x="1" y="0" z="0"/></portal></environment>)",
+        "mapping=\"equalarea\"");
     fails_with(R"(<environment intensity="-1"/>)", "must not be negative");
     fails_with(R"(<environment mapping="cube" src="a.exr"/>)", "unknown environment mapping");
     fails_with(R"(<environment mapping="latlong"/>)", "give src or leave them");

@@ -12,6 +12,7 @@
 #include "engine/film/metrics.h"
 #include "engine/scene/environment.h"
 #include "engine/scene/pbrt_loader.h"
+#include "engine/scene/xml_loader.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -173,6 +174,20 @@ Shape "sphere")",
     REQUIRE(two.environment->layers().size() == 2);
     CHECK(two.environment->Le({}, {0, 0, 1}).b == Approx(3.5f));
     CHECK(two.environment->pdf({}, {1, 0, 0}) == Approx(warp::kUniformSpherePdf));
+    // The XML's environments add up too, a portal among them.
+    const Scene xml = parse_scene(R"(<scene><lights>
+  <environment intensity="2"/>
+  <environment intensity="3"><color r="1" g="0" b="0"/><portal><corner x="4" y="1" z="1"/>
+    <corner x="4" y="1" z="2"/><corner x="4" y="3" z="2"/><corner x="4" y="3" z="1"/></portal>
+  </environment></lights>
+  <objects><sphere radius="0.1"><center x="0" y="0" z="0"/><material type="lambert"/></sphere></objects>
+  <film width="4" height="4"/>
+  <camera><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/><up x="0" y="1" z="0"/></camera>
+</scene>)",
+                                  "sky.xml", ".");
+    REQUIRE(xml.environment->layers().size() == 2);
+    CHECK(xml.environment->Le({1.f, 1.5f, 0.8f}, {1, 0, 0.2f}).r == Approx(5.f));
+    CHECK(xml.environment->Le({1.f, 1.5f, 0.8f}, {-1, 0, 0}).r == Approx(2.f));
     with.render.integrator = "bdpt";
     CHECK_THROWS_AS(render_test(with, 1), InputError);
 }

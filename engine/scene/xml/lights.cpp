@@ -63,20 +63,46 @@ void Loader::parse_lights(const pugi::xml_node& n) {
 }
 
 // <environment>: a constant sky (color x intensity), or an image (src) times them, oriented
-// by <up> (the map's top; default +y) and <front> (longitude 0; default +z).
+// by <up> (the map's top; default +y) and <front> (longitude 0; default +z); with <portal>
+// (four <corner>s round a rectangle) the light arrives only through it (pbrt-v4's portal
+// light; an image must be equal-area). Several <environment>s add up.
 void Loader::add_environment(const pugi::xml_node& l) {
-    check(l, {"intensity", "src", "mapping", "sampling"}, {"color", "up", "front"});
-    if (scene_.environment) fail(l, "the scene has more than one <environment>");
+    check(l, {"intensity", "src", "mapping", "sampling"}, {"color", "up", "front", "portal"});
     const RGB scale =
         emitted(l, rgb_child(l, "color", RGB{1.f}) * non_negative(l, "intensity", 1.f));
     const std::string src = l.attribute("src").value();
+    Vec3 corners[4];
+    const pugi::xml_node portal = l.child("portal");
+    if (portal) {
+        check(portal, {}, {"corner"});
+        int k = 0;
+        for (const pugi::xml_node c : portal.children("corner")) {
+            if (k == 4) fail(portal, "a <portal> has 4 <corner>s");
+            corners[k++] = xyz(c);
+        }
+        if (k != 4) fail(portal, "a <portal> has 4 <corner>s");
+    }
+    auto place = [&](Environment e) {
+        if (scene_.environment)
+            scene_.environment->add(e);
+        else
+            scene_.environment = std::move(e);
+    };
     if (src.empty()) {
         if (l.attribute("mapping") || l.child("up") || l.child("front") || l.attribute("sampling"))
             fail(l,
                  "mapping, sampling, <up> and <front> concern an image: give src or leave them "
                  "out");
-        scene_.environment = Environment::constant(scale);
-        return;
+        if (!portal) return place(Environment::constant(scale));
+        TextureImage one;
+        one.width = one.height = 1;
+        one.path = name_;
+        one.texels = {RGB{1.f}};
+        try {
+            return place(Environment::portal(one, scale, {0, 1, 0}, {0, 0, 1}, corners));
+        } catch (const InputError& e) {
+            fail(portal, e.what());
+        }
     }
     const std::string mapping = l.attribute("mapping") ? l.attribute("mapping").value() : "latlong";
     EnvMapping m;
@@ -86,17 +112,22 @@ void Loader::add_environment(const pugi::xml_node& l) {
         m = EnvMapping::EqualArea;
     else
         fail(l, "unknown environment mapping '" + mapping + "' (latlong, equalarea)");
+    if (portal && m != EnvMapping::EqualArea)
+        fail(portal, "a portal's map is an equal-area one (mapping=\"equalarea\")");
     const Vec3 up = l.child("up") ? direction(l, "up") : Vec3{0, 1, 0};
     const Vec3 front = l.child("front") ? direction(l, "front") : Vec3{0, 0, 1};
     if (length_squared(cross(up, front)) < 1e-8f) fail(l, "<front> is parallel to <up>");
     const std::string path = (std::filesystem::path(base_) / src).string();
     try {
-        scene_.environment = Environment::image(load_texture_image(path), m, scale, up, front);
+        TextureImage map = load_texture_image(path);
+        place(portal ? Environment::portal(map, scale, up, front, corners)
+                     : Environment::image(std::move(map), m, scale, up, front));
     } catch (const InputError& e) {
         fail(l, "environment map '" + src + "': " + e.what());
     }
-    const std::string sampling =
-        l.attribute("sampling") ? l.attribute("sampling").value() : "importance";
+    // The sampling concerns the whole environment (the last <environment> that says).
+    if (!l.attribute("sampling")) return;
+    const std::string sampling = l.attribute("sampling").value();
     if (sampling != "importance" && sampling != "uniform")
         fail(l, "unknown environment sampling '" + sampling + "' (importance, uniform)");
     scene_.environment->set_uniform_sampling(sampling == "uniform");
