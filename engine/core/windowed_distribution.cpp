@@ -59,13 +59,18 @@ bool WindowedDistribution::sample(Point2 u, const Window2& w, Point2& p, float& 
     auto below = [&](double v) {
         return sat_at(w.u1, v) - sat_at(w.u0, v) - sat_at(w.u1, w.v0) + sat_at(w.u0, w.v0);
     };
+    // The row boundaries bracket the target (binary search over them); within a row the
+    // function does not change along v, so v is linear in the integral there.
     const double target_v = double(u.x) * total;
-    double lo = w.v0, hi = w.v1;
-    for (int k = 0; k < 40 && hi - lo > 1e-9; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        (below(mid) < target_v ? lo : hi) = mid;
+    auto boundary = [&](int r) { return std::clamp(double(r) / nv_, double(w.v0), double(w.v1)); };
+    int lo = std::min(int(w.v0 * nv_), nv_ - 1), hi = std::min(int(std::ceil(w.v1 * nv_)), nv_);
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        (below(boundary(mid)) <= target_v ? lo : hi) = mid;
     }
-    const double v = 0.5 * (lo + hi);
+    const double va = boundary(lo), vb = boundary(lo + 1);
+    const double ia = below(va), ib = below(vb);
+    const double v = ib > ia ? va + (target_v - ia) / (ib - ia) * (vb - va) : 0.5 * (va + vb);
     // u within the window, along the row at v (constant per cell): its running sums inverted.
     const int row = std::clamp(int(v * nv_), 0, nv_ - 1);
     const double* prefix = &row_prefix_[std::size_t(row) * std::size_t(nu_ + 1)];

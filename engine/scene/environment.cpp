@@ -214,19 +214,17 @@ float map_pdf(const EnvLayer& l, const Vec3& wi) {
     return st > 0.f ? pdf_uv / (2.f * kPi * kPi * st) : 0.f;
 }
 
-// A layer's radiance from wi, seen from p (`windowed`) or along a ray from outside.
+// A layer's radiance from wi, seen from p (`windowed`) or along a ray from outside. A
+// portal's window from p holds exactly the directions whose rays cross the rectangle, which
+// the plane test finds without the window's arc tangents.
 RGB layer_le(const EnvLayer& l, const Vec3& p, const Vec3& wi, bool windowed) {
     switch (l.mapping) {
         case EnvMapping::Constant:
             return l.scale;
         case EnvMapping::Portal: {
             Point2 uv;
-            if (!l.to_portal(wi, uv)) return RGB{0.f};
-            if (windowed) {
-                Window2 w;
-                return l.window_from(p, w) && w.contains(uv) ? l.texel(uv) : RGB{0.f};
-            }
-            return l.crosses_portal(p, -wi) ? l.texel(uv) : RGB{0.f};
+            if (!l.crosses_portal(p, windowed ? wi : -wi) || !l.to_portal(wi, uv)) return RGB{0.f};
+            return l.texel(uv);
         }
         default:
             return l.texel(l.to_map(wi));
@@ -296,7 +294,8 @@ Vec3 Environment::sample(const Vec3& p, Point2 u, float& pdf) const {
         pdf = 0.f;
         return wi;
     }
-    pdf = this->pdf(p, wi);
+    // One layer: its own density (no second look at the window).
+    pdf = layers_.size() == 1 ? own : this->pdf(p, wi);
     return wi;
 }
 
