@@ -57,6 +57,23 @@ void check_converges(MltPathKind kind, uint64_t seed) {
     }
 }
 
+// `s` at 24 x 16 by 100 chains (not a multiple of the chain groups): the same image on one
+// and two threads, another with another seed. Returns the settings it rendered with.
+MltSettings check_seed_only(TestScene& s, MltPathKind kind) {
+    s.set_resolution(24, 16);
+    MltSettings m;
+    m.chains = 100;
+    m.bootstrap = 3000;
+    m.paths = kind;
+    s.render.own = m;
+    const Film one = render_with(s, "mlt", 8, 1, 7).film;
+    const Film two = render_with(s, "mlt", 8, 2, 7).film;
+    CHECK(compare_images(one, two).max_abs == 0.0);
+    const Film other = render_with(s, "mlt", 8, 2, 8).film;
+    CHECK(compare_images(one, other).max_abs > 0.0);
+    return m;
+}
+
 }  // namespace
 
 TEST_CASE("MLT converges to the path tracer's image on the Cornell boxes", "[mlt][integrators]") {
@@ -68,31 +85,12 @@ TEST_CASE("MLT over bdpt paths converges to the path tracer's image on the Corne
     check_converges(MltPathKind::Bidirectional, 5);
     // Seed-determined, whatever the threads, as over path-traced paths.
     TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
-    s.set_resolution(24, 16);
-    MltSettings m;
-    m.chains = 100;
-    m.bootstrap = 3000;
-    m.paths = MltPathKind::Bidirectional;
-    s.render.own = m;
-    const Film one = render_with(s, "mlt", 8, 1, 7).film;
-    const Film two = render_with(s, "mlt", 8, 2, 7).film;
-    CHECK(compare_images(one, two).max_abs == 0.0);
-    const Film other = render_with(s, "mlt", 8, 2, 8).film;
-    CHECK(compare_images(one, other).max_abs > 0.0);
+    check_seed_only(s, MltPathKind::Bidirectional);
 }
 
 TEST_CASE("MLT's image depends on the seed only", "[mlt][integrators]") {
     TestScene s = load_scene(test::source_path("scenes/cornell-box.xml"));
-    s.set_resolution(24, 16);
-    MltSettings m;
-    m.chains = 100;  // not a multiple of the chain groups
-    m.bootstrap = 3000;
-    s.render.own = m;
-    const Film one = render_with(s, "mlt", 8, 1, 7).film;
-    const Film two = render_with(s, "mlt", 8, 2, 7).film;
-    CHECK(compare_images(one, two).max_abs == 0.0);
-    const Film other = render_with(s, "mlt", 8, 2, 8).film;
-    CHECK(compare_images(one, other).max_abs > 0.0);
+    MltSettings m = check_seed_only(s, MltPathKind::Path);
     // Pure independent sampling (every step large) is the same estimator as the bootstrap's:
     // unbiased, and its mean agrees too.
     m.large_step = 1.f;

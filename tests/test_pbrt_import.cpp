@@ -545,10 +545,10 @@ TEST_CASE("pbrt-v4: bad input is an error at its file and line", "[pbrt][fast]")
         {"WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1] \"string filename\" \"a.exr\"" +
              shape,
          "test.pbrt:2: LightSource \"infinite\": give \"L\" or \"filename\", not both"},
-        {"WorldBegin\nLightSource \"infinite\" \"point3 portal\" [0 0 0 1 0 0 1 1 0 0 1 0]" + shape,
-         "portals are not supported"},
-        {"WorldBegin\nLightSource \"infinite\"\nLightSource \"infinite\"" + shape,
-         "test.pbrt:3: LightSource \"infinite\": the scene has an infinite light already"},
+        {"WorldBegin\nLightSource \"infinite\" \"point3 portal\" [0 0 0 1 0 0 1 1 0]" + shape,
+         "test.pbrt:2: LightSource \"infinite\": a portal has 4 corners, not 3"},
+        {"WorldBegin\nLightSource \"infinite\" \"point3 portal\" [0 0 0 1 0 0 1 2 0 0 1 0]" + shape,
+         "test.pbrt:2: LightSource \"infinite\": a portal must be a rectangle"},
         {"WorldBegin\nShape \"sphere\" \"spectrum reflectance\" \"metal-Zz-eta\"\n"
          "Material \"diffuse\" \"spectrum reflectance\" \"metal-Zz-eta\"" +
              shape,

@@ -154,7 +154,7 @@ Shape "trianglemesh" "point3 P" [0 0 0  4 0 0  4 4 0  0 4 0  0 0 3  0 4 3  4 4 3
 
 }  // namespace
 
-TEST_CASE("portal: a window's portal changes the noise, not the image; skies add up",
+TEST_CASE("portal: a window's portal changes the noise, not the image, and skies add up",
           "[portal][render]") {
     TestScene with(parse_pbrt_scene(room(true), "room.pbrt", "."));
     TestScene without(parse_pbrt_scene(room(false), "room.pbrt", "."));

@@ -249,7 +249,12 @@ Vec3 layer_sample(const EnvLayer& l, const Window2* window, Point2 u, float& pdf
     float pdf_uv;
     const Point2 uv = l.dist.sample(u, pdf_uv);
     const Vec3 wi = l.from_map(uv);
-    pdf = map_pdf(l, wi);
+    if (l.mapping == EnvMapping::EqualArea) {
+        pdf = pdf_uv / (4.f * kPi);
+    } else {
+        const float st = std::sin(kPi * uv.y);
+        pdf = st > 0.f ? pdf_uv / (2.f * kPi * kPi * st) : 0.f;
+    }
     return wi;
 }
 
@@ -318,7 +323,7 @@ Vec3 Environment::sample_emission(Point2 u, float& pdf) const {
     const EnvLayer& l = pick(u);
     float own = 0.f;
     const Vec3 wi = layer_sample(l, nullptr, u, own);
-    pdf = own > 0.f ? pdf_emission(wi) : 0.f;
+    pdf = !(own > 0.f) ? 0.f : layers_.size() == 1 ? own : pdf_emission(wi);
     return wi;
 }
 

@@ -75,6 +75,8 @@ class Environment {
     // map has the equal-area map's resolution. Throws InputError when c is no rectangle.
     static Environment portal(const TextureImage& map, const RGB& scale, const Vec3& up,
                               const Vec3& front, const Vec3 c[4]);
+    // Whether c[0..3] go round a rectangle (what portal() asks of its corners).
+    static bool is_rectangle(const Vec3 c[4]);
     // Adds another environment's light: several infinite lights are their sum, each sampled in
     // proportion to its power.
     void add(const Environment& other);

@@ -47,6 +47,14 @@ bool EnvLayer::crosses_portal(const Vec3& from, const Vec3& d) const {
            y <= length(corners[1] - corners[0]);
 }
 
+bool Environment::is_rectangle(const Vec3 c[4]) {
+    // Opposite sides equal, adjacent ones perpendicular (so the corners lie in one plane).
+    const Vec3 e01 = c[1] - c[0], e03 = c[3] - c[0];
+    const float l01 = length(e01), l03 = length(e03);
+    return l01 > 0.f && l03 > 0.f && length(c[2] - c[3] - e01) < 1e-3f * l01 &&
+           length(c[2] - c[1] - e03) < 1e-3f * l03 && std::fabs(dot(e01, e03)) < 1e-3f * l01 * l03;
+}
+
 Environment Environment::portal(const TextureImage& map, const RGB& scale, const Vec3& up,
                                 const Vec3& front, const Vec3 c[4]) {
     if (map.width != map.height)
@@ -54,14 +62,10 @@ Environment Environment::portal(const TextureImage& map, const RGB& scale, const
                          "a portal light's map must be a square equal-area image, not " +
                              std::to_string(map.width) + "x" + std::to_string(map.height));
     check_env_texels(map, scale);
+    if (!is_rectangle(c))
+        throw InputError(map.path, 0, "a portal must be a rectangle (4 corners in order round it)");
     const Vec3 e01 = c[1] - c[0], e03 = c[3] - c[0];
     const float l01 = length(e01), l03 = length(e03);
-    // A rectangle: opposite sides equal, adjacent ones perpendicular, corners in one plane.
-    const bool rectangle = l01 > 0.f && l03 > 0.f && length(c[2] - c[3] - e01) < 1e-3f * l01 &&
-                           length(c[2] - c[1] - e03) < 1e-3f * l03 &&
-                           std::fabs(dot(e01, e03)) < 1e-3f * l01 * l03;
-    if (!rectangle)
-        throw InputError(map.path, 0, "a portal must be a rectangle (4 corners in order round it)");
     EnvLayer l;
     l.mapping = EnvMapping::Portal;
     l.scale = scale;

@@ -98,6 +98,8 @@ void Importer::infinite_light(const Token& t, const ParamList& p, float scale) {
     const std::vector<Vec3> portal = p.triples("portal");
     if (!portal.empty() && portal.size() != 4)
         fail(t, what + ": a portal has 4 corners, not " + std::to_string(portal.size()));
+    if (!portal.empty() && !Environment::is_rectangle(portal.data()))
+        fail(t, what + ": a portal must be a rectangle (4 corners in order round it)");
     const float illuminance = p.real("illuminance", -1.f);
     const Vec3 up = gs_.ctm.vector({0, 0, 1}), front = gs_.ctm.vector({1, 0, 0});
     if (!(length_squared(cross(up, front)) > 0.f))

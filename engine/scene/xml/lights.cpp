@@ -81,6 +81,8 @@ void Loader::add_environment(const pugi::xml_node& l) {
             corners[k++] = xyz(c);
         }
         if (k != 4) fail(portal, "a <portal> has 4 <corner>s");
+        if (!Environment::is_rectangle(corners))
+            fail(portal, "a portal must be a rectangle (4 corners in order round it)");
     }
     auto place = [&](Environment e) {
         if (scene_.environment)
