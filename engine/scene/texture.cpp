@@ -68,6 +68,49 @@ RGB TextureImage::bilinear(Point2 uv) const {
            (texels[b.i[2]] * (1.f - b.tx) + texels[b.i[3]] * b.tx) * b.ty;
 }
 
+void TextureImage::build_mip() {
+    mip.clear();
+    const TextureImage* prev = this;
+    while (prev->width > 1 || prev->height > 1) {
+        TextureImage next;
+        next.path = path;
+        next.width = std::max(1, (prev->width + 1) / 2);
+        next.height = std::max(1, (prev->height + 1) / 2);
+        next.texels.resize(std::size_t(next.width) * std::size_t(next.height));
+        for (int y = 0; y < next.height; ++y)
+            for (int x = 0; x < next.width; ++x) {
+                // The 2 x 2 block under the texel (a lone last row or column: its own).
+                RGB sum{0.f};
+                int n = 0;
+                for (int dy = 0; dy < 2; ++dy)
+                    for (int dx = 0; dx < 2; ++dx) {
+                        const int sx = 2 * x + dx, sy = 2 * y + dy;
+                        if (sx >= prev->width || sy >= prev->height) continue;
+                        sum += prev->texels[std::size_t(sy) * std::size_t(prev->width) +
+                                            std::size_t(sx)];
+                        ++n;
+                    }
+                next.texels[std::size_t(y) * std::size_t(next.width) + std::size_t(x)] =
+                    sum * (1.f / float(n));
+            }
+        mip.push_back(std::move(next));
+        prev = &mip.back();
+    }
+}
+
+RGB TextureImage::trilinear(Point2 uv, float width) const {
+    // The level whose texel is as wide as the footprint: log2 of the footprint in level-0
+    // texels.
+    const float texels_across = width * float(std::max(this->width, height));
+    if (mip.empty() || !(texels_across > 1.f)) return bilinear(uv);
+    const float level = std::min(std::log2(texels_across), float(mip.size()));
+    const int l0 = int(level);
+    const float t = level - float(l0);
+    auto at = [&](int l) { return l == 0 ? bilinear(uv) : mip[std::size_t(l - 1)].bilinear(uv); };
+    if (l0 >= int(mip.size())) return at(int(mip.size()));
+    return at(l0) * (1.f - t) + at(l0 + 1) * t;
+}
+
 float TextureImage::bilinear_alpha(Point2 uv) const {
     if (alpha.empty()) return 1.f;
     const TextureTaps b = texture_taps(uv, width, height);
@@ -177,7 +220,13 @@ RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) c
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
-            c = images[image].bilinear(st(at));
+            // The footprint is in the surface's uv; the texture's map scales it (its largest
+            // stretch).
+            c = trilinear
+                    ? images[image].trilinear(
+                          st(at), at.footprint * std::max({std::fabs(uv.su), std::fabs(uv.sv),
+                                                           std::fabs(uv.suv), std::fabs(uv.svu)}))
+                    : images[image].bilinear(st(at));
             break;
         case TextureKind::Checkerboard:
             c = checker_even(st(at)) ? value : other;

@@ -2,8 +2,10 @@
 // Textures on reflectances (and, read as floats, on roughness and displacement): constant, image
 // (bilinear, repeating) and checkerboard, each evaluated at a surface's (u, v). Images are decoded
 // once into linear float RGB and shared by every texture that names the same file
-// (Scene::texture_images). Lookups are plain bilinear filtering with no MIP-mapping: deterministic,
-// the same for every thread count.
+// (Scene::texture_images). Lookups are bilinear, or, for textures asking for it, trilinear
+// between the levels of a MIP pyramid chosen by the surface point's footprint (the width of
+// a pixel there, from the camera: surface_at); deterministic, the same for every thread
+// count.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -24,6 +26,13 @@ struct TextureImage {
     // convention after its flip, OBJ's).
     RGB bilinear(Point2 uv) const;
     float bilinear_alpha(Point2 uv) const;
+    // The MIP pyramid: level k + 1 halves level k (box filter, odd sizes rounded up), down to
+    // 1 x 1; empty until build_mip().
+    std::vector<TextureImage> mip;
+    void build_mip();
+    // Trilinear lookup for a footprint `width` in (u, v) units (0: level 0, bilinear):
+    // bilinear in the two levels whose texels bracket the width, blended by log2.
+    RGB trilinear(Point2 uv, float width) const;
 };
 
 enum class TextureKind : uint8_t {
@@ -53,6 +62,9 @@ struct TexPoint {
     TexPoint(Point2 uv_) : uv(uv_) {}
     TexPoint(float u, float v) : uv{u, v} {}
     TexPoint(Point2 uv_, const Vec3& p_, const Vec3& n_) : uv(uv_), p(p_), n(n_) {}
+    // The width in (u, v) of the pixel's footprint at the point (0: unknown), for MIP-mapped
+    // textures.
+    float footprint = 0.f;
 };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
@@ -66,12 +78,13 @@ struct UvMap {
 
 struct Texture {
     TextureKind kind = TextureKind::Constant;
-    RGB value{1.f};       // Constant; Checkerboard's first colour
-    RGB other{0.f};       // Checkerboard's second colour
-    uint32_t image = 0;   // Image: into Scene::texture_images
-    UvMap uv;             // where a surface uv reads it
-    RGB scale{1.f};       // multiplies the result
-    bool invert = false;  // max(0, 1 - scaled value) (pbrt's invert)
+    RGB value{1.f};          // Constant; Checkerboard's first colour
+    RGB other{0.f};          // Checkerboard's second colour
+    uint32_t image = 0;      // Image: into Scene::texture_images
+    UvMap uv;                // where a surface uv reads it
+    bool trilinear = false;  // Image: MIP-mapped, by the point's footprint
+    RGB scale{1.f};          // multiplies the result
+    bool invert = false;     // max(0, 1 - scaled value) (pbrt's invert)
     // Mix (pbrt-v4's "mix"): (1 - t) tex1 + t tex2 with t = amount's float value, each operand
     // a texture of its own (a constant one for a value), read at the surface's uv.
     // Product (pbrt-v4's "scale" of a varying texture by a varying one): tex x scale's float.

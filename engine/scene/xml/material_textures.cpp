@@ -90,13 +90,15 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default, boo
     t.uv.dv = number(tx, "offset_v", 0.f);
     if (kind == "image") {
         if (amplitude)
+            check(tx,
+                  {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v", "scale",
+                   "filter"},
+                  {});
+        else
             check(
                 tx,
-                {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v", "scale"},
+                {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v", "filter"},
                 {});
-        else
-            check(tx, {"type", "src", "encoding", "scale_u", "scale_v", "offset_u", "offset_v"},
-                  {});
         const std::string src = tx.attribute("src").value();
         if (src.empty()) fail(tx, "<texture> needs attribute 'src' (or type=\"checkerboard\")");
         const std::string enc = tx.attribute("encoding") ? tx.attribute("encoding").value()
@@ -117,6 +119,14 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default, boo
             }
             t.image = images_[key] = uint32_t(scene_.texture_images.size() - 1);
         }
+        // filter="trilinear": MIP-mapped by the footprint of a pixel at the hit.
+        const std::string filter =
+            tx.attribute("filter") ? tx.attribute("filter").value() : "bilinear";
+        if (filter != "bilinear" && filter != "trilinear")
+            fail(tx, "unknown texture filter '" + filter + "' (bilinear, trilinear)");
+        t.trilinear = filter == "trilinear";
+        if (t.trilinear && scene_.texture_images[t.image].mip.empty())
+            scene_.texture_images[t.image].build_mip();
     } else if (kind == "checkerboard") {
         if (amplitude)
             check(tx, {"type", "scale_u", "scale_v", "offset_u", "offset_v", "scale"},

@@ -7,6 +7,31 @@
 
 namespace foton {
 
+namespace {
+
+// The width in uv of a pixel's footprint at p (normal n) on a surface of partials dpdu, dpdv,
+// from the camera as pbrt-v4 approximates it at every hit, whatever the path: the pixel's
+// width at the point's distance, stretched by the slant (to at most 10x), over the shorter
+// of the uv partials.
+float footprint_at(const Camera& cam, const Vec3& p, const Vec3& n, const Vec3& dpdu,
+                   const Vec3& dpdv) {
+    const Vec3 to = p - cam.eye;
+    const float dist = length(to);
+    float w;
+    if (cam.type == CameraType::Orthographic)
+        w = cam.pixel_size;
+    else if (cam.type == CameraType::Perspective)
+        w = dist * cam.pixel_size / cam.d;
+    else
+        w = dist * cam.pixel_angle();
+    const float slant = dist > 0.f ? std::fabs(dot(to, n)) / dist : 1.f;
+    const float per_uv = std::min(length(dpdu), length(dpdv));
+    if (!(per_uv > 0.f) || !std::isfinite(w)) return 0.f;
+    return w / std::max(slant, 0.1f) / per_uv;
+}
+
+}  // namespace
+
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
                         const Vec3& origin, const Vec3& dir) {
     SurfacePoint sp;
@@ -51,6 +76,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             m.corner_uvs(prim, t0, t1, t2);
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
+            Vec3 dpdu, dpdv;
+            if (triangle_partials(p0, p1, p2, t0, t1, t2, dpdu, dpdv))
+                sp.footprint = footprint_at(scene.camera, sp.p, n_geom, dpdu, dpdv);
             if (mat.perturbs_normal() || tangent) {
                 g.n = n_shade;
                 if (triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv)) {
@@ -117,6 +145,11 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         if (textured) {
             sp.uv = sphere_uv(n_geom);
             const float sin_theta = std::sqrt(n_geom.x * n_geom.x + n_geom.y * n_geom.y);
+            // |dp/du| = 2 pi r sin theta, |dp/dv| = pi r (sphere_uv's parametrisation).
+            const float r = s.radius;
+            sp.footprint = footprint_at(scene.camera, sp.p, n_geom,
+                                        Vec3{2.f * kPi * r * std::max(sin_theta, 1e-3f), 0.f, 0.f},
+                                        Vec3{kPi * r, 0.f, 0.f});
             if ((mat.perturbs_normal() || tangent) && sin_theta > 1e-6f) {
                 // pbrt's partials of that parametrisation; the normal turns as the point
                 // moves (dn = dp / r).

@@ -19,6 +19,9 @@ struct SurfacePoint {
     bool front_face;  // the ray hit the side the geometry's own normal points to
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
     Point2 uv;        // texture coordinates (computed only where the material is textured)
+    // The width in uv of a pixel's footprint here, seen from the camera (textured meshes and
+    // spheres; 0 elsewhere): what MIP-mapped textures pick their level by.
+    float footprint = 0.f;
     // The shading tangent: dp/du made perpendicular to ns, unit, where the material's BSDF
     // is anisotropic (Material::needs_tangent); zero elsewhere.
     Vec3 ss{0.f, 0.f, 0.f};
@@ -26,7 +29,11 @@ struct SurfacePoint {
     warp::Frame frame() const { return warp::Frame(ns, ss); }
     // Where its textures read themselves (uv, and the point and normal for textures mapped
     // by position or mixed by direction).
-    TexPoint tex() const { return {uv, p, ng}; }
+    TexPoint tex() const {
+        TexPoint t{uv, p, ng};
+        t.footprint = footprint;
+        return t;
+    }
 };
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,

@@ -1,0 +1,107 @@
+// MIP-mapped textures (filter="trilinear"; pbrt-v4's "trilinear" and "ewa"): the pyramid's
+// levels are block means, the lookup blends the levels a footprint brackets, and a fine
+// checkerboard far away renders as its mean instead of aliasing.
+#include <bit>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "engine/core/rng.h"
+#include "engine/scene/texture.h"
+#include "engine/scene/xml_loader.h"
+#include "test_util.h"
+
+using namespace foton;
+
+TEST_CASE("mip: levels are block means down to one texel, odd sizes included", "[mip][fast]") {
+    TextureImage img;
+    img.width = 5;
+    img.height = 3;
+    for (int i = 0; i < 15; ++i) img.texels.push_back(RGB{float(i)});
+    img.build_mip();
+    REQUIRE(img.mip.size() == 3);
+    CHECK(img.mip[0].width == 3);
+    CHECK(img.mip[0].height == 2);
+    CHECK(img.mip[2].width == 1);
+    CHECK(img.mip[2].height == 1);
+    // Level 1's first texel: texels 0, 1, 5, 6; its last column holds the lone column 4.
+    CHECK(img.mip[0].texels[0].r == Approx((0 + 1 + 5 + 6) / 4.f));
+    CHECK(img.mip[0].texels[2].r == Approx((4 + 9) / 2.f));
+    CHECK(img.mip[0].texels[3].r == Approx((10 + 11) / 2.f));
+    // A 4 x 4 image: the last level is the mean; a footprint as wide as the image reads it,
+    // no footprint reads level 0.
+    TextureImage sq;
+    sq.width = sq.height = 4;
+    float sum = 0.f;
+    for (int i = 0; i < 16; ++i) {
+        sq.texels.push_back(RGB{float(i * i % 7)});
+        sum += float(i * i % 7);
+    }
+    sq.build_mip();
+    REQUIRE(sq.mip.size() == 2);
+    CHECK(sq.mip[1].texels[0].r == Approx(sum / 16.f));
+    for (const Point2 uv : {Point2{0.1f, 0.2f}, Point2{0.7f, 0.55f}}) {
+        CHECK(sq.trilinear(uv, 1.f).r == Approx(sum / 16.f));
+        CHECK(sq.trilinear(uv, 0.f).r == sq.bilinear(uv).r);
+        // Halfway (in log2) between levels 0 and 1: the mean of their bilinear lookups.
+        CHECK(sq.trilinear(uv, std::sqrt(2.f) / 4.f).r ==
+              Approx(0.5f * (sq.bilinear(uv).r + sq.mip[0].bilinear(uv).r)));
+    }
+}
+
+namespace {
+
+// A 256 x 256 checkerboard of single texels, 0 and 1, as a PFM file.
+void write_checks(const std::string& path) {
+    const int n = 256;
+    std::string s = "PF\n256 256\n-1.0\n";
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = float((x + y) % 2);
+                char b[4];
+                std::memcpy(b, &v, 4);
+                s.append(b, 4);
+            }
+    std::ofstream(path, std::ios::binary) << s;
+}
+
+}  // namespace
+
+TEST_CASE("mip: a fine checkerboard far away renders as its mean, not as aliasing",
+          "[mip][render]") {
+    test::TempDir dir;
+    write_checks(dir.file("checks.pfm"));
+    // The board (8 texels to a pixel) in ambient light only, by the Whitted tracer: each pixel
+    // is its one sample's texture value, with no Monte Carlo noise on top.
+    auto render_with = [&](const char* filter) {
+        const std::string xml = std::string(R"(<scene>
+  <ambient r="1" g="1" b="1" intensity="1"/>
+  <objects><quad><corner x="-1" y="-1" z="0"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="2" z="0"/>
+    <material type="matte" c_ambient="1" c_diffuse="1"><base_color r="1" g="1" b="1"/>
+      <texture type="image" src="checks.pfm" encoding="linear" filter=")") +
+                                filter + R"("/></material></quad></objects>
+  <film width="32" height="32" size="0.0625"/>
+  <renderer type="raytracer"/>
+  <camera type="orthographic"><eye x="0" y="0" z="5"/><target x="0" y="0" z="0"/>
+    <up x="0" y="1" z="0"/></camera>
+</scene>)";
+        TestScene s(parse_scene(xml, "board.xml", dir.path().string()));
+        const Film f = render_test(s, 1, 0, 3).film;
+        double mean = 0.0, sq = 0.0;
+        for (const RGB& p : f.pixels) {
+            mean += p.g / double(f.pixels.size());
+            sq += double(p.g) * p.g / double(f.pixels.size());
+        }
+        return std::pair{mean, std::sqrt(std::max(0.0, sq - mean * mean))};
+    };
+    const auto [mean_mip, sd_mip] = render_with("trilinear");
+    const auto [mean_bi, sd_bi] = render_with("bilinear");
+    INFO("trilinear " << mean_mip << " +- " << sd_mip << ", bilinear " << mean_bi << " +- "
+                      << sd_bi);
+    // Ambient light times the checks: their mean is 0.5.
+    CHECK(mean_mip == Approx(0.5).epsilon(0.05));
+    CHECK(sd_mip < 0.1 * sd_bi);
+    CHECK(sd_bi > 0.1);
+}
