@@ -108,6 +108,22 @@ void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::s
         if (v.Has(tex)) notes.push_back(where + ": KHR_materials_specular " + tex + " ignored");
 }
 
+// KHR_materials_clearcoat's factors (its textures are noted: the factors stand for them).
+void gltf_clearcoat(const tinygltf::Value& v, FileMaterial& f, std::vector<std::string>& notes,
+                    const std::string& where) {
+    auto factor = [&](const char* key, float& out) {
+        if (!v.Has(key)) return;
+        out = float(v.Get(key).GetNumberAsDouble());
+        if (!(out >= 0.f && out <= 1.f))
+            throw std::invalid_argument(std::string(key) + " must be in [0, 1]");
+    };
+    factor("clearcoatFactor", f.clearcoat);
+    factor("clearcoatRoughnessFactor", f.clearcoat_roughness);
+    for (const char* tex :
+         {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
+        if (v.Has(tex)) notes.push_back(where + ": KHR_materials_clearcoat " + tex + " ignored");
+}
+
 }  // namespace
 
 void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
@@ -128,9 +144,12 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
     }
     if (const auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
         gltf_specular(it->second, f, notes, where);
+    if (const auto it = gm.extensions.find("KHR_materials_clearcoat"); it != gm.extensions.end())
+        gltf_clearcoat(it->second, f, notes, where);
     for (const auto& [ext, value] : gm.extensions)
         if (ext != "KHR_materials_emissive_strength" && ext != "KHR_materials_transmission" &&
-            ext != "KHR_materials_ior" && ext != "KHR_materials_specular")
+            ext != "KHR_materials_ior" && ext != "KHR_materials_specular" &&
+            ext != "KHR_materials_clearcoat")
             notes.push_back(where + ": extension " + ext + " ignored");
 }
 

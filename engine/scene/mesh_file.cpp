@@ -139,6 +139,27 @@ int32_t image_texture(Scene& scene, const MeshFile& file, std::map<std::string, 
     return int32_t(scene.textures.size() - 1);
 }
 
+// glTF's clear coat (KHR_materials_clearcoat): the specification mixes the material with the
+// coat's specular reflection by clearcoat times the coat's Fresnel term, F of index 1.5. As the
+// dielectric reflection over the diffuse base above, the base keeps what the coat lets through
+// at normal incidence (1 - clearcoat F0, F0 = 0.04) and the coat is a GGX lobe of that Fresnel
+// weighted by clearcoat (a textured metallic weight multiplies the base's lobes after this).
+void add_clearcoat(const FileMaterial& f, Material& m) {
+    const float c = std::clamp(f.clearcoat, 0.f, 1.f);
+    Fresnel coat;
+    coat.kind = FresnelKind::Dielectric;
+    coat.ior = 1.5f;
+    m.bsdf.scale(1.f - c * 0.04f);
+    m.base_color *= 1.f - c * 0.04f;
+    const float alpha = std::min(f.clearcoat_roughness * f.clearcoat_roughness, 2.f);
+    if (alpha < 0.002f) {
+        m.bsdf.add(Lobe::mirror(RGB{c}, coat));
+    } else {
+        m.bsdf.add(
+            Lobe::microfacet(RGB{c}, MicrofacetDistribution::trowbridge_reitz(alpha, alpha), coat));
+    }
+}
+
 // The lobes of a file's non-glass material: a Lambert of the diffuse colour, MTL's Phong
 // highlight or mirror, glTF's metal (a conductor of the base colour's reflectance, GGX of alpha
 // = roughness^2), its dielectric reflection and its transmission. With glTF's
@@ -226,6 +247,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
         alpha_param();
     }
+    if (f.clearcoat > 0.f) add_clearcoat(f, m);
 }
 
 }  // namespace

@@ -43,6 +43,9 @@ struct FileMaterial {
     bool glass = false;        // MTL illum 4, 6, 7, 9
     float ior = 1.5f;          // MTL Ni, glTF KHR_materials_ior
     float transmission = 0.f;  // glTF KHR_materials_transmission
+    // glTF KHR_materials_clearcoat: a clear dielectric coat (index 1.5) of this strength over
+    // everything else, GGX of alpha = clearcoat_roughness^2.
+    float clearcoat = 0.f, clearcoat_roughness = 0.f;
     RGB emission{0.f};         // MTL Ke, glTF emissiveFactor
     std::string emission_map;  // an image multiplying `emission` (MTL map_Ke, glTF emissiveTexture)
     // Cut-outs (Material::alpha): MTL d and map_d, glTF's base colour alpha under alphaMode
