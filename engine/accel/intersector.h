@@ -43,6 +43,15 @@ inline kern::Ray1 ray_at(const RayBatch& b, std::size_t i) {
     return {b.ox[i], b.oy[i], b.oz[i], b.dx[i], b.dy[i], b.dz[i], b.tmin[i], b.tmax[i]};
 }
 
+// Entry i of a batch's hits set to h.
+inline void store_hit(HitBatch& hits, std::size_t i, const Hit1& h) {
+    hits.t[i] = h.t;
+    hits.u[i] = h.u;
+    hits.v[i] = h.v;
+    hits.prim[i] = h.prim;
+    hits.geom[i] = h.geom;
+}
+
 // Implements the batch entry points by looping a backend's single-ray methods.
 template <class Derived>
 class PerRayIntersector : public Intersector {
@@ -53,11 +62,7 @@ class PerRayIntersector : public Intersector {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             Hit1 h;
             self.closest(ray_at(rays, i), h, c);
-            hits.t[i] = h.t;
-            hits.u[i] = h.u;
-            hits.v[i] = h.v;
-            hits.prim[i] = h.prim;
-            hits.geom[i] = h.geom;
+            store_hit(hits, i, h);
         }
     }
     void occluded(const RayBatch& rays, std::vector<uint8_t>& occ,

@@ -22,12 +22,7 @@ class LayeredIntersector : public Intersector {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             Hit1 h{hits.t[i], hits.u[i], hits.v[i], hits.prim[i], hits.geom[i]};
             if (h.geom == kNoHit) h.t = kInfinity;
-            if (!self().closest_own(ray_at(rays, i), h, c)) continue;
-            hits.t[i] = h.t;
-            hits.u[i] = h.u;
-            hits.v[i] = h.v;
-            hits.prim[i] = h.prim;
-            hits.geom[i] = h.geom;
+            if (self().closest_own(ray_at(rays, i), h, c)) store_hit(hits, i, h);
         }
     }
     void occluded(const RayBatch& rays, std::vector<uint8_t>& occ,

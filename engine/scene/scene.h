@@ -113,6 +113,8 @@ struct Scene {
     std::vector<Instance> instances;
     std::vector<Texture> textures;
     std::vector<TextureImage> texture_images;  // decoded once, shared by textures
+    // Some texture is MIP-mapped (Texture::trilinear): hits then work out their footprint.
+    bool mip_mapped = false;
     // The media under subsurface materials' surfaces (Material::subsurface), and where the
     // scene first asks for one: integrators that do not follow light under surfaces refuse
     // such a scene at that file and line.

@@ -315,6 +315,7 @@ uint32_t Importer::image_texture(const Token& t, const ParamList& p, bool& trili
     const uint32_t image = image_file(t, rel, enc == "linear");
     TextureImage& img = scene_.texture_images[image];
     if (trilinear && img.mip.empty()) img.build_mip();
+    scene_.mip_mapped |= trilinear;
     return image;
 }
 

@@ -44,8 +44,8 @@ double fresnel_moment(int i, double eta_i, double eta_t) {
 
 namespace {
 
-// beam_diffusion_multiple with the boundary's Fresnel moments (of eta -> 1: light inside
-// meeting the boundary) given.
+// Photon beam diffusion's multiple-scattering term (the dipoles along the beam) at radius r,
+// with the boundary's Fresnel moments (of eta -> 1: light inside meeting the boundary) given.
 float multiple_with_moments(float sigma_s, float sigma_a, float g, float fm1, float fm2, float r) {
     // Reduced coefficients, Grosjean's diffusion coefficient and the transport coefficient.
     const float sps = sigma_s * (1.f - g), spt = sigma_a + sps, rhop = sps / spt;
@@ -71,13 +71,8 @@ float multiple_with_moments(float sigma_s, float sigma_a, float g, float fm1, fl
     return float(sum / kDepthSamples);
 }
 
-}  // namespace
-
-float beam_diffusion_multiple(float sigma_s, float sigma_a, float g, float eta, float r) {
-    return multiple_with_moments(sigma_s, sigma_a, g, float(fresnel_moment(1, eta, 1.0)),
-                                 float(fresnel_moment(2, eta, 1.0)), r);
-}
-
+// Photon beam diffusion's single-scattering term at radius r for a beam entering a medium of
+// these coefficients under a boundary of relative index eta (inside over outside).
 float beam_diffusion_single(float sigma_s, float sigma_a, float g, float eta, float r) {
     const float sigma_t = sigma_a + sigma_s, rho = sigma_s / sigma_t;
     // Below this depth the path to the exit point would leave beyond the critical angle.
@@ -92,6 +87,8 @@ float beam_diffusion_single(float sigma_s, float sigma_a, float g, float eta, fl
     }
     return float(sum / kDepthSamples);
 }
+
+}  // namespace
 
 BssrdfTable BssrdfTable::compute(float g, float eta) {
     BssrdfTable t;

@@ -14,11 +14,6 @@ namespace foton {
 // (F_r: fresnel_dielectric; total internal reflection counts 1), integrated numerically.
 double fresnel_moment(int i, double eta_i, double eta_t);
 
-// Photon beam diffusion's two terms at radius r for a beam entering a medium of these
-// coefficients under a boundary of relative index eta (inside over outside).
-float beam_diffusion_single(float sigma_s, float sigma_a, float g, float eta, float r);
-float beam_diffusion_multiple(float sigma_s, float sigma_a, float g, float eta, float r);
-
 struct BssrdfTable {
     float g = 0.f, eta = 1.33f;
     std::vector<float> rho;     // the albedos of the rows

@@ -25,44 +25,36 @@ TabulatedBssrdf::TabulatedBssrdf(const BssrdfTable& table, const Vec3& po, const
     }
 }
 
-RGB TabulatedBssrdf::sr(float r) const {
-    float out[3] = {0.f, 0.f, 0.f};
-    for (int c = 0; c < 3; ++c) {
-        const float r_optical = r * sigma_t_[c];
-        int ro = 0, co = 0;
-        float wr[4], wc[4];
-        if (!catmull_rom_weights(table_.rho, rho_[c], ro, wr) ||
-            !catmull_rom_weights(table_.radius, r_optical, co, wc))
-            continue;
-        float s = 0.f;
-        for (int j = 0; j < 4; ++j)
-            for (int k = 0; k < 4; ++k)
-                if (const float w = wr[j] * wc[k]; w != 0.f)
-                    s += w * table_.profile_at(std::size_t(ro + j), std::size_t(co + k));
-        // The table holds 2 pi r times the exitance.
-        if (r_optical != 0.f) s /= 2.f * kPi * r_optical;
-        out[c] = std::max(0.f, s * sigma_t_[c] * sigma_t_[c]);
-    }
-    return {out[0], out[1], out[2]};
-}
-
-float TabulatedBssrdf::pdf_sr(int c, float r) const {
+float TabulatedBssrdf::profile(int c, float r, float* rho_eff) const {
     const float r_optical = r * sigma_t_[c];
     int ro = 0, co = 0;
     float wr[4], wc[4];
     if (!catmull_rom_weights(table_.rho, rho_[c], ro, wr) ||
         !catmull_rom_weights(table_.radius, r_optical, co, wc))
         return 0.f;
-    float s = 0.f, rho_eff = 0.f;
+    float s = 0.f, eff = 0.f;
     for (int j = 0; j < 4; ++j) {
         if (wr[j] == 0.f) continue;
-        rho_eff += wr[j] * table_.rho_eff[std::size_t(ro + j)];
+        eff += wr[j] * table_.rho_eff[std::size_t(ro + j)];
         for (int k = 0; k < 4; ++k)
             if (wc[k] != 0.f)
                 s += wr[j] * wc[k] * table_.profile_at(std::size_t(ro + j), std::size_t(co + k));
     }
+    if (rho_eff) *rho_eff = eff;
+    // The table holds 2 pi r times the exitance (in optical units: times sigma_t^2 per area).
     if (r_optical != 0.f) s /= 2.f * kPi * r_optical;
-    return rho_eff > 0.f ? std::max(0.f, s * sigma_t_[c] * sigma_t_[c] / rho_eff) : 0.f;
+    return s * sigma_t_[c] * sigma_t_[c];
+}
+
+RGB TabulatedBssrdf::sr(float r) const {
+    return {std::max(0.f, profile(0, r, nullptr)), std::max(0.f, profile(1, r, nullptr)),
+            std::max(0.f, profile(2, r, nullptr))};
+}
+
+float TabulatedBssrdf::pdf_sr(int c, float r) const {
+    float rho_eff = 0.f;
+    const float s = profile(c, r, &rho_eff);
+    return rho_eff > 0.f ? std::max(0.f, s / rho_eff) : 0.f;
 }
 
 float TabulatedBssrdf::sample_sr(int c, float u) const {

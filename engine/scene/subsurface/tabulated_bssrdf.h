@@ -44,6 +44,10 @@ class TabulatedBssrdf {
     float pdf_sr(int c, float r) const;
 
   private:
+    // Channel c's profile at distance r per unit area (interpolated in albedo and optical
+    // radius), and the effective albedo of the channel's albedo when `rho_eff` is given.
+    float profile(int c, float r, float* rho_eff) const;
+
     const BssrdfTable& table_;
     Vec3 po_;
     warp::Frame frame_;

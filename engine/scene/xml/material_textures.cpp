@@ -127,6 +127,7 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default, boo
         t.trilinear = filter == "trilinear";
         if (t.trilinear && scene_.texture_images[t.image].mip.empty())
             scene_.texture_images[t.image].build_mip();
+        scene_.mip_mapped |= t.trilinear;
     } else if (kind == "checkerboard") {
         if (amplitude)
             check(tx, {"type", "scale_u", "scale_v", "offset_u", "offset_v", "scale"},

@@ -76,12 +76,16 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             m.corner_uvs(prim, t0, t1, t2);
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
-            Vec3 dpdu, dpdv;
-            if (triangle_partials(p0, p1, p2, t0, t1, t2, dpdu, dpdv))
-                sp.footprint = footprint_at(scene.camera, sp.p, n_geom, dpdu, dpdv);
-            if (mat.perturbs_normal() || tangent) {
+            // The uv partials, for a perturbed frame and for MIP-mapped textures' footprint
+            // (only scenes with such textures pay for it).
+            const bool frame = mat.perturbs_normal() || tangent;
+            const bool partials = (frame || scene.mip_mapped) &&
+                                  triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv);
+            if (partials && scene.mip_mapped)
+                sp.footprint = footprint_at(scene.camera, sp.p, n_geom, g.dpdu, g.dpdv);
+            if (frame) {
                 g.n = n_shade;
-                if (triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv)) {
+                if (partials) {
                     if (obj.smooth) {
                         // pbrt-v4's shading tangents: dp/du made perpendicular to the
                         // interpolated normal, and that normal crossed with it.
@@ -147,9 +151,11 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             const float sin_theta = std::sqrt(n_geom.x * n_geom.x + n_geom.y * n_geom.y);
             // |dp/du| = 2 pi r sin theta, |dp/dv| = pi r (sphere_uv's parametrisation).
             const float r = s.radius;
-            sp.footprint = footprint_at(scene.camera, sp.p, n_geom,
-                                        Vec3{2.f * kPi * r * std::max(sin_theta, 1e-3f), 0.f, 0.f},
-                                        Vec3{kPi * r, 0.f, 0.f});
+            if (scene.mip_mapped)
+                sp.footprint =
+                    footprint_at(scene.camera, sp.p, n_geom,
+                                 Vec3{2.f * kPi * r * std::max(sin_theta, 1e-3f), 0.f, 0.f},
+                                 Vec3{kPi * r, 0.f, 0.f});
             if ((mat.perturbs_normal() || tangent) && sin_theta > 1e-6f) {
                 // pbrt's partials of that parametrisation; the normal turns as the point
                 // moves (dn = dp / r).

@@ -242,18 +242,9 @@ class VolPathIntegrator : public CameraIntegrator {
         }
         if (ws.vertices[slot] >= rs.max_depth || m.bsdf.empty()) return;
         const ShadingPoint v(sp, m, d, beta, slot, ws.vertices[slot], ws.keys[slot]);
-        if (rs.nee && m.bsdf.has_non_delta() && !ctx_.lights.empty()) {
-            LightPick pick;
-            DirectSample ds;
-            if (ctx_.lights.pick(rand(ws, slot, kDimLightSelect), sp.p, sp.ng, pick) &&
-                sample_light(ctx_.lights,
-                             {pick.light, pick.pmf, rand2(ws, slot, kDimLight),
-                              rand(ws, slot, kDimLight + 2), pick.tri},
-                             v, kDiffuse | kGlossy, mis_, 1.f, ds))
-                ws.shadow.push(ds.origin, ds.dir, ds.tmax,
-                               medium_after(ctx_.scene, geom, sp, ds.dir, ws.medium[slot]), slot,
-                               ds.value, rng::hash(ws.keys[slot], ws.vertices[slot], 0, 0));
-        }
+        if (rs.nee && m.bsdf.has_non_delta())
+            direct_light(v, geom, rand(ws, slot, kDimLightSelect), rand2(ws, slot, kDimLight),
+                         rand(ws, slot, kDimLight + 2), 0, ws);
         BsdfSample bs;
         const BsdfContext bctx{sp.front_face, Transport::Radiance};
         if (!m.bsdf.sample(v.wo, rand(ws, slot, kDimBsdf), rand2(ws, slot, kDimBsdf + 1), bctx, bs))
@@ -271,6 +262,23 @@ class VolPathIntegrator : public CameraIntegrator {
         ws.eta_scale[slot] *= bs.eta * bs.eta;
         ws.medium[slot] = medium_after(ctx_.scene, geom, sp, wi, ws.medium[slot]);
         go_on(slot, sp.p, sp.ng, offset_origin(sp, wi), wi, bs.pdf, bs.is_delta(), ws);
+    }
+
+    // Next event estimation at surface point v of object geom: a light sample's shadow ray,
+    // through the medium on the side it leaves to; `which` tells a vertex's samples apart in
+    // the shadow ray's numbers.
+    void direct_light(const ShadingPoint& v, uint32_t geom, float u_pick, Point2 u_light,
+                      float u_tri, uint64_t which, VolPathWorkspace& ws) const {
+        LightPick pick;
+        DirectSample ds;
+        const uint32_t slot = v.slot;
+        if (ctx_.lights.empty() || !ctx_.lights.pick(u_pick, v.sp.p, v.sp.ng, pick) ||
+            !sample_light(ctx_.lights, {pick.light, pick.pmf, u_light, u_tri, pick.tri}, v,
+                          kDiffuse | kGlossy, mis_, 1.f, ds))
+            return;
+        ws.shadow.push(ds.origin, ds.dir, ds.tmax,
+                       medium_after(ctx_.scene, geom, v.sp, ds.dir, ws.medium[slot]), slot,
+                       ds.value, rng::hash(ws.keys[slot], ws.vertices[slot], which, 0));
     }
 
     // Light the path sent into a subsurface material at `entry` comes out at a probe's exit
@@ -291,14 +299,7 @@ class VolPathIntegrator : public CameraIntegrator {
         const Material& exit = exits_[std::size_t(m.subsurface)];
         // Seen from outside along the normal: the exit BSDF's frame is the outward normal's.
         const ShadingPoint v(ex.sp, exit, -ex.sp.ns, beta, slot, ws.vertices[slot], ws.keys[slot]);
-        LightPick pick;
-        DirectSample ds;
-        if (ctx_.settings.nee && !ctx_.lights.empty() &&
-            ctx_.lights.pick(u[4], ex.sp.p, ex.sp.ng, pick) &&
-            sample_light(ctx_.lights, {pick.light, pick.pmf, {u[5], u[6]}, u[7], pick.tri}, v,
-                         kDiffuse | kGlossy, mis_, 1.f, ds))
-            ws.shadow.push(ds.origin, ds.dir, ds.tmax, ws.medium[slot], slot, ds.value,
-                           rng::hash(ws.keys[slot], ws.vertices[slot], 1, 0));
+        if (ctx_.settings.nee) direct_light(v, ex.geom, u[4], {u[5], u[6]}, u[7], 1, ws);
         BsdfSample bs;
         if (!exit.bsdf.sample(v.wo, u[8], {u[9], u[10]}, BsdfContext{true, Transport::Radiance},
                               bs))
