@@ -397,18 +397,19 @@ TEST_CASE("foton render and info read pbrt-v4 files, bad ones exit 2 with no ima
     foton::test::TempDir dir;
     const std::string good = dir.file("ok.pbrt");
     std::ofstream(good) << "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"perspective\"\n"
-                           "PixelFilter \"gaussian\"\nWorldBegin\n"
+                           "PixelFilter \"mitchell\"\nWorldBegin\n"
                            "LightSource \"point\" \"rgb I\" [5 5 5] \"point3 from\" [0 2 -2]\n"
                            "Shape \"sphere\"\n";
     const Run r =
         run("render " + good + " --width 16 --height 16 --spp 1 -o " + dir.file("ok.exr"));
     CHECK(r.code == 0);
-    CHECK_THAT(r.output, Catch::Contains("warning: " + good + ":3: PixelFilter \"gaussian\""));
+    CHECK_THAT(r.output, Catch::Contains("warning: " + good + ":3: PixelFilter \"mitchell\""));
     CHECK(std::filesystem::exists(dir.file("ok.exr")));
     const Run i = run("info " + good);
     CHECK(i.code == 0);
     CHECK_THAT(i.output, Catch::Contains("imported   Camera perspective;"));
     CHECK_THAT(i.output, Catch::Contains("ignored    " + good + ":3:"));
+    CHECK_THAT(i.output, Catch::Contains("filter gaussian, radius 1.5 x 1.5, sigma 0.5"));
     const std::string bad = dir.file("bad.pbrt");
     std::ofstream(bad) << "WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]\n";
     const Run b = run("render " + bad + " -o " + dir.file("bad.exr"));

@@ -36,13 +36,12 @@ Scene world(const std::string& options, const std::string& world) {
 // The head of a pbrt file that sees the unit square z = 0 head-on through an orthographic
 // camera at `res` x `res` pixels under irradiance pi: a Lambertian surface there shows its
 // albedo as its radiance.
-std::string head_on_unit_square(int res) {
+std::string head_on_unit_square(int res, const std::string& options = "") {
     const std::string r = std::to_string(res);
     return "Scale -1 1 1\nLookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\n"
            "Camera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
            "Film \"rgb\" \"integer xresolution\" " +
-           r + " \"integer yresolution\" " + r +
-           "\n"
+           r + " \"integer yresolution\" " + r + "\n" + options +
            "Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\n"
            "LightSource \"distant\" \"point3 from\" [0 0 1] \"point3 to\" [0 0 0] "
            "\"rgb L\" [3.14159265 3.14159265 3.14159265]\n";
@@ -369,7 +368,7 @@ TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
 }
 
 TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fast]") {
-    const Scene s = world(R"(PixelFilter "gaussian"
+    const Scene s = world(R"(PixelFilter "mitchell"
         Sampler "pmj02bn" "integer pixelsamples" 8
         Integrator "volpath" "integer maxdepth" 3 "float foo" 1)",
                           R"(Material "diffuse" "float sigma" [ 0 ]
@@ -379,7 +378,7 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
             if (w.find(text) != std::string::npos) return true;
         return false;
     };
-    CHECK(has("test.pbrt:1: PixelFilter \"gaussian\""));
+    CHECK(has("test.pbrt:1: PixelFilter \"mitchell\""));
     CHECK(has("test.pbrt:2: Sampler \"pmj02bn\""));
     CHECK(has("test.pbrt:3: unsupported parameter 'float foo' of Integrator \"volpath\""));
     CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));
@@ -627,7 +626,7 @@ TEST_CASE("textures: a textured quad renders the texture's colours", "[texture][
         f.write(reinterpret_cast<const char*>(px), sizeof px);
         // Irradiance pi on a Lambertian quad: its radiance is its albedo, texel by texel.
         std::ofstream(dir.file("quad.pbrt"))
-            << head_on_unit_square(64) +
+            << head_on_unit_square(64, "PixelFilter \"box\"\n") +
                    "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"t.ppm\"\n"
                    "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 "
                    "\"float vscale\" 4 \"rgb tex1\" [0.8 0.8 0.8] \"rgb tex2\" [0.1 0.2 0.3]\n"
@@ -646,7 +645,7 @@ TEST_CASE("textures: a textured quad renders the texture's colours", "[texture][
                    "Material \"mix\" \"string materials\" [\"a\" \"b\"] \"float amount\" 0.5\n";
     }
     CHECK_THROWS_WITH(load_scene(dir.file("quad.pbrt")),
-                      Catch::Contains("quad.pbrt:18: a mix of two differently textured"));
+                      Catch::Contains("quad.pbrt:19: a mix of two differently textured"));
     // Without the last line: the quad in front (the checkerboard plane behind it is hidden).
     {
         std::ifstream in(dir.file("quad.pbrt"));

@@ -106,8 +106,9 @@ bool Camera::project(const Vec3& p, float& fx, float& fy) const {
     const float px = dot(q, u) * d / z, py = dot(q, v) * d / z;
     fx = px / pixel_size + 0.5f * float(width);
     fy = 0.5f * float(height) - py / pixel_size;
-    return fx >= float(x0) && fy >= float(y0) && fx < float(x0 + film_w()) &&
-           fy < float(y0 + film_h());
+    const float m = film_margin;
+    return fx >= float(x0) - m && fy >= float(y0) - m && fx < float(x0 + film_w()) + m &&
+           fy < float(y0 + film_h()) + m;
 }
 
 float Camera::importance(float cos_theta, float dist) const {

@@ -362,8 +362,8 @@ std::string Scene::summary() const {
                   camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
                   camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
     s += buf;
-    std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g\n", film.width, film.height,
-                  film.gamma);
+    std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g, filter %s\n", film.width,
+                  film.height, film.gamma, film.filter.describe().c_str());
     s += buf;
     if (!imported.empty()) {
         s += "imported  ";

@@ -13,6 +13,7 @@
 #include "engine/core/params.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
+#include "engine/film/pixel_filter.h"
 #include "environment.h"
 #include "light.h"
 #include "material.h"
@@ -82,8 +83,16 @@ struct FilmSettings {
     // of full_width x full_height (equal to width x height without a crop).
     int x0 = 0, y0 = 0;
     int full_width = 512, full_height = 512;
+    // How the pixels reconstruct the image (the 1-pixel box unless the scene asks).
+    PixelFilter filter;
 
     bool cropped() const { return width != full_width || height != full_height; }
+    // Calls add(film pixel index, weight) for each film pixel a splat at image position
+    // (fx, fy) reaches through the filter.
+    template <class Add>
+    void spread(float fx, float fy, Add&& add) const {
+        filter.spread(fx, fy, x0, y0, width, height, add);
+    }
     // The pixel's index in the full image: random streams are keyed by it, so a crop renders
     // exactly the pixels of the full image.
     uint64_t pixel_id(uint32_t x, uint32_t y) const {
@@ -213,6 +222,11 @@ struct Scene {
     bool vertical_fov_fixed = false;
     // Renders only pixels [x0, x1) x [y0, y1) of the image (after set_resolution).
     void set_crop(int x0, int x1, int y0, int y1);
+    // The pixel filter, and how far off the film the camera projects for it.
+    void set_filter(const PixelFilter& f) {
+        film.filter = f;
+        camera.film_margin = f.margin();
+    }
 };
 
 }  // namespace foton

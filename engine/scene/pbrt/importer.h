@@ -217,6 +217,8 @@ class Importer {
     std::string camera_file_;
     int width_ = 1280, height_ = 720;
     std::optional<std::array<int, 4>> crop_;  // x0 x1 y0 y1
+    // The film's reconstruction filter: pbrt-v4's default Gaussian unless PixelFilter says.
+    PixelFilter pixel_filter_ = PixelFilter::gaussian(1.5f, 1.5f, 0.5f);
 
     std::vector<std::string> warnings_;
     std::map<std::string, int> imported_;

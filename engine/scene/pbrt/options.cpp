@@ -245,15 +245,36 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
 }
 
 void Importer::pixel_filter(const Token& t, const std::string& type, const ParamList& p) {
-    const float xr = p.real("xradius", 0.5f), yr = p.real("yradius", 0.5f);
-    if (type != "box" || xr != 0.5f || yr != 0.5f)
+    // pbrt-v4's radius for each type when the file gives none.
+    const float fallback = type == "box" ? 0.5f : type == "gaussian" ? 1.5f : 2.f;
+    const float xr = p.real("xradius", fallback), yr = p.real("yradius", fallback);
+    if (!(xr > 0.f && yr > 0.f && xr <= 16.f && yr <= 16.f))
+        fail(t, "PixelFilter xradius and yradius must be in (0, 16] pixels");
+    if (type == "box") {
+        pixel_filter_ = PixelFilter::box(xr, yr);
+    } else if (type == "triangle") {
+        pixel_filter_ = PixelFilter::triangle(xr, yr);
+    } else if (type == "gaussian") {
+        const float sigma = p.real("sigma", 0.5f);
+        if (!(sigma > 0.f)) fail(t, "PixelFilter \"gaussian\": sigma must be positive");
+        pixel_filter_ = PixelFilter::gaussian(xr, yr, sigma);
+    } else if (type == "mitchell" || type == "lanczos") {
+        // Negative lobes would need signed sample weights (pixel_filter.h).
         warn(file(), t.line,
-             "PixelFilter \"" + type + "\": foton reconstructs with the 1-pixel box filter");
-    for (const Param& q : p.params) q.used = true;
+             "PixelFilter \"" + type +
+                 "\" is reconstructed with pbrt-v4's default Gaussian (radius 1.5, sigma 0.5): "
+                 "foton's filters are box, triangle and gaussian");
+        for (const Param& q : p.params) q.used = true;
+        pixel_filter_ = PixelFilter::gaussian(1.5f, 1.5f, 0.5f);
+    } else {
+        fail(t, "unknown PixelFilter '" + type + "' (box, triangle, gaussian, mitchell, lanczos)");
+    }
+    warn_unused(p, "PixelFilter \"" + type + "\"");
     count("PixelFilter " + type);
 }
 
 void Importer::finish_camera() {
+    scene_.set_filter(pixel_filter_);
     Camera& c = scene_.camera;
     const Affine world_from_camera = camera_from_world_.inverse();
     const Vec3 eye = world_from_camera.point({0, 0, 0});

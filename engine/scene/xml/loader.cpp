@@ -74,6 +74,7 @@ Scene Loader::run() {
     // Media before the camera and the objects, which name them.
     if (const auto n = root.child("media")) parse_media(n);
     parse_camera(child(root, "camera"));
+    scene_.set_filter(scene_.film.filter);  // the camera projects as far as it reaches
     if (const auto n = root.child("lights")) parse_lights(n);
     if (scene_.environment && root.child("background"))
         fail(root.child("background"),
@@ -88,7 +89,10 @@ Scene Loader::run() {
 }
 
 void Loader::parse_film(const pugi::xml_node& n) {
-    check(n, {"width", "height", "size", "gamma", "max_sample_value"}, {});
+    check(n,
+          {"width", "height", "size", "gamma", "max_sample_value", "filter", "filter_radius",
+           "filter_sigma"},
+          {});
     FilmSettings& f = scene_.film;
     f.width = int(count(n, "width", 512));
     f.height = int(count(n, "height", 512));
@@ -98,6 +102,22 @@ void Loader::parse_film(const pugi::xml_node& n) {
     f.pixel_size = positive(n, "size", 0.001f);
     f.gamma = positive(n, "gamma", 2.2f);
     if (n.attribute("max_sample_value")) f.max_sample_value = positive(n, "max_sample_value", 1.f);
+    // The pixel filter (pixel_filter.h), the thesis' 1-pixel box unless asked; radii as
+    // pbrt-v4's defaults.
+    const std::string filter = n.attribute("filter") ? n.attribute("filter").value() : "box";
+    if (filter != "box" && filter != "triangle" && filter != "gaussian")
+        fail(n, "unknown filter '" + filter + "' (box, triangle, gaussian)");
+    const float r = positive(n, "filter_radius",
+                             filter == "box"        ? 0.5f
+                             : filter == "gaussian" ? 1.5f
+                                                    : 2.f);
+    if (r > 16.f) fail(n, "filter_radius must be at most 16 pixels");
+    if (filter == "gaussian") {
+        f.filter = PixelFilter::gaussian(r, r, positive(n, "filter_sigma", 0.5f));
+    } else {
+        if (n.attribute("filter_sigma")) fail(n, "filter_sigma belongs to filter=\"gaussian\"");
+        f.filter = filter == "box" ? PixelFilter::box(r, r) : PixelFilter::triangle(r, r);
+    }
 }
 
 // The <renderer> attributes, and those of its <adaptive> element as adaptive_*, become

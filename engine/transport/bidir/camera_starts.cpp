@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/film_splats.h"
 
 namespace foton {
 
@@ -12,12 +13,12 @@ void start_camera_rays(const VcmContext& c, uint32_t first, uint32_t count,
     const FilmSettings& film = scene.film;
     ws.path.resize(count);
     if (c.primary) {
+        const FilmDomain domain(film);
         for (uint32_t k = 0; k < count; ++k) {
             PrimaryVector& v = *c.primary[first + k];
-            const float fx = v.get(0) * float(film.width), fy = v.get(1) * float(film.height);
+            const FilmPoint at = domain.at(film, v.get(0), v.get(1));
             Vec3 o, d;
-            scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy, {v.get(2), v.get(3)}, o,
-                                  d);
+            scene.camera.generate(at.x, at.y, {v.get(2), v.get(3)}, o, d);
             ws.rays.push(o, d, 0.f, kInfinity, k);
             ws.path[k] = first + k;
         }

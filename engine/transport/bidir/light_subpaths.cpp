@@ -6,6 +6,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/warp.h"
 #include "engine/scene/medium.h"
+#include "engine/transport/common/film_splats.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
 
@@ -33,6 +34,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
     };
     ws.rays.clear();
     ws.joins.clear();
+    ws.shadow_at.clear();
     ws.local.clear();
     ws.beta.assign(count, RGB{0.f});
     ws.mis.assign(count, {});
@@ -155,11 +157,12 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
         const int32_t med =
             media.on && sp ? medium_after(scene, geom, *sp, wc, media.medium[slot]) : medium;
         ws.joins.push(media.on, {sp ? offset_origin(*sp, wc) : p, wc, dist * (1.f - 1e-4f)}, med,
-                      cam.film_pixel(fx, fy), value,
+                      uint32_t(ws.shadow_at.size()), value,
                       c.primary      ? first + slot
                       : splat_layers ? c.layers.of(int(len) + 1, 1)
                                      : 0u,
                       rng::hash(path_key(slot), 0x11, len, 0));
+        ws.shadow_at.push_back({fx, fy});
     };
     // A flight of path `slot` scattered at p in medium mi, the ray having come along d.
     auto medium_vertex = [&](uint32_t slot, uint32_t depth, const Vec3& p, const Vec3& d,
@@ -277,9 +280,10 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
     for (uint32_t i : order) out.push(v, i);
 
     ws.joins.resolve(media.on, scene, c.accel, c.seed, stats, clock,
-                     [&](uint32_t pixel, uint32_t layer, const RGB& value) {
-                         splats.push_back({pixel, value});
-                         if (splat_layers) splat_layers->push_back(layer);
+                     [&](uint32_t at, uint32_t layer, const RGB& value) {
+                         push_splats(scene.film, ws.shadow_at[at], value, splats);
+                         // Every pixel the filter spread it to keeps its strategy's layer.
+                         if (splat_layers) splat_layers->resize(splats.size(), layer);
                      });
 }
 

@@ -25,7 +25,7 @@ struct LightSubpathWorkspace : LightTracerWorkspace {
     std::vector<uint8_t> infinite;
     LightVertices local;  // the chunk's vertices in wavefront order
     SubpathMedia media;
-    JoinRays joins;  // the joins to the camera: slot = the film pixel
+    JoinRays joins;  // the joins to the camera: slot = their film point in shadow_at
 };
 
 // Traces light paths [first, first + count) of the iteration; appends their vertices, path

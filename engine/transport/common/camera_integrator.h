@@ -108,8 +108,10 @@ inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
     const std::size_t stride = table.size() / 2;
     for (uint32_t slot = 0; slot < jobs.size(); ++slot) {
         const SampleJob& j = jobs[slot];
-        const Point2 px = tabled ? Point2{table[slot], table[stride + slot]}
-                                 : pixel_sample(scene, sampler, j, seed);
+        // The sampler's point in the pixel, moved by the pixel filter's importance.
+        const Point2 px =
+            scene.film.filter.pixel_position(tabled ? Point2{table[slot], table[stride + slot]}
+                                                    : pixel_sample(scene, sampler, j, seed));
         const Point2 lens = {rng::uniform(seed, kLensStream, j.id, 0),
                              rng::uniform(seed, kLensStream, j.id, 1)};
         Vec3 o, d;

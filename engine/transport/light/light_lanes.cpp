@@ -56,11 +56,11 @@ void LightTracer::shade_lanes(uint64_t first, uint32_t depth, LightTracerWorkspa
             if (connect[k] != 0.f) {
                 const Vec3 p = L.get3(kern::kDvPx, k), wc = L.get3(kern::kDvSdx, k);
                 const Vec3 v = L.get3(kern::kDvSvR, k);
-                uint32_t pixel;
+                FilmPoint at;
                 RGB splat;
-                if (to_film(p, wc, length(cam.eye - p), RGB{v.x, v.y, v.z}, pixel, splat))
+                if (to_film(p, wc, length(cam.eye - p), RGB{v.x, v.y, v.z}, at, splat))
                     push_connection(L.get3(kern::kDvSox, k), wc, L.col(kern::kDvStmax)[k], splat,
-                                    pixel, slot, ws);
+                                    at, slot, ws);
             }
             if (continues && next[k] != 0.f) {
                 const Vec3 b = L.get3(kern::kDvNbetaR, k);

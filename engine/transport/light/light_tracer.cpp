@@ -4,6 +4,7 @@
 
 #include "engine/core/warp.h"
 #include "engine/transport/common/camera_integrator.h"
+#include "engine/transport/common/film_splats.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
 
@@ -26,13 +27,10 @@ float LightTracer::rand(uint64_t path, uint32_t dim) const {
 }
 
 bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
-                   uint32_t& pixel, RGB& splat) {
-    float fx, fy;
-    if (!cam.project(p, fx, fy)) return false;
+                   FilmPoint& at, RGB& splat) {
+    if (!cam.project(p, at.x, at.y)) return false;
     splat = value * cam.importance(-dot(wc, cam.w), dist);
-    if (splat.is_black()) return false;
-    pixel = cam.film_pixel(fx, fy);
-    return true;
+    return !splat.is_black();
 }
 
 bool continue_light_path(const Bsdf& bsdf, const warp::Frame& frame, const Vec3& wo,
@@ -61,15 +59,15 @@ bool emitting_point_to_eye(const Emitter& em, const EmittedRay& er, const Vec3& 
 }
 
 bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
-                          uint32_t& pixel, RGB& splat) const {
-    return splat_on_film(ctx_.scene.camera, p, wc, dist, value, pixel, splat);
+                          FilmPoint& at, RGB& splat) const {
+    return splat_on_film(ctx_.scene.camera, p, wc, dist, value, at, splat);
 }
 
 void LightTracer::push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,
-                                  uint32_t pixel, uint32_t slot, LightTracerWorkspace& ws) const {
+                                  FilmPoint at, uint32_t slot, LightTracerWorkspace& ws) const {
     ws.shadow.push(o, wc, 0.f, tmax, slot);
     ws.shadow_value.push_back(splat);
-    ws.shadow_pixel.push_back(pixel);
+    ws.shadow_at.push_back(at);
 }
 
 void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
@@ -103,11 +101,11 @@ void LightTracer::shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
         if (m.bsdf.side_allowed(wc, sp.ng)) {
             const float c_ng = std::fabs(dot(wc, sp.ng));
             const RGB f = m.bsdf.f(wo, frame.to_local(wc), ctx);
-            uint32_t pixel;
+            FilmPoint at;
             RGB splat;
-            if (!f.is_black() && to_film(sp.p, wc, dist, beta * f * (adj * c_ng), pixel, splat)) {
+            if (!f.is_black() && to_film(sp.p, wc, dist, beta * f * (adj * c_ng), at, splat)) {
                 const Vec3 o = offset_origin(sp, wc);
-                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, pixel, slot, ws);
+                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, at, slot, ws);
             }
         }
     }
@@ -132,7 +130,7 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
     ws.rays.clear();
     ws.shadow.clear();
     ws.shadow_value.clear();
-    ws.shadow_pixel.clear();
+    ws.shadow_at.clear();
     ws.beta.assign(count, RGB{0.f});
 
     for (uint32_t k = 0; k < count; ++k) {
@@ -151,10 +149,10 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
             const Vec3 wc = to / dist;
             RGB value, splat;
             Vec3 o;
-            uint32_t pixel;
+            FilmPoint at;
             if (emitting_point_to_eye(em, er, wc, value, o) &&
-                to_film(es.p, wc, dist, value, pixel, splat))
-                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, pixel, k, ws);
+                to_film(es.p, wc, dist, value, at, splat))
+                push_connection(o, wc, length(cam.eye - o) * (1.f - 1e-4f), splat, at, k, ws);
         }
         ws.beta[k] = er.beta;
         ws.rays.push(er.origin, es.dir, 0.f, kInfinity, k);
@@ -188,7 +186,8 @@ void LightTracer::trace(uint64_t first, uint32_t count, LightTracerWorkspace& ws
         stats.shadow_rays += ws.shadow.size();
         stats.add(Stage::Occlusion, ws.shadow.size(), clock);
         for (std::size_t i = 0; i < ws.shadow.size(); ++i)
-            if (!ws.occluded[i]) splats.push_back({ws.shadow_pixel[i], ws.shadow_value[i]});
+            if (!ws.occluded[i])
+                push_splats(ctx_.scene.film, ws.shadow_at[i], ws.shadow_value[i], splats);
     }
 }
 

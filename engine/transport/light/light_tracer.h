@@ -28,7 +28,7 @@ namespace foton {
 inline constexpr uint32_t kLightDimFirstBounce = 8, kLightDimsPerBounce = 4;
 
 struct LightTracerWorkspace : WavefrontBuffers {
-    std::vector<uint32_t> shadow_pixel;  // the film pixel each shadow ray's splat lands on
+    std::vector<FilmPoint> shadow_at;  // where on the film each shadow ray's splat lands
     // A bounce's hits the importance kernel shades (batch entries), by glossy kind first so
     // that a register's lanes mostly run one lobe's code, and their lanes.
     std::vector<uint32_t> kernel_groups[kKernelGroups], kernel_entries;
@@ -36,9 +36,10 @@ struct LightTracerWorkspace : WavefrontBuffers {
 };
 
 // What a connection from p (unit direction wc to the pinhole eye at distance dist) carrying
-// `value` adds, and to which pixel; false when p projects off the film or nothing arrives.
+// `value` adds, and where on the film (the pixel filter spreads it from there); false when p
+// projects off the film or nothing arrives.
 bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
-                   uint32_t& pixel, RGB& splat);
+                   FilmPoint& at, RGB& splat);
 
 // A light path's emitting point seen from the eye along wc (unit, from the point towards the
 // eye): what it sends there, es.Le cos / (pmf pdf_pos), and the shadow ray's origin pushed off
@@ -66,17 +67,17 @@ class LightTracer {
   private:
     float rand(uint64_t path, uint32_t dim) const;
     // What a connection from p (unit direction wc to the eye at distance dist) carrying
-    // `value` adds, and to which pixel; false when p projects off the film or nothing
+    // `value` adds, and where on the film; false when p projects off the film or nothing
     // arrives.
-    bool to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value, uint32_t& pixel,
+    bool to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value, FilmPoint& at,
                  RGB& splat) const;
     // The scalar vertex of a hit (light_tracer.cpp) and the kernel's lanes (light_lanes.cpp):
     // the connection to the eye into the shadow batch, the continuation into `next`.
     void shade_vertex(uint64_t first, uint32_t depth, std::size_t i,
                       LightTracerWorkspace& ws) const;
     void shade_lanes(uint64_t first, uint32_t depth, LightTracerWorkspace& ws) const;
-    void push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,
-                         uint32_t pixel, uint32_t slot, LightTracerWorkspace& ws) const;
+    void push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat, FilmPoint at,
+                         uint32_t slot, LightTracerWorkspace& ws) const;
 
     const RenderContext ctx_;
     const KernelMaterials kernels_;  // enabled: the settings let the kernel shade

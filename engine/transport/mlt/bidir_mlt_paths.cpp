@@ -11,6 +11,7 @@
 #include "engine/scene/light_set.h"
 #include "engine/transport/bidir/camera_subpaths.h"
 #include "engine/transport/bidir/light_subpaths.h"
+#include "engine/transport/common/film_splats.h"
 #include "mlt_paths.h"
 
 namespace foton {
@@ -61,8 +62,8 @@ class BidirMltPaths : public MltPaths {
         kernels_.enabled = ctx.settings.simd_shading;
         vcm_.kernels = &kernels_;
         // A light path's join, one of N, is 1 / N of a pixel sample of its pixel; a vector is
-        // a sample of the whole film (its pixels').
-        join_scale_ = n / float(scene.film.width * scene.film.height);
+        // a sample of the whole film (its pixels', widened by the filter's reach).
+        join_scale_ = float(double(n) / FilmDomain(scene.film).area());
     }
     uint32_t dims() const override {
         // Camera numbers: 8 per bounce; light numbers: 8 to start and 6 per bounce.
@@ -93,14 +94,16 @@ class BidirMltPaths : public MltPaths {
         for (uint32_t k = 0; k < uint32_t(s.splats.size()); ++k)
             s.joins_of[s.splat_paths[k]].push_back(k);
         const FilmSettings& film = ctx_.scene.film;
+        const FilmDomain domain(film);
         b.clear_results();
         for (uint32_t i = 0; i < n; ++i) {
             PrimaryVector& v = *b.v[i];
-            const int px = std::min(int(v.get(0) * float(film.width)), film.width - 1),
-                      py = std::min(int(v.get(1) * float(film.height)), film.height - 1);
+            const FilmPoint at = domain.at(film, v.get(0), v.get(1));
             const RGB& L = s.radiance[i];
             if (L.is_finite() && !L.is_black())
-                b.contrib.push_back({uint32_t(py) * uint32_t(film.width) + uint32_t(px), L});
+                film.spread(at.x, at.y, [&](uint32_t pixel, float w) {
+                    b.contrib.push_back({pixel, L * w});
+                });
             for (const uint32_t k : s.joins_of[i]) {
                 const RGB value = s.splats[k].value * join_scale_;
                 if (value.is_finite() && !value.is_black())

@@ -15,6 +15,7 @@
 #include "engine/core/rng_streams.h"
 #include "engine/core/thread_pinning.h"
 #include "engine/scene/light_set.h"
+#include "engine/transport/common/film_splats.h"
 #include "engine/transport/run/pass_control.h"
 #include "engine/transport/run/stage_graph.h"
 #include "mlt_paths.h"
@@ -165,13 +166,13 @@ class Chains {
         ++steps_;
     }
 
-    // The image so far: b (from the bootstrap and every large step) times the pixels over the
-    // mutations (each one sample of the image's integral over [0,1)^2, of which a pixel covers
-    // 1 / pixels) times the splats.
-    void image(Film& film) const {
+    // The image so far: b (from the bootstrap and every large step) times the film domain's
+    // area in pixels over the mutations (each one sample of the image's integral over
+    // [0,1)^2, of which a pixel covers 1 / area) times the splats.
+    void image(Film& film, double domain_area) const {
         const double b = n_f_ > 0 ? sum_f_ / double(n_f_) : 0.0;
         const double mutations = double(steps_) * double(ms_.chains);
-        const double scale = steps_ > 0 ? b * double(film.pixels.size()) / mutations : 0.0;
+        const double scale = steps_ > 0 ? b * domain_area / mutations : 0.0;
         for (std::size_t p = 0; p < film.pixels.size(); ++p)
             film.pixels[p] = RGB(float(acc_[3 * p] * scale), float(acc_[3 * p + 1] * scale),
                                  float(acc_[3 * p + 2] * scale));
@@ -292,7 +293,7 @@ RenderResult render_mlt(const Scene& scene, const RenderSettings& settings,
     const ProgressTask task = control.task("mlt mutations", per_pass);
     auto image = [&] {
         Film f(w, h);
-        chains.image(f);
+        chains.image(f, FilmDomain(scene.film).area());
         return f;
     };
     const uint32_t passes = control.run(

@@ -2,6 +2,7 @@
 // numbers the path tracer draws per bounce (path_sampler.h's `primary` kind).
 #include <algorithm>
 
+#include "engine/transport/common/film_splats.h"
 #include "engine/transport/common/path_sampler.h"
 #include "engine/transport/path/path.h"
 #include "mlt_paths.h"
@@ -16,7 +17,7 @@ struct PathScratch : MltScratch {
     std::vector<PathSampler> samplers;
     std::vector<uint64_t> keys;
     std::vector<RGB> radiance;
-    std::vector<uint32_t> pixel;
+    std::vector<FilmPoint> at;  // each vector's film position
 };
 
 class PathMltPaths : public MltPaths {
@@ -38,17 +39,14 @@ class PathMltPaths : public MltPaths {
         const std::size_t n = b.size();
         s.rays.clear();
         s.samplers.resize(n);
-        s.pixel.resize(n);
+        s.at.resize(n);
         s.keys.assign(b.keys.begin(), b.keys.begin() + std::ptrdiff_t(n));
+        const FilmDomain domain(film);
         for (std::size_t i = 0; i < n; ++i) {
             PrimaryVector& v = *b.v[i];
-            const float fx = v.get(0) * float(film.width), fy = v.get(1) * float(film.height);
-            const int px = std::min(int(fx), film.width - 1),
-                      py = std::min(int(fy), film.height - 1);
-            s.pixel[i] = uint32_t(py) * uint32_t(film.width) + uint32_t(px);
+            s.at[i] = domain.at(film, v.get(0), v.get(1));
             Vec3 o, d;
-            ctx_.scene.camera.generate(float(film.x0) + fx, float(film.y0) + fy,
-                                       {v.get(2), v.get(3)}, o, d);
+            ctx_.scene.camera.generate(s.at[i].x, s.at[i].y, {v.get(2), v.get(3)}, o, d);
             s.rays.push(o, d, 0.f, kInfinity, uint32_t(i));
             s.samplers[i] = PathSampler::primary(&v, 4, s.keys[i], ctx_.seed);
         }
@@ -56,7 +54,10 @@ class PathMltPaths : public MltPaths {
         b.clear_results();
         for (std::size_t i = 0; i < n; ++i) {
             const RGB& L = s.radiance[i];
-            if (L.is_finite() && !L.is_black()) b.contrib.push_back({s.pixel[i], L});
+            if (L.is_finite() && !L.is_black())
+                film.spread(s.at[i].x, s.at[i].y, [&](uint32_t pixel, float w) {
+                    b.contrib.push_back({pixel, L * w});
+                });
             b.close(i);
         }
     }

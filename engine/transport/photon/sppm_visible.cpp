@@ -22,7 +22,8 @@ void VisiblePoints::trace_row(uint64_t pass, uint64_t light_pass, uint32_t y, Sp
     work.beta.assign(w, RGB{1.f});
     for (uint32_t x = 0; x < w; ++x) {
         const uint64_t pixel = ctx_.scene.film.pixel_id(x, y);
-        const Point2 j = {rand(pass, pixel, 0), rand(pass, pixel, 1)};
+        const Point2 j =
+            ctx_.scene.film.filter.pixel_position({rand(pass, pixel, 0), rand(pass, pixel, 1)});
         Vec3 o, d;
         ctx_.scene.camera.generate(float(int(x) + ctx_.scene.film.x0) + j.x,
                                    float(int(y) + ctx_.scene.film.y0) + j.y,

@@ -5,6 +5,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
 #include "engine/core/warp.h"
+#include "engine/transport/common/film_splats.h"
 #include "engine/transport/common/medium_locate.h"
 #include "engine/transport/common/medium_tracking.h"
 #include "engine/transport/common/surface.h"
@@ -29,12 +30,12 @@ void VolumeLightTracer::connect(const Vec3& p, const Vec3& o, int32_t medium, co
     const float dist = length(to);
     if (!(dist > 0.f)) return;
     const Vec3 wc = to / dist;
-    uint32_t pixel;
+    FilmPoint at;
     RGB splat;
-    if (!splat_on_film(cam, p, wc, dist, value, pixel, splat)) return;
-    const uint32_t slot = uint32_t(ws.shadow_pixel.size());
+    if (!splat_on_film(cam, p, wc, dist, value, at, splat)) return;
+    const uint32_t slot = uint32_t(ws.shadow_at.size());
     ws.shadow.push(o, wc, length(cam.eye - o) * (1.f - 1e-4f), medium, slot, splat, key);
-    ws.shadow_pixel.push_back(pixel);
+    ws.shadow_at.push_back(at);
 }
 
 template <class Uniform>
@@ -94,7 +95,7 @@ void VolumeLightTracer::trace(uint64_t first, uint32_t count, VolumeLightWorkspa
     const uint64_t prefix = rng::stream_prefix(ctx_.seed, kVolumeLightStream);
     ws.rays.clear();
     ws.shadow.clear();
-    ws.shadow_pixel.clear();
+    ws.shadow_at.clear();
     ws.beta.assign(count, RGB{0.f});
     ws.medium.assign(count, kNoMedium);
     ws.bounces.assign(count, 0);
@@ -169,11 +170,12 @@ void VolumeLightTracer::trace(uint64_t first, uint32_t count, VolumeLightWorkspa
     }
     // The connections, through the media on the way; splats in connection order.
     if (!ws.shadow.empty()) {
-        ws.arrived.assign(ws.shadow_pixel.size(), RGB{0.f});
+        ws.arrived.assign(ws.shadow_at.size(), RGB{0.f});
         ws.shadow.resolve(scene, ctx_.accel, TransmittanceEstimator::Exact, ctx_.seed, ws.arrived,
                           stats, clock);
         for (std::size_t i = 0; i < ws.arrived.size(); ++i)
-            if (!ws.arrived[i].is_black()) splats.push_back({ws.shadow_pixel[i], ws.arrived[i]});
+            if (!ws.arrived[i].is_black())
+                push_splats(scene.film, ws.shadow_at[i], ws.arrived[i], splats);
     }
 }
 

@@ -31,9 +31,9 @@ struct VolumeLightWorkspace {
     std::vector<uint32_t> bounces, crossings, draws;
     GridFlights flights;  // a round's flights through grid media, as one batch
     std::vector<int32_t> flight_of;
-    // The connections to the eye: one slot each, the pixel it lands on and what arrived.
+    // The connections to the eye: one slot each, where on the film it lands and what arrived.
     MediumShadowRays shadow;
-    std::vector<uint32_t> shadow_pixel;
+    std::vector<FilmPoint> shadow_at;
     std::vector<RGB> arrived;
 };
 
