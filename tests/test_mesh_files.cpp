@@ -5,6 +5,8 @@
 // file and line (or glTF object).
 #include <stb/stb_image_write.h>
 
+#include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -84,7 +86,7 @@ TEST_CASE("OBJ + MTL: materials by face and a textured half render as the file s
     // Left half [0, 0.5] textured (uv = position), right half flat blue-green.
     std::ofstream(dir.file("quad.mtl"))
         << "# made by the test\nnewmtl tex\nKd 1 1 1\nmap_Kd t.png\n"
-        << "Ka 0.1 0.1 0.1\nmap_Bump bump.png\n"
+        << "Ka 0.1 0.1 0.1\nmap_Ks spec.png\n"
         << "newmtl flat\nKd 0.2 0.4 0.6\nillum 1\nPs 0.5\n";
     std::ofstream(dir.file("quad.obj"))
         << "mtllib quad.mtl\n"
@@ -104,7 +106,7 @@ TEST_CASE("OBJ + MTL: materials by face and a textured half render as the file s
         return false;
     };
     CHECK(warned("quad.mtl:5: 'Ka' ignored"));
-    CHECK(warned("quad.mtl:6: 'map_Bump' ignored"));
+    CHECK(warned("quad.mtl:6: 'map_Ks' ignored"));
     CHECK(warned("quad.mtl:10: unknown MTL statement 'Ps' ignored"));
     const TextureImage& img = s.texture_images[0];
     const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
@@ -360,6 +362,72 @@ TEST_CASE("glTF and MTL: normal maps are read linearly and set the material's ma
     CHECK(m.at("n").normal_map == dir.file("t.png"));
     const Material mtl = s.materials[add_file_material(s, m.at("n"), MeshFile{}, images)];
     CHECK(mtl.normal_map >= 0);
+}
+
+TEST_CASE("MTL: map_Bump is a height map or a normal map, told by its texels",
+          "[obj][normal_map][mesh-file]") {
+    test::TempDir dir;
+    // A 64 x 4 grey ramp, 0 to 252 in steps of 4 along u: heights 0 to ~1 across the unit
+    // quad, a slope of 1.004 (-bm 1); a bluish normal map; a red image, neither.
+    auto write = [&](const std::string& name, auto&& texel) {
+        std::vector<unsigned char> px;
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const std::array<unsigned char, 3> c = texel(x);
+                px.insert(px.end(), c.begin(), c.end());
+            }
+        REQUIRE(stbi_write_png(dir.file(name).c_str(), 64, 4, 3, px.data(), 64 * 3) != 0);
+    };
+    write("ramp.png", [](int x) {
+        const auto v = static_cast<unsigned char>(4 * x);
+        return std::array<unsigned char, 3>{v, v, v};
+    });
+    write("normal.png", [](int) { return std::array<unsigned char, 3>{128, 128, 255}; });
+    write("red.png", [](int) { return std::array<unsigned char, 3>{200, 30, 30}; });
+    std::ofstream(dir.file("quad.mtl"))
+        << "newmtl ramp\nKd 1 1 1\nmap_Bump -bm 1 ramp.png\n"
+        << "newmtl normal\nKd 1 1 1\nbump normal.png\n"
+        << "newmtl both\nKd 1 1 1\nnorm normal.png\nmap_Bump normal.png\n"
+        << "newmtl red\nKd 1 1 1\nmap_Bump red.png\n";
+    std::vector<std::string> notes;
+    std::ifstream in(dir.file("quad.mtl"));
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto mtl = parse_mtl(text, "quad.mtl", dir.path().string(), notes);
+    CHECK(mtl.at("ramp").bump_multiplier == 1.f);
+    CHECK(std::find_if(notes.begin(), notes.end(), [](const std::string& n) {
+              return n.find("'both': norm is its normal map") != std::string::npos;
+          }) != notes.end());
+    Scene s;
+    std::map<std::string, uint32_t> images;
+    const Material ramp = s.materials[add_file_material(s, mtl.at("ramp"), MeshFile{}, images)];
+    CHECK(ramp.bump >= 0);
+    CHECK(ramp.normal_map < 0);
+    const Material normal = s.materials[add_file_material(s, mtl.at("normal"), MeshFile{}, images)];
+    CHECK(normal.bump < 0);
+    CHECK(normal.normal_map >= 0);
+    CHECK(s.materials[add_file_material(s, mtl.at("both"), MeshFile{}, images)].normal_map >= 0);
+    CHECK_THROWS_WITH(add_file_material(s, mtl.at("red"), MeshFile{}, images),
+                      Catch::Contains("red.png") && Catch::Contains("'red'") &&
+                          Catch::Contains("neither a height map"));
+    CHECK_THROWS_WITH(parse_mtl("newmtl a\nmap_Bump -clamp on x.png\n", "a.mtl", ".", notes),
+                      Catch::Contains("a.mtl:2") && Catch::Contains("-bm is"));
+    // Rendered: the ramp's slope 1.004 tilts the normal by 45 degrees along u, so a white
+    // Lambertian lit head-on shows 1 / sqrt(1 + 1.004^2) = 0.7057 (away from the ramp's
+    // wrap-around at u = 0 and 1, where the repeating image jumps from 252 to 0).
+    std::ofstream(dir.file("quad.obj")) << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                                           "usemtl ramp\nf 1/1/1 2/2/1 3/3/1 4/4/1\n";
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.obj"/>)");
+    TestScene ts(load_scene(dir.file("s.xml")));
+    const auto acc = make_intersector(ts, ts.accel);
+    RenderOptions opt = ts.render.run;
+    opt.spp = 4;
+    const Film f = render(ts, ts.render, *acc, opt).film;
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 8; y < 56; ++y)
+        for (int x = 8; x < 56; ++x, ++n) sum += f.pixels[std::size_t(y) * 64 + std::size_t(x)].g;
+    CHECK(sum / n == Approx(1.0 / std::sqrt(1.0 + 1.004 * 1.004)).epsilon(0.01));
 }
 
 TEST_CASE("glTF: KHR_lights_punctual lights are placed by their nodes and the object",

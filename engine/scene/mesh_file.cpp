@@ -1,6 +1,7 @@
 #include "mesh_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "engine/core/error.h"
@@ -160,6 +161,52 @@ void add_clearcoat(const FileMaterial& f, Material& m) {
     }
 }
 
+// What an MTL map_Bump image holds: grey texels (channels within 2/255) are heights; texels
+// around (0.5, 0.5, 1) on average, blue above red and green, are a tangent-space normal map
+// (what Blender and others export under map_Bump); anything else is neither.
+enum class BumpImage { Height, Normal, Neither };
+BumpImage classify_bump_image(const TextureImage& img) {
+    double r = 0.0, g = 0.0, b = 0.0;
+    float spread = 0.f;
+    for (const RGB& t : img.texels) {
+        r += t.r;
+        g += t.g;
+        b += t.b;
+        spread = std::max({spread, std::fabs(t.r - t.g), std::fabs(t.g - t.b)});
+    }
+    if (spread <= 2.f / 255.f + 1e-6f) return BumpImage::Height;
+    const double n = double(std::max<std::size_t>(img.texels.size(), 1));
+    r /= n;
+    g /= n;
+    b /= n;
+    if (std::fabs(r - 0.5) < 0.2 && std::fabs(g - 0.5) < 0.2 && b > 0.7 && b > r && b > g)
+        return BumpImage::Normal;
+    return BumpImage::Neither;
+}
+
+// MTL's map_Bump: a height map bumps the shading normal (heights in scene units: the grey
+// value times -bm, the OBJ specification's multiplier); a normal map turns it, unless the
+// material has its own `norm` (which then wins).
+void add_bump_map(Scene& scene, const FileMaterial& f, const MeshFile& file,
+                  std::map<std::string, uint32_t>& images, Material& m) {
+    const uint32_t im = file_image(scene, file, images, f.bump_map, true);
+    switch (classify_bump_image(scene.texture_images[im])) {
+        case BumpImage::Height:
+            m.bump = image_texture(scene, file, images, f.bump_map, true, f.normal_uv,
+                                   RGB{f.bump_multiplier});
+            return;
+        case BumpImage::Normal:
+            if (f.normal_map.empty())
+                m.normal_map = image_texture(scene, file, images, f.bump_map, true, f.normal_uv);
+            return;
+        case BumpImage::Neither:
+            throw InputError(f.bump_map, 0,
+                             "material '" + f.name +
+                                 "': its map_Bump image is neither a height map (grey) nor a "
+                                 "tangent-space normal map (bluish, about (0.5, 0.5, 1))");
+    }
+}
+
 // The lobes of a file's non-glass material: a Lambert of the diffuse colour, MTL's Phong
 // highlight or mirror, glTF's metal (a conductor of the base colour's reflectance, GGX of alpha
 // = roughness^2), its dielectric reflection and its transmission. With glTF's
@@ -278,6 +325,7 @@ uint32_t add_file_material(Scene& scene, const FileMaterial& f, const MeshFile& 
         }
     }
     m.ior = f.ior;
+    if (!f.bump_map.empty()) add_bump_map(scene, f, file, images, m);
     if (f.glass) {
         m.bsdf.add(Lobe::dielectric(f.ior, RGB{1.f}, RGB{1.f}));
         m.base_color = RGB{0.f};

@@ -26,6 +26,11 @@ struct FileMaterial {
     RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
     std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
     std::string normal_map;   // a tangent-space normal map (resolved path or embedded key)
+    // MTL's map_Bump (or bump): a height map, its grey values times `bump_multiplier` (-bm)
+    // in scene units, or the tangent-space normal map many exporters write there; which of
+    // the two is read off its texels (add_file_material).
+    std::string bump_map;
+    float bump_multiplier = 1.f;
     // Each map's uv transform (MTL's -s and -o on map_Kd, glTF's KHR_texture_transform).
     UvMap diffuse_uv, normal_uv, metallic_roughness_uv, emission_uv;
     RGB specular{0.f};  // MTL Ks: a Phong highlight of exponent Ns, or the mirror's colour

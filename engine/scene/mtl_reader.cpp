@@ -71,6 +71,10 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
             notes.push_back(name + ": material '" + cur->name + "': illum " +
                             std::to_string(illum) + " rendered as illum 2");
         }
+        if (!cur->bump_map.empty() && !cur->normal_map.empty())
+            notes.push_back(name + ": material '" + cur->name +
+                            "': norm is its normal map; map_Bump is read only if it is a height "
+                            "map");
         // Dissolve is coverage: the share of light the surface stops (glass is transparent
         // by its own lobe).
         if (!cur->glass) {
@@ -190,9 +194,24 @@ std::map<std::string, FileMaterial> parse_mtl(const std::string& text, const std
              : key == "map_d" ? cur->alpha_map
                               : cur->emission_map) =
                 (std::filesystem::path(base_dir) / file).string();
-        } else if (key.substr(0, 4) == "map_" || key == "bump" || key == "disp" || key == "decal" ||
-                   key == "refl") {
-            note(quoted(key) + " ignored: foton reads map_Kd, map_Ke, map_d and norm");
+        } else if (key == "map_Bump" || key == "map_bump" || key == "bump") {
+            // Option -bm scales a height map's values (the OBJ specification's multiplier).
+            std::size_t i = 1;
+            while (i < t.size() && t[i][0] == '-') {
+                if (t[i] != "-bm" || i + 1 >= t.size())
+                    throw InputError(name, line,
+                                     std::string(key) + " option '" + std::string(t[i]) +
+                                         "' is not supported (-bm is)");
+                cur->bump_multiplier = number(t[i + 1]);
+                i += 2;
+            }
+            if (i >= t.size())
+                throw InputError(name, line, std::string(key) + " needs a file name");
+            const char* b = t[i].data();
+            const std::string file(b, std::size_t(t.back().data() + t.back().size() - b));
+            cur->bump_map = (std::filesystem::path(base_dir) / file).string();
+        } else if (key.substr(0, 4) == "map_" || key == "disp" || key == "decal" || key == "refl") {
+            note(quoted(key) + " ignored: foton reads map_Kd, map_Ke, map_d, map_Bump and norm");
         } else {
             note("unknown MTL statement " + quoted(key) + " ignored");
         }
