@@ -1,6 +1,7 @@
-// MIP-mapped textures (filter="trilinear"; pbrt-v4's "trilinear" and "ewa"): the pyramid's
-// levels are block means, the lookup blends the levels a footprint brackets, and a fine
-// checkerboard far away renders as its mean instead of aliasing.
+// MIP-mapped textures (filter="trilinear" and "ewa", as pbrt-v4's): the pyramid's levels are
+// block means, the lookup blends the levels a footprint brackets, and a fine checkerboard far
+// away renders as its mean instead of aliasing; EWA averages over the footprint's ellipse, so
+// stripes running away from the camera keep their contrast where trilinear blurs them.
 #include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -104,4 +105,101 @@ TEST_CASE("mip: a fine checkerboard far away renders as its mean, not as aliasin
     CHECK(mean_mip == Approx(0.5).epsilon(0.05));
     CHECK(sd_mip < 0.1 * sd_bi);
     CHECK(sd_bi > 0.1);
+    // EWA over the same (round) footprint averages as well.
+    const auto [mean_ewa, sd_ewa] = render_with("ewa");
+    INFO("ewa " << mean_ewa << " +- " << sd_ewa);
+    CHECK(mean_ewa == Approx(0.5).epsilon(0.05));
+    CHECK(sd_ewa < 0.1 * sd_bi);
+}
+
+TEST_CASE("ewa: the elliptical average keeps detail along the footprint's short axis",
+          "[mip][ewa][fast]") {
+    // Vertical stripes, one texel each, 0 and 1 alternating along u, 64 x 64.
+    TextureImage img;
+    img.width = img.height = 64;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) img.texels.push_back(RGB{float(x % 2)});
+    img.build_mip();
+    const float texel = 1.f / 64.f;
+    // At a bright column's centre: an ellipse long along v (the stripes' direction) and half a
+    // texel wide keeps the stripe; the same width along u averages the stripes away, as does
+    // the trilinear lookup by the long axis.
+    const Point2 bright{(1.f + 0.5f) * texel, 0.5f};
+    const RGB along = img.ewa(bright, {0.f, 8.f * texel}, {0.5f * texel, 0.f}, 16.f);
+    const RGB across = img.ewa(bright, {8.f * texel, 0.f}, {0.f, 0.5f * texel}, 16.f);
+    const RGB tri = img.trilinear(bright, 8.f * texel);
+    INFO("along " << along.g << ", across " << across.g << ", trilinear " << tri.g);
+    CHECK(along.g > 0.8f);
+    CHECK(across.g == Approx(0.5f).margin(0.1f));
+    CHECK(tri.g == Approx(0.5f).margin(0.05f));
+    // The anisotropy cap widens the short axis: 1:64 capped at 4 blurs the stripes away.
+    CHECK(img.ewa(bright, {0.f, 32.f * texel}, {0.5f * texel, 0.f}, 4.f).g ==
+          Approx(0.5f).margin(0.1f));
+    // A constant image stays constant; a zero-width ellipse is the bilinear lookup.
+    TextureImage flat;
+    flat.width = flat.height = 8;
+    flat.texels.assign(64, RGB{0.25f, 0.5f, 0.75f});
+    flat.build_mip();
+    const RGB c = flat.ewa({0.3f, 0.7f}, {0.2f, 0.1f}, {-0.05f, 0.1f}, 8.f);
+    CHECK(c.r == Approx(0.25f));
+    CHECK(c.b == Approx(0.75f));
+    CHECK(img.ewa(bright, {0.f, 0.f}, {0.f, 0.f}, 8.f).g == img.bilinear(bright).g);
+    // Far outside [0, 1] the image repeats.
+    CHECK(img.ewa({bright.x + 1000.f, 0.5f - 2000.f}, {0.f, 8.f * texel}, {0.5f * texel, 0.f}, 16.f)
+              .g == Approx(along.g).margin(1e-3f));
+    TextureFilter f;
+    CHECK(parse_texture_filter("ewa", f));
+    CHECK(f == TextureFilter::Ewa);
+    CHECK_FALSE(parse_texture_filter("gaussian", f));
+}
+
+TEST_CASE("ewa: stripes running away from the camera stay sharp where trilinear blurs them",
+          "[mip][ewa][render]") {
+    test::TempDir dir;
+    // Stripes along v, 2 texels wide, 64 x 64 (0 and 1), on a floor running away from a low
+    // perspective camera: across the image a stripe spans pixels, along it they shrink.
+    {
+        std::string s = "PF\n64 64\n-1.0\n";
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = float((x / 2) % 2);
+                    char b[4];
+                    std::memcpy(b, &v, 4);
+                    s.append(b, 4);
+                }
+        std::ofstream(dir.file("stripes.pfm"), std::ios::binary) << s;
+    }
+    auto render_with = [&](const char* filter) {
+        const std::string xml = std::string(R"(<scene>
+  <ambient r="1" g="1" b="1" intensity="1"/>
+  <objects><quad><corner x="-1" y="0" z="0"/><edge1 x="2" y="0" z="0"/><edge2 x="0" y="0" z="-40"/>
+    <material type="matte" c_ambient="1" c_diffuse="1"><base_color r="1" g="1" b="1"/>
+      <texture type="image" src="stripes.pfm" encoding="linear" filter=")") +
+                                filter + R"("/></material></quad></objects>
+  <film width="64" height="32" size="0.02"/>
+  <renderer type="raytracer"/>
+  <camera><eye x="0" y="0.3" z="1"/><target x="0" y="0" z="-3"/><up x="0" y="1" z="0"/></camera>
+</scene>)";
+        TestScene s(parse_scene(xml, "floor.xml", dir.path().string()));
+        const Film f = render_test(s, 1, 0, 3).film;
+        // Contrast across the middle rows of the floor: the standard deviation along x.
+        double sd = 0.0;
+        int rows = 0;
+        for (int y = 18; y < 26; ++y, ++rows) {
+            double m = 0.0, q = 0.0;
+            for (int x = 16; x < 48; ++x) {
+                const double v = f.at(x, y).g;
+                m += v / 32.0;
+                q += v * v / 32.0;
+            }
+            sd += std::sqrt(std::max(0.0, q - m * m));
+        }
+        return sd / rows;
+    };
+    const double ewa = render_with("ewa"), tri = render_with("trilinear");
+    const double bi = render_with("bilinear");
+    INFO("contrast: ewa " << ewa << ", trilinear " << tri << ", bilinear " << bi);
+    CHECK(ewa > 2.0 * tri);
+    CHECK(ewa > 0.1);
 }

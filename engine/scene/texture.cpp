@@ -220,13 +220,7 @@ RGB Texture::eval(const std::vector<TextureImage>& images, const TexPoint& at) c
         case TextureKind::Constant:
             break;
         case TextureKind::Image:
-            // The footprint is in the surface's uv; the texture's map scales it (its largest
-            // stretch).
-            c = trilinear
-                    ? images[image].trilinear(
-                          st(at), at.footprint * std::max({std::fabs(uv.su), std::fabs(uv.sv),
-                                                           std::fabs(uv.suv), std::fabs(uv.svu)}))
-                    : images[image].bilinear(st(at));
+            c = image_value(images[image], at);
             break;
         case TextureKind::Checkerboard:
             c = checker_even(st(at)) ? value : other;

@@ -33,7 +33,28 @@ struct TextureImage {
     // Trilinear lookup for a footprint `width` in (u, v) units (0: level 0, bilinear):
     // bilinear in the two levels whose texels bracket the width, blended by log2.
     RGB trilinear(Point2 uv, float width) const;
+    // The texel nearest uv (pbrt-v4's point filter).
+    RGB nearest(Point2 uv) const;
+    // Elliptically weighted average (Heckbert 1989, as pbrt-v4's EWA): a Gaussian over the
+    // ellipse of axes d0 and d1 (a pixel's step in x and y, in (u, v)) in the two levels
+    // whose texels bracket its minor axis, the axes' ratio capped at max_anisotropy by
+    // widening the minor one (texture_ewa.cpp).
+    RGB ewa(Point2 uv, Point2 d0, Point2 d1, float max_anisotropy) const;
+    // Level l of the pyramid (0: the image itself; past the last, the last).
+    const TextureImage& level(int l) const {
+        return l <= 0 || mip.empty() ? *this : mip[std::size_t(std::min(l, int(mip.size())) - 1)];
+    }
+    // Texel (x, y) with the image repeating (row 0 at the top).
+    const RGB& texel(int x, int y) const;
 };
+
+// How an image texture is read: bilinearly (the default), the nearest texel, trilinearly
+// between MIP levels by the footprint's width, or by an elliptical average over the
+// footprint's ellipse (pbrt-v4's filters).
+enum class TextureFilter : uint8_t { Bilinear, Point, Trilinear, Ewa };
+const char* texture_filter_name(TextureFilter f);
+// "bilinear", "point", "trilinear" or "ewa"; false for anything else.
+bool parse_texture_filter(const std::string& name, TextureFilter& out);
 
 enum class TextureKind : uint8_t {
     Constant,
@@ -63,8 +84,10 @@ struct TexPoint {
     TexPoint(float u, float v) : uv{u, v} {}
     TexPoint(Point2 uv_, const Vec3& p_, const Vec3& n_) : uv(uv_), p(p_), n(n_) {}
     // The width in (u, v) of the pixel's footprint at the point (0: unknown), for MIP-mapped
-    // textures.
+    // textures, and (for EWA) the uv change from one pixel to the next along the image's x
+    // and y (both zero: unknown).
     float footprint = 0.f;
+    Point2 duvdx{0.f, 0.f}, duvdy{0.f, 0.f};
 };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
@@ -78,13 +101,17 @@ struct UvMap {
 
 struct Texture {
     TextureKind kind = TextureKind::Constant;
-    RGB value{1.f};          // Constant; Checkerboard's first colour
-    RGB other{0.f};          // Checkerboard's second colour
-    uint32_t image = 0;      // Image: into Scene::texture_images
-    UvMap uv;                // where a surface uv reads it
-    bool trilinear = false;  // Image: MIP-mapped, by the point's footprint
-    RGB scale{1.f};          // multiplies the result
-    bool invert = false;     // max(0, 1 - scaled value) (pbrt's invert)
+    RGB value{1.f};                                  // Constant; Checkerboard's first colour
+    RGB other{0.f};                                  // Checkerboard's second colour
+    uint32_t image = 0;                              // Image: into Scene::texture_images
+    UvMap uv;                                        // where a surface uv reads it
+    TextureFilter filter = TextureFilter::Bilinear;  // Image: how it is read
+    float max_anisotropy = 8.f;                      // Image, EWA: the ellipse's axis ratio
+    bool mip_mapped() const {
+        return filter == TextureFilter::Trilinear || filter == TextureFilter::Ewa;
+    }
+    RGB scale{1.f};       // multiplies the result
+    bool invert = false;  // max(0, 1 - scaled value) (pbrt's invert)
     // Mix (pbrt-v4's "mix"): (1 - t) tex1 + t tex2 with t = amount's float value, each operand
     // a texture of its own (a constant one for a value), read at the surface's uv.
     // Product (pbrt-v4's "scale" of a varying texture by a varying one): tex x scale's float.
@@ -111,6 +138,8 @@ struct Texture {
     bool in_dot(Point2 q) const;
 
     RGB eval(const std::vector<TextureImage>& images, const TexPoint& at) const;
+    // An Image texture's image read at `at` through its filter (texture_filters.cpp).
+    RGB image_value(const TextureImage& img, const TexPoint& at) const;
     // The mean over the texture's period (an image's texel mean, a checkerboard's two
     // colours' mean), as eval() scales and inverts: what an emitter's power is estimated by.
     RGB mean(const std::vector<TextureImage>& images) const;

@@ -115,9 +115,9 @@ class Importer {
     // texture of its value (`varies` set when it is a varying texture).
     Texture texture_operand(const ParamList& p, const std::string& key, bool is_float,
                             float fallback, bool& varies);
-    // The Scene::texture_images index of an imagemap's file, decoded once per file.
-    // An imagemap's image (its MIP pyramid built when `trilinear` comes back true).
-    uint32_t image_texture(const Token& t, const ParamList& p, bool& trilinear);
+    // The Scene::texture_images index of an imagemap's file, decoded once per file (its MIP
+    // pyramid built for a MIP-mapped filter); its filter and anisotropy set on `st`.
+    uint32_t image_texture(const Token& t, const ParamList& p, Texture& st);
     // An image file into Scene::texture_images (decoded once per file and encoding).
     uint32_t image_file(const Token& t, const std::string& rel, bool linear);
     // The texture bound to parameter `name` ("texture reflectance" "t"), nullptr when the

@@ -117,7 +117,7 @@ void Importer::texture(const Token& t, const std::string& name, const std::strin
         Texture st;
         if (type == "imagemap") {
             st.kind = TextureKind::Image;
-            st.image = image_texture(t, p, st.trilinear);
+            st.image = image_texture(t, p, st);
             st.scale = RGB{p.real("scale", 1.f)};
             st.invert = p.boolean("invert", false);
         } else {
@@ -294,28 +294,23 @@ void Importer::mix_texture(const Token& t, const ParamList& p, TextureDesc& tex)
     tex.scene_texture = add_texture(t, std::move(mix));
 }
 
-uint32_t Importer::image_texture(const Token& t, const ParamList& p, bool& trilinear) {
+uint32_t Importer::image_texture(const Token& t, const ParamList& p, Texture& st) {
     const std::string rel = p.text("filename", "");
     if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
     const std::string wrap = p.text("wrap", "repeat");
     if (wrap != "repeat") fail(t, "texture wrap '" + wrap + "' is not supported (repeat)");
-    // pbrt-v4's filters: bilinear (its default), trilinear MIP-mapping, and EWA, which foton
-    // renders trilinearly (the same pyramid, an isotropic footprint); point is bilinear here.
+    // pbrt-v4's filters: bilinear (its default), point, trilinear MIP-mapping and EWA.
     const std::string filter = p.text("filter", "bilinear");
-    if (filter != "bilinear" && filter != "trilinear" && filter != "ewa" && filter != "point")
-        fail(t, "texture filter '" + filter + "' (bilinear, trilinear, ewa, point)");
-    if (filter == "ewa" || filter == "point")
-        warn(file(), t.line,
-             "texture filter '" + filter + "' is rendered " +
-                 (filter == "ewa" ? "trilinearly (isotropic MIP-mapping)" : "bilinearly"));
-    trilinear = filter == "trilinear" || filter == "ewa";
-    p.real("maxanisotropy", 8.f);
+    if (!parse_texture_filter(filter, st.filter))
+        fail(t, "texture filter '" + filter + "' (bilinear, point, trilinear, ewa)");
+    st.max_anisotropy = p.real("maxanisotropy", 8.f);
+    if (!(st.max_anisotropy >= 1.f)) fail(t, "maxanisotropy must be at least 1");
     const std::string enc = p.text("encoding", "sRGB");
     if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
     const uint32_t image = image_file(t, rel, enc == "linear");
     TextureImage& img = scene_.texture_images[image];
-    if (trilinear && img.mip.empty()) img.build_mip();
-    scene_.mip_mapped |= trilinear;
+    if (st.mip_mapped() && img.mip.empty()) img.build_mip();
+    scene_.mip_mapped |= st.mip_mapped();
     return image;
 }
 

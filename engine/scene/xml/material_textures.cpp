@@ -119,15 +119,15 @@ int32_t Loader::parse_texture(const pugi::xml_node& tx, bool linear_default, boo
             }
             t.image = images_[key] = uint32_t(scene_.texture_images.size() - 1);
         }
-        // filter="trilinear": MIP-mapped by the footprint of a pixel at the hit.
+        // filter: bilinear (default), point, trilinear (MIP-mapped by the footprint of a pixel
+        // at the hit) or ewa (an elliptical average over that footprint).
         const std::string filter =
             tx.attribute("filter") ? tx.attribute("filter").value() : "bilinear";
-        if (filter != "bilinear" && filter != "trilinear")
-            fail(tx, "unknown texture filter '" + filter + "' (bilinear, trilinear)");
-        t.trilinear = filter == "trilinear";
-        if (t.trilinear && scene_.texture_images[t.image].mip.empty())
+        if (!parse_texture_filter(filter, t.filter))
+            fail(tx, "unknown texture filter '" + filter + "' (bilinear, point, trilinear, ewa)");
+        if (t.mip_mapped() && scene_.texture_images[t.image].mip.empty())
             scene_.texture_images[t.image].build_mip();
-        scene_.mip_mapped |= t.trilinear;
+        scene_.mip_mapped |= t.mip_mapped();
     } else if (kind == "checkerboard") {
         if (amplitude)
             check(tx, {"type", "scale_u", "scale_v", "offset_u", "offset_v", "scale"},

@@ -30,6 +30,41 @@ float footprint_at(const Camera& cam, const Vec3& p, const Vec3& n, const Vec3& 
     return w / std::max(slant, 0.1f) / per_uv;
 }
 
+// The uv steps of one pixel along the image's x and y at p (pbrt-v4's approximation of the
+// camera's ray differentials at every hit): the neighbouring pixels' rays met in the tangent
+// plane at p, that offset written in dp/du and dp/dv by least squares. Zero where the
+// camera has no such neighbours (the panoramic ones: footprint alone then).
+void pixel_uv_steps(const Camera& cam, const Vec3& p, const Vec3& n, const Vec3& dpdu,
+                    const Vec3& dpdv, Point2& duvdx, Point2& duvdy) {
+    Vec3 dir;
+    float scale;
+    if (cam.type == CameraType::Perspective) {
+        const Vec3 to = p - cam.eye;
+        const float dist = length(to);
+        if (!(dist > 0.f)) return;
+        dir = to / dist;
+        scale = dot(to, cam.w) * cam.pixel_size / cam.d;
+    } else if (cam.type == CameraType::Orthographic) {
+        dir = cam.w;
+        scale = cam.pixel_size;
+    } else {
+        return;
+    }
+    const float dn = dot(dir, n);
+    if (std::fabs(dn) < 1e-4f) return;
+    const float a00 = dot(dpdu, dpdu), a01 = dot(dpdu, dpdv), a11 = dot(dpdv, dpdv);
+    const float det = a00 * a11 - a01 * a01;
+    if (!(std::fabs(det) > 1e-20f) || !std::isfinite(det)) return;
+    auto step = [&](const Vec3& offset) {
+        const Vec3 dp = offset - dir * (dot(offset, n) / dn);
+        const float b0 = dot(dpdu, dp), b1 = dot(dpdv, dp);
+        const float du = (a11 * b0 - a01 * b1) / det, dv = (a00 * b1 - a01 * b0) / det;
+        return std::isfinite(du) && std::isfinite(dv) ? Point2{du, dv} : Point2{0.f, 0.f};
+    };
+    duvdx = step(cam.u * scale);
+    duvdy = step(cam.v * scale);
+}
+
 }  // namespace
 
 SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
@@ -81,8 +116,10 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             const bool frame = mat.perturbs_normal() || tangent;
             const bool partials = (frame || scene.mip_mapped) &&
                                   triangle_partials(p0, p1, p2, t0, t1, t2, g.dpdu, g.dpdv);
-            if (partials && scene.mip_mapped)
+            if (partials && scene.mip_mapped) {
                 sp.footprint = footprint_at(scene.camera, sp.p, n_geom, g.dpdu, g.dpdv);
+                pixel_uv_steps(scene.camera, sp.p, n_geom, g.dpdu, g.dpdv, sp.duvdx, sp.duvdy);
+            }
             if (frame) {
                 g.n = n_shade;
                 if (partials) {
@@ -151,11 +188,19 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             const float sin_theta = std::sqrt(n_geom.x * n_geom.x + n_geom.y * n_geom.y);
             // |dp/du| = 2 pi r sin theta, |dp/dv| = pi r (sphere_uv's parametrisation).
             const float r = s.radius;
-            if (scene.mip_mapped)
+            if (scene.mip_mapped) {
                 sp.footprint =
                     footprint_at(scene.camera, sp.p, n_geom,
                                  Vec3{2.f * kPi * r * std::max(sin_theta, 1e-3f), 0.f, 0.f},
                                  Vec3{kPi * r, 0.f, 0.f});
+                if (sin_theta > 1e-6f)
+                    pixel_uv_steps(scene.camera, sp.p, n_geom,
+                                   Vec3{-n_geom.y, n_geom.x, 0.f} * (2.f * kPi * r),
+                                   Vec3{n_geom.z * n_geom.x / sin_theta,
+                                        n_geom.z * n_geom.y / sin_theta, -sin_theta} *
+                                       (-kPi * r),
+                                   sp.duvdx, sp.duvdy);
+            }
             if ((mat.perturbs_normal() || tangent) && sin_theta > 1e-6f) {
                 // pbrt's partials of that parametrisation; the normal turns as the point
                 // moves (dn = dp / r).

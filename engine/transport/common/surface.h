@@ -20,8 +20,10 @@ struct SurfacePoint {
     float epsilon;    // offset for rays leaving the surface, scaled with the coordinates
     Point2 uv;        // texture coordinates (computed only where the material is textured)
     // The width in uv of a pixel's footprint here, seen from the camera (textured meshes and
-    // spheres; 0 elsewhere): what MIP-mapped textures pick their level by.
+    // spheres; 0 elsewhere): what MIP-mapped textures pick their level by; and the uv steps of
+    // one pixel along the image's x and y (the footprint's ellipse, for EWA).
     float footprint = 0.f;
+    Point2 duvdx{0.f, 0.f}, duvdy{0.f, 0.f};
     // The shading tangent: dp/du made perpendicular to ns, unit, where the material's BSDF
     // is anisotropic (Material::needs_tangent); zero elsewhere.
     Vec3 ss{0.f, 0.f, 0.f};
@@ -32,6 +34,8 @@ struct SurfacePoint {
     TexPoint tex() const {
         TexPoint t{uv, p, ng};
         t.footprint = footprint;
+        t.duvdx = duvdx;
+        t.duvdy = duvdy;
         return t;
     }
 };
