@@ -310,7 +310,7 @@ TEST_CASE("glTF: KHR_materials_clearcoat adds a clear GGX coat over the material
     test::TempDir dir;
     write_texture(dir.file("t.png"));
     write_gltf(dir, R"(, "extensions": {"KHR_materials_clearcoat":
-        {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 1, "clearcoatTexture": {"index": 0}}})");
+        {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 1, "clearcoatNormalTexture": {"index": 0}}})");
     write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
     const Scene s = load_scene(dir.file("s.xml"));
     const TextureImage& img = s.texture_images[0];
@@ -323,14 +323,57 @@ TEST_CASE("glTF: KHR_materials_clearcoat adds a clear GGX coat over the material
     });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.003);
-    // Its textures are noted: the factors stand for them.
+    // Its normal texture is noted: the material's shading normal stands for it.
     bool noted = false;
     for (const std::string& w : s.warnings)
-        noted |= w.find("clearcoatTexture ignored") != std::string::npos;
+        noted |= w.find("clearcoatNormalTexture ignored") != std::string::npos;
     CHECK(noted);
     write_gltf(dir, R"(, "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.5}})");
     CHECK_THROWS_WITH(load_gltf(dir.file("quad.gltf")),
                       Catch::Contains("clearcoatFactor must be in [0, 1]"));
+    write_gltf(dir, R"(, "extensions": {"KHR_materials_clearcoat":
+        {"clearcoatFactor": 1, "clearcoatTexture": {"index": 7}}})");
+    CHECK_THROWS_WITH(load_gltf(dir.file("quad.gltf")),
+                      Catch::Contains("texture 7 does not exist"));
+}
+
+TEST_CASE("glTF: KHR_materials_clearcoat's textures set the coat per hit", "[gltf][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    // The coat's texture, 2 x 2 and read linearly: red is the coat's strength (times its
+    // factor), green the coat's roughness (times its factor): (1, 1), (0, 0.5), (0.5, 1),
+    // (1, 0.5).
+    const unsigned char cc[] = {255, 255, 0, 0, 128, 0, 128, 255, 0, 255, 128, 0};
+    REQUIRE(stbi_write_png(dir.file("cc.png").c_str(), 2, 2, 3, cc, 6) != 0);
+    write_gltf(dir);
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
+             R"("baseColorTexture": {"index": 0}, "metallicFactor": 0},
+             "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
+                 "clearcoatRoughnessFactor": 1, "clearcoatTexture": {"index": 1},
+                 "clearcoatRoughnessTexture": {"index": 1}}})");
+        edit(R"("textures": [{"source": 0}])", R"("textures": [{"source": 0}, {"source": 1}])");
+        edit(R"("images": [{"uri": "t.png"}])",
+             R"("images": [{"uri": "t.png"}, {"uri": "cc.png"}])");
+    }
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.texture_images.size() == 2);
+    const TextureImage& base = s.texture_images[0];
+    const TextureImage& coat = s.texture_images[1];
+    // Head-on under irradiance pi: the base (0.96 of the colour plus the material's own
+    // dielectric reflection, 0.01) keeps 1 - 0.04 c under a coat of strength c, which reflects
+    // c F0 D(n) / 4 pi = 0.01 c / alpha^2 (GGX, alpha = green^2, its G 1 head-on).
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
+        const RGB t = coat.bilinear({x, y});
+        const float c = t.r, alpha = std::max(t.g * t.g, 1e-3f);
+        return (base.bilinear({x, y}) * 0.96f + RGB{0.01f}) * (1.f - 0.04f * c) +
+               RGB{0.01f * c / (alpha * alpha)};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.01);
 }
 
 TEST_CASE("glTF and MTL: normal maps are read linearly and set the material's map",

@@ -256,6 +256,9 @@ class GltfReader {
         } catch (const std::invalid_argument& e) {
             fail(where, e.what());
         }
+        if (f.clearcoat_texture >= 0) f.clearcoat_map = image(f.clearcoat_texture, where, true);
+        if (f.clearcoat_roughness_texture >= 0)
+            f.clearcoat_roughness_map = image(f.clearcoat_roughness_texture, where, true);
         const int index = int(out_.materials.size());
         out_.materials.push_back(f);
         return materials_[i] = index;

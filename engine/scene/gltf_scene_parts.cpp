@@ -108,7 +108,25 @@ void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::s
         if (v.Has(tex)) notes.push_back(where + ": KHR_materials_specular " + tex + " ignored");
 }
 
-// KHR_materials_clearcoat's factors (its textures are noted: the factors stand for them).
+// An extension's texture reference ({"index", "texCoord", "extensions"}): its texture index
+// (-1 when absent) and KHR_texture_transform; a texCoord other than 0 is noted.
+int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv,
+                           std::vector<std::string>& notes, const std::string& where) {
+    if (!v.Has(key)) return -1;
+    const tinygltf::Value& t = v.Get(key);
+    if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
+        throw std::invalid_argument(std::string(key) + " needs an integer \"index\"");
+    if (t.Has("texCoord") && t.Get("texCoord").GetNumberAsInt() != 0)
+        notes.push_back(where + ": " + key + " uses TEXCOORD_" +
+                        std::to_string(t.Get("texCoord").GetNumberAsInt()) +
+                        "; foton reads TEXCOORD_0");
+    if (t.Has("extensions") && t.Get("extensions").IsObject())
+        uv = gltf_uv_map(t.Get("extensions").Get<tinygltf::Value::Object>(), notes, where);
+    return t.Get("index").GetNumberAsInt();
+}
+
+// KHR_materials_clearcoat's factors and textures (its normal texture is noted: the
+// material's shading normal stands for it).
 void gltf_clearcoat(const tinygltf::Value& v, FileMaterial& f, std::vector<std::string>& notes,
                     const std::string& where) {
     auto factor = [&](const char* key, float& out) {
@@ -119,9 +137,14 @@ void gltf_clearcoat(const tinygltf::Value& v, FileMaterial& f, std::vector<std::
     };
     factor("clearcoatFactor", f.clearcoat);
     factor("clearcoatRoughnessFactor", f.clearcoat_roughness);
-    for (const char* tex :
-         {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
-        if (v.Has(tex)) notes.push_back(where + ": KHR_materials_clearcoat " + tex + " ignored");
+    f.clearcoat_texture =
+        gltf_extension_texture(v, "clearcoatTexture", f.clearcoat_uv, notes, where);
+    f.clearcoat_roughness_texture = gltf_extension_texture(v, "clearcoatRoughnessTexture",
+                                                           f.clearcoat_roughness_uv, notes, where);
+    if (v.Has("clearcoatNormalTexture"))
+        notes.push_back(where +
+                        ": KHR_materials_clearcoat clearcoatNormalTexture ignored (the coat "
+                        "takes the material's shading normal)");
 }
 
 }  // namespace

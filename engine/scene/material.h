@@ -73,7 +73,7 @@ struct Material {
     int32_t bump = -1;
     // Roughness and weight textures: at a hit, each entry sets one parameter of one lobe to
     // its texture's value there (a float texture: the mean of its channels, or one channel).
-    static constexpr int kMaxFloatParams = 8;
+    static constexpr int kMaxFloatParams = 12;
     enum class Remap : uint8_t {
         None,
         Sqrt,    // the texture holds pbrt's roughness: alpha = sqrt(value)
@@ -85,6 +85,7 @@ struct Material {
         LobeParam target = LobeParam::AlphaX;
         Remap remap = Remap::None;
         uint8_t channel = 0;  // 0: the channels' mean; 1, 2, 3: red, green, blue alone
+        float k = 1.f;        // WeightComplement: the lobe's weight is 1 - k v
     };
     std::array<FloatParam, kMaxFloatParams> float_params{};
     uint8_t num_float_params = 0;

@@ -144,20 +144,44 @@ int32_t image_texture(Scene& scene, const MeshFile& file, std::map<std::string, 
 // coat's specular reflection by clearcoat times the coat's Fresnel term, F of index 1.5. As the
 // dielectric reflection over the diffuse base above, the base keeps what the coat lets through
 // at normal incidence (1 - clearcoat F0, F0 = 0.04) and the coat is a GGX lobe of that Fresnel
-// weighted by clearcoat (a textured metallic weight multiplies the base's lobes after this).
-void add_clearcoat(const FileMaterial& f, Material& m) {
+// weighted by clearcoat (a textured metallic weight multiplies the base's lobes as well). Its
+// textures set both per hit: clearcoat c = factor x red, alpha = (factor x green)^2.
+void add_clearcoat(Scene& scene, const FileMaterial& f, const MeshFile& file,
+                   std::map<std::string, uint32_t>& images, Material& m) {
     const float c = std::clamp(f.clearcoat, 0.f, 1.f);
     Fresnel coat;
     coat.kind = FresnelKind::Dielectric;
     coat.ior = 1.5f;
-    m.bsdf.scale(1.f - c * 0.04f);
-    m.base_color *= 1.f - c * 0.04f;
-    const float alpha = std::min(f.clearcoat_roughness * f.clearcoat_roughness, 2.f);
-    if (alpha < 0.002f) {
-        m.bsdf.add(Lobe::mirror(RGB{c}, coat));
+    auto add_param = [&](const Material::FloatParam& p) {
+        if (!m.add_float_param(p))
+            throw InputError(m.name, 0, "too many textured parameters in one material");
+    };
+    const int base_lobes = m.bsdf.size();
+    if (!f.clearcoat_map.empty()) {
+        // 1 - 0.04 v on every lobe below, v on the coat, v = c x red.
+        const int32_t tex =
+            image_texture(scene, file, images, f.clearcoat_map, true, f.clearcoat_uv, RGB{c});
+        for (int i = 0; i < base_lobes; ++i)
+            add_param(
+                {tex, uint8_t(i), LobeParam::WeightComplement, Material::Remap::None, 1, 0.04f});
+        add_param({tex, uint8_t(base_lobes), LobeParam::Weight, Material::Remap::None, 1});
     } else {
-        m.bsdf.add(
-            Lobe::microfacet(RGB{c}, MicrofacetDistribution::trowbridge_reitz(alpha, alpha), coat));
+        m.bsdf.scale(1.f - c * 0.04f);
+        m.base_color *= 1.f - c * 0.04f;
+    }
+    const RGB weight{f.clearcoat_map.empty() ? c : 1.f};
+    const float alpha = std::min(f.clearcoat_roughness * f.clearcoat_roughness, 2.f);
+    if (alpha < 0.002f && f.clearcoat_roughness_map.empty()) {
+        m.bsdf.add(Lobe::mirror(weight, coat));
+    } else {
+        const float a = std::max(alpha, 1e-3f);
+        m.bsdf.add(Lobe::microfacet(weight, MicrofacetDistribution::trowbridge_reitz(a, a), coat));
+    }
+    if (!f.clearcoat_roughness_map.empty()) {
+        const int32_t tex =
+            image_texture(scene, file, images, f.clearcoat_roughness_map, true,
+                          f.clearcoat_roughness_uv, RGB{1.f, f.clearcoat_roughness, 1.f});
+        add_param({tex, uint8_t(base_lobes), LobeParam::Alpha, Material::Remap::Square, 2});
     }
 }
 
@@ -294,7 +318,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
         alpha_param();
     }
-    if (f.clearcoat > 0.f) add_clearcoat(f, m);
+    if (f.clearcoat > 0.f) add_clearcoat(scene, f, file, images, m);
 }
 
 }  // namespace

@@ -51,6 +51,12 @@ struct FileMaterial {
     // glTF KHR_materials_clearcoat: a clear dielectric coat (index 1.5) of this strength over
     // everything else, GGX of alpha = clearcoat_roughness^2.
     float clearcoat = 0.f, clearcoat_roughness = 0.f;
+    // Its textures (read linearly): the red channel of clearcoat_map times clearcoat, the green
+    // of clearcoat_roughness_map times clearcoat_roughness, per hit. glTF's texture indices
+    // until the loader resolves them to images (-1: none).
+    std::string clearcoat_map, clearcoat_roughness_map;
+    UvMap clearcoat_uv, clearcoat_roughness_uv;
+    int clearcoat_texture = -1, clearcoat_roughness_texture = -1;
     RGB emission{0.f};         // MTL Ke, glTF emissiveFactor
     std::string emission_map;  // an image multiplying `emission` (MTL map_Ke, glTF emissiveTexture)
     // Cut-outs (Material::alpha): MTL d and map_d, glTF's base colour alpha under alphaMode

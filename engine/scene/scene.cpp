@@ -229,7 +229,9 @@ const Material& Scene::textured(const Material& m, const TexPoint& at,
             v = fp.channel == 1 ? c.r : fp.channel == 2 ? c.g : c.b;
         }
         if (fp.target == LobeParam::Weight || fp.target == LobeParam::WeightComplement) {
-            out.bsdf.set_param(fp.lobe, fp.target, std::clamp(v, 0.f, 1.f));
+            const float w = std::clamp(v, 0.f, 1.f);
+            out.bsdf.set_param(fp.lobe, fp.target,
+                               fp.target == LobeParam::WeightComplement ? fp.k * w : w);
             continue;
         }
         v = std::max(v, 0.f);
