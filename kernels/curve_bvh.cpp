@@ -1,6 +1,10 @@
 #include "curve_bvh.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "bvh_box_ray.h"
 
 namespace foton::kern {
 
@@ -19,6 +23,7 @@ CurveBvh::CurveBvh(const std::vector<CurveSegment>& segments, const std::vector<
             owner.push_back(uint32_t(i));
             u0.push_back(a);
         }
+    if (all.empty()) return;
     std::vector<PrimRef> boxes(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) {
         curve_bounds(all[i], boxes[i].lo, boxes[i].hi);
@@ -29,52 +34,170 @@ CurveBvh::CurveBvh(const std::vector<CurveSegment>& segments, const std::vector<
     p.leaf_block = 1;
     p.max_leaf = 4;
     p.parallel = parallel;
-    bvh_ = build_binary_bvh(boxes, p);
-    // Parts in leaf order, so a leaf's tests read consecutive memory.
-    segments_.reserve(bvh_.prims.size());
-    for (std::size_t i = 0; i < bvh_.prims.size(); ++i) {
-        const uint32_t part = bvh_.prims[i];
-        segments_.push_back(all[part]);
-        ids_.push_back(owner[part]);
-        u0_.push_back(u0[part]);
-        ribbon_.push_back(ribbon[owner[part]]);
-        bvh_.prims[i] = uint32_t(i);
+    const BinaryBvh bin = build_binary_bvh(boxes, p);
+    const WideTree wide = collapse_bvh(bin, uint32_t(kWidth));
+    // Parts in leaf order, so a leaf's tests read consecutive memory; nodes in the wide
+    // tree's order, a leaf a run of parts.
+    parts_.reserve(all.size());
+    nodes_.resize(wide.nodes.size());
+    for (std::size_t w = 0; w < wide.nodes.size(); ++w) {
+        Node& n = nodes_[w];
+        for (std::size_t c = 0; c < kWidth; ++c) {
+            for (int a = 0; a < 3; ++a) {
+                n.bounds[2 * a][c] = kInf;
+                n.bounds[2 * a + 1][c] = -kInf;
+            }
+            n.child[c] = 0;
+        }
+        const auto& kids = wide.nodes[w];
+        for (std::size_t c = 0; c < kids.size(); ++c) {
+            const WideChild& k = kids[c];
+            float lo[3] = {k.lo[0], k.lo[1], k.lo[2]}, hi[3] = {k.hi[0], k.hi[1], k.hi[2]};
+            pad_box(lo, hi);
+            for (int a = 0; a < 3; ++a) {
+                n.bounds[2 * a][c] = lo[a];
+                n.bounds[2 * a + 1][c] = hi[a];
+            }
+            if (!k.leaf) {
+                n.child[c] = k.index;
+                continue;
+            }
+            const uint32_t first = uint32_t(parts_.size());
+            if (k.count > kBvhMaxLeafBlocks || first + k.count > kBvhMaxFirstBlock)
+                throw std::length_error("curve BVH: too many parts");
+            for (uint32_t j = 0; j < k.count; ++j) {
+                const uint32_t part = bin.prims[k.index + j];
+                const CurveSegment& s = all[part];
+                Part& q = parts_.emplace_back();
+                std::copy(&s.cp[0][0], &s.cp[0][0] + 12, &q.cp[0][0]);
+                q.w0 = s.w0;
+                q.w1 = s.w1;
+                q.ribbon = ribbon[owner[part]];
+                q.index = uint32_t(ids_.size());
+                normals_.insert(normals_.end(), s.n0, s.n0 + 3);
+                normals_.insert(normals_.end(), s.n1, s.n1 + 3);
+                ids_.push_back(owner[part]);
+                u0_.push_back(u0[part]);
+            }
+            n.child[c] = bvh_make_leaf(first, k.count);
+        }
+    }
+    root_ = (wide.nodes[0].size() == 1 && wide.nodes[0][0].leaf) ? nodes_[0].child[0] : 0;
+}
+
+CurveSegment CurveBvh::Part::segment(const std::vector<float>& normals) const {
+    CurveSegment s;
+    std::copy(&cp[0][0], &cp[0][0] + 12, &s.cp[0][0]);
+    s.w0 = w0;
+    s.w1 = w1;
+    if (ribbon) {
+        // Only a ribbon's test reads its normals.
+        const float* n = &normals[6 * std::size_t(index)];
+        std::copy(n, n + 3, s.n0);
+        std::copy(n + 3, n + 6, s.n1);
+    }
+    return s;
+}
+
+namespace {
+
+// Rays with NaN, an empty interval or no direction find nothing (as the kernel's own checks).
+bool unusable_ray(const Ray1& r) {
+    return std::isnan(r.ox + r.oy + r.oz + r.dx + r.dy + r.dz) || !(r.tmin <= r.tmax) ||
+           (r.dx == 0.f && r.dy == 0.f && r.dz == 0.f);
+}
+
+}  // namespace
+
+// The walk: the nearest child box first, the others stacked far to near with their entry
+// distances; a leaf's parts tested in order, each closer hit shrinking the cull distance;
+// `leaf(first, count)` returns true to stop (any-hit).
+template <class Leaf>
+void CurveBvh::walk(const Ray1& ray, const float& tcull, Leaf&& leaf) const {
+    using namespace bvh_detail;
+    using V = simd::FloatW<kWidth>;
+    const BoxRay<kWidth> br(ray);
+    StackEntry stack[kStackSize];
+    uint32_t sp = 0;
+    uint32_t ref = root_;
+    for (;;) {
+        while (!bvh_is_leaf(ref)) {
+            const Node& node = nodes_[ref];
+            V tnv;
+            const uint32_t mask = br.test(node, tcull, tnv);
+            if (mask == 0) goto pop;
+            alignas(64) float tn[kWidth];
+            tnv.store_aligned(tn);
+            // Every child the ray enters will likely be visited: start their loads now (the
+            // tree and its parts, tens of megabytes, are read at random by incoherent rays).
+            for (uint32_t m = mask; m; m &= m - 1) {
+                const uint32_t c = node.child[__builtin_ctz(m)];
+                if (bvh_is_leaf(c)) {
+                    const Part* part = &parts_[bvh_leaf_first(c)];
+                    for (uint32_t b = 0; b < bvh_leaf_blocks(c); ++b) __builtin_prefetch(part + b);
+                } else {
+                    const char* n = reinterpret_cast<const char*>(&nodes_[c]);
+                    for (uint32_t b = 0; b < sizeof(Node); b += 64) __builtin_prefetch(n + b);
+                }
+            }
+            ref = order_children(node, mask, tn, stack, sp);
+        }
+        if (leaf(bvh_leaf_first(ref), bvh_leaf_blocks(ref))) return;
+    pop:
+        for (;;) {
+            if (sp == 0) return;
+            const StackEntry& e = stack[--sp];
+            if (e.t <= tcull) {
+                ref = e.ref;
+                break;
+            }
+        }
     }
 }
 
 bool CurveBvh::closest(const Ray1& ray, CurveHit& hit, uint32_t& id, uint64_t& tests) const {
+    if (parts_.empty() || unusable_ray(ray)) return false;
     uint32_t best = UINT32_MAX;
     hit.t = std::min(hit.t, ray.tmax);
+    float tcull = hit.t < kInf ? hit.t * kBvhCullScale : hit.t;
     const CurveRay cr(ray);
-    walk_binary_bvh(
-        bvh_, ray, [&] { return hit.t; },
-        [&](uint32_t i) {
+    walk(ray, tcull, [&](uint32_t first, uint32_t count) {
+        for (uint32_t i = first; i < first + count; ++i) {
             ++tests;
-            if (intersect_curve(cr, segments_[i], ribbon_[i] != 0, hit)) best = i;
-            return false;
-        });
+            const Part& q = parts_[i];
+            if (intersect_curve(cr, q.segment(normals_), q.ribbon != 0, hit)) {
+                best = i;
+                tcull = hit.t * kBvhCullScale;
+            }
+        }
+        return false;
+    });
     if (best == UINT32_MAX) return false;
-    hit.u = u0_[best] + part_du_ * hit.u;
-    id = ids_[best];
+    const uint32_t k = parts_[best].index;
+    hit.u = u0_[k] + part_du_ * hit.u;
+    id = ids_[k];
     return true;
 }
 
 bool CurveBvh::any(const Ray1& ray, uint64_t& tests) const {
+    if (parts_.empty() || unusable_ray(ray)) return false;
     bool found = false;
+    const float tcull = ray.tmax;
     const CurveRay cr(ray);
-    walk_binary_bvh(
-        bvh_, ray, [&] { return ray.tmax; },
-        [&](uint32_t i) {
+    walk(ray, tcull, [&](uint32_t first, uint32_t count) {
+        for (uint32_t i = first; i < first + count && !found; ++i) {
             ++tests;
-            found = occluded_curve(cr, segments_[i], ribbon_[i] != 0);
-            return found;
-        });
+            const Part& q = parts_[i];
+            found = occluded_curve(cr, q.segment(normals_), q.ribbon != 0);
+        }
+        return found;
+    });
     return found;
 }
 
 std::size_t CurveBvh::memory_bytes() const {
-    return bvh_.used * sizeof(BinaryNode) + bvh_.prims.size() * sizeof(uint32_t) +
-           segments_.size() * (sizeof(CurveSegment) + sizeof(uint32_t) + sizeof(float) + 1);
+    return nodes_.size() * sizeof(Node) + parts_.size() * sizeof(Part) +
+           (normals_.size() + u0_.size()) * sizeof(float) + ids_.size() * sizeof(uint32_t);
 }
 
 }  // namespace foton::kern
