@@ -2,15 +2,18 @@
 // density f / integral (chi-square per axis), eval integrates to integral(), the 1-pixel box
 // leaves positions and splats as they were, a splat's weights are the filter's at the pixel
 // centres; and a step edge renders as the step convolved with the filter, by camera paths
-// (importance-sampled offsets), light paths (filtered splats), bdpt and MLT alike.
+// (importance-sampled offsets), light paths (filtered splats), bdpt and MLT alike; filtered
+// splats do not depend on the thread count (tests/test_crop.cpp: nor on a crop window).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "chi_square.h"
 #include "engine/core/rng.h"
 #include "engine/film/pixel_filter.h"
 #include "engine/scene/pbrt_loader.h"
+#include "engine/scene/xml_loader.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -158,5 +161,20 @@ TEST_CASE("pixel filter: a step edge renders as the step convolved with the filt
                 CHECK(mean == Approx(want).margin(c.tolerance));
             }
         }
+    }
+}
+
+TEST_CASE("pixel filter: filtered splats are the same on 1 and 2 threads, bit for bit",
+          "[film][filter][integrators]") {
+    TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
+    s.set_resolution(24, 24);
+    s.set_filter(PixelFilter::gaussian(1.5f, 1.5f, 0.5f));
+    for (const char* integrator : {"light", "bdpt", "path"}) {
+        INFO(integrator);
+        s.render.integrator = integrator;
+        const Film one = render_test(s, 4, 1, 9).film, two = render_test(s, 4, 2, 9).film;
+        REQUIRE(one.pixels.size() == two.pixels.size());
+        CHECK(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(RGB)) ==
+              0);
     }
 }
