@@ -4,7 +4,9 @@
 // (100,000 segments, width 0.004 tapering to 0.002 in a 2 x 2 x 0.6 box), seen by 65,536
 // primary rays from a pinhole camera and by 65,536 incoherent rays from random points inside
 // the block in random directions. Rays per second; both sides count their hits so the work is
-// checked alike. Names: curves/<set>/<method>.
+// checked alike. foton's rays go one by one (`foton_curve_bvh`, closest()) and as one stream
+// (`foton_curve_bvh_stream`, closest_stream(): eight walks interleaved). Names:
+// curves/<set>/<method>.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
@@ -67,9 +69,13 @@ const std::vector<Ray1>& rays_of(int set) {
     return set == 0 ? block().primary : block().incoherent;
 }
 
+const CurveBvh& curve_bvh() {
+    static const CurveBvh bvh(block().segments, std::vector<uint8_t>(block().segments.size(), 0));
+    return bvh;
+}
+
 void BM_foton(benchmark::State& state) {
-    const HairBlock& b = block();
-    static const CurveBvh bvh(b.segments, std::vector<uint8_t>(b.segments.size(), 0));
+    const CurveBvh& bvh = curve_bvh();
     const std::vector<Ray1>& rays = rays_of(int(state.range(0)));
     std::size_t hits = 0;
     uint64_t tests = 0;
@@ -83,6 +89,28 @@ void BM_foton(benchmark::State& state) {
         benchmark::DoNotOptimize(hits);
     }
     state.counters["hit_fraction"] = double(hits) / double(rays.size());
+    state.counters["tests_per_ray"] =
+        double(tests) / double(rays.size()) / double(state.iterations());
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(rays.size()));
+}
+
+// The same rays as one stream (CurveBvh::closest_stream: walks interleaved).
+void BM_foton_stream(benchmark::State& state) {
+    const CurveBvh& bvh = curve_bvh();
+    const std::vector<Ray1>& rays = rays_of(int(state.range(0)));
+    std::vector<CurveHit> hits(rays.size());
+    std::vector<uint32_t> ids(rays.size());
+    std::vector<uint8_t> found(rays.size());
+    std::size_t n_hits = 0;
+    uint64_t tests = 0;
+    for (auto _ : state) {
+        for (CurveHit& h : hits) h = CurveHit{};
+        bvh.closest_stream(rays.data(), rays.size(), hits.data(), ids.data(), found.data(), tests);
+        n_hits = 0;
+        for (const uint8_t f : found) n_hits += f;
+        benchmark::DoNotOptimize(n_hits);
+    }
+    state.counters["hit_fraction"] = double(n_hits) / double(rays.size());
     state.counters["tests_per_ray"] =
         double(tests) / double(rays.size()) / double(state.iterations());
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(rays.size()));
@@ -150,12 +178,20 @@ void BM_embree(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_foton)->Name("curves/primary/foton_curve_bvh")->Arg(0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_foton_stream)
+    ->Name("curves/primary/foton_curve_bvh_stream")
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_embree)
     ->Name("curves/primary/embree_flat_bezier")
     ->Arg(0)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_foton)
     ->Name("curves/incoherent/foton_curve_bvh")
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_foton_stream)
+    ->Name("curves/incoherent/foton_curve_bvh_stream")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_embree)

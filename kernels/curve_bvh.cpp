@@ -109,6 +109,22 @@ bool unusable_ray(const Ray1& r) {
 
 }  // namespace
 
+// Every child the ray enters will likely be visited: start their loads now (the tree and its
+// parts, tens of megabytes, are read at random by incoherent rays).
+[[gnu::always_inline]] inline void CurveBvh::prefetch_children(const Node& node,
+                                                               uint32_t mask) const {
+    for (uint32_t m = mask; m; m &= m - 1) {
+        const uint32_t c = node.child[__builtin_ctz(m)];
+        if (bvh_is_leaf(c)) {
+            const Part* part = &parts_[bvh_leaf_first(c)];
+            for (uint32_t b = 0; b < bvh_leaf_blocks(c); ++b) __builtin_prefetch(part + b);
+        } else {
+            const char* n = reinterpret_cast<const char*>(&nodes_[c]);
+            for (uint32_t b = 0; b < sizeof(Node); b += 64) __builtin_prefetch(n + b);
+        }
+    }
+}
+
 // The walk: the nearest child box first, the others stacked far to near with their entry
 // distances; a leaf's parts tested in order, each closer hit shrinking the cull distance;
 // `leaf(first, count)` returns true to stop (any-hit).
@@ -128,18 +144,7 @@ void CurveBvh::walk(const Ray1& ray, const float& tcull, Leaf&& leaf) const {
             if (mask == 0) goto pop;
             alignas(64) float tn[kWidth];
             tnv.store_aligned(tn);
-            // Every child the ray enters will likely be visited: start their loads now (the
-            // tree and its parts, tens of megabytes, are read at random by incoherent rays).
-            for (uint32_t m = mask; m; m &= m - 1) {
-                const uint32_t c = node.child[__builtin_ctz(m)];
-                if (bvh_is_leaf(c)) {
-                    const Part* part = &parts_[bvh_leaf_first(c)];
-                    for (uint32_t b = 0; b < bvh_leaf_blocks(c); ++b) __builtin_prefetch(part + b);
-                } else {
-                    const char* n = reinterpret_cast<const char*>(&nodes_[c]);
-                    for (uint32_t b = 0; b < sizeof(Node); b += 64) __builtin_prefetch(n + b);
-                }
-            }
+            prefetch_children(node, mask);
             ref = order_children(node, mask, tn, stack, sp);
         }
         if (leaf(bvh_leaf_first(ref), bvh_leaf_blocks(ref))) return;
@@ -164,8 +169,7 @@ bool CurveBvh::closest(const Ray1& ray, CurveHit& hit, uint32_t& id, uint64_t& t
     walk(ray, tcull, [&](uint32_t first, uint32_t count) {
         for (uint32_t i = first; i < first + count; ++i) {
             ++tests;
-            const Part& q = parts_[i];
-            if (intersect_curve(cr, q.segment(normals_), q.ribbon != 0, hit)) {
+            if (test_part(cr, i, hit)) {
                 best = i;
                 tcull = hit.t * kBvhCullScale;
             }
@@ -193,6 +197,101 @@ bool CurveBvh::any(const Ray1& ray, uint64_t& tests) const {
         return found;
     });
     return found;
+}
+
+void CurveBvh::closest_stream(const Ray1* rays, std::size_t n, CurveHit* hits, uint32_t* ids,
+                              uint8_t* found, uint64_t& tests) const {
+    using namespace bvh_detail;
+    using V = simd::FloatW<kWidth>;
+    constexpr uint32_t kLanes = 8, kDone = kBvhEmpty;
+    // A ray in flight: closest()'s walk state. Its stack is deep enough for the build's depth
+    // bound (bvh_build.cpp) times the node width.
+    struct Lane {
+        BoxRay<kWidth> br;
+        CurveRay cr;
+        std::size_t ray;
+        uint32_t ref, sp, best;
+        float tcull;
+        StackEntry stack[kStackSize];
+    };
+    std::vector<Lane> lanes(kLanes);
+    std::size_t next = 0;
+    uint32_t live = 0;
+    // Starts the next usable ray in lane l; false when none is left.
+    auto start = [&](Lane& l) {
+        while (next < n) {
+            const std::size_t i = next++;
+            found[i] = 0;
+            if (parts_.empty() || unusable_ray(rays[i])) continue;
+            hits[i].t = std::min(hits[i].t, rays[i].tmax);
+            l.br = BoxRay<kWidth>(rays[i]);
+            l.cr = CurveRay(rays[i]);
+            l.ray = i;
+            l.ref = root_;
+            l.sp = 0;
+            l.best = UINT32_MAX;
+            l.tcull = hits[i].t < kInf ? hits[i].t * kBvhCullScale : hits[i].t;
+            return true;
+        }
+        return false;
+    };
+    auto finish = [&](Lane& l) {
+        if (l.best == UINT32_MAX) return;
+        const uint32_t k = parts_[l.best].index;
+        CurveHit& h = hits[l.ray];
+        h.u = u0_[k] + part_du_ * h.u;
+        ids[l.ray] = ids_[k];
+        found[l.ray] = 1;
+    };
+    auto pop = [](Lane& l) {
+        while (l.sp) {
+            const StackEntry& e = l.stack[--l.sp];
+            if (e.t <= l.tcull) return e.ref;
+        }
+        return kDone;
+    };
+    bool active[kLanes];
+    for (uint32_t k = 0; k < kLanes; ++k) {
+        active[k] = start(lanes[k]);
+        if (active[k]) ++live;
+    }
+    // One step of each live lane in turn: a node's box test (its entered children prefetched)
+    // or a leaf's parts, then the lane's next reference.
+    while (live) {
+        for (uint32_t k = 0; k < kLanes; ++k) {
+            if (!active[k]) continue;
+            Lane& l = lanes[k];
+            if (!bvh_is_leaf(l.ref)) {
+                const Node& node = nodes_[l.ref];
+                V tnv;
+                const uint32_t mask = l.br.test(node, l.tcull, tnv);
+                if (mask) {
+                    alignas(64) float tn[kWidth];
+                    tnv.store_aligned(tn);
+                    prefetch_children(node, mask);
+                    l.ref = order_children(node, mask, tn, l.stack, l.sp);
+                    continue;
+                }
+            } else {
+                const uint32_t first = bvh_leaf_first(l.ref), count = bvh_leaf_blocks(l.ref);
+                CurveHit& h = hits[l.ray];
+                for (uint32_t i = first; i < first + count; ++i) {
+                    ++tests;
+                    if (test_part(l.cr, i, h)) {
+                        l.best = i;
+                        l.tcull = h.t * kBvhCullScale;
+                    }
+                }
+            }
+            l.ref = pop(l);
+            if (l.ref != kDone) continue;
+            finish(l);
+            if (!start(l)) {
+                active[k] = false;
+                --live;
+            }
+        }
+    }
 }
 
 std::size_t CurveBvh::memory_bytes() const {

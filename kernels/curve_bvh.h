@@ -28,6 +28,12 @@ class CurveBvh {
     // and the segment's index in the build's list in `id`. `tests` counts part tests.
     bool closest(const Ray1& ray, CurveHit& hit, uint32_t& id, uint64_t& tests) const;
     bool any(const Ray1& ray, uint64_t& tests) const;
+    // The closest hits of n rays (ray i's hit.t on entry bounds it, as closest()'s): the same
+    // hits as closest() one by one, their walks interleaved a step of each in turn, so that one
+    // ray's loads are under way while the others work (incoherent rays wait on memory, not on
+    // the tests). found[i] says whether ray i hit; ids[i] as closest()'s id.
+    void closest_stream(const Ray1* rays, std::size_t n, CurveHit* hits, uint32_t* ids,
+                        uint8_t* found, uint64_t& tests) const;
     std::size_t memory_bytes() const;
     bool empty() const { return parts_.empty(); }
 
@@ -37,6 +43,13 @@ class CurveBvh {
   private:
     template <class Leaf>
     void walk(const Ray1& ray, const float& tcull, Leaf&& leaf) const;
+    // The loads of the children in `mask` of `node`, started (nodes or leaf parts).
+    void prefetch_children(const Node& node, uint32_t mask) const;
+    // Ray `part`'s closest-hit test against leaf part i: true when closer (hit updated).
+    bool test_part(const CurveRay& cr, uint32_t i, CurveHit& hit) const {
+        const Part& q = parts_[i];
+        return intersect_curve(cr, q.segment(normals_), q.ribbon != 0, hit);
+    }
 
     std::vector<Node, HugePageAllocator<Node>> nodes_;
     uint32_t root_ = kBvhEmpty;  // a node, or the one leaf of a tiny tree

@@ -40,6 +40,7 @@ struct CurveRay {
     float o[3], ex[3], ey[3], ez[3];
     float length = 0.f;  // |d|: ray-space z is t * length
     float tmin = 0.f, tmax = kInf;
+    CurveRay() = default;  // a slot to be assigned (a stream's lane)
     explicit CurveRay(const Ray1& r);
 };
 

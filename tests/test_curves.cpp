@@ -5,12 +5,14 @@
 // a flat curve rendering its albedo under a head-on light.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 
 #include "engine/accel/intersector.h"
 #include "engine/core/rng.h"
 #include "engine/scene/curves.h"
 #include "engine/scene/pbrt_loader.h"
 #include "engine/transport/common/surface.h"
+#include "kernels/curve_bvh.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -326,4 +328,65 @@ TEST_CASE("curves: a flat curve renders its albedo under a head-on light", "[cur
     double sum = 0.0;
     for (const RGB& p : img.pixels) sum += p.g;
     CHECK(sum / double(img.pixels.size()) == Approx(0.5).epsilon(1e-3));
+}
+
+TEST_CASE("curves: a stream of rays finds what each ray finds alone", "[curves][fast]") {
+    // 2,000 wavy hairs in a block; rays from inside and outside it in random directions, some
+    // bounded by an earlier hit, some unusable (NaN, no direction).
+    std::vector<kern::CurveSegment> segs;
+    for (uint32_t h = 0; h < 2000; ++h) {
+        const float x = 2.f * rng::uniform(21, 0, h, 0) - 1.f, z = rng::uniform(21, 0, h, 1) - 0.5f;
+        const float phase = 6.283f * rng::uniform(21, 0, h, 2);
+        for (int s = 0; s < 3; ++s) {
+            kern::CurveSegment c;
+            for (int k = 0; k < 4; ++k) {
+                const float t = float(3 * s + k);
+                c.cp[k][0] = x + 0.03f * std::sin(phase + 0.9f * t);
+                c.cp[k][1] = 1.f - 2.f * t / 9.f;
+                c.cp[k][2] = z + 0.03f * std::cos(phase + 0.7f * t);
+            }
+            c.w0 = 0.01f;
+            c.w1 = 0.006f;
+            segs.push_back(c);
+        }
+    }
+    std::vector<uint8_t> ribbon(segs.size(), 0);
+    for (std::size_t i = 0; i < ribbon.size(); i += 7) ribbon[i] = 1;  // some oriented ribbons
+    const kern::CurveBvh bvh(segs, ribbon);
+    const std::size_t n = 3000;
+    std::vector<kern::Ray1> rays(n);
+    std::vector<kern::CurveHit> alone(n), stream(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float u[6] = {rng::uniform(22, 0, i, 0), rng::uniform(22, 0, i, 1),
+                            rng::uniform(22, 0, i, 2), rng::uniform(22, 0, i, 3),
+                            rng::uniform(22, 0, i, 4), rng::uniform(22, 0, i, 5)};
+        const float ct = 2.f * u[3] - 1.f, st = std::sqrt(1.f - ct * ct);
+        rays[i] = {4.f * u[0] - 2.f,
+                   4.f * u[1] - 2.f,
+                   2.f * u[2] - 1.f,
+                   st * std::cos(6.283f * u[4]),
+                   st * std::sin(6.283f * u[4]),
+                   ct,
+                   0.f,
+                   kern::kInf};
+        if (i % 11 == 0) alone[i].t = stream[i].t = 0.5f * u[5];  // an earlier hit
+        if (i % 97 == 0) rays[i].dx = std::nanf("");
+        if (i % 101 == 0) rays[i].dx = rays[i].dy = rays[i].dz = 0.f;
+    }
+    std::vector<uint32_t> ids(n, 0);
+    std::vector<uint8_t> found(n, 0);
+    uint64_t tests = 0, tests_stream = 0;
+    bvh.closest_stream(rays.data(), n, stream.data(), ids.data(), found.data(), tests_stream);
+    std::size_t hits = 0, wrong = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        uint32_t id = 0;
+        const bool f = bvh.closest(rays[i], alone[i], id, tests);
+        hits += f;
+        wrong += f != (found[i] != 0);
+        if (f && found[i])
+            wrong += std::memcmp(&alone[i], &stream[i], sizeof alone[i]) != 0 || id != ids[i];
+    }
+    CHECK(hits > 500);
+    CHECK(wrong == 0);
+    CHECK(tests == tests_stream);
 }

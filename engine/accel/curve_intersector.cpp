@@ -37,6 +37,29 @@ bool CurveIntersector::closest_own(const kern::Ray1& ray, Hit1& hit, TraceCounte
     return true;
 }
 
+void CurveIntersector::intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const {
+    inner_->intersect(rays, hits, c);
+    if (bvh_.empty()) return;
+    thread_local Stream s;
+    const std::size_t n = rays.size();
+    s.rays.resize(n);
+    s.hits.assign(n, kern::CurveHit{});
+    s.ids.resize(n);
+    s.found.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.rays[i] = ray_at(rays, i);
+        // Closer than the backend's hit, as closest_own() asks.
+        if (hits.geom[i] != kNoHit) s.hits[i].t = hits.t[i];
+    }
+    bvh_.closest_stream(s.rays.data(), n, s.hits.data(), s.ids.data(), s.found.data(),
+                        c.curve_tests);
+    for (std::size_t i = 0; i < n; ++i)
+        if (s.found[i]) {
+            const kern::CurveHit& h = s.hits[i];
+            store_hit(hits, i, Hit1{h.t, h.u, h.v, refs_[s.ids[i]].segment, refs_[s.ids[i]].geom});
+        }
+}
+
 bool CurveIntersector::any_own(const kern::Ray1& ray, TraceCounters& c) const {
     return bvh_.any(ray, c.curve_tests);
 }

@@ -1,7 +1,8 @@
 #pragma once
-// Curves for every backend (layered_intersector.h): a binary BVH over the scene's curve
-// segments (kernels/curve_intersect.h) above the backend, so the curve kernel can also be
-// measured on its own.
+// Curves for every backend (layered_intersector.h): a wide BVH over the scene's curve
+// segments (kernels/curve_bvh.h) above the backend, so the curve kernel can also be measured
+// on its own. A batch's rays walk it as one stream (CurveBvh::closest_stream, the same hits
+// as one by one).
 #include <memory>
 
 #include "kernels/curve_bvh.h"
@@ -13,6 +14,7 @@ class CurveIntersector final : public LayeredIntersector<CurveIntersector> {
   public:
     CurveIntersector(const Scene& scene, std::unique_ptr<Intersector> inner);
     std::size_t memory_bytes() const override;
+    void intersect(const RayBatch& rays, HitBatch& hits, TraceCounters& c) const override;
 
   private:
     friend class LayeredIntersector<CurveIntersector>;
@@ -25,6 +27,13 @@ class CurveIntersector final : public LayeredIntersector<CurveIntersector> {
     };
     std::vector<SegmentRef> refs_;  // the BVH's segment ids -> their object and index
     kern::CurveBvh bvh_;
+    // A batch's rays and curve hits (per thread: intersect is const and called concurrently).
+    struct Stream {
+        std::vector<kern::Ray1> rays;
+        std::vector<kern::CurveHit> hits;
+        std::vector<uint32_t> ids;
+        std::vector<uint8_t> found;
+    };
 };
 
 }  // namespace foton
