@@ -5,7 +5,8 @@
 // primary rays from a pinhole camera and by 65,536 incoherent rays from random points inside
 // the block in random directions. Rays per second; both sides count their hits so the work is
 // checked alike. foton's rays go one by one (`foton_curve_bvh`, closest()) and as one stream
-// (`foton_curve_bvh_stream`, closest_stream(): eight walks interleaved). Names:
+// (`foton_curve_bvh_stream`, closest_stream(): eight walks interleaved), Embree's by
+// rtcIntersect1 and as one rtcIntersect1M stream (`embree_flat_bezier_1M`). Names:
 // curves/<set>/<method>.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
@@ -175,6 +176,37 @@ void BM_embree(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(rays.size()));
 }
 
+// Embree's stream form for the same rays: rtcIntersect1M over the whole set (incoherent flag
+// for the random rays, coherent for the camera's), what foton's stream is measured against.
+void BM_embree_stream(benchmark::State& state) {
+    static const EmbreeCurves e;
+    const std::vector<Ray1>& rays = rays_of(int(state.range(0)));
+    std::vector<RTCRayHit> rh(rays.size());
+    std::size_t hits = 0;
+    for (auto _ : state) {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = state.range(0) == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                        : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Ray1& r = rays[i];
+            rh[i] = RTCRayHit{};
+            rh[i].ray.org_x = r.ox, rh[i].ray.org_y = r.oy, rh[i].ray.org_z = r.oz;
+            rh[i].ray.dir_x = r.dx, rh[i].ray.dir_y = r.dy, rh[i].ray.dir_z = r.dz;
+            rh[i].ray.tnear = r.tmin;
+            rh[i].ray.tfar = r.tmax;
+            rh[i].ray.mask = ~0u;
+            rh[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect1M(e.scene, &ctx, rh.data(), unsigned(rh.size()), sizeof(RTCRayHit));
+        hits = 0;
+        for (const RTCRayHit& h : rh) hits += h.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+        benchmark::DoNotOptimize(hits);
+    }
+    state.counters["hit_fraction"] = double(hits) / double(rays.size());
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(rays.size()));
+}
+
 }  // namespace
 
 BENCHMARK(BM_foton)->Name("curves/primary/foton_curve_bvh")->Arg(0)->Unit(benchmark::kMillisecond);
@@ -184,6 +216,10 @@ BENCHMARK(BM_foton_stream)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_embree)
     ->Name("curves/primary/embree_flat_bezier")
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_embree_stream)
+    ->Name("curves/primary/embree_flat_bezier_1M")
     ->Arg(0)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_foton)
@@ -196,5 +232,9 @@ BENCHMARK(BM_foton_stream)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_embree)
     ->Name("curves/incoherent/embree_flat_bezier")
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_embree_stream)
+    ->Name("curves/incoherent/embree_flat_bezier_1M")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
