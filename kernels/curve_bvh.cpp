@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "bvh_box_ray.h"
+#include "bvh_pack.h"
 
 namespace foton::kern {
 
@@ -40,48 +41,26 @@ CurveBvh::CurveBvh(const std::vector<CurveSegment>& segments, const std::vector<
     // tree's order, a leaf a run of parts.
     parts_.reserve(all.size());
     nodes_.resize(wide.nodes.size());
-    for (std::size_t w = 0; w < wide.nodes.size(); ++w) {
-        Node& n = nodes_[w];
-        for (std::size_t c = 0; c < kWidth; ++c) {
-            for (int a = 0; a < 3; ++a) {
-                n.bounds[2 * a][c] = kInf;
-                n.bounds[2 * a + 1][c] = -kInf;
-            }
-            n.child[c] = 0;
+    pack_wide_nodes<kWidth>(wide, nodes_, [&](const WideChild& k) {
+        const uint32_t first = uint32_t(parts_.size());
+        if (k.count > kBvhMaxLeafBlocks || first + k.count > kBvhMaxFirstBlock)
+            throw std::length_error("curve BVH: too many parts");
+        for (uint32_t j = 0; j < k.count; ++j) {
+            const uint32_t part = bin.prims[k.index + j];
+            const CurveSegment& s = all[part];
+            Part& q = parts_.emplace_back();
+            std::copy(&s.cp[0][0], &s.cp[0][0] + 12, &q.cp[0][0]);
+            q.w0 = s.w0;
+            q.w1 = s.w1;
+            q.ribbon = ribbon[owner[part]];
+            q.index = uint32_t(ids_.size());
+            normals_.insert(normals_.end(), s.n0, s.n0 + 3);
+            normals_.insert(normals_.end(), s.n1, s.n1 + 3);
+            ids_.push_back(owner[part]);
+            u0_.push_back(u0[part]);
         }
-        const auto& kids = wide.nodes[w];
-        for (std::size_t c = 0; c < kids.size(); ++c) {
-            const WideChild& k = kids[c];
-            float lo[3] = {k.lo[0], k.lo[1], k.lo[2]}, hi[3] = {k.hi[0], k.hi[1], k.hi[2]};
-            pad_box(lo, hi);
-            for (int a = 0; a < 3; ++a) {
-                n.bounds[2 * a][c] = lo[a];
-                n.bounds[2 * a + 1][c] = hi[a];
-            }
-            if (!k.leaf) {
-                n.child[c] = k.index;
-                continue;
-            }
-            const uint32_t first = uint32_t(parts_.size());
-            if (k.count > kBvhMaxLeafBlocks || first + k.count > kBvhMaxFirstBlock)
-                throw std::length_error("curve BVH: too many parts");
-            for (uint32_t j = 0; j < k.count; ++j) {
-                const uint32_t part = bin.prims[k.index + j];
-                const CurveSegment& s = all[part];
-                Part& q = parts_.emplace_back();
-                std::copy(&s.cp[0][0], &s.cp[0][0] + 12, &q.cp[0][0]);
-                q.w0 = s.w0;
-                q.w1 = s.w1;
-                q.ribbon = ribbon[owner[part]];
-                q.index = uint32_t(ids_.size());
-                normals_.insert(normals_.end(), s.n0, s.n0 + 3);
-                normals_.insert(normals_.end(), s.n1, s.n1 + 3);
-                ids_.push_back(owner[part]);
-                u0_.push_back(u0[part]);
-            }
-            n.child[c] = bvh_make_leaf(first, k.count);
-        }
-    }
+        return bvh_make_leaf(first, k.count);
+    });
     root_ = (wide.nodes[0].size() == 1 && wide.nodes[0][0].leaf) ? nodes_[0].child[0] : 0;
 }
 

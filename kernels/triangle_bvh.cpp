@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "bvh_pack.h"
+
 namespace foton::kern {
 
 namespace {
@@ -109,48 +111,26 @@ void TriangleBvhT<N, M>::build(const TriangleSource* sources, std::size_t num_so
             if (k.leaf) num_blocks += (k.count + M - 1) / M;
     blocks_.reserve(num_blocks);
     std::size_t used_lanes = 0;
-    for (std::size_t w = 0; w < wide.nodes.size(); ++w) {
-        Node& n = nodes_[w];
-        for (std::size_t c = 0; c < N; ++c) {
-            for (int a = 0; a < 3; ++a) {
-                n.bounds[2 * a][c] = kInf;
-                n.bounds[2 * a + 1][c] = -kInf;
+    pack_wide_nodes<N>(wide, nodes_, [&](const WideChild& k) {
+        const uint32_t first = uint32_t(blocks_.size());
+        const uint32_t nb = uint32_t((k.count + M - 1) / M);
+        if (first + nb > kBvhMaxFirstBlock) throw std::length_error("BVH: too many blocks");
+        for (uint32_t b = 0; b < nb; ++b) {
+            Block& blk = blocks_.emplace_back();
+            blk.clear();
+            for (std::size_t lane = 0; lane < M && b * M + lane < k.count; ++lane) {
+                const std::size_t j = k.index + b * M + lane;
+                prefetch_ahead(j);
+                const uint32_t tid = bin.prims[j];
+                const float* p[3];
+                corners(tid, p);
+                blk.set(lane, p[0], p[1], p[2], tid);
+                ++used_lanes;
             }
-            n.child[c] = 0;
         }
-        const auto& kids = wide.nodes[w];
-        for (std::size_t c = 0; c < kids.size(); ++c) {
-            const WideChild& k = kids[c];
-            float lo[3] = {k.lo[0], k.lo[1], k.lo[2]}, hi[3] = {k.hi[0], k.hi[1], k.hi[2]};
-            pad_box(lo, hi);
-            for (int a = 0; a < 3; ++a) {
-                n.bounds[2 * a][c] = lo[a];
-                n.bounds[2 * a + 1][c] = hi[a];
-            }
-            if (!k.leaf) {
-                n.child[c] = k.index;
-                continue;
-            }
-            const uint32_t first = uint32_t(blocks_.size());
-            const uint32_t nb = uint32_t((k.count + M - 1) / M);
-            if (first + nb > kBvhMaxFirstBlock) throw std::length_error("BVH: too many blocks");
-            for (uint32_t b = 0; b < nb; ++b) {
-                Block& blk = blocks_.emplace_back();
-                blk.clear();
-                for (std::size_t lane = 0; lane < M && b * M + lane < k.count; ++lane) {
-                    const std::size_t j = k.index + b * M + lane;
-                    prefetch_ahead(j);
-                    const uint32_t tid = bin.prims[j];
-                    const float* p[3];
-                    corners(tid, p);
-                    blk.set(lane, p[0], p[1], p[2], tid);
-                    ++used_lanes;
-                }
-            }
-            n.child[c] = bvh_make_leaf(first, nb);
-            ++stats_.leaves;
-        }
-    }
+        ++stats_.leaves;
+        return bvh_make_leaf(first, nb);
+    });
     // A root with one leaf child is entered as that leaf.
     root_ = (wide.nodes[0].size() == 1 && wide.nodes[0][0].leaf) ? nodes_[0].child[0] : 0;
     {
