@@ -48,6 +48,30 @@ TEST_CASE("foton render writes EXR and PNG", "[cli]") {
     CHECK_THAT(json, Catch::Contains("\"camera_rays\": 1024"));
 }
 
+TEST_CASE("foton render --filter sets the pixel filter, bad ones exit 2 with no image",
+          "[cli][filter]") {
+    foton::test::TempDir dir;
+    const std::string scene = foton::test::source_path("scenes/cornell-box.xml");
+    const std::string common = " --width 16 --height 16 --spp 2 --threads 2 -q -o ";
+    const Run box = run("render " + scene + common + dir.file("box.exr"));
+    const Run g =
+        run("render " + scene + " --filter gaussian:1.5:0.5" + common + dir.file("g.exr"));
+    CHECK(box.code == 0);
+    CHECK(g.code == 0);
+    // The Gaussian blurs: the two images differ.
+    std::ifstream a(dir.file("box.exr"), std::ios::binary), b(dir.file("g.exr"), std::ios::binary);
+    const std::string ta((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
+    const std::string tb((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+    CHECK(ta != tb);
+    for (const char* bad : {"mitchell", "gaussian:0", "box:2:1", "gaussian:1.5:x", "triangle:99"}) {
+        INFO(bad);
+        const Run r = run("render " + scene + " --filter " + bad + common + dir.file("bad.exr"));
+        CHECK(r.code == 2);
+        CHECK_THAT(r.output, Catch::Contains("--filter"));
+        CHECK_FALSE(std::filesystem::exists(dir.file("bad.exr")));
+    }
+}
+
 TEST_CASE("bad input: exit code 2, file:line message, no image", "[cli][bad-input]") {
     foton::test::TempDir dir;
     const std::string scene = dir.file("bad.xml");

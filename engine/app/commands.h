@@ -22,6 +22,7 @@ struct RenderArgs {
     std::optional<std::string> width, height;
     std::vector<double> crop;       // x0,x1,y0,y1 as fractions of the image (pbrt's)
     std::vector<int> pixel_bounds;  // x0,x1,y0,y1 in pixels
+    std::string filter;             // --filter: the pixel filter
     std::string integrator;         // empty = the scene's <renderer type>
     std::string mis;
     std::string aov;      // --aov: extra outputs as EXR channels (film/aov.h)

@@ -2,13 +2,49 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "engine/core/error.h"
 #include "engine/core/params.h"
 
 namespace foton::app {
 
+namespace {
+
+// --filter TYPE[:RADIUS[:SIGMA]]: pbrt-v4's radii and sigma unless given.
+PixelFilter filter_flag(const std::string& text) {
+    std::vector<std::string> part;
+    std::size_t at = 0;
+    for (std::size_t colon; (colon = text.find(':', at)) != std::string::npos; at = colon + 1)
+        part.push_back(text.substr(at, colon - at));
+    part.push_back(text.substr(at));
+    const std::string& type = part[0];
+    if (type != "box" && type != "triangle" && type != "gaussian")
+        throw InputError("--filter", 0, "unknown filter '" + type + "' (box, triangle, gaussian)");
+    if (part.size() > (type == "gaussian" ? 3u : 2u))
+        throw InputError("--filter", 0,
+                         type == "gaussian" ? "expected gaussian[:radius[:sigma]]"
+                                            : "expected " + type + "[:radius]");
+    // A number in (0, 16]: pixels for the radius, and for sigma.
+    auto number = [&](std::size_t i, float fallback, const char* what) {
+        if (i >= part.size()) return fallback;
+        char* end = nullptr;
+        const float v = std::strtof(part[i].c_str(), &end);
+        if (part[i].empty() || *end != '\0' || !(v > 0.f && v <= 16.f))
+            throw InputError("--filter", 0,
+                             std::string(what) + " '" + part[i] + "' must be a number in (0, 16]");
+        return v;
+    };
+    const float r = number(1, type == "box" ? 0.5f : type == "gaussian" ? 1.5f : 2.f, "the radius");
+    if (type == "box") return PixelFilter::box(r, r);
+    if (type == "triangle") return PixelFilter::triangle(r, r);
+    return PixelFilter::gaussian(r, r, number(2, 0.5f, "sigma"));
+}
+
+}  // namespace
+
 void apply_image_flags(const ImageFlags& args, Scene& scene) {
+    if (!args.filter.empty()) scene.set_filter(filter_flag(args.filter));
     if (args.width || args.height) {
         const int w =
             args.width

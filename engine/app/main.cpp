@@ -44,6 +44,10 @@ int main(int argc, char** argv) {
                      "x0,x1,y0,y1: render only pixels [x0,x1) x [y0,y1) (like pbrt's "
                      "--pixelbounds)")
         ->delimiter(',');
+    render->add_option("--filter", ra.filter,
+                       "pixel filter: box | triangle | gaussian, with :radius (pixels) and for "
+                       "gaussian :sigma (e.g. gaussian:1.5:0.5, pbrt-v4's default); replaces the "
+                       "scene's");
     render->add_option("--integrator", ra.integrator, "one of:" + integrator_help());
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "

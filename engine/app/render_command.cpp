@@ -113,11 +113,12 @@ nlohmann::ordered_json gather_rank_stats(const Cluster& ranks, RenderStats& stat
 // --set's in the scene's set, checked by the same rules, reported under their own name,
 // recorded with the others.
 JobRequest job_request(const RenderArgs& args) {
-    JobRequest request{args.scene,  parse_set_flags(args.set),
-                       args.accel,  {args.width, args.height, args.crop, args.pixel_bounds},
-                       {},          args.spp,
-                       args.passes, args.time,
-                       {}};
+    JobRequest request{
+        args.scene,  parse_set_flags(args.set),
+        args.accel,  {args.width, args.height, args.crop, args.pixel_bounds, args.filter},
+        {},          args.spp,
+        args.passes, args.time,
+        {}};
     auto flag = [&](const char* key, const std::string& value, const char* name) {
         request.flags.push_back({key, value, name});
     };

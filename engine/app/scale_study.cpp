@@ -50,7 +50,7 @@ int run_scale(const ScaleArgs& args) {
         throw InputError("--weak", 0, "needs fixed work (--spp or --passes), not --time");
     if (args.time && !(*args.time > 0.f)) throw InputError("--time", 0, "must be positive");
     JobRequest request{args.scene,  parse_set_flags(args.set),
-                       args.accel,  {args.width, args.height, {}, {}},
+                       args.accel,  {args.width, args.height, {}, {}, {}},
                        {},          args.spp,
                        args.passes, args.time,
                        {}};
