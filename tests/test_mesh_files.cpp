@@ -268,6 +268,48 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     CHECK(worst < 0.02);
 }
 
+TEST_CASE("glTF: a texture on TEXCOORD_1 reads the second uv set", "[gltf][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    write_gltf(dir);
+    // A second uv set for the left primitive, mirrored in u (u' = 0.5 - u), after the
+    // buffer's 152 bytes; the base colour texture reads it.
+    {
+        const float uv1[] = {0.5f, 1, 0, 1, 0, 0, 0.5f, 0};
+        std::ofstream(dir.file("quad.bin"), std::ios::binary | std::ios::app)
+            .write(reinterpret_cast<const char*>(uv1), sizeof uv1);
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("TEXCOORD_0": 2})", R"("TEXCOORD_0": 2, "TEXCOORD_1": 6})");
+        edit(R"("baseColorTexture": {"index": 0})",
+             R"("baseColorTexture": {"index": 0, "texCoord": 1})");
+        edit(R"("byteLength": 152})", R"("byteLength": 184})");
+        edit(R"({"buffer": 0, "byteOffset": 128, "byteLength": 24}])",
+             R"({"buffer": 0, "byteOffset": 128, "byteLength": 24},
+                {"buffer": 0, "byteOffset": 152, "byteLength": 32}])");
+        edit(R"("type": "SCALAR"}])", R"("type": "SCALAR"},
+            {"bufferView": 3, "byteOffset": 0, "componentType": 5126, "count": 4, "type": "VEC2"}])");
+    }
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    const TextureImage& img = s.texture_images[0];
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        return (x < 0.5f ? img.bilinear({0.5f - x, y}) : RGB{0.2f, 0.4f, 0.6f}) * 0.96f +
+               RGB{0.01f};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.02);
+    // A texture on another set than the material's first is noted.
+    write_gltf(dir,
+               R"(, "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0, "texCoord": 1},
+        "normalTexture": {"index": 0})");
+    const MeshFile f = load_gltf(dir.file("quad.gltf"));
+    bool noted = false;
+    for (const std::string& n : f.notes)
+        noted |=
+            n.find("emissiveTexture uses TEXCOORD_1; it reads TEXCOORD_0") != std::string::npos;
+    CHECK(noted);
+}
+
 TEST_CASE("glTF: KHR_materials_specular weights and tints the dielectric reflection",
           "[gltf][mesh-file]") {
     test::TempDir dir;

@@ -150,11 +150,21 @@ class GltfReader {
             if (m.normals.size() != m.positions.size())
                 fail(where, "NORMAL count differs from POSITION");
         }
-        if (const auto it = p.attributes.find("TEXCOORD_0"); it != p.attributes.end()) {
-            m.uvs = floats(it->second, 2, where + " TEXCOORD_0");
-            if (m.uvs.size() != 2 * nv) fail(where, "TEXCOORD_0 count differs from POSITION");
+        // The uv set the material's textures read (TEXCOORD_0 without textures).
+        part.material = p.material >= 0 ? material(p.material) : -1;
+        const int set = part.material >= 0
+                            ? std::max(out_.materials[std::size_t(part.material)].tex_coord, 0)
+                            : 0;
+        const std::string uv_name = "TEXCOORD_" + std::to_string(set);
+        if (const auto it = p.attributes.find(uv_name); it != p.attributes.end()) {
+            m.uvs = floats(it->second, 2, where + " " + uv_name);
+            if (m.uvs.size() != 2 * nv) fail(where, uv_name + " count differs from POSITION");
             // glTF's v runs down the image; foton's textures take v = 0 at the bottom.
             for (std::size_t i = 1; i < m.uvs.size(); i += 2) m.uvs[i] = 1.f - m.uvs[i];
+        } else if (part.material >= 0 &&
+                   out_.materials[std::size_t(part.material)].tex_coord >= 0) {
+            note(where + ": its material's textures read " + uv_name +
+                 ", which it lacks (read at pbrt's default parametrisation)");
         }
         if (p.indices >= 0) {
             m.indices = indices(p.indices, where + " indices");
@@ -185,7 +195,6 @@ class GltfReader {
             fail(where, "the scene places more than " + std::to_string(kMaxPlacedTriangles) +
                             " triangles (meshes repeated by the node graph count each time)");
         m.transform(xf);
-        part.material = p.material >= 0 ? material(p.material) : -1;
         out_.parts.push_back(std::move(part));
     }
 
@@ -200,16 +209,15 @@ class GltfReader {
         f.name = gm.name.empty() ? "gltf material " + std::to_string(i) : gm.name;
         const auto& pbr = gm.pbrMetallicRoughness;
         // A texture reference (TextureInfo or NormalTextureInfo): its image into `map`, its
-        // KHR_texture_transform into `uv`; a texCoord other than 0 is noted.
+        // KHR_texture_transform into `uv`, its uv set the material's (gltf_use_tex_coord).
         auto texture = [&](const auto& info, const char* name, bool linear, std::string& map,
                            UvMap& uv) {
             if (info.index < 0) return;
-            if (info.texCoord != 0)
-                note(where + ": " + name + " uses TEXCOORD_" + std::to_string(info.texCoord) +
-                     "; foton reads TEXCOORD_0");
             map = image(info.index, where, linear);
             try {
-                uv = gltf_uv_map(info.extensions, out_.notes, path_ + ": " + where);
+                int set = info.texCoord;
+                uv = gltf_uv_map(info.extensions, set);
+                gltf_use_tex_coord(f, set, name, out_.notes, path_ + ": " + where);
             } catch (const std::invalid_argument& e) {
                 fail(where, e.what());
             }

@@ -110,18 +110,16 @@ void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::s
 
 // An extension's texture reference ({"index", "texCoord", "extensions"}): its texture index
 // (-1 when absent) and KHR_texture_transform; a texCoord other than 0 is noted.
-int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv,
+int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv, FileMaterial& f,
                            std::vector<std::string>& notes, const std::string& where) {
     if (!v.Has(key)) return -1;
     const tinygltf::Value& t = v.Get(key);
     if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
         throw std::invalid_argument(std::string(key) + " needs an integer \"index\"");
-    if (t.Has("texCoord") && t.Get("texCoord").GetNumberAsInt() != 0)
-        notes.push_back(where + ": " + key + " uses TEXCOORD_" +
-                        std::to_string(t.Get("texCoord").GetNumberAsInt()) +
-                        "; foton reads TEXCOORD_0");
+    int tex_coord = t.Has("texCoord") ? t.Get("texCoord").GetNumberAsInt() : 0;
     if (t.Has("extensions") && t.Get("extensions").IsObject())
-        uv = gltf_uv_map(t.Get("extensions").Get<tinygltf::Value::Object>(), notes, where);
+        uv = gltf_uv_map(t.Get("extensions").Get<tinygltf::Value::Object>(), tex_coord);
+    gltf_use_tex_coord(f, tex_coord, key, notes, where);
     return t.Get("index").GetNumberAsInt();
 }
 
@@ -138,9 +136,9 @@ void gltf_clearcoat(const tinygltf::Value& v, FileMaterial& f, std::vector<std::
     factor("clearcoatFactor", f.clearcoat);
     factor("clearcoatRoughnessFactor", f.clearcoat_roughness);
     f.clearcoat_texture =
-        gltf_extension_texture(v, "clearcoatTexture", f.clearcoat_uv, notes, where);
-    f.clearcoat_roughness_texture = gltf_extension_texture(v, "clearcoatRoughnessTexture",
-                                                           f.clearcoat_roughness_uv, notes, where);
+        gltf_extension_texture(v, "clearcoatTexture", f.clearcoat_uv, f, notes, where);
+    f.clearcoat_roughness_texture = gltf_extension_texture(
+        v, "clearcoatRoughnessTexture", f.clearcoat_roughness_uv, f, notes, where);
     if (v.Has("clearcoatNormalTexture"))
         notes.push_back(where +
                         ": KHR_materials_clearcoat clearcoatNormalTexture ignored (the coat "
@@ -196,8 +194,19 @@ void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f) {
     // stochastic test (Material::alpha_cutoff < 0) renders in expectation.
 }
 
-UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
-                  std::vector<std::string>& notes, const std::string& where) {
+void gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
+                        std::vector<std::string>& notes, const std::string& where) {
+    if (tex_coord < 0) throw std::invalid_argument(texture + ": texCoord must not be negative");
+    if (f.tex_coord < 0) {
+        f.tex_coord = tex_coord;
+    } else if (tex_coord != f.tex_coord) {
+        notes.push_back(where + ": " + texture + " uses TEXCOORD_" + std::to_string(tex_coord) +
+                        "; it reads TEXCOORD_" + std::to_string(f.tex_coord) +
+                        ", the material's other textures' set");
+    }
+}
+
+UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions, int& tex_coord) {
     UvMap m;
     const auto it = extensions.find("KHR_texture_transform");
     if (it == extensions.end()) return m;
@@ -215,10 +224,7 @@ UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
     const float r = t.Has("rotation") ? float(t.Get("rotation").GetNumberAsDouble()) : 0.f;
     if (!std::isfinite(ox + oy + sx + sy + r))
         throw std::invalid_argument("KHR_texture_transform values must be finite");
-    if (t.Has("texCoord") && t.Get("texCoord").GetNumberAsInt() != 0)
-        notes.push_back(where + ": KHR_texture_transform texCoord " +
-                        std::to_string(t.Get("texCoord").GetNumberAsInt()) +
-                        " ignored (foton reads TEXCOORD_0)");
+    if (t.Has("texCoord")) tex_coord = t.Get("texCoord").GetNumberAsInt();
     // glTF: uv' = T R S uv with R = [cos sin; -sin cos], in coordinates whose v runs down;
     // foton's v is 1 - glTF's, on both sides.
     const float c = std::cos(r), s = std::sin(r);

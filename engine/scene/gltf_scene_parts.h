@@ -49,10 +49,15 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
 void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f);
 
 // A texture reference's KHR_texture_transform (offset, rotation, scale) as foton's uv map
-// (glTF's v runs down, foton's up); the identity without one. A texCoord override other than
-// 0 is noted (foton reads TEXCOORD_0).
-UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions,
-                  std::vector<std::string>& notes, const std::string& where);
+// (glTF's v runs down, foton's up); the identity without one. Its texCoord, when given,
+// replaces `tex_coord` (the reference's own).
+UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions, int& tex_coord);
+
+// A material's textures read one uv set (TEXCOORD_n), which its primitives then load as
+// their texture coordinates: the first texture's set is the material's; another set on a
+// later texture is noted (it reads the material's set).
+void gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
+                        std::vector<std::string>& notes, const std::string& where);
 
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
 // `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it

@@ -26,6 +26,9 @@ struct FileMaterial {
     RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
     std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
     std::string normal_map;   // a tangent-space normal map (resolved path or embedded key)
+    // glTF: the uv set (TEXCOORD_n) its textures read, which its primitives load as their
+    // texture coordinates; -1: it has no texture.
+    int tex_coord = -1;
     // MTL's map_Bump (or bump): a height map, its grey values times `bump_multiplier` (-bm)
     // in scene units, or the tangent-space normal map many exporters write there; which of
     // the two is read off its texels (add_file_material).
