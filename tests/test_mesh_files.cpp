@@ -268,6 +268,43 @@ TEST_CASE("glTF: node transforms, base colour factors and textures render as the
     CHECK(worst < 0.02);
 }
 
+TEST_CASE("glTF: KHR_materials_transmission's texture sets the transmitting share per hit",
+          "[gltf][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    // Red 1, 0, 0.5, 1 in the four texels (read linearly) times transmissionFactor 1.
+    const unsigned char tr[] = {255, 0, 0, 0, 0, 0, 128, 0, 0, 255, 0, 0};
+    REQUIRE(stbi_write_png(dir.file("tr.png").c_str(), 2, 2, 3, tr, 6) != 0);
+    write_gltf(dir);
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
+             R"("baseColorTexture": {"index": 0}, "metallicFactor": 0},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1,
+                 "transmissionTexture": {"index": 1}}})");
+        edit(R"("textures": [{"source": 0}])", R"("textures": [{"source": 0}, {"source": 1}])");
+        edit(R"("images": [{"uri": "t.png"}])",
+             R"("images": [{"uri": "t.png"}, {"uri": "tr.png"}])");
+    }
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.texture_images.size() == 2);
+    // The share's image is decoded first (the lobes are made after it).
+    const bool share_first = s.texture_images[0].path.find("tr.png") != std::string::npos;
+    const TextureImage& base = s.texture_images[share_first ? 1 : 0];
+    const TextureImage& share = s.texture_images[share_first ? 0 : 1];
+    // Head-on with nothing behind: where a share v transmits, the diffuse base and its
+    // reflection keep 1 - v, and the transmitting dielectric reflects as the base's own
+    // reflection does (F0 0.04 by GGX of alpha 1: 0.01).
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
+        const float v = share.bilinear({x, y}).r;
+        return (base.bilinear({x, y}) * 0.96f + RGB{0.01f}) * (1.f - v) + RGB{0.01f * v};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.01);
+}
+
 TEST_CASE("glTF: a texture on TEXCOORD_1 reads the second uv set", "[gltf][mesh-file]") {
     test::TempDir dir;
     write_texture(dir.file("t.png"));

@@ -154,8 +154,8 @@ void gltf_material_extensions(const tinygltf::Material& gm, FileMaterial& f,
         f.transmission = float(it->second.Get("transmissionFactor").GetNumberAsDouble());
         if (!(f.transmission >= 0.f && f.transmission <= 1.f))
             throw std::invalid_argument("transmissionFactor must be in [0, 1]");
-        if (it->second.Has("transmissionTexture"))
-            notes.push_back(where + ": transmissionTexture ignored");
+        f.transmission_texture = gltf_extension_texture(it->second, "transmissionTexture",
+                                                        f.transmission_uv, f, notes, where);
     }
     f.ior = 1.5f;  // glTF's default
     if (const auto it = gm.extensions.find("KHR_materials_ior");

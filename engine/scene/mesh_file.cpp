@@ -251,6 +251,17 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
             throw InputError(m.name, 0, "too many textured parameters in one material");
     };
     auto alpha_param = [&] { param(LobeParam::Alpha, 2, Material::Remap::Square); };
+    // glTF's transmission texture: its red times the factor is the transmitting share per
+    // hit, so the lobes are made at full share and weighted v (transmission) or 1 - v.
+    int32_t tr = -1;
+    if (!f.transmission_map.empty())
+        tr = image_texture(scene, file, images, f.transmission_map, true, f.transmission_uv,
+                           RGB{std::clamp(f.transmission, 0.f, 1.f)});
+    auto trans_param = [&](LobeParam target) {
+        if (tr < 0) return;
+        if (!m.add_float_param({tr, uint8_t(m.bsdf.size() - 1), target, Material::Remap::None, 1}))
+            throw InputError(m.name, 0, "too many textured parameters in one material");
+    };
     // Per hit with a texture, else the factor now.
     const float metal = mr >= 0 ? 1.f : std::clamp(f.metallic, 0.f, 1.f);
     const float dielectric = mr >= 0 ? 1.f : 1.f - metal;
@@ -260,7 +271,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         MicrofacetDistribution::trowbridge_reitz(std::max(alpha, 1e-3f), std::max(alpha, 1e-3f));
     // glTF's transmission replaces that much of the dielectric base's diffuse part; its
     // reflection takes the rest's Fresnel share.
-    const float trans = std::clamp(f.transmission, 0.f, 1.f);
+    const float trans = tr >= 0 ? 0.f : std::clamp(f.transmission, 0.f, 1.f);
     Fresnel glass;
     glass.kind = FresnelKind::Dielectric;
     glass.ior = f.ior;
@@ -283,6 +294,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     m.base_color = kd;
     m.bsdf.add(Lobe::lambert(kd));
     param(LobeParam::WeightComplement, 3, Material::Remap::None);
+    trans_param(LobeParam::WeightComplement);
     if (!f.diffuse_map.empty()) {
         m.texture = image_texture(scene, file, images, f.diffuse_map, false, f.diffuse_uv);
         m.textured_lobes = 1;  // the Lambert lobe, added first
@@ -299,6 +311,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         const RGB w{dielectric * (1.f - trans) * f.dielectric_weight};
         m.bsdf.add(smooth ? Lobe::mirror(w, glass) : Lobe::microfacet(w, ggx, glass));
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
+        trans_param(LobeParam::WeightComplement);
         alpha_param();
     }
     if (metal > 0.f) {
@@ -309,13 +322,14 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         param(LobeParam::Weight, 3, Material::Remap::None);
         alpha_param();
     }
-    if (trans > 0.f) {
+    if (trans > 0.f || tr >= 0) {
         // A solid dielectric of the material's index, tinted by the base colour, weighted by
         // the transmitting share.
-        const float w = dielectric * trans;
+        const float w = dielectric * (tr >= 0 ? 1.f : trans);
         m.bsdf.add(smooth ? Lobe::dielectric(f.ior, RGB{w}, f.diffuse * w)
                           : Lobe::rough_dielectric(f.ior, ggx, RGB{w}, f.diffuse * w));
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
+        trans_param(LobeParam::Weight);
         alpha_param();
     }
     if (f.clearcoat > 0.f) add_clearcoat(scene, f, file, images, m);

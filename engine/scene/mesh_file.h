@@ -51,6 +51,11 @@ struct FileMaterial {
     bool glass = false;        // MTL illum 4, 6, 7, 9
     float ior = 1.5f;          // MTL Ni, glTF KHR_materials_ior
     float transmission = 0.f;  // glTF KHR_materials_transmission
+    // Its texture's red channel times `transmission`, per hit (read linearly; the glTF
+    // texture index until the loader resolves the image, -1: none).
+    std::string transmission_map;
+    UvMap transmission_uv;
+    int transmission_texture = -1;
     // glTF KHR_materials_clearcoat: a clear dielectric coat (index 1.5) of this strength over
     // everything else, GGX of alpha = clearcoat_roughness^2.
     float clearcoat = 0.f, clearcoat_roughness = 0.f;
