@@ -244,6 +244,21 @@ class GltfEdit {
     std::string path_, text_;
 };
 
+// write_gltf's quad with a second 2 x 2 image, file `png` of texels `rgb` (12 bytes), as texture
+// 1 and `extensions` (a JSON object's members) on the textured material.
+void write_gltf_with_texture(const test::TempDir& dir, const unsigned char* rgb,
+                             const std::string& png, const std::string& extensions) {
+    REQUIRE(stbi_write_png(dir.file(png).c_str(), 2, 2, 3, rgb, 6) != 0);
+    write_gltf(dir);
+    GltfEdit edit(dir.file("quad.gltf"));
+    edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
+         R"("baseColorTexture": {"index": 0}, "metallicFactor": 0}, "extensions": {)" + extensions +
+             "}");
+    edit(R"("textures": [{"source": 0}])", R"("textures": [{"source": 0}, {"source": 1}])");
+    edit(R"("images": [{"uri": "t.png"}])",
+         R"("images": [{"uri": "t.png"}, {"uri": ")" + png + R"("}])");
+}
+
 }  // namespace
 
 TEST_CASE("glTF: node transforms, base colour factors and textures render as the file says",
@@ -274,18 +289,8 @@ TEST_CASE("glTF: KHR_materials_transmission's texture sets the transmitting shar
     write_texture(dir.file("t.png"));
     // Red 1, 0, 0.5, 1 in the four texels (read linearly) times transmissionFactor 1.
     const unsigned char tr[] = {255, 0, 0, 0, 0, 0, 128, 0, 0, 255, 0, 0};
-    REQUIRE(stbi_write_png(dir.file("tr.png").c_str(), 2, 2, 3, tr, 6) != 0);
-    write_gltf(dir);
-    {
-        GltfEdit edit(dir.file("quad.gltf"));
-        edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
-             R"("baseColorTexture": {"index": 0}, "metallicFactor": 0},
-             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1,
-                 "transmissionTexture": {"index": 1}}})");
-        edit(R"("textures": [{"source": 0}])", R"("textures": [{"source": 0}, {"source": 1}])");
-        edit(R"("images": [{"uri": "t.png"}])",
-             R"("images": [{"uri": "t.png"}, {"uri": "tr.png"}])");
-    }
+    write_gltf_with_texture(dir, tr, "tr.png", R"("KHR_materials_transmission":
+        {"transmissionFactor": 1, "transmissionTexture": {"index": 1}})");
     write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
     const Scene s = load_scene(dir.file("s.xml"));
     REQUIRE(s.texture_images.size() == 2);
@@ -423,19 +428,9 @@ TEST_CASE("glTF: KHR_materials_clearcoat's textures set the coat per hit", "[glt
     // factor), green the coat's roughness (times its factor): (1, 1), (0, 0.5), (0.5, 1),
     // (1, 0.5).
     const unsigned char cc[] = {255, 255, 0, 0, 128, 0, 128, 255, 0, 255, 128, 0};
-    REQUIRE(stbi_write_png(dir.file("cc.png").c_str(), 2, 2, 3, cc, 6) != 0);
-    write_gltf(dir);
-    {
-        GltfEdit edit(dir.file("quad.gltf"));
-        edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
-             R"("baseColorTexture": {"index": 0}, "metallicFactor": 0},
-             "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
-                 "clearcoatRoughnessFactor": 1, "clearcoatTexture": {"index": 1},
-                 "clearcoatRoughnessTexture": {"index": 1}}})");
-        edit(R"("textures": [{"source": 0}])", R"("textures": [{"source": 0}, {"source": 1}])");
-        edit(R"("images": [{"uri": "t.png"}])",
-             R"("images": [{"uri": "t.png"}, {"uri": "cc.png"}])");
-    }
+    write_gltf_with_texture(dir, cc, "cc.png", R"("KHR_materials_clearcoat": {"clearcoatFactor": 1,
+        "clearcoatRoughnessFactor": 1, "clearcoatTexture": {"index": 1},
+        "clearcoatRoughnessTexture": {"index": 1}})");
     write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
     const Scene s = load_scene(dir.file("s.xml"));
     REQUIRE(s.texture_images.size() == 2);
