@@ -53,19 +53,24 @@ TEST_CASE("mip: levels are block means down to one texel, odd sizes included", "
 
 namespace {
 
-// A 256 x 256 checkerboard of single texels, 0 and 1, as a PFM file.
-void write_checks(const std::string& path) {
-    const int n = 256;
-    std::string s = "PF\n256 256\n-1.0\n";
+// An n x n grey PFM file of texel values value(x, y).
+template <class Value>
+void write_grey_pfm(const std::string& path, int n, Value&& value) {
+    std::string s = "PF\n" + std::to_string(n) + " " + std::to_string(n) + "\n-1.0\n";
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
             for (int c = 0; c < 3; ++c) {
-                const float v = float((x + y) % 2);
+                const float v = value(x, y);
                 char b[4];
                 std::memcpy(b, &v, 4);
                 s.append(b, 4);
             }
     std::ofstream(path, std::ios::binary) << s;
+}
+
+// A 256 x 256 checkerboard of single texels, 0 and 1.
+void write_checks(const std::string& path) {
+    write_grey_pfm(path, 256, [](int x, int y) { return float((x + y) % 2); });
 }
 
 }  // namespace
@@ -158,18 +163,7 @@ TEST_CASE("ewa: stripes running away from the camera stay sharp where trilinear 
     test::TempDir dir;
     // Stripes along v, 2 texels wide, 64 x 64 (0 and 1), on a floor running away from a low
     // perspective camera: across the image a stripe spans pixels, along it they shrink.
-    {
-        std::string s = "PF\n64 64\n-1.0\n";
-        for (int y = 0; y < 64; ++y)
-            for (int x = 0; x < 64; ++x)
-                for (int c = 0; c < 3; ++c) {
-                    const float v = float((x / 2) % 2);
-                    char b[4];
-                    std::memcpy(b, &v, 4);
-                    s.append(b, 4);
-                }
-        std::ofstream(dir.file("stripes.pfm"), std::ios::binary) << s;
-    }
+    write_grey_pfm(dir.file("stripes.pfm"), 64, [](int x, int) { return float((x / 2) % 2); });
     auto render_with = [&](const char* filter) {
         const std::string xml = std::string(R"(<scene>
   <ambient r="1" g="1" b="1" intensity="1"/>
