@@ -244,11 +244,12 @@ class GltfEdit {
     std::string path_, text_;
 };
 
-// write_gltf's quad with a second 2 x 2 image, file `png` of texels `rgb` (12 bytes), as texture
-// 1 and `extensions` (a JSON object's members) on the textured material.
+// write_gltf's quad with a second 2 x 2 image, file `png` of texels `rgb` (`channels` bytes
+// each), as texture 1 and `extensions` (a JSON object's members) on the textured material.
 void write_gltf_with_texture(const test::TempDir& dir, const unsigned char* rgb,
-                             const std::string& png, const std::string& extensions) {
-    REQUIRE(stbi_write_png(dir.file(png).c_str(), 2, 2, 3, rgb, 6) != 0);
+                             const std::string& png, const std::string& extensions,
+                             int channels = 3) {
+    REQUIRE(stbi_write_png(dir.file(png).c_str(), 2, 2, channels, rgb, 2 * channels) != 0);
     write_gltf(dir);
     GltfEdit edit(dir.file("quad.gltf"));
     edit(R"("baseColorTexture": {"index": 0}, "metallicFactor": 0})",
@@ -308,6 +309,33 @@ TEST_CASE("glTF: KHR_materials_transmission's texture sets the transmitting shar
     });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.01);
+}
+
+TEST_CASE("glTF: KHR_materials_specular's texture sets the reflection's strength per hit",
+          "[gltf][mesh-file]") {
+    test::TempDir dir;
+    write_texture(dir.file("t.png"));
+    // Alpha 1, 0, 0.5, 1 (read linearly) times specularFactor 1; the colours are not read.
+    const unsigned char sp[] = {9, 9, 9, 255, 9, 9, 9, 0, 9, 9, 9, 128, 9, 9, 9, 255};
+    write_gltf_with_texture(dir, sp, "sp.png",
+                            R"("KHR_materials_specular": {"specularFactor": 1,
+        "specularTexture": {"index": 1}})",
+                            4);
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.texture_images.size() == 2);
+    const bool strength_first = s.texture_images[0].path.find("sp.png") != std::string::npos;
+    const TextureImage& base = s.texture_images[strength_first ? 1 : 0];
+    const TextureImage& strength = s.texture_images[strength_first ? 0 : 1];
+    // Head-on: the reflection (F0 0.04 by GGX of alpha 1) gives 0.01 v, the base keeps
+    // 1 - 0.04 v.
+    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
+        const float v = strength.bilinear_alpha({x, y});
+        return base.bilinear({x, y}) * (1.f - 0.04f * v) + RGB{0.01f * v};
+    });
+    INFO("worst pixel difference " << worst);
+    CHECK(worst < 0.005);
 }
 
 TEST_CASE("glTF: a texture on TEXCOORD_1 reads the second uv set", "[gltf][mesh-file]") {

@@ -267,6 +267,7 @@ class GltfReader {
         if (f.clearcoat_texture >= 0) f.clearcoat_map = image(f.clearcoat_texture, where, true);
         if (f.transmission_texture >= 0)
             f.transmission_map = image(f.transmission_texture, where, true);
+        if (f.specular_texture >= 0) f.specular_map = image(f.specular_texture, where, true);
         if (f.clearcoat_roughness_texture >= 0)
             f.clearcoat_roughness_map = image(f.clearcoat_roughness_texture, where, true);
         const int index = int(out_.materials.size());

@@ -84,7 +84,11 @@ void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const A
 
 namespace {
 
-// KHR_materials_specular's factors: the dielectric reflection's weight and F0 tint.
+int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv, FileMaterial& f,
+                           std::vector<std::string>& notes, const std::string& where);
+
+// KHR_materials_specular's factors and its strength texture: the dielectric reflection's
+// weight and F0 tint (the tint's texture is noted: it would need a per-hit Fresnel).
 void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::string>& notes,
                    const std::string& where) {
     if (v.Has("specularFactor")) {
@@ -104,12 +108,15 @@ void gltf_specular(const tinygltf::Value& v, FileMaterial& f, std::vector<std::s
         }
         f.dielectric_tint = RGB{rgb[0], rgb[1], rgb[2]};
     }
-    for (const char* tex : {"specularTexture", "specularColorTexture"})
-        if (v.Has(tex)) notes.push_back(where + ": KHR_materials_specular " + tex + " ignored");
+    f.specular_texture =
+        gltf_extension_texture(v, "specularTexture", f.specular_uv, f, notes, where);
+    if (v.Has("specularColorTexture"))
+        notes.push_back(where + ": KHR_materials_specular specularColorTexture ignored");
 }
 
 // An extension's texture reference ({"index", "texCoord", "extensions"}): its texture index
-// (-1 when absent) and KHR_texture_transform; a texCoord other than 0 is noted.
+// (-1 when absent) and KHR_texture_transform; its uv set the material's
+// (gltf_use_tex_coord).
 int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv, FileMaterial& f,
                            std::vector<std::string>& notes, const std::string& where) {
     if (!v.Has(key)) return -1;

@@ -84,7 +84,7 @@ struct Material {
         uint8_t lobe = 0;
         LobeParam target = LobeParam::AlphaX;
         Remap remap = Remap::None;
-        uint8_t channel = 0;  // 0: the channels' mean; 1, 2, 3: red, green, blue alone
+        uint8_t channel = 0;  // 0: the channels' mean; 1, 2, 3: red, green, blue; 4: alpha
         float k = 1.f;        // WeightComplement: the lobe's weight is 1 - k v
     };
     std::array<FloatParam, kMaxFloatParams> float_params{};

@@ -281,8 +281,21 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
                         std::min(t.b * f0_ior, 1.f)};
     const bool tinted = t.r != 1.f || t.g != 1.f || t.b != 1.f;
     if (tinted) glass = Fresnel::schlick(f0_tinted);
-    // The diffuse base keeps what the reflection leaves at normal incidence.
-    const float f0 = f.dielectric_weight * f0_tinted.max_component();
+    // The diffuse base keeps what the reflection leaves at normal incidence. glTF's
+    // specularTexture sets the reflection's strength v per hit: the reflection made at full
+    // strength and weighted v, the base 1 - v F0.
+    int32_t spec = -1;
+    if (!f.specular_map.empty() && f.dielectric_specular)
+        spec = image_texture(scene, file, images, f.specular_map, true, f.specular_uv,
+                             RGB{f.dielectric_weight});
+    auto spec_param = [&](LobeParam target, float k) {
+        if (spec < 0) return;
+        if (!m.add_float_param(
+                {spec, uint8_t(m.bsdf.size() - 1), target, Material::Remap::None, 4, k}))
+            throw InputError(m.name, 0, "too many textured parameters in one material");
+    };
+    const float strength = spec >= 0 ? 0.f : f.dielectric_weight;
+    const float f0 = strength * f0_tinted.max_component();
     // Diffuse and highlight (or mirror) share what arrives: scaled so they sum to at most 1.
     RGB kd = f.diffuse * (dielectric * (1.f - trans) * (f.dielectric_specular ? 1.f - f0 : 1.f));
     RGB ks = f.specular;
@@ -295,6 +308,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     m.bsdf.add(Lobe::lambert(kd));
     param(LobeParam::WeightComplement, 3, Material::Remap::None);
     trans_param(LobeParam::WeightComplement);
+    spec_param(LobeParam::WeightComplement, f0_tinted.max_component());
     if (!f.diffuse_map.empty()) {
         m.texture = image_texture(scene, file, images, f.diffuse_map, false, f.diffuse_uv);
         m.textured_lobes = 1;  // the Lambert lobe, added first
@@ -308,10 +322,11 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         m.bsdf.add(Lobe::phong(ks, f.exponent));
     }
     if (f.dielectric_specular && trans < 1.f && dielectric > 0.f && f.dielectric_weight > 0.f) {
-        const RGB w{dielectric * (1.f - trans) * f.dielectric_weight};
+        const RGB w{dielectric * (1.f - trans) * (spec >= 0 ? 1.f : f.dielectric_weight)};
         m.bsdf.add(smooth ? Lobe::mirror(w, glass) : Lobe::microfacet(w, ggx, glass));
         param(LobeParam::WeightComplement, 3, Material::Remap::None);
         trans_param(LobeParam::WeightComplement);
+        spec_param(LobeParam::Weight, 1.f);
         alpha_param();
     }
     if (metal > 0.f) {

@@ -47,6 +47,11 @@ struct FileMaterial {
     // tint, Schlick's Fresnel from min(F0(ior) x tint, 1), as the extension defines it).
     float dielectric_weight = 1.f;
     RGB dielectric_tint{1.f};
+    // Its strength texture's alpha times dielectric_weight, per hit (glTF's specularTexture;
+    // the texture index until the loader resolves the image, -1: none).
+    std::string specular_map;
+    UvMap specular_uv;
+    int specular_texture = -1;
     bool mirror = false;       // MTL illum 3, 5
     bool glass = false;        // MTL illum 4, 6, 7, 9
     float ior = 1.5f;          // MTL Ni, glTF KHR_materials_ior

@@ -224,6 +224,11 @@ const Material& Scene::textured(const Material& m, const TexPoint& at,
         float v;
         if (fp.channel == 0) {
             v = tx.eval_float(texture_images, at);
+        } else if (fp.channel == 4) {
+            // An image's alpha (1 where it has none), scaled as a float texture.
+            v = tx.kind == TextureKind::Image && !texture_images[tx.image].alpha.empty()
+                    ? tx.eval_float(texture_images, at)
+                    : tx.scale.r;
         } else {
             const RGB c = tx.eval(texture_images, at);
             v = fp.channel == 1 ? c.r : fp.channel == 2 ? c.g : c.b;
