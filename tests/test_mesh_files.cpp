@@ -260,6 +260,23 @@ void write_gltf_with_texture(const test::TempDir& dir, const unsigned char* rgb,
          R"("images": [{"uri": "t.png"}, {"uri": ")" + png + R"("}])");
 }
 
+// The quad of write_gltf_with_texture rendered head-on (write_scene): the worst pixel against
+// `want` on its textured half (given the base colour image and the second one, `second`,
+// whichever was decoded first), the flat half its Lambert 0.96 and reflection 0.01.
+double worst_textured_half(
+    const test::TempDir& dir, const std::string& second,
+    const std::function<RGB(const TextureImage&, const TextureImage&, float, float)>& want) {
+    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
+    const Scene s = load_scene(dir.file("s.xml"));
+    REQUIRE(s.texture_images.size() == 2);
+    const bool second_first = s.texture_images[0].path.find(second) != std::string::npos;
+    const TextureImage& base = s.texture_images[second_first ? 1 : 0];
+    const TextureImage& tex = s.texture_images[second_first ? 0 : 1];
+    return worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        return x >= 0.5f ? RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f} : want(base, tex, x, y);
+    });
+}
+
 }  // namespace
 
 TEST_CASE("glTF: node transforms, base colour factors and textures render as the file says",
@@ -292,21 +309,14 @@ TEST_CASE("glTF: KHR_materials_transmission's texture sets the transmitting shar
     const unsigned char tr[] = {255, 0, 0, 0, 0, 0, 128, 0, 0, 255, 0, 0};
     write_gltf_with_texture(dir, tr, "tr.png", R"("KHR_materials_transmission":
         {"transmissionFactor": 1, "transmissionTexture": {"index": 1}})");
-    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
-    const Scene s = load_scene(dir.file("s.xml"));
-    REQUIRE(s.texture_images.size() == 2);
-    // The share's image is decoded first (the lobes are made after it).
-    const bool share_first = s.texture_images[0].path.find("tr.png") != std::string::npos;
-    const TextureImage& base = s.texture_images[share_first ? 1 : 0];
-    const TextureImage& share = s.texture_images[share_first ? 0 : 1];
     // Head-on with nothing behind: where a share v transmits, the diffuse base and its
     // reflection keep 1 - v, and the transmitting dielectric reflects as the base's own
     // reflection does (F0 0.04 by GGX of alpha 1: 0.01).
-    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
-        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
-        const float v = share.bilinear({x, y}).r;
-        return (base.bilinear({x, y}) * 0.96f + RGB{0.01f}) * (1.f - v) + RGB{0.01f * v};
-    });
+    const double worst = worst_textured_half(
+        dir, "tr.png", [](const TextureImage& base, const TextureImage& share, float x, float y) {
+            const float v = share.bilinear({x, y}).r;
+            return (base.bilinear({x, y}) * 0.96f + RGB{0.01f}) * (1.f - v) + RGB{0.01f * v};
+        });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.01);
 }
@@ -321,19 +331,14 @@ TEST_CASE("glTF: KHR_materials_specular's texture sets the reflection's strength
                             R"("KHR_materials_specular": {"specularFactor": 1,
         "specularTexture": {"index": 1}})",
                             4);
-    write_scene(dir.file("s.xml"), R"(<triangle_mesh src="quad.gltf"/>)");
-    const Scene s = load_scene(dir.file("s.xml"));
-    REQUIRE(s.texture_images.size() == 2);
-    const bool strength_first = s.texture_images[0].path.find("sp.png") != std::string::npos;
-    const TextureImage& base = s.texture_images[strength_first ? 1 : 0];
-    const TextureImage& strength = s.texture_images[strength_first ? 0 : 1];
     // Head-on: the reflection (F0 0.04 by GGX of alpha 1) gives 0.01 v, the base keeps
     // 1 - 0.04 v.
-    const double worst = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
-        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
-        const float v = strength.bilinear_alpha({x, y});
-        return base.bilinear({x, y}) * (1.f - 0.04f * v) + RGB{0.01f * v};
-    });
+    const double worst = worst_textured_half(
+        dir, "sp.png",
+        [](const TextureImage& base, const TextureImage& strength, float x, float y) {
+            const float v = strength.bilinear_alpha({x, y});
+            return base.bilinear({x, y}) * (1.f - 0.04f * v) + RGB{0.01f * v};
+        });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.005);
 }
