@@ -43,7 +43,7 @@ TEST_CASE("a crop window's pixels equal the full render's, bit for bit", "[crop]
         full.render.photon.global_photons = 4000;
         full.render.photon.caustic_photons = 4000;
         full.render.photon.gather_rays = 4;
-        if (c.gaussian) full.set_filter(PixelFilter::gaussian(1.5f, 1.5f, 0.5f));
+        if (c.gaussian) full.film.filter = PixelFilter::gaussian(1.5f, 1.5f, 0.5f);
         if (c.adaptive) {
             full.render.adaptive.enabled = true;
             full.render.adaptive.pilot = 2;

@@ -168,7 +168,7 @@ TEST_CASE("pixel filter: filtered splats are the same on 1 and 2 threads, bit fo
           "[film][filter][integrators]") {
     TestScene s = load_scene(test::source_path("scenes/cornell-caustics.xml"));
     s.set_resolution(24, 24);
-    s.set_filter(PixelFilter::gaussian(1.5f, 1.5f, 0.5f));
+    s.film.filter = PixelFilter::gaussian(1.5f, 1.5f, 0.5f);
     for (const char* integrator : {"light", "bdpt", "path"}) {
         INFO(integrator);
         s.render.integrator = integrator;

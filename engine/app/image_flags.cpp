@@ -44,7 +44,7 @@ PixelFilter filter_flag(const std::string& text) {
 }  // namespace
 
 void apply_image_flags(const ImageFlags& args, Scene& scene) {
-    if (!args.filter.empty()) scene.set_filter(filter_flag(args.filter));
+    if (!args.filter.empty()) scene.film.filter = filter_flag(args.filter);
     if (args.width || args.height) {
         const int w =
             args.width

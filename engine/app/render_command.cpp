@@ -57,11 +57,7 @@ Film mark_cache_points(const Scene& scene, const Intersector& accel, const Film&
     marked = 0;
     for (const Vec3& p : points) {
         float fx, fy;
-        // On the film itself (a wide pixel filter lets project() reach past its edge).
-        if (!scene.camera.project(p, fx, fy) || fx < float(scene.film.x0) ||
-            fy < float(scene.film.y0) || fx >= float(scene.film.x0 + film.width) ||
-            fy >= float(scene.film.y0 + film.height))
-            continue;
+        if (!scene.camera.project(p, fx, fy)) continue;
         Vec3 o, d;
         scene.camera.generate(fx, fy, o, d);
         const Vec3 to = p - o;

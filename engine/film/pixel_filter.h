@@ -88,8 +88,7 @@ void PixelFilter::spread(float fx, float fy, int x0, int y0, int width, int heig
         if (fx < float(x0) || fy < float(y0) || fx >= float(x0 + width) || fy >= float(y0 + height))
             return;
         const int x = int(fx) - x0, y = int(fy) - y0;
-        add(uint32_t(std::min(y, height - 1)) * uint32_t(width) + uint32_t(std::min(x, width - 1)),
-            1.f);
+        add(uint32_t(y) * uint32_t(width) + uint32_t(x), 1.f);
         return;
     }
     const float rx = radius_x(), ry = radius_y(), inv = 1.f / integral();

@@ -90,15 +90,16 @@ Vec3 Camera::lens_point(Point2 lens) const {
     return eye + u * (l.x * lens_radius) + v * (l.y * lens_radius);
 }
 
-bool Camera::project_through(const Vec3& l, const Vec3& p, float& fx, float& fy) const {
-    if (lens_radius <= 0.f) return project(p, fx, fy);
+bool Camera::project_through(const Vec3& l, const Vec3& p, float& fx, float& fy,
+                             float margin) const {
+    if (lens_radius <= 0.f) return project(p, fx, fy, margin);
     const Vec3 dir = p - l;
     const float along = dot(dir, w);
     if (along <= 0.f) return false;
-    return project(l + dir * (focal_distance / along), fx, fy);
+    return project(l + dir * (focal_distance / along), fx, fy, margin);
 }
 
-bool Camera::project(const Vec3& p, float& fx, float& fy) const {
+bool Camera::project(const Vec3& p, float& fx, float& fy, float margin) const {
     if (type != CameraType::Perspective) return false;
     const Vec3 q = p - eye;
     const float z = dot(q, w);
@@ -106,7 +107,7 @@ bool Camera::project(const Vec3& p, float& fx, float& fy) const {
     const float px = dot(q, u) * d / z, py = dot(q, v) * d / z;
     fx = px / pixel_size + 0.5f * float(width);
     fy = 0.5f * float(height) - py / pixel_size;
-    const float m = film_margin;
+    const float m = margin;
     return fx >= float(x0) - m && fy >= float(y0) - m && fx < float(x0 + film_w()) + m &&
            fy < float(y0 + film_h()) + m;
 }

@@ -37,9 +37,6 @@ struct Camera {
     // (x0 + x, y0 + y). film_width 0 means the whole image. Rays and projections are in
     // image positions, so a crop's rays are the full render's, bit for bit.
     int x0 = 0, y0 = 0, film_width = 0, film_height = 0;
-    // How far (pixels) outside the film project() still accepts a point: a pixel filter
-    // wider than a pixel reaches the film from there (PixelFilter::margin).
-    float film_margin = 0.f;
     int film_w() const { return film_width > 0 ? film_width : width; }
     int film_h() const { return film_height > 0 ? film_height : height; }
     void crop(int x, int y, int w, int h) {
@@ -72,11 +69,13 @@ struct Camera {
     // The same through the thin lens, `lens` uniform in the unit square.
     void generate(float fx, float fy, Point2 lens, Vec3& origin, Vec3& dir) const;
     // Image position (pixels) of a world point seen by the pinhole; false when it is behind
-    // the eye or off the film (outside the crop window, widened by film_margin).
-    bool project(const Vec3& p, float& fx, float& fy) const;
+    // the eye or off the film (outside the crop window widened by `margin` pixels: a pixel
+    // filter wider than a pixel reaches the film from there, PixelFilter::margin).
+    bool project(const Vec3& p, float& fx, float& fy, float margin = 0.f) const;
     // The same for the ray from lens point `l` (on the thin lens) through p: the image position
     // of the point where it crosses the plane in focus (for the pinhole, l = eye, project()).
-    bool project_through(const Vec3& l, const Vec3& p, float& fx, float& fy) const;
+    bool project_through(const Vec3& l, const Vec3& p, float& fx, float& fy,
+                         float margin = 0.f) const;
     // A point on the lens for `u` uniform in the unit square (the eye for a pinhole).
     Vec3 lens_point(Point2 u) const;
     // Importance of the pinhole for a 1-pixel box towards a point at distance `dist` with

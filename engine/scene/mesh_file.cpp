@@ -140,6 +140,19 @@ int32_t image_texture(Scene& scene, const MeshFile& file, std::map<std::string, 
     return int32_t(scene.textures.size() - 1);
 }
 
+// A parameter of one of the material's lobes set per hit from a texture
+// (Material::float_params).
+void add_textured_param(Material& m, const Material::FloatParam& p) {
+    if (!m.add_float_param(p))
+        throw InputError(m.name, 0, "too many textured parameters in one material");
+}
+// The same for the lobe added last, from `texture` when there is one (>= 0).
+void last_lobe_param(Material& m, int32_t texture, LobeParam target, uint8_t channel,
+                     Material::Remap remap = Material::Remap::None, float k = 1.f) {
+    if (texture >= 0)
+        add_textured_param(m, {texture, uint8_t(m.bsdf.size() - 1), target, remap, channel, k});
+}
+
 // glTF's clear coat (KHR_materials_clearcoat): the specification mixes the material with the
 // coat's specular reflection by clearcoat times the coat's Fresnel term, F of index 1.5. As the
 // dielectric reflection over the diffuse base above, the base keeps what the coat lets through
@@ -152,19 +165,14 @@ void add_clearcoat(Scene& scene, const FileMaterial& f, const MeshFile& file,
     Fresnel coat;
     coat.kind = FresnelKind::Dielectric;
     coat.ior = 1.5f;
-    auto add_param = [&](const Material::FloatParam& p) {
-        if (!m.add_float_param(p))
-            throw InputError(m.name, 0, "too many textured parameters in one material");
-    };
     const int base_lobes = m.bsdf.size();
+    int32_t tex = -1;
     if (!f.clearcoat_map.empty()) {
         // 1 - 0.04 v on every lobe below, v on the coat, v = c x red.
-        const int32_t tex =
-            image_texture(scene, file, images, f.clearcoat_map, true, f.clearcoat_uv, RGB{c});
+        tex = image_texture(scene, file, images, f.clearcoat_map, true, f.clearcoat_uv, RGB{c});
         for (int i = 0; i < base_lobes; ++i)
-            add_param(
-                {tex, uint8_t(i), LobeParam::WeightComplement, Material::Remap::None, 1, 0.04f});
-        add_param({tex, uint8_t(base_lobes), LobeParam::Weight, Material::Remap::None, 1});
+            add_textured_param(
+                m, {tex, uint8_t(i), LobeParam::WeightComplement, Material::Remap::None, 1, 0.04f});
     } else {
         m.bsdf.scale(1.f - c * 0.04f);
         m.base_color *= 1.f - c * 0.04f;
@@ -177,12 +185,14 @@ void add_clearcoat(Scene& scene, const FileMaterial& f, const MeshFile& file,
         const float a = std::max(alpha, 1e-3f);
         m.bsdf.add(Lobe::microfacet(weight, MicrofacetDistribution::trowbridge_reitz(a, a), coat));
     }
-    if (!f.clearcoat_roughness_map.empty()) {
-        const int32_t tex =
+    // The coat's own parameters, on the lobe just added.
+    last_lobe_param(m, tex, LobeParam::Weight, 1);
+    if (!f.clearcoat_roughness_map.empty())
+        last_lobe_param(
+            m,
             image_texture(scene, file, images, f.clearcoat_roughness_map, true,
-                          f.clearcoat_roughness_uv, RGB{1.f, f.clearcoat_roughness, 1.f});
-        add_param({tex, uint8_t(base_lobes), LobeParam::Alpha, Material::Remap::Square, 2});
-    }
+                          f.clearcoat_roughness_uv, RGB{1.f, f.clearcoat_roughness, 1.f}),
+            LobeParam::Alpha, 2, Material::Remap::Square);
 }
 
 // What an MTL map_Bump image holds: grey texels (channels within 2/255) are heights; texels
@@ -245,10 +255,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
                            f.metallic_roughness_uv, RGB{1.f, f.roughness, f.metallic});
     }
     auto param = [&](LobeParam target, uint8_t channel, Material::Remap remap) {
-        if (mr < 0) return;
-        const Material::FloatParam p{mr, uint8_t(m.bsdf.size() - 1), target, remap, channel};
-        if (!m.add_float_param(p))
-            throw InputError(m.name, 0, "too many textured parameters in one material");
+        last_lobe_param(m, mr, target, channel, remap);
     };
     auto alpha_param = [&] { param(LobeParam::Alpha, 2, Material::Remap::Square); };
     // glTF's transmission texture: its red times the factor is the transmitting share per
@@ -257,11 +264,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     if (!f.transmission_map.empty())
         tr = image_texture(scene, file, images, f.transmission_map, true, f.transmission_uv,
                            RGB{std::clamp(f.transmission, 0.f, 1.f)});
-    auto trans_param = [&](LobeParam target) {
-        if (tr < 0) return;
-        if (!m.add_float_param({tr, uint8_t(m.bsdf.size() - 1), target, Material::Remap::None, 1}))
-            throw InputError(m.name, 0, "too many textured parameters in one material");
-    };
+    auto trans_param = [&](LobeParam target) { last_lobe_param(m, tr, target, 1); };
     // Per hit with a texture, else the factor now.
     const float metal = mr >= 0 ? 1.f : std::clamp(f.metallic, 0.f, 1.f);
     const float dielectric = mr >= 0 ? 1.f : 1.f - metal;
@@ -289,10 +292,7 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         spec = image_texture(scene, file, images, f.specular_map, true, f.specular_uv,
                              RGB{f.dielectric_weight});
     auto spec_param = [&](LobeParam target, float k) {
-        if (spec < 0) return;
-        if (!m.add_float_param(
-                {spec, uint8_t(m.bsdf.size() - 1), target, Material::Remap::None, 4, k}))
-            throw InputError(m.name, 0, "too many textured parameters in one material");
+        last_lobe_param(m, spec, target, 4, Material::Remap::None, k);
     };
     const float strength = spec >= 0 ? 0.f : f.dielectric_weight;
     const float f0 = strength * f0_tinted.max_component();

@@ -222,11 +222,6 @@ struct Scene {
     bool vertical_fov_fixed = false;
     // Renders only pixels [x0, x1) x [y0, y1) of the image (after set_resolution).
     void set_crop(int x0, int x1, int y0, int y1);
-    // The pixel filter, and how far off the film the camera projects for it.
-    void set_filter(const PixelFilter& f) {
-        film.filter = f;
-        camera.film_margin = f.margin();
-    }
 };
 
 }  // namespace foton

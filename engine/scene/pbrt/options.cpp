@@ -274,7 +274,7 @@ void Importer::pixel_filter(const Token& t, const std::string& type, const Param
 }
 
 void Importer::finish_camera() {
-    scene_.set_filter(pixel_filter_);
+    scene_.film.filter = pixel_filter_;
     Camera& c = scene_.camera;
     const Affine world_from_camera = camera_from_world_.inverse();
     const Vec3 eye = world_from_camera.point({0, 0, 0});

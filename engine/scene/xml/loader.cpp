@@ -74,7 +74,6 @@ Scene Loader::run() {
     // Media before the camera and the objects, which name them.
     if (const auto n = root.child("media")) parse_media(n);
     parse_camera(child(root, "camera"));
-    scene_.set_filter(scene_.film.filter);  // the camera projects as far as it reaches
     if (const auto n = root.child("lights")) parse_lights(n);
     if (scene_.environment && root.child("background"))
         fail(root.child("background"),

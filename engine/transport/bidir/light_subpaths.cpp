@@ -136,7 +136,7 @@ void trace_light_subpaths(const VcmContext& c, uint32_t first, uint32_t count,
                               ? cam.lens_point({rand(slot, lens_dim), rand(slot, lens_dim + 1)})
                               : cam.eye;
         float fx, fy;
-        if (!W.connect || !cam.project_through(lens, p, fx, fy)) return;
+        if (!W.connect || !cam.project_through(lens, p, fx, fy, scene.film.filter.margin())) return;
         const Vec3 to = lens - p;
         const float dist2 = length_squared(to), dist = std::sqrt(dist2);
         const Vec3 wc = to / dist;

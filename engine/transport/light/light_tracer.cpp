@@ -26,9 +26,10 @@ float LightTracer::rand(uint64_t path, uint32_t dim) const {
     return rng::uniform(ctx_.seed, kLightPathStream, path, dim);
 }
 
-bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+bool splat_on_film(const Scene& scene, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
                    FilmPoint& at, RGB& splat) {
-    if (!cam.project(p, at.x, at.y)) return false;
+    const Camera& cam = scene.camera;
+    if (!cam.project(p, at.x, at.y, scene.film.filter.margin())) return false;
     splat = value * cam.importance(-dot(wc, cam.w), dist);
     return !splat.is_black();
 }
@@ -60,7 +61,7 @@ bool emitting_point_to_eye(const Emitter& em, const EmittedRay& er, const Vec3& 
 
 bool LightTracer::to_film(const Vec3& p, const Vec3& wc, float dist, const RGB& value,
                           FilmPoint& at, RGB& splat) const {
-    return splat_on_film(ctx_.scene.camera, p, wc, dist, value, at, splat);
+    return splat_on_film(ctx_.scene, p, wc, dist, value, at, splat);
 }
 
 void LightTracer::push_connection(const Vec3& o, const Vec3& wc, float tmax, const RGB& splat,

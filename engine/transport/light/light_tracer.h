@@ -38,7 +38,7 @@ struct LightTracerWorkspace : WavefrontBuffers {
 // What a connection from p (unit direction wc to the pinhole eye at distance dist) carrying
 // `value` adds, and where on the film (the pixel filter spreads it from there); false when p
 // projects off the film or nothing arrives.
-bool splat_on_film(const Camera& cam, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
+bool splat_on_film(const Scene& scene, const Vec3& p, const Vec3& wc, float dist, const RGB& value,
                    FilmPoint& at, RGB& splat);
 
 // A light path's emitting point seen from the eye along wc (unit, from the point towards the

@@ -32,7 +32,7 @@ void VolumeLightTracer::connect(const Vec3& p, const Vec3& o, int32_t medium, co
     const Vec3 wc = to / dist;
     FilmPoint at;
     RGB splat;
-    if (!splat_on_film(cam, p, wc, dist, value, at, splat)) return;
+    if (!splat_on_film(ctx_.scene, p, wc, dist, value, at, splat)) return;
     const uint32_t slot = uint32_t(ws.shadow_at.size());
     ws.shadow.push(o, wc, length(cam.eye - o) * (1.f - 1e-4f), medium, slot, splat, key);
     ws.shadow_at.push_back(at);
