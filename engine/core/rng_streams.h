@@ -37,6 +37,7 @@ enum RandomStream : uint64_t {
     kAdaptivePhotonStream = 0xa9f0,     // adaptive photon tracing: uniform proposals
     kAdaptiveMutationStream = 0xa9f1,   // adaptive photon tracing: mutations
     kSubsurfaceStream = 0x55b0,         // subsurface scattering: probes, exits, exit lights
+    kWavelengthStream = 0x5bec,         // spectral paths: their wavelengths
 };
 
 inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
@@ -58,6 +59,7 @@ inline constexpr RandomStream kAllRandomStreams[] = {kPixelStream,
                                                      kVolumePhotonStream,
                                                      kVolumeCameraStream,
                                                      kVolumeLightStream,
+                                                     kWavelengthStream,
                                                      kBidirLightMediumStream,
                                                      kBidirCameraMediumStream,
                                                      kImportonStream,

@@ -21,6 +21,8 @@
 
 namespace foton {
 
+struct Wavelengths;  // core/spectrum.h
+
 // Radiance flows against the sampling direction in camera paths, importance in light
 // paths; refraction scales the two differently (Veach's adjoint BSDF).
 enum class Transport : uint8_t { Radiance, Importance };
@@ -214,6 +216,11 @@ class Bsdf {
     Bsdf with_texture(uint8_t lobes, const RGB& t) const;
     // Sets parameter `target` of lobe i to v (a texture's value at a surface point).
     void set_param(int i, LobeParam target, float v);
+    // The BSDF at a spectral path's three wavelengths (spectral_bsdf.cpp): every lobe's RGB
+    // parameters upsampled and read there (tints and reflectances as reflectance spectra, a
+    // conductor's eta and k and a fibre's absorption as unbounded ones). The sampling weights
+    // stay the RGB ones, so sample() and pdf() agree as before.
+    void to_wavelengths(const Wavelengths& w);
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;

@@ -21,7 +21,8 @@ void MediumShadowRays::push(const Vec3& origin, const Vec3& dir, float tmax, int
 
 void MediumShadowRays::resolve(const Scene& scene, const Intersector& accel,
                                TransmittanceEstimator estimator, uint64_t seed,
-                               std::vector<RGB>& radiance, RenderStats& stats, StageClock& clock) {
+                               std::vector<RGB>& radiance, RenderStats& stats, StageClock& clock,
+                               const std::vector<Wavelengths>* wavelengths) {
     const uint64_t prefix = rng::stream_prefix(seed, kMediumShadowStream);
     uint64_t traced = 0;
     while (!rays_.empty()) {
@@ -35,8 +36,13 @@ void MediumShadowRays::resolve(const Scene& scene, const Intersector& accel,
             if (s.medium != kNoMedium) {
                 const float d = hit ? hits_.t[i] : rays_.tmax[i];
                 auto u = [&] { return rng::uniform_from(prefix, s.key, s.draws++); };
-                s.value *= transmittance(scene.media[std::size_t(s.medium)], rays_.origin(i),
-                                         rays_.direction(i), d, estimator, u);
+                const Medium& m = scene.media[std::size_t(s.medium)];
+                if (wavelengths)
+                    s.value *= transmittance(SpectralMedium(m, (*wavelengths)[s.slot]),
+                                             rays_.origin(i), rays_.direction(i), d, estimator, u);
+                else
+                    s.value *=
+                        transmittance(m, rays_.origin(i), rays_.direction(i), d, estimator, u);
                 if (s.value.is_black()) continue;
             }
             if (!hit) {

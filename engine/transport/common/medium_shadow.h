@@ -12,6 +12,7 @@
 #include "engine/core/rgb.h"
 #include "engine/core/stats.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/spectral_medium.h"
 #include "medium_tracking.h"
 #include "surface.h"
 
@@ -56,9 +57,12 @@ class MediumShadowRays {
     // when it reaches tmax; `key` keys ratio tracking's random numbers.
     void push(const Vec3& origin, const Vec3& dir, float tmax, int32_t medium, uint32_t slot,
               const RGB& value, uint64_t key);
-    // Traces every ray to its end (rounds of closest hits), adding what arrives.
+    // Traces every ray to its end (rounds of closest hits), adding what arrives. With
+    // `wavelengths` (by slot: spectral paths, core/spectrum.h) the media are read at each
+    // ray's path's wavelengths.
     void resolve(const Scene& scene, const Intersector& accel, TransmittanceEstimator estimator,
-                 uint64_t seed, std::vector<RGB>& radiance, RenderStats& stats, StageClock& clock);
+                 uint64_t seed, std::vector<RGB>& radiance, RenderStats& stats, StageClock& clock,
+                 const std::vector<Wavelengths>* wavelengths = nullptr);
 
   private:
     struct State {

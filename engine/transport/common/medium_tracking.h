@@ -8,6 +8,9 @@
 // unbiased for chromatic media (no hero wavelength, no spectral MIS), and the corrections
 // keep the throughput's channel mean as it was, so they cannot grow without bound.
 //
+// Every estimator takes the medium as `M`: a scene/medium.h Medium (RGB) or a SpectralMedium
+// (scene/spectral_medium.h: the same medium at a spectral path's three wavelengths).
+//
 // Transmittance along a shadow ray is either exact (a homogeneous medium's exp(-sigma_t d))
 // or estimated by ratio tracking (Cline et al. 2005 / Novák et al. 2014): the product of
 // sigma_n / sigma_maj over the tentative collisions, which is what a varying medium needs.
@@ -80,8 +83,8 @@ bool choose_collision(FreeFlight& f, const RGB& beta, const RGB& sa, const RGB& 
 // throughput `beta`, drawing uniform numbers in [0, 1) from u(). Pass: it reached t_end,
 // weighted by the null collisions' corrections (exactly 1 when sigma_t is grey and equals the
 // majorant).
-template <class Uniform>
-FreeFlight delta_track(const Medium& m, float t_end, const RGB& beta, Uniform&& u) {
+template <class M, class Uniform>
+FreeFlight delta_track(const M& m, float t_end, const RGB& beta, Uniform&& u) {
     FreeFlight f;
     const float maj = m.majorant();
     if (!(maj > 0.f)) return f;
@@ -109,8 +112,8 @@ FreeFlight delta_track(const Medium& m, float t_end, const RGB& beta, Uniform&& 
 // P(pass)), and a purely absorbing medium passes every flight with exactly its transmittance.
 // The emission along the segment is its exact integral, sigma_a Le (1 - T(t_end)) / sigma_t.
 // Two numbers a flight.
-template <class Uniform>
-FreeFlight sample_homogeneous(const Medium& m, float t_end, const RGB& beta, Uniform&& u) {
+template <class M, class Uniform>
+FreeFlight sample_homogeneous(const M& m, float t_end, const RGB& beta, Uniform&& u) {
     FreeFlight f;
     const RGB st = m.sigma_t();
     if (m.emits()) {
@@ -152,7 +155,8 @@ FreeFlight sample_homogeneous(const Medium& m, float t_end, const RGB& beta, Uni
 // The majorant grid of grid medium m as the march kernel reads it (kernels/majorant_march.h):
 // the density bounds times the medium's largest channel's extinction (an RGB grid's: its
 // extinction bounds times its scale).
-inline kern::MajorantGrid majorant_view(const Medium& m) {
+template <class M>
+kern::MajorantGrid majorant_view(const M& m) {
     const kern::GridFrame& f = m.density->majorant_frame();
     kern::MajorantGrid g;
     for (int a = 0; a < 3; ++a) {
@@ -182,9 +186,9 @@ bool next_tentative_collision(const kern::MajorantGrid& g, const Vec3& o, const 
 // Delta tracking through grid medium m along o + t d: as delta_track, the tentative
 // collisions drawn through the majorant grid (one optical depth at a time, march kernel), the
 // coefficients and emission at a collision those of the grids there.
-template <class Uniform>
-FreeFlight delta_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
-                            const RGB& beta, Uniform&& u) {
+template <class M, class Uniform>
+FreeFlight delta_track_grid(const M& m, const Vec3& o, const Vec3& d, float t_end, const RGB& beta,
+                            Uniform&& u) {
     FreeFlight f;
     const kern::MajorantGrid g = majorant_view(m);
     const bool emits = m.emits();
@@ -215,8 +219,8 @@ inline RGB null_fraction(const MediumPoint& c, float maj) {
 struct NoRatioStep {
     void operator()(float, const RGB&) const {}
 };
-template <class Uniform, class OnStep = NoRatioStep>
-RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u,
+template <class M, class Uniform, class OnStep = NoRatioStep>
+RGB ratio_track_grid(const M& m, const Vec3& o, const Vec3& d, float t_end, Uniform&& u,
                      OnStep&& on_step = {}) {
     RGB tr{1.f};
     const kern::MajorantGrid g = majorant_view(m);
@@ -234,8 +238,8 @@ RGB ratio_track_grid(const Medium& m, const Vec3& o, const Vec3& d, float t_end,
 // as a baseline to measure against. Grid media always take delta tracking.
 enum class FreeFlightSampling : uint8_t { Analytic, Delta };
 
-template <class Uniform>
-FreeFlight free_flight(const Medium& m, const Vec3& o, const Vec3& d, float t_end, const RGB& beta,
+template <class M, class Uniform>
+FreeFlight free_flight(const M& m, const Vec3& o, const Vec3& d, float t_end, const RGB& beta,
                        FreeFlightSampling how, Uniform&& u) {
     if (!m.homogeneous()) return delta_track_grid(m, o, d, t_end, beta, u);
     if (how == FreeFlightSampling::Delta) return delta_track(m, t_end, beta, u);
@@ -243,8 +247,8 @@ FreeFlight free_flight(const Medium& m, const Vec3& o, const Vec3& d, float t_en
 }
 
 // Ratio tracking's estimate of the transmittance over [0, d) (d finite).
-template <class Uniform>
-RGB ratio_track(const Medium& m, float d, Uniform&& u) {
+template <class M, class Uniform>
+RGB ratio_track(const M& m, float d, Uniform&& u) {
     const float maj = m.majorant();
     RGB tr{1.f};
     if (!(maj > 0.f)) return tr;
@@ -265,9 +269,9 @@ RGB ratio_track(const Medium& m, float d, Uniform&& u) {
 enum class TransmittanceEstimator : uint8_t { Exact, Ratio };
 
 // The transmittance along o + t dir over [0, d): grid media always by ratio tracking.
-template <class Uniform>
-RGB transmittance(const Medium& m, const Vec3& o, const Vec3& dir, float d,
-                  TransmittanceEstimator e, Uniform&& u) {
+template <class M, class Uniform>
+RGB transmittance(const M& m, const Vec3& o, const Vec3& dir, float d, TransmittanceEstimator e,
+                  Uniform&& u) {
     if (!m.homogeneous()) return ratio_track_grid(m, o, dir, d, u);
     if (e == TransmittanceEstimator::Ratio) return ratio_track(m, d, u);
     return m.transmittance(d);  // homogeneous: exp(-sigma_t d), exactly

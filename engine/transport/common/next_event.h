@@ -56,7 +56,8 @@ inline bool sample_light(const LightSet& lights, const LightChoice& c, const Sha
     const float w =
         full ? 1.f : mis_weight(mis, pl, strategy.pdf(v.m.bsdf.pdf(v.wo, wi, ctx), ls.wi));
     out.light = c.light;
-    out.value = v.weight * f * ls.Li * (std::fabs(wi.z) * w * scale / pl);
+    const RGB li = v.wavelengths ? v.wavelengths->illuminant(ls.Li) : ls.Li;
+    out.value = v.weight * f * li * (std::fabs(wi.z) * w * scale / pl);
     if (out.value.is_black()) return false;
     const ShadowRay ray = shadow_ray_to(sp, ls);
     out.origin = ray.origin;

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "engine/core/rgb.h"
+#include "engine/core/spectrum.h"
 #include "engine/core/warp.h"
 #include "engine/scene/material.h"
 #include "surface.h"
@@ -30,6 +31,9 @@ struct ShadingPoint {
     uint32_t slot;      // the sample whose radiance this adds to
     uint32_t depth;     // scattering vertices before this one
     uint64_t key;       // keys the sample's random numbers
+    // A spectral path's wavelengths (core/spectrum.h; null: RGB): the lights' radiance is
+    // read at them.
+    const Wavelengths* wavelengths = nullptr;
 };
 
 }  // namespace foton

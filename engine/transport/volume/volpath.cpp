@@ -3,14 +3,18 @@
 #include <any>
 #include <cmath>
 
+#include "engine/core/error.h"
 #include "engine/core/rng.h"
 #include "engine/core/rng_streams.h"
+#include "engine/core/spectrum.h"
 #include "engine/scene/light_set.h"
+#include "engine/scene/spectral_medium.h"
 #include "engine/transport/common/camera_integrator.h"
 #include "engine/transport/common/medium_shadow.h"
 #include "engine/transport/common/mis.h"
 #include "engine/transport/common/next_event.h"
 #include "engine/transport/common/path_sampler.h"
+#include "engine/transport/common/spectral_paths.h"
 #include "engine/transport/common/surface.h"
 #include "engine/transport/common/wavefront.h"
 #include "engine/transport/run/camera_driver.h"
@@ -46,6 +50,7 @@ struct VolPathWorkspace : IntegratorWorkspace {
     std::vector<uint32_t> draws;         // free-flight numbers drawn (kMediumStream)
     std::vector<uint64_t> keys;
     std::vector<PathSampler> samplers;
+    std::vector<Wavelengths> wavelengths;  // spectral mode: each path's three
     // The bounce's flights through grid media, tracked as one batch before shading, and each
     // ray's flight there (-1: none).
     GridFlights flights;
@@ -60,6 +65,7 @@ class VolPathIntegrator : public CameraIntegrator {
           own_(own),
           mis_{ctx.settings.mis, ctx.settings.mis_beta},
           flight_prefix_(rng::stream_prefix(ctx.seed, kMediumStream)),
+          wavelength_prefix_(rng::stream_prefix(ctx.seed, kWavelengthStream)),
           subsurface_prefix_(rng::stream_prefix(ctx.seed, kSubsurfaceStream)) {
         // Each subsurface medium's exit BSDF (the BSSRDF's directional part).
         for (const Subsurface& sub : ctx.scene.subsurfaces) {
@@ -97,6 +103,12 @@ class VolPathIntegrator : public CameraIntegrator {
             ws.samplers[i] =
                 PathSampler::for_job(ctx_.settings.sampler, ctx_.scene, jobs[i], ctx_.seed);
         }
+        if (own_.spectral) {
+            ws.wavelengths.resize(n);
+            for (std::size_t i = 0; i < n; ++i)
+                ws.wavelengths[i] =
+                    Wavelengths::sample(wavelength_number(wavelength_prefix_, ctx_.scene, jobs[i]));
+        }
         ws.rays.clear();
         generate_camera_rays(ctx_.scene, ctx_.settings.sampler, jobs, ctx_.seed, ws.rays);
         stats.camera_rays += n;
@@ -113,8 +125,11 @@ class VolPathIntegrator : public CameraIntegrator {
             },
             [&](uint32_t) {
                 ws.shadow.resolve(ctx_.scene, ctx_.accel, own_.transmittance, ctx_.seed, radiance,
-                                  stats, clock);
+                                  stats, clock, own_.spectral ? &ws.wavelengths : nullptr);
             });
+        // A spectral path's values at its wavelengths become the sample's colour.
+        if (own_.spectral)
+            for (std::size_t i = 0; i < n; ++i) radiance[i] = ws.wavelengths[i].to_rgb(radiance[i]);
     }
 
   private:
@@ -122,8 +137,14 @@ class VolPathIntegrator : public CameraIntegrator {
         return rng::uniform_from(flight_prefix_, ws.keys[slot], ws.draws[slot]++);
     }
 
-    // The bounce's flights through grid media, all at once (grid_flights.h).
+    // The bounce's flights through grid media, all at once (grid_flights.h). Spectral paths
+    // fly one at a time: each reads the media at its own wavelengths, so no two share the
+    // majorant grid's scale the batch kernel takes.
     void track_grid_flights(VolPathWorkspace& ws) const {
+        if (own_.spectral) {
+            ws.flight_of.assign(ws.rays.size(), -1);
+            return;
+        }
         ws.flights.track_batch(ctx_.scene, ws.rays, ws.hits, ws.medium, ws.beta,
                                own_.flight_kernel == FlightKernel::Simd, ws.flight_of,
                                [&](uint32_t slot) { return flight_number(ws, slot); });
@@ -134,6 +155,22 @@ class VolPathIntegrator : public CameraIntegrator {
     }
     Point2 rand2(const VolPathWorkspace& ws, uint32_t slot, uint32_t k) const {
         return ws.samplers[slot].get2(ctx_.seed, ws.vertices[slot], k);
+    }
+
+    // Emitted radiance given in RGB as the path carries it: itself, or a spectral path's
+    // values of its illuminant spectrum.
+    RGB emitted(const VolPathWorkspace& ws, uint32_t slot, const RGB& le) const {
+        return own_.spectral ? ws.wavelengths[slot].illuminant(le) : le;
+    }
+
+    // A flight through medium med, at the path's wavelengths when it is spectral.
+    template <class Uniform>
+    FreeFlight fly(const Medium& med, const VolPathWorkspace& ws, uint32_t slot, const Vec3& o,
+                   const Vec3& d, float t_end, Uniform&& u) const {
+        if (own_.spectral)
+            return free_flight(SpectralMedium(med, ws.wavelengths[slot]), o, d, t_end,
+                               ws.beta[slot], own_.free_flight, u);
+        return free_flight(med, o, d, t_end, ws.beta[slot], own_.free_flight, u);
     }
 
     // Emission found by a sampled ray, weighed against next event estimation's density of
@@ -154,10 +191,9 @@ class VolPathIntegrator : public CameraIntegrator {
             const Medium& med = ctx_.scene.media[std::size_t(mi)];
             const float t_end = geom == kNoHit ? kInfinity : ws.hits.t[i];
             auto u = [&] { return flight_number(ws, slot); };
-            const FreeFlight f =
-                ws.flight_of[i] >= 0
-                    ? ws.flights.result(std::size_t(ws.flight_of[i]))
-                    : free_flight(med, ws.rays.origin(i), d, t_end, beta, own_.free_flight, u);
+            const FreeFlight f = ws.flight_of[i] >= 0
+                                     ? ws.flights.result(std::size_t(ws.flight_of[i]))
+                                     : fly(med, ws, slot, ws.rays.origin(i), d, t_end, u);
             // The medium's own light along the flight: no light sample finds it, full weight.
             if (!f.emitted.is_black()) radiance[slot] += beta * f.emitted;
             if (f.event == FreeFlight::Event::Absorb) return;
@@ -170,12 +206,13 @@ class VolPathIntegrator : public CameraIntegrator {
         }
         if (geom == kNoHit) {
             if (!ctx_.scene.environment)
-                radiance[slot] += beta * ctx_.scene.background;
+                radiance[slot] += beta * emitted(ws, slot, ctx_.scene.background);
             else
-                radiance[slot] += beta * ctx_.scene.environment->Le(ws.rays.origin(i), d) *
-                                  emission_weight(ws, slot, [&] {
-                                      return ctx_.lights.nee_environment_pdf(ws.rays.origin(i), d);
-                                  });
+                radiance[slot] +=
+                    beta * emitted(ws, slot, ctx_.scene.environment->Le(ws.rays.origin(i), d)) *
+                    emission_weight(ws, slot, [&] {
+                        return ctx_.lights.nee_environment_pdf(ws.rays.origin(i), d);
+                    });
             return;
         }
         surface_vertex(i, ws, radiance);
@@ -198,7 +235,7 @@ class VolPathIntegrator : public CameraIntegrator {
                 const bool full = mis_.heuristic == MisHeuristic::None ||
                                   ctx_.lights.emitter(pick.light).is_delta();
                 const float w = full ? 1.f : mis_weight(mis_, pl, phase);
-                const RGB value = beta * ls.Li * (phase * w / pl);
+                const RGB value = beta * emitted(ws, slot, ls.Li) * (phase * w / pl);
                 if (!value.is_black()) {
                     // A point in a medium has no surface to be pushed off.
                     SurfacePoint sp{};
@@ -223,7 +260,9 @@ class VolPathIntegrator : public CameraIntegrator {
         RGB& beta = ws.beta[slot];
         const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
-        const Material& m = ctx_.scene.material_at(geom, sp.tex(), scratch);
+        const Material& seen = ctx_.scene.material_at(geom, sp.tex(), scratch);
+        const Material& m =
+            own_.spectral ? material_at_wavelengths(seen, ws.wavelengths[slot], scratch) : seen;
         if (m.is_interface) {
             // No vertex: on into the medium beyond, with everything else as it was.
             if (++ws.crossings[slot] > kMaxCrossings) return;
@@ -238,10 +277,11 @@ class VolPathIntegrator : public CameraIntegrator {
                               : ctx_.lights.nee_pdf(uint32_t(li), ws.hits.prim[i], ws.p_prev[slot],
                                                     ws.n_prev[slot], sp.p, sp.ng);
             });
-            radiance[slot] += beta * m.emission * w;
+            radiance[slot] += beta * emitted(ws, slot, m.emission) * w;
         }
         if (ws.vertices[slot] >= rs.max_depth || m.bsdf.empty()) return;
-        const ShadingPoint v(sp, m, d, beta, slot, ws.vertices[slot], ws.keys[slot]);
+        ShadingPoint v(sp, m, d, beta, slot, ws.vertices[slot], ws.keys[slot]);
+        if (own_.spectral) v.wavelengths = &ws.wavelengths[slot];
         if (rs.nee && m.bsdf.has_non_delta())
             direct_light(v, geom, rand(ws, slot, kDimLightSelect), rand2(ws, slot, kDimLight),
                          rand(ws, slot, kDimLight + 2), 0, ws);
@@ -332,31 +372,23 @@ class VolPathIntegrator : public CameraIntegrator {
     const VolPathSettings own_;
     const Mis mis_;
     const uint64_t flight_prefix_;
+    const uint64_t wavelength_prefix_;
     const uint64_t subsurface_prefix_;
     std::vector<Material> exits_;  // per Scene::subsurfaces entry
 };
 
 }  // namespace
 
-void parse_volpath(const ParamSet& params, RenderSettings& settings) {
-    static const EnumTable<TransmittanceEstimator> names{
-        {{"exact", TransmittanceEstimator::Exact}, {"ratio", TransmittanceEstimator::Ratio}}};
-    VolPathSettings own;
-    static const EnumTable<FreeFlightSampling> flights{
-        {{"analytic", FreeFlightSampling::Analytic}, {"delta", FreeFlightSampling::Delta}}};
-    own.transmittance = params.choice("transmittance", names, own.transmittance);
-    own.free_flight = params.choice("free_flight", flights, own.free_flight);
-    static const EnumTable<FlightKernel> kernels{
-        {{"simd", FlightKernel::Simd}, {"scalar", FlightKernel::Scalar}}};
-    own.flight_kernel = params.choice("flight_kernel", kernels, own.flight_kernel);
-    settings.own = own;
-}
-
 RenderResult render_volpath(const Scene& scene, const RenderSettings& settings,
                             const Intersector& accel, const RenderOptions& opt) {
     const LightSet lights(scene, settings.light_selection, settings.projection_maps);
     const RenderContext ctx{scene, settings, accel, lights, opt.seed};
     const VolPathSettings* own = std::any_cast<VolPathSettings>(&settings.own);
+    // A BSSRDF's profile is tabulated per RGB channel: no wavelength can read it.
+    if (own && own->spectral && !scene.subsurface_file.empty())
+        throw InputError(scene.subsurface_file, scene.subsurface_line,
+                         "spectral=\"true\" does not render subsurface materials (their "
+                         "profiles are tabulated per RGB channel): render this scene in RGB");
     return render_camera(scene, settings, VolPathIntegrator(ctx, own ? *own : VolPathSettings{}),
                          opt);
 }

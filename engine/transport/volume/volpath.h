@@ -34,9 +34,15 @@ struct VolPathSettings {
     // delta tracking (`free_flight="delta"`).
     FreeFlightSampling free_flight = FreeFlightSampling::Analytic;
     FlightKernel flight_kernel = FlightKernel::Simd;
+    // Spectral rendering (`spectral="true"`, core/spectrum.h): each path carries three
+    // wavelengths, every RGB input upsampled to a spectrum where the path meets it, and the
+    // film takes the samples through the CIE colour matching functions to sRGB. What chromatic
+    // media need to agree with a spectral renderer (RGB's exp(-sigma_R d) is not the red
+    // channel of exp(-sigma(lambda) d)); not with subsurface materials.
+    bool spectral = false;
 };
 
-// The row's parse: `transmittance`, `free_flight` and `flight_kernel` into
+// The row's parse: `transmittance`, `free_flight`, `flight_kernel` and `spectral` into
 // RenderSettings::own.
 void parse_volpath(const ParamSet& params, RenderSettings& settings);
 // The row's render: the tile driver over volumetric path tracing.

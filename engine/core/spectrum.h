@@ -1,0 +1,52 @@
+#pragma once
+// Spectral rendering's wavelengths and colorimetry. A spectral path carries three wavelengths
+// (the hero-wavelength scheme of Wilkie et al. 2014: one sampled, the other two a third of the
+// visible range further on, wrapping round) and its throughput's value at each in the slots of
+// an RGB triple: slot r holds lambda[0]'s, g lambda[1]'s, b lambda[2]'s. Every product and sum
+// of the transport is per slot, so the RGB code carries spectral values unchanged; what changes
+// is where a colour enters (a reflectance, a coefficient, an emitter: upsampled to a spectrum
+// and read at the three wavelengths, rgb_spectrum.h) and where a sample leaves (to CIE XYZ by
+// the colour matching functions, then to linear sRGB, to_rgb).
+//
+// Radiometry follows pbrt-v4's spectral mode, so the two agree on the same files: an emitter's
+// RGB is a spectrum shaped like illuminant D65 (the sRGB white) and normalised to luminance 1
+// for RGB (1, 1, 1), so a white emitter seen directly is (1, 1, 1) and a reflectance's RGB under
+// it is the reflectance.
+#include "rgb.h"
+
+namespace foton {
+
+// The density foton samples wavelengths by: a sech^2 bump over the visible range [360, 830] nm
+// (the shape pbrt-v4 samples by, after Radziszewski et al.), so the colour matching functions'
+// tails take few samples.
+float visible_wavelength_pdf(float lambda);
+float sample_visible_wavelength(float u);
+
+// The CIE 1931 colour matching functions at lambda (x-bar, y-bar, z-bar as r, g, b), linear
+// between the table's 5 nm steps, zero outside [360, 830] nm.
+RGB cie_xyz(float lambda);
+// Illuminant D65 at lambda, scaled so that its luminance (the integral of y-bar D65) is 1.
+float d65_normalised(float lambda);
+// CIE XYZ to linear sRGB (primaries of IEC 61966-2-1, white D65 from the tables above, so that
+// the white emitter is (1, 1, 1) exactly).
+RGB xyz_to_linear_srgb(const RGB& xyz);
+
+struct Wavelengths {
+    float lambda[3] = {0.f, 0.f, 0.f};
+    float pdf[3] = {0.f, 0.f, 0.f};
+
+    // The three wavelengths of one path from u in [0, 1).
+    static Wavelengths sample(float u);
+    // A path's values at the three wavelengths to linear sRGB: the estimate of the integral of
+    // the colour matching functions times the spectrum, (1/3) sum cmf(lambda_i) L_i / pdf_i.
+    RGB to_rgb(const RGB& values) const;
+    // An RGB quantity as a spectrum at the three wavelengths (rgb_spectrum.h): a reflectance
+    // (bounded by 1 when every channel is; a brighter one is taken as unbounded), an unbounded
+    // quantity (a medium's coefficients, an index), an emitter's radiance (the unbounded
+    // spectrum times normalised D65).
+    RGB reflectance(const RGB& rgb) const;
+    RGB unbounded(const RGB& rgb) const;
+    RGB illuminant(const RGB& rgb) const;
+};
+
+}  // namespace foton
