@@ -14,11 +14,6 @@ namespace {
 
 constexpr float kRange = cie::kLambdaMax - cie::kLambdaMin;
 
-double sigmoid(double x) {
-    if (std::isinf(x)) return x > 0 ? 1.0 : 0.0;
-    return 0.5 + 0.5 * x / std::hypot(1.0, x);
-}
-
 // The fit's quadrature: two Gauss-Legendre points in each 5 nm step of the tables, so the
 // integral it takes is the one the film's estimate converges to (the tables interpolated
 // linearly, their product quadratic in a step) up to the spectrum's own curvature. Each
@@ -105,8 +100,10 @@ float smoothstep(float x) {
 }  // namespace
 
 float SigmoidPolynomial::operator()(float lambda) const {
-    const double t = double(lambda - cie::kLambdaMin) / double(kRange);
-    return float(sigmoid((double(c0) * t + double(c1)) * t + double(c2)));
+    const float t = (lambda - cie::kLambdaMin) * (1.f / kRange);
+    // Clamped so that x^2 stays finite (a grey's constant may be 1e30: s = 1).
+    const float x = std::clamp((c0 * t + c1) * t + c2, -1e18f, 1e18f);
+    return 0.5f + 0.5f * x / std::sqrt(1.f + x * x);
 }
 
 SigmoidPolynomial fit_sigmoid_polynomial(const RGB& rgb, SigmoidPolynomial start, float* residual) {

@@ -1,6 +1,8 @@
 #include "spectrum.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "cie_tables.h"
 #include "rgb_spectrum.h"
@@ -79,6 +81,26 @@ const Colorimetry& colorimetry() {
     return c;
 }
 
+// The table's fit of rgb through a small direct-mapped cache per thread: a path meets the same
+// few constant colours (a medium's coefficients, a sky, a material) over and over, and the
+// table's interpolation costs more than the comparison.
+SigmoidPolynomial fit_of(const RGB& rgb) {
+    struct Entry {
+        RGB rgb{-1.f};
+        SigmoidPolynomial fit;
+    };
+    static thread_local Entry cache[64];
+    uint32_t bits[3];
+    std::memcpy(bits, &rgb, sizeof(bits));
+    const uint32_t h = (bits[0] * 0x9e3779b1u) ^ (bits[1] * 0x85ebca77u) ^ (bits[2] * 0xc2b2ae3du);
+    Entry& e = cache[h >> 26];
+    if (!(e.rgb == rgb)) {
+        e.rgb = rgb;
+        e.fit = RgbSpectrumTable::get().reflectance(rgb);
+    }
+    return e.fit;
+}
+
 }  // namespace
 
 float visible_wavelength_pdf(float lambda) {
@@ -116,6 +138,7 @@ Wavelengths Wavelengths::sample(float u) {
         if (ui >= 1.f) ui -= 1.f;
         w.lambda[i] = sample_visible_wavelength(ui);
         w.pdf[i] = visible_wavelength_pdf(w.lambda[i]);
+        w.d65[i] = d65_normalised(w.lambda[i]);
     }
     return w;
 }
@@ -129,22 +152,23 @@ RGB Wavelengths::to_rgb(const RGB& values) const {
 }
 
 RGB Wavelengths::reflectance(const RGB& rgb) const {
+    if (rgb.r == rgb.g && rgb.g == rgb.b) return rgb;  // a grey is a constant spectrum
     if (rgb.max_component() > 1.f) return unbounded(rgb);
-    const SigmoidPolynomial s = RgbSpectrumTable::get().reflectance(rgb);
+    const SigmoidPolynomial s = fit_of(rgb);
     return {s(lambda[0]), s(lambda[1]), s(lambda[2])};
 }
 
 RGB Wavelengths::unbounded(const RGB& rgb) const {
+    if (rgb.r == rgb.g && rgb.g == rgb.b) return rgb;
     const float m = rgb.max_component();
     if (!(m > 0.f)) return RGB{0.f};
-    const SigmoidPolynomial s = RgbSpectrumTable::get().reflectance(rgb * (0.5f / m));
+    const SigmoidPolynomial s = fit_of(rgb * (0.5f / m));
     return RGB{s(lambda[0]), s(lambda[1]), s(lambda[2])} * (2.f * m);
 }
 
 RGB Wavelengths::illuminant(const RGB& rgb) const {
     const RGB u = unbounded(rgb);
-    return {u.r * d65_normalised(lambda[0]), u.g * d65_normalised(lambda[1]),
-            u.b * d65_normalised(lambda[2])};
+    return {u.r * d65[0], u.g * d65[1], u.b * d65[2]};
 }
 
 }  // namespace foton

@@ -34,6 +34,7 @@ RGB xyz_to_linear_srgb(const RGB& xyz);
 struct Wavelengths {
     float lambda[3] = {0.f, 0.f, 0.f};
     float pdf[3] = {0.f, 0.f, 0.f};
+    float d65[3] = {0.f, 0.f, 0.f};  // d65_normalised at each, for illuminant()
 
     // The three wavelengths of one path from u in [0, 1).
     static Wavelengths sample(float u);
