@@ -63,7 +63,8 @@ TEST_CASE("foton render --filter sets the pixel filter, bad ones exit 2 with no 
     const std::string ta((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
     const std::string tb((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
     CHECK(ta != tb);
-    for (const char* bad : {"mitchell", "gaussian:0", "box:2:1", "gaussian:1.5:x", "triangle:99"}) {
+    for (const char* bad : {"mitchell:2:0.3", "lanczos:4:0", "mitchell:2:2:0", "cubic",
+                            "gaussian:0", "box:2:1", "gaussian:1.5:x", "triangle:99"}) {
         INFO(bad);
         const Run r = run("render " + scene + " --filter " + bad + common + dir.file("bad.exr"));
         CHECK(r.code == 2);
@@ -421,13 +422,14 @@ TEST_CASE("foton render and info read pbrt-v4 files, bad ones exit 2 with no ima
     foton::test::TempDir dir;
     const std::string good = dir.file("ok.pbrt");
     std::ofstream(good) << "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"perspective\"\n"
-                           "PixelFilter \"mitchell\"\nWorldBegin\n"
+                           "PixelFilter \"mitchell\" \"float foo\" 1\nWorldBegin\n"
                            "LightSource \"point\" \"rgb I\" [5 5 5] \"point3 from\" [0 2 -2]\n"
                            "Shape \"sphere\"\n";
     const Run r =
         run("render " + good + " --width 16 --height 16 --spp 1 -o " + dir.file("ok.exr"));
     CHECK(r.code == 0);
-    CHECK_THAT(r.output, Catch::Contains("warning: " + good + ":3: PixelFilter \"mitchell\""));
+    CHECK_THAT(r.output, Catch::Contains("warning: " + good +
+                                         ":3: unsupported parameter 'float foo' of PixelFilter"));
     CHECK(std::filesystem::exists(dir.file("ok.exr")));
     const Run i = run("info " + good);
     CHECK(i.code == 0);

@@ -368,7 +368,7 @@ TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
 }
 
 TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fast]") {
-    const Scene s = world(R"(PixelFilter "mitchell"
+    const Scene s = world(R"(PixelFilter "mitchell" "float foo" 1
         Sampler "pmj02bn" "integer pixelsamples" 8
         Integrator "volpath" "integer maxdepth" 3 "float foo" 1)",
                           R"(Material "diffuse" "float sigma" [ 0 ]
@@ -378,7 +378,8 @@ TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fas
             if (w.find(text) != std::string::npos) return true;
         return false;
     };
-    CHECK(has("test.pbrt:1: PixelFilter \"mitchell\""));
+    CHECK(has("test.pbrt:1: unsupported parameter 'float foo' of PixelFilter \"mitchell\""));
+    CHECK(s.film.filter.type() == FilterType::Mitchell);
     CHECK(has("test.pbrt:2: Sampler \"pmj02bn\""));
     CHECK(has("test.pbrt:3: unsupported parameter 'float foo' of Integrator \"volpath\""));
     CHECK(has("test.pbrt:5: unsupported parameter 'float sigma' of Material \"diffuse\""));

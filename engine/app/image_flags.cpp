@@ -11,34 +11,45 @@ namespace foton::app {
 
 namespace {
 
-// --filter TYPE[:RADIUS[:SIGMA]]: pbrt-v4's radii and sigma unless given.
+// --filter TYPE[:RADIUS[:...]]: gaussian[:radius[:sigma]], mitchell[:radius[:b:c]],
+// lanczos[:radius[:tau]], box or triangle[:radius]; pbrt-v4's values unless given.
 PixelFilter filter_flag(const std::string& text) {
     std::vector<std::string> part;
     std::size_t at = 0;
     for (std::size_t colon; (colon = text.find(':', at)) != std::string::npos; at = colon + 1)
         part.push_back(text.substr(at, colon - at));
     part.push_back(text.substr(at));
-    const std::string& type = part[0];
-    if (type != "box" && type != "triangle" && type != "gaussian")
-        throw InputError("--filter", 0, "unknown filter '" + type + "' (box, triangle, gaussian)");
-    if (part.size() > (type == "gaussian" ? 3u : 2u))
+    FilterType kind;
+    if (!parse_filter_type(part[0], kind))
         throw InputError("--filter", 0,
-                         type == "gaussian" ? "expected gaussian[:radius[:sigma]]"
-                                            : "expected " + type + "[:radius]");
-    // A number in (0, 16]: pixels for the radius, and for sigma.
-    auto number = [&](std::size_t i, float fallback, const char* what) {
+                         "unknown filter '" + part[0] + "' (" + kFilterTypeList + ")");
+    const char* forms[] = {"box[:radius]", "triangle[:radius]", "gaussian[:radius[:sigma]]",
+                           "mitchell[:radius[:b:c]]", "lanczos[:radius[:tau]]"};
+    const std::size_t most[] = {2, 2, 3, 4, 3};
+    const std::size_t k = std::size_t(kind);
+    if (part.size() > most[k] || (kind == FilterType::Mitchell && part.size() == 3))
+        throw InputError("--filter", 0, std::string("expected ") + forms[k]);
+    // A radius, sigma or tau in (0, 16]; Mitchell's b and c in [0, 1].
+    auto number = [&](std::size_t i, float fallback, const char* what, bool unit) {
         if (i >= part.size()) return fallback;
         char* end = nullptr;
         const float v = std::strtof(part[i].c_str(), &end);
-        if (part[i].empty() || *end != '\0' || !(v > 0.f && v <= 16.f))
+        const bool ok = unit ? v >= 0.f && v <= 1.f : v > 0.f && v <= 16.f;
+        if (part[i].empty() || *end != '\0' || !ok)
             throw InputError("--filter", 0,
-                             std::string(what) + " '" + part[i] + "' must be a number in (0, 16]");
+                             std::string(what) + " '" + part[i] + "' must be a number in " +
+                                 (unit ? "[0, 1]" : "(0, 16]"));
         return v;
     };
-    const float r = number(1, type == "box" ? 0.5f : type == "gaussian" ? 1.5f : 2.f, "the radius");
-    if (type == "box") return PixelFilter::box(r, r);
-    if (type == "triangle") return PixelFilter::triangle(r, r);
-    return PixelFilter::gaussian(r, r, number(2, 0.5f, "sigma"));
+    const float r = number(1, default_filter_radius(kind), "the radius", false);
+    FilterShape shape;
+    if (kind == FilterType::Gaussian) shape.sigma = number(2, shape.sigma, "sigma", false);
+    if (kind == FilterType::Lanczos) shape.tau = number(2, shape.tau, "tau", false);
+    if (kind == FilterType::Mitchell) {
+        shape.b = number(2, shape.b, "b", true);
+        shape.c = number(3, shape.c, "c", true);
+    }
+    return PixelFilter::make(kind, r, r, shape);
 }
 
 }  // namespace

@@ -45,9 +45,10 @@ int main(int argc, char** argv) {
                      "--pixelbounds)")
         ->delimiter(',');
     render->add_option("--filter", ra.filter,
-                       "pixel filter: box | triangle | gaussian, with :radius (pixels) and for "
-                       "gaussian :sigma (e.g. gaussian:1.5:0.5, pbrt-v4's default); replaces the "
-                       "scene's");
+                       "pixel filter: box | triangle | gaussian | mitchell | lanczos, with "
+                       ":radius (pixels), then gaussian :sigma, mitchell :b:c, lanczos :tau "
+                       "(e.g. gaussian:1.5:0.5, pbrt-v4's default; mitchell:2:0.333:0.333); "
+                       "replaces the scene's");
     render->add_option("--integrator", ra.integrator, "one of:" + integrator_help());
     render->add_option("--set", ra.set,
                        "key=value: set a <renderer> attribute (e.g. --set k=200 --set "

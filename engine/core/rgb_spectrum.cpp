@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "cie_tables.h"
-#include "spectrum.h"
+#include "colorimetry.h"
 
 namespace foton {
 

@@ -12,6 +12,7 @@
 // RGB is a spectrum shaped like illuminant D65 (the sRGB white) and normalised to luminance 1
 // for RGB (1, 1, 1), so a white emitter seen directly is (1, 1, 1) and a reflectance's RGB under
 // it is the reflectance.
+#include "colorimetry.h"
 #include "rgb.h"
 
 namespace foton {
@@ -21,15 +22,6 @@ namespace foton {
 // tails take few samples.
 float visible_wavelength_pdf(float lambda);
 float sample_visible_wavelength(float u);
-
-// The CIE 1931 colour matching functions at lambda (x-bar, y-bar, z-bar as r, g, b), linear
-// between the table's 5 nm steps, zero outside [360, 830] nm.
-RGB cie_xyz(float lambda);
-// Illuminant D65 at lambda, scaled so that its luminance (the integral of y-bar D65) is 1.
-float d65_normalised(float lambda);
-// CIE XYZ to linear sRGB (primaries of IEC 61966-2-1, white D65 from the tables above, so that
-// the white emitter is (1, 1, 1) exactly).
-RGB xyz_to_linear_srgb(const RGB& xyz);
 
 struct Wavelengths {
     float lambda[3] = {0.f, 0.f, 0.f};

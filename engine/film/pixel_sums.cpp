@@ -45,6 +45,7 @@ void PixelSums::gather(const Cluster& cluster) {
     gather_to_root(cluster, owners_, sum_);
     gather_to_root(cluster, owners_, count_);
     if (!moments_.empty()) gather_to_root(cluster, owners_, moments_);
+    if (!weight_.empty()) gather_to_root(cluster, owners_, weight_);
 }
 
 AovLayer PixelSums::variance() const {
@@ -65,7 +66,10 @@ AovLayer PixelSums::variance() const {
 Film PixelSums::mean() const {
     Film f(width_, height_);
     for (std::size_t i = 0; i < sum_.size(); ++i)
-        f.pixels[i] = count_[i] ? sum_[i] * (1.f / float(count_[i])) : RGB{0.f};
+        if (weight_.empty())
+            f.pixels[i] = count_[i] ? sum_[i] * (1.f / float(count_[i])) : RGB{0.f};
+        else
+            f.pixels[i] = weight_[i] != 0.0 ? sum_[i] * float(1.0 / weight_[i]) : RGB{0.f};
     return f;
 }
 

@@ -76,6 +76,20 @@ class PixelSums {
         add(pixel, v);
         if (!moments_.empty()) moments_[pixel].add(v);
     }
+    // Camera samples weighted by a pixel filter with negative lobes (pixel_filter.h): from here
+    // on each pixel also sums its samples' weights, and mean() is the weighted mean, sum of
+    // w v over sum of w (pbrt-v4's film: a flat region stays flat whatever the signs).
+    void use_weights() { weight_.assign(sum_.size(), 0.0); }
+    bool uses_weights() const { return !weight_.empty(); }
+    // One camera sample of filter weight w (clamped before it is weighted, as pbrt-v4).
+    void add_sample(std::size_t pixel, const RGB& value, float w) {
+        const RGB v = clamp_max_component(value, max_sample_) * w;
+        add(pixel, v);
+        weight_[pixel] += double(w);
+        if (!moments_.empty()) moments_[pixel].add(v);
+    }
+    // Adds to a pixel's weight sum alone (an estimate added with add() whose weights these are).
+    void add_weight(std::size_t pixel, double w) { weight_[pixel] += w; }
     // A tile's pixel of `samples` samples whose moments are `m` (adaptive sampling).
     void add(std::size_t pixel, const RGB& value, uint32_t samples, const SampleMoments& m) {
         add(pixel, value, samples);
@@ -91,7 +105,8 @@ class PixelSums {
     // Collective across ranks.
     void gather(const Cluster& cluster);
 
-    // The image as each pixel's mean (sum / samples; black where there are none) ...
+    // The image as each pixel's mean (sum / samples, or sum / weights with use_weights();
+    // black where there are none) ...
     Film mean() const;
     // ... or as the sums times one factor (splats: the paths traced are the samples of every
     // pixel at once).
@@ -107,6 +122,7 @@ class PixelSums {
     std::vector<RGB> sum_;
     std::vector<uint32_t> count_;
     std::vector<SampleMoments> moments_;
+    std::vector<double> weight_;  // use_weights(): each pixel's sum of sample weights
     PixelOwners owners_;
     float max_sample_ = std::numeric_limits<float>::infinity();
 };

@@ -245,30 +245,29 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
 }
 
 void Importer::pixel_filter(const Token& t, const std::string& type, const ParamList& p) {
-    // pbrt-v4's radius for each type when the file gives none.
-    const float fallback = type == "box" ? 0.5f : type == "gaussian" ? 1.5f : 2.f;
+    // pbrt-v4 calls its Lanczos filter "sinc".
+    FilterType kind;
+    if (!parse_filter_type(type == "sinc" ? "lanczos" : type, kind))
+        fail(t, "unknown PixelFilter '" + type + "' (box, triangle, gaussian, mitchell, sinc)");
+    // pbrt-v4's radius and shape for each type when the file gives none.
+    const float fallback = default_filter_radius(kind);
     const float xr = p.real("xradius", fallback), yr = p.real("yradius", fallback);
     if (!(xr > 0.f && yr > 0.f && xr <= 16.f && yr <= 16.f))
         fail(t, "PixelFilter xradius and yradius must be in (0, 16] pixels");
-    if (type == "box") {
-        pixel_filter_ = PixelFilter::box(xr, yr);
-    } else if (type == "triangle") {
-        pixel_filter_ = PixelFilter::triangle(xr, yr);
-    } else if (type == "gaussian") {
-        const float sigma = p.real("sigma", 0.5f);
-        if (!(sigma > 0.f)) fail(t, "PixelFilter \"gaussian\": sigma must be positive");
-        pixel_filter_ = PixelFilter::gaussian(xr, yr, sigma);
-    } else if (type == "mitchell" || type == "lanczos") {
-        // Negative lobes would need signed sample weights (pixel_filter.h).
-        warn(file(), t.line,
-             "PixelFilter \"" + type +
-                 "\" is reconstructed with pbrt-v4's default Gaussian (radius 1.5, sigma 0.5): "
-                 "foton's filters are box, triangle and gaussian");
-        for (const Param& q : p.params) q.used = true;
-        pixel_filter_ = PixelFilter::gaussian(1.5f, 1.5f, 0.5f);
-    } else {
-        fail(t, "unknown PixelFilter '" + type + "' (box, triangle, gaussian, mitchell, lanczos)");
+    FilterShape shape;
+    if (kind == FilterType::Gaussian) {
+        shape.sigma = p.real("sigma", shape.sigma);
+        if (!(shape.sigma > 0.f)) fail(t, "PixelFilter \"gaussian\": sigma must be positive");
+    } else if (kind == FilterType::Mitchell) {
+        shape.b = p.real("B", shape.b);
+        shape.c = p.real("C", shape.c);
+        if (!(shape.b >= 0.f && shape.b <= 1.f && shape.c >= 0.f && shape.c <= 1.f))
+            fail(t, "PixelFilter \"mitchell\": B and C must be in [0, 1]");
+    } else if (kind == FilterType::Lanczos) {
+        shape.tau = p.real("tau", shape.tau);
+        if (!(shape.tau > 0.f)) fail(t, "PixelFilter \"" + type + "\": tau must be positive");
     }
+    pixel_filter_ = PixelFilter::make(kind, xr, yr, shape);
     warn_unused(p, "PixelFilter \"" + type + "\"");
     count("PixelFilter " + type);
 }

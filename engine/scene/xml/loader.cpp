@@ -90,7 +90,7 @@ Scene Loader::run() {
 void Loader::parse_film(const pugi::xml_node& n) {
     check(n,
           {"width", "height", "size", "gamma", "max_sample_value", "filter", "filter_radius",
-           "filter_sigma"},
+           "filter_sigma", "filter_b", "filter_c", "filter_tau"},
           {});
     FilmSettings& f = scene_.film;
     f.width = int(count(n, "width", 512));
@@ -104,19 +104,31 @@ void Loader::parse_film(const pugi::xml_node& n) {
     // The pixel filter (pixel_filter.h), the thesis' 1-pixel box unless asked; radii as
     // pbrt-v4's defaults.
     const std::string filter = n.attribute("filter") ? n.attribute("filter").value() : "box";
-    if (filter != "box" && filter != "triangle" && filter != "gaussian")
-        fail(n, "unknown filter '" + filter + "' (box, triangle, gaussian)");
-    const float r = positive(n, "filter_radius",
-                             filter == "box"        ? 0.5f
-                             : filter == "gaussian" ? 1.5f
-                                                    : 2.f);
+    FilterType kind;
+    if (!parse_filter_type(filter, kind))
+        fail(n, "unknown filter '" + filter + "' (" + kFilterTypeList + ")");
+    const float r = positive(n, "filter_radius", default_filter_radius(kind));
     if (r > 16.f) fail(n, "filter_radius must be at most 16 pixels");
-    if (filter == "gaussian") {
-        f.filter = PixelFilter::gaussian(r, r, positive(n, "filter_sigma", 0.5f));
-    } else {
-        if (n.attribute("filter_sigma")) fail(n, "filter_sigma belongs to filter=\"gaussian\"");
-        f.filter = filter == "box" ? PixelFilter::box(r, r) : PixelFilter::triangle(r, r);
-    }
+    // Each shape parameter belongs to one type.
+    const struct {
+        const char* attribute;
+        FilterType owner;
+    } own[] = {{"filter_sigma", FilterType::Gaussian},
+               {"filter_b", FilterType::Mitchell},
+               {"filter_c", FilterType::Mitchell},
+               {"filter_tau", FilterType::Lanczos}};
+    for (const auto& o : own)
+        if (n.attribute(o.attribute) && o.owner != kind)
+            fail(n, std::string(o.attribute) + " belongs to filter=\"" + filter_type_name(o.owner) +
+                        "\"");
+    FilterShape shape;
+    shape.sigma = positive(n, "filter_sigma", shape.sigma);
+    shape.tau = positive(n, "filter_tau", shape.tau);
+    shape.b = n.attribute("filter_b").as_float(shape.b);
+    shape.c = n.attribute("filter_c").as_float(shape.c);
+    if (!(shape.b >= 0.f && shape.b <= 1.f && shape.c >= 0.f && shape.c <= 1.f))
+        fail(n, "filter_b and filter_c must be in [0, 1]");
+    f.filter = PixelFilter::make(kind, r, r, shape);
 }
 
 // The <renderer> attributes, and those of its <adaptive> element as adaptive_*, become

@@ -39,6 +39,10 @@ void start_camera_rays(const VcmContext& c, uint32_t first, uint32_t count,
         j.id = c.iteration * npix + film.pixel_id(j.x, j.y);
     }
     generate_camera_rays(scene, c.settings.sampler, jobs, c.seed, ws.rays);
+    // A filter with negative lobes weighs each camera sample (its subpath's throughput).
+    thread_local std::vector<float> weight;
+    if (camera_sample_weights(scene, c.settings.sampler, jobs, c.seed, weight))
+        for (uint32_t k = 0; k < count; ++k) ws.beta[k] *= weight[k];
 }
 
 }  // namespace foton

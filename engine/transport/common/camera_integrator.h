@@ -122,6 +122,25 @@ inline void generate_camera_rays(const Scene& scene, SamplerKind sampler,
     }
 }
 
+// With a pixel filter that is negative in places (PixelFilter::negative_lobes), each camera
+// sample's filter weight, by slot, into w (the positions generate_camera_rays gives the same
+// jobs); false, w untouched, when every weight is 1.
+inline bool camera_sample_weights(const Scene& scene, SamplerKind sampler,
+                                  const std::vector<SampleJob>& jobs, uint64_t seed,
+                                  std::vector<float>& w) {
+    const PixelFilter& filter = scene.film.filter;
+    if (!filter.negative_lobes()) return false;
+    thread_local std::vector<float> table;
+    const bool tabled = pixel_sample_table(scene, sampler, jobs, seed, table);
+    const std::size_t stride = table.size() / 2;
+    w.resize(jobs.size());
+    for (uint32_t slot = 0; slot < jobs.size(); ++slot)
+        w[slot] = filter.sample_weight(
+            filter.pixel_position(tabled ? Point2{table[slot], table[stride + slot]}
+                                         : pixel_sample(scene, sampler, jobs[slot], seed)));
+    return true;
+}
+
 struct CacheWorkspace;
 
 // Per-thread scratch of an integrator, reused from tile to tile.

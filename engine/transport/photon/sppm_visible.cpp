@@ -30,6 +30,7 @@ void VisiblePoints::trace_row(uint64_t pass, uint64_t light_pass, uint32_t y, Sp
                                    {rand(pass, pixel, 2), rand(pass, pixel, 3)}, o, d);
         row[x].valid = false;
         row[x].pass_direct = {};
+        work.beta[x] *= ctx_.scene.film.filter.sample_weight(j);  // negative lobes: signed
         work.rays.push(o, d, 0.f, kInfinity, x);
     }
     stats.camera_rays += w;

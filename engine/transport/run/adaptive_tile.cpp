@@ -32,10 +32,10 @@ struct PixelMoments {
 
 }  // namespace
 
-void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad,
-                   const CameraIntegrator& integrator, const Tile& t, IntegratorWorkspace& ws,
-                   RenderStats& st, std::vector<SampleJob>& jobs, std::vector<RGB>& out,
-                   TileSums& sums) {
+void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad, SamplerKind sampler,
+                   uint64_t seed, const CameraIntegrator& integrator, const Tile& t,
+                   IntegratorWorkspace& ws, RenderStats& st, std::vector<SampleJob>& jobs,
+                   std::vector<RGB>& out, TileSums& sums) {
     const int tw = t.x1 - t.x0;
     const std::size_t n_pixels = std::size_t(t.pixels());
     const uint32_t n_parts = ws.part_count;
@@ -43,6 +43,8 @@ void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad,
     sums.sum.assign(n_pixels, RGB{0.f});
     sums.moments.assign(n_pixels, SampleMoments{});
     sums.parts.assign(n_pixels * n_parts, RGB{0.f});
+    sums.weight.assign(scene.film.filter.negative_lobes() ? n_pixels : 0, 0.0);
+    std::vector<float> weights;
     std::vector<uint32_t> want(n_pixels, ad.pilot);
     std::vector<uint32_t> taken(n_pixels, 0);
     auto local = [&](const SampleJob& j) { return std::size_t(j.y - t.y0) * tw + (j.x - t.x0); };
@@ -60,15 +62,19 @@ void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad,
         if (jobs.empty()) return false;
         ws.parts.assign(jobs.size() * n_parts, RGB{0.f});
         integrator.trace(jobs, ws, out, st);
+        // A filter with negative lobes weighs each sample (pixel_sums.h's weighted mean).
+        const bool weighted = camera_sample_weights(scene, sampler, jobs, seed, weights);
         st.samples += jobs.size();
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t l = local(jobs[i]);
-            const RGB v = clamp_max_component(out[i], scene.film.max_sample_value);
+            const float w = weighted ? weights[i] : 1.f;
+            const RGB v = clamp_max_component(out[i], scene.film.max_sample_value) * w;
             mom[l].add(v.luminance());
             sums.sum[l] += v;
             sums.moments[l].add(v);
+            if (weighted) sums.weight[l] += double(w);
             for (uint32_t c = 0; c < n_parts; ++c)
-                sums.parts[l * n_parts + c] += ws.parts[i * n_parts + c];
+                sums.parts[l * n_parts + c] += ws.parts[i * n_parts + c] * w;
         }
         return true;
     };

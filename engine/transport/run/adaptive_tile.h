@@ -15,9 +15,9 @@ namespace foton {
 
 // The tile's sums per pixel go to `out_sums` (with `ws.part_count` components each); `jobs`
 // and `out` are scratch.
-void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad,
-                   const CameraIntegrator& integrator, const Tile& t, IntegratorWorkspace& ws,
-                   RenderStats& st, std::vector<SampleJob>& jobs, std::vector<RGB>& out,
-                   TileSums& out_sums);
+void adaptive_tile(const Scene& scene, const AdaptiveSettings& ad, SamplerKind sampler,
+                   uint64_t seed, const CameraIntegrator& integrator, const Tile& t,
+                   IntegratorWorkspace& ws, RenderStats& st, std::vector<SampleJob>& jobs,
+                   std::vector<RGB>& out, TileSums& out_sums);
 
 }  // namespace foton

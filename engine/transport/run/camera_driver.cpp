@@ -34,15 +34,25 @@ class CameraDriver {
     }
 
     // The samples' radiance, and their components to `parts` (one sum per component).
+    // With `weights` (a filter with negative lobes) each sample and its components count
+    // with its weight (PixelSums' weighted mean).
     void accumulate_samples(const std::vector<SampleJob>& jobs, const std::vector<RGB>& out,
-                            const IntegratorWorkspace& ws, PixelSums& acc,
-                            std::vector<PixelSums>& parts, RenderStats& st) const {
+                            const std::vector<float>& weights, const IntegratorWorkspace& ws,
+                            PixelSums& acc, std::vector<PixelSums>& parts, RenderStats& st) const {
         StageClock clock;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             const std::size_t p = std::size_t(jobs[i].y) * scene_.film.width + jobs[i].x;
-            acc.add_sample(p, out[i]);
-            for (std::size_t c = 0; c < parts.size(); ++c)
-                parts[c].add(p, ws.parts[i * parts.size() + c]);
+            if (weights.empty()) {
+                acc.add_sample(p, out[i]);
+                for (std::size_t c = 0; c < parts.size(); ++c)
+                    parts[c].add(p, ws.parts[i * parts.size() + c]);
+                continue;
+            }
+            acc.add_sample(p, out[i], weights[i]);
+            for (std::size_t c = 0; c < parts.size(); ++c) {
+                parts[c].add(p, ws.parts[i * parts.size() + c] * weights[i]);
+                parts[c].add_weight(p, weights[i]);
+            }
         }
         st.samples += jobs.size();
         st.add(Stage::Accumulate, jobs.size(), clock);
@@ -57,8 +67,11 @@ class CameraDriver {
                 const std::size_t l = std::size_t(y - t.y0) * tw + (x - t.x0);
                 const std::size_t p = std::size_t(y) * scene_.film.width + x;
                 acc.add(p, sums.sum[l], sums.count[l], sums.moments[l]);
-                for (std::size_t c = 0; c < parts.size(); ++c)
+                if (!sums.weight.empty()) acc.add_weight(p, sums.weight[l]);
+                for (std::size_t c = 0; c < parts.size(); ++c) {
                     parts[c].add(p, sums.parts[l * parts.size() + c], sums.count[l]);
+                    if (!sums.weight.empty()) parts[c].add_weight(p, sums.weight[l]);
+                }
             }
         st.add(Stage::Accumulate, std::size_t(t.pixels()), clock);
     }
@@ -92,10 +105,13 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
     PixelSums acc(scene.film.width, scene.film.height);
     acc.set_max_sample_value(scene.film.max_sample_value);
     if (settings.aovs & kAovVariance) acc.keep_moments();
+    if (scene.film.filter.negative_lobes()) acc.use_weights();
     // The components AOV: a pixel sum per part of the integrator's estimate.
     const std::vector<std::string> part_names =
         settings.aovs & kAovComponents ? integrator.components() : std::vector<std::string>{};
     std::vector<PixelSums> parts(part_names.size(), PixelSums(scene.film.width, scene.film.height));
+    if (scene.film.filter.negative_lobes())
+        for (PixelSums& part : parts) part.use_weights();
     // Across MPI ranks the tiles are dealt out in turn (tile i to rank i mod N); each rank
     // renders its own, and rank 0 gathers their pixels when the image is needed.
     const Cluster& cluster = cluster_or_solo(opt.cluster);
@@ -138,6 +154,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
         std::unique_ptr<IntegratorWorkspace> ws;
         std::vector<SampleJob> jobs;
         std::vector<RGB> out;
+        std::vector<float> weights;  // per job (a filter with negative lobes), else empty
         TileSums sums;
     };
     std::vector<std::unique_ptr<TileWork>> owned;
@@ -182,14 +199,19 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                     RenderStats& st = stats.local();
                     const Tile& t = tiles[w->tile];
                     if (adaptive) {
-                        adaptive_tile(scene, settings.adaptive, integrator, t, *w->ws, st, w->jobs,
-                                      w->out, w->sums);
+                        adaptive_tile(scene, settings.adaptive, settings.sampler, opt.seed,
+                                      integrator, t, *w->ws, st, w->jobs, w->out, w->sums);
                     } else {
                         if (k == 0) {
                             driver.make_jobs(t, pass, s0, s1, w->jobs);
                             w->ws->parts.assign(w->jobs.size() * part_names.size(), RGB{0.f});
                         }
                         integrator.trace_phase(uint32_t(k), w->jobs, *w->ws, w->out, st);
+                        // The last phase done: a filter with negative lobes weighs the samples.
+                        if (k + 2 == nodes.size() &&
+                            !camera_sample_weights(scene, settings.sampler, w->jobs, opt.seed,
+                                                   w->weights))
+                            w->weights.clear();
                     }
                     timer.items = w->jobs.size();
                     return w;
@@ -202,7 +224,7 @@ RenderResult render_camera(const Scene& scene, const RenderSettings& settings,
                 if (adaptive)
                     driver.accumulate_tile(tiles[w->tile], w->sums, acc, parts, st);
                 else
-                    driver.accumulate_samples(w->jobs, w->out, *w->ws, acc, parts, st);
+                    driver.accumulate_samples(w->jobs, w->out, w->weights, *w->ws, acc, parts, st);
                 timer.items = tiles[w->tile].pixels();
                 idle.push(w);
                 progress_task->advance();

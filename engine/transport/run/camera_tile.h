@@ -45,7 +45,8 @@ struct TileSums {
     std::vector<RGB> sum;
     std::vector<uint32_t> count;
     std::vector<SampleMoments> moments;
-    std::vector<RGB> parts;  // `part_count` per pixel (the components AOV)
+    std::vector<RGB> parts;      // `part_count` per pixel (the components AOV)
+    std::vector<double> weight;  // a filter with negative lobes: the samples' weights' sum
 };
 
 }  // namespace foton

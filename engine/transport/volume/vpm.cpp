@@ -78,6 +78,9 @@ class VpmCamera {
         generate_camera_rays(scene_, settings_.sampler, w.jobs, seed_, w.rays);
         stats.camera_rays += width;
         w.beta.assign(width, RGB{1.f});
+        thread_local std::vector<float> weight;  // a filter with negative lobes
+        if (camera_sample_weights(scene_, settings_.sampler, w.jobs, seed_, weight))
+            for (uint32_t x = 0; x < width; ++x) w.beta[x] *= weight[x];
         w.medium.assign(width, scene_.camera_medium);
         w.depth.assign(width, 0);
         w.crossings.assign(width, 0);
