@@ -435,7 +435,7 @@ TEST_CASE("foton render and info read pbrt-v4 files, bad ones exit 2 with no ima
     CHECK(i.code == 0);
     CHECK_THAT(i.output, Catch::Contains("imported   Camera perspective;"));
     CHECK_THAT(i.output, Catch::Contains("ignored    " + good + ":3:"));
-    CHECK_THAT(i.output, Catch::Contains("filter gaussian, radius 1.5 x 1.5, sigma 0.5"));
+    CHECK_THAT(i.output, Catch::Contains("filter mitchell, radius 2 x 2, b 0.333333"));
     const std::string bad = dir.file("bad.pbrt");
     std::ofstream(bad) << "WorldBegin\nShape \"sphere\" \"float radius\" [ -1 ]\n";
     const Run b = run("render " + bad + " -o " + dir.file("bad.exr"));

@@ -105,6 +105,38 @@ TEST_CASE("compressed PLY: .ply.gz and .ply.xz read as the plain file", "[ply][f
     CHECK(s.meshes[0].num_triangles() == 2 * 60 * 60);
 }
 
+TEST_CASE("compressed pbrt-v4 includes: .pbrt.gz and .pbrt.xz read as the plain file",
+          "[pbrt][fast]") {
+    // pbrt-v4-scenes' hair scenes include their curves as a gzipped scene file.
+    test::TempDir dir;
+    const std::string curves =
+        "Shape \"curve\" \"point3 P\" [0 0 0  0.3 1 0  0.6 -1 0  1 0 0] \"float width\" 0.1\n"
+        "Shape \"curve\" \"point3 P\" [0 1 0  0.3 2 0  0.6 0 0  1 1 0] \"float width\" 0.1\n";
+    write(dir.file("hair.pbrt.gz"), gzip_of(curves));
+    write(dir.file("hair.pbrt.xz"), xz_of(curves));
+    write(dir.file("half.pbrt.gz"), gzip_of(curves).substr(0, 20));
+    auto scene = [&](const std::string& include) {
+        return parse_pbrt_scene(
+            "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+            "Material \"hair\"\nInclude \"" +
+                include + "\"\n",
+            dir.file("s.pbrt"), dir.path().string());
+    };
+    for (const char* name : {"hair.pbrt.gz", "hair.pbrt.xz"}) {
+        INFO(name);
+        const Scene s = scene(name);
+        std::size_t segments = 0;
+        for (const CurveSet& c : s.curves) segments += c.size();
+        CHECK(segments == 2);
+    }
+    try {
+        scene("half.pbrt.gz");
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("half.pbrt.gz") && Catch::Contains("truncated gzip"));
+    }
+}
+
 TEST_CASE("compressed PLY: corrupt, truncated and foreign data are bad input",
           "[ply][bad-input][fast]") {
     test::TempDir dir;

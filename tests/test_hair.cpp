@@ -162,6 +162,8 @@ TEST_CASE("hair: pbrt-v4's hair parameters, and bad ones at their line", "[hair]
     const float denom = 5.969f - 0.215f * 0.3f + 2.532f * 0.09f - 10.73f * 0.027f +
                         5.574f * 0.0081f + 0.245f * 0.00243f;
     CHECK(r.hair.sigma_a.g == Approx(std::pow(std::log(0.5f) / denom, 2.f)).epsilon(1e-4));
+    // "color" is pbrt-v4's other name for it (pbrt-v4-scenes' bunny-fur).
+    CHECK(lobe_of("\"rgb color\" [0.5 0.5 0.5]").hair.sigma_a.g == r.hair.sigma_a.g);
     CHECK_THROWS_WITH(lobe_of("\"float beta_n\" [1.5]"),
                       Catch::Contains("h.pbrt:2") && Catch::Contains("beta_n in [0, 1]"));
     CHECK_THROWS_WITH(lobe_of("\"rgb sigma_a\" [-1 0 0]"),

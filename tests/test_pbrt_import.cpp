@@ -367,6 +367,50 @@ TEST_CASE("pbrt-v4: spectra reduce to RGB", "[pbrt][fast]") {
     CHECK(!pbrt::named_spectrum_rgb("metal-Xx-k").has_value());
 }
 
+TEST_CASE("pbrt-v4: spectra from .spd files, bad ones at their line", "[pbrt][fast]") {
+    // pbrt-v4-scenes' gold killeroos give a conductor's eta and k as files of wavelength-value
+    // pairs, resolved against the main file's directory.
+    test::TempDir dir;
+    std::ofstream(dir.file("flat.spd")) << "# a flat spectrum\n300 0.5\n550 0.5 # mid\n800 0.5\n";
+    std::ofstream(dir.file("rising.spd")) << "400 1\n500 2\n600 3\n700 4\n";
+    std::ofstream(dir.file("odd.spd")) << "300 0.5\n550\n";
+    std::ofstream(dir.file("word.spd")) << "300 0.5\n550 x\n";
+    auto scene_with = [&](const std::string& eta) {
+        return import_text(
+            "Camera \"perspective\"\nWorldBegin\nMaterial \"conductor\" "
+            "\"spectrum eta\" \"" +
+                eta + "\" \"spectrum k\" \"flat.spd\"\nShape \"sphere\"\n",
+            dir.path().string());
+    };
+    const Scene flat = scene_with("flat.spd");
+    const Fresnel& f = flat.materials.back().bsdf.lobe(0).fresnel;
+    CHECK(f.kind == FresnelKind::Conductor);
+    CHECK(f.eta.r == Approx(0.5f).epsilon(1e-3));
+    CHECK(f.eta.b == Approx(0.5f).epsilon(1e-3));
+    CHECK(f.k.g == Approx(0.5f).epsilon(1e-3));
+    // The same as the pairs given inline.
+    const RGB rising = scene_with("rising.spd").materials.back().bsdf.lobe(0).fresnel.eta;
+    const RGB inline_pairs = pbrt::sampled_spectrum_rgb({400, 1, 500, 2, 600, 3, 700, 4}, false);
+    CHECK(rising.r == inline_pairs.r);
+    CHECK(rising.b == inline_pairs.b);
+    CHECK(rising.r > rising.b);
+    auto error = [&](const std::string& eta) -> std::string {
+        try {
+            scene_with(eta);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    CHECK_THAT(error("missing.spd"),
+               Catch::Contains("test.pbrt:3: parameter 'spectrum eta': unknown named spectrum "
+                               "'missing.spd'") &&
+                   Catch::Contains("no spectrum file of that name"));
+    CHECK_THAT(error("odd.spd"), Catch::Contains("odd.spd: a spectrum file holds "
+                                                 "wavelength-value pairs, and this has 3"));
+    CHECK_THAT(error("word.spd"), Catch::Contains("word.spd:2: 'x' is not a number"));
+}
+
 TEST_CASE("pbrt-v4: what foton leaves out is a warning at its line", "[pbrt][fast]") {
     const Scene s = world(R"(PixelFilter "mitchell" "float foo" 1
         Sampler "pmj02bn" "integer pixelsamples" 8
@@ -966,4 +1010,17 @@ TEST_CASE("pbrt-v4: textures made of textures are refused past 8 levels", "[pbrt
     // Eight levels are fine.
     text = text.substr(0, text.rfind("Texture \"m9\""));
     CHECK(error_of(text + "Shape \"sphere\"\n").empty());
+}
+
+TEST_CASE("pbrt-v4: motion (ActiveTransform) renders the start pose, warned", "[pbrt][fast]") {
+    const Scene s = world("",
+                          "AttributeBegin\nActiveTransform StartTime\nTranslate 35 0 0\n"
+                          "ActiveTransform EndTime\nTranslate 5 0 0\nActiveTransform All\n"
+                          "Shape \"sphere\"\nAttributeEnd");
+    std::string all;
+    for (const std::string& w : s.warnings) all += w + "\n";
+    INFO(all);
+    CHECK(all.find("test.pbrt:4: ActiveTransform StartTime: motion blur is not supported") !=
+          std::string::npos);
+    CHECK(all.find("test.pbrt:6: ActiveTransform EndTime") != std::string::npos);
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "engine/core/decompress.h"
 #include "engine/core/input_file.h"
 #include "engine/scene/pbrt_loader.h"
 
@@ -49,13 +50,13 @@ void Importer::include(const Token& t) {
     const Token name = expect_string(t, "a file name");
     if (files_.size() >= std::size_t(kMaxIncludeDepth))
         fail(t, "includes nest more than " + std::to_string(kMaxIncludeDepth) + " deep");
+    // An included file holds geometry as often as directives (pbrt-v4-scenes' hair is a
+    // gzipped file of curves): the mesh files' size limit, and .gz or .xz decompressed.
     const std::string path =
-        input_path(t, std::string(t.text), std::string(name.text), kMaxSceneFileBytes);
-    if (std::filesystem::path(path).extension() == ".gz")
-        fail(t, "compressed scene files (.gz) are not supported");
+        input_path(t, std::string(t.text), std::string(name.text), kMaxMeshFileBytes);
     count(std::string(t.text));
-    files_.push_back(
-        std::make_unique<Tokenizer>(read_input_file(path, kMaxSceneFileBytes, "scene file"), path));
+    files_.push_back(std::make_unique<Tokenizer>(
+        read_input_file_decompressed(path, kMaxMeshFileBytes, "scene file"), path));
 }
 
 std::string Importer::input_path(const Token& t, const std::string& what, const std::string& rel,
@@ -179,8 +180,13 @@ void Importer::directive(const Token& t) {
         apply(it->second, true);
     } else if (d == "ActiveTransform") {
         const Token w = next();
-        if (w.text == "StartTime" || w.text == "All") {
+        if (w.text == "All") {
             transform_start_ = true;
+        } else if (w.text == "StartTime") {
+            transform_start_ = true;
+            warn(file(), t.line,
+                 "ActiveTransform StartTime: motion blur is not supported, the transforms that "
+                 "follow move the start pose only, which is rendered");
         } else if (w.text == "EndTime") {
             transform_start_ = false;
             warn(file(), t.line,

@@ -57,6 +57,9 @@ class Importer {
     Token expect_string(const Token& directive, const char* what);
     float expect_number(const Token& directive);
     ParamList read_params();
+    // The wavelength-value pairs of spectrum file `rel` (named at t), checked.
+    std::vector<double> spectrum_file_pairs(const Token& t, const std::string& rel);
+    static constexpr uint64_t kMaxSpectrumFileBytes = 1 << 20;
     void directive(const Token& t);
     void include(const Token& t);
     // A file the scene names (`what` 'rel'), resolved against the main file's directory and

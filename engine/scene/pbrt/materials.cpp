@@ -240,10 +240,13 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             h.sigma_a = *p.color("sigma_a", false);
             ignored(p.has("reflectance"), "reflectance", "sigma_a");
             ignored(melanin, "eumelanin and pheomelanin", "sigma_a");
-        } else if (p.has("reflectance")) {
-            m.base_color = reflectance(p, "reflectance", RGB{0.5f}, what);
+        } else if (p.has("reflectance") || p.has("color")) {
+            // pbrt-v4 reads "color" when there is no "reflectance" (pbrt-v3's name).
+            const char* key = p.has("reflectance") ? "reflectance" : "color";
+            m.base_color = reflectance(p, key, RGB{0.5f}, what);
             h.sigma_a = hair_sigma_a_from_reflectance(m.base_color, h.beta_n);
-            ignored(melanin, "eumelanin and pheomelanin", "reflectance");
+            ignored(melanin, "eumelanin and pheomelanin", key);
+            ignored(p.has("color") && p.has("reflectance"), "color", "reflectance");
         } else {
             h.sigma_a = hair_sigma_a_from_melanin(
                 std::max(0.f, float_value(p, "eumelanin", melanin ? 0.f : 1.3f)),

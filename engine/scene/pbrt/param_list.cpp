@@ -139,11 +139,9 @@ std::optional<RGB> ParamList::color(const std::string& name, bool illuminant) co
             const auto c = named_spectrum_rgb(p->strings[0]);
             if (!c)
                 fail(*p, "unknown named spectrum '" + p->strings[0] + "' (" +
-                             named_spectrum_list() + ")");
+                             named_spectrum_list() + "), and no spectrum file of that name");
             return c;
         }
-        if (!p->strings.empty())
-            fail(*p, "spectrum files are not supported; give (nm, value) pairs or a name");
         if (p->numbers.size() < 2 || p->numbers.size() % 2 != 0)
             fail(*p, "expected (wavelength, value) pairs");
         std::vector<float> v(p->numbers.begin(), p->numbers.end());

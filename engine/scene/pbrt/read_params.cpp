@@ -2,9 +2,15 @@
 // list, each value checked for type and range at its line.
 #include <charconv>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
+#include "engine/core/error.h"
+#include "engine/core/input_file.h"
 #include "importer.h"
+#include "spectrum.h"
 
 namespace foton::pbrt {
 
@@ -44,6 +50,33 @@ bool known_type(const std::string& t) {
 }
 
 }  // namespace
+
+std::vector<double> Importer::spectrum_file_pairs(const Token& t, const std::string& rel) {
+    const std::string path = input_path(t, "spectrum file", rel, kMaxSpectrumFileBytes);
+    std::ifstream in(path);
+    std::vector<double> v;
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        line = line.substr(0, line.find('#'));
+        std::istringstream words(line);
+        std::string w;
+        while (words >> w) {
+            double x = 0.0;
+            auto [ptr, ec] = std::from_chars(w.data(), w.data() + w.size(), x);
+            if (ec != std::errc() || ptr != w.data() + w.size() || !std::isfinite(x))
+                throw InputError(path, n,
+                                 "'" + w +
+                                     "' is not a number (a spectrum file holds "
+                                     "wavelength-value pairs)");
+            v.push_back(x);
+        }
+    }
+    if (v.size() < 2 || v.size() % 2 != 0)
+        throw InputError(path, 0,
+                         "a spectrum file holds wavelength-value pairs, and this has " +
+                             std::to_string(v.size()) + " numbers");
+    return v;
+}
 
 ParamList Importer::read_params() {
     ParamList list;
@@ -109,6 +142,15 @@ ParamList Importer::read_params() {
                     fail(decl, "parameter '" + p.name + "' must be true or false");
         if (p.numbers.empty() && p.strings.empty())
             fail(decl, "parameter '" + p.type + " " + p.name + "' has no values");
+        // A spectrum named by a file (pbrt-v4's .spd: wavelength-value pairs) becomes its pairs;
+        // a name that is neither a spectrum's nor a file's is reported where it is read.
+        if (p.type == "spectrum" && p.strings.size() == 1 && p.numbers.empty() &&
+            !named_spectrum_rgb(p.strings[0]) &&
+            input_file_problem((std::filesystem::path(base_) / p.strings[0]).string(),
+                               kMaxSpectrumFileBytes) != "not found") {
+            p.numbers = spectrum_file_pairs(decl, p.strings[0]);
+            p.strings.clear();
+        }
         list.params.push_back(std::move(p));
     }
     return list;
