@@ -13,6 +13,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/spectrum.h"
 #include "engine/scene/xml_loader.h"
+#include "engine/transport/registry/render.h"
 #include "engine/transport/volume/volpath.h"
 #include "media_util.h"
 #include "test_util.h"
@@ -252,6 +253,9 @@ TEST_CASE("spectral: only volpath takes it, and not with subsurface materials",
     INFO(warnings);
     CHECK(warnings.find("spectral.xml:5: setting 'spectral' belongs to type=\"volpath\"") !=
           std::string::npos);
+    CHECK(integrator_label(path.render) == "path");
+    CHECK(integrator_label(parse(sphere_scene(m, "spectral=\"true\"")).render) ==
+          "volpath (spectral)");
     std::string message;
     // A BSSRDF's table is per RGB channel: the render refuses at the material's line.
     TestScene sub = load_scene(test::source_path("scenes/subsurface.xml"));

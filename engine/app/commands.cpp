@@ -17,7 +17,7 @@ int run_info(const std::string& path) {
     const Scene scene = load_scene(path);
     const RenderSettings rs = render_settings(scene);
     std::fputs(scene.summary().c_str(), stdout);
-    std::printf("renderer   %s, %u spp (%s), depth %u, accel %s\n", rs.integrator.c_str(),
+    std::printf("renderer   %s, %u spp (%s), depth %u, accel %s\n", integrator_label(rs).c_str(),
                 rs.run.spp, sampler_name(rs.sampler), rs.max_depth, accel_name(scene.accel));
     return 0;
 }

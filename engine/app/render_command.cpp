@@ -367,7 +367,7 @@ int run_render(const RenderArgs& args, const Cluster* cluster) {
         std::printf(
             "rendered %s with %s (%dx%d, %.4g spp in %u passes, %s, %d threads%s) in %.3f s\n"
             "wrote %s\nwrote %s\n",
-            args.scene.c_str(), rs.integrator.c_str(), scene.film.width, scene.film.height,
+            args.scene.c_str(), integrator_label(rs).c_str(), scene.film.width, scene.film.height,
             double(res.stats.samples) / (double(scene.film.width) * scene.film.height),
             res.stats.passes, accel->name(), res.stats.threads,
             ranks.distributed() ? (" x " + std::to_string(ranks.size()) + " MPI ranks").c_str()

@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include <algorithm>
+#include <any>
 #include <iterator>
 #include <memory>
 
@@ -9,6 +10,7 @@
 
 #include "engine/core/error.h"
 #include "engine/transport/run/first_hit_aovs.h"
+#include "engine/transport/volume/volpath.h"
 
 namespace foton {
 
@@ -68,6 +70,11 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
 
 RenderResult render(const Scene& scene, const Intersector& accel, const RenderOptions& opt) {
     return render(scene, render_settings(scene), accel, opt);
+}
+
+std::string integrator_label(const RenderSettings& settings) {
+    const VolPathSettings* own = std::any_cast<VolPathSettings>(&settings.own);
+    return settings.integrator + (own && own->spectral ? " (spectral)" : "");
 }
 
 }  // namespace foton

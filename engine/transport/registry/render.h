@@ -17,5 +17,8 @@ RenderResult render(const Scene& scene, const RenderSettings& settings, const In
                     const RenderOptions& options);
 // With the scene's own settings (its <renderer>, --set applied).
 RenderResult render(const Scene& scene, const Intersector& accel, const RenderOptions& options);
+// The integrator as the tools name it: its name, and "spectral" after volpath's when it
+// renders spectrally.
+std::string integrator_label(const RenderSettings& settings);
 
 }  // namespace foton
