@@ -15,6 +15,7 @@
 #include "engine/core/rng.h"
 #include "engine/core/tensor_file.h"
 #include "engine/core/warp_2d.h"
+#include "tensor_writer.h"
 #include "test_util.h"
 
 using namespace foton;
@@ -129,41 +130,11 @@ TEST_CASE("warp 2D: parameters select and interpolate the grids", "[warp][fast]"
     CHECK(warp.eval(p, beyond) == Approx(g21.eval(p)).epsilon(1e-5));
 }
 
-namespace {
-
-// A tensor file of the given float fields (and one byte field), as Mitsuba writes them.
-std::string tensor_bytes(const std::vector<std::pair<std::string, std::vector<uint64_t>>>& shapes,
-                         const std::vector<std::vector<float>>& values) {
-    std::string header("tensor_file", 12);
-    header += char(1);
-    header += char(0);
-    auto put = [](std::string& s, const auto& v) {
-        s.append(reinterpret_cast<const char*>(&v), sizeof(v));
-    };
-    put(header, uint32_t(shapes.size()));
-    std::size_t header_size = header.size();
-    for (const auto& [name, shape] : shapes)
-        header_size += 2 + name.size() + 2 + 1 + 8 + 8 * shape.size();
-    std::string data;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-        const auto& [name, shape] = shapes[i];
-        put(header, uint16_t(name.size()));
-        header += name;
-        put(header, uint16_t(shape.size()));
-        header += char(TensorType::Float32);
-        put(header, uint64_t(header_size + data.size()));
-        for (uint64_t s : shape) put(header, s);
-        data.append(reinterpret_cast<const char*>(values[i].data()), values[i].size() * 4);
-    }
-    return header + data;
-}
-
-}  // namespace
-
 TEST_CASE("tensor files: fields read back, malformed files are bad input",
           "[warp][bad-input][fast]") {
     const std::vector<float> theta{0.f, 0.5f, 1.f}, grid = random_grid(4, 3, 7);
-    const std::string good = tensor_bytes({{"theta_i", {3}}, {"ndf", {3, 4}}}, {theta, grid});
+    const std::string good = test::tensor_bytes(
+        {test::float_tensor("theta_i", {3}, theta), test::float_tensor("ndf", {3, 4}, grid)});
     const TensorFile f = parse_tensor_file(good, "m.bsdf");
     CHECK(f.fields.size() == 2);
     const TensorField& ndf = f.field("ndf", 2);

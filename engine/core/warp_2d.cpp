@@ -77,6 +77,8 @@ Warp2D::Warp2D(const float* data, int width, int height, std::vector<std::vector
                               cond[std::size_t(y + 2) * std::size_t(width) - 1]);
                 marg[y + 1] = float(sum);
             }
+            if (!(marg[height - 1] > 0.f))
+                throw std::invalid_argument("Warp2D: a grid without mass");
             scale = 1.f / marg[height - 1];
             for (std::size_t i = 0; i < n; ++i) cond[i] *= scale;
             for (int y = 0; y < height; ++y) marg[y] *= scale;

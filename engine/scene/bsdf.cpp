@@ -79,6 +79,8 @@ RGB lobe_f(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext& ctx
         case LobeType::Hair:
             return ctx.mode == Transport::Importance ? hair_adjoint_f(l, wo, wi)
                                                      : hair_f(l, wo, wi);
+        case LobeType::Measured:
+            return measured_f(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
         case LobeType::ThinDielectric:
@@ -113,6 +115,8 @@ float lobe_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi, const BsdfContext&
             return l.coat_is_delta() ? 0.f : coated_pdf(l, wo, wi, ctx);
         case LobeType::Hair:
             return hair_pdf(l, wo, wi);
+        case LobeType::Measured:
+            return measured_pdf(l, wo, wi);
         case LobeType::Mirror:
         case LobeType::Dielectric:
         case LobeType::ThinDielectric:
@@ -174,6 +178,8 @@ bool lobe_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, const BsdfCo
             return coated_sample(l, wo, uc, u, ctx, s);
         case LobeType::Hair:
             return hair_sample(l, wo, uc, u, s, ctx.mode);
+        case LobeType::Measured:
+            return measured_sample(l, wo, u, s);
         case LobeType::ThinDielectric:
             return thin_dielectric_sample(l, wo, uc, s);
         case LobeType::Mirror: {

@@ -21,7 +21,8 @@
 
 namespace foton {
 
-struct Wavelengths;  // core/spectrum.h
+struct Wavelengths;   // core/spectrum.h
+struct MeasuredBrdf;  // measured_brdf.h
 
 // Radiance flows against the sampling direction in camera paths, importance in light
 // paths; refraction scales the two differently (Veach's adjoint BSDF).
@@ -70,6 +71,8 @@ enum class LobeType : uint8_t {
     ThinDielectric,       // a thin slab (a window pane): specular reflection with the slab's
                           // inter-reflections, transmission straight through (pbrt-v4's
                           // thindielectric; thin_dielectric.cpp)
+    Measured,             // a measured BRDF of the RGL database (pbrt-v4's "measured";
+                          // measured_brdf.h)
     SubsurfaceExit,       // where light leaves a subsurface material (the BSSRDF's directional
                           // part, pbrt-v4's NormalizedFresnelBxDF): (1 - F(wi)) / (c pi) with c
                           // normalising it to reflect everything, times eta^2 for radiance
@@ -85,6 +88,10 @@ struct Lobe {
     MicrofacetDistribution dist;
     CoatLayer coat;  // Coated: the coat and the medium under it (the base is color, fresnel, dist)
     HairFiber hair;  // Hair (color: the mix weight)
+    // Measured (color: the mix weight): the data (the scene owns it) and, on a spectral path,
+    // the wavelengths its spectra are read at (0: read as RGB).
+    const MeasuredBrdf* measured = nullptr;
+    float lambda[3] = {0.f, 0.f, 0.f};
 
     uint8_t flags() const;
     // Its frame's orientation about the normal matters: roughness differing along x and y, or
@@ -126,6 +133,8 @@ struct Lobe {
     static Lobe subsurface_exit(float eta);
     // pbrt-v4's hair: a fibre of these parameters (its offset h set per hit).
     static Lobe hair_fiber(const HairFiber& h);
+    // pbrt-v4's measured: the BRDF of a .bsdf file.
+    static Lobe measured_brdf(const MeasuredBrdf* b);
 };
 
 // What a texture sets on one lobe at a surface point (Material::float_params): a microfacet
@@ -280,6 +289,10 @@ RGB hair_adjoint_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
 float hair_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi);
 bool hair_sample(const Lobe& l, const Vec3& wo, float uc, Point2 u, BsdfSample& s,
                  Transport mode = Transport::Radiance);
+// A Measured lobe (measured_brdf.cpp).
+RGB measured_f(const Lobe& l, const Vec3& wo, const Vec3& wi);
+float measured_pdf(const Lobe& l, const Vec3& wo, const Vec3& wi);
+bool measured_sample(const Lobe& l, const Vec3& wo, Point2 u, BsdfSample& s);
 // A ThinDielectric lobe (thin_dielectric.cpp): the slab's reflectance R at |cos theta| (the
 // interface's Fresnel R0 plus every inner reflection, T0^2 R0 / (1 - R0^2)); it transmits 1 - R.
 float thin_dielectric_reflectance(float cos_theta, float ior);

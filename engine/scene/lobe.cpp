@@ -73,6 +73,7 @@ uint8_t Lobe::flags() const {
             return kDiffuse | kReflection;
         case LobeType::Phong:
         case LobeType::Microfacet:
+        case LobeType::Measured:
             return kGlossy | kReflection;
         case LobeType::Mirror:
             return kSpecular | kReflection;
@@ -91,6 +92,14 @@ uint8_t Lobe::flags() const {
             return coat_is_delta() ? kSpecular | kReflection : kGlossy | kReflection;
     }
     return 0;
+}
+
+Lobe Lobe::measured_brdf(const MeasuredBrdf* b) {
+    Lobe l;
+    l.type = LobeType::Measured;
+    l.color = RGB{1.f};
+    l.measured = b;
+    return l;
 }
 
 Lobe Lobe::hair_fiber(const HairFiber& h) {

@@ -17,6 +17,7 @@
 #include "environment.h"
 #include "light.h"
 #include "material.h"
+#include "measured_brdf.h"
 #include "medium.h"
 #include "mesh.h"
 #include "shapes/csg_shape.h"
@@ -128,6 +129,8 @@ struct Scene {
     // scene first asks for one: integrators that do not follow light under surfaces refuse
     // such a scene at that file and line.
     std::vector<Subsurface> subsurfaces;
+    // The measured BRDFs the materials' Measured lobes point to (measured_brdf.h).
+    std::vector<std::shared_ptr<const MeasuredBrdf>> measured_brdfs;
     std::string subsurface_file;
     int subsurface_line = 0;
     // The diffusion profiles of asymmetry g under a boundary of index eta, computed once and

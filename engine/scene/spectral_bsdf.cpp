@@ -16,6 +16,8 @@ void Bsdf::to_wavelengths(const Wavelengths& w) {
         l.fresnel.f0 = w.reflectance(l.fresnel.f0);
         l.coat.albedo = w.reflectance(l.coat.albedo);
         l.hair.sigma_a = w.unbounded(l.hair.sigma_a);
+        if (l.type == LobeType::Measured)
+            for (int k = 0; k < 3; ++k) l.lambda[k] = w.lambda[k];
     }
 }
 

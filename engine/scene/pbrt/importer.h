@@ -178,6 +178,8 @@ class Importer {
 
     std::vector<std::unique_ptr<Tokenizer>> files_;
     std::string base_;
+    // Measured BRDFs read so far, by path (one file may serve many materials).
+    std::map<std::string, std::shared_ptr<const MeasuredBrdf>> measured_files_;
     const RendererOverrides& overrides_;
     Scene scene_;
     ParamSet renderer_;

@@ -219,6 +219,18 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             m.base_color += materials_[it->second].base_color * (amount_texture >= 0 ? 0.5f : w);
         }
         m.c_diffuse = 1.f;
+    } else if (type == "measured") {
+        // A measured BRDF (measured_brdf.h), each file read once.
+        const std::string rel = p.text("filename", "");
+        if (rel.empty()) fail(t, what + " needs a \"string filename\" (a .bsdf file)");
+        const std::string path = input_path(t, what + " file", rel, kMaxMeshFileBytes);
+        auto& brdf = measured_files_[path];
+        if (!brdf) {
+            brdf = load_measured_brdf(path);
+            scene_.measured_brdfs.push_back(brdf);
+        }
+        m.bsdf.add(Lobe::measured_brdf(brdf.get()));
+        m.base_color = RGB{0.5f};
     } else if (type == "hair") {
         // Chiang et al.'s fibre (hair.cpp); its absorption from sigma_a, else from a
         // reflectance, else from melanin (pbrt-v4's order and defaults: eumelanin 1.3).
@@ -262,7 +274,7 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         fail(t, "unsupported material '" + type +
                     "' (diffuse, conductor, dielectric, thindielectric, diffusetransmission, "
                     "coateddiffuse, "
-                    "coatedconductor, hair, interface, mix)");
+                    "coatedconductor, hair, measured, interface, mix)");
     }
     if (p.has("normalmap")) {
         // A tangent-space normal map, read linearly as pbrt-v4 reads it.
