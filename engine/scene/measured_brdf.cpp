@@ -141,7 +141,11 @@ std::vector<RGB> node_colours(const std::vector<float>& lambda) {
 }  // namespace
 
 std::shared_ptr<const MeasuredBrdf> load_measured_brdf(const std::string& path) {
-    const TensorFile t = read_tensor_file(path, kMaxMeshFileBytes);
+    return measured_brdf_from(read_tensor_file(path, kMaxMeshFileBytes));
+}
+
+std::shared_ptr<const MeasuredBrdf> measured_brdf_from(const TensorFile& t) {
+    const std::string& path = t.path;
     auto fail = [&](const std::string& what) -> void { throw InputError(path, 0, what); };
     const TensorField &theta_i = t.field("theta_i", 1), &phi_i = t.field("phi_i", 1),
                       &ndf = t.field("ndf", 2), &sigma = t.field("sigma", 2),

@@ -17,6 +17,7 @@
 
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
+#include "engine/core/tensor_file.h"
 #include "engine/core/warp_2d.h"
 
 namespace foton {
@@ -36,5 +37,7 @@ struct MeasuredBrdf {
 
 // The BRDF of .bsdf file `path`; InputError(path, 0, ...) when it is not one.
 std::shared_ptr<const MeasuredBrdf> load_measured_brdf(const std::string& path);
+// The same from a tensor file already read.
+std::shared_ptr<const MeasuredBrdf> measured_brdf_from(const TensorFile& file);
 
 }  // namespace foton
