@@ -12,6 +12,7 @@
 #include "engine/core/rgb_spectrum.h"
 #include "engine/core/rng.h"
 #include "engine/core/spectrum.h"
+#include "engine/scene/pbrt_loader.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
 #include "engine/transport/volume/volpath.h"
@@ -238,6 +239,29 @@ TEST_CASE(
     fog.set_resolution(16, 16);
     fog.render.own = own;
     CHECK(render_test(fog, 4, 1, 2).film.pixels == render_test(fog, 4, 3, 2).film.pixels);
+}
+
+TEST_CASE("spectral volpath: a conductor given by its reflectance reflects that colour head-on",
+          "[spectral][render]") {
+    // pbrt-v4's conductor "reflectance": eta 1 and k from r at each wavelength, so the normal
+    // reflectance is the colour itself; seen head-on under a white sky, the pixel is r.
+    const RGB r{0.95f, 0.64f, 0.54f};
+    TestScene s(parse_pbrt_scene(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" "
+        "[-0.5 0.5 -0.5 0.5]\nFilm \"rgb\" \"integer xresolution\" 8 \"integer "
+        "yresolution\" 8\nIntegrator \"volpath\" \"integer maxdepth\" 2\nWorldBegin\n"
+        "LightSource \"infinite\" \"rgb L\" [1 1 1]\nMaterial \"conductor\" \"rgb "
+        "reflectance\" [0.95 0.64 0.54] \"float roughness\" 0\nShape \"trianglemesh\" "
+        "\"point3 P\" [-2 -2 0  2 -2 0  2 2 0  -2 2 0] \"integer indices\" [0 1 2 0 2 3]\n",
+        "conductor.pbrt", "."));
+    VolPathSettings own;
+    own.spectral = true;
+    s.render.own = own;
+    const RGB mean = image_mean(render_test(s, 256, 2, 3).film);
+    INFO(mean.r << " " << mean.g << " " << mean.b);
+    CHECK(mean.r == Approx(r.r).epsilon(0.01));
+    CHECK(mean.g == Approx(r.g).epsilon(0.01));
+    CHECK(mean.b == Approx(r.b).epsilon(0.01));
 }
 
 TEST_CASE("spectral: only volpath takes it, and not with subsurface materials",
