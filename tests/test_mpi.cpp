@@ -103,6 +103,8 @@ TEST_CASE("mpirun -np 2 and 3 renders equal one process's image bit for bit", "[
         // Participating media: volumetric paths, photons, light paths and bidirectional paths
         // through the fog (the smoke's grid flights in vcm).
         {"volpath", "scenes/cornell-fog.xml", "--integrator volpath --spp 2"},
+        {"volpath-spectral", "scenes/cornell-fog.xml",
+         "--integrator volpath --spp 2 --set spectral=true"},
         {"vpm", "scenes/cornell-fog.xml",
          "--integrator vpm --passes 2 --set photons_per_pass=6000"},
         {"light-media", "scenes/cornell-fog.xml", "--integrator light --spp 2"},
