@@ -13,6 +13,7 @@
 #include "chi_square.h"
 #include "engine/core/error.h"
 #include "engine/core/rng.h"
+#include "engine/core/tensor_file.h"
 #include "engine/scene/bsdf.h"
 #include "engine/scene/measured_brdf.h"
 #include "engine/scene/pbrt_loader.h"
@@ -193,5 +194,44 @@ TEST_CASE("measured BRDF: pbrt-v4's measured material renders, bad files at thei
         FAIL("no error");
     } catch (const InputError& e) {
         CHECK_THAT(e.what(), Catch::Contains("half.bsdf") && Catch::Contains("tensor file"));
+    }
+}
+
+TEST_CASE("measured BRDF: anisotropic files need the whole azimuth, and orient the frame",
+          "[measured][fast]") {
+    // A small valid file: 2 incident angles, 2 x 3 grids, phi_i nodes as given.
+    auto file = [](const std::vector<float>& phis) {
+        const uint64_t np = phis.size(), nt = 2;
+        std::vector<float> vndf, lum, spectra;
+        for (uint64_t k = 0; k < np * nt; ++k) {
+            for (float v : {1.f, 0.5f, 0.1f, 1.f, 0.5f, 0.1f}) vndf.push_back(v);
+            for (int i = 0; i < 4; ++i) lum.push_back(1.f);
+            for (int i = 0; i < 8; ++i) spectra.push_back(0.5f);
+        }
+        auto byte = [](const std::string& name, uint8_t v) {
+            return test::TensorOut{name, TensorType::UInt8, {1}, std::string(1, char(v))};
+        };
+        return test::tensor_bytes(
+            {byte("description", 0), byte("jacobian", 1),
+             test::float_tensor("theta_i", {nt}, {0.f, 1.f}),
+             test::float_tensor("phi_i", {np}, phis),
+             test::float_tensor("wavelengths", {2}, {400.f, 700.f}),
+             test::float_tensor("ndf", {2, 3}, {1.f, 0.8f, 0.2f, 1.f, 0.8f, 0.2f}),
+             test::float_tensor("sigma", {2, 3}, {1.f, 1.1f, 1.3f, 1.f, 1.1f, 1.3f}),
+             test::float_tensor("vndf", {np, nt, 2, 3}, vndf),
+             test::float_tensor("luminance", {np, nt, 2, 2}, lum),
+             test::float_tensor("spectra", {np, nt, 2, 2, 2}, spectra)});
+    };
+    const auto iso = measured_brdf_from(parse_tensor_file(file({0.f}), "iso.bsdf"));
+    CHECK(iso->isotropic);
+    CHECK_FALSE(Lobe::measured_brdf(iso.get()).anisotropic());
+    const auto aniso = measured_brdf_from(parse_tensor_file(file({-kPi, 0.f, kPi}), "aniso.bsdf"));
+    CHECK_FALSE(aniso->isotropic);
+    CHECK(Lobe::measured_brdf(aniso.get()).anisotropic());
+    try {
+        (void)measured_brdf_from(parse_tensor_file(file({0.f, 1.f, kPi}), "half.bsdf"));
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("half.bsdf") && Catch::Contains("2 pi"));
     }
 }

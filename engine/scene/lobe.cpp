@@ -4,6 +4,7 @@
 
 #include "bsdf.h"
 #include "engine/core/optics.h"
+#include "measured_brdf.h"
 #include "subsurface/bssrdf_table.h"
 
 namespace foton {
@@ -56,6 +57,8 @@ bool Lobe::anisotropic() const {
             return distribution_anisotropic(l.dist);
         case LobeType::Hair:
             return true;  // its frame's x must run along the fibre
+        case LobeType::Measured:
+            return !l.measured->isotropic;  // its data are by azimuth
         case LobeType::Coated:
             return (!l.coat.coat_smooth && distribution_anisotropic(l.coat.coat)) ||
                    (l.coat.base == CoatBase::Conductor && !l.coat.base_smooth &&

@@ -178,6 +178,9 @@ std::shared_ptr<const MeasuredBrdf> measured_brdf_from(const TensorFile& t) {
         for (std::size_t i = 1; i < axis->size(); ++i)
             if (!((*axis)[i] > (*axis)[i - 1]))
                 fail("phi_i, theta_i and wavelengths must increase");
+    // Anisotropic data must cover the whole azimuth (pbrt-v4 reads no reduced symmetry).
+    if (n_phi > 2 && std::fabs(phis.back() - phis.front() - 2.f * kPi) > 1e-3f)
+        fail("anisotropic data must span phi_i over 2 pi (symmetry reductions are not read)");
     auto b = std::make_shared<MeasuredBrdf>();
     try {
         b->path = path;
