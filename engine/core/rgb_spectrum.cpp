@@ -164,7 +164,7 @@ RgbSpectrumTable::RgbSpectrumTable() : coeffs_(std::size_t(3) * kRes * kRes * kR
                 v[(l + 1) % 3] = x * z;
                 v[(l + 2) % 3] = y * z;
                 const SigmoidPolynomial s = fit_sigmoid_polynomial(RGB{v[0], v[1], v[2]}, from);
-                float* out = const_cast<float*>(at(l, zi, yi, xi));
+                float* out = &coeffs_[index(l, zi, yi, xi)];
                 out[0] = s.c0;
                 out[1] = s.c1;
                 out[2] = s.c2;

@@ -37,10 +37,13 @@ class RgbSpectrumTable {
     std::array<float, kRes> z_nodes_{};
     // [largest channel][z][y][x] -> three coefficients.
     std::vector<float> coeffs_;
+    static std::size_t index(int channel, int zi, int yi, int xi) {
+        return ((std::size_t(channel) * kRes + std::size_t(zi)) * kRes + std::size_t(yi)) * kRes *
+                   3 +
+               std::size_t(xi) * 3;
+    }
     const float* at(int channel, int zi, int yi, int xi) const {
-        return &coeffs_[((std::size_t(channel) * kRes + std::size_t(zi)) * kRes + std::size_t(yi)) *
-                            kRes * 3 +
-                        std::size_t(xi) * 3];
+        return &coeffs_[index(channel, zi, yi, xi)];
     }
 };
 

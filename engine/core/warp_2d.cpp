@@ -154,54 +154,57 @@ Warp2D::Result Warp2D::sample(Point2 u, const float* param) const {
     };
     const uint32_t col = find_interval(w, [&](uint32_t i) { return conditional(i) < mass_x; });
     const float rest = mass_x - conditional(col);
-    off += col;
-    const float v00 = lookup(data_, off, size, c), v10 = lookup(data_, off + 1, size, c),
-                v01 = lookup(data_, off + w, size, c), v11 = lookup(data_, off + w + 1, size, c);
-    const float c0 = (1.f - fy) * v00 + fy * v01, c1 = (1.f - fy) * v10 + fy * v11;
+    float c0, c1;
+    edges(off + col, fy, c, c0, c1);
     const float fx = solve_linear_mass(c0, c1, rest);
     return {{(float(col) + fx) / float(w - 1), (float(row) + fy) / float(h - 1)},
             ((1.f - fx) * c0 + fx * c1) * float(w - 1) * float(h - 1)};
 }
 
+void Warp2D::edges(uint32_t offset, float fy, const Corners& c, float& c0, float& c1) const {
+    const uint32_t w = uint32_t(width_), size = w * uint32_t(height_);
+    c0 = (1.f - fy) * lookup(data_, offset, size, c) + fy * lookup(data_, offset + w, size, c);
+    c1 = (1.f - fy) * lookup(data_, offset + 1, size, c) +
+         fy * lookup(data_, offset + w + 1, size, c);
+}
+
+Warp2D::Cell Warp2D::cell_at(Point2 p, const Corners& c) const {
+    const uint32_t w = uint32_t(width_), h = uint32_t(height_);
+    const float x = p.x * float(w - 1), y = p.y * float(h - 1);
+    Cell cell;
+    cell.col = std::min(uint32_t(std::max(x, 0.f)), w - 2);
+    cell.row = std::min(uint32_t(std::max(y, 0.f)), h - 2);
+    cell.fx = x - float(cell.col);
+    cell.fy = y - float(cell.row);
+    cell.offset = cell.col + cell.row * w + c.slice * w * h;
+    edges(cell.offset, cell.fy, c, cell.c0, cell.c1);
+    return cell;
+}
+
 Warp2D::Result Warp2D::invert(Point2 p, const float* param) const {
     const Corners c = corners(param);
     const uint32_t w = uint32_t(width_), h = uint32_t(height_), size = w * h;
-    const float x = p.x * float(w - 1), y = p.y * float(h - 1);
-    const uint32_t col = std::min(uint32_t(std::max(x, 0.f)), w - 2),
-                   row = std::min(uint32_t(std::max(y, 0.f)), h - 2);
-    const float fx = x - float(col), fy = y - float(row);
-    const uint32_t off = col + row * w + c.slice * size;
-    const float v00 = lookup(data_, off, size, c), v10 = lookup(data_, off + 1, size, c),
-                v01 = lookup(data_, off + w, size, c), v11 = lookup(data_, off + w + 1, size, c);
-    const float c0 = (1.f - fy) * v00 + fy * v01, c1 = (1.f - fy) * v10 + fy * v11;
-    const float pdf = (1.f - fx) * c0 + fx * c1;
+    const Cell k = cell_at(p, c);
+    const float fx = k.fx, fy = k.fy;
     // x: the mass before the cell in the interpolated row, plus the cell's up to fx, over the
     // interpolated row's total.
-    float ux = fx * (c0 + 0.5f * fx * (c1 - c0));
-    ux += (1.f - fy) * lookup(conditional_cdf_, off, size, c) +
-          fy * lookup(conditional_cdf_, off + w, size, c);
-    const uint32_t roff = row * w + c.slice * size;
+    float ux = fx * (k.c0 + 0.5f * fx * (k.c1 - k.c0));
+    ux += (1.f - fy) * lookup(conditional_cdf_, k.offset, size, c) +
+          fy * lookup(conditional_cdf_, k.offset + w, size, c);
+    const uint32_t roff = k.row * w + c.slice * size;
     const float r0 = lookup(conditional_cdf_, roff + w - 1, size, c),
                 r1 = lookup(conditional_cdf_, roff + 2 * w - 1, size, c);
     ux /= (1.f - fy) * r0 + fy * r1;
     // y: the marginal mass below the row plus the row interval's up to fy.
     float uy = fy * (r0 + 0.5f * fy * (r1 - r0));
-    uy += lookup(marginal_cdf_, row + c.slice * h, h, c);
+    uy += lookup(marginal_cdf_, k.row + c.slice * h, h, c);
+    const float pdf = (1.f - fx) * k.c0 + fx * k.c1;
     return {{ux, uy}, pdf * float(w - 1) * float(h - 1)};
 }
 
 float Warp2D::eval(Point2 p, const float* param) const {
-    const Corners c = corners(param);
-    const uint32_t w = uint32_t(width_), h = uint32_t(height_), size = w * h;
-    const float x = p.x * float(w - 1), y = p.y * float(h - 1);
-    const uint32_t col = std::min(uint32_t(std::max(x, 0.f)), w - 2),
-                   row = std::min(uint32_t(std::max(y, 0.f)), h - 2);
-    const float fx = x - float(col), fy = y - float(row);
-    const uint32_t off = col + row * w + c.slice * size;
-    const float v00 = lookup(data_, off, size, c), v10 = lookup(data_, off + 1, size, c),
-                v01 = lookup(data_, off + w, size, c), v11 = lookup(data_, off + w + 1, size, c);
-    return ((1.f - fy) * ((1.f - fx) * v00 + fx * v10) + fy * ((1.f - fx) * v01 + fx * v11)) *
-           float(w - 1) * float(h - 1);
+    const Cell k = cell_at(p, corners(param));
+    return ((1.f - k.fx) * k.c0 + k.fx * k.c1) * float(width_ - 1) * float(height_ - 1);
 }
 
 }  // namespace foton

@@ -44,6 +44,15 @@ class Warp2D {
         float weight[2 * 4] = {};
     };
     Corners corners(const float* param) const;
+    // The grid cell holding p: its first node's offset (slice included), where p lies in it,
+    // and the density along its two x edges at that y (c0 at x = 0, c1 at x = 1).
+    struct Cell {
+        uint32_t col, row, offset;
+        float fx, fy, c0, c1;
+    };
+    Cell cell_at(Point2 p, const Corners& c) const;
+    // The density along the x edges of the cell whose first node is `offset`, at fy.
+    void edges(uint32_t offset, float fy, const Corners& c, float& c0, float& c1) const;
     // values[offset + i] interpolated over the parameter corners (grids `stride` apart).
     float lookup(const std::vector<float>& values, uint32_t offset, uint32_t stride,
                  const Corners& c) const;

@@ -60,34 +60,48 @@ RGB reflectance(const MeasuredBrdf& b, Point2 u, float phi_o, float theta_o, con
 
 }  // namespace
 
-RGB MeasuredBrdf::f(const Vec3& wo_in, const Vec3& wi_in, const float* lambda) const {
-    if (wo_in.z * wi_in.z <= 0.f) return RGB{0.f};
+// What f and pdf share for a direction pair: wo and wi flipped to the upper side, the
+// incident angles, the half vector's point on the square and the visible-normal warp's inverse
+// there. False when the pair has no half vector on that side.
+struct MeasuredBrdf::Pair {
+    Vec3 wo, wi;
+    float theta_o = 0.f, phi_o = 0.f;
+    Point2 uv;
+    float jacobian = 0.f;
+    Warp2D::Result ui;
+};
+
+bool MeasuredBrdf::pair(const Vec3& wo_in, const Vec3& wi_in, Pair& q) const {
+    if (wo_in.z * wi_in.z <= 0.f) return false;
     const float s = wo_in.z < 0.f ? -1.f : 1.f;
-    const Vec3 wo = wo_in * s, wi = wi_in * s;
-    const Vec3 sum = wo + wi;
-    if (dot(sum, sum) == 0.f) return RGB{0.f};
-    const Vec3 wm = normalize(sum);
-    const float theta_o = polar(wo), phi_o = std::atan2(wo.y, wo.x);
-    const HalfVector h = half_vector(wo, wm, isotropic, phi_o);
-    const float param[2] = {phi_o, theta_o};
-    const Warp2D::Result ui = vndf.invert(h.uv, param);
-    const float d = ndf.eval(h.uv), area = sigma.eval({theta_to_u(theta_o), phi_to_v(phi_o)});
-    if (!(area > 0.f)) return RGB{0.f};
-    return reflectance(*this, ui.p, phi_o, theta_o, lambda) * (d / (4.f * area * wi.z));
+    q.wo = wo_in * s;
+    q.wi = wi_in * s;
+    const Vec3 sum = q.wo + q.wi;
+    if (dot(sum, sum) == 0.f) return false;
+    q.theta_o = polar(q.wo);
+    q.phi_o = std::atan2(q.wo.y, q.wo.x);
+    const HalfVector h = half_vector(q.wo, normalize(sum), isotropic, q.phi_o);
+    q.uv = h.uv;
+    q.jacobian = h.jacobian;
+    const float param[2] = {q.phi_o, q.theta_o};
+    q.ui = vndf.invert(h.uv, param);
+    return true;
 }
 
-float MeasuredBrdf::pdf(const Vec3& wo_in, const Vec3& wi_in) const {
-    if (wo_in.z * wi_in.z <= 0.f) return 0.f;
-    const float s = wo_in.z < 0.f ? -1.f : 1.f;
-    const Vec3 wo = wo_in * s, wi = wi_in * s;
-    const Vec3 sum = wo + wi;
-    if (dot(sum, sum) == 0.f) return 0.f;
-    const Vec3 wm = normalize(sum);
-    const float theta_o = polar(wo), phi_o = std::atan2(wo.y, wo.x);
-    const HalfVector h = half_vector(wo, wm, isotropic, phi_o);
-    const float param[2] = {phi_o, theta_o};
-    const Warp2D::Result ui = vndf.invert(h.uv, param);
-    return ui.pdf * luminance.eval(ui.p, param) / h.jacobian;
+RGB MeasuredBrdf::f(const Vec3& wo, const Vec3& wi, const float* lambda) const {
+    Pair q;
+    if (!pair(wo, wi, q)) return RGB{0.f};
+    const float area = sigma.eval({theta_to_u(q.theta_o), phi_to_v(q.phi_o)});
+    if (!(area > 0.f)) return RGB{0.f};
+    return reflectance(*this, q.ui.p, q.phi_o, q.theta_o, lambda) *
+           (ndf.eval(q.uv) / (4.f * area * q.wi.z));
+}
+
+float MeasuredBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
+    Pair q;
+    if (!pair(wo, wi, q)) return 0.f;
+    const float param[2] = {q.phi_o, q.theta_o};
+    return q.ui.pdf * luminance.eval(q.ui.p, param) / q.jacobian;
 }
 
 bool MeasuredBrdf::sample(const Vec3& wo_in, Point2 u, const float* lambda, Vec3& wi, RGB& f,

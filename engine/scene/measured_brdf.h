@@ -33,6 +33,10 @@ struct MeasuredBrdf {
     RGB f(const Vec3& wo, const Vec3& wi, const float* lambda) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
     bool sample(const Vec3& wo, Point2 u, const float* lambda, Vec3& wi, RGB& f, float& pdf) const;
+
+  private:
+    struct Pair;
+    bool pair(const Vec3& wo, const Vec3& wi, Pair& q) const;
 };
 
 // The BRDF of .bsdf file `path`; InputError(path, 0, ...) when it is not one.

@@ -27,6 +27,13 @@ namespace foton {
 
 inline constexpr int32_t kNoMedium = -1;  // vacuum
 
+// exp(-sigma_t d) per channel: the exact transmittance of extinction sigma_t over d. A channel
+// that does not extinguish is 1 even over an infinite d (not exp(-0 inf), NaN).
+inline RGB exp_transmittance(const RGB& sigma_t, float d) {
+    auto channel = [d](float st) { return st > 0.f ? std::exp(-st * d) : 1.f; };
+    return {channel(sigma_t.r), channel(sigma_t.g), channel(sigma_t.b)};
+}
+
 // Homogeneous: the coefficients everywhere. Grid: the coefficients times a density grid's
 // value (density_grid.h), inside its box only. RGBGrid: each coefficient its own RGB grid
 // (sampled_grid.h), pbrt-v4's rgbgrid.
@@ -81,13 +88,8 @@ struct Medium {
     // A grid medium's emitted radiance Le at p (it glows sigma_a Le there); only an emitting
     // medium's trackers ask, so transmittance estimates never pay for it.
     RGB emission_at(const Vec3& p) const;
-    // exp(-sigma_t d), per channel: the exact transmittance of a homogeneous medium.
-    // A channel that does not extinguish is 1 even over an infinite d (not exp(-0 inf), NaN).
-    RGB transmittance(float d) const {
-        const RGB s = sigma_t();
-        auto channel = [d](float st) { return st > 0.f ? std::exp(-st * d) : 1.f; };
-        return {channel(s.r), channel(s.g), channel(s.b)};
-    }
+    // The exact transmittance of a homogeneous medium over d.
+    RGB transmittance(float d) const { return exp_transmittance(sigma_t(), d); }
 };
 
 // The media on the two sides of an object's surface: inside is the side its geometric normal

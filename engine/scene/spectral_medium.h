@@ -42,11 +42,7 @@ class SpectralMedium {
         return {sigma_a * rho, sigma_s * rho};
     }
     RGB emission_at(const Vec3& p) const { return w_.illuminant(base_.emission_at(p)); }
-    RGB transmittance(float d) const {
-        const RGB s = sigma_t();
-        auto channel = [d](float st) { return st > 0.f ? std::exp(-st * d) : 1.f; };
-        return {channel(s.r), channel(s.g), channel(s.b)};
-    }
+    RGB transmittance(float d) const { return exp_transmittance(sigma_t(), d); }
 
   private:
     const Medium& base_;
