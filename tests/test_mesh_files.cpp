@@ -16,9 +16,12 @@
 #include "engine/scene/mesh_file.h"
 #include "engine/scene/xml_loader.h"
 #include "engine/transport/registry/render.h"
+#include "flat_quad_scene.h"
 #include "test_util.h"
 
 using namespace foton;
+using test::worst_pixel;
+using test::write_scene;
 
 namespace {
 
@@ -26,51 +29,6 @@ namespace {
 void write_texture(const std::string& path) {
     const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 128, 128, 128};
     REQUIRE(stbi_write_png(path.c_str(), 2, 2, 3, px, 6) != 0);
-}
-
-// The scene around a mesh file: the unit square [0, 1]^2 at z = 0 seen from +z by an
-// orthographic camera that it fills, lit head-on by a distant light of irradiance pi, so a
-// Lambertian point's radiance is its albedo.
-void write_scene(const std::string& path, const std::string& mesh) {
-    std::ofstream(path) << R"(<scene>
-  <lights><directional intensity="3.14159265"><direction x="0" y="0" z="-1"/></directional></lights>
-  <objects>)" << mesh << R"(</objects>
-  <film width="64" height="64" size="0.015625"/>
-  <renderer type="path" max_depth="1" sampler="jittered"/>
-  <camera type="orthographic"><eye x="0.5" y="0.5" z="5"/><target x="0.5" y="0.5" z="0"/></camera>
-</scene>)";
-}
-
-// Renders the scene and returns the largest difference between a pixel and `want` averaged
-// over the pixel (8 x 8 points, each given the point of the plane z = 0 it sees).
-double worst_pixel(const std::string& scene_path, const std::function<RGB(float, float)>& want) {
-    TestScene s(load_scene(scene_path));
-    const auto acc = make_intersector(s, s.accel);
-    RenderOptions opt = s.render.run;
-    opt.spp = 16;
-    const Film f = render(s, s.render, *acc, opt).film;
-    double worst = 0.0;
-    for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) {
-            RGB w{0.f};
-            for (int j = 0; j < 8; ++j)
-                for (int i = 0; i < 8; ++i) {
-                    Vec3 o, d;
-                    s.camera.generate(float(x) + (float(i) + 0.5f) / 8.f,
-                                      float(y) + (float(j) + 0.5f) / 8.f, o, d);
-                    const Vec3 q = o + d * (-o.z / d.z);
-                    w += want(q.x, q.y) * (1.f / 64.f);
-                }
-            const RGB& got = f.pixels[std::size_t(y) * 64 + std::size_t(x)];
-            const double d =
-                std::max({double(std::fabs(got.r - w.r)), double(std::fabs(got.g - w.g)),
-                          double(std::fabs(got.b - w.b))});
-            if (d > worst)
-                UNSCOPED_INFO("pixel " << x << "," << y << " got " << got.r << " " << got.g << " "
-                                       << got.b << " want " << w.r << " " << w.g << " " << w.b);
-            worst = std::max(worst, d);
-        }
-    return worst;
 }
 
 const Material& material_of_part(const Scene& s, std::size_t i) {

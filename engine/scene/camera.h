@@ -23,6 +23,10 @@ struct ModelView {
     Vec3 eye, target, up;
     float vertical_fov_degrees = 40.f;
     float aspect = 0.f;  // width / height the file asks for (glTF's aspectRatio); 0: none
+    // An orthographic view (glTF's): the view plane's half height in scene units (ymag),
+    // the aspect from xmag / ymag; the field of view is not used.
+    bool orthographic = false;
+    float half_height = 0.f;
 };
 const char* camera_type_name(CameraType t);
 

@@ -1,15 +1,15 @@
 // glTF 2.0 through tinygltf (Debian's libtinygltf-dev): the JSON and its buffers and images
-// are parsed by the library; every index, offset and stride it hands over is checked here
-// before use, so a malformed file is an InputError, never a read out of bounds.
+// are parsed by the library; every index, offset and stride it hands over is checked before use
+// (here and in gltf_accessors.cpp), so a malformed file is an InputError, never a read out of
+// bounds.
 #include <tiny_gltf.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <functional>
 
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
+#include "gltf_accessors.h"
 #include "gltf_inputs.h"
 #include "gltf_scene_parts.h"
 #include "mesh_file.h"
@@ -22,88 +22,21 @@ class GltfReader {
   public:
     // `load_warnings`: tinygltf's, which say why an external image could not be read.
     GltfReader(const tinygltf::Model& model, std::string path, std::string load_warnings)
-        : g_(model), path_(std::move(path)), load_warnings_(std::move(load_warnings)) {}
+        : g_(model),
+          path_(std::move(path)),
+          load_warnings_(std::move(load_warnings)),
+          accessors_(model, path_) {}
 
     [[noreturn]] void fail(const std::string& where, const std::string& what) const {
         throw InputError(path_, 0, where + ": " + what);
     }
     void note(const std::string& what) { out_.notes.push_back(path_ + ": " + what); }
 
-    // The elements of accessor `a` as floats (normalized integers mapped to [0, 1]), `n`
-    // components each, or indices when `as_index`.
     std::vector<float> floats(int a, int n, const std::string& where) const {
-        std::vector<float> out;
-        read(a, n, where, false, [&](double v) { out.push_back(float(v)); });
-        return out;
+        return accessors_.floats(a, n, where);
     }
     std::vector<uint32_t> indices(int a, const std::string& where) const {
-        std::vector<uint32_t> out;
-        read(a, 1, where, true, [&](double v) { out.push_back(uint32_t(v)); });
-        return out;
-    }
-
-    void read(int a, int n, const std::string& where, bool as_index,
-              const std::function<void(double)>& put) const {
-        if (a < 0 || std::size_t(a) >= g_.accessors.size())
-            fail(where, "accessor " + std::to_string(a) + " does not exist");
-        const tinygltf::Accessor& acc = g_.accessors[std::size_t(a)];
-        const std::string at = where + ", accessor " + std::to_string(a);
-        if (acc.sparse.isSparse) fail(at, "sparse accessors are not supported");
-        if (tinygltf::GetNumComponentsInType(uint32_t(acc.type)) != n)
-            fail(at, "has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(acc.type))) +
-                         " components, expected " + std::to_string(n));
-        const int ct = acc.componentType;
-        const bool ok_type =
-            as_index ? (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                        ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
-                        ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-                     : (ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                        (acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                            ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)));
-        if (!ok_type) fail(at, "component type " + std::to_string(ct) + " is not allowed here");
-        if (acc.bufferView < 0 || std::size_t(acc.bufferView) >= g_.bufferViews.size())
-            fail(at, "has no valid bufferView");
-        const tinygltf::BufferView& view = g_.bufferViews[std::size_t(acc.bufferView)];
-        if (view.buffer < 0 || std::size_t(view.buffer) >= g_.buffers.size())
-            fail(at, "its bufferView names no valid buffer");
-        const std::vector<unsigned char>& data = g_.buffers[std::size_t(view.buffer)].data;
-        const int stride = acc.ByteStride(view);
-        const int size = tinygltf::GetComponentSizeInBytes(uint32_t(ct));
-        if (stride <= 0 || size <= 0) fail(at, "invalid byte stride");
-        // Every element must lie inside the view, and the view inside the buffer.
-        if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
-            fail(at, "its bufferView lies outside the buffer");
-        if (acc.count > 0) {
-            const uint64_t last = uint64_t(acc.byteOffset) +
-                                  uint64_t(acc.count - 1) * uint64_t(stride) +
-                                  uint64_t(size) * uint64_t(n);
-            if (last > view.byteLength) fail(at, "reads beyond its bufferView");
-        }
-        const unsigned char* base = data.data() + view.byteOffset + acc.byteOffset;
-        for (std::size_t i = 0; i < acc.count; ++i) {
-            const unsigned char* e = base + i * std::size_t(stride);
-            for (int k = 0; k < n; ++k) {
-                const unsigned char* c = e + std::size_t(k * size);
-                double v;
-                if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-                    float f;
-                    std::memcpy(&f, c, 4);
-                    if (!std::isfinite(f)) fail(at, "holds NaN or infinite values");
-                    v = f;
-                } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-                    v = as_index ? double(*c) : double(*c) / 255.0;
-                } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-                    uint16_t s;
-                    std::memcpy(&s, c, 2);
-                    v = as_index ? double(s) : double(s) / 65535.0;
-                } else {
-                    uint32_t u;
-                    std::memcpy(&u, c, 4);
-                    v = double(u);
-                }
-                put(v);
-            }
-        }
+        return accessors_.indices(a, where);
     }
 
     static Affine node_transform(const tinygltf::Node& n) {
@@ -134,11 +67,14 @@ class GltfReader {
     }
 
     void primitive(const tinygltf::Primitive& p, const Affine& xf, const std::string& where) {
-        if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != -1) {
+        // Points and lines have no area to render; strips and fans become triangle lists.
+        if (p.mode >= 0 && p.mode < TINYGLTF_MODE_TRIANGLES) {
             note(where + ": primitive mode " + std::to_string(p.mode) +
-                 " left out (triangles only)");
+                 " (points or lines) left out: only surfaces are rendered");
             return;
         }
+        if (p.mode > TINYGLTF_MODE_TRIANGLE_FAN)
+            fail(where, "primitive mode " + std::to_string(p.mode) + " does not exist");
         const auto pos = p.attributes.find("POSITION");
         if (pos == p.attributes.end()) fail(where, "has no POSITION");
         MeshPart part;
@@ -166,11 +102,14 @@ class GltfReader {
             note(where + ": its material's textures read " + uv_name +
                  ", which it lacks (read at pbrt's default parametrisation)");
         }
+        if (const auto it = p.attributes.find("COLOR_0"); it != p.attributes.end())
+            vertex_colors(it->second, nv, part, where);
         if (p.indices >= 0) {
             m.indices = indices(p.indices, where + " indices");
         } else {
             for (uint32_t i = 0; i < nv; ++i) m.indices.push_back(i);
         }
+        m.indices = gltf_triangle_list(std::move(m.indices), p.mode < 0 ? 4 : p.mode);
         if (m.indices.size() % 3 != 0) fail(where, "index count is not a multiple of 3");
         for (uint32_t i : m.indices)
             if (i >= nv)
@@ -196,6 +135,42 @@ class GltfReader {
                             " triangles (meshes repeated by the node graph count each time)");
         m.transform(xf);
         out_.parts.push_back(std::move(part));
+    }
+
+    // COLOR_0 (RGB or RGBA; floats or normalised integers) into the mesh, and the material
+    // told to multiply its base colour by it. Its alpha is not read.
+    void vertex_colors(int a, std::size_t nv, MeshPart& part, const std::string& where) {
+        const int n =
+            std::size_t(a) < g_.accessors.size() && a >= 0
+                ? tinygltf::GetNumComponentsInType(uint32_t(g_.accessors[std::size_t(a)].type))
+                : 3;
+        if (n != 3 && n != 4) fail(where, "COLOR_0 must be VEC3 or VEC4");
+        const std::vector<float> c = floats(a, n, where + " COLOR_0");
+        if (c.size() != std::size_t(n) * nv) fail(where, "COLOR_0 count differs from POSITION");
+        bool alpha = false;
+        part.mesh.colors.reserve(3 * nv);
+        for (std::size_t i = 0; i < nv; ++i) {
+            const float* q = &c[std::size_t(n) * i];
+            if (!(q[0] >= 0.f && q[1] >= 0.f && q[2] >= 0.f))
+                fail(where, "COLOR_0 holds a negative colour");
+            part.mesh.colors.insert(part.mesh.colors.end(), q, q + 3);
+            alpha = alpha || (n == 4 && q[3] < 1.f);
+        }
+        if (part.material < 0) {
+            // glTF's default material (white, metallic 1, roughness 1) tinted by the colours.
+            FileMaterial f;
+            f.name = "gltf default material";
+            f.diffuse = RGB{1.f};
+            f.metallic = 1.f;
+            f.dielectric_specular = true;
+            f.emission_given = true;
+            f.vertex_colors = true;
+            part.material = int(out_.materials.size());
+            out_.materials.push_back(f);
+        } else {
+            out_.materials[std::size_t(part.material)].vertex_colors = true;
+        }
+        if (alpha) note(where + ": COLOR_0's alpha ignored (its colour is read)");
     }
 
     // The FileMaterial of glTF material i (made once).
@@ -251,9 +226,8 @@ class GltfReader {
         };
         // Tangents from the uv (the file's TANGENT attribute is not read).
         texture(gm.normalTexture, "normalTexture", true, f.normal_map, f.normal_uv);
-        if (gm.normalTexture.index >= 0 && gm.normalTexture.scale != 1.0)
-            note(where + ": normalTexture scale " + std::to_string(gm.normalTexture.scale) +
-                 " ignored (read as 1)");
+        f.normal_scale = float(gm.normalTexture.scale);
+        if (!std::isfinite(f.normal_scale)) fail(where, "normalTexture scale must be finite");
         // Ambient occlusion baked for rasterisers: light transport computes its own.
         ignored(gm.occlusionTexture.index >= 0, "occlusionTexture (transport computes occlusion)");
         f.emission_given = true;  // glTF's emissiveFactor defaults to black
@@ -353,6 +327,7 @@ class GltfReader {
     const tinygltf::Model& g_;
     std::string path_;
     std::string load_warnings_;
+    GltfAccessors accessors_;
     MeshFile out_;
     std::map<int, int> materials_;
     uint64_t visits_ = 0, placed_triangles_ = 0;

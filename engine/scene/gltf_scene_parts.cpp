@@ -17,14 +17,27 @@ std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affi
     if (c < 0 || std::size_t(c) >= g.cameras.size())
         throw std::invalid_argument("camera " + std::to_string(c) + " does not exist");
     const tinygltf::Camera& gc = g.cameras[std::size_t(c)];
-    if (gc.type != "perspective") return std::nullopt;
-    const double yfov = gc.perspective.yfov * 180.0 / kPi;
-    if (!(yfov > 0.0 && yfov < 180.0))
-        throw std::invalid_argument("a camera's yfov must be in (0, pi)");
     ModelView v;
     v.eye = xf.point({0.f, 0.f, 0.f});
     v.target = v.eye + normalize(xf.vector({0.f, 0.f, -1.f}));
     v.up = normalize(xf.vector({0.f, 1.f, 0.f}));
+    if (gc.type == "orthographic") {
+        // The node's scale does not widen the view: xmag and ymag are the half extents.
+        const double xmag = gc.orthographic.xmag, ymag = gc.orthographic.ymag;
+        if (!(std::fabs(xmag) > 0.0 && std::fabs(ymag) > 0.0 && std::isfinite(xmag) &&
+              std::isfinite(ymag)))
+            throw std::invalid_argument("an orthographic camera's xmag and ymag must not be 0");
+        v.orthographic = true;
+        v.half_height = float(std::fabs(ymag));
+        v.aspect = float(std::fabs(xmag / ymag));
+        if (!(v.aspect > 0.01f && v.aspect < 100.f))
+            throw std::invalid_argument("an orthographic camera's xmag / ymag is out of range");
+        return v;
+    }
+    if (gc.type != "perspective") return std::nullopt;
+    const double yfov = gc.perspective.yfov * 180.0 / kPi;
+    if (!(yfov > 0.0 && yfov < 180.0))
+        throw std::invalid_argument("a camera's yfov must be in (0, pi)");
     v.vertical_fov_degrees = float(yfov);
     if (gc.perspective.aspectRatio > 0.0 && gc.perspective.aspectRatio < 100.0)
         v.aspect = float(gc.perspective.aspectRatio);
@@ -73,9 +86,10 @@ void gltf_node_extras(const tinygltf::Model& g, const tinygltf::Node& n, const A
     if (n.camera >= 0) {
         if (out.view)
             out.notes.push_back(where + ": camera " + std::to_string(n.camera) +
-                                " ignored (the first perspective camera is the file's view)");
+                                " ignored (the first camera is the file's view)");
         else if (!(out.view = gltf_camera(g, n.camera, xf)))
-            out.notes.push_back(where + ": an orthographic camera ignored");
+            throw std::invalid_argument("camera " + std::to_string(n.camera) +
+                                        " has an unknown type");
     }
     if (const auto it = n.extensions.find("KHR_lights_punctual");
         it != n.extensions.end() && it->second.Has("light"))
@@ -282,6 +296,24 @@ TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& nam
     bool opaque = true;
     for (float a : out.alpha) opaque = opaque && a >= 1.f;
     if (opaque) out.alpha.clear();
+    return out;
+}
+
+std::vector<uint32_t> gltf_triangle_list(std::vector<uint32_t> indices, int mode) {
+    if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) return indices;
+    std::vector<uint32_t> out;
+    const std::size_t n = indices.size();
+    if (n < 3) return out;
+    out.reserve(3 * (n - 2));
+    for (std::size_t i = 0; i + 2 < n; ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            // Every other triangle of a strip turns the other way: swap to keep the winding.
+            const std::size_t odd = i % 2;
+            out.insert(out.end(), {indices[i], indices[i + 1 + odd], indices[i + 2 - odd]});
+        } else {
+            out.insert(out.end(), {indices[i + 1], indices[i + 2], indices[0]});
+        }
+    }
     return out;
 }
 

@@ -23,8 +23,8 @@ class Value;
 
 namespace foton {
 
-// Camera c of the model at a node placed by xf (looking along the node's -z, +y up); empty for
-// an orthographic camera.
+// Camera c of the model at a node placed by xf (looking along the node's -z, +y up),
+// perspective or orthographic; empty for a type glTF does not define.
 std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affine& xf);
 
 // Light l of KHR_lights_punctual at a node placed by xf, into `out`: photometric values over
@@ -58,6 +58,11 @@ UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions, int&
 // later texture is noted (it reads the material's set).
 void gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
                         std::vector<std::string>& notes, const std::string& where);
+
+// A primitive's vertex indices as a triangle list: unchanged for mode 4 (TRIANGLES); mode 5
+// (TRIANGLE_STRIP) and 6 (TRIANGLE_FAN) unrolled with the winding the spec gives, so every
+// triangle faces the way the first does.
+std::vector<uint32_t> gltf_triangle_list(std::vector<uint32_t> indices, int mode);
 
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
 // `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it

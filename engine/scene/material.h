@@ -48,6 +48,12 @@ struct Material {
     // (their stored colour holds the rest: mix weights, coat transmission).
     int32_t texture = -1;
     uint8_t textured_lobes = 0;
+    // The same lobes are multiplied by the mesh's interpolated vertex colour (glTF's COLOR_0,
+    // times the texture when there is one; white on meshes without colours).
+    bool vertex_colored = false;
+    // A normal map's tangent-space x and y are multiplied by this before normalising (glTF's
+    // normalTexture.scale).
+    float normal_scale = 1.f;
     // A tangent-space normal map (into Scene::textures, an image read linearly; -1: none):
     // at a hit, the shading normal becomes T x + B y + N z for the texel's (2 rgb - 1), with
     // N the interpolated normal, T the surface's dp/du made perpendicular to it and B = N x T
@@ -98,7 +104,8 @@ struct Material {
     // The material changes over the surface (a colour, roughness or emission texture, or a
     // hair fibre's offset h, read from v).
     bool varies() const {
-        return texture >= 0 || num_float_params > 0 || emission_texture >= 0 || bsdf.has_hair();
+        return texture >= 0 || vertex_colored || num_float_params > 0 || emission_texture >= 0 ||
+               bsdf.has_hair();
     }
     // The shading normal is a texture's (normal or bump map).
     bool perturbs_normal() const { return normal_map >= 0 || bump >= 0; }

@@ -6,15 +6,18 @@
 #include <vector>
 
 #include "engine/core/math.h"
+#include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
 
 namespace foton {
 
 struct TriangleMesh {
     std::string name;
-    std::vector<float> positions;   // xyz per vertex
-    std::vector<float> normals;     // xyz per vertex, empty for flat shading
-    std::vector<float> uvs;         // uv per vertex, empty when the mesh has none
+    std::vector<float> positions;  // xyz per vertex
+    std::vector<float> normals;    // xyz per vertex, empty for flat shading
+    std::vector<float> uvs;        // uv per vertex, empty when the mesh has none
+    // Linear RGB per vertex multiplying the base colour (glTF's COLOR_0), empty when none.
+    std::vector<float> colors;
     std::vector<uint32_t> indices;  // three per triangle
 
     std::size_t num_triangles() const { return indices.size() / 3; }
@@ -42,12 +45,23 @@ struct TriangleMesh {
         t1 = {uvs[2 * ix[1]], uvs[2 * ix[1] + 1]};
         t2 = {uvs[2 * ix[2]], uvs[2 * ix[2] + 1]};
     }
+    // The vertex colour at barycentrics (u, v) of triangle tri (white without colours).
+    RGB color_at(uint32_t tri, float u, float v) const {
+        if (colors.empty()) return RGB{1.f};
+        const uint32_t* ix = &indices[3 * std::size_t(tri)];
+        const float w = 1.f - u - v;
+        auto c = [&](int k) {
+            const float* q = &colors[3 * std::size_t(ix[k])];
+            return RGB{q[0], q[1], q[2]};
+        };
+        return c(0) * w + c(1) * u + c(2) * v;
+    }
     Bounds3 bounds() const;
     // Area-weighted vertex normals from the faces (for meshes given without normals).
     void compute_smooth_normals();
     void transform(const Affine& xf);
     std::size_t memory_bytes() const {
-        return (positions.size() + normals.size() + uvs.size()) * sizeof(float) +
+        return (positions.size() + normals.size() + uvs.size() + colors.size()) * sizeof(float) +
                indices.size() * 4;
     }
 };

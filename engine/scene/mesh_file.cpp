@@ -309,12 +309,13 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
     param(LobeParam::WeightComplement, 3, Material::Remap::None);
     trans_param(LobeParam::WeightComplement);
     spec_param(LobeParam::WeightComplement, f0_tinted.max_component());
-    if (!f.diffuse_map.empty()) {
+    if (!f.diffuse_map.empty())
         m.texture = image_texture(scene, file, images, f.diffuse_map, false, f.diffuse_uv);
-        m.textured_lobes = 1;  // the Lambert lobe, added first
-    }
+    m.vertex_colored = f.vertex_colors;
+    if (m.texture >= 0 || m.vertex_colored) m.textured_lobes = 1;  // the Lambert lobe, first
     if (!f.normal_map.empty()) {
         m.normal_map = image_texture(scene, file, images, f.normal_map, true, f.normal_uv);
+        m.normal_scale = f.normal_scale;
     }
     if (f.mirror && !ks.is_black()) {
         m.bsdf.add(Lobe::mirror(ks, Fresnel{}));
@@ -333,7 +334,8 @@ void add_surface_lobes(Scene& scene, const FileMaterial& f, const MeshFile& file
         // The base colour as a conductor's normal reflectance; a base colour texture tints it.
         const Fresnel fr = conductor_from_reflectance(f.diffuse);
         m.bsdf.add(smooth ? Lobe::mirror(RGB{metal}, fr) : Lobe::microfacet(RGB{metal}, ggx, fr));
-        if (m.texture >= 0) m.textured_lobes |= uint8_t(1u << (m.bsdf.size() - 1));
+        if (m.texture >= 0 || m.vertex_colored)
+            m.textured_lobes |= uint8_t(1u << (m.bsdf.size() - 1));
         param(LobeParam::Weight, 3, Material::Remap::None);
         alpha_param();
     }

@@ -23,9 +23,12 @@ struct Scene;
 
 struct FileMaterial {
     std::string name;
-    RGB diffuse{0.8f};        // MTL Kd, glTF baseColorFactor
-    std::string diffuse_map;  // an image file (resolved path) multiplying `diffuse`
-    std::string normal_map;   // a tangent-space normal map (resolved path or embedded key)
+    RGB diffuse{0.8f};         // MTL Kd, glTF baseColorFactor
+    std::string diffuse_map;   // an image file (resolved path) multiplying `diffuse`
+    std::string normal_map;    // a tangent-space normal map (resolved path or embedded key)
+    float normal_scale = 1.f;  // glTF normalTexture.scale: the map's x and y multiplied by it
+    // glTF: a primitive using it has COLOR_0, which multiplies the base colour.
+    bool vertex_colors = false;
     // glTF: the uv set (TEXCOORD_n) its textures read, which its primitives load as their
     // texture coordinates; -1: it has no texture.
     int tex_coord = -1;

@@ -81,9 +81,12 @@ Scene model_scene(const std::string& path, const RendererOverrides& overrides) {
         s.camera.eye = v.eye;
         s.camera.target = v.target;
         s.camera.up = v.up;
-        s.film.pixel_size = 2.f * s.camera.d *
-                            std::tan(0.5f * v.vertical_fov_degrees * kPi / 180.f) /
-                            float(s.camera.height);
+        if (v.orthographic) s.camera.type = CameraType::Orthographic;
+        s.film.pixel_size = v.orthographic
+                                ? 2.f * v.half_height / float(s.camera.height)
+                                : 2.f * s.camera.d *
+                                      std::tan(0.5f * v.vertical_fov_degrees * kPi / 180.f) /
+                                      float(s.camera.height);
         s.camera.pixel_size = s.film.pixel_size;
         s.camera.setup();
         s.warnings.push_back(path + ": a model rendered as a scene through its own camera");

@@ -205,8 +205,10 @@ const Material& Scene::textured(const Material& m, const TexPoint& at,
                                 std::optional<Material>& scratch) const {
     const Point2 uv = at.uv;
     Material& out = scratch.emplace(m);
-    if (m.texture >= 0) {
-        const RGB t = textures[std::size_t(m.texture)].eval(texture_images, at);
+    if (m.texture >= 0 || m.vertex_colored) {
+        const RGB t = (m.texture >= 0 ? textures[std::size_t(m.texture)].eval(texture_images, at)
+                                      : RGB{1.f}) *
+                      at.vertex_color;
         out.base_color = m.base_color * t;
         out.bsdf = m.bsdf.with_texture(m.textured_lobes, t);
     }
@@ -365,9 +367,15 @@ std::string Scene::summary() const {
     std::snprintf(buf, sizeof buf, "memory     %.2f MiB (geometry)\n",
                   double(memory_bytes()) / (1024.0 * 1024.0));
     s += buf;
-    std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), vertical fov %.2f deg\n",
-                  camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
-                  camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
+    // A perspective camera's field of view; an orthographic one's view height in scene units.
+    if (camera.type == CameraType::Orthographic)
+        std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), view height %g\n",
+                      camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
+                      double(camera.pixel_size) * double(camera.height));
+    else
+        std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), vertical fov %.2f deg\n",
+                      camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
+                      camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
     s += buf;
     std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g, filter %s\n", film.width,
                   film.height, film.gamma, film.filter.describe().c_str());

@@ -88,6 +88,8 @@ struct TexPoint {
     // and y (both zero: unknown).
     float footprint = 0.f;
     Point2 duvdx{0.f, 0.f}, duvdy{0.f, 0.f};
+    // The mesh's vertex colour interpolated at the point (white where it has none).
+    RGB vertex_color{1.f};
 };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)

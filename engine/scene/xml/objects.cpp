@@ -78,6 +78,8 @@ void Loader::place_mesh_file(const pugi::xml_node& o, const std::string& src,
         ModelView v = *lf.file.view;
         v.eye = xf.point(v.eye);
         v.target = xf.point(v.target);
+        // An orthographic view's extent scales with the placement.
+        v.half_height *= length(xf.vector(v.up));
         v.up = normalize(xf.vector(v.up));
         scene_.model_view = v;
     }

@@ -16,13 +16,13 @@ bool triangle_partials(const Vec3& q0, const Vec3& q1, const Vec3& q2, Point2 t0
     return true;
 }
 
-Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel) {
+Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel, float scale) {
     const Vec3 t = dpdu - n * dot(n, dpdu);
     const float len = length(t);
     if (!(len > 1e-12f)) return n;
     const Vec3 tx = t / len, bx = cross(n, tx);
-    const Vec3 m =
-        tx * (2.f * texel.r - 1.f) + bx * (2.f * texel.g - 1.f) + n * (2.f * texel.b - 1.f);
+    const Vec3 m = (tx * (2.f * texel.r - 1.f) + bx * (2.f * texel.g - 1.f)) * scale +
+                   n * (2.f * texel.b - 1.f);
     const float ml = length(m);
     return ml > 0.f ? m / ml : n;
 }

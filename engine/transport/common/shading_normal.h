@@ -26,8 +26,9 @@ bool triangle_partials(const Vec3& q0, const Vec3& q1, const Vec3& q2, Point2 t0
                        Point2 t2, Vec3& dqdu, Vec3& dqdv);
 
 // n turned by a normal map's texel: (2 rgb - 1) in the frame of T = dpdu made perpendicular
-// to n, B = n x T, n. Unchanged when dpdu has no part perpendicular to n.
-Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel);
+// to n, B = n x T, n, its x and y times `scale` (glTF's normalTexture.scale). Unchanged when
+// dpdu has no part perpendicular to n.
+Vec3 normal_mapped(const Vec3& n, const Vec3& dpdu, const RGB& texel, float scale = 1.f);
 
 // pbrt-v4's BumpMap: the normal of p + d(u, v) n, with the displaced tangents
 // dpdu + (d(u + du, v) - d) / du n + d dndu (likewise for v) from forward differences of

@@ -105,6 +105,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             const float len = length(ns);
             if (len > 0.f) n_shade = ns / len;
         }
+        if (mat.vertex_colored) sp.vertex_color = m.color_at(prim, u, v);
         if (textured) {
             const uint32_t* ix = &m.indices[3 * prim];
             Point2 t0, t1, t2;
@@ -220,7 +221,8 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         n_shade = mat.normal_map >= 0
                       ? normal_mapped(n_shade, g.dpdu,
                                       scene.textures[std::size_t(mat.normal_map)].eval(
-                                          scene.texture_images, TexPoint{sp.uv, sp.p, n_geom}))
+                                          scene.texture_images, TexPoint{sp.uv, sp.p, n_geom}),
+                                      mat.normal_scale)
                       : bump_mapped(g, scene.textures[std::size_t(mat.bump)], scene.texture_images,
                                     TexPoint{sp.uv, sp.p, n_geom});
     }

@@ -27,6 +27,8 @@ struct SurfacePoint {
     // The shading tangent: dp/du made perpendicular to ns, unit, where the material's BSDF
     // is anisotropic (Material::needs_tangent); zero elsewhere.
     Vec3 ss{0.f, 0.f, 0.f};
+    // The mesh's vertex colour here (materials that read it; white elsewhere).
+    RGB vertex_color{1.f};
     // The BSDF's frame: around ns, its x axis along ss when there is one.
     warp::Frame frame() const { return warp::Frame(ns, ss); }
     // Where its textures read themselves (uv, and the point and normal for textures mapped
@@ -36,6 +38,7 @@ struct SurfacePoint {
         t.footprint = footprint;
         t.duvdx = duvdx;
         t.duvdy = duvdy;
+        t.vertex_color = vertex_color;
         return t;
     }
 };

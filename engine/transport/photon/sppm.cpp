@@ -48,8 +48,7 @@ class ProgressivePhotons {
         PassFlux out;
         if (!px.valid) return out;
         std::optional<Material> scratch;
-        const Material& m = scene_.material_at(scene_.materials[px.material],
-                                               TexPoint{px.uv, px.p, px.ng}, scratch);
+        const Material& m = scene_.material_at(scene_.materials[px.material], px.tex, scratch);
         const BsdfContext ctx{px.front, Transport::Radiance};
         const float r2 = px.radius * px.radius;
         photons.for_each_in_radius(px.p, wide ? 2.f * px.radius : px.radius,

@@ -96,7 +96,7 @@ void VisiblePoints::shade(uint64_t pass, uint64_t light_pass, uint32_t y, uint32
     px.wo = wo;
     px.front = sp.front_face;
     px.material = mi;
-    px.uv = sp.uv;
+    px.tex = sp.tex();
     px.beta = beta;
     if (ctx_.lights.empty()) return;
     LightPick pick;

@@ -22,7 +22,8 @@ struct SppmPixel {
     Vec3 wo;  // local
     bool front = true;
     uint32_t material = 0;
-    Point2 uv;  // the material's texture coordinates there
+    // Where the material's textures read themselves there (uv, footprint, vertex colour).
+    TexPoint tex{Point2{0.f, 0.f}};
     RGB beta;
     RGB pass_direct;  // the current pass's direct light (emission and one NEE sample)
     // Progressive statistics.
