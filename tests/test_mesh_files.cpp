@@ -301,7 +301,7 @@ TEST_CASE("glTF: KHR_materials_specular's texture sets the reflection's strength
     CHECK(worst < 0.005);
 }
 
-TEST_CASE("glTF: a texture on TEXCOORD_1 reads the second uv set", "[gltf][mesh-file]") {
+TEST_CASE("glTF: textures read their own uv set, two in one material", "[gltf][mesh-file]") {
     test::TempDir dir;
     write_texture(dir.file("t.png"));
     write_gltf(dir);
@@ -331,15 +331,49 @@ TEST_CASE("glTF: a texture on TEXCOORD_1 reads the second uv set", "[gltf][mesh-
     });
     INFO("worst pixel difference " << worst);
     CHECK(worst < 0.02);
-    // A texture on another set than the material's first is noted.
-    write_gltf(dir,
-               R"(, "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0, "texCoord": 1},
-        "normalTexture": {"index": 0})");
+    // Both sets in one material: the base colour on TEXCOORD_1 as above, the transmitting
+    // share on TEXCOORD_0: the same image's red read linearly (1, 0, 0, 0.502), the
+    // transmitting part reflecting 0.01 head-on (as in the transmission test below).
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("baseColorTexture": {"index": 0, "texCoord": 1}, "metallicFactor": 0})",
+             R"("baseColorTexture": {"index": 0, "texCoord": 1}, "metallicFactor": 0},
+                "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1,
+                  "transmissionTexture": {"index": 0, "texCoord": 0}}})");
+    }
+    const Scene both = load_scene(dir.file("s.xml"));
+    REQUIRE(both.texture_images.size() == 2);
+    // The base colour's image is the textured material's texture's; the share the other.
+    const uint32_t colour_image = both.textures[std::size_t(both.material_of(0).texture)].image;
+    const TextureImage& colour = both.texture_images[colour_image];
+    const TextureImage& share = both.texture_images[1 - colour_image];
+    const double worst_both = worst_pixel(dir.file("s.xml"), [&](float x, float y) {
+        if (x >= 0.5f) return RGB{0.2f, 0.4f, 0.6f} * 0.96f + RGB{0.01f};
+        const float v = share.bilinear({x, y}).r;
+        return (colour.bilinear({0.5f - x, y}) * 0.96f + RGB{0.01f}) * (1.f - v) + RGB{0.01f * v};
+    });
+    INFO("worst pixel difference, two sets " << worst_both);
+    CHECK(worst_both < 0.02);
+    {
+        const MeshFile f = load_gltf(dir.file("quad.gltf"));
+        CHECK(f.parts[0].mesh.uvs2.size() == 8);
+        CHECK(f.parts[1].mesh.uvs2.empty());
+    }
+    // A third set in one material is noted (that texture reads the first).
+    {
+        GltfEdit edit(dir.file("quad.gltf"));
+        edit(R"("transmissionTexture": {"index": 0, "texCoord": 0})",
+             R"("transmissionTexture": {"index": 0, "texCoord": 2})");
+        edit(R"("metallicFactor": 0},
+                "extensions")",
+             R"("metallicFactor": 0}, "normalTexture": {"index": 0},
+                "extensions")");
+    }
     const MeshFile f = load_gltf(dir.file("quad.gltf"));
     bool noted = false;
     for (const std::string& n : f.notes)
-        noted |=
-            n.find("emissiveTexture uses TEXCOORD_1; it reads TEXCOORD_0") != std::string::npos;
+        noted |= n.find("transmissionTexture uses TEXCOORD_2, a third uv set in one material") !=
+                 std::string::npos;
     CHECK(noted);
 }
 

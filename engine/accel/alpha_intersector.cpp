@@ -19,9 +19,10 @@ float alpha_search_start(float t) {
     return std::nextafter(t, kInfinity);
 }
 
-// The texture coordinates of a hit (surface_at's parametrisation, without its normals).
+// The texture coordinates of a hit in uv set `set` (surface_at's parametrisation, without
+// its normals).
 Point2 alpha_hit_uv(const Scene& scene, uint32_t geom, uint32_t prim, float t, float u, float v,
-                    const Vec3& o, const Vec3& d) {
+                    const Vec3& o, const Vec3& d, int set) {
     const Object& obj = scene.objects[geom];
     if (obj.kind == ObjectKind::Sphere) {
         const Sphere& s = scene.spheres[obj.index];
@@ -30,7 +31,7 @@ Point2 alpha_hit_uv(const Scene& scene, uint32_t geom, uint32_t prim, float t, f
         return sphere_uv(normalize(p - s.center));
     }
     Point2 t0, t1, t2;
-    scene.meshes[obj.index].corner_uvs(prim, t0, t1, t2);
+    scene.meshes[obj.index].corner_uvs(prim, t0, t1, t2, set);
     const float w = 1.f - u - v;
     return {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
 }
@@ -56,12 +57,15 @@ bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t,
     const Material& m = scene.material_of(geom);
     if (!m.cuts_out()) return true;
     float a = m.alpha;
-    if (m.alpha_texture >= 0)
-        a *= scene.textures[std::size_t(m.alpha_texture)].eval_float(
+    if (m.alpha_texture >= 0) {
+        const Texture& tx = scene.textures[std::size_t(m.alpha_texture)];
+        // The hit point for textures mapped by position; the surface normal is not computed
+        // here, so a directionmix alpha reads the ray's direction instead. (uv_of reads uv:
+        // the coordinates are already the texture's set.)
+        a *= tx.eval_float(
             scene.texture_images,
-            // The hit point for textures mapped by position; the surface normal is not
-            // computed here, so a directionmix alpha reads the ray's direction instead.
-            TexPoint{alpha_hit_uv(scene, geom, prim, t, u, v, o, d), o + d * t, -d});
+            TexPoint{alpha_hit_uv(scene, geom, prim, t, u, v, o, d, tx.uv.set), o + d * t, -d});
+    }
     if (m.alpha_cutoff >= 0.f) return a >= m.alpha_cutoff;
     if (a >= 1.f) return true;
     if (!(a > 0.f)) return false;

@@ -86,22 +86,12 @@ class GltfReader {
             if (m.normals.size() != m.positions.size())
                 fail(where, "NORMAL count differs from POSITION");
         }
-        // The uv set the material's textures read (TEXCOORD_0 without textures).
+        // The uv sets the material's textures read (TEXCOORD_0 without textures).
         part.material = p.material >= 0 ? material(p.material) : -1;
-        const int set = part.material >= 0
-                            ? std::max(out_.materials[std::size_t(part.material)].tex_coord, 0)
-                            : 0;
-        const std::string uv_name = "TEXCOORD_" + std::to_string(set);
-        if (const auto it = p.attributes.find(uv_name); it != p.attributes.end()) {
-            m.uvs = floats(it->second, 2, where + " " + uv_name);
-            if (m.uvs.size() != 2 * nv) fail(where, uv_name + " count differs from POSITION");
-            // glTF's v runs down the image; foton's textures take v = 0 at the bottom.
-            for (std::size_t i = 1; i < m.uvs.size(); i += 2) m.uvs[i] = 1.f - m.uvs[i];
-        } else if (part.material >= 0 &&
-                   out_.materials[std::size_t(part.material)].tex_coord >= 0) {
-            note(where + ": its material's textures read " + uv_name +
-                 ", which it lacks (read at pbrt's default parametrisation)");
-        }
+        const FileMaterial* fm =
+            part.material >= 0 ? &out_.materials[std::size_t(part.material)] : nullptr;
+        uv_set(p, fm ? std::max(fm->tex_coord, 0) : 0, fm && fm->tex_coord >= 0, nv, m.uvs, where);
+        if (fm && fm->tex_coord2 >= 0) uv_set(p, fm->tex_coord2, true, nv, m.uvs2, where);
         if (const auto it = p.attributes.find("COLOR_0"); it != p.attributes.end())
             vertex_colors(it->second, nv, part, where);
         if (p.indices >= 0) {
@@ -135,6 +125,24 @@ class GltfReader {
                             " triangles (meshes repeated by the node graph count each time)");
         m.transform(xf);
         out_.parts.push_back(std::move(part));
+    }
+
+    // TEXCOORD_<set> of primitive p into `uvs` (v flipped: glTF's runs down the image, foton's
+    // textures take v = 0 at the bottom); a set that textures read but the primitive lacks is
+    // noted.
+    void uv_set(const tinygltf::Primitive& p, int set, bool read, std::size_t nv,
+                std::vector<float>& uvs, const std::string& where) {
+        const std::string name = "TEXCOORD_" + std::to_string(set);
+        const auto it = p.attributes.find(name);
+        if (it == p.attributes.end()) {
+            if (read)
+                note(where + ": its material's textures read " + name +
+                     ", which it lacks (read at pbrt's default parametrisation)");
+            return;
+        }
+        uvs = floats(it->second, 2, where + " " + name);
+        if (uvs.size() != 2 * nv) fail(where, name + " count differs from POSITION");
+        for (std::size_t i = 1; i < uvs.size(); i += 2) uvs[i] = 1.f - uvs[i];
     }
 
     // COLOR_0 (RGB or RGBA; floats or normalised integers) into the mesh, and the material
@@ -192,7 +200,7 @@ class GltfReader {
             try {
                 int set = info.texCoord;
                 uv = gltf_uv_map(info.extensions, set);
-                gltf_use_tex_coord(f, set, name, out_.notes, path_ + ": " + where);
+                uv.set = gltf_use_tex_coord(f, set, name, out_.notes, path_ + ": " + where);
             } catch (const std::invalid_argument& e) {
                 fail(where, e.what());
             }

@@ -140,7 +140,7 @@ int gltf_extension_texture(const tinygltf::Value& v, const char* key, UvMap& uv,
     int tex_coord = t.Has("texCoord") ? t.Get("texCoord").GetNumberAsInt() : 0;
     if (t.Has("extensions") && t.Get("extensions").IsObject())
         uv = gltf_uv_map(t.Get("extensions").Get<tinygltf::Value::Object>(), tex_coord);
-    gltf_use_tex_coord(f, tex_coord, key, notes, where);
+    uv.set = gltf_use_tex_coord(f, tex_coord, key, notes, where);
     return t.Get("index").GetNumberAsInt();
 }
 
@@ -215,16 +215,17 @@ void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f) {
     // stochastic test (Material::alpha_cutoff < 0) renders in expectation.
 }
 
-void gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
-                        std::vector<std::string>& notes, const std::string& where) {
+uint8_t gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
+                           std::vector<std::string>& notes, const std::string& where) {
     if (tex_coord < 0) throw std::invalid_argument(texture + ": texCoord must not be negative");
-    if (f.tex_coord < 0) {
-        f.tex_coord = tex_coord;
-    } else if (tex_coord != f.tex_coord) {
-        notes.push_back(where + ": " + texture + " uses TEXCOORD_" + std::to_string(tex_coord) +
-                        "; it reads TEXCOORD_" + std::to_string(f.tex_coord) +
-                        ", the material's other textures' set");
-    }
+    if (f.tex_coord < 0) f.tex_coord = tex_coord;
+    if (tex_coord == f.tex_coord) return 0;
+    if (f.tex_coord2 < 0) f.tex_coord2 = tex_coord;
+    if (tex_coord == f.tex_coord2) return 1;
+    notes.push_back(where + ": " + texture + " uses TEXCOORD_" + std::to_string(tex_coord) +
+                    ", a third uv set in one material; it reads TEXCOORD_" +
+                    std::to_string(f.tex_coord) + ", the first texture's");
+    return 0;
 }
 
 UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions, int& tex_coord) {

@@ -53,11 +53,12 @@ void gltf_alpha_mode(const tinygltf::Material& gm, FileMaterial& f);
 // replaces `tex_coord` (the reference's own).
 UvMap gltf_uv_map(const std::map<std::string, tinygltf::Value>& extensions, int& tex_coord);
 
-// A material's textures read one uv set (TEXCOORD_n), which its primitives then load as
-// their texture coordinates: the first texture's set is the material's; another set on a
-// later texture is noted (it reads the material's set).
-void gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
-                        std::vector<std::string>& notes, const std::string& where);
+// A material's textures read up to two uv sets (TEXCOORD_n), which its primitives then load
+// as their first and second texture coordinates: the first texture's set is the material's
+// first, another set its second; the slot (0 or 1) a texture reads is returned. A third set
+// is noted (that texture reads the first).
+uint8_t gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& texture,
+                           std::vector<std::string>& notes, const std::string& where);
 
 // A primitive's vertex indices as a triangle list: unchanged for mode 4 (TRIANGLES); mode 5
 // (TRIANGLE_STRIP) and 6 (TRIANGLE_FAN) unrolled with the winding the spec gives, so every

@@ -227,7 +227,8 @@ float LightSet::sample_area_point(const Emitter& e, Point2 u, float uc, Vec3& q,
     if (e.texture >= 0) {
         // The triangle's texture coordinates at the point (pbrt's default without uv).
         Point2 t0, t1, t2;
-        scene_->meshes[e.mesh].corner_uvs(t, t0, t1, t2);
+        scene_->meshes[e.mesh].corner_uvs(t, t0, t1, t2,
+                                          scene_->textures[std::size_t(e.texture)].uv.set);
         const float w = 1.f - b.x - b.y;
         le = textured_radiance(
             e, TexPoint{

@@ -16,6 +16,9 @@ struct TriangleMesh {
     std::vector<float> positions;  // xyz per vertex
     std::vector<float> normals;    // xyz per vertex, empty for flat shading
     std::vector<float> uvs;        // uv per vertex, empty when the mesh has none
+    // A second uv set (glTF: the TEXCOORD_n some of its material's textures read besides the
+    // first's), empty when none.
+    std::vector<float> uvs2;
     // Linear RGB per vertex multiplying the base colour (glTF's COLOR_0), empty when none.
     std::vector<float> colors;
     std::vector<uint32_t> indices;  // three per triangle
@@ -33,9 +36,11 @@ struct TriangleMesh {
         p1 = vertex(indices[3 * tri + 1]);
         p2 = vertex(indices[3 * tri + 2]);
     }
-    // The texture coordinates of triangle tri's corners: its uv, or pbrt's default
-    // parametrisation (0, 0), (1, 0), (1, 1) when the mesh has none.
-    void corner_uvs(uint32_t tri, Point2& t0, Point2& t1, Point2& t2) const {
+    // The texture coordinates of triangle tri's corners in uv set `set` (0 or 1): its uv, or
+    // pbrt's default parametrisation (0, 0), (1, 0), (1, 1) when the mesh has none; set 1
+    // falls back to set 0.
+    void corner_uvs(uint32_t tri, Point2& t0, Point2& t1, Point2& t2, int set = 0) const {
+        const std::vector<float>& uvs = set == 1 && !uvs2.empty() ? uvs2 : this->uvs;
         if (uvs.empty()) {
             t0 = {0.f, 0.f}, t1 = {1.f, 0.f}, t2 = {1.f, 1.f};
             return;
@@ -61,7 +66,8 @@ struct TriangleMesh {
     void compute_smooth_normals();
     void transform(const Affine& xf);
     std::size_t memory_bytes() const {
-        return (positions.size() + normals.size() + uvs.size() + colors.size()) * sizeof(float) +
+        return (positions.size() + normals.size() + uvs.size() + uvs2.size() + colors.size()) *
+                   sizeof(float) +
                indices.size() * 4;
     }
 };

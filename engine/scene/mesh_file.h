@@ -32,6 +32,7 @@ struct FileMaterial {
     // glTF: the uv set (TEXCOORD_n) its textures read, which its primitives load as their
     // texture coordinates; -1: it has no texture.
     int tex_coord = -1;
+    int tex_coord2 = -1;  // the second set some of its textures read (-1: none)
     // MTL's map_Bump (or bump): a height map, its grey values times `bump_multiplier` (-bm)
     // in scene units, or the tangent-space normal map many exporters write there; which of
     // the two is read off its texels (add_file_material).

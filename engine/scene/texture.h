@@ -90,12 +90,19 @@ struct TexPoint {
     Point2 duvdx{0.f, 0.f}, duvdy{0.f, 0.f};
     // The mesh's vertex colour interpolated at the point (white where it has none).
     RGB vertex_color{1.f};
+    // The mesh's second uv set at the point (textures whose UvMap::set is 1); uv without one.
+    // The footprint and steps above are the first set's.
+    Point2 uv2{0.f, 0.f};
+    bool has_uv2 = false;
+    Point2 uv_of(uint8_t set) const { return set == 1 && has_uv2 ? uv2 : uv; }
 };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)
 // (scale and offset from the XML, pbrt and MTL; glTF's KHR_texture_transform also rotates).
 struct UvMap {
     float su = 1.f, sv = 1.f, du = 0.f, dv = 0.f, suv = 0.f, svu = 0.f;
+    // The surface's uv set it reads: 0, or 1 for a mesh's second set (TexPoint::uv2).
+    uint8_t set = 0;
     Point2 operator()(Point2 uv) const {
         return {su * uv.x + suv * uv.y + du, svu * uv.x + sv * uv.y + dv};
     }

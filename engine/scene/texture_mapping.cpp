@@ -11,7 +11,7 @@
 namespace foton {
 
 Point2 Texture::st(const TexPoint& at) const {
-    if (mapping == TextureMapping::UV) return uv(at.uv);
+    if (mapping == TextureMapping::UV) return uv(at.uv_of(uv.set));
     const Vec3 q = to_texture.point(at.p);
     switch (mapping) {
         case TextureMapping::Spherical: {

@@ -112,6 +112,19 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             m.corner_uvs(prim, t0, t1, t2);
             const float w = 1.f - u - v;
             sp.uv = {t0.x * w + t1.x * u + t2.x * v, t0.y * w + t1.y * u + t2.y * v};
+            if (!m.uvs2.empty()) {
+                Point2 s0, s1, s2;
+                m.corner_uvs(prim, s0, s1, s2, 1);
+                sp.uv2 = {s0.x * w + s1.x * u + s2.x * v, s0.y * w + s1.y * u + s2.y * v};
+                sp.has_uv2 = true;
+                // A normal map on the second set turns in that set's tangent frame (the
+                // footprint below is then that set's too: glTF's textures, the only ones on a
+                // second set, are not MIP-mapped).
+                if (mat.normal_map >= 0 &&
+                    scene.textures[std::size_t(mat.normal_map)].uv.set == 1) {
+                    t0 = s0, t1 = s1, t2 = s2;
+                }
+            }
             // The uv partials, for a perturbed frame and for MIP-mapped textures' footprint
             // (only scenes with such textures pay for it).
             const bool frame = mat.perturbs_normal() || tangent;
@@ -218,13 +231,16 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
         }
     }
     if (perturb) {
-        n_shade = mat.normal_map >= 0
-                      ? normal_mapped(n_shade, g.dpdu,
-                                      scene.textures[std::size_t(mat.normal_map)].eval(
-                                          scene.texture_images, TexPoint{sp.uv, sp.p, n_geom}),
-                                      mat.normal_scale)
-                      : bump_mapped(g, scene.textures[std::size_t(mat.bump)], scene.texture_images,
-                                    TexPoint{sp.uv, sp.p, n_geom});
+        TexPoint at{sp.uv, sp.p, n_geom};
+        at.uv2 = sp.uv2;
+        at.has_uv2 = sp.has_uv2;
+        n_shade =
+            mat.normal_map >= 0
+                ? normal_mapped(
+                      n_shade, g.dpdu,
+                      scene.textures[std::size_t(mat.normal_map)].eval(scene.texture_images, at),
+                      mat.normal_scale)
+                : bump_mapped(g, scene.textures[std::size_t(mat.bump)], scene.texture_images, at);
     }
     sp.front_face = dot(n_geom, dir) < 0.f;
     if (!sp.front_face) {
