@@ -264,15 +264,36 @@ class GltfReader {
         const int src = g_.textures[std::size_t(t)].source;
         if (src < 0 || std::size_t(src) >= g_.images.size())
             fail(where, "texture " + std::to_string(t) + " has no image");
-        const std::string key = path_ + "#image" + std::to_string(src) + (linear ? "#linear" : "");
+        // The texture's sampler: its wrap modes are the image's (one decoded per mode pair).
+        TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
+        if (const int smp = g_.textures[std::size_t(t)].sampler; smp >= 0) {
+            if (std::size_t(smp) >= g_.samplers.size())
+                fail(where, "texture " + std::to_string(t) + " names sampler " +
+                                std::to_string(smp) + ", which does not exist");
+            const tinygltf::Sampler& s = g_.samplers[std::size_t(smp)];
+            try {
+                wrap_s = gltf_wrap(s.wrapS);
+                wrap_t = gltf_wrap(s.wrapT);
+            } catch (const std::invalid_argument& e) {
+                fail(where + ", sampler " + std::to_string(smp), e.what());
+            }
+            if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
+                note(where + ", sampler " + std::to_string(smp) +
+                     ": magFilter NEAREST read as LINEAR (bilinear)");
+        }
+        std::string key = path_ + "#image" + std::to_string(src) + (linear ? "#linear" : "");
+        if (wrap_s != TextureWrap::Repeat || wrap_t != TextureWrap::Repeat)
+            key += "#wrap" + std::to_string(int(wrap_s)) + std::to_string(int(wrap_t));
         if (out_.embedded_images.count(key)) return key;
         const tinygltf::Image& im = g_.images[std::size_t(src)];
         if (im.image.empty() && !im.uri.empty() && im.uri.rfind("data:", 0) != 0)
             fail(where + ", image " + std::to_string(src),
                  gltf_unread_image_reason(load_warnings_, im.uri));
         try {
-            out_.embedded_images[key] =
+            TextureImage& decoded = out_.embedded_images[key] =
                 gltf_decode_image(im, im.uri.empty() ? key : im.uri, linear);
+            decoded.wrap_s = wrap_s;
+            decoded.wrap_t = wrap_t;
         } catch (const std::invalid_argument& e) {
             fail(where + ", image " + std::to_string(src), e.what());
         }

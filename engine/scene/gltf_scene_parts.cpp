@@ -300,6 +300,19 @@ TextureImage gltf_decode_image(const tinygltf::Image& im, const std::string& nam
     return out;
 }
 
+TextureWrap gltf_wrap(int mode) {
+    switch (mode) {
+        case TINYGLTF_TEXTURE_WRAP_REPEAT:
+            return TextureWrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+            return TextureWrap::Clamp;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+            return TextureWrap::Mirror;
+    }
+    throw std::invalid_argument("wrap mode " + std::to_string(mode) +
+                                " is not one of glTF's (10497, 33071, 33648)");
+}
+
 std::vector<uint32_t> gltf_triangle_list(std::vector<uint32_t> indices, int mode) {
     if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) return indices;
     std::vector<uint32_t> out;

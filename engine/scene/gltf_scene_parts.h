@@ -65,6 +65,9 @@ uint8_t gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& te
 // triangle faces the way the first does.
 std::vector<uint32_t> gltf_triangle_list(std::vector<uint32_t> indices, int mode);
 
+// A sampler's wrapS or wrapT: REPEAT, CLAMP_TO_EDGE or MIRRORED_REPEAT.
+TextureWrap gltf_wrap(int mode);
+
 // An image tinygltf decoded (8 or 16 bits, 1 to 4 channels) as linear RGB: sRGB-decoded unless
 // `linear` (a normal map); grey images repeat their channel, alpha is kept (linear) unless it
 // is 1 everywhere. `name` is kept as its path.

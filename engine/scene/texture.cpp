@@ -13,14 +13,37 @@
 
 namespace foton {
 
-namespace {
-
-int wrap(int i, int n) {
-    const int m = i % n;
-    return m < 0 ? m + n : m;
+bool parse_texture_wrap(const std::string& name, TextureWrap& out) {
+    static const std::pair<const char*, TextureWrap> names[] = {{"repeat", TextureWrap::Repeat},
+                                                                {"clamp", TextureWrap::Clamp},
+                                                                {"mirror", TextureWrap::Mirror},
+                                                                {"black", TextureWrap::Black}};
+    for (const auto& [n, w] : names)
+        if (name == n) {
+            out = w;
+            return true;
+        }
+    return false;
 }
 
-}  // namespace
+int wrapped_texel_index(double i, int n, TextureWrap wrap, bool& outside) {
+    if (!std::isfinite(i)) return 0;
+    const double dn = double(n);
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            return std::clamp(int(i - std::floor(i / dn) * dn), 0, n - 1);
+        case TextureWrap::Mirror: {
+            const double m = i - std::floor(i / (2.0 * dn)) * 2.0 * dn;  // [0, 2n)
+            return std::clamp(int(m < dn ? m : 2.0 * dn - 1.0 - m), 0, n - 1);
+        }
+        case TextureWrap::Black:
+            if (i < 0.0 || i >= dn) outside = true;
+            [[fallthrough]];
+        case TextureWrap::Clamp:
+            return int(std::clamp(i, 0.0, dn - 1.0));
+    }
+    return 0;
+}
 
 bool checker_even(Point2 st) {
     // The parity of floor(s) + floor(t) in double arithmetic: a float beyond 2^63 (a scale of
@@ -40,32 +63,37 @@ float srgb_to_linear(float c) {
 namespace {
 
 // The four texels around uv and their bilinear weights (texel centres at half-integers; v
-// runs up the image).
+// runs up the image), under the image's wrap modes: a tap outside a Black axis weighs 0.
 struct TextureTaps {
     std::size_t i[4];  // (x0, y0), (x1, y0), (x0, y1), (x1, y1)
-    float tx, ty;
+    float w[4];        // the bilinear weights
 };
 
-TextureTaps texture_taps(Point2 uv, int width, int height) {
-    const float x = uv.x * float(width) - 0.5f, y = (1.f - uv.y) * float(height) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
-    if (!std::isfinite(fx) || !std::isfinite(fy)) return {{0, 0, 0, 0}, 0.f, 0.f};
-    const float tx = x - fx, ty = y - fy;
-    // Wrap in double: a huge uv must not overflow the int conversion.
-    const int x0 = int(std::fmod(double(fx), double(width))),
-              y0 = int(std::fmod(double(fy), double(height)));
-    const int xa = wrap(x0, width), xb = wrap(x0 + 1, width);
-    const int ya = wrap(y0, height), yb = wrap(y0 + 1, height);
-    auto at = [&](int i, int j) { return std::size_t(j) * std::size_t(width) + std::size_t(i); };
-    return {{at(xa, ya), at(xb, ya), at(xa, yb), at(xb, yb)}, tx, ty};
+TextureTaps texture_taps(Point2 uv, const TextureImage& img) {
+    const double x = double(uv.x) * img.width - 0.5, y = (1.0 - double(uv.y)) * img.height - 0.5;
+    const double fx = std::floor(x), fy = std::floor(y);
+    if (!std::isfinite(fx) || !std::isfinite(fy)) return {{0, 0, 0, 0}, {0.f, 0.f, 0.f, 0.f}};
+    const float tx = float(x - fx), ty = float(y - fy);
+    bool out[4] = {false, false, false, false};  // x0, x1, y0, y1 outside a Black axis
+    const int xa = wrapped_texel_index(fx, img.width, img.wrap_s, out[0]);
+    const int xb = wrapped_texel_index(fx + 1.0, img.width, img.wrap_s, out[1]);
+    const int ya = wrapped_texel_index(fy, img.height, img.wrap_t, out[2]);
+    const int yb = wrapped_texel_index(fy + 1.0, img.height, img.wrap_t, out[3]);
+    auto at = [&](int i, int j) {
+        return std::size_t(j) * std::size_t(img.width) + std::size_t(i);
+    };
+    auto in = [&](int i, int j) { return out[i] || out[2 + j] ? 0.f : 1.f; };
+    return {{at(xa, ya), at(xb, ya), at(xa, yb), at(xb, yb)},
+            {(1.f - tx) * (1.f - ty) * in(0, 0), tx * (1.f - ty) * in(1, 0),
+             (1.f - tx) * ty * in(0, 1), tx * ty * in(1, 1)}};
 }
 
 }  // namespace
 
 RGB TextureImage::bilinear(Point2 uv) const {
-    const TextureTaps b = texture_taps(uv, width, height);
-    return (texels[b.i[0]] * (1.f - b.tx) + texels[b.i[1]] * b.tx) * (1.f - b.ty) +
-           (texels[b.i[2]] * (1.f - b.tx) + texels[b.i[3]] * b.tx) * b.ty;
+    const TextureTaps b = texture_taps(uv, *this);
+    return texels[b.i[0]] * b.w[0] + texels[b.i[1]] * b.w[1] + texels[b.i[2]] * b.w[2] +
+           texels[b.i[3]] * b.w[3];
 }
 
 void TextureImage::build_mip() {
@@ -74,6 +102,8 @@ void TextureImage::build_mip() {
     while (prev->width > 1 || prev->height > 1) {
         TextureImage next;
         next.path = path;
+        next.wrap_s = wrap_s;
+        next.wrap_t = wrap_t;
         next.width = std::max(1, (prev->width + 1) / 2);
         next.height = std::max(1, (prev->height + 1) / 2);
         next.texels.resize(std::size_t(next.width) * std::size_t(next.height));
@@ -113,9 +143,9 @@ RGB TextureImage::trilinear(Point2 uv, float width) const {
 
 float TextureImage::bilinear_alpha(Point2 uv) const {
     if (alpha.empty()) return 1.f;
-    const TextureTaps b = texture_taps(uv, width, height);
-    return (alpha[b.i[0]] * (1.f - b.tx) + alpha[b.i[1]] * b.tx) * (1.f - b.ty) +
-           (alpha[b.i[2]] * (1.f - b.tx) + alpha[b.i[3]] * b.tx) * b.ty;
+    const TextureTaps b = texture_taps(uv, *this);
+    return alpha[b.i[0]] * b.w[0] + alpha[b.i[1]] * b.w[1] + alpha[b.i[2]] * b.w[2] +
+           alpha[b.i[3]] * b.w[3];
 }
 
 float Texture::eval_float(const std::vector<TextureImage>& images, const TexPoint& at) const {

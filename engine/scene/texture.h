@@ -16,14 +16,29 @@
 
 namespace foton {
 
+// What an image holds beyond its edges, along one axis: itself again (the default), its edge
+// texels (glTF's CLAMP_TO_EDGE, pbrt-v4's "clamp", MTL's -clamp on), itself mirrored every
+// other period (glTF's MIRRORED_REPEAT), or black (pbrt-v4's "black").
+enum class TextureWrap : uint8_t { Repeat, Clamp, Mirror, Black };
+// "repeat", "clamp", "mirror" or "black"; false for anything else.
+bool parse_texture_wrap(const std::string& name, TextureWrap& out);
+
+// Texel index i (any real: uv far outside [0, 1] must not overflow) of an axis of n texels
+// under `wrap`; `outside` is set when a Black axis leaves the image (the index is then an
+// edge's).
+int wrapped_texel_index(double i, int n, TextureWrap wrap, bool& outside);
+
 struct TextureImage {
     std::string path;
     int width = 0, height = 0;
     std::vector<RGB> texels;  // row 0 is the image's top
     // The alpha channel, when the file has one that is not everywhere 1 (empty otherwise).
     std::vector<float> alpha;
-    // Bilinear lookup at (u, v), repeating; v = 0 is the image's bottom (pbrt's and glTF's
-    // convention after its flip, OBJ's).
+    // Along u (s) and v (t): set by the texture that reads it (an image read under two wrap
+    // modes is decoded twice), kept by its MIP levels.
+    TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
+    // Bilinear lookup at (u, v) under the wrap modes; v = 0 is the image's bottom (pbrt's and
+    // glTF's convention after its flip, OBJ's).
     RGB bilinear(Point2 uv) const;
     float bilinear_alpha(Point2 uv) const;
     // The MIP pyramid: level k + 1 halves level k (box filter, odd sizes rounded up), down to
@@ -44,8 +59,8 @@ struct TextureImage {
     const TextureImage& level(int l) const {
         return l <= 0 || mip.empty() ? *this : mip[std::size_t(std::min(l, int(mip.size())) - 1)];
     }
-    // Texel (x, y) with the image repeating (row 0 at the top).
-    const RGB& texel(int x, int y) const;
+    // Texel (x, y) under the wrap modes (row 0 at the top; black outside a Black axis).
+    RGB texel(double x, double y) const;
 };
 
 // How an image texture is read: bilinearly (the default), the nearest texel, trilinearly

@@ -11,19 +11,21 @@ namespace foton {
 
 namespace {
 
-int wrap_index(int i, int n) {
-    const int m = i % n;
-    return m < 0 ? m + n : m;
-}
-
 // The ellipse's average in one level: st in its texel coordinates (x right, y down, centres
 // at half-integers), d0 and d1 its axes in texels.
 RGB ewa_in_level(const TextureImage& img, Point2 uv, Point2 d0, Point2 d1) {
     double sd = double(uv.x) * img.width - 0.5, td = (1.0 - double(uv.y)) * img.height - 0.5;
     if (!std::isfinite(sd) || !std::isfinite(td)) return img.bilinear(uv);
-    // Into the first period (the image repeats), so that texel indices stay small.
-    sd -= std::floor(sd / img.width) * img.width;
-    td -= std::floor(td / img.height) * img.height;
+    // Into the first period (of a repeating axis; a mirrored one repeats every two), so that
+    // texel indices stay small; a clamped or black axis is constant a box's width beyond its
+    // edges, so its coordinate is held there.
+    auto near = [](double c, int n, TextureWrap w) {
+        if (w == TextureWrap::Repeat) return c - std::floor(c / n) * n;
+        if (w == TextureWrap::Mirror) return c - std::floor(c / (2.0 * n)) * 2.0 * n;
+        return std::clamp(c, -128.0, n + 128.0);
+    };
+    sd = near(sd, img.width, img.wrap_s);
+    td = near(td, img.height, img.wrap_t);
     const float s = float(sd), t = float(td);
     const float x0 = d0.x * float(img.width), y0 = -d0.y * float(img.height);
     const float x1 = d1.x * float(img.width), y1 = -d1.y * float(img.height);
@@ -84,16 +86,18 @@ bool parse_texture_filter(const std::string& name, TextureFilter& out) {
     return false;
 }
 
-const RGB& TextureImage::texel(int x, int y) const {
-    return texels[std::size_t(wrap_index(y, height)) * std::size_t(width) +
-                  std::size_t(wrap_index(x, width))];
+RGB TextureImage::texel(double x, double y) const {
+    bool outside = false;
+    const int i = wrapped_texel_index(x, width, wrap_s, outside);
+    const int j = wrapped_texel_index(y, height, wrap_t, outside);
+    return outside ? RGB{0.f} : texels[std::size_t(j) * std::size_t(width) + std::size_t(i)];
 }
 
 RGB TextureImage::nearest(Point2 uv) const {
-    const float x = std::floor(uv.x * float(width)), y = std::floor((1.f - uv.y) * float(height));
+    const double x = std::floor(double(uv.x) * width),
+                 y = std::floor((1.0 - double(uv.y)) * height);
     if (!std::isfinite(x) || !std::isfinite(y)) return texels[0];
-    return texel(int(std::fmod(double(x), double(width))),
-                 int(std::fmod(double(y), double(height))));
+    return texel(x, y);
 }
 
 RGB TextureImage::ewa(Point2 uv, Point2 d0, Point2 d1, float max_anisotropy) const {

@@ -122,7 +122,8 @@ class Importer {
     // pyramid built for a MIP-mapped filter); its filter and anisotropy set on `st`.
     uint32_t image_texture(const Token& t, const ParamList& p, Texture& st);
     // An image file into Scene::texture_images (decoded once per file and encoding).
-    uint32_t image_file(const Token& t, const std::string& rel, bool linear);
+    uint32_t image_file(const Token& t, const std::string& rel, bool linear,
+                        TextureWrap wrap = TextureWrap::Repeat);
     // The texture bound to parameter `name` ("texture reflectance" "t"), nullptr when the
     // parameter is not texture-valued; an error when no texture of that kind is defined.
     const TextureDesc* texture_ref(const ParamList& p, const std::string& name,

@@ -297,8 +297,11 @@ void Importer::mix_texture(const Token& t, const ParamList& p, TextureDesc& tex)
 uint32_t Importer::image_texture(const Token& t, const ParamList& p, Texture& st) {
     const std::string rel = p.text("filename", "");
     if (rel.empty()) fail(t, "imagemap needs \"string filename\"");
-    const std::string wrap = p.text("wrap", "repeat");
-    if (wrap != "repeat") fail(t, "texture wrap '" + wrap + "' is not supported (repeat)");
+    // pbrt-v4's wrap modes but its octahedral sphere (for environment maps, not surfaces).
+    const std::string wrap_name = p.text("wrap", "repeat");
+    TextureWrap wrap = TextureWrap::Repeat;
+    if (wrap_name == "mirror" || !parse_texture_wrap(wrap_name, wrap))
+        fail(t, "texture wrap '" + wrap_name + "' is not supported (repeat, clamp, black)");
     // pbrt-v4's filters: bilinear (its default), point, trilinear MIP-mapping and EWA.
     const std::string filter = p.text("filter", "bilinear");
     if (!parse_texture_filter(filter, st.filter))
@@ -307,15 +310,17 @@ uint32_t Importer::image_texture(const Token& t, const ParamList& p, Texture& st
     if (!(st.max_anisotropy >= 1.f)) fail(t, "maxanisotropy must be at least 1");
     const std::string enc = p.text("encoding", "sRGB");
     if (enc != "sRGB" && enc != "linear") fail(t, "texture encoding '" + enc + "' (sRGB, linear)");
-    const uint32_t image = image_file(t, rel, enc == "linear");
+    const uint32_t image = image_file(t, rel, enc == "linear", wrap);
     TextureImage& img = scene_.texture_images[image];
     if (st.mip_mapped() && img.mip.empty()) img.build_mip();
     scene_.mip_mapped |= st.mip_mapped();
     return image;
 }
 
-uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linear) {
-    const std::string key = rel + (linear ? "#linear" : "");
+uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linear,
+                              TextureWrap wrap) {
+    // An image read under two wrap modes is two images (the mode is the image's).
+    const std::string key = rel + (linear ? "#linear" : "") + "#wrap" + std::to_string(int(wrap));
     if (const auto it = images_.find(key); it != images_.end()) return it->second;
     const std::string path = input_path(t, "texture", rel, kMaxMeshFileBytes);
     try {
@@ -323,6 +328,7 @@ uint32_t Importer::image_file(const Token& t, const std::string& rel, bool linea
     } catch (const InputError& e) {
         fail(t, std::string("texture '") + rel + "': " + e.what());
     }
+    scene_.texture_images.back().wrap_s = scene_.texture_images.back().wrap_t = wrap;
     return images_[key] = uint32_t(scene_.texture_images.size() - 1);
 }
 
