@@ -285,3 +285,52 @@ TEST_CASE("glTF: an orthographic camera is the model's view, xmag and ymag its h
     CHECK_THROWS_WITH(model_scene(dir.file("ortho.gltf")),
                       Catch::Contains("ortho.gltf") && Catch::Contains("xmag and ymag"));
 }
+
+TEST_CASE("glTF: KHR_mesh_quantization's integer attributes; unread required extensions",
+          "[gltf][mesh-file]") {
+    test::TempDir dir;
+    auto write = [&](const std::string& extensions) {
+        GltfBuffer buf;
+        // Normalised shorts (-32768 maps to -1 as 32767 does, the spec's rule), normalised
+        // bytes for the normals, plain unsigned bytes for the uv.
+        buf.add(std::vector<int16_t>{-32768, 0, 0, 32767, 0, 0, 32767, 32767, 0, -32767, 32767, 0});
+        buf.add(std::vector<int8_t>{0, 0, 127, 0, 0, 127, 0, 0, 127, 0, 0, 127});
+        buf.add(std::vector<uint8_t>{0, 2, 2, 2, 2, 0, 0, 0});
+        buf.add(std::vector<uint16_t>{0, 1, 2, 0, 2, 3});
+        buf.write(
+            dir, "quantized",
+            extensions +
+                one_mesh(R"("attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                            "indices": 3, "material": 0)",
+                         accessor(0, 5122, 4, "VEC3", ", \"normalized\": true") + ", " +
+                             accessor(1, 5120, 4, "VEC3", ", \"normalized\": true") + ", " +
+                             accessor(2, 5121, 4, "VEC2") + ", " + accessor(3, 5123, 6, "SCALAR"),
+                         R"("materials": [{"normalTexture": {"index": 0}}],
+                            "textures": [{"source": 0}], "images": [{"uri": "n.png"}])"));
+    };
+    const unsigned char px[] = {128, 128, 255};
+    REQUIRE(stbi_write_png(dir.file("n.png").c_str(), 1, 1, 3, px, 3) != 0);
+    write(R"("extensionsUsed": ["KHR_mesh_quantization"],
+             "extensionsRequired": ["KHR_mesh_quantization"], )");
+    const MeshFile file = load_mesh_file(dir.file("quantized.gltf"));
+    REQUIRE(file.parts.size() == 1);
+    const TriangleMesh& m = file.parts[0].mesh;
+    CHECK(m.vertex(0).x == -1.f);
+    CHECK(m.vertex(2).x == 1.f);
+    CHECK(m.vertex(2).y == 1.f);
+    CHECK(m.vertex(3).x == Approx(-1.f));
+    CHECK(m.vertex_normal(1).z == 1.f);
+    // The uv as they are (glTF's v flipped to foton's).
+    CHECK(m.uvs == std::vector<float>{0, -1, 2, -1, 2, 1, 0, 1});
+    // Without the extension, integer positions are not glTF.
+    write("");
+    CHECK_THROWS_WITH(load_mesh_file(dir.file("quantized.gltf")),
+                      Catch::Contains("POSITION, accessor 0: component type 5122") &&
+                          Catch::Contains("KHR_mesh_quantization"));
+    // A required extension foton does not read is an error naming it.
+    write(R"("extensionsUsed": ["KHR_mesh_quantization", "KHR_draco_mesh_compression"],
+             "extensionsRequired": ["KHR_mesh_quantization", "KHR_draco_mesh_compression"], )");
+    CHECK_THROWS_WITH(load_mesh_file(dir.file("quantized.gltf")),
+                      Catch::Contains("quantized.gltf") &&
+                          Catch::Contains("requires KHR_draco_mesh_compression"));
+}

@@ -36,12 +36,21 @@ void GltfAccessors::read(int a, int n, const std::string& where, bool as_index,
         fail(at, "has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(acc.type))) +
                      " components, expected " + std::to_string(n));
     const int ct = acc.componentType;
-    const bool ok_type = as_index
-                             ? is_index_type(ct)
-                             : (ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                                (acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)));
-    if (!ok_type) fail(at, "component type " + std::to_string(ct) + " is not allowed here");
+    // Core glTF: floats, or normalised unsigned bytes and shorts (uv, colours);
+    // KHR_mesh_quantization adds signed ones and integers read as they are.
+    const bool small_int = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                           ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+                           ct == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                           ct == TINYGLTF_COMPONENT_TYPE_SHORT;
+    const bool core = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                      (acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                          ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+    const bool ok_type = as_index ? is_index_type(ct) : core || (quantized_ && small_int);
+    if (!ok_type)
+        fail(at, "component type " + std::to_string(ct) + " is not allowed here" +
+                     (small_int && !quantized_ ? " (the file does not use KHR_mesh_quantization)"
+                                               : ""));
+    const bool to_unit = !as_index && acc.normalized;
     const int size = tinygltf::GetComponentSizeInBytes(uint32_t(ct));
     const uint64_t element = uint64_t(size) * uint64_t(n);
     // The dense elements (a sparse accessor may have none: zeros then).
@@ -73,7 +82,7 @@ void GltfAccessors::read(int a, int n, const std::string& where, bool as_index,
                        uint64_t(sc), isz, isz, at + " sparse indices");
         for (int k = 0; k < sc; ++k) {
             const uint64_t i =
-                uint64_t(component(ib + uint64_t(k) * isz, si.componentType, true, at));
+                uint64_t(component(ib + uint64_t(k) * isz, si.componentType, false, at));
             if (i >= acc.count || (!sub_at.empty() && i <= sub_at.back()))
                 fail(at, "sparse indices must increase and stay below count");
             sub_at.push_back(i);
@@ -87,7 +96,7 @@ void GltfAccessors::read(int a, int n, const std::string& where, bool as_index,
         const unsigned char* e = base ? base + i * stride : nullptr;
         if (next < sub_at.size() && sub_at[next] == i) e = sub_values + element * next++;
         for (int k = 0; k < n; ++k)
-            put(e ? component(e + std::size_t(k * size), ct, as_index, at) : 0.0);
+            put(e ? component(e + std::size_t(k * size), ct, to_unit, at) : 0.0);
     }
 }
 
@@ -121,24 +130,37 @@ const unsigned char* GltfAccessors::view_bytes(const tinygltf::BufferView& view,
     return g_.buffers[std::size_t(view.buffer)].data.data() + view.byteOffset + offset;
 }
 
-double GltfAccessors::component(const unsigned char* c, int ct, bool as_index,
+double GltfAccessors::component(const unsigned char* c, int ct, bool to_unit,
                                 const std::string& at) const {
-    if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-        float f;
-        std::memcpy(&f, c, 4);
-        if (!std::isfinite(f)) fail(at, "holds NaN or infinite values");
-        return f;
+    switch (ct) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float f;
+            std::memcpy(&f, c, 4);
+            if (!std::isfinite(f)) fail(at, "holds NaN or infinite values");
+            return f;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return to_unit ? double(*c) / 255.0 : double(*c);
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            const double v = double(int8_t(*c));
+            return to_unit ? std::max(v / 127.0, -1.0) : v;  // the spec's signed mapping
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t s;
+            std::memcpy(&s, c, 2);
+            return to_unit ? double(s) / 65535.0 : double(s);
+        }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t s;
+            std::memcpy(&s, c, 2);
+            return to_unit ? std::max(double(s) / 32767.0, -1.0) : double(s);
+        }
+        default: {
+            uint32_t u;
+            std::memcpy(&u, c, 4);
+            return double(u);
+        }
     }
-    if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE)
-        return as_index ? double(*c) : double(*c) / 255.0;
-    if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-        uint16_t s;
-        std::memcpy(&s, c, 2);
-        return as_index ? double(s) : double(s) / 65535.0;
-    }
-    uint32_t u;
-    std::memcpy(&u, c, 4);
-    return double(u);
 }
 
 }  // namespace foton

@@ -16,10 +16,13 @@ namespace foton {
 
 class GltfAccessors {
   public:
-    GltfAccessors(const tinygltf::Model& model, const std::string& path) : g_(model), path_(path) {}
+    // `quantized`: the file uses KHR_mesh_quantization (integer positions, normals, uv).
+    GltfAccessors(const tinygltf::Model& model, const std::string& path, bool quantized)
+        : g_(model), path_(path), quantized_(quantized) {}
 
     // The elements of accessor `a`, `n` components each, as floats (normalised integers mapped
-    // to [0, 1]) or as vertex indices; `where` names what reads it in errors.
+    // to [0, 1], signed ones to [-1, 1], other integers as they are) or as vertex indices;
+    // `where` names what reads it in errors.
     std::vector<float> floats(int a, int n, const std::string& where) const;
     std::vector<uint32_t> indices(int a, const std::string& where) const;
 
@@ -34,14 +37,15 @@ class GltfAccessors {
     const unsigned char* view_bytes(const tinygltf::BufferView& view, uint64_t offset,
                                     uint64_t count, uint64_t stride, uint64_t element,
                                     const std::string& at) const;
-    // One component at c: a float (finite), an index, or a normalised integer in [0, 1].
-    double component(const unsigned char* c, int ct, bool as_index, const std::string& at) const;
+    // One component at c: a float (finite), an integer, or (to_unit) a normalised integer.
+    double component(const unsigned char* c, int ct, bool to_unit, const std::string& at) const;
     [[noreturn]] void fail(const std::string& where, const std::string& what) const;
 
     // Elements of a sparse accessor with no dense data: its count is not bounded by a buffer.
     static constexpr uint64_t kMaxSparseOnlyElements = uint64_t(1) << 24;
     const tinygltf::Model& g_;
     std::string path_;
+    bool quantized_;
 };
 
 }  // namespace foton

@@ -4,6 +4,7 @@
 // bounds.
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -25,7 +26,9 @@ class GltfReader {
         : g_(model),
           path_(std::move(path)),
           load_warnings_(std::move(load_warnings)),
-          accessors_(model, path_) {}
+          accessors_(model, path_,
+                     std::count(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                                "KHR_mesh_quantization") > 0) {}
 
     [[noreturn]] void fail(const std::string& where, const std::string& what) const {
         throw InputError(path_, 0, where + ": " + what);
@@ -37,33 +40,6 @@ class GltfReader {
     }
     std::vector<uint32_t> indices(int a, const std::string& where) const {
         return accessors_.indices(a, where);
-    }
-
-    static Affine node_transform(const tinygltf::Node& n) {
-        Affine xf;
-        if (n.matrix.size() == 16) {
-            // Column-major.
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 4; ++c) xf.m[r][c] = float(n.matrix[std::size_t(c * 4 + r)]);
-            return xf;
-        }
-        double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
-        if (n.translation.size() == 3)
-            for (int i = 0; i < 3; ++i) t[i] = n.translation[std::size_t(i)];
-        if (n.rotation.size() == 4)
-            for (int i = 0; i < 4; ++i) q[i] = n.rotation[std::size_t(i)];
-        if (n.scale.size() == 3)
-            for (int i = 0; i < 3; ++i) s[i] = n.scale[std::size_t(i)];
-        const double x = q[0], y = q[1], z = q[2], w = q[3];
-        const double R[3][3] = {
-            {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
-            {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
-            {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) xf.m[r][c] = float(R[r][c] * s[c]);
-            xf.m[r][3] = float(t[r]);
-        }
-        return xf;
     }
 
     void primitive(const tinygltf::Primitive& p, const Affine& xf, const std::string& where) {
@@ -311,7 +287,7 @@ class GltfReader {
                  "the node graph places more than " + std::to_string(kMaxNodePlacements) +
                      " nodes (children listed more than once multiply)");
         const tinygltf::Node& n = g_.nodes[std::size_t(i)];
-        const Affine xf = parent * node_transform(n);
+        const Affine xf = parent * gltf_node_transform(n);
         if (n.mesh >= 0) {
             if (std::size_t(n.mesh) >= g_.meshes.size())
                 fail("node " + std::to_string(i),
@@ -330,6 +306,13 @@ class GltfReader {
     }
 
     MeshFile run() {
+        // A file that cannot be read without an extension says so; one foton does not read
+        // (mesh compression, other texture formats, ...) is an error, as the spec asks.
+        for (const std::string& ext : g_.extensionsRequired)
+            if (!gltf_extension_read(ext))
+                fail("extensionsRequired", "the file requires " + ext +
+                                               ", which foton does not read (it reads " +
+                                               gltf_extensions_read() + ")");
         if (g_.scenes.empty()) {
             // No scene: every root node (one that is nobody's child).
             std::vector<bool> child(g_.nodes.size(), false);

@@ -11,7 +11,49 @@ namespace foton {
 
 namespace {
 constexpr double kLumensPerWatt = 683.0;
+constexpr const char* kExtensionsRead[] = {
+    "KHR_lights_punctual",   "KHR_materials_clearcoat", "KHR_materials_emissive_strength",
+    "KHR_materials_ior",     "KHR_materials_specular",  "KHR_materials_transmission",
+    "KHR_mesh_quantization", "KHR_texture_transform"};
 }  // namespace
+
+bool gltf_extension_read(const std::string& name) {
+    for (const char* e : kExtensionsRead)
+        if (name == e) return true;
+    return false;
+}
+
+std::string gltf_extensions_read() {
+    std::string out;
+    for (const char* e : kExtensionsRead) out += (out.empty() ? "" : ", ") + std::string(e);
+    return out;
+}
+
+Affine gltf_node_transform(const tinygltf::Node& n) {
+    Affine xf;
+    if (n.matrix.size() == 16) {
+        // Column-major.
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) xf.m[r][c] = float(n.matrix[std::size_t(c * 4 + r)]);
+        return xf;
+    }
+    double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+    if (n.translation.size() == 3)
+        for (int i = 0; i < 3; ++i) t[i] = n.translation[std::size_t(i)];
+    if (n.rotation.size() == 4)
+        for (int i = 0; i < 4; ++i) q[i] = n.rotation[std::size_t(i)];
+    if (n.scale.size() == 3)
+        for (int i = 0; i < 3; ++i) s[i] = n.scale[std::size_t(i)];
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    const double R[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                            {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                            {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) xf.m[r][c] = float(R[r][c] * s[c]);
+        xf.m[r][3] = float(t[r]);
+    }
+    return xf;
+}
 
 std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affine& xf) {
     if (c < 0 || std::size_t(c) >= g.cameras.size())

@@ -23,6 +23,9 @@ class Value;
 
 namespace foton {
 
+// A node's local transform: its column-major matrix, or translation x rotation x scale.
+Affine gltf_node_transform(const tinygltf::Node& n);
+
 // Camera c of the model at a node placed by xf (looking along the node's -z, +y up),
 // perspective or orthographic; empty for a type glTF does not define.
 std::optional<ModelView> gltf_camera(const tinygltf::Model& g, int c, const Affine& xf);
@@ -64,6 +67,10 @@ uint8_t gltf_use_tex_coord(FileMaterial& f, int tex_coord, const std::string& te
 // (TRIANGLE_STRIP) and 6 (TRIANGLE_FAN) unrolled with the winding the spec gives, so every
 // triangle faces the way the first does.
 std::vector<uint32_t> gltf_triangle_list(std::vector<uint32_t> indices, int mode);
+
+// Whether foton reads glTF extension `name`, and the list of those it reads.
+bool gltf_extension_read(const std::string& name);
+std::string gltf_extensions_read();
 
 // A sampler's wrapS or wrapT: REPEAT, CLAMP_TO_EDGE or MIRRORED_REPEAT.
 TextureWrap gltf_wrap(int mode);
