@@ -12,6 +12,7 @@
 #include "engine/scene/mesh_file.h"
 #include "engine/scene/model_scene.h"
 #include "engine/transport/common/shading_normal.h"
+#include "engine/transport/common/surface.h"
 #include "flat_quad_scene.h"
 #include "test_util.h"
 
@@ -333,4 +334,43 @@ TEST_CASE("glTF: KHR_mesh_quantization's integer attributes; unread required ext
     CHECK_THROWS_WITH(load_mesh_file(dir.file("quantized.gltf")),
                       Catch::Contains("quantized.gltf") &&
                           Catch::Contains("requires KHR_draco_mesh_compression"));
+}
+
+TEST_CASE("glTF: a normal map on the second uv set turns in that set's tangent frame",
+          "[gltf][texture]") {
+    test::TempDir dir;
+    // (192, 128, 192) read linearly: about (0.5, 0, 0.5) in the tangent frame, leaning the
+    // normal halfway towards dp/du.
+    const unsigned char n[] = {192, 128, 192};
+    REQUIRE(stbi_write_png(dir.file("n.png").c_str(), 1, 1, 3, n, 3) != 0);
+    const unsigned char c[] = {200, 200, 200};
+    REQUIRE(stbi_write_png(dir.file("c.png").c_str(), 1, 1, 3, c, 3) != 0);
+    for (int set : {0, 1}) {
+        GltfBuffer buf;
+        buf.add(kQuad);
+        buf.add(std::vector<uint16_t>{0, 1, 2, 0, 2, 3});
+        // TEXCOORD_0: u along x; TEXCOORD_1: u along y (glTF's v runs down the image).
+        buf.add(std::vector<float>{0, 1, 1, 1, 1, 0, 0, 0});
+        buf.add(std::vector<float>{0, 0, 0, 1, 1, 1, 1, 0});
+        buf.write(
+            dir, "frame",
+            one_mesh(R"("attributes": {"POSITION": 0, "TEXCOORD_0": 2, "TEXCOORD_1": 3},
+                              "indices": 1, "material": 0)",
+                     accessor(0, 5126, 4, "VEC3") + ", " + accessor(1, 5123, 6, "SCALAR") + ", " +
+                         accessor(2, 5126, 4, "VEC2") + ", " + accessor(3, 5126, 4, "VEC2"),
+                     R"("materials": [{"pbrMetallicRoughness": {"baseColorTexture":
+                                {"index": 1}}, "normalTexture": {"index": 0, "texCoord": )" +
+                         std::to_string(set) + R"(}}],
+                              "textures": [{"source": 0}, {"source": 1}],
+                              "images": [{"uri": "n.png"}, {"uri": "c.png"}])"));
+        test::write_scene(dir.file("s.xml"), R"(<triangle_mesh src="frame.gltf"/>)");
+        const Scene s = load_scene(dir.file("s.xml"));
+        const SurfacePoint sp =
+            surface_at(s, 0, 0, 5.f, 0.2f, 0.1f, Vec3{0.5f, 0.4f, 5.f}, Vec3{0.f, 0.f, -1.f});
+        INFO("normal map on TEXCOORD_" << set << ": ns " << sp.ns.x << " " << sp.ns.y << " "
+                                       << sp.ns.z);
+        const float along = set == 0 ? sp.ns.x : sp.ns.y, across = set == 0 ? sp.ns.y : sp.ns.x;
+        CHECK(along == Approx(std::sqrt(0.5f)).margin(0.02));
+        CHECK(std::fabs(across) < 0.02f);
+    }
 }
