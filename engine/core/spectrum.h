@@ -27,6 +27,18 @@ struct Wavelengths {
     float lambda[3] = {0.f, 0.f, 0.f};
     float pdf[3] = {0.f, 0.f, 0.f};
     float d65[3] = {0.f, 0.f, 0.f};  // d65_normalised at each, for illuminant()
+    bool secondary_terminated = false;
+
+    // Keeps lambda[0] alone from here on (pbrt-v4's TerminateSecondary, at a dispersive
+    // glass): the path's throughput `beta` in the other slots is dropped and lambda[0]'s
+    // counted three times, so to_rgb's (1/3) sum becomes the one wavelength's estimate, which
+    // is unbiased as lambda[0] alone has the sampling density. Once a path; what the path
+    // gathered before is untouched.
+    void terminate_secondary(RGB& beta) {
+        if (secondary_terminated) return;
+        secondary_terminated = true;
+        beta = RGB{3.f * beta.r, 0.f, 0.f};
+    }
 
     // The three wavelengths of one path from u in [0, 1).
     static Wavelengths sample(float u);

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "coat_layer.h"
+#include "engine/core/dispersion.h"
 #include "engine/core/math.h"
 #include "engine/core/rgb.h"
 #include "engine/core/sampler.h"
@@ -92,6 +93,10 @@ struct Lobe {
     // the wavelengths its spectra are read at (0: read as RGB).
     const MeasuredBrdf* measured = nullptr;
     float lambda[3] = {0.f, 0.f, 0.f};
+    // Dielectric, RoughDielectric, ThinDielectric: the index over wavelength of a dispersive
+    // glass (fresnel.ior holds its d-line index, which RGB rendering uses; a spectral path
+    // reads it at its hero wavelength and carries that one alone on, Bsdf::to_wavelengths).
+    Dispersion dispersion;
 
     uint8_t flags() const;
     // Its frame's orientation about the normal matters: roughness differing along x and y, or
@@ -228,8 +233,17 @@ class Bsdf {
     // The BSDF at a spectral path's three wavelengths (spectral_bsdf.cpp): every lobe's RGB
     // parameters upsampled and read there (tints and reflectances as reflectance spectra, a
     // conductor's eta and k and a fibre's absorption as unbounded ones). The sampling weights
-    // stay the RGB ones, so sample() and pdf() agree as before.
+    // stay the RGB ones, so sample() and pdf() agree as before. A dispersive glass takes its
+    // index at the hero wavelength, lambda[0] (the path then carries that one alone on:
+    // disperses()).
     void to_wavelengths(const Wavelengths& w);
+    // Some lobe is a dispersive glass: a spectral path meeting it keeps its hero wavelength
+    // only, as one direction cannot refract every wavelength (pbrt-v4's TerminateSecondary).
+    bool disperses() const {
+        for (int i = 0; i < n_; ++i)
+            if (lobes_[std::size_t(i)].dispersion.disperses()) return true;
+        return false;
+    }
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;

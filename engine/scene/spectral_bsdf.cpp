@@ -35,6 +35,7 @@ void Bsdf::to_wavelengths(const Wavelengths& w) {
         l.hair.sigma_a = w.unbounded(l.hair.sigma_a);
         if (l.type == LobeType::Measured)
             for (int k = 0; k < 3; ++k) l.lambda[k] = w.lambda[k];
+        if (l.dispersion.disperses()) l.fresnel.ior = l.dispersion.ior(w.lambda[0]);
     }
 }
 

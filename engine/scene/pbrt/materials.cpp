@@ -88,9 +88,19 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
             add_lobe(Lobe::microfacet(RGB{1.f}, d, f));
     } else if (type == "dielectric" || type == "thindielectric") {
         float eta = 1.5f;
+        Dispersion glass;
         if (const Param* q = p.find("eta")) {
             if (q->type == "float") {
                 eta = p.real("eta", 1.5f);
+            } else if (q->type == "spectrum" && q->strings.size() == 1 &&
+                       named_glass(q->strings[0], glass)) {
+                // A named glass disperses (spectral volpath); elsewhere its d-line index.
+                eta = p.color("eta", false)->g;
+                if (type == "thindielectric") {
+                    glass = Dispersion{};
+                    warn(file(), q->line,
+                         what + ": a thin pane's dispersion is not rendered (its d-line index)");
+                }
             } else {
                 const auto c = p.color("eta", false);
                 eta = c->g;
@@ -105,10 +115,10 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
         } else {
             bool smooth = true;
             const MicrofacetDistribution d = distribution(smooth);
-            if (smooth)
-                add_lobe(Lobe::dielectric(eta, RGB{1.f}, RGB{1.f}));
-            else
-                add_lobe(Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f}));
+            Lobe l = smooth ? Lobe::dielectric(eta, RGB{1.f}, RGB{1.f})
+                            : Lobe::rough_dielectric(eta, d, RGB{1.f}, RGB{1.f});
+            l.dispersion = glass;
+            add_lobe(l);
         }
     } else if (type == "diffusetransmission") {
         const float scale = p.real("scale", 1.f);

@@ -280,6 +280,8 @@ class VolPathIntegrator : public CameraIntegrator {
             radiance[slot] += beta * emitted(ws, slot, m.emission) * w;
         }
         if (ws.vertices[slot] >= rs.max_depth || m.bsdf.empty()) return;
+        // A dispersive glass refracts each wavelength its own way: the hero goes on alone.
+        if (own_.spectral && m.bsdf.disperses()) ws.wavelengths[slot].terminate_secondary(beta);
         ShadingPoint v(sp, m, d, beta, slot, ws.vertices[slot], ws.keys[slot]);
         if (own_.spectral) v.wavelengths = &ws.wavelengths[slot];
         if (rs.nee && m.bsdf.has_non_delta())
