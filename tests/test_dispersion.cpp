@@ -108,12 +108,18 @@ TEST_CASE("dispersion: spectral volpath through a BK7 slab keeps the image's mea
                "-2 -2 -0.5 2 -2 -0.5 2 2 -0.5 -2 2 -0.5] \"integer indices\" [0 1 2 0 2 3 4 6 5 4 "
                "7 6]\n";
     };
-    VolPathSettings own;
-    own.spectral = true;
-    TestScene glass(parse_pbrt_scene(scene("\"spectrum eta\" \"glass-BK7\""), "bk7.pbrt", "."));
-    glass.render.own = own;
-    TestScene plain(parse_pbrt_scene(scene("\"float eta\" 1.5168"), "plain.pbrt", "."));
-    plain.render.own = own;
+    // Spectral volpath as a user asks for it (pbrt's volpath without media is foton's path
+    // tracer); without it, the glass's line warns that it does not disperse.
+    const RendererOverrides spectral{{"type", "volpath"}, {"spectral", "true"}};
+    const std::string bk7 = scene("\"spectrum eta\" \"glass-BK7\"");
+    TestScene glass(parse_pbrt_scene(bk7, "bk7.pbrt", ".", spectral));
+    CHECK(integrator_label(glass.render) == "volpath (spectral)");
+    CHECK(glass.warnings.empty());
+    const Scene rgb = parse_pbrt_scene(bk7, "bk7.pbrt", ".");
+    REQUIRE(rgb.warnings.size() == 1);
+    CHECK_THAT(rgb.warnings[0], Catch::Contains("bk7.pbrt:11: glass-BK7 disperses only in "
+                                                "spectral volpath"));
+    TestScene plain(parse_pbrt_scene(scene("\"float eta\" 1.5168"), "plain.pbrt", ".", spectral));
     const uint32_t spp = 256 * test::effort();
     const RGB a = image_mean(render_test(glass, spp, 2, 3).film);
     const RGB b = image_mean(render_test(plain, spp, 2, 3).film);

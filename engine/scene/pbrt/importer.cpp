@@ -305,6 +305,12 @@ Scene Importer::run() {
     if (scene_.volumetric() && integrator_line_ == 0)
         renderer_.set("type", "volpath", scene_.volumetric_file, scene_.volumetric_line);
     for (const auto& [key, value] : overrides_) renderer_.set(key, value, "--set", 0);
+    if (glass_line_ > 0 &&
+        !(renderer_.text("type") == "volpath" && renderer_.boolean("spectral", false)))
+        warn(glass_file_, glass_line_,
+             glass_name_ +
+                 " disperses only in spectral volpath (--set type=volpath --set "
+                 "spectral=true): this render uses its d-line index");
     scene_.renderer = std::move(renderer_);
     scene_.warnings = std::move(warnings_);
     for (const auto& [what, n] : imported_)

@@ -163,6 +163,10 @@ class Importer {
     std::string camera_medium_file_;
     int camera_medium_line_ = 0;
     int integrator_line_ = 0;  // where an Integrator was given (0: pbrt's default)
+    // The first dispersive glass (file, line, name): warned about unless the render is
+    // spectral volpath, the one that disperses.
+    std::string glass_file_, glass_name_;
+    int glass_line_ = 0;
 
     // shapes.cpp
     void shape(const Token& t, const std::string& type, const ParamList& p);

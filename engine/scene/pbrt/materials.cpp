@@ -96,6 +96,11 @@ Material Importer::make_material(const Token& t, const std::string& type, const 
                        named_glass(q->strings[0], glass)) {
                 // A named glass disperses (spectral volpath); elsewhere its d-line index.
                 eta = p.color("eta", false)->g;
+                if (glass_line_ == 0) {
+                    glass_file_ = file();
+                    glass_line_ = q->line;
+                    glass_name_ = q->strings[0];
+                }
                 if (type == "thindielectric") {
                     glass = Dispersion{};
                     warn(file(), q->line,
