@@ -287,7 +287,7 @@ TEST_CASE("glTF: an orthographic camera is the model's view, xmag and ymag its h
                       Catch::Contains("ortho.gltf") && Catch::Contains("xmag and ymag"));
 }
 
-TEST_CASE("glTF: KHR_mesh_quantization's integer attributes; unread required extensions",
+TEST_CASE("glTF: KHR_mesh_quantization's integer attributes, and an unread required extension",
           "[gltf][mesh-file]") {
     test::TempDir dir;
     auto write = [&](const std::string& extensions) {
