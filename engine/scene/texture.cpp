@@ -7,6 +7,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/input_file.h"
+#include "engine/core/params.h"
 #include "engine/film/image_io.h"
 #include "engine/film/pfm_reader.h"
 #include "noise.h"
@@ -14,16 +15,11 @@
 namespace foton {
 
 bool parse_texture_wrap(const std::string& name, TextureWrap& out) {
-    static const std::pair<const char*, TextureWrap> names[] = {{"repeat", TextureWrap::Repeat},
-                                                                {"clamp", TextureWrap::Clamp},
-                                                                {"mirror", TextureWrap::Mirror},
-                                                                {"black", TextureWrap::Black}};
-    for (const auto& [n, w] : names)
-        if (name == n) {
-            out = w;
-            return true;
-        }
-    return false;
+    static const EnumTable<TextureWrap> names{{{"repeat", TextureWrap::Repeat},
+                                               {"clamp", TextureWrap::Clamp},
+                                               {"mirror", TextureWrap::Mirror},
+                                               {"black", TextureWrap::Black}}};
+    return names.parse(name, out);
 }
 
 int wrapped_texel_index(double i, int n, TextureWrap wrap, bool& outside) {
