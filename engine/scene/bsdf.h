@@ -237,6 +237,11 @@ class Bsdf {
     // index at the hero wavelength, lambda[0] (the path then carries that one alone on:
     // disperses()).
     void to_wavelengths(const Wavelengths& w);
+    // pbrt-v4's regularisation (bsdf_regularize.cpp): specular reflection and refraction made
+    // Trowbridge–Reitz lobes of alpha 0.1, rough ones below alpha 0.3 doubled (at least 0.1,
+    // at most 0.3), a coat's interfaces alike; for the vertices after a path's first
+    // non-specular one, where near-specular paths would only be found by chance.
+    Bsdf regularized() const;
     // Some lobe is a dispersive glass: a spectral path meeting it keeps its hero wavelength
     // only, as one direction cannot refract every wavelength (pbrt-v4's TerminateSecondary).
     bool disperses() const {

@@ -5,6 +5,7 @@
 // the thesis' empirical additions.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "bsdf.h"
@@ -123,5 +124,13 @@ struct Material {
         return type == MaterialType::Reflective || type == MaterialType::Glass;
     }
 };
+
+// Material m with its BSDF regularized (pbrt-v4's regularize), in `scratch` (which may hold m
+// already, a textured copy).
+inline const Material& regularized_material(const Material& m, std::optional<Material>& scratch) {
+    if (!scratch || &*scratch != &m) scratch = m;
+    scratch->bsdf = m.bsdf.regularized();
+    return *scratch;
+}
 
 }  // namespace foton

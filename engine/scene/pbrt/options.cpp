@@ -159,7 +159,7 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
                          " ignored (foton's bdpt writes one image; its "
                          "strategy setting shows one (s, t) technique)");
         if (p.has("regularize") && p.boolean("regularize", false))
-            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+            warn(here, t.line, "regularize ignored (foton regularises in path and volpath only)");
         if (p.has("lightsampler") && p.text("lightsampler", "bvh") != "power")
             warn(here, t.line, "lightsampler ignored: foton chooses lights by power");
     } else if (type == "mlt") {
@@ -186,7 +186,7 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
         pass_on("largestepprobability", "large_step", false);
         pass_on("sigma", "mlt_sigma", false);
         if (p.has("regularize") && p.boolean("regularize", false))
-            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+            warn(here, t.line, "regularize ignored (foton regularises in path and volpath only)");
     } else if (type == "path" || type == "volpath" || type == "simplepath" ||
                type == "randomwalk" || type == "simplevolpath") {
         // volpath is foton's volpath; the other unidirectional ones its path tracer (the same
@@ -198,8 +198,10 @@ void Importer::integrator(const Token& t, const std::string& type, const ParamLi
                      (volumetric ? "volpath" : "path tracer") + " (the same expected image)");
         renderer_.set("type", volumetric ? "volpath" : "path", here, t.line);
         depth();
-        if (p.has("regularize") && p.boolean("regularize", false))
-            warn(here, t.line, "regularize ignored (foton does not regularise BSDFs)");
+        // pbrt-v4's path regularisation, which foton's path tracer and volpath have.
+        if (p.has("regularize"))
+            renderer_.set("regularize", p.boolean("regularize", false) ? "true" : "false", here,
+                          t.line);
         // pbrt-v4's light samplers are foton's light_selection (its default is the BVH).
         std::string sampler = p.text("lightsampler", "bvh");
         if (sampler == "exhaustive") {

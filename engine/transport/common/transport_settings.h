@@ -29,6 +29,7 @@ enum Capability : uint32_t {
     kCapComponents = 1u << 9,       // the components AOV: its estimate's parts apart
     kCapMedia = 1u << 10,           // traces participating media (scenes with <media>)
     kCapSubsurface = 1u << 11,      // follows light under subsurface materials (BSSRDF)
+    kCapRegularize = 1u << 12,      // regularize=true: BSDFs roughened after a diffuse bounce
 };
 
 // The AOVs (film/aov.h's bits) only integrators with a capability make: asked for by name

@@ -150,7 +150,10 @@ void PathIntegrator::shade_vertex(uint32_t depth, std::size_t i, PathWorkspace& 
     }
     const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
     std::optional<Material> scratch;
-    const Material& m = ctx_.scene.material_at(geom, sp.tex(), scratch);
+    const Material& seen = ctx_.scene.material_at(geom, sp.tex(), scratch);
+    // regularize: after the first non-specular vertex, near-specular lobes roughen.
+    const Material& m =
+        rs.regularize && ws.nondelta[slot] > 0 ? regularized_material(seen, scratch) : seen;
     ws.path_length[slot] += ws.hits.t[i];
 
     if (m.emits_towards(sp.front_face) && counts_emission && counts_light) {

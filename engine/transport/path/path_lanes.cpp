@@ -44,7 +44,7 @@ KernelMaterials PathIntegrator::kernel_materials() const {
     // lighting split and power heuristics of another exponent than 2 keep their own rules in
     // shade_vertex.
     const bool power2 = rules_.mis.heuristic != MisHeuristic::Power || rules_.mis.beta == 2.f;
-    d.enabled = rs.simd_shading && !rules_.ambient && !rules_.every_light &&
+    d.enabled = rs.simd_shading && !rs.regularize && !rules_.ambient && !rules_.every_light &&
                 !rules_.glossy_by_sampling && !rules_.emission_whole &&
                 rules_.continue_lobes == plain.continue_lobes && !guide_ &&
                 rs.lighting == Lighting::All && power2;

@@ -36,7 +36,7 @@ const std::vector<IntegratorInfo>& integrators() {
     // clang-format off
     static const std::vector<IntegratorInfo> table = {
         {"raytracer", {"whitted"}, "Whitted ray tracing (the first thesis)", kCapCamera, nullptr, render_whitted},
-        {"path", {}, "path tracing, NEE + MIS", kPath, nullptr, render_path},
+        {"path", {}, "path tracing, NEE + MIS", kPath | kCapRegularize, nullptr, render_path},
         {"distributed", {}, "distributed ray tracing (Cook 1984)", kCapCamera, nullptr, render_distributed},
         {"light", {}, "light tracing (through media too)", kCapMedia, nullptr, render_light},
         {"photon", {}, "photon mapping: final gather, irradiance cache or direct visualisation", kPhoton, nullptr, render_photon_row},
@@ -45,7 +45,7 @@ const std::vector<IntegratorInfo>& integrators() {
         {"bdpt", {}, "bidirectional path tracing (through media too)", kCapBidirectional | kCapStrategyDebug | kCapMedia, nullptr, render_bdpt},
         {"bpm", {}, "bidirectional photon mapping", kCapBidirectional | kCapMerging, nullptr, render_bpm},
         {"vcm", {}, "vertex connection and merging (media: connections; merges at surfaces)", kCapBidirectional | kCapMerging | kCapMedia, nullptr, render_vcm},
-        {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia | kCapSubsurface, parse_volpath, render_volpath},
+        {"volpath", {}, "volumetric path tracing: participating media, NEE + MIS", kCapCamera | kCapLightSelection | kCapMedia | kCapSubsurface | kCapRegularize, parse_volpath, render_volpath},
         {"vpm", {"volumetric_photons"}, "volumetric photon mapping, progressive (media)", kCapLightSelection | kCapMedia, parse_vpm, render_vpm},
         {"ao", {"ambientocclusion"}, "ambient occlusion (ao_samples, ao_distance)", kCapCamera, parse_ao, render_ao},
         {"mlt", {"pssmlt"}, "Metropolis light transport in primary sample space (Kelemen 2002) over the path tracer", kCapLightSelection, parse_mlt, render_mlt},
@@ -141,6 +141,10 @@ void ignore_foreign(const ParamSet& params, const IntegratorInfo& info, RenderSe
     }
     // Light paths start by power; bidirectional MIS needs a light's choice independent of
     // the point it lights, so bdpt, bpm and vcm keep power selection for their s = 1 too.
+    if (r.regularize && !info.has(kCapRegularize)) {
+        ignored("regularize", kCapRegularize, "regularize");
+        r.regularize = false;
+    }
     if (r.light_selection != LightSelection::Power && !info.has(kCapLightSelection)) {
         ignored("light_selection", kCapLightSelection, "light_selection");
         r.light_selection = LightSelection::Power;

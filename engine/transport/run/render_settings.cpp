@@ -35,6 +35,7 @@ void parse_path(const ParamSet& p, RenderSettings& r) {
     r.nee = p.boolean("nee", r.nee);
     static const EnumTable<bool> kShading{{{"simd", true}, {"scalar", false}}};
     r.simd_shading = p.choice("shading", kShading, r.simd_shading);
+    r.regularize = p.boolean("regularize", r.regularize);
     static const EnumTable<LightSelection> kSelection{{{"power", LightSelection::Power},
                                                        {"uniform", LightSelection::Uniform},
                                                        {"bvh", LightSelection::Bvh}}};

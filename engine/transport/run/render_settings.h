@@ -61,6 +61,9 @@ struct RenderSettings {
     // path: Lambertian vertices through the SIMD shading kernel (false: every vertex one at
     // a time, the kernel's reference)
     bool simd_shading = true;
+    // path, volpath: pbrt-v4's `regularize`: after a path's first non-specular vertex its
+    // BSDFs are Bsdf::regularized() (biased: less noise from near-specular paths)
+    bool regularize = false;
     // path, photon, sppm, ppm: how next event estimation chooses its light
     LightSelection light_selection = LightSelection::Power;
     // Every integrator that emits from the lights: directional lights emit over the geometry

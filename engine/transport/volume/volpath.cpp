@@ -21,6 +21,7 @@
 #include "engine/transport/run/render_context.h"
 #include "grid_flights.h"
 #include "subsurface_exit.h"
+#include "volpath_workspace.h"
 
 namespace foton {
 
@@ -33,30 +34,6 @@ constexpr uint32_t kDimLightSelect = kPathDimLightSelect, kDimLight = kPathDimLi
 // More interface crossings than this end a path: only a ray caught between coincident
 // boundaries gets there.
 constexpr uint32_t kMaxCrossings = 256;
-
-struct VolPathWorkspace : IntegratorWorkspace {
-    RayBatch rays, next;
-    HitBatch hits;
-    MediumShadowRays shadow;
-    // Per path, by slot.
-    std::vector<RGB> beta;
-    std::vector<float> eta_scale;        // product of eta^2 over refractions (roulette)
-    std::vector<float> pdf_prev;         // solid-angle pdf of the sample that made the ray
-    std::vector<uint8_t> specular_prev;  // ... and whether it came from a delta lobe
-    std::vector<Vec3> p_prev, n_prev;    // where it started (normal zero in a medium)
-    std::vector<int32_t> medium;         // the medium the ray travels in
-    std::vector<uint32_t> vertices;      // scattering vertices so far (surface or medium)
-    std::vector<uint32_t> crossings;     // interfaces passed
-    std::vector<uint32_t> draws;         // free-flight numbers drawn (kMediumStream)
-    std::vector<uint64_t> keys;
-    std::vector<PathSampler> samplers;
-    std::vector<Wavelengths> wavelengths;  // spectral mode: each path's three
-    // The bounce's flights through grid media, tracked as one batch before shading, and each
-    // ray's flight there (-1: none).
-    GridFlights flights;
-    std::vector<int32_t> flight_of;
-    TraceCounters probes;  // the bounce's subsurface probes (traced one by one)
-};
 
 class VolPathIntegrator : public CameraIntegrator {
   public:
@@ -94,6 +71,7 @@ class VolPathIntegrator : public CameraIntegrator {
         ws.n_prev.assign(n, Vec3{});
         ws.medium.assign(n, ctx_.scene.camera_medium);
         ws.vertices.assign(n, 0);
+        ws.rough.assign(n, 0);
         ws.crossings.assign(n, 0);
         ws.draws.assign(n, 0);
         ws.keys.resize(n);
@@ -260,7 +238,9 @@ class VolPathIntegrator : public CameraIntegrator {
         RGB& beta = ws.beta[slot];
         const SurfacePoint sp = surface_at(ctx_.scene, ws.rays, ws.hits, i);
         std::optional<Material> scratch;
-        const Material& seen = ctx_.scene.material_at(geom, sp.tex(), scratch);
+        const Material& textured = ctx_.scene.material_at(geom, sp.tex(), scratch);
+        const Material& seen =
+            rs.regularize && ws.rough[slot] ? regularized_material(textured, scratch) : textured;
         const Material& m =
             own_.spectral ? material_at_wavelengths(seen, ws.wavelengths[slot], scratch) : seen;
         if (m.is_interface) {
@@ -365,6 +345,7 @@ class VolPathIntegrator : public CameraIntegrator {
         ++ws.vertices[slot];
         ws.pdf_prev[slot] = pdf;
         ws.specular_prev[slot] = delta;
+        ws.rough[slot] |= uint8_t(!delta);
         ws.p_prev[slot] = p;
         ws.n_prev[slot] = n;
         ws.next.push(origin, wi, 0.f, kInfinity, slot);
