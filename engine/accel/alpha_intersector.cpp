@@ -60,7 +60,7 @@ bool alpha_hit_counts(const Scene& scene, uint32_t geom, uint32_t prim, float t,
     if (m.alpha_texture >= 0) {
         const Texture& tx = scene.textures[std::size_t(m.alpha_texture)];
         // The hit point for textures mapped by position; the surface normal is not computed
-        // here, so a directionmix alpha reads the ray's direction instead. (uv_of reads uv:
+        // here, so a directionmix alpha reads the ray's direction instead. (Its uv2 is its uv:
         // the coordinates are already the texture's set.)
         a *= tx.eval_float(
             scene.texture_images,

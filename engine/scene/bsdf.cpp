@@ -227,6 +227,7 @@ bool Bsdf::add(const Lobe& lobe) {
     if ((lobe.flags() & kTransmission) && !lobe.is_delta()) transmits_non_delta_ = true;
     if (lobe.is_stochastic()) stochastic_ = true;
     if (lobe.anisotropic()) anisotropic_ = true;
+    if (lobe.dispersion.disperses()) disperses_ = true;
     ++n_;
     return true;
 }

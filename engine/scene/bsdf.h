@@ -244,11 +244,7 @@ class Bsdf {
     Bsdf regularized() const;
     // Some lobe is a dispersive glass: a spectral path meeting it keeps its hero wavelength
     // only, as one direction cannot refract every wavelength (pbrt-v4's TerminateSecondary).
-    bool disperses() const {
-        for (int i = 0; i < n_; ++i)
-            if (lobes_[std::size_t(i)].dispersion.disperses()) return true;
-        return false;
-    }
+    bool disperses() const { return disperses_; }
 
     // Sum of the non-delta lobes.
     RGB f(const Vec3& wo, const Vec3& wi, const BsdfContext& ctx) const;
@@ -277,6 +273,7 @@ class Bsdf {
     bool transmits_non_delta_ = false;
     bool stochastic_ = false;  // some lobe is_stochastic()
     bool anisotropic_ = false;
+    bool disperses_ = false;  // some lobe's dispersion.disperses()
 };
 
 // Single-lobe operations (exposed for the tests' chi-square and albedo checks).

@@ -368,14 +368,14 @@ std::string Scene::summary() const {
                   double(memory_bytes()) / (1024.0 * 1024.0));
     s += buf;
     // A perspective camera's field of view; an orthographic one's view height in scene units.
-    if (camera.type == CameraType::Orthographic)
-        std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), view height %g\n",
-                      camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
-                      double(camera.pixel_size) * double(camera.height));
-    else
-        std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), vertical fov %.2f deg\n",
-                      camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
-                      camera.type == CameraType::Perspective ? camera.vertical_fov_degrees() : 0.0);
+    const bool ortho = camera.type == CameraType::Orthographic;
+    std::snprintf(buf, sizeof buf, "camera     %s, eye (%g, %g, %g), %s %.*f%s\n",
+                  camera_type_name(camera.type), camera.eye.x, camera.eye.y, camera.eye.z,
+                  ortho ? "view height" : "vertical fov", ortho ? 4 : 2,
+                  ortho ? double(camera.pixel_size) * double(camera.height)
+                  : camera.type == CameraType::Perspective ? camera.vertical_fov_degrees()
+                                                           : 0.0,
+                  ortho ? "" : " deg");
     s += buf;
     std::snprintf(buf, sizeof buf, "film       %d x %d, gamma %g, filter %s\n", film.width,
                   film.height, film.gamma, film.filter.describe().c_str());

@@ -93,11 +93,14 @@ enum class TextureMapping : uint8_t { UV, Spherical, Cylindrical, Planar };
 // direction, the hit point and its (geometric) normal in world space.
 struct TexPoint {
     Point2 uv;
+    // The mesh's second uv set at the point (textures whose UvMap::set is 1); uv unless a
+    // surface with one says otherwise. The footprint and steps below are the first set's.
+    Point2 uv2;
     Vec3 p{0.f, 0.f, 0.f};
     Vec3 n{0.f, 0.f, 1.f};
-    TexPoint(Point2 uv_) : uv(uv_) {}
-    TexPoint(float u, float v) : uv{u, v} {}
-    TexPoint(Point2 uv_, const Vec3& p_, const Vec3& n_) : uv(uv_), p(p_), n(n_) {}
+    TexPoint(Point2 uv_) : uv(uv_), uv2(uv_) {}
+    TexPoint(float u, float v) : uv{u, v}, uv2{u, v} {}
+    TexPoint(Point2 uv_, const Vec3& p_, const Vec3& n_) : uv(uv_), uv2(uv_), p(p_), n(n_) {}
     // The width in (u, v) of the pixel's footprint at the point (0: unknown), for MIP-mapped
     // textures, and (for EWA) the uv change from one pixel to the next along the image's x
     // and y (both zero: unknown).
@@ -105,11 +108,7 @@ struct TexPoint {
     Point2 duvdx{0.f, 0.f}, duvdy{0.f, 0.f};
     // The mesh's vertex colour interpolated at the point (white where it has none).
     RGB vertex_color{1.f};
-    // The mesh's second uv set at the point (textures whose UvMap::set is 1); uv without one.
-    // The footprint and steps above are the first set's.
-    Point2 uv2{0.f, 0.f};
-    bool has_uv2 = false;
-    Point2 uv_of(uint8_t set) const { return set == 1 && has_uv2 ? uv2 : uv; }
+    Point2 uv_of(uint8_t set) const { return set == 1 ? uv2 : uv; }
 };
 
 // A texture's affine map of the surface's uv: uv' = (su u + suv v + du, svu u + sv v + dv)

@@ -79,6 +79,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
     ShadingGeometry g;     // the parametrisation a normal or bump map reads
     bool perturb = false;  // g is set
     float curve_width = 0.f;
+    bool second_set = false;  // sp.uv2 is a mesh's second uv set (else it is sp.uv)
     if (obj.kind == ObjectKind::Mesh) {
         const TriangleMesh& m = scene.meshes[obj.index];
         const Instance* in = scene.instance_of(geom);
@@ -116,7 +117,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
                 Point2 s0, s1, s2;
                 m.corner_uvs(prim, s0, s1, s2, 1);
                 sp.uv2 = {s0.x * w + s1.x * u + s2.x * v, s0.y * w + s1.y * u + s2.y * v};
-                sp.has_uv2 = true;
+                second_set = true;
                 // A normal map on the second set turns in that set's tangent frame (the
                 // footprint below is then that set's too: glTF's textures, the only ones on a
                 // second set, are not MIP-mapped).
@@ -230,10 +231,10 @@ SurfacePoint surface_at(const Scene& scene, uint32_t geom, uint32_t prim, float 
             }
         }
     }
+    if (!second_set) sp.uv2 = sp.uv;
     if (perturb) {
         TexPoint at{sp.uv, sp.p, n_geom};
         at.uv2 = sp.uv2;
-        at.has_uv2 = sp.has_uv2;
         n_shade =
             mat.normal_map >= 0
                 ? normal_mapped(

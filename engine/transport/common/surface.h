@@ -29,9 +29,8 @@ struct SurfacePoint {
     Vec3 ss{0.f, 0.f, 0.f};
     // The mesh's vertex colour here (materials that read it; white elsewhere).
     RGB vertex_color{1.f};
-    // The mesh's second uv set here, when it has one and the material is textured.
+    // The mesh's second uv set here when it has one and the material is textured; else uv.
     Point2 uv2{0.f, 0.f};
-    bool has_uv2 = false;
     // The BSDF's frame: around ns, its x axis along ss when there is one.
     warp::Frame frame() const { return warp::Frame(ns, ss); }
     // Where its textures read themselves (uv, and the point and normal for textures mapped
@@ -43,7 +42,6 @@ struct SurfacePoint {
         t.duvdy = duvdy;
         t.vertex_color = vertex_color;
         t.uv2 = uv2;
-        t.has_uv2 = has_uv2;
         return t;
     }
 };
